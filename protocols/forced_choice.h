@@ -1,0 +1,23 @@
+#pragma once
+// Two-alternative forced choice, side by side ("which light is brighter?").
+// The design: every condition row x repetitions x (both side assignments when counterbalanced),
+// shuffled with the session seed (stream trial_order), so the order is reproducible.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "protocols/experiment.h"
+#include "protocols/trial_plan.h"
+
+namespace glarelab {
+
+// source_peak_cd_m2: peak luminance of each scene, in cd/m2 (from the scene images).
+// Condition rows name their two scenes in columns "scene_a" and "scene_b".
+std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
+                                                  const std::map<std::string, double>& source_peak_cd_m2);
+
+// Scores a response: correct when it names the position of correct_response; NULL when no
+// answer is right.
+TrialOutcome score_forced_choice(const TrialPlan& plan, const Response& response);
+
+}  // namespace glarelab

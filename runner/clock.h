@@ -1,0 +1,51 @@
+#pragma once
+// Session clocks. Every time in a session is "seconds since session start" on one of these.
+//  - MonotonicClock: steady_clock, for real displays; flips are stamped when the swap returns.
+//  - VirtualClock: advances exactly one refresh period per presented frame, so offscreen
+//    sessions are deterministic and run as fast as the machine renders.
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace glarelab {
+
+class SessionClock {
+ public:
+  virtual ~SessionClock() = default;
+  // Seconds since session start on this clock.
+  virtual double now_s() const = 0;
+  // Called by the presenter right after a frame was presented; returns that flip's time (s).
+  virtual double on_flip() = 0;
+  // "monotonic" or "virtual": written to the log so every time can be traced to its clock.
+  virtual std::string name() const = 0;
+};
+
+class MonotonicClock final : public SessionClock {
+ public:
+  // start_offset_s lets a resumed session continue its time line after the last logged flip.
+  explicit MonotonicClock(double start_offset_s = 0.0);
+  double now_s() const override;
+  double on_flip() override { return now_s(); }
+  std::string name() const override { return "monotonic"; }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+  double start_offset_s_;
+};
+
+class VirtualClock final : public SessionClock {
+ public:
+  VirtualClock(double refresh_hz, double start_s = 0.0, std::int64_t start_frame = 0);
+  // Time of the next flip that has not happened yet.
+  double now_s() const override;
+  double on_flip() override;
+  std::string name() const override { return "virtual"; }
+  std::int64_t frames_presented() const { return frames_; }
+
+ private:
+  double period_s_;
+  double start_s_;
+  std::int64_t frames_;
+};
+
+}  // namespace glarelab

@@ -1,0 +1,42 @@
+#pragma once
+// OpenEXR reading and writing (OpenEXR 3): half or float channels, RGB or RGBA, optional Z,
+// and Y-only (luminance) images, which read as grey RGB. Errors name the file and what is wrong.
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include "stimuli/image.h"
+
+namespace glarelab {
+
+class ImageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class ExrPixelType { half, float32 };
+
+struct ExrWriteOptions {
+  ExrPixelType pixel_type = ExrPixelType::float32;
+  bool write_alpha = true;
+  bool write_depth = false;  // writes "Z" from ImageRGBA::depth (must be filled)
+  // Extra float attributes in the header, e.g. {"degreesPerPixel", 0.01}.
+  std::map<std::string, float> float_attributes;
+  // Single-channel "Y" image (for one-wavelength PSFs) instead of R,G,B[,A]; uses channel R.
+  bool luminance_only = false;
+};
+
+struct ExrReadResult {
+  ImageRGBA image;
+  std::map<std::string, float> float_attributes;
+  bool had_alpha = false;
+  bool had_depth = false;
+  bool was_half = false;
+};
+
+// Throws ImageError "FILE: what is wrong" for missing, unreadable, truncated or corrupt files,
+// and files without R,G,B or Y channels.
+ExrReadResult read_exr(const std::string& path);
+void write_exr(const std::string& path, const ImageRGBA& image, const ExrWriteOptions& options = {});
+
+}  // namespace glarelab
