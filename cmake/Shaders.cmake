@@ -8,6 +8,7 @@ file(GLOB_RECURSE GLARELAB_SHADER_FILES CONFIGURE_DEPENDS
   ${CMAKE_SOURCE_DIR}/stimuli/*.vert ${CMAKE_SOURCE_DIR}/stimuli/*.frag ${CMAKE_SOURCE_DIR}/stimuli/*.comp
   ${CMAKE_SOURCE_DIR}/glare/*.vert ${CMAKE_SOURCE_DIR}/glare/*.frag ${CMAKE_SOURCE_DIR}/glare/*.comp)
 
+file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/shader_checks ${CMAKE_BINARY_DIR}/generated)
 set(GLARELAB_SHADER_STAMPS)
 foreach(shader ${GLARELAB_SHADER_FILES})
   file(RELATIVE_PATH rel ${CMAKE_SOURCE_DIR} ${shader})

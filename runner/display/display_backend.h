@@ -1,0 +1,78 @@
+#pragma once
+// One interface for every way of showing frames. Window (GLFW) and offscreen (OSMesa) are
+// siblings behind it, created in one place (display_factory.cpp); an EGL headless sibling is added
+// there without touching callers. Each backend owns a current OpenGL 4.5 core context and loads
+// the GL entry points through its own get-proc-address (glad), so both live in one binary.
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace glarelab {
+
+// "SUBSYSTEM: message" errors (GLFW, OSMesa, OpenGL): a clear report instead of a crash.
+class DisplayError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct DisplayRequest {
+  int width_px = 1280;
+  int height_px = 720;
+  double refresh_hz = 60.0;  // offscreen: the virtual refresh; window: what the monitor must run at
+  int monitor = 0;           // window: index into the connected monitors
+  bool fullscreen = false;
+  bool vsync = true;
+  bool visible = true;       // window: false for hidden test windows
+  std::string title = "glarelab";
+  int gl_major = 4;
+  int gl_minor = 5;
+  std::vector<std::string> required_extensions;
+};
+
+struct GlInfo {
+  std::string vendor;
+  std::string renderer;
+  std::string version;
+  std::string shading_language_version;
+  int major = 0;
+  int minor = 0;
+  std::string describe() const;  // "OpenGL 4.5 (Core Profile) Mesa 22.3.6 on llvmpipe (LLVM 15.0.6, 256 bits)"
+};
+
+struct KeyEvent {
+  std::string key;        // "left", "right", "up", "down", "escape", "space", "enter", "a".."z", "0".."9"
+  double session_time_s;  // stamped on the session clock right after the events were polled
+};
+
+class DisplayBackend {
+ public:
+  virtual ~DisplayBackend() = default;
+  virtual std::string kind() const = 0;  // "window" | "offscreen"
+  virtual const GlInfo& gl_info() const = 0;
+  virtual int width_px() const = 0;   // size of the default framebuffer
+  virtual int height_px() const = 0;
+  // The refresh rate frames are scheduled at (monitor's for a window, the requested for offscreen).
+  virtual double refresh_hz() const = 0;
+  // True when frames reach a real display and time must come from the monotonic clock.
+  virtual bool real_time() const = 0;
+  // Presents the default framebuffer: a vsync'd buffer swap for a window, glFinish offscreen.
+  virtual void present() = 0;
+  // Keys pressed since the last call (window); none offscreen.
+  virtual std::vector<std::string> poll_keys() = 0;
+  // The user closed the window.
+  virtual bool close_requested() const = 0;
+  // Makes this backend's context current on the calling thread and (re)loads GL entry points.
+  virtual void make_current() = 0;
+};
+
+// The one place a backend is chosen: kind is "window" or "offscreen".
+std::unique_ptr<DisplayBackend> create_display(const std::string& kind, const DisplayRequest& request);
+std::vector<std::string> display_kinds();
+
+// Loads GL entry points with `get_proc` (glad), reads GlInfo, and checks the version and
+// extensions; throws DisplayError naming what was required and what was found.
+using GlProcLoader = void* (*)(const char* name);
+GlInfo load_and_check_gl(const char* subsystem, GlProcLoader get_proc, const DisplayRequest& request);
+
+}  // namespace glarelab

@@ -1,0 +1,199 @@
+#include "runner/display/glfw_display.h"
+
+#include <glad/gl.h>
+// GLFW after glad: glad provides the GL declarations, GLFW must not include system GL headers.
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <mutex>
+#include <sstream>
+
+namespace glarelab {
+namespace {
+
+// GLFW reports errors through a callback; keep the last one so exceptions can quote it.
+std::string& last_glfw_error() {
+  static std::string message;
+  return message;
+}
+void record_glfw_error(int code, const char* description) {
+  std::ostringstream text;
+  text << (description ? description : "unknown error") << " (GLFW error 0x" << std::hex << code << ")";
+  last_glfw_error() = text.str();
+}
+
+// glfwInit/glfwTerminate are process-wide; count the windows that need the library.
+std::mutex glfw_mutex;
+int glfw_users = 0;
+
+void acquire_glfw() {
+  std::lock_guard lock(glfw_mutex);
+  if (glfw_users == 0) {
+    glfwSetErrorCallback(record_glfw_error);
+    last_glfw_error().clear();
+    if (glfwInit() != GLFW_TRUE) {
+      const char* display = std::getenv("DISPLAY");
+      std::string message = "GLFW: cannot open a window: " + last_glfw_error();
+      message += display && *display ? std::string(" (DISPLAY=") + display + ")" : " (DISPLAY is not set)";
+      message += ". On a machine without a display use --display offscreen.";
+      throw DisplayError(message);
+    }
+  }
+  ++glfw_users;
+}
+
+void release_glfw() {
+  std::lock_guard lock(glfw_mutex);
+  if (--glfw_users == 0) glfwTerminate();
+}
+
+void* glfw_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
+
+std::string key_name(int key) {
+  switch (key) {
+    case GLFW_KEY_LEFT: return "left";
+    case GLFW_KEY_RIGHT: return "right";
+    case GLFW_KEY_UP: return "up";
+    case GLFW_KEY_DOWN: return "down";
+    case GLFW_KEY_ESCAPE: return "escape";
+    case GLFW_KEY_SPACE: return "space";
+    case GLFW_KEY_ENTER:
+    case GLFW_KEY_KP_ENTER: return "enter";
+    default: break;
+  }
+  if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) return std::string(1, static_cast<char>('a' + (key - GLFW_KEY_A)));
+  if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9) return std::string(1, static_cast<char>('0' + (key - GLFW_KEY_0)));
+  if (key >= GLFW_KEY_KP_0 && key <= GLFW_KEY_KP_9) return std::string(1, static_cast<char>('0' + (key - GLFW_KEY_KP_0)));
+  return {};
+}
+
+class GlfwDisplay final : public DisplayBackend {
+ public:
+  explicit GlfwDisplay(const DisplayRequest& request) {
+    acquire_glfw();
+    try {
+      open(request);
+    } catch (...) {
+      if (window_ != nullptr) glfwDestroyWindow(window_);
+      release_glfw();
+      throw;
+    }
+  }
+
+  ~GlfwDisplay() override {
+    glfwDestroyWindow(window_);
+    release_glfw();
+  }
+
+  std::string kind() const override { return "window"; }
+  const GlInfo& gl_info() const override { return info_; }
+  int width_px() const override { return width_px_; }
+  int height_px() const override { return height_px_; }
+  double refresh_hz() const override { return refresh_hz_; }
+  bool real_time() const override { return true; }
+  void present() override { glfwSwapBuffers(window_); }
+  bool close_requested() const override { return glfwWindowShouldClose(window_) == GLFW_TRUE; }
+  void make_current() override {
+    glfwMakeContextCurrent(window_);
+    if (gladLoadGL(reinterpret_cast<GLADloadfunc>(glfw_proc)) == 0)
+      throw DisplayError("GLFW: could not reload OpenGL entry points");
+  }
+
+  std::vector<std::string> poll_keys() override {
+    glfwPollEvents();
+    std::vector<std::string> keys;
+    keys.swap(pending_keys_);
+    return keys;
+  }
+
+ private:
+  void open(const DisplayRequest& request) {
+    int monitor_count = 0;
+    GLFWmonitor** monitors = glfwGetMonitors(&monitor_count);
+    if (monitor_count == 0) throw DisplayError("GLFW: no monitor is connected (" + last_glfw_error() + ")");
+    if (request.monitor < 0 || request.monitor >= monitor_count) {
+      throw DisplayError("GLFW: monitor " + std::to_string(request.monitor) + " requested, but " +
+                         std::to_string(monitor_count) + " monitor(s) are connected (indices 0.." +
+                         std::to_string(monitor_count - 1) + ")");
+    }
+    GLFWmonitor* monitor = monitors[request.monitor];
+    const GLFWvidmode* mode = glfwGetVideoMode(monitor);
+
+    glfwDefaultWindowHints();
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, request.gl_major);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, request.gl_minor);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
+    glfwWindowHint(GLFW_VISIBLE, request.visible ? GLFW_TRUE : GLFW_FALSE);
+    glfwWindowHint(GLFW_DOUBLEBUFFER, GLFW_TRUE);
+    // Display encoding is applied by our own shader (sRGB or a configured gamma), so the window's
+    // framebuffer must not re-encode.
+    glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_FALSE);
+    if (request.fullscreen && mode != nullptr) glfwWindowHint(GLFW_REFRESH_RATE, mode->refreshRate);
+
+    last_glfw_error().clear();
+    window_ = glfwCreateWindow(request.width_px, request.height_px, request.title.c_str(),
+                               request.fullscreen ? monitor : nullptr, nullptr);
+    if (window_ == nullptr) {
+      std::ostringstream message;
+      message << "GLFW: could not create an OpenGL " << request.gl_major << "." << request.gl_minor
+              << " core window: " << last_glfw_error() << probe_default_context();
+      throw DisplayError(message.str());
+    }
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetKeyCallback(window_, [](GLFWwindow* window, int key, int, int action, int) {
+      if (action != GLFW_PRESS) return;
+      auto* self = static_cast<GlfwDisplay*>(glfwGetWindowUserPointer(window));
+      const std::string name = key_name(key);
+      if (!name.empty()) self->pending_keys_.push_back(name);
+    });
+    glfwMakeContextCurrent(window_);
+    // Vsync: one buffer swap per vertical refresh, so a stimulus of n frames stays n refreshes.
+    glfwSwapInterval(request.vsync ? 1 : 0);
+    glfwGetFramebufferSize(window_, &width_px_, &height_px_);
+    refresh_hz_ = (mode != nullptr && mode->refreshRate > 0) ? mode->refreshRate : request.refresh_hz;
+    info_ = load_and_check_gl("GLFW", glfw_proc, request);
+  }
+
+  // Names the OpenGL version the driver does offer when the requested one was refused.
+  static std::string probe_default_context() {
+    const std::string refusal = last_glfw_error();
+    glfwDefaultWindowHints();
+    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+    GLFWwindow* probe = glfwCreateWindow(16, 16, "probe", nullptr, nullptr);
+    if (probe == nullptr) return "";
+    glfwMakeContextCurrent(probe);
+    std::string found;
+    using GetString = const unsigned char* (*)(unsigned int);
+    auto get_string = reinterpret_cast<GetString>(glfwGetProcAddress("glGetString"));
+    if (get_string != nullptr) {
+      const auto* version = reinterpret_cast<const char*>(get_string(GL_VERSION));
+      const auto* renderer = reinterpret_cast<const char*>(get_string(GL_RENDERER));
+      found = std::string("; the driver offers OpenGL ") + (version ? version : "?") + " on " +
+              (renderer ? renderer : "?");
+    }
+    glfwMakeContextCurrent(nullptr);
+    glfwDestroyWindow(probe);
+    last_glfw_error() = refusal;
+    return found;
+  }
+
+  GLFWwindow* window_ = nullptr;
+  int width_px_ = 0;
+  int height_px_ = 0;
+  double refresh_hz_ = 60.0;
+  GlInfo info_;
+  std::vector<std::string> pending_keys_;
+};
+
+}  // namespace
+
+std::unique_ptr<DisplayBackend> create_glfw_display(const DisplayRequest& request) {
+  return std::make_unique<GlfwDisplay>(request);
+}
+
+}  // namespace glarelab

@@ -1,0 +1,108 @@
+#include "runner/display/osmesa_display.h"
+
+// glad first: it blocks GL/gl.h, which osmesa.h would otherwise pull in.
+#include <glad/gl.h>
+#include <GL/osmesa.h>
+
+#include <sstream>
+#include <vector>
+
+namespace glarelab {
+namespace {
+
+void* osmesa_proc(const char* name) { return reinterpret_cast<void*>(OSMesaGetProcAddress(name)); }
+
+class OsMesaDisplay final : public DisplayBackend {
+ public:
+  explicit OsMesaDisplay(const DisplayRequest& request)
+      : width_px_(request.width_px), height_px_(request.height_px), refresh_hz_(request.refresh_hz) {
+    if (width_px_ < 1 || height_px_ < 1) throw DisplayError("OSMesa: framebuffer size must be at least 1x1");
+    const int attributes[] = {OSMESA_FORMAT,
+                              OSMESA_RGBA,
+                              OSMESA_DEPTH_BITS,
+                              24,
+                              OSMESA_STENCIL_BITS,
+                              0,
+                              OSMESA_ACCUM_BITS,
+                              0,
+                              OSMESA_PROFILE,
+                              OSMESA_CORE_PROFILE,
+                              OSMESA_CONTEXT_MAJOR_VERSION,
+                              request.gl_major,
+                              OSMESA_CONTEXT_MINOR_VERSION,
+                              request.gl_minor,
+                              0};
+    context_ = OSMesaCreateContextAttribs(attributes, nullptr);
+    if (context_ == nullptr) {
+      std::ostringstream message;
+      message << "OSMesa: could not create an OpenGL " << request.gl_major << "." << request.gl_minor
+              << " core context" << describe_fallback();
+      throw DisplayError(message.str());
+    }
+    // A float colour buffer (as Filament's PlatformOSMesa): what is read back keeps the full
+    // precision of the rendered stimulus, not 8 bits.
+    buffer_.assign(static_cast<std::size_t>(width_px_) * static_cast<std::size_t>(height_px_) * 4, 0.0f);
+    make_current();
+    info_ = load_and_check_gl("OSMesa", osmesa_proc, request);
+  }
+
+  ~OsMesaDisplay() override {
+    if (context_ != nullptr) OSMesaDestroyContext(context_);
+  }
+
+  std::string kind() const override { return "offscreen"; }
+  const GlInfo& gl_info() const override { return info_; }
+  int width_px() const override { return width_px_; }
+  int height_px() const override { return height_px_; }
+  double refresh_hz() const override { return refresh_hz_; }
+  bool real_time() const override { return false; }
+  void present() override { glFinish(); }
+  std::vector<std::string> poll_keys() override { return {}; }
+  bool close_requested() const override { return false; }
+
+  void make_current() override {
+    if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_FLOAT, width_px_, height_px_)) {
+      throw DisplayError("OSMesa: OSMesaMakeCurrent failed for a float buffer of " + std::to_string(width_px_) + "x" +
+                         std::to_string(height_px_));
+    }
+    // Rows in memory run top to bottom, like every image in glarelab.
+    OSMesaPixelStore(OSMESA_Y_UP, 0);
+  }
+
+ private:
+  // When the requested version is refused, say what the driver does offer by creating a
+  // default context just to ask it.
+  static std::string describe_fallback() {
+    OSMesaContext probe = OSMesaCreateContextExt(OSMESA_RGBA, 0, 0, 0, nullptr);
+    if (probe == nullptr) return " (and no default context could be created either)";
+    std::vector<float> pixel(4);
+    std::string found;
+    if (OSMesaMakeCurrent(probe, pixel.data(), GL_FLOAT, 1, 1)) {
+      using GetString = const unsigned char* (*)(unsigned int);
+      auto get_string = reinterpret_cast<GetString>(OSMesaGetProcAddress("glGetString"));
+      if (get_string != nullptr) {
+        const auto* version = reinterpret_cast<const char*>(get_string(GL_VERSION));
+        const auto* renderer = reinterpret_cast<const char*>(get_string(GL_RENDERER));
+        found = std::string("; the driver offers OpenGL ") + (version ? version : "?") + " on " +
+                (renderer ? renderer : "?");
+      }
+    }
+    OSMesaDestroyContext(probe);
+    return found;
+  }
+
+  int width_px_;
+  int height_px_;
+  double refresh_hz_;
+  OSMesaContext context_ = nullptr;
+  std::vector<float> buffer_;
+  GlInfo info_;
+};
+
+}  // namespace
+
+std::unique_ptr<DisplayBackend> create_osmesa_display(const DisplayRequest& request) {
+  return std::make_unique<OsMesaDisplay>(request);
+}
+
+}  // namespace glarelab

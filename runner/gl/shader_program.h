@@ -1,0 +1,18 @@
+#pragma once
+// Builds GL programs from the embedded shader files (runner/embedded_shaders.h). Compile and link
+// errors throw DisplayError("OpenGL: <shader path>: <driver log>").
+#include <initializer_list>
+#include <string_view>
+
+#include "runner/gl/gl_objects.h"
+
+namespace glarelab::gl {
+
+// Paths relative to the source root, e.g. {"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode.frag"}.
+// The stage is taken from the extension (.vert, .frag, .comp).
+Program build_program(std::initializer_list<std::string_view> shader_paths);
+
+// Checks glGetError and throws DisplayError("OpenGL: <what>: <error name>") if one is pending.
+void check_gl_error(std::string_view what);
+
+}  // namespace glarelab::gl

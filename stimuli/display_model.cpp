@@ -1,0 +1,29 @@
+#include "stimuli/display_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace glarelab {
+
+namespace {
+constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
+}
+
+double srgb_encode(double linear) {
+  return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+double DisplayModel::degrees_for_centred_span(double pixels) const {
+  const double half_extent_mm = 0.5 * pixels * spec_.pixel_pitch_mm;
+  return 2.0 * std::atan(half_extent_mm / spec_.viewing_distance_mm) * kDegreesPerRadian;
+}
+
+double DisplayModel::degrees_per_pixel_at_centre() const { return degrees_for_centred_span(1.0); }
+
+double DisplayModel::encode(double luminance_cd_m2) const {
+  const double relative = std::clamp(luminance_cd_m2 / spec_.peak_luminance_cd_m2, 0.0, 1.0);
+  return spec_.encoding == DisplayEncoding::srgb ? srgb_encode(relative) : std::pow(relative, 1.0 / spec_.gamma);
+}
+
+}  // namespace glarelab

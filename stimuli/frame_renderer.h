@@ -1,0 +1,56 @@
+#pragma once
+// Composes stimulus frames on the GPU. Frames are rendered into a float framebuffer (RGBA32F)
+// holding luminance-calibrated linear RGB (Y in cd/m2), then encoded for the display into the
+// backend's default framebuffer. Needs the backend's GL context to be current.
+#include <vector>
+
+#include "runner/gl/gl_objects.h"
+#include "stimuli/display_model.h"
+#include "stimuli/image.h"
+#include "stimuli/layout.h"
+
+namespace glarelab {
+
+// A scene image on the GPU (RGBA32F), with the factor that turns its values into cd/m2.
+struct SceneTexture {
+  gl::Texture texture;
+  int width_px = 0;
+  int height_px = 0;
+};
+
+struct Placement {
+  const SceneTexture* scene = nullptr;
+  double scale_cd_m2 = 1.0;
+  PixelRect rect;  // where the image goes
+  PixelRect clip;  // what of it may be drawn (its layout column)
+};
+
+class FrameRenderer {
+ public:
+  FrameRenderer(int width_px, int height_px);
+
+  SceneTexture upload(const ImageRGBA& image) const;
+
+  // Clears to the background luminance and draws the placements into the stimulus framebuffer.
+  void compose(const std::vector<Placement>& placements, double background_cd_m2);
+  // Encodes the stimulus framebuffer into the default framebuffer (clip at peak, sRGB or gamma).
+  void encode_to_display(const DisplaySpec& display);
+
+  // Read-backs (row 0 at the top). The stimulus is in cd/m2; the display image holds drive values.
+  ImageRGBA read_stimulus() const;
+  ImageRGBA read_display() const;
+
+  int width_px() const { return width_px_; }
+  int height_px() const { return height_px_; }
+
+ private:
+  int width_px_;
+  int height_px_;
+  gl::Texture stimulus_texture_;
+  gl::Framebuffer stimulus_framebuffer_;
+  gl::VertexArray empty_vertex_array_;  // core profile needs a bound VAO even without attributes
+  gl::Program placed_image_program_;
+  gl::Program encode_program_;
+};
+
+}  // namespace glarelab

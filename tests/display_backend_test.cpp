@@ -1,0 +1,170 @@
+// Both display backends render a known pattern and read it back as floats. The offscreen tests run
+// everywhere; the WindowBackend tests need an X display and run under Xvfb (tests/CMakeLists.txt).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "runner/display/display_backend.h"
+#include "stimuli/display_model.h"
+#include "stimuli/frame_renderer.h"
+
+namespace glarelab {
+namespace {
+
+// A scene whose pixels encode their own position, over a wide luminance range, so any
+// misplacement, flip or precision loss shows.
+ImageRGBA position_pattern(int width, int height) {
+  ImageRGBA image(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      float* p = image.pixel(x, y);
+      p[0] = static_cast<float>(x) + 0.25f;
+      p[1] = static_cast<float>(y) + 0.5f;
+      p[2] = std::pow(10.0f, static_cast<float>((x + y) % 12) - 3.0f);  // 1e-3 .. 1e8 cd/m2
+      p[3] = 1.0f;
+    }
+  return image;
+}
+
+void check_backend_renders_pattern(DisplayBackend& display) {
+  const int width = display.width_px();
+  const int height = display.height_px();
+  FrameRenderer renderer(width, height);
+  const ImageRGBA pattern = position_pattern(24, 16);
+  const SceneTexture scene = renderer.upload(pattern);
+  const PixelRect rect{10, 7, pattern.width_px, pattern.height_px};
+  ASSERT_GE(width, rect.x_px + rect.width_px);
+  ASSERT_GE(height, rect.y_px + rect.height_px);
+  renderer.compose({{&scene, 2.0, rect, {0, 0, width, height}}}, 0.125);
+
+  const ImageRGBA stimulus = renderer.read_stimulus();
+  ASSERT_EQ(stimulus.width_px, width);
+  for (int y = 0; y < pattern.height_px; ++y)
+    for (int x = 0; x < pattern.width_px; ++x)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(stimulus.pixel(rect.x_px + x, rect.y_px + y)[c], 2.0f * pattern.pixel(x, y)[c])
+            << "pixel " << x << "," << y << " channel " << c;
+  EXPECT_EQ(stimulus.pixel(0, 0)[0], 0.125f);                  // background, top-left
+  EXPECT_EQ(stimulus.pixel(width - 1, height - 1)[1], 0.125f);  // background, bottom-right
+
+  // Display encoding against the CPU reference (IEC 61966-2-1), for an sRGB display of 100 cd/m2.
+  DisplaySpec spec;
+  spec.peak_luminance_cd_m2 = 100.0;
+  spec.encoding = DisplayEncoding::srgb;
+  renderer.encode_to_display(spec);
+  display.present();
+  const ImageRGBA shown = renderer.read_display();
+  const DisplayModel model(spec);
+  // The default framebuffer may be 8 bits per channel (window) or float (offscreen).
+  const double tolerance = display.kind() == "window" ? 0.5 / 255.0 + 1e-6 : 1e-5;
+  for (int y = 0; y < pattern.height_px; ++y)
+    for (int x = 0; x < pattern.width_px; ++x)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(shown.pixel(rect.x_px + x, rect.y_px + y)[c], model.encode(2.0 * pattern.pixel(x, y)[c]), tolerance)
+            << "pixel " << x << "," << y << " channel " << c;
+}
+
+TEST(OffscreenBackend, RendersKnownPatternInFloat) {
+  DisplayRequest request;
+  request.width_px = 64;
+  request.height_px = 48;
+  auto display = create_display("offscreen", request);
+  EXPECT_EQ(display->kind(), "offscreen");
+  EXPECT_GE(display->gl_info().major * 10 + display->gl_info().minor, 45) << display->gl_info().describe();
+  check_backend_renders_pattern(*display);
+}
+
+TEST(OffscreenBackend, MissingExtensionIsAClearError) {
+  DisplayRequest request;
+  request.width_px = 8;
+  request.height_px = 8;
+  request.required_extensions = {"GL_GLARELAB_no_such_extension"};
+  try {
+    create_display("offscreen", request);
+    FAIL() << "expected a DisplayError";
+  } catch (const DisplayError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("OSMesa: missing OpenGL extension(s) GL_GLARELAB_no_such_extension"), std::string::npos) << message;
+    EXPECT_NE(message.find("OpenGL 4."), std::string::npos) << message;  // names what was found
+  }
+}
+
+TEST(OffscreenBackend, TooNewGlVersionIsAClearError) {
+  DisplayRequest request;
+  request.width_px = 8;
+  request.height_px = 8;
+  request.gl_major = 9;
+  request.gl_minor = 9;
+  try {
+    create_display("offscreen", request);
+    FAIL() << "expected a DisplayError";
+  } catch (const DisplayError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("OpenGL 9.9"), std::string::npos) << message;
+    EXPECT_NE(message.find("offers OpenGL"), std::string::npos) << message;
+  }
+}
+
+TEST(DisplayFactory, WindowWithoutDisplayIsAClearError) {
+  // The test environment clears DISPLAY for every test but the WindowBackend ones.
+  ASSERT_EQ(std::getenv("DISPLAY") == nullptr || std::string(std::getenv("DISPLAY")).empty(), true);
+  try {
+    create_display("window", DisplayRequest{});
+    FAIL() << "expected a DisplayError";
+  } catch (const DisplayError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("GLFW: cannot open a window"), std::string::npos) << message;
+    EXPECT_NE(message.find("--display offscreen"), std::string::npos) << message;
+  }
+}
+
+TEST(DisplayFactory, UnknownKindIsAClearError) {
+  EXPECT_THROW(create_display("hologram", DisplayRequest{}), DisplayError);
+}
+
+TEST(WindowBackend, RendersKnownPatternUnderX) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "WindowBackend tests run under xvfb-run (see tests/CMakeLists.txt)";
+  DisplayRequest request;
+  request.width_px = 64;
+  request.height_px = 48;
+  auto display = create_display("window", request);
+  EXPECT_EQ(display->kind(), "window");
+  EXPECT_TRUE(display->real_time());
+  EXPECT_EQ(display->width_px(), 64);
+  EXPECT_GT(display->refresh_hz(), 0.0);
+  check_backend_renders_pattern(*display);
+  EXPECT_TRUE(display->poll_keys().empty());
+  EXPECT_FALSE(display->close_requested());
+}
+
+TEST(WindowBackend, BadMonitorIndexIsAClearError) {
+  DisplayRequest request;
+  request.monitor = 7;
+  try {
+    create_display("window", request);
+    FAIL() << "expected a DisplayError";
+  } catch (const DisplayError& error) {
+    EXPECT_NE(std::string(error.what()).find("monitor 7 requested"), std::string::npos) << error.what();
+  }
+}
+
+TEST(WindowBackend, BothBackendsInOneProcess) {
+  // GL entry points are reloaded per backend; each renders correctly after the other.
+  DisplayRequest request;
+  request.width_px = 48;
+  request.height_px = 40;
+  {
+    auto offscreen = create_display("offscreen", request);
+    check_backend_renders_pattern(*offscreen);
+  }
+  {
+    auto window = create_display("window", request);
+    check_backend_renders_pattern(*window);
+  }
+  auto offscreen_again = create_display("offscreen", request);
+  check_backend_renders_pattern(*offscreen_again);
+}
+
+}  // namespace
+}  // namespace glarelab
