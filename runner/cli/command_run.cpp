@@ -1,0 +1,49 @@
+#include <iostream>
+
+#include "analysis/session_summary.h"
+#include "runner/cli/commands.h"
+#include "runner/session/session_runner.h"
+#include "runner/store/result_store.h"
+
+namespace glarelab::cli {
+
+Action add_run_command(CLI::App& app) {
+  auto options = std::make_shared<RunOptions>();
+  auto seed = std::make_shared<std::uint64_t>(0);
+  auto resume = std::make_shared<std::int64_t>(0);
+  auto stop_after = std::make_shared<int>(0);
+  CLI::App* run = app.add_subcommand("run", "Run (or resume) an experiment session");
+  run->add_option("experiment", options->experiment_path, "Experiment file (TOML)")->required()->check(CLI::ExistingFile);
+  run->add_option("--participant", options->participant, "Participant code stored with the session")
+      ->capture_default_str();
+  run->add_option("--db", options->db_path, "Results database (default: results/<experiment name>.db)");
+  run->add_option("--display", options->display, "Where frames go")
+      ->check(CLI::IsMember({"window", "offscreen"}))
+      ->capture_default_str();
+  run->add_option("--observer", options->observer, "Who answers: keyboard, simulated or script:FILE")
+      ->capture_default_str();
+  auto* seed_option = run->add_option("--seed", *seed, "Seed for every random choice (overrides the file's)");
+  auto* resume_option =
+      run->add_option("--resume", *resume, "Finish the remaining trials of this session (same seed and order)");
+  auto* stop_option = run->add_option("--stop-after", *stop_after,
+                                      "Stop after N trials, leaving the session resumable (as if the run had been cut off)")
+                          ->check(CLI::PositiveNumber);
+  return [=]() {
+    if (seed_option->count() > 0) options->seed = *seed;
+    if (resume_option->count() > 0) options->resume_session_id = *resume;
+    if (stop_option->count() > 0) options->stop_after_trials = *stop_after;
+    return report_errors([&]() {
+      const RunResult result = run_session(*options, std::cout);
+      const ResultStore store(result.db_path);
+      std::cout << summarise_session(store, result.session_id).describe(result.db_path);
+      if (result.status == "running") {
+        std::cout << "  stopped early; finish with: glarelab run " << options->experiment_path << " --db "
+                  << result.db_path << " --resume " << result.session_id << " --display " << options->display
+                  << " --observer " << options->observer << "\n";
+      }
+      return result.status == "aborted" ? static_cast<int>(kExitAborted) : static_cast<int>(kExitOk);
+    });
+  };
+}
+
+}  // namespace glarelab::cli

@@ -1,0 +1,32 @@
+#include <iostream>
+
+#include "protocols/experiment.h"
+#include "protocols/forced_choice.h"
+#include "runner/cli/commands.h"
+#include "stimuli/scene_library.h"
+
+namespace glarelab::cli {
+
+Action add_validate_command(CLI::App& app) {
+  auto path = std::make_shared<std::string>();
+  CLI::App* validate = app.add_subcommand("validate", "Check an experiment file and its tables and scenes without running it");
+  validate->add_option("experiment", *path, "Experiment file (TOML)")->required();
+  return [=]() {
+    return report_errors([&]() {
+      const Experiment experiment = load_experiment(*path);
+      const SceneLibrary scenes(experiment);
+      const auto trials = build_forced_choice_trials(experiment, scenes.peak_luminances_cd_m2());
+      std::cout << *path << ": ok: experiment '" << experiment.name << "', " << experiment.scenes.size()
+                << " scene(s), " << experiment.conditions.size() << " condition row(s), " << trials.size() << " "
+                << experiment.procedure << " trials, display " << experiment.display.width_px << "x"
+                << experiment.display.height_px << " at " << experiment.display.refresh_hz << " Hz\n";
+      for (const auto& [name, scene] : scenes.scenes()) {
+        std::cout << "  scene " << name << ": " << scene.image_cd_m2.width_px << "x" << scene.image_cd_m2.height_px
+                  << " px, peak " << scene.peak_cd_m2 << " cd/m2, mean " << scene.mean_cd_m2 << " cd/m2\n";
+      }
+      return 0;
+    });
+  };
+}
+
+}  // namespace glarelab::cli

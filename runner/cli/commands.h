@@ -1,0 +1,18 @@
+#pragma once
+// Each subcommand registers its options on the CLI11 app and returns the action to run after
+// parsing. Only subcommands that work are registered.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace glarelab::cli {
+
+using Action = std::function<int()>;
+
+Action add_run_command(CLI::App& app);
+Action add_validate_command(CLI::App& app);
+
+// Runs `body`, turning glarelab's error types into a message on stderr and the documented exit code.
+int report_errors(const std::function<int()>& body);
+
+}  // namespace glarelab::cli

@@ -1,0 +1,33 @@
+#include <iostream>
+
+#include "protocols/config_error.h"
+#include "runner/cli/commands.h"
+#include "runner/display/display_backend.h"
+#include "runner/session/session_runner.h"
+#include "runner/store/result_store.h"
+#include "stimuli/exr_io.h"
+
+namespace glarelab::cli {
+
+int report_errors(const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const ConfigError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitBadInput;
+  } catch (const ImageError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitBadInput;
+  } catch (const DisplayError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitDevice;
+  } catch (const StoreError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitStore;
+  } catch (const std::exception& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitFailure;
+  }
+}
+
+}  // namespace glarelab::cli

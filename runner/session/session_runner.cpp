@@ -1,0 +1,355 @@
+#include "runner/session/session_runner.h"
+
+#include <filesystem>
+#include <memory>
+#include <ostream>
+#include <stdexcept>
+#include <vector>
+
+#include "protocols/experiment.h"
+#include "protocols/forced_choice.h"
+#include "protocols/observer.h"
+#include "runner/clock.h"
+#include "runner/display/display_backend.h"
+#include "runner/session/interrupt.h"
+#include "runner/session/keyboard_responses.h"
+#include "runner/software_version.h"
+#include "runner/store/result_store.h"
+#include "stimuli/exr_io.h"
+#include "stimuli/frame_renderer.h"
+#include "stimuli/scene_library.h"
+
+namespace glarelab {
+namespace {
+
+std::string default_db_path(const Experiment& experiment) {
+  return (std::filesystem::path("results") / (experiment.name + ".db")).string();
+}
+
+// Everything a session needs that comes from the experiment and options, checked before any
+// database write.
+struct PreparedSession {
+  Experiment experiment;
+  std::string resolved_config;
+  std::unique_ptr<SceneLibrary> scenes;
+  std::vector<TrialPlan> trials;
+  std::unique_ptr<Observer> observer;  // null for the keyboard
+  std::string observer_description;
+};
+
+std::unique_ptr<Observer> make_observer(const std::string& spec, const Experiment& experiment, std::string* description) {
+  if (spec == "keyboard") {
+    *description = "keyboard";
+    return nullptr;
+  }
+  if (spec == "simulated") {
+    auto observer = make_simulated_observer(experiment.simulated_observer, experiment.seed);
+    *description = observer->description();
+    return observer;
+  }
+  if (spec.starts_with("script:")) {
+    auto observer = make_script_observer(spec.substr(7));
+    *description = observer->description();
+    return observer;
+  }
+  throw ConfigError({"--observer", 0, 0}, "observer",
+                    "unknown observer '" + spec + "' (choose keyboard, simulated or script:FILE)");
+}
+
+PreparedSession prepare(Experiment experiment, const RunOptions& options) {
+  PreparedSession prepared;
+  prepared.experiment = std::move(experiment);
+  prepared.resolved_config = resolved_config_toml(prepared.experiment);
+  prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment);
+  prepared.trials = build_forced_choice_trials(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
+  prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
+  if (!prepared.observer && options.display != "window") {
+    throw ConfigError({"--observer", 0, 0}, "observer",
+                      "the keyboard observer needs --display window; offscreen runs use --observer simulated or "
+                      "script:FILE");
+  }
+  return prepared;
+}
+
+struct TrialRun {
+  std::optional<Response> response;  // empty when aborted
+  std::vector<FrameRecord> frames;
+  double onset_s = 0.0;
+};
+
+class SessionLoop {
+ public:
+  SessionLoop(PreparedSession& prepared, DisplayBackend& display, SessionClock& clock, ResultStore& store,
+              std::int64_t session_id)
+      : prepared_(prepared),
+        display_(display),
+        clock_(clock),
+        store_(store),
+        session_id_(session_id),
+        renderer_(display.width_px(), display.height_px()),
+        period_s_(1.0 / display.refresh_hz()) {
+    for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
+  }
+
+  // Returns false when the session was aborted during this trial.
+  bool run_trial(const TrialPlan& plan, std::ostream& progress) {
+    const std::vector<Placement> placements = layout(plan);
+    TrialRun run;
+    const bool interactive = prepared_.observer == nullptr;
+    double previous_flip_s = 0.0;
+    for (int frame = 0; frame < plan.stimulus_frames; ++frame) {
+      draw(placements);
+      display_.present();
+      const double flip_s = clock_.on_flip();
+      if (frame == 0) run.onset_s = flip_s;
+      FrameRecord record;
+      record.frame_index = frame;
+      record.scheduled_s = run.onset_s + frame * period_s_;
+      record.flip_s = flip_s;
+      // A flip more than 1.5 refresh periods after the previous one means a refresh was missed.
+      record.dropped = frame > 0 && (flip_s - previous_flip_s) > 1.5 * period_s_;
+      previous_flip_s = flip_s;
+      run.frames.push_back(record);
+      if (interactive && !run.response)
+        run.response = poll_keyboard(plan, run.onset_s);
+      else
+        check_interrupt();
+      if (aborted_) return false;
+    }
+    if (!interactive) {
+      run.response = prepared_.observer->respond(plan);
+    } else {
+      // Response screen: the background alone, until an allowed key or Escape.
+      while (!run.response) {
+        draw({});
+        display_.present();
+        clock_.on_flip();
+        run.response = poll_keyboard(plan, run.onset_s);
+        if (aborted_) return false;
+      }
+    }
+    check_interrupt();
+    if (aborted_) return false;
+    commit(plan, run);
+    const int total = static_cast<int>(prepared_.trials.size());
+    if (total >= 20 && (plan.trial_index + 1) % (total / 10) == 0)
+      progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
+    return true;
+  }
+
+  bool aborted() const { return aborted_; }
+  const std::string& abort_reason() const { return abort_reason_; }
+
+ private:
+  std::vector<Placement> layout(const TrialPlan& plan) const {
+    std::vector<PixelRect> sizes;
+    for (const auto& scene_name : plan.scenes) {
+      const auto& scene = prepared_.scenes->get(scene_name);
+      sizes.push_back({0, 0, scene.image_cd_m2.width_px, scene.image_cd_m2.height_px});
+    }
+    std::vector<PixelRect> columns;
+    const auto rects = side_by_side_layout(display_.width_px(), display_.height_px(), sizes, &columns);
+    std::vector<Placement> placements;
+    for (std::size_t i = 0; i < plan.scenes.size(); ++i)
+      placements.push_back({&textures_.at(plan.scenes[i]), 1.0, rects[i], columns[i]});
+    return placements;
+  }
+
+  void draw(const std::vector<Placement>& placements) {
+    renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
+    renderer_.encode_to_display(prepared_.experiment.display);
+  }
+
+  void check_interrupt() {
+    if (interrupt_requested()) {
+      aborted_ = true;
+      abort_reason_ = "interrupted (Ctrl-C or SIGTERM)";
+    }
+  }
+
+  std::optional<Response> poll_keyboard(const TrialPlan& plan, double onset_s) {
+    check_interrupt();
+    if (aborted_) return std::nullopt;
+    if (display_.close_requested()) {
+      aborted_ = true;
+      abort_reason_ = "window closed";
+      return std::nullopt;
+    }
+    for (const std::string& key : display_.poll_keys()) {
+      const double key_time_s = clock_.now_s();
+      if (key == "escape") {
+        aborted_ = true;
+        abort_reason_ = "Escape pressed";
+        return std::nullopt;
+      }
+      if (auto response = response_for_key(key, plan.allowed_responses)) {
+        return Response{*response, key_time_s - onset_s};
+      }
+      // Outside the allowed set: logged, never recorded as an answer.
+      store_.log_event(session_id_, key_time_s, "ignored_key",
+                       "trial " + std::to_string(plan.trial_index) + ": key '" + key + "' is not a response");
+    }
+    return std::nullopt;
+  }
+
+  void commit(const TrialPlan& plan, const TrialRun& run) {
+    const TrialOutcome outcome = score_forced_choice(plan, *run.response);
+    TrialRecord record;
+    record.session_id = session_id_;
+    record.trial_index = plan.trial_index;
+    record.block = plan.block;
+    record.procedure = plan.procedure;
+    record.condition = plan.condition_json;
+    record.intensity = plan.intensity;
+    record.response = outcome.response;
+    record.correct = outcome.correct;
+    record.response_time_s = run.response->response_time_s;
+    record.onset_s = run.onset_s;
+    record.started_utc = utc_now_iso8601();
+    store_.commit_trial(record, run.frames);
+  }
+
+  PreparedSession& prepared_;
+  DisplayBackend& display_;
+  SessionClock& clock_;
+  ResultStore& store_;
+  std::int64_t session_id_;
+  FrameRenderer renderer_;
+  double period_s_;
+  std::map<std::string, SceneTexture> textures_;
+  bool aborted_ = false;
+  std::string abort_reason_;
+};
+
+DisplayRequest display_request(const Experiment& experiment) {
+  DisplayRequest request;
+  request.width_px = experiment.display.width_px;
+  request.height_px = experiment.display.height_px;
+  request.refresh_hz = experiment.display.refresh_hz;
+  request.monitor = experiment.display.monitor;
+  request.fullscreen = experiment.display.fullscreen;
+  request.title = "glarelab: " + experiment.name;
+  return request;
+}
+
+}  // namespace
+
+RunResult run_session(const RunOptions& options, std::ostream& progress) {
+  install_interrupt_handlers();
+  RunResult result;
+
+  // 1. Everything that can be wrong with the input is found before anything is written.
+  std::unique_ptr<ResultStore> store;
+  std::optional<SessionRecord> resumed;
+  std::vector<TrialRecord> done_trials;
+  Experiment experiment;
+  if (options.resume_session_id) {
+    Experiment from_file = load_experiment(options.experiment_path);
+    result.db_path = options.db_path.empty() ? default_db_path(from_file) : options.db_path;
+    if (!std::filesystem::exists(result.db_path))
+      throw StoreError("SQLite: " + result.db_path + ": no such database to resume from");
+    store = std::make_unique<ResultStore>(result.db_path);
+    resumed = store->load_session(*options.resume_session_id);
+    if (!resumed)
+      throw StoreError("SQLite: " + result.db_path + ": no session " + std::to_string(*options.resume_session_id));
+    if (resumed->status == "completed")
+      throw StoreError("SQLite: " + result.db_path + ": session " + std::to_string(resumed->id) +
+                       " is already completed");
+    // The stored, fully resolved configuration is the design being finished: same seed, same order.
+    experiment = parse_experiment_text(resumed->config, "<session " + std::to_string(resumed->id) + " config>", "/");
+    if (resolved_config_toml(from_file) != resumed->config) {
+      progress << "note: " << options.experiment_path
+               << " differs from the configuration stored with the session; resuming with the stored one\n";
+    }
+    done_trials = store->load_trials(resumed->id);
+    for (std::size_t i = 0; i < done_trials.size(); ++i)
+      if (done_trials[i].trial_index != static_cast<int>(i))
+        throw StoreError("SQLite: " + result.db_path + ": session " + std::to_string(resumed->id) +
+                         " has a gap in its trials at index " + std::to_string(i));
+  } else {
+    experiment = load_experiment(options.experiment_path);
+    if (options.seed) experiment.seed = *options.seed;
+    result.db_path = options.db_path.empty() ? default_db_path(experiment) : options.db_path;
+  }
+  PreparedSession prepared = prepare(std::move(experiment), options);
+  result.trials_in_design = static_cast<int>(prepared.trials.size());
+  const int first_trial = static_cast<int>(done_trials.size());
+
+  // 2. The display (a device failure is reported before a session exists).
+  auto display = create_display(options.display, display_request(prepared.experiment));
+  const std::string renderer = display->gl_info().describe();
+  std::unique_ptr<SessionClock> clock;
+  if (display->real_time()) {
+    clock = std::make_unique<MonotonicClock>(resumed ? store->last_flip_s(resumed->id) + 1.0 : 0.0);
+  } else {
+    // Frame k of the session flips at k / refresh_hz, across resumptions too.
+    clock = std::make_unique<VirtualClock>(display->refresh_hz(), 0.0, resumed ? store->frame_count(resumed->id) : 0);
+  }
+
+  // 3. The session row.
+  if (!store) store = std::make_unique<ResultStore>(result.db_path);
+  if (resumed) {
+    result.session_id = resumed->id;
+    store->reopen_session(resumed->id);
+    store->log_event(result.session_id, clock->now_s(), "resumed",
+                     "resumed at trial " + std::to_string(first_trial) + " of " + std::to_string(result.trials_in_design) +
+                         " on " + renderer + " (" + options.display + ", " + clock->name() + " clock)");
+  } else {
+    SessionRecord session;
+    session.experiment = prepared.experiment.name;
+    session.participant = options.participant;
+    session.seed = prepared.experiment.seed;
+    session.started_utc = utc_now_iso8601();
+    session.status = "running";
+    session.config = prepared.resolved_config;
+    session.software_version = software_version();
+    session.renderer = renderer;
+    session.display_backend = display->kind();
+    session.clock = clock->name();
+    session.observer = prepared.observer_description;
+    result.session_id = store->begin_session(session);
+    store->log_event(result.session_id, 0.0, "display",
+                     display->kind() + " " + std::to_string(display->width_px()) + "x" +
+                         std::to_string(display->height_px()) + " at " + std::to_string(display->refresh_hz()) +
+                         " Hz, " + renderer + ", " + clock->name() + " clock");
+    for (const auto& [name, scene] : prepared.scenes->scenes()) {
+      if (scene.peak_cd_m2 > prepared.experiment.display.peak_luminance_cd_m2) {
+        store->log_event(result.session_id, 0.0, "clipping",
+                         "scene '" + name + "' peaks at " + std::to_string(scene.peak_cd_m2) +
+                             " cd/m2, above the display's " +
+                             std::to_string(prepared.experiment.display.peak_luminance_cd_m2) +
+                             " cd/m2: brighter pixels are shown at the peak");
+      }
+    }
+  }
+
+  progress << "Session " << result.session_id << " of '" << prepared.experiment.name << "' ("
+           << prepared.trials.size() << " trials, " << display->kind() << ", " << prepared.observer_description
+           << " observer) -> " << result.db_path << "\n";
+  if (!prepared.observer && !prepared.trials.empty()) {
+    progress << prepared.trials.front().question << " " << describe_response_keys(prepared.trials.front().allowed_responses)
+             << "\n";
+  }
+
+  // 4. The trials.
+  SessionLoop loop(prepared, *display, *clock, *store, result.session_id);
+  for (int index = first_trial; index < result.trials_in_design; ++index) {
+    if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
+      result.status = "running";
+      return result;
+    }
+    if (!loop.run_trial(prepared.trials[static_cast<std::size_t>(index)], progress)) break;
+    ++result.trials_run_now;
+  }
+  if (loop.aborted()) {
+    store->log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
+    store->finish_session(result.session_id, "aborted");
+    result.status = "aborted";
+  } else {
+    store->finish_session(result.session_id, "completed");
+    result.status = "completed";
+  }
+  return result;
+}
+
+}  // namespace glarelab

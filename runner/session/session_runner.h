@@ -1,0 +1,46 @@
+#pragma once
+// The session loop: for each trial, present its frames on the session clock, collect the
+// response, score it and commit the trial (with its frames) before the next one starts.
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace glarelab {
+
+struct RunOptions {
+  std::string experiment_path;
+  std::string participant = "anonymous";
+  std::string db_path;                  // empty: results/<experiment name>.db
+  std::string display = "window";       // window | offscreen
+  std::string observer = "keyboard";    // keyboard | simulated | script:FILE
+  std::optional<std::uint64_t> seed;    // overrides [experiment] seed
+  std::optional<std::int64_t> resume_session_id;
+  // Stop after this many trials as if the run had been cut off (for demonstrations of resume and
+  // for tests); the session stays "running".
+  std::optional<int> stop_after_trials;
+};
+
+struct RunResult {
+  std::int64_t session_id = 0;
+  std::string status;  // completed | aborted | running (stopped early)
+  std::string db_path;
+  int trials_in_design = 0;
+  int trials_run_now = 0;
+};
+
+// Exit codes of `glarelab run`, also used by main.
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitFailure = 1,     // unexpected internal error
+  kExitBadInput = 2,    // experiment file, condition table, scene image, script, options
+  kExitDevice = 3,      // display, GL or input device
+  kExitStore = 4,       // database
+  kExitAborted = 130,   // Ctrl-C, Escape or window closed: session kept as aborted
+};
+
+// Runs (or resumes) a session. Throws ConfigError/ImageError/DisplayError/StoreError; never
+// writes to the database before the experiment, scenes, observer and display are all valid.
+RunResult run_session(const RunOptions& options, std::ostream& progress);
+
+}  // namespace glarelab

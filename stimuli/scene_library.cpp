@@ -1,0 +1,44 @@
+#include "stimuli/scene_library.h"
+
+#include <stdexcept>
+
+#include "stimuli/exr_io.h"
+
+namespace glarelab {
+
+SceneLibrary::SceneLibrary(const Experiment& experiment) {
+  for (const auto& [name, spec] : experiment.scenes) {
+    ExrReadResult read = read_exr(spec.file);
+    const NonFiniteReport report = inspect_pixels(read.image);
+    if (!report.clean()) {
+      throw ImageError(spec.file + ": scene '" + name + "' has " + report.describe() +
+                       "; luminances must be finite and non-negative");
+    }
+    LoadedScene scene;
+    scene.spec = spec;
+    scene.image_cd_m2 = std::move(read.image);
+    const auto scale = static_cast<float>(spec.scale_cd_m2);
+    for (std::size_t i = 0; i < scene.image_cd_m2.rgba.size(); i += 4) {
+      scene.image_cd_m2.rgba[i] *= scale;
+      scene.image_cd_m2.rgba[i + 1] *= scale;
+      scene.image_cd_m2.rgba[i + 2] *= scale;
+    }
+    scene.peak_cd_m2 = max_luminance(scene.image_cd_m2);
+    scene.mean_cd_m2 = mean_luminance(scene.image_cd_m2);
+    scenes_.emplace(name, std::move(scene));
+  }
+}
+
+const LoadedScene& SceneLibrary::get(const std::string& name) const {
+  const auto found = scenes_.find(name);
+  if (found == scenes_.end()) throw std::out_of_range("no scene named '" + name + "'");
+  return found->second;
+}
+
+std::map<std::string, double> SceneLibrary::peak_luminances_cd_m2() const {
+  std::map<std::string, double> peaks;
+  for (const auto& [name, scene] : scenes_) peaks[name] = scene.peak_cd_m2;
+  return peaks;
+}
+
+}  // namespace glarelab

@@ -1,0 +1,33 @@
+#pragma once
+// The scenes an experiment shows, read from OpenEXR once and kept in cd/m2.
+#include <map>
+#include <string>
+
+#include "protocols/experiment.h"
+#include "stimuli/image.h"
+
+namespace glarelab {
+
+struct LoadedScene {
+  SceneSpec spec;
+  ImageRGBA image_cd_m2;  // pixel values times scale_cd_m2: linear Rec.709, Y in cd/m2
+  double peak_cd_m2 = 0.0;
+  double mean_cd_m2 = 0.0;
+};
+
+class SceneLibrary {
+ public:
+  // Reads every scene of the experiment. Throws ImageError naming the file for missing or corrupt
+  // files, and for NaN, Inf or negative pixels (with their counts): a luminance cannot be any of
+  // those, and a glare model fed one would spread it over the whole frame.
+  explicit SceneLibrary(const Experiment& experiment);
+
+  const LoadedScene& get(const std::string& name) const;
+  const std::map<std::string, LoadedScene>& scenes() const { return scenes_; }
+  std::map<std::string, double> peak_luminances_cd_m2() const;
+
+ private:
+  std::map<std::string, LoadedScene> scenes_;
+};
+
+}  // namespace glarelab
