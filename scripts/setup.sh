@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# One command from a fresh clone on Debian 12: installs the system packages glarelab needs (only
+# those missing; idempotent), configures and builds with CMake, and runs the demo experiment
+# offscreen with a simulated observer.
+#   scripts/setup.sh            everything
+#   scripts/setup.sh --no-demo  packages and build only
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  build-essential cmake pkg-config git python3 python3-glad glslang-tools  # toolchain, GL loader generator, shader validator
+  libgl-dev libegl-dev libgl1-mesa-dri libglx-mesa0 libosmesa6-dev libglfw3-dev  # OpenGL: OSMesa offscreen, GLFW window
+  xvfb xauth                                       # a real X display for the window backend's tests
+  libopenexr-dev libpng-dev                        # images
+  libsqlite3-dev sqlite3                           # results store (sqlite3: the shell, for inspecting results)
+  libtomlplusplus-dev libcli11-dev librandom123-dev # experiment files, command line, counter-based random numbers
+  libgtest-dev libgmock-dev libbenchmark-dev       # tests and benchmarks
+)
+
+missing=()
+for package in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$package")
+  fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${#missing[@]} Debian package(s): ${missing[*]}"
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+  "${sudo_cmd[@]}" apt-get update -q
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all ${#PACKAGES[@]} Debian packages are installed"
+fi
+
+echo "setup: configuring and building in build/"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
+cmake --build build -j"$(nproc)"
+
+if [ "${1:-}" != "--no-demo" ]; then
+  echo "setup: running the demo experiment (offscreen, simulated observer)"
+  build/glarelab run examples/demo.toml --display offscreen --observer simulated --participant demo
+fi
