@@ -1,0 +1,118 @@
+#pragma once
+// Helpers for tests that run the glarelab binary as a user would.
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace glarelab::testing {
+
+// A fresh directory per call under the system temp dir.
+inline std::filesystem::path fresh_directory(const std::string& name) {
+  static int counter = 0;
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("glarelab-test-" + std::to_string(::getpid()) + "-" + name + "-" + std::to_string(counter++));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+inline void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+}
+
+// A started glarelab process whose stdout and stderr go to one file.
+class GlarelabProcess {
+ public:
+  GlarelabProcess(const std::vector<std::string>& arguments, const std::filesystem::path& output_file) {
+    std::vector<std::string> argv_storage = {GLARELAB_BINARY};
+    argv_storage.insert(argv_storage.end(), arguments.begin(), arguments.end());
+    std::vector<char*> argv;
+    for (auto& argument : argv_storage) argv.push_back(argument.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, output_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    if (posix_spawn(&pid_, GLARELAB_BINARY, &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  ~GlarelabProcess() {
+    if (pid_ > 0 && !finished_) {
+      ::kill(pid_, SIGKILL);
+      wait();
+    }
+  }
+  bool started() const { return pid_ > 0; }
+  void signal(int number) const { ::kill(pid_, number); }
+  // Exit code, or 128 + signal number when killed by a signal.
+  int wait() {
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    finished_ = true;
+    if (WIFEXITED(status)) return WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+    return -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  bool finished_ = false;
+};
+
+struct RunOutput {
+  int exit_code = -1;
+  std::string output;
+};
+
+inline RunOutput run_glarelab(const std::vector<std::string>& arguments, const std::filesystem::path& work_dir) {
+  const auto output_file = work_dir / ("output-" + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()) + ".txt");
+  GlarelabProcess process(arguments, output_file);
+  RunOutput result;
+  if (!process.started()) return result;
+  result.exit_code = process.wait();
+  result.output = read_text(output_file);
+  return result;
+}
+
+// The demo experiment copied into `dir` with some keys replaced (simple text substitution on
+// whole lines starting with the key), scene paths made absolute.
+inline std::filesystem::path demo_variant(const std::filesystem::path& dir,
+                                          const std::vector<std::pair<std::string, std::string>>& line_replacements) {
+  const std::filesystem::path examples = std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples";
+  std::istringstream in(read_text(examples / "demo.toml"));
+  std::ostringstream out;
+  std::string line;
+  while (std::getline(in, line)) {
+    for (const auto& [key, replacement] : line_replacements)
+      if (line.rfind(key + " ", 0) == 0 || line.rfind(key + "=", 0) == 0) line = replacement;
+    const auto pos = line.find("\"scenes/");
+    if (pos != std::string::npos) line.replace(pos, 1, "\"" + (examples.string() + "/"));
+    if (line.rfind("file = \"demo_conditions.csv\"", 0) == 0)
+      line = "file = \"" + (examples / "demo_conditions.csv").string() + "\"";
+    out << line << "\n";
+  }
+  const auto path = dir / "experiment.toml";
+  write_text(path, out.str());
+  return path;
+}
+
+}  // namespace glarelab::testing
