@@ -39,6 +39,7 @@ struct SceneSpec {
 struct ConditionRow {
   std::vector<std::pair<std::string, std::string>> fields;
   SourceLocation where;
+  int number = 0;  // 1-based position in the condition table, for name()
   const std::string* find(const std::string& column) const;
   std::string name() const;  // the "name" column, or "row N"
 };

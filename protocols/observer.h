@@ -23,7 +23,8 @@ class Observer {
 };
 
 // Seeded psychometric observer: picks the position with the brighter source with probability
-// 0.5 + (0.5 - lapse/2)... see simulated_observer.cpp for the exact Weibull form.
+// 0.5 + (0.5 - lapse) * (1 - exp(-(d / threshold_log10)^slope)), d = |log10(L_left / L_right)|
+// (2-AFC Weibull; see simulated_observer.cpp).
 std::unique_ptr<Observer> make_simulated_observer(const SimulatedObserverSpec& spec, std::uint64_t seed);
 
 // One response per line, consumed in trial order: an allowed response name ("left"), "1"/"0" for

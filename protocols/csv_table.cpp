@@ -1,0 +1,219 @@
+#include "protocols/csv_table.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+namespace glarelab {
+
+int CsvTable::column(const std::string& name) const {
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    if (header[i].text == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int CsvTable::require_column(const std::string& name) const {
+  const int index = column(name);
+  if (index >= 0) return index;
+  std::string present;
+  for (const CsvCell& cell : header) present += (present.empty() ? "'" : ", '") + cell.text + "'";
+  SourceLocation where = header.empty() ? SourceLocation{file, 1, 1} : header.front().where;
+  throw ConfigError(where, name,
+                    "missing column '" + name + "' in " + file + " (columns: " + present + ")");
+}
+
+namespace {
+
+// A single pass over the text, RFC 4180 with two relaxations that matter for hand-edited tables:
+// LF alone ends a record as well as CRLF, and spaces/tabs around unquoted fields are dropped
+// (inside quotes every character is kept). Columns count characters (UTF-8 code points), not
+// bytes, so they match what an editor shows.
+class CsvParser {
+ public:
+  CsvParser(std::string_view text, std::string file) : text_(text), file_(std::move(file)) {
+    // Spreadsheet programs often prefix a UTF-8 byte order mark; it is not part of the first name.
+    if (text_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
+  }
+
+  std::vector<std::vector<CsvCell>> records() {
+    std::vector<std::vector<CsvCell>> result;
+    while (pos_ < text_.size()) {
+      if (line_is_blank()) {
+        skip_line();
+        continue;
+      }
+      result.push_back(record());
+    }
+    return result;
+  }
+
+ private:
+  bool at_end() const { return pos_ >= text_.size(); }
+  char peek() const { return text_[pos_]; }
+
+  void advance() {
+    const char c = text_[pos_++];
+    if (c == '\n') {
+      ++line_;
+      column_ = 1;
+    } else if (c == '\r') {
+      // CR LF counts once (at the LF); a lone CR ends a line by itself.
+      if (at_end() || peek() != '\n') {
+        ++line_;
+        column_ = 1;
+      }
+    } else if ((static_cast<unsigned char>(c) & 0xC0) != 0x80) {
+      ++column_;  // continuation bytes of a UTF-8 sequence do not start a new character
+    }
+  }
+
+  bool at_line_end() const { return at_end() || peek() == '\n' || peek() == '\r'; }
+
+  void skip_line_end() {
+    if (at_end()) return;
+    if (peek() == '\r') {
+      advance();
+      if (!at_end() && peek() == '\n') advance();
+    } else if (peek() == '\n') {
+      advance();
+    }
+  }
+
+  bool line_is_blank() const {
+    for (std::size_t i = pos_; i < text_.size(); ++i) {
+      const char c = text_[i];
+      if (c == '\n' || c == '\r') return true;
+      if (c != ' ' && c != '\t') return false;
+    }
+    return true;
+  }
+
+  void skip_line() {
+    while (!at_line_end()) advance();
+    skip_line_end();
+  }
+
+  void skip_blanks() {
+    while (!at_end() && (peek() == ' ' || peek() == '\t')) advance();
+  }
+
+  SourceLocation here() const { return SourceLocation{file_, line_, column_}; }
+
+  std::vector<CsvCell> record() {
+    std::vector<CsvCell> cells;
+    for (;;) {
+      cells.push_back(field());
+      if (at_end()) break;
+      if (peek() == ',') {
+        advance();
+        continue;
+      }
+      skip_line_end();
+      break;
+    }
+    return cells;
+  }
+
+  CsvCell field() {
+    skip_blanks();
+    CsvCell cell{std::string(), here()};
+    if (!at_end() && peek() == '"') {
+      advance();
+      for (;;) {
+        if (at_end()) {
+          throw ConfigError(cell.where, "",
+                            "unterminated quoted field: the quote opened here is never closed");
+        }
+        const char c = peek();
+        if (c == '"') {
+          advance();
+          if (!at_end() && peek() == '"') {  // "" inside quotes is one literal quote
+            cell.text += '"';
+            advance();
+            continue;
+          }
+          break;
+        }
+        cell.text += c;
+        advance();
+      }
+      skip_blanks();
+      if (!at_end() && peek() != ',' && !at_line_end()) {
+        throw ConfigError(here(), "",
+                          "unexpected character after a closing quote (expected ',' or the end of the line)");
+      }
+      return cell;
+    }
+    std::size_t kept = 0;  // length without trailing blanks
+    while (!at_end() && peek() != ',' && !at_line_end()) {
+      const char c = peek();
+      if (c == '"') {
+        throw ConfigError(here(), "",
+                          "quote inside an unquoted field (quote the whole field and double the quote)");
+      }
+      cell.text += c;
+      if (c != ' ' && c != '\t') kept = cell.text.size();
+      advance();
+    }
+    cell.text.resize(kept);
+    return cell;
+  }
+
+  std::string_view text_;
+  std::string file_;
+  std::size_t pos_ = 0;
+  int line_ = 1;
+  int column_ = 1;
+};
+
+}  // namespace
+
+CsvTable parse_csv_text(const std::string& text, const std::string& file_name) {
+  CsvTable table;
+  table.file = file_name;
+  std::vector<std::vector<CsvCell>> records = CsvParser(text, file_name).records();
+  if (records.empty()) {
+    throw ConfigError(SourceLocation{file_name, 1, 1}, "", "empty table: the first row must name the columns");
+  }
+  table.header = std::move(records.front());
+  for (std::size_t i = 0; i < table.header.size(); ++i) {
+    const CsvCell& cell = table.header[i];
+    if (cell.text.empty()) {
+      throw ConfigError(cell.where, "", "empty column name (column " + std::to_string(i + 1) + ")");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (table.header[j].text == cell.text) {
+        throw ConfigError(cell.where, cell.text,
+                          "duplicate column name '" + cell.text + "' (also column " + std::to_string(j + 1) + ")");
+      }
+    }
+  }
+  for (std::size_t r = 1; r < records.size(); ++r) {
+    std::vector<CsvCell>& record = records[r];
+    if (record.size() != table.header.size()) {
+      throw ConfigError(SourceLocation{file_name, record.front().where.line, 1}, "",
+                        "ragged row: expected " + std::to_string(table.header.size()) +
+                            " fields (as in the header), found " + std::to_string(record.size()));
+    }
+    table.rows.push_back(std::move(record));
+  }
+  return table;
+}
+
+CsvTable read_csv_file(const std::string& path, const SourceLocation& referenced_from) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
+    throw ConfigError(referenced_from, "", "condition table '" + path + "': file not found");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) {
+    throw ConfigError(referenced_from, "", "condition table '" + path + "': cannot be opened");
+  }
+  std::ostringstream content;
+  content << in.rdbuf();
+  return parse_csv_text(content.str(), path);
+}
+
+}  // namespace glarelab

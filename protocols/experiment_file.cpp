@@ -1,0 +1,395 @@
+// Experiment files: TOML (toml++) read strictly through TableReader, plus CSV condition tables.
+// Every error names file:line:column and the dotted key so the experimenter can jump to it.
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include "protocols/csv_table.h"
+#include "protocols/experiment.h"
+#include "protocols/toml_table_reader.h"
+
+namespace glarelab {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kSupportedProcedures = {"forced_choice"};
+// Condition columns the forced-choice trial record itself writes into condition_json.
+const std::vector<std::string> kForcedChoiceReservedColumns = {"left", "right"};
+
+std::string join_quoted(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "'" : ", '") + item + "'";
+  return text;
+}
+
+// Relative paths in an experiment file are relative to the file's own directory, so an
+// experiment folder can be moved or shared as a whole.
+std::string resolve_path(const std::string& base_dir, const std::string& path) {
+  fs::path resolved(path);
+  if (resolved.is_relative()) resolved = fs::path(base_dir) / resolved;
+  return resolved.lexically_normal().string();
+}
+
+int read_int(TableReader& reader, std::string_view key, int fallback, std::int64_t minimum,
+             const char* requirement) {
+  const std::optional<std::int64_t> value = reader.integer(key);
+  if (!value) return fallback;
+  if (*value < minimum || *value > std::numeric_limits<int>::max()) {
+    reader.fail(key, std::string("must be ") + requirement + ", found " + std::to_string(*value));
+  }
+  return static_cast<int>(*value);
+}
+
+enum class Bound { positive, non_negative };
+
+double read_number(TableReader& reader, std::string_view key, double fallback, Bound bound) {
+  const std::optional<double> value = reader.number(key);
+  if (!value) return fallback;
+  if (bound == Bound::positive && !(*value > 0.0)) reader.fail(key, "must be > 0, found " + std::to_string(*value));
+  if (bound == Bound::non_negative && !(*value >= 0.0)) {
+    reader.fail(key, "must be >= 0, found " + std::to_string(*value));
+  }
+  return *value;
+}
+
+// A required sub-table; `top` reports its absence at the enclosing table.
+const toml::table& require_table(TableReader& parent, std::string_view key) {
+  const toml::table* table = parent.table(key);
+  if (table == nullptr) parent.fail(key, "missing required table [" + parent.key_path(key) + "]");
+  return *table;
+}
+
+void read_experiment_section(TableReader& top, Experiment& experiment) {
+  TableReader reader(require_table(top, "experiment"), "experiment", top.file());
+  const std::optional<std::string> name = reader.string("name");
+  if (!name) reader.fail("name", "missing required key (a string naming the experiment)");
+  if (name->empty()) reader.fail("name", "must not be empty");
+  experiment.name = *name;
+  experiment.description = reader.string("description").value_or("");
+  const std::optional<std::int64_t> seed = reader.integer("seed");
+  if (seed) {
+    if (*seed < 0) reader.fail("seed", "must be >= 0, found " + std::to_string(*seed));
+    experiment.seed = static_cast<std::uint64_t>(*seed);
+  }
+  reader.report_unused();
+}
+
+void read_display_section(TableReader& top, Experiment& experiment) {
+  const toml::table* table = top.table("display");
+  if (table == nullptr) return;
+  TableReader reader(*table, "display", top.file());
+  DisplaySpec& display = experiment.display;
+  display.width_px = read_int(reader, "width_px", display.width_px, 1, ">= 1");
+  display.height_px = read_int(reader, "height_px", display.height_px, 1, ">= 1");
+  display.refresh_hz = read_number(reader, "refresh_hz", display.refresh_hz, Bound::positive);
+  display.viewing_distance_mm =
+      read_number(reader, "viewing_distance_mm", display.viewing_distance_mm, Bound::positive);
+  display.pixel_pitch_mm = read_number(reader, "pixel_pitch_mm", display.pixel_pitch_mm, Bound::positive);
+  display.peak_luminance_cd_m2 =
+      read_number(reader, "peak_luminance_cd_m2", display.peak_luminance_cd_m2, Bound::positive);
+  display.background_cd_m2 =
+      read_number(reader, "background_cd_m2", display.background_cd_m2, Bound::non_negative);
+  if (const std::optional<std::string> encoding = reader.string("encoding")) {
+    if (*encoding == "srgb") {
+      display.encoding = DisplayEncoding::srgb;
+    } else if (*encoding == "gamma") {
+      display.encoding = DisplayEncoding::gamma;
+    } else {
+      reader.fail("encoding", "unsupported encoding '" + *encoding + "' (supported: 'srgb', 'gamma')");
+    }
+  }
+  display.gamma = read_number(reader, "gamma", display.gamma, Bound::positive);
+  display.monitor = read_int(reader, "monitor", display.monitor, 0, ">= 0");
+  display.fullscreen = reader.boolean("fullscreen").value_or(display.fullscreen);
+  reader.report_unused();
+}
+
+void read_scenes_section(TableReader& top, Experiment& experiment, const std::string& base_dir) {
+  TableReader scenes(require_table(top, "scenes"), "scenes", top.file());
+  // Scene names are the user's own keys: all of them are consumed here.
+  scenes.consume_all();
+  const toml::table& table = *top.table("scenes");
+  if (table.empty()) scenes.fail("", "at least one scene is required, e.g. a = { file = \"a.exr\" }");
+  for (const auto& [key, node] : table) {
+    const std::string name(key.str());
+    if (!node.is_table()) {
+      scenes.fail(name, "expected a table such as { file = \"scene.exr\", scale_cd_m2 = 1.0 }, found " +
+                            describe_toml_type(node));
+    }
+    if (name.empty()) scenes.fail_at_key(name, "scene names must not be empty");
+    TableReader reader(*node.as_table(), "scenes." + name, top.file());
+    SceneSpec scene;
+    scene.name = name;
+    scene.where = to_location(key.source(), top.file());
+    const std::optional<std::string> file = reader.string("file");
+    if (!file) reader.fail("file", "missing required key (the OpenEXR image of scene '" + name + "')");
+    if (file->empty()) reader.fail("file", "must not be empty");
+    scene.file = resolve_path(base_dir, *file);
+    scene.scale_cd_m2 = read_number(reader, "scale_cd_m2", scene.scale_cd_m2, Bound::positive);
+    reader.report_unused();
+    experiment.scenes.emplace(name, std::move(scene));
+  }
+}
+
+void read_procedure_section(TableReader& top, Experiment& experiment) {
+  TableReader reader(require_table(top, "procedure"), "procedure", top.file());
+  const std::optional<std::string> type = reader.string("type");
+  if (!type) reader.fail("type", "missing required key (supported: " + join_quoted(kSupportedProcedures) + ")");
+  if (std::find(kSupportedProcedures.begin(), kSupportedProcedures.end(), *type) == kSupportedProcedures.end()) {
+    reader.fail("type", "unsupported procedure '" + *type + "' (supported: " + join_quoted(kSupportedProcedures) + ")");
+  }
+  experiment.procedure = *type;
+
+  ForcedChoiceSpec& spec = experiment.forced_choice;
+  spec.alternatives = read_int(reader, "alternatives", spec.alternatives, 2, "2");
+  // Only two side-by-side alternatives are implemented; more would need another layout.
+  if (spec.alternatives != 2) reader.fail("alternatives", "must be 2, found " + std::to_string(spec.alternatives));
+  if (const std::optional<std::string> layout = reader.string("layout")) {
+    if (*layout != "side_by_side") {
+      reader.fail("layout", "unsupported layout '" + *layout + "' (supported: 'side_by_side')");
+    }
+    spec.layout = *layout;
+  }
+  spec.question = reader.string("question").value_or(spec.question);
+  spec.stimulus_frames = read_int(reader, "stimulus_frames", spec.stimulus_frames, 1, ">= 1");
+  spec.repetitions = read_int(reader, "repetitions", spec.repetitions, 1, ">= 1");
+  spec.counterbalance_sides = reader.boolean("counterbalance_sides").value_or(spec.counterbalance_sides);
+  if (const toml::array* responses = reader.array("responses")) {
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < responses->size(); ++i) {
+      const toml::node& element = *responses->get(i);
+      const std::string key = reader.key_path("responses") + "[" + std::to_string(i) + "]";
+      const std::string& name = expect_string(element, key, top.file());
+      const SourceLocation where = to_location(element.source(), top.file());
+      if (name.empty()) throw ConfigError(where, key, "response names must not be empty");
+      // "abort" is what a Response carries when the observer quits; it cannot also be an answer.
+      if (name == "abort") throw ConfigError(where, key, "'abort' is reserved for ending a session");
+      if (std::find(names.begin(), names.end(), name) != names.end()) {
+        throw ConfigError(where, key, "duplicate response '" + name + "'");
+      }
+      names.push_back(name);
+    }
+    if (static_cast<int>(names.size()) != spec.alternatives) {
+      reader.fail("responses", "expected " + std::to_string(spec.alternatives) +
+                                   " distinct responses (one per alternative), found " + std::to_string(names.size()));
+    }
+    spec.responses = std::move(names);
+  }
+  reader.report_unused();
+}
+
+void read_observer_section(TableReader& top, Experiment& experiment) {
+  const toml::table* observers = top.table("observer");
+  if (observers == nullptr) return;
+  TableReader group(*observers, "observer", top.file());
+  const toml::table* simulated = group.table("simulated");
+  group.report_unused();
+  if (simulated == nullptr) return;
+  TableReader reader(*simulated, "observer.simulated", top.file());
+  SimulatedObserverSpec& spec = experiment.simulated_observer;
+  spec.threshold_log10 = read_number(reader, "threshold_log10", spec.threshold_log10, Bound::positive);
+  spec.slope = read_number(reader, "slope", spec.slope, Bound::positive);
+  spec.lapse = read_number(reader, "lapse", spec.lapse, Bound::non_negative);
+  // A lapse of 0.5 or more would put the asymptote at or below chance in a 2-AFC task.
+  if (spec.lapse >= 0.5) reader.fail("lapse", "must be in [0, 0.5), found " + std::to_string(spec.lapse));
+  spec.response_time_median_s =
+      read_number(reader, "response_time_median_s", spec.response_time_median_s, Bound::positive);
+  reader.report_unused();
+}
+
+// A condition row together with where each of its values was written, for error messages.
+struct LocatedRow {
+  ConditionRow row;
+  std::vector<SourceLocation> value_where;  // parallel to row.fields
+  std::vector<SourceLocation> key_where;    // the CSV header cell or the TOML key
+};
+
+std::vector<LocatedRow> rows_from_csv(const CsvTable& table) {
+  std::vector<LocatedRow> rows;
+  for (const std::vector<CsvCell>& cells : table.rows) {
+    LocatedRow located;
+    located.row.where = SourceLocation{table.file, cells.front().where.line, 1};
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      located.row.fields.emplace_back(table.header[c].text, cells[c].text);
+      located.value_where.push_back(cells[c].where);
+      located.key_where.push_back(table.header[c].where);
+    }
+    rows.push_back(std::move(located));
+  }
+  return rows;
+}
+
+std::vector<LocatedRow> rows_from_toml(const toml::array& array, const std::string& key, const std::string& file) {
+  std::vector<LocatedRow> rows;
+  for (std::size_t i = 0; i < array.size(); ++i) {
+    const toml::node& element = *array.get(i);
+    const std::string row_key = key + "[" + std::to_string(i) + "]";
+    if (!element.is_table()) {
+      throw ConfigError(to_location(element.source(), file), row_key,
+                        "expected a table such as { name = \"...\", scene_a = \"...\", scene_b = \"...\" }, found " +
+                            describe_toml_type(element));
+    }
+    const toml::table& table = *element.as_table();
+    // toml::table keeps keys sorted; the columns' meaning does not depend on order, but the
+    // condition_json written with every trial should read in the order the experimenter wrote.
+    std::vector<const toml::key*> keys;
+    for (const auto& entry : table) keys.push_back(&entry.first);
+    std::sort(keys.begin(), keys.end(),
+              [](const toml::key* a, const toml::key* b) { return a->source().begin < b->source().begin; });
+    LocatedRow located;
+    located.row.where = to_location(table.source(), file);
+    for (const toml::key* column : keys) {
+      const toml::node& value = *table.get(column->str());
+      const std::string cell_key = row_key + "." + std::string(column->str());
+      std::string text;
+      // Condition values are text (as in a CSV table); numbers and booleans are accepted and kept
+      // in their TOML spelling so `contrast = 0.5` needs no quotes.
+      if (value.is_string()) {
+        text = value.as_string()->get();
+      } else if (value.is_integer()) {
+        text = std::to_string(value.as_integer()->get());
+      } else if (value.is_floating_point()) {
+        // Shortest text that reads back as the same double, as the experimenter likely wrote it.
+        char buffer[64];
+        const auto written = std::to_chars(buffer, buffer + sizeof buffer, value.as_floating_point()->get());
+        text.assign(buffer, written.ptr);
+      } else if (value.is_boolean()) {
+        text = value.as_boolean()->get() ? "true" : "false";
+      } else {
+        throw ConfigError(to_location(value.source(), file), cell_key,
+                          "expected a string, number or boolean, found " + describe_toml_type(value));
+      }
+      located.row.fields.emplace_back(std::string(column->str()), std::move(text));
+      located.value_where.push_back(to_location(value.source(), file));
+      located.key_where.push_back(to_location(column->source(), file));
+    }
+    rows.push_back(std::move(located));
+  }
+  return rows;
+}
+
+struct ConditionSource {
+  std::vector<LocatedRow> rows;
+  std::optional<CsvTable> csv;  // when the rows came from a CSV file
+};
+
+ConditionSource read_conditions_section(TableReader& top, const std::string& base_dir) {
+  TableReader reader(require_table(top, "conditions"), "conditions", top.file());
+  const toml::node* file_node = reader.node("file");
+  const toml::node* rows_node = reader.node("rows");
+  reader.report_unused();
+  if (file_node != nullptr && rows_node != nullptr) {
+    // Point at whichever of the two was written second: that is the one that conflicts.
+    const bool file_later = reader.key_location("file").line > reader.key_location("rows").line ||
+                            (reader.key_location("file").line == reader.key_location("rows").line &&
+                             reader.key_location("file").column > reader.key_location("rows").column);
+    reader.fail_at_key(file_later ? "file" : "rows",
+                       "give either 'file' (a CSV table) or 'rows' (inline rows), not both");
+  }
+  if (file_node == nullptr && rows_node == nullptr) {
+    reader.fail("", "missing condition table: give file = \"conditions.csv\" or [[conditions.rows]]");
+  }
+  ConditionSource source;
+  std::vector<LocatedRow>& rows = source.rows;
+  if (file_node != nullptr) {
+    const std::string path = resolve_path(base_dir, *reader.string("file"));
+    std::error_code error;
+    if (!fs::is_regular_file(path, error)) reader.fail_at_key("file", "condition table '" + path + "': file not found");
+    source.csv = read_csv_file(path, reader.key_location("file"));
+    rows = rows_from_csv(*source.csv);
+    if (rows.empty()) reader.fail("file", "condition table '" + path + "' has a header but no rows");
+  } else {
+    rows = rows_from_toml(*reader.array("rows"), reader.key_path("rows"), top.file());
+    if (rows.empty()) reader.fail("rows", "at least one condition row is required");
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i) rows[i].row.number = static_cast<int>(i + 1);
+  return source;
+}
+
+// Forced choice shows the scenes named in columns scene_a and scene_b of every row.
+void check_forced_choice_rows(const std::vector<LocatedRow>& rows, const Experiment& experiment,
+                              const std::optional<CsvTable>& csv) {
+  std::vector<std::string> scene_names;
+  for (const auto& entry : experiment.scenes) scene_names.push_back(entry.first);
+  for (const std::string column : {"scene_a", "scene_b"}) {
+    if (csv) csv->require_column(column);
+  }
+  for (const LocatedRow& located : rows) {
+    const ConditionRow& row = located.row;
+    for (std::size_t f = 0; f < row.fields.size(); ++f) {
+      const std::string& column = row.fields[f].first;
+      if (std::find(kForcedChoiceReservedColumns.begin(), kForcedChoiceReservedColumns.end(), column) !=
+          kForcedChoiceReservedColumns.end()) {
+        throw ConfigError(located.key_where[f], column,
+                          "column name '" + column + "' is reserved (forced-choice trials record the scene "
+                          "shown on each side under 'left' and 'right')");
+      }
+    }
+    for (const std::string column : {"scene_a", "scene_b"}) {
+      std::size_t f = 0;
+      while (f < row.fields.size() && row.fields[f].first != column) ++f;
+      if (f == row.fields.size()) {
+        throw ConfigError(row.where, column, "condition row " + std::to_string(row.number) +
+                                                 " has no '" + column + "' (forced choice needs scene_a and scene_b)");
+      }
+      const std::string& scene = row.fields[f].second;
+      if (experiment.scenes.count(scene) == 0) {
+        throw ConfigError(located.value_where[f], column,
+                          "unknown scene '" + scene + "' (scenes in [scenes]: " + join_quoted(scene_names) + ")");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Experiment parse_experiment_text(const std::string& toml_text, const std::string& origin_name,
+                                 const std::string& base_dir) {
+  toml::table root;
+  try {
+    root = toml::parse(std::string_view(toml_text), std::string_view(origin_name));
+  } catch (const toml::parse_error& error) {
+    throw ConfigError(to_location(error.source(), origin_name), "",
+                      "TOML syntax error: " + std::string(error.description()));
+  }
+  const std::string base = fs::absolute(fs::path(base_dir)).lexically_normal().string();
+
+  Experiment experiment;
+  experiment.source_file = origin_name;
+  TableReader top(root, "", origin_name);
+  // Declare the top-level tables before reading any, so a misspelt [procedur] is reported as
+  // such rather than as a missing [procedure].
+  for (const char* section : {"experiment", "display", "scenes", "procedure", "conditions", "observer"}) {
+    top.node(section);
+  }
+  top.report_unused();
+
+  read_experiment_section(top, experiment);
+  read_display_section(top, experiment);
+  read_scenes_section(top, experiment, base);
+  read_procedure_section(top, experiment);
+  ConditionSource conditions = read_conditions_section(top, base);
+  read_observer_section(top, experiment);
+
+  if (experiment.procedure == "forced_choice") check_forced_choice_rows(conditions.rows, experiment, conditions.csv);
+  for (LocatedRow& located : conditions.rows) experiment.conditions.push_back(std::move(located.row));
+  return experiment;
+}
+
+Experiment load_experiment(const std::string& path) {
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) throw ConfigError(SourceLocation{path, 0, 0}, "", "file not found");
+  std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) throw ConfigError(SourceLocation{path, 0, 0}, "", "cannot be opened");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const fs::path absolute = fs::absolute(fs::path(path)).lexically_normal();
+  return parse_experiment_text(text.str(), absolute.string(), absolute.parent_path().string());
+}
+
+}  // namespace glarelab

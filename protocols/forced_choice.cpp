@@ -1,0 +1,108 @@
+#include "protocols/forced_choice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "protocols/json_text.h"
+#include "runner/random.h"
+
+namespace glarelab {
+namespace {
+
+// One planned presentation before shuffling: which row, and whether scene_a goes right.
+struct Presentation {
+  std::size_t row = 0;
+  bool swapped = false;
+};
+
+const std::vector<std::string> kPositions = {"left", "right"};
+
+double peak_of(const std::map<std::string, double>& source_peak_cd_m2, const std::string& scene) {
+  const auto found = source_peak_cd_m2.find(scene);
+  if (found == source_peak_cd_m2.end()) {
+    throw std::invalid_argument("forced choice: no peak luminance for scene '" + scene + "'");
+  }
+  return found->second;
+}
+
+// Equal within a relative 1e-9: the same source rendered twice must not count as a difference
+// that an observer could get right or wrong.
+bool nearly_equal(double a, double b) {
+  return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b));
+}
+
+}  // namespace
+
+std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
+                                                  const std::map<std::string, double>& source_peak_cd_m2) {
+  const ForcedChoiceSpec& spec = experiment.forced_choice;
+  if (spec.responses.size() != kPositions.size()) {
+    throw std::invalid_argument("forced choice: expected " + std::to_string(kPositions.size()) + " responses");
+  }
+
+  std::vector<Presentation> design;
+  for (std::size_t row = 0; row < experiment.conditions.size(); ++row) {
+    for (int repetition = 0; repetition < spec.repetitions; ++repetition) {
+      design.push_back({row, false});
+      // Counterbalancing shows every pair both ways round, so a side bias of the observer adds
+      // equally to both and cancels in the proportion correct.
+      if (spec.counterbalance_sides) design.push_back({row, true});
+    }
+  }
+  shuffle_in_place(design, CounterRandom(experiment.seed, RandomStream::trial_order), 0);
+
+  std::vector<TrialPlan> trials;
+  trials.reserve(design.size());
+  for (std::size_t index = 0; index < design.size(); ++index) {
+    const Presentation& presentation = design[index];
+    const ConditionRow& row = experiment.conditions[presentation.row];
+    const std::string* scene_a = row.find("scene_a");
+    const std::string* scene_b = row.find("scene_b");
+    if (scene_a == nullptr || scene_b == nullptr) {
+      throw std::invalid_argument("forced choice: condition '" + row.name() + "' lacks scene_a or scene_b");
+    }
+
+    TrialPlan plan;
+    plan.trial_index = static_cast<int>(index);
+    plan.block = 0;
+    plan.procedure = "forced_choice";
+    plan.condition_name = row.name();
+    plan.positions = kPositions;
+    plan.scenes = presentation.swapped ? std::vector<std::string>{*scene_b, *scene_a}
+                                       : std::vector<std::string>{*scene_a, *scene_b};
+    for (const std::string& scene : plan.scenes) {
+      plan.source_luminance_cd_m2.push_back(peak_of(source_peak_cd_m2, scene));
+    }
+    // Position i is answered by responses[i] (e.g. "left" or a key name chosen in the file).
+    plan.allowed_responses = spec.responses;
+    const double left = plan.source_luminance_cd_m2[0];
+    const double right = plan.source_luminance_cd_m2[1];
+    if (!nearly_equal(left, right)) plan.correct_response = spec.responses[left > right ? 0 : 1];
+    plan.question = spec.question;
+    plan.stimulus_frames = spec.stimulus_frames;
+
+    JsonObjectWriter json;
+    for (const auto& [column, value] : row.fields) json.add(column, value);
+    json.add(kPositions[0], plan.scenes[0]).add(kPositions[1], plan.scenes[1]);
+    plan.condition_json = json.str();
+    trials.push_back(std::move(plan));
+  }
+  return trials;
+}
+
+TrialOutcome score_forced_choice(const TrialPlan& plan, const Response& response) {
+  TrialOutcome outcome;
+  outcome.response = response.value;
+  if (plan.correct_response.empty()) return outcome;  // equal sources: no answer is right
+  if (response.value == plan.correct_response) {
+    outcome.correct = 1;
+  } else if (std::find(plan.allowed_responses.begin(), plan.allowed_responses.end(), response.value) !=
+             plan.allowed_responses.end()) {
+    outcome.correct = 0;
+  }
+  // Anything else ("abort") is not an answer and stays unscored.
+  return outcome;
+}
+
+}  // namespace glarelab

@@ -1,0 +1,108 @@
+// An observer that reads its answers from a text file: reproducible end-to-end runs, and tests of
+// what a session records for known answers.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "protocols/observer.h"
+
+namespace glarelab {
+namespace {
+
+struct ScriptEntry {
+  std::string text;
+  SourceLocation where;
+};
+
+class ScriptObserver : public Observer {
+ public:
+  ScriptObserver(std::string path, std::vector<ScriptEntry> entries)
+      : path_(std::move(path)), entries_(std::move(entries)) {}
+
+  std::string description() const override { return "script:" + path_; }
+
+  Response respond(const TrialPlan& plan) override {
+    // Entry k answers trial k, not "the next unread line": a session resumed at trial 7 gets
+    // entry 7, exactly what the uninterrupted session would have got.
+    if (plan.trial_index < 0 || static_cast<std::size_t>(plan.trial_index) >= entries_.size()) {
+      throw std::runtime_error("response script " + path_ + " holds " + std::to_string(entries_.size()) +
+                               " responses; trial " + std::to_string(plan.trial_index) + " needs response " +
+                               std::to_string(plan.trial_index + 1));
+    }
+    const ScriptEntry& entry = entries_[static_cast<std::size_t>(plan.trial_index)];
+    const std::vector<std::string>& allowed = plan.allowed_responses;
+    Response response;
+    if (std::find(allowed.begin(), allowed.end(), entry.text) != allowed.end() || entry.text == "abort") {
+      // A named response, or "abort" to end the session as an observer pressing Escape would.
+      response.value = entry.text;
+    } else if (!allowed.empty() && (entry.text == "1" || entry.text == "0")) {
+      // "1" answers correctly and "0" incorrectly. Without a correct answer (equal sources) "1"
+      // is the first allowed response and "0" the other one, so scripts stay deterministic.
+      const std::string& right = plan.correct_response.empty() ? allowed.front() : plan.correct_response;
+      if (entry.text == "1") {
+        response.value = right;
+      } else {
+        const auto other = std::find_if(allowed.begin(), allowed.end(), [&](const std::string& r) { return r != right; });
+        if (other == allowed.end()) throw not_allowed(entry, allowed);
+        response.value = *other;
+      }
+    } else if (allowed.empty() && is_number(entry.text)) {
+      // Procedures without named responses (adjustment, rating) take the number as written.
+      response.value = entry.text;
+    } else {
+      throw not_allowed(entry, allowed);
+    }
+    return response;
+  }
+
+ private:
+  static bool is_number(const std::string& text) {
+    try {
+      std::size_t used = 0;
+      (void)std::stod(text, &used);
+      return used == text.size();
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+
+  static ConfigError not_allowed(const ScriptEntry& entry, const std::vector<std::string>& allowed) {
+    std::string names = "'1', '0'";
+    for (const std::string& name : allowed) names += ", '" + name + "'";
+    return ConfigError(entry.where, "", "response '" + entry.text + "' is not allowed (allowed: " + names + ", 'abort')");
+  }
+
+  std::string path_;
+  std::vector<ScriptEntry> entries_;
+};
+
+std::string trim(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return "";
+  const auto last = text.find_last_not_of(" \t\r");
+  return text.substr(first, last - first + 1);
+}
+
+}  // namespace
+
+std::unique_ptr<Observer> make_script_observer(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) throw ConfigError(SourceLocation{path, 0, 0}, "", "response script: file not found");
+  std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) throw ConfigError(SourceLocation{path, 0, 0}, "", "response script: cannot be opened");
+  const std::string absolute = fs::absolute(fs::path(path)).lexically_normal().string();
+
+  std::vector<ScriptEntry> entries;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::string text = trim(line);
+    if (text.empty() || text.front() == '#') continue;
+    const int column = static_cast<int>(line.find_first_not_of(" \t")) + 1;
+    entries.push_back({text, SourceLocation{absolute, number, column}});
+  }
+  return std::make_unique<ScriptObserver>(absolute, std::move(entries));
+}
+
+}  // namespace glarelab

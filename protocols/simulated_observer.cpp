@@ -1,0 +1,88 @@
+// A seeded psychometric observer for dry runs, pipeline tests and power estimates.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "protocols/observer.h"
+#include "runner/random.h"
+
+namespace glarelab {
+namespace {
+
+// Spread of log response time: sigma of ln(t). With 0.25 the middle 95 % of response times span
+// about a factor of 2.7, typical of simple discrimination responses.
+constexpr double kResponseTimeSigma = 0.25;
+
+class SimulatedObserver : public Observer {
+ public:
+  SimulatedObserver(const SimulatedObserverSpec& spec, std::uint64_t seed)
+      : spec_(spec), choice_random_(seed, RandomStream::observer), time_random_(seed, RandomStream::response_time) {}
+
+  std::string description() const override { return "simulated"; }
+
+  Response respond(const TrialPlan& plan) override {
+    if (plan.allowed_responses.size() < 2 || plan.source_luminance_cd_m2.size() < 2) {
+      throw std::invalid_argument("simulated observer: trial " + std::to_string(plan.trial_index) +
+                                  " needs two positions and at least two allowed responses");
+    }
+    if (plan.trial_index < 0) throw std::invalid_argument("simulated observer: negative trial index");
+    const auto index = static_cast<std::uint64_t>(plan.trial_index);
+    const double u = choice_random_.uniform(index);
+
+    Response response;
+    if (plan.correct_response.empty()) {
+      // No right answer: each allowed response is equally likely.
+      const auto pick = static_cast<std::size_t>(u * static_cast<double>(plan.allowed_responses.size()));
+      response.value = plan.allowed_responses[std::min(pick, plan.allowed_responses.size() - 1)];
+    } else {
+      const double d = log_ratio(plan.source_luminance_cd_m2[0], plan.source_luminance_cd_m2[1]);
+      if (u < p_correct(d)) {
+        response.value = plan.correct_response;
+      } else {
+        for (const std::string& other : plan.allowed_responses) {
+          if (other != plan.correct_response) {
+            response.value = other;
+            break;
+          }
+        }
+      }
+    }
+    // Lognormal response time: ln t ~ N(ln median, sigma^2), so the median is exactly the spec's.
+    response.response_time_s =
+        spec_.response_time_median_s * std::exp(kResponseTimeSigma * time_random_.normal(index));
+    return response;
+  }
+
+ private:
+  // |log10(L_left / L_right)|: Weber-like discrimination depends on the luminance ratio.
+  static double log_ratio(double left, double right) {
+    if (left > 0.0 && right > 0.0) return std::abs(std::log10(left / right));
+    // A dark source next to a lit one is an infinitely large ratio: certain but for lapses.
+    return left == right ? 0.0 : std::numeric_limits<double>::infinity();
+  }
+
+  // Weibull psychometric function for two-alternative forced choice (Wichmann & Hill 2001,
+  // "The psychometric function: I. Fitting, sampling, and goodness of fit", Perception &
+  // Psychophysics 63(8), eq. 1):
+  //   p(d) = gamma + (1 - gamma - lambda) * (1 - exp(-(d / alpha)^beta))
+  // with guess rate gamma = 0.5 (2-AFC), lapse rate lambda, threshold alpha (log10 units) and
+  // slope beta. p runs from chance (0.5) at d = 0 to 1 - lambda for large d.
+  double p_correct(double d) const {
+    constexpr double kGuess = 0.5;
+    const double weibull = 1.0 - std::exp(-std::pow(d / spec_.threshold_log10, spec_.slope));
+    return kGuess + (1.0 - kGuess - spec_.lapse) * weibull;
+  }
+
+  SimulatedObserverSpec spec_;
+  CounterRandom choice_random_;
+  CounterRandom time_random_;
+};
+
+}  // namespace
+
+std::unique_ptr<Observer> make_simulated_observer(const SimulatedObserverSpec& spec, std::uint64_t seed) {
+  return std::make_unique<SimulatedObserver>(spec, seed);
+}
+
+}  // namespace glarelab
