@@ -1,6 +1,7 @@
 #include "stimuli/exr_io.h"
 
 #include <Iex.h>
+#include <Imath/half.h>
 #include <ImathBox.h>
 #include <ImfChannelList.h>
 #include <ImfFloatAttribute.h>
@@ -193,14 +194,24 @@ void write_exr(const std::string& path, const ImageRGBA& image, const ExrWriteOp
   try {
     Imf::Header header(image.width_px, image.height_px);
     const Imf::PixelType type = options.pixel_type == ExrPixelType::half ? Imf::HALF : Imf::FLOAT;
-    const std::size_t row_stride = kPixelStride * static_cast<std::size_t>(image.width_px);
-    // The library only reads through these pointers when writing.
-    auto* base = const_cast<char*>(reinterpret_cast<const char*>(image.rgba.data()));
+    // OutputFile requires slices of the channels' own type: half channels are written from a
+    // converted copy (Imath's float to half conversion rounds to nearest even).
+    std::vector<half> halves;
+    const char* base = reinterpret_cast<const char*>(image.rgba.data());
+    std::size_t value_size = sizeof(float);
+    if (type == Imf::HALF) {
+      halves.assign(image.rgba.begin(), image.rgba.end());
+      base = reinterpret_cast<const char*>(halves.data());
+      value_size = sizeof(half);
+    }
+    const std::size_t pixel_stride = 4 * value_size;
+    const std::size_t row_stride = pixel_stride * static_cast<std::size_t>(image.width_px);
     Imf::FrameBuffer frame_buffer;
-    // Slices are float; the library converts to half when the channel is half (round to nearest).
     const auto add = [&](const char* name, std::size_t component) {
       header.channels().insert(name, Imf::Channel(type));
-      frame_buffer.insert(name, Imf::Slice(Imf::FLOAT, base + component * sizeof(float), kPixelStride, row_stride));
+      // The library only reads through this pointer when writing.
+      frame_buffer.insert(name, Imf::Slice(type, const_cast<char*>(base) + component * value_size, pixel_stride,
+                                           row_stride));
     };
     if (options.luminance_only) {
       add("Y", 0);
