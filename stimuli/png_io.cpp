@@ -10,10 +10,11 @@
 namespace glarelab {
 namespace {
 
-// [0, 1] to 0..255 with rounding to nearest; NaN (no meaningful value) becomes 0.
+// [0, 1] to 0..255 with rounding to nearest; NaN (no meaningful value) becomes 0. In double:
+// float arithmetic rounds values just below a half-way point (17/30 * 255) up to it.
 png_byte encode_8bit(float value) {
-  const float clamped = std::isnan(value) ? 0.0f : std::clamp(value, 0.0f, 1.0f);
-  return static_cast<png_byte>(clamped * 255.0f + 0.5f);
+  const double clamped = std::isnan(value) ? 0.0 : std::clamp(static_cast<double>(value), 0.0, 1.0);
+  return static_cast<png_byte>(clamped * 255.0 + 0.5);
 }
 
 }  // namespace
