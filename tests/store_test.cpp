@@ -208,8 +208,12 @@ TEST(Store, ConnectionSettings) {
 TEST(Store, FilesAreOwnerOnly) {
   test::ScratchDir dir;
   const std::string path = dir.file("results.db");
-  // With a permissive umask, a file created by sqlite3_open would be 0644.
-  const mode_t previous = ::umask(022);
+  // With a permissive umask, a file created by sqlite3_open would be 0644. Restored on every
+  // exit from the test, including a failed ASSERT.
+  struct UmaskGuard {
+    mode_t previous = ::umask(022);
+    ~UmaskGuard() { ::umask(previous); }
+  } umask_guard;
   {
     ResultStore store(path);
     const auto session = store.begin_session(sample_session());
@@ -220,7 +224,6 @@ TEST(Store, FilesAreOwnerOnly) {
     ASSERT_EQ(::stat((path + "-wal").c_str(), &info), 0) << "WAL file expected while the store is open";
     EXPECT_EQ(info.st_mode & 0777, 0600u);
   }
-  ::umask(previous);
 }
 
 TEST(Store, CommitReopenAndLoadGivesIdenticalFields) {
