@@ -1,0 +1,548 @@
+#include "runner/store/result_store.h"
+
+#include <fcntl.h>
+#include <sqlite3.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <iterator>
+#include <bit>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <system_error>
+
+namespace glarelab {
+namespace {
+
+// Schema migrations, in order: kMigrations[i] upgrades user_version i to i + 1. Each runs in
+// its own transaction together with the user_version bump, so a crash leaves the database at
+// a whole version. Published scripts are never edited; a schema change appends a script.
+constexpr const char* kMigrations[] = {
+    // 0 -> 1: the DESIGN contract tables.
+    R"sql(
+CREATE TABLE sessions (
+  id INTEGER PRIMARY KEY,
+  experiment TEXT NOT NULL,
+  participant TEXT NOT NULL,
+  seed INTEGER NOT NULL,
+  started_utc TEXT NOT NULL,
+  finished_utc TEXT,
+  status TEXT NOT NULL CHECK(status IN ('running','completed','aborted')),
+  config TEXT NOT NULL,
+  software_version TEXT NOT NULL,
+  renderer TEXT NOT NULL,
+  display_backend TEXT NOT NULL,
+  clock TEXT NOT NULL,
+  observer TEXT NOT NULL
+);
+CREATE TABLE trials (
+  id INTEGER PRIMARY KEY,
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  trial_index INTEGER NOT NULL,
+  block INTEGER NOT NULL,
+  procedure TEXT NOT NULL CHECK(procedure IN ('forced_choice','staircase','quest','adjustment','rating')),
+  condition TEXT NOT NULL,
+  intensity REAL,
+  response TEXT NOT NULL,
+  correct INTEGER CHECK(correct IN (0, 1)),
+  response_time_s REAL,
+  onset_s REAL NOT NULL,
+  staircase TEXT,
+  reversal INTEGER,
+  started_utc TEXT NOT NULL,
+  UNIQUE(session_id, trial_index)
+);
+CREATE TABLE frames (
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  trial_id INTEGER NOT NULL REFERENCES trials(id),
+  frame_index INTEGER NOT NULL,
+  scheduled_s REAL NOT NULL,
+  flip_s REAL NOT NULL,
+  dropped INTEGER NOT NULL CHECK(dropped IN (0, 1))
+);
+CREATE TABLE tracker_samples (
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  eye INTEGER NOT NULL,
+  device_time_s REAL NOT NULL,
+  session_time_s REAL NOT NULL,
+  pupil_diameter_mm REAL,
+  gaze_x REAL,
+  gaze_y REAL,
+  confidence REAL NOT NULL,
+  valid INTEGER NOT NULL CHECK(valid IN (0, 1))
+);
+CREATE TABLE session_events (
+  id INTEGER PRIMARY KEY,
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  session_time_s REAL NOT NULL,
+  wall_utc TEXT NOT NULL,
+  kind TEXT NOT NULL,
+  message TEXT NOT NULL
+);
+CREATE INDEX trials_session_id ON trials(session_id);
+CREATE INDEX frames_trial_id ON frames(trial_id);
+-- last_flip_s and frame_count look frames up by session on resume.
+CREATE INDEX frames_session_id ON frames(session_id);
+CREATE INDEX tracker_samples_session_id ON tracker_samples(session_id);
+CREATE INDEX session_events_session_id ON session_events(session_id);
+)sql",
+};
+static_assert(std::size(kMigrations) == ResultStore::kSchemaVersion, "one migration per schema version");
+
+[[noreturn]] void fail(sqlite3* db, const std::string& path, const std::string& what) {
+  const char* message = db != nullptr ? sqlite3_errmsg(db) : "out of memory";
+  throw StoreError("SQLite: " + path + ": " + what + ": " + message);
+}
+
+// sqlite3 stores 64-bit signed integers only. A seed is any uint64, so it is stored as the
+// int64 with the same bits (seeds >= 2^63 read as negative numbers in the sqlite3 shell) and
+// bit-cast back on load; the round trip is exact for every value.
+std::int64_t seed_to_sql(std::uint64_t seed) { return std::bit_cast<std::int64_t>(seed); }
+std::uint64_t seed_from_sql(std::int64_t stored) { return std::bit_cast<std::uint64_t>(stored); }
+
+// A prepared statement that is finalized on every path, reporting errors with the file name
+// and what the statement was for.
+class Statement {
+ public:
+  Statement(sqlite3* db, const std::string& path, const char* sql, std::string what)
+      : db_(db), path_(path), what_(std::move(what)) {
+    if (sqlite3_prepare_v2(db_, sql, -1, &stmt_, nullptr) != SQLITE_OK) fail(db_, path_, what_);
+  }
+  ~Statement() { sqlite3_finalize(stmt_); }
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  void bind(int column, std::int64_t value) { check(sqlite3_bind_int64(stmt_, column, value)); }
+  void bind(int column, int value) { check(sqlite3_bind_int(stmt_, column, value)); }
+  void bind(int column, double value) { check(sqlite3_bind_double(stmt_, column, value)); }
+  void bind(int column, const std::string& value) {
+    check(sqlite3_bind_text64(stmt_, column, value.data(), value.size(), SQLITE_TRANSIENT, SQLITE_UTF8));
+  }
+  void bind_null(int column) { check(sqlite3_bind_null(stmt_, column)); }
+  // Empty text stands for "not recorded" in the records (finished_utc, staircase).
+  void bind_text_or_null(int column, const std::string& value) {
+    if (value.empty()) {
+      bind_null(column);
+    } else {
+      bind(column, value);
+    }
+  }
+  template <typename T>
+  void bind(int column, const std::optional<T>& value) {
+    if (value) {
+      bind(column, *value);
+    } else {
+      bind_null(column);
+    }
+  }
+
+  // True while there is a row to read; false when done.
+  bool step() {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    fail(db_, path_, what_);
+  }
+  void step_done() {
+    if (step()) throw StoreError("SQLite: " + path_ + ": " + what_ + ": statement returned rows");
+  }
+  void reset() {
+    sqlite3_reset(stmt_);
+    sqlite3_clear_bindings(stmt_);
+  }
+
+  bool is_null(int column) const { return sqlite3_column_type(stmt_, column) == SQLITE_NULL; }
+  std::int64_t int64(int column) const { return sqlite3_column_int64(stmt_, column); }
+  int integer(int column) const { return sqlite3_column_int(stmt_, column); }
+  double real(int column) const { return sqlite3_column_double(stmt_, column); }
+  std::string text(int column) const {
+    const auto* data = reinterpret_cast<const char*>(sqlite3_column_text(stmt_, column));
+    if (data == nullptr) return {};
+    return std::string(data, static_cast<std::size_t>(sqlite3_column_bytes(stmt_, column)));
+  }
+  std::optional<double> optional_real(int column) const {
+    if (is_null(column)) return std::nullopt;
+    return real(column);
+  }
+  std::optional<int> optional_integer(int column) const {
+    if (is_null(column)) return std::nullopt;
+    return integer(column);
+  }
+
+ private:
+  void check(int rc) {
+    if (rc != SQLITE_OK) fail(db_, path_, what_ + " (binding parameters)");
+  }
+
+  sqlite3* db_;
+  const std::string& path_;
+  std::string what_;
+  sqlite3_stmt* stmt_ = nullptr;
+};
+
+void exec(sqlite3* db, const std::string& path, const char* sql, const std::string& what) {
+  char* message = nullptr;
+  if (sqlite3_exec(db, sql, nullptr, nullptr, &message) != SQLITE_OK) {
+    const std::string text = message != nullptr ? message : sqlite3_errmsg(db);
+    sqlite3_free(message);
+    throw StoreError("SQLite: " + path + ": " + what + ": " + text);
+  }
+}
+
+// BEGIN IMMEDIATE takes the write lock up front, so a second writer waits (busy_timeout) at
+// the start rather than failing halfway through. Rolls back unless commit() was reached.
+class Transaction {
+ public:
+  Transaction(sqlite3* db, const std::string& path, const std::string& what) : db_(db), path_(path), what_(what) {
+    exec(db_, path_, "BEGIN IMMEDIATE", "starting a transaction for " + what_);
+  }
+  ~Transaction() {
+    if (!committed_) sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+  }
+  Transaction(const Transaction&) = delete;
+  Transaction& operator=(const Transaction&) = delete;
+  void commit() {
+    exec(db_, path_, "COMMIT", "committing " + what_);
+    committed_ = true;
+  }
+
+ private:
+  sqlite3* db_;
+  const std::string& path_;
+  std::string what_;
+  bool committed_ = false;
+};
+
+int read_user_version(sqlite3* db, const std::string& path) {
+  Statement statement(db, path, "PRAGMA user_version", "reading the schema version");
+  if (!statement.step()) throw StoreError("SQLite: " + path + ": reading the schema version: no result");
+  return statement.integer(0);
+}
+
+// The file is created here, not by sqlite3_open, so that it never exists with the umask's
+// default permissions: results identify participants. SQLite creates the -wal and -shm files
+// with the permissions of the database file.
+void create_private_file(const std::string& path) {
+  const std::filesystem::path file(path);
+  if (file.has_parent_path()) {
+    std::error_code error;
+    std::filesystem::create_directories(file.parent_path(), error);
+    if (error) {
+      throw StoreError("SQLite: " + path + ": creating directory " + file.parent_path().string() + ": " +
+                       error.message());
+    }
+  }
+  if (std::filesystem::exists(file)) return;
+  const int fd = ::open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, S_IRUSR | S_IWUSR);
+  if (fd < 0) throw StoreError("SQLite: " + path + ": creating the database file: " + std::strerror(errno));
+  ::close(fd);
+}
+
+SessionRecord read_session(const Statement& row) {
+  SessionRecord session;
+  session.id = row.int64(0);
+  session.experiment = row.text(1);
+  session.participant = row.text(2);
+  session.seed = seed_from_sql(row.int64(3));
+  session.started_utc = row.text(4);
+  session.finished_utc = row.text(5);
+  session.status = row.text(6);
+  session.config = row.text(7);
+  session.software_version = row.text(8);
+  session.renderer = row.text(9);
+  session.display_backend = row.text(10);
+  session.clock = row.text(11);
+  session.observer = row.text(12);
+  return session;
+}
+
+constexpr const char* kSelectSession =
+    "SELECT id, experiment, participant, seed, started_utc, finished_utc, status, config, "
+    "software_version, renderer, display_backend, clock, observer FROM sessions";
+
+}  // namespace
+
+ResultStore::ResultStore(const std::string& path) : path_(path) {
+  create_private_file(path_);
+  const int open_rc = sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READWRITE, nullptr);
+  try {
+    if (open_rc != SQLITE_OK) fail(db_, path_, "opening the database");
+    // Another process (an analysis script) may hold a lock briefly; wait rather than fail.
+    sqlite3_busy_timeout(db_, 5000);
+
+    // Reading the header first: a file that is not a database fails here (SQLITE_NOTADB), and
+    // a newer schema is refused before this program changes anything in it.
+    const int version = read_user_version(db_, path_);
+    if (version > kSchemaVersion) {
+      throw StoreError(path_ + ": schema version " + std::to_string(version) + " is newer than this glarelab (" +
+                       std::to_string(kSchemaVersion) + ")");
+    }
+    if (version < 0) throw StoreError(path_ + ": invalid schema version " + std::to_string(version));
+
+    {
+      Statement journal(db_, path_, "PRAGMA journal_mode=WAL", "setting journal_mode=WAL");
+      const std::string mode = journal.step() ? journal.text(0) : std::string();
+      if (mode != "wal") {
+        throw StoreError("SQLite: " + path_ + ": setting journal_mode=WAL: the database stayed in mode '" + mode +
+                         "'");
+      }
+    }
+    // FULL syncs the WAL at every commit: a committed trial survives a power cut, not only a
+    // crash of this process.
+    exec(db_, path_, "PRAGMA synchronous=FULL", "setting synchronous=FULL");
+    exec(db_, path_, "PRAGMA foreign_keys=ON", "enabling foreign keys");
+
+    for (int from = version; from < kSchemaVersion; ++from) {
+      const std::string what = "migrating the schema from version " + std::to_string(from) + " to " +
+                               std::to_string(from + 1);
+      Transaction transaction(db_, path_, what);
+      exec(db_, path_, kMigrations[static_cast<std::size_t>(from)], what);
+      const std::string bump = "PRAGMA user_version=" + std::to_string(from + 1);
+      exec(db_, path_, bump.c_str(), what);
+      transaction.commit();
+    }
+  } catch (...) {
+    // The destructor does not run for a constructor that throws.
+    sqlite3_close_v2(db_);
+    db_ = nullptr;
+    throw;
+  }
+}
+
+ResultStore::~ResultStore() {
+  // Closing checkpoints the WAL into the database file when this is the last connection.
+  sqlite3_close_v2(db_);
+}
+
+int ResultStore::schema_version() const { return read_user_version(db_, path_); }
+
+std::int64_t ResultStore::begin_session(const SessionRecord& session) {
+  Statement insert(db_, path_,
+                   "INSERT INTO sessions (experiment, participant, seed, started_utc, finished_utc, status, config, "
+                   "software_version, renderer, display_backend, clock, observer) "
+                   "VALUES (?1, ?2, ?3, ?4, NULL, 'running', ?5, ?6, ?7, ?8, ?9, ?10)",
+                   "inserting a session");
+  insert.bind(1, session.experiment);
+  insert.bind(2, session.participant);
+  insert.bind(3, seed_to_sql(session.seed));
+  insert.bind(4, session.started_utc.empty() ? utc_now_iso8601() : session.started_utc);
+  insert.bind(5, session.config);
+  insert.bind(6, session.software_version);
+  insert.bind(7, session.renderer);
+  insert.bind(8, session.display_backend);
+  insert.bind(9, session.clock);
+  insert.bind(10, session.observer);
+  insert.step_done();
+  return sqlite3_last_insert_rowid(db_);
+}
+
+void ResultStore::finish_session(std::int64_t session_id, const std::string& status) {
+  const std::string what = "finishing session " + std::to_string(session_id);
+  if (status != "completed" && status != "aborted") {
+    throw StoreError("SQLite: " + path_ + ": " + what + ": status must be completed or aborted, not '" + status +
+                     "'");
+  }
+  Statement update(db_, path_, "UPDATE sessions SET status = ?1, finished_utc = ?2 WHERE id = ?3", what);
+  update.bind(1, status);
+  update.bind(2, utc_now_iso8601());
+  update.bind(3, session_id);
+  update.step_done();
+  if (sqlite3_changes(db_) != 1) throw StoreError("SQLite: " + path_ + ": " + what + ": no such session");
+}
+
+void ResultStore::reopen_session(std::int64_t session_id) {
+  const std::string what = "reopening session " + std::to_string(session_id);
+  Statement update(db_, path_, "UPDATE sessions SET status = 'running', finished_utc = NULL WHERE id = ?1", what);
+  update.bind(1, session_id);
+  update.step_done();
+  if (sqlite3_changes(db_) != 1) throw StoreError("SQLite: " + path_ + ": " + what + ": no such session");
+}
+
+std::int64_t ResultStore::commit_trial(const TrialRecord& trial, const std::vector<FrameRecord>& frames) {
+  const std::string what =
+      "committing trial " + std::to_string(trial.trial_index) + " of session " + std::to_string(trial.session_id);
+  Transaction transaction(db_, path_, what);
+
+  Statement insert(db_, path_,
+                   "INSERT INTO trials (session_id, trial_index, block, procedure, condition, intensity, response, "
+                   "correct, response_time_s, onset_s, staircase, reversal, started_utc) "
+                   "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
+                   what);
+  insert.bind(1, trial.session_id);
+  insert.bind(2, trial.trial_index);
+  insert.bind(3, trial.block);
+  insert.bind(4, trial.procedure);
+  insert.bind(5, trial.condition);
+  insert.bind(6, trial.intensity);
+  insert.bind(7, trial.response);
+  insert.bind(8, trial.correct);
+  insert.bind(9, trial.response_time_s);
+  insert.bind(10, trial.onset_s);
+  insert.bind_text_or_null(11, trial.staircase);
+  insert.bind(12, trial.reversal);
+  insert.bind(13, trial.started_utc.empty() ? utc_now_iso8601() : trial.started_utc);
+  insert.step_done();
+  const std::int64_t trial_id = sqlite3_last_insert_rowid(db_);
+
+  Statement frame_insert(db_, path_,
+                         "INSERT INTO frames (session_id, trial_id, frame_index, scheduled_s, flip_s, dropped) "
+                         "VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                         what + " (frames)");
+  for (const FrameRecord& frame : frames) {
+    frame_insert.reset();
+    frame_insert.bind(1, trial.session_id);
+    frame_insert.bind(2, trial_id);
+    frame_insert.bind(3, frame.frame_index);
+    frame_insert.bind(4, frame.scheduled_s);
+    frame_insert.bind(5, frame.flip_s);
+    frame_insert.bind(6, frame.dropped ? 1 : 0);
+    frame_insert.step_done();
+  }
+  transaction.commit();
+  return trial_id;
+}
+
+void ResultStore::append_tracker_samples(std::int64_t session_id, const std::vector<TrackerSampleRecord>& samples) {
+  if (samples.empty()) return;
+  const std::string what = "appending tracker samples of session " + std::to_string(session_id);
+  Transaction transaction(db_, path_, what);
+  Statement insert(db_, path_,
+                   "INSERT INTO tracker_samples (session_id, eye, device_time_s, session_time_s, pupil_diameter_mm, "
+                   "gaze_x, gaze_y, confidence, valid) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
+                   what);
+  for (const TrackerSampleRecord& sample : samples) {
+    insert.reset();
+    insert.bind(1, session_id);
+    insert.bind(2, sample.eye);
+    insert.bind(3, sample.device_time_s);
+    insert.bind(4, sample.session_time_s);
+    insert.bind(5, sample.pupil_diameter_mm);
+    insert.bind(6, sample.gaze_x);
+    insert.bind(7, sample.gaze_y);
+    insert.bind(8, sample.confidence);
+    insert.bind(9, sample.valid ? 1 : 0);
+    insert.step_done();
+  }
+  transaction.commit();
+}
+
+void ResultStore::log_event(std::int64_t session_id, double session_time_s, const std::string& kind,
+                            const std::string& message) {
+  Statement insert(db_, path_,
+                   "INSERT INTO session_events (session_id, session_time_s, wall_utc, kind, message) "
+                   "VALUES (?1, ?2, ?3, ?4, ?5)",
+                   "logging a " + kind + " event of session " + std::to_string(session_id));
+  insert.bind(1, session_id);
+  insert.bind(2, session_time_s);
+  insert.bind(3, utc_now_iso8601());
+  insert.bind(4, kind);
+  insert.bind(5, message);
+  insert.step_done();
+}
+
+std::optional<SessionRecord> ResultStore::load_session(std::int64_t session_id) const {
+  Statement select(db_, path_, (std::string(kSelectSession) + " WHERE id = ?1").c_str(),
+                   "loading session " + std::to_string(session_id));
+  select.bind(1, session_id);
+  if (!select.step()) return std::nullopt;
+  return read_session(select);
+}
+
+std::vector<SessionRecord> ResultStore::load_sessions() const {
+  Statement select(db_, path_, (std::string(kSelectSession) + " ORDER BY id").c_str(), "loading sessions");
+  std::vector<SessionRecord> sessions;
+  while (select.step()) sessions.push_back(read_session(select));
+  return sessions;
+}
+
+std::vector<TrialRecord> ResultStore::load_trials(std::int64_t session_id) const {
+  Statement select(db_, path_,
+                   "SELECT id, session_id, trial_index, block, procedure, condition, intensity, response, correct, "
+                   "response_time_s, onset_s, staircase, reversal, started_utc FROM trials "
+                   "WHERE session_id = ?1 ORDER BY trial_index",
+                   "loading the trials of session " + std::to_string(session_id));
+  select.bind(1, session_id);
+  std::vector<TrialRecord> trials;
+  while (select.step()) {
+    TrialRecord trial;
+    trial.id = select.int64(0);
+    trial.session_id = select.int64(1);
+    trial.trial_index = select.integer(2);
+    trial.block = select.integer(3);
+    trial.procedure = select.text(4);
+    trial.condition = select.text(5);
+    trial.intensity = select.optional_real(6);
+    trial.response = select.text(7);
+    trial.correct = select.optional_integer(8);
+    trial.response_time_s = select.optional_real(9);
+    trial.onset_s = select.real(10);
+    trial.staircase = select.text(11);
+    trial.reversal = select.optional_integer(12);
+    trial.started_utc = select.text(13);
+    trials.push_back(std::move(trial));
+  }
+  return trials;
+}
+
+std::vector<FrameRecord> ResultStore::load_frames(std::int64_t trial_id) const {
+  Statement select(db_, path_,
+                   "SELECT frame_index, scheduled_s, flip_s, dropped FROM frames WHERE trial_id = ?1 "
+                   "ORDER BY frame_index",
+                   "loading the frames of trial " + std::to_string(trial_id));
+  select.bind(1, trial_id);
+  std::vector<FrameRecord> frames;
+  while (select.step()) {
+    FrameRecord frame;
+    frame.frame_index = select.integer(0);
+    frame.scheduled_s = select.real(1);
+    frame.flip_s = select.real(2);
+    frame.dropped = select.integer(3) != 0;
+    frames.push_back(frame);
+  }
+  return frames;
+}
+
+double ResultStore::last_flip_s(std::int64_t session_id) const {
+  Statement select(db_, path_, "SELECT MAX(flip_s) FROM frames WHERE session_id = ?1",
+                   "reading the last flip of session " + std::to_string(session_id));
+  select.bind(1, session_id);
+  if (!select.step() || select.is_null(0)) return 0.0;
+  return select.real(0);
+}
+
+std::int64_t ResultStore::frame_count(std::int64_t session_id) const {
+  Statement select(db_, path_, "SELECT COUNT(*) FROM frames WHERE session_id = ?1",
+                   "counting the frames of session " + std::to_string(session_id));
+  select.bind(1, session_id);
+  return select.step() ? select.int64(0) : 0;
+}
+
+std::string ResultStore::integrity_check() const {
+  Statement check(db_, path_, "PRAGMA integrity_check", "checking integrity");
+  // Sound databases return the single row "ok"; otherwise one row per problem.
+  std::string result;
+  while (check.step()) {
+    if (!result.empty()) result += '\n';
+    result += check.text(0);
+  }
+  return result;
+}
+
+std::string utc_now_iso8601() {
+  using namespace std::chrono;
+  const auto now = floor<milliseconds>(system_clock::now());
+  const std::time_t seconds = system_clock::to_time_t(floor<std::chrono::seconds>(now));
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  const auto millis = (now.time_since_epoch() % std::chrono::seconds(1)).count();
+  char text[32];
+  const std::size_t length = std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S", &utc);
+  std::snprintf(text + length, sizeof text - length, ".%03dZ", static_cast<int>(millis));
+  return text;
+}
+
+}  // namespace glarelab

@@ -1,0 +1,99 @@
+#include "stimuli/image.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace glarelab {
+
+// Colour channels take `fill`; alpha is 1 so that a new image is opaque, as an EXR without an
+// alpha channel reads.
+ImageRGBA::ImageRGBA(int width, int height, float fill) : width_px(width), height_px(height) {
+  if (width < 0 || height < 0) {
+    throw std::invalid_argument("ImageRGBA: negative size " + std::to_string(width) + "x" + std::to_string(height));
+  }
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  rgba.resize(4 * pixels);
+  for (std::size_t i = 0; i < pixels; ++i) {
+    rgba[4 * i + 0] = fill;
+    rgba[4 * i + 1] = fill;
+    rgba[4 * i + 2] = fill;
+    rgba[4 * i + 3] = 1.0f;
+  }
+}
+
+namespace {
+
+std::string count_phrase(std::size_t count, const char* what) {
+  return std::to_string(count) + " " + what + (count == 1 ? " pixel" : " pixels");
+}
+
+}  // namespace
+
+std::string NonFiniteReport::describe() const {
+  if (clean()) return "no NaN, Inf or negative pixels";
+  std::string text;
+  const auto append = [&text](std::size_t count, const char* what) {
+    if (count == 0) return;
+    if (!text.empty()) text += ", ";
+    text += count_phrase(count, what);
+  };
+  append(nan_pixels, "NaN");
+  append(inf_pixels, "Inf");
+  append(negative_pixels, "negative");
+  return text;
+}
+
+// Only R, G and B are inspected: alpha is not a luminance. A pixel is counted once per kind of
+// problem it has, so one pixel can appear in several counts (-Inf is both Inf and negative).
+NonFiniteReport inspect_pixels(const ImageRGBA& image) {
+  NonFiniteReport report;
+  const std::size_t pixels = image.rgba.size() / 4;
+  for (std::size_t i = 0; i < pixels; ++i) {
+    const float* p = &image.rgba[4 * i];
+    bool nan = false;
+    bool inf = false;
+    bool negative = false;
+    for (int c = 0; c < 3; ++c) {
+      nan = nan || std::isnan(p[c]);
+      inf = inf || std::isinf(p[c]);
+      negative = negative || p[c] < 0.0f;
+    }
+    report.nan_pixels += nan ? 1 : 0;
+    report.inf_pixels += inf ? 1 : 0;
+    report.negative_pixels += negative ? 1 : 0;
+  }
+  return report;
+}
+
+// Pixels whose luminance is NaN have no place in an ordering or a sum and are skipped;
+// inspect_pixels reports them. Both functions return 0 for an image with no such pixels.
+double max_luminance(const ImageRGBA& image) {
+  double result = -std::numeric_limits<double>::infinity();
+  bool any = false;
+  const std::size_t pixels = image.rgba.size() / 4;
+  for (std::size_t i = 0; i < pixels; ++i) {
+    const float* p = &image.rgba[4 * i];
+    const double y = luminance_rec709(p[0], p[1], p[2]);
+    if (std::isnan(y)) continue;
+    any = true;
+    if (y > result) result = y;
+  }
+  return any ? result : 0.0;
+}
+
+double mean_luminance(const ImageRGBA& image) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  const std::size_t pixels = image.rgba.size() / 4;
+  for (std::size_t i = 0; i < pixels; ++i) {
+    const float* p = &image.rgba[4 * i];
+    const double y = luminance_rec709(p[0], p[1], p[2]);
+    if (std::isnan(y)) continue;
+    sum += y;
+    ++count;
+  }
+  return count > 0 ? sum / static_cast<double>(count) : 0.0;
+}
+
+}  // namespace glarelab
