@@ -2,14 +2,14 @@
 // nothing written to the database.
 #include <gtest/gtest.h>
 
-#include "test_support.h"
+#include "cli_process.h"
 
 namespace glarelab {
 namespace {
 
-using testing::demo_variant;
-using testing::fresh_directory;
-using testing::run_glarelab;
+using test::demo_variant;
+using test::run_glarelab;
+using test::ScratchDir;
 
 struct BadRun {
   int exit_code;
@@ -28,7 +28,7 @@ BadRun run_and_validate(const std::filesystem::path& dir, const std::string& exp
 
 // The line number of the first line of `path` starting with `prefix` (1-based).
 int line_of(const std::filesystem::path& path, const std::string& prefix) {
-  std::istringstream in(testing::read_text(path));
+  std::istringstream in(test::read_bytes(path));
   std::string line;
   for (int number = 1; std::getline(in, line); ++number)
     if (line.rfind(prefix, 0) == 0) return number;
@@ -36,7 +36,8 @@ int line_of(const std::filesystem::path& path, const std::string& prefix) {
 }
 
 TEST(BadInput, UnknownKeyNamesFileLineColumnAndKey) {
-  const auto dir = fresh_directory("unknown-key");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const auto experiment = demo_variant(dir, {{"stimulus_frames", "stimulus_frame = 30"}});
   const auto bad = run_and_validate(dir, experiment.string());
   EXPECT_EQ(bad.exit_code, 2);
@@ -48,7 +49,8 @@ TEST(BadInput, UnknownKeyNamesFileLineColumnAndKey) {
 }
 
 TEST(BadInput, WrongTypeNamesExpectedAndFound) {
-  const auto dir = fresh_directory("wrong-type");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const auto experiment = demo_variant(dir, {{"stimulus_frames", "stimulus_frames = \"thirty\""}});
   const auto bad = run_and_validate(dir, experiment.string());
   EXPECT_EQ(bad.exit_code, 2);
@@ -60,15 +62,17 @@ TEST(BadInput, WrongTypeNamesExpectedAndFound) {
 }
 
 TEST(BadInput, MissingExperimentFile) {
-  const auto dir = fresh_directory("missing-file");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const auto run = run_glarelab({"validate", (dir / "nope.toml").string()}, dir);
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.output.find("nope.toml"), std::string::npos) << run.output;
 }
 
 TEST(BadInput, MissingCsvColumnNamesTheColumnAndFile) {
-  const auto dir = fresh_directory("missing-column");
-  testing::write_text(dir / "conditions.csv", "name,scene_a,scene_c\nr1,lamp_100,lamp_200\n");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
+  test::write_bytes(dir / "conditions.csv", "name,scene_a,scene_c\nr1,lamp_100,lamp_200\n");
   const auto experiment = demo_variant(dir, {{"file", "file = \"" + (dir / "conditions.csv").string() + "\""}});
   const auto bad = run_and_validate(dir, experiment.string());
   EXPECT_EQ(bad.exit_code, 2);
@@ -78,18 +82,19 @@ TEST(BadInput, MissingCsvColumnNamesTheColumnAndFile) {
 }
 
 TEST(BadInput, CorruptExrNamesTheFile) {
-  const auto dir = fresh_directory("corrupt-exr");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   // A real EXR header followed by garbage: readable magic number, broken content.
   const auto source = std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples/scenes/lamp_200.exr";
-  std::string bytes = testing::read_text(source);
+  std::string bytes = test::read_bytes(source);
   bytes.resize(bytes.size() / 3);
-  testing::write_text(dir / "lamp_200.exr", bytes);
+  test::write_bytes(dir / "lamp_200.exr", bytes);
   const auto experiment = demo_variant(dir, {});
   // Point lamp_200 at the damaged copy.
-  std::string text = testing::read_text(experiment);
+  std::string text = test::read_bytes(experiment);
   const std::string original = std::filesystem::path(GLARELAB_SOURCE_DIR).string() + "/examples/scenes/lamp_200.exr";
   text.replace(text.find(original), original.size(), (dir / "lamp_200.exr").string());
-  testing::write_text(experiment, text);
+  test::write_bytes(experiment, text);
   const auto bad = run_and_validate(dir, experiment.string());
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find((dir / "lamp_200.exr").string()), std::string::npos) << bad.output;
@@ -97,12 +102,13 @@ TEST(BadInput, CorruptExrNamesTheFile) {
 }
 
 TEST(BadInput, MissingExrNamesTheFile) {
-  const auto dir = fresh_directory("missing-exr");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const auto experiment = demo_variant(dir, {});
-  std::string text = testing::read_text(experiment);
+  std::string text = test::read_bytes(experiment);
   const std::string original = "/examples/scenes/lamp_105.exr";
   text.replace(text.find(original), original.size(), "/examples/scenes/lamp_999.exr");
-  testing::write_text(experiment, text);
+  test::write_bytes(experiment, text);
   const auto bad = run_and_validate(dir, experiment.string());
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("lamp_999.exr"), std::string::npos) << bad.output;
@@ -111,7 +117,8 @@ TEST(BadInput, MissingExrNamesTheFile) {
 }
 
 TEST(Validate, DemoIsValidAndDescribed) {
-  const auto dir = fresh_directory("validate");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const auto run = run_glarelab({"validate", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml"}, dir);
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("20 forced_choice trials"), std::string::npos) << run.output;

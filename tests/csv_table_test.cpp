@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "protocols/csv_table.h"
-#include "temp_dir.h"
+#include "scratch_dir.h"
 
 namespace glarelab {
 namespace {
@@ -78,7 +78,7 @@ TEST(CsvTable, TextAfterClosingQuoteAndStrayQuote) {
 }
 
 TEST(CsvTable, MissingFileIsReportedAtTheReference) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string missing = (dir.path() / "nope.csv").string();
   try {
     read_csv_file(missing, SourceLocation{"exp.toml", 12, 1});
@@ -89,7 +89,7 @@ TEST(CsvTable, MissingFileIsReportedAtTheReference) {
 }
 
 TEST(CsvTable, ReadsFileWithByteOrderMark) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string path = dir.write("t.csv", "\xEF\xBB\xBFname,scene_a\nx,y\n");
   const CsvTable table = read_csv_file(path, SourceLocation{});
   EXPECT_EQ(table.file, path);

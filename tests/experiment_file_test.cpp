@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "protocols/experiment.h"
-#include "temp_dir.h"
+#include "scratch_dir.h"
 
 namespace glarelab {
 namespace {
@@ -41,7 +41,7 @@ std::string error_of(const std::string& path) {
 }
 
 TEST(ExperimentFile, LoadsFileWithCsvConditionsAndDefaults) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   dir.write("conditions.csv", kCsv);
   const std::string path = dir.write("exp.toml", experiment_text("", "file = \"conditions.csv\"\n"));
   const Experiment e = load_experiment(path);
@@ -103,7 +103,7 @@ TEST(ExperimentFile, InlineRowsKeepColumnOrderAndEveryKeyIsRead) {
 }
 
 TEST(ExperimentFile, ResolvedConfigReadsBackEqual) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   dir.write("conditions.csv",
             "scene_b,name,scene_a,note\n"
             "bright,\"quote \"\" and, comma\",dim,\"multi\nline\"\n"
@@ -137,7 +137,7 @@ TEST(ExperimentFile, ResolvedConfigReadsBackEqual) {
 }
 
 TEST(ExperimentFile, UnknownKeyWithSuggestion) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   dir.write("conditions.csv", kCsv);
   const std::string path =
       dir.write("exp.toml", experiment_text("stimulus_frame = 20", "file = \"conditions.csv\"\n"));
@@ -160,7 +160,7 @@ TEST(ExperimentFile, UnknownTopLevelTable) {
 }
 
 TEST(ExperimentFile, WrongType) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   dir.write("conditions.csv", kCsv);
   const std::string path =
       dir.write("exp.toml", experiment_text("stimulus_frames = \"thirty\"", "file = \"conditions.csv\"\n"));
@@ -168,7 +168,7 @@ TEST(ExperimentFile, WrongType) {
 }
 
 TEST(ExperimentFile, RangeChecksAndUnsupportedProcedure) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   dir.write("conditions.csv", kCsv);
   const auto check = [&](const std::string& extra, const std::string& expected) {
     const std::string path = dir.write("exp.toml", experiment_text(extra, "file = \"conditions.csv\"\n"));
@@ -195,7 +195,7 @@ TEST(ExperimentFile, RangeChecksAndUnsupportedProcedure) {
 }
 
 TEST(ExperimentFile, MissingTomlFile) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string path = (dir.path() / "absent.toml").string();
   EXPECT_EQ(error_of(path), path + ": file not found");
 }
@@ -211,14 +211,14 @@ TEST(ExperimentFile, SyntaxErrorHasLocation) {
 }
 
 TEST(ExperimentFile, MissingCsvFileIsReportedAtTheFileKey) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string path = dir.write("exp.toml", experiment_text("", "file = \"absent.csv\"\n"));
   EXPECT_EQ(error_of(path), path + ":15:1: key 'conditions.file': condition table '" +
                                 (dir.path() / "absent.csv").string() + "': file not found");
 }
 
 TEST(ExperimentFile, MissingCsvColumn) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string csv = dir.write("conditions.csv", "name,scene_a\nx,dim\n");
   const std::string path = dir.write("exp.toml", experiment_text("", "file = \"conditions.csv\"\n"));
   EXPECT_EQ(error_of(path), csv + ":1:1: key 'scene_b': missing column 'scene_b' in " + csv +
@@ -226,21 +226,21 @@ TEST(ExperimentFile, MissingCsvColumn) {
 }
 
 TEST(ExperimentFile, UnknownSceneInCsvCell) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string csv = dir.write("conditions.csv", "name,scene_a,scene_b\nok,dim,bright\nbad, dim ,brite\n");
   const std::string path = dir.write("exp.toml", experiment_text("", "file = \"conditions.csv\"\n"));
   EXPECT_EQ(error_of(path), csv + ":3:11: key 'scene_b': unknown scene 'brite' (scenes in [scenes]: 'bright', 'dim')");
 }
 
 TEST(ExperimentFile, UnknownSceneInInlineRow) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string path = dir.write(
       "exp.toml", experiment_text("", "rows = [ { scene_a = \"dim\", scene_b = \"nope\" } ]\n"));
   EXPECT_EQ(error_of(path), path + ":15:39: key 'scene_b': unknown scene 'nope' (scenes in [scenes]: 'bright', 'dim')");
 }
 
 TEST(ExperimentFile, BothFileAndRows) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   dir.write("conditions.csv", kCsv);
   const std::string path = dir.write(
       "exp.toml", experiment_text("", "file = \"conditions.csv\"\n[[conditions.rows]]\nscene_a = \"dim\"\n"

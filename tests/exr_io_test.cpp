@@ -16,7 +16,7 @@
 #include <random>
 
 #include "stimuli/exr_io.h"
-#include "tests/test_support.h"
+#include "tests/scratch_dir.h"
 
 namespace glarelab {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "protocols/observer.h"
-#include "temp_dir.h"
+#include "scratch_dir.h"
 
 namespace glarelab {
 namespace {
@@ -84,7 +84,7 @@ TEST(SimulatedObserver, ResponseTimesHaveTheConfiguredMedian) {
 }
 
 TEST(ScriptObserver, MapsOneZeroAndNamesByTrialIndex) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string path = dir.write("answers.txt", "# answers\n1\n\n0\n  left\nright\n1\nabort\n");
   const auto observer = make_script_observer(path);
   EXPECT_EQ(observer->description(), "script:" + path);
@@ -100,7 +100,7 @@ TEST(ScriptObserver, MapsOneZeroAndNamesByTrialIndex) {
 }
 
 TEST(ScriptObserver, RejectsUnknownValuesAtTheirLine) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string path = dir.write("answers.txt", "left\n  maybe\n");
   const auto observer = make_script_observer(path);
   try {
@@ -113,7 +113,7 @@ TEST(ScriptObserver, RejectsUnknownValuesAtTheirLine) {
 }
 
 TEST(ScriptObserver, RunningOutAndMissingFile) {
-  testing::TempDir dir;
+  test::ScratchDir dir;
   const std::string path = dir.write("answers.txt", "1\n1\n");
   const auto observer = make_script_observer(path);
   try {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "stimuli/png_io.h"
-#include "tests/test_support.h"
+#include "tests/scratch_dir.h"
 
 namespace glarelab {
 namespace {

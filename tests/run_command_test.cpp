@@ -4,14 +4,14 @@
 
 #include "runner/random.h"
 #include "runner/store/result_store.h"
-#include "test_support.h"
+#include "cli_process.h"
 
 namespace glarelab {
 namespace {
 
-using testing::demo_variant;
-using testing::fresh_directory;
-using testing::run_glarelab;
+using test::demo_variant;
+using test::run_glarelab;
+using test::ScratchDir;
 
 // Trial rows without the wall-clock column and the row id, for comparing runs.
 std::vector<std::string> comparable_trials(const ResultStore& store, std::int64_t session_id) {
@@ -32,7 +32,8 @@ std::vector<std::string> comparable_trials(const ResultStore& store, std::int64_
 }
 
 TEST(RunCommand, DemoRunsOffscreenAndStoresEveryTrial) {
-  const auto dir = fresh_directory("demo");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const auto db = dir / "demo.db";
   const auto result = run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
                                     "offscreen", "--observer", "simulated", "--db", db.string(), "--participant", "p01"},
@@ -71,7 +72,8 @@ TEST(RunCommand, DemoRunsOffscreenAndStoresEveryTrial) {
 }
 
 TEST(RunCommand, SameSeedGivesIdenticalTrials) {
-  const auto dir = fresh_directory("determinism");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const std::string experiment = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
   std::vector<std::vector<std::string>> runs;
   for (const char* name : {"a.db", "b.db", "c.db"}) {
@@ -88,11 +90,12 @@ TEST(RunCommand, SameSeedGivesIdenticalTrials) {
 }
 
 TEST(RunCommand, ScriptedObserverAnswersInTrialOrder) {
-  const auto dir = fresh_directory("script");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   std::string script = "# always correct, then always wrong\n";
   for (int i = 0; i < 10; ++i) script += "1\n";
   for (int i = 0; i < 10; ++i) script += "0\n";
-  testing::write_text(dir / "answers.txt", script);
+  test::write_bytes(dir / "answers.txt", script);
   const auto db = dir / "s.db";
   const auto result = run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
                                     "offscreen", "--observer", "script:" + (dir / "answers.txt").string(), "--db",
@@ -106,7 +109,8 @@ TEST(RunCommand, ScriptedObserverAnswersInTrialOrder) {
 }
 
 TEST(RunCommand, StopAndResumeEqualsAnUninterruptedRun) {
-  const auto dir = fresh_directory("resume");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const std::string experiment = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
   const std::vector<std::string> common = {"--display", "offscreen", "--observer", "simulated"};
   auto args = [&](std::vector<std::string> extra) {
@@ -138,10 +142,14 @@ TEST(RunCommand, StopAndResumeEqualsAnUninterruptedRun) {
 // Acceptance: kill -9 at random points leaves a sound database holding every completed trial with
 // the session still "running"; resuming finishes the same design.
 TEST(RunCommand, KillAtRandomPointsThenResume) {
-  const auto dir = fresh_directory("kill");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   // A longer variant of the demo so kills land in every phase: start-up, trials, commit, finish.
   const auto experiment =
-      demo_variant(dir, {{"stimulus_frames", "stimulus_frames = 12"}, {"repetitions", "repetitions = 4"}}).string();
+      demo_variant(dir, {{"stimulus_frames", "stimulus_frames = 12"},
+                        {"repetitions", "repetitions = 4"},
+                        {"width_px", "width_px = 512"},
+                        {"height_px", "height_px = 256"}}).string();
   const std::vector<std::string> common = {"--display", "offscreen", "--observer", "simulated"};
   auto args = [&](const std::filesystem::path& db, std::vector<std::string> extra) {
     std::vector<std::string> all = {"run", experiment, "--db", db.string()};
@@ -165,7 +173,7 @@ TEST(RunCommand, KillAtRandomPointsThenResume) {
     const auto db = dir / ("killed-" + std::to_string(attempt) + ".db");
     const double delay_s = random.uniform(static_cast<std::uint64_t>(attempt)) * full_run_s;
     {
-      testing::GlarelabProcess process(args(db, {}), dir / ("killed-" + std::to_string(attempt) + ".txt"));
+      test::GlarelabProcess process(args(db, {}), dir / ("killed-" + std::to_string(attempt) + ".txt"));
       ASSERT_TRUE(process.started());
       std::this_thread::sleep_for(std::chrono::duration<double>(delay_s));
       process.signal(SIGKILL);
@@ -206,11 +214,15 @@ TEST(RunCommand, KillAtRandomPointsThenResume) {
 }
 
 TEST(RunCommand, InterruptMarksSessionAbortedAndKeepsData) {
-  const auto dir = fresh_directory("interrupt");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const auto experiment =
-      demo_variant(dir, {{"stimulus_frames", "stimulus_frames = 60"}, {"repetitions", "repetitions = 20"}}).string();
+      demo_variant(dir, {{"stimulus_frames", "stimulus_frames = 60"},
+                        {"repetitions", "repetitions = 20"},
+                        {"width_px", "width_px = 512"},
+                        {"height_px", "height_px = 256"}}).string();
   const auto db = dir / "i.db";
-  testing::GlarelabProcess process({"run", experiment, "--db", db.string(), "--display", "offscreen", "--observer", "simulated"},
+  test::GlarelabProcess process({"run", experiment, "--db", db.string(), "--display", "offscreen", "--observer", "simulated"},
                                    dir / "out.txt");
   // Wait until some trials are in, then Ctrl-C.
   for (int i = 0; i < 400; ++i) {
@@ -222,7 +234,7 @@ TEST(RunCommand, InterruptMarksSessionAbortedAndKeepsData) {
     }
   }
   process.signal(SIGINT);
-  EXPECT_EQ(process.wait(), 130) << testing::read_text(dir / "out.txt");
+  EXPECT_EQ(process.wait(), 130) << test::read_bytes(dir / "out.txt");
   const ResultStore store(db.string());
   const auto session = store.load_sessions().at(0);
   EXPECT_EQ(session.status, "aborted");
@@ -232,7 +244,8 @@ TEST(RunCommand, InterruptMarksSessionAbortedAndKeepsData) {
 }
 
 TEST(RunCommand, KeyboardObserverOffscreenIsRefusedBeforeAnythingIsWritten) {
-  const auto dir = fresh_directory("keyboard-offscreen");
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
   const auto result = run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
                                     "offscreen", "--observer", "keyboard", "--db", (dir / "k.db").string()},
                                    dir);

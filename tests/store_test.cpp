@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "runner/store/result_store.h"
-#include "tests/test_support.h"
+#include "tests/scratch_dir.h"
 
 namespace glarelab {
 namespace {

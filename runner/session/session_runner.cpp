@@ -132,7 +132,7 @@ class SessionLoop {
     if (aborted_) return false;
     commit(plan, run);
     const int total = static_cast<int>(prepared_.trials.size());
-    if (total >= 20 && (plan.trial_index + 1) % (total / 10) == 0)
+    if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
       progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
     return true;
   }

@@ -1,5 +1,6 @@
 #pragma once
-// Helpers for tests that run the glarelab binary as a user would.
+// Running the glarelab binary from tests, as a user would.
+#include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -13,31 +14,11 @@
 #include <thread>
 #include <vector>
 
+#include "scratch_dir.h"
+
 extern char** environ;
 
-namespace glarelab::testing {
-
-// A fresh directory per call under the system temp dir.
-inline std::filesystem::path fresh_directory(const std::string& name) {
-  static int counter = 0;
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("glarelab-test-" + std::to_string(::getpid()) + "-" + name + "-" + std::to_string(counter++));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-inline std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-inline void write_text(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
+namespace glarelab::test {
 
 // A started glarelab process whose stdout and stderr go to one file.
 class GlarelabProcess {
@@ -89,7 +70,7 @@ inline RunOutput run_glarelab(const std::vector<std::string>& arguments, const s
   RunOutput result;
   if (!process.started()) return result;
   result.exit_code = process.wait();
-  result.output = read_text(output_file);
+  result.output = read_bytes(output_file.string());
   return result;
 }
 
@@ -98,7 +79,7 @@ inline RunOutput run_glarelab(const std::vector<std::string>& arguments, const s
 inline std::filesystem::path demo_variant(const std::filesystem::path& dir,
                                           const std::vector<std::pair<std::string, std::string>>& line_replacements) {
   const std::filesystem::path examples = std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples";
-  std::istringstream in(read_text(examples / "demo.toml"));
+  std::istringstream in(read_bytes((examples / "demo.toml").string()));
   std::ostringstream out;
   std::string line;
   while (std::getline(in, line)) {
@@ -111,8 +92,8 @@ inline std::filesystem::path demo_variant(const std::filesystem::path& dir,
     out << line << "\n";
   }
   const auto path = dir / "experiment.toml";
-  write_text(path, out.str());
+  write_bytes(path.string(), out.str());
   return path;
 }
 
-}  // namespace glarelab::testing
+}  // namespace glarelab::test
