@@ -1,0 +1,43 @@
+#pragma once
+// The eye's aperture at one instant, as geometry in the pupil plane: lengths in millimetres,
+// origin on the optical axis, x to the observer's right, y up, seen from the front (the light's
+// side). The eye model (eye_model.h) produces it; the CPU rasteriser and the GPU both draw it with
+// the same coverage rule (aperture_raster.h), so the two compute backends see the same aperture.
+//
+// Transmittance composes multiplicatively (Ritschel et al. 2009, section 4: every part of the eye
+// attenuates what passes through it): at a point p,
+//   A(p) = [|p| <= pupil_diameter_mm / 2] * prod over primitives containing p of transmittance.
+#include <vector>
+
+namespace glarelab {
+
+struct ApertureDisc {  // lens, cornea, vitreous and retina particles
+  double centre_x_mm = 0.0;
+  double centre_y_mm = 0.0;
+  double radius_mm = 0.0;
+  double transmittance = 0.0;  // 0 = opaque
+};
+
+struct ApertureLine {  // lens fibres (gratings), eyelashes: a segment with a width
+  double x0_mm = 0.0, y0_mm = 0.0;
+  double x1_mm = 0.0, y1_mm = 0.0;
+  double width_mm = 0.0;
+  double transmittance = 0.0;
+};
+
+struct AperturePolygon {  // eyelids: a simple polygon (convex or not, even-odd rule)
+  std::vector<double> vertices_mm;  // x0, y0, x1, y1, ...
+  double transmittance = 0.0;
+};
+
+struct ApertureGeometry {
+  double pupil_diameter_mm = 4.0;
+  std::vector<ApertureDisc> discs;
+  std::vector<ApertureLine> lines;
+  std::vector<AperturePolygon> polygons;
+  // Defocus of the eye (accommodation error), in dioptres; gives the quadratic phase
+  // phi(r) = pi * defocus_dioptres * r^2 / lambda of a thin-lens focus error.
+  double defocus_dioptres = 0.0;
+};
+
+}  // namespace glarelab
