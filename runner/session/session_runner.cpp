@@ -96,6 +96,8 @@ class SessionLoop {
     const std::vector<Placement> placements = layout(plan);
     TrialRun run;
     const bool interactive = prepared_.observer == nullptr;
+    if (interactive) discard_keys_before_onset(plan);
+    if (aborted_) return false;
     double previous_flip_s = 0.0;
     for (int frame = 0; frame < plan.stimulus_frames; ++frame) {
       draw(placements);
@@ -164,6 +166,19 @@ class SessionLoop {
     if (interrupt_requested()) {
       aborted_ = true;
       abort_reason_ = "interrupted (Ctrl-C or SIGTERM)";
+    }
+  }
+
+  // Keys pressed before a trial's onset (late repeats of the previous answer) must not answer it.
+  void discard_keys_before_onset(const TrialPlan& plan) {
+    for (const std::string& key : display_.poll_keys()) {
+      if (key == "escape") {
+        aborted_ = true;
+        abort_reason_ = "Escape pressed";
+        return;
+      }
+      store_.log_event(session_id_, clock_.now_s(), "ignored_key",
+                       "trial " + std::to_string(plan.trial_index) + ": key '" + key + "' pressed before onset");
     }
   }
 

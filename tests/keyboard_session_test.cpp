@@ -1,0 +1,58 @@
+// A whole session in a real X window (under xvfb-run), answered with key presses sent by xdotool,
+// then ended with Escape: the answered trials are kept and the session is marked aborted.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "cli_process.h"
+#include "runner/store/result_store.h"
+
+namespace glarelab {
+namespace {
+
+int shell(const std::string& command) { return std::system(command.c_str()); }
+
+TEST(WindowBackend, KeyboardAnswersThenEscapeAborts) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "WindowBackend tests run under xvfb-run (see tests/CMakeLists.txt)";
+  ASSERT_EQ(shell("command -v xdotool > /dev/null"), 0) << "xdotool is needed (scripts/setup.sh installs it)";
+  const test::ScratchDir scratch;
+  const auto experiment = test::demo_variant(scratch.path(), {{"width_px", "width_px = 512"},
+                                                              {"height_px", "height_px = 256"},
+                                                              {"stimulus_frames", "stimulus_frames = 6"}});
+  const auto db = scratch.path() / "keyboard.db";
+  test::GlarelabProcess process({"run", experiment.string(), "--display", "window", "--observer", "keyboard", "--db",
+                                 db.string(), "--participant", "kb"},
+                                scratch.path() / "out.txt");
+  ASSERT_TRUE(process.started());
+  // Wait for the window, give it the keyboard focus, then answer three trials and press Escape.
+  ASSERT_EQ(shell("timeout 20 xdotool search --sync --name 'glarelab: demo' windowfocus --sync > /dev/null"), 0)
+      << test::read_bytes((scratch.path() / "out.txt").string());
+  const std::vector<std::string> keys = {"Right", "Left", "2"};
+  for (const auto& key : keys) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));
+    ASSERT_EQ(shell("xdotool key " + key), 0);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  ASSERT_EQ(shell("xdotool key Escape"), 0);
+  EXPECT_EQ(process.wait(), 130) << test::read_bytes((scratch.path() / "out.txt").string());
+
+  const ResultStore store(db.string());
+  const auto session = store.load_sessions().at(0);
+  EXPECT_EQ(session.status, "aborted");
+  EXPECT_EQ(session.display_backend, "window");
+  EXPECT_EQ(session.clock, "monotonic");
+  const auto trials = store.load_trials(session.id);
+  ASSERT_EQ(trials.size(), 3u);
+  EXPECT_EQ(trials[0].response, "right");
+  EXPECT_EQ(trials[1].response, "left");
+  EXPECT_EQ(trials[2].response, "right");  // "2" is the second response
+  for (const auto& trial : trials) {
+    ASSERT_TRUE(trial.response_time_s.has_value());
+    EXPECT_GT(*trial.response_time_s, 0.0);
+    EXPECT_EQ(store.load_frames(trial.id).size(), 6u);
+  }
+  EXPECT_EQ(store.integrity_check(), "ok");
+}
+
+}  // namespace
+}  // namespace glarelab
