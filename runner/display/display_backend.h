@@ -75,4 +75,9 @@ std::vector<std::string> display_kinds();
 using GlProcLoader = void* (*)(const char* name);
 GlInfo load_and_check_gl(const char* subsystem, GlProcLoader get_proc, const DisplayRequest& request);
 
+// "; the driver offers OpenGL <version> on <renderer>" for the context current on this thread,
+// asked through `get_proc` without loading the full entry-point table (used when a requested
+// context was refused and a default one was created just to say what the driver offers).
+std::string describe_offered_context(GlProcLoader get_proc);
+
 }  // namespace glarelab

@@ -17,6 +17,15 @@ std::string gl_string(GLenum name) {
 }
 }  // namespace
 
+std::string describe_offered_context(GlProcLoader get_proc) {
+  using GetString = const GLubyte*(GLAD_API_PTR*)(GLenum);
+  auto get_string = reinterpret_cast<GetString>(get_proc("glGetString"));
+  if (get_string == nullptr) return "";
+  const auto* version = reinterpret_cast<const char*>(get_string(GL_VERSION));
+  const auto* renderer = reinterpret_cast<const char*>(get_string(GL_RENDERER));
+  return std::string("; the driver offers OpenGL ") + (version ? version : "?") + " on " + (renderer ? renderer : "?");
+}
+
 GlInfo load_and_check_gl(const char* subsystem, GlProcLoader get_proc, const DisplayRequest& request) {
   // glad's loader takes a function returning GLADapiproc; backends hand us void* getters.
   const int loaded = gladLoadGL(reinterpret_cast<GLADloadfunc>(get_proc));

@@ -167,15 +167,7 @@ class GlfwDisplay final : public DisplayBackend {
     GLFWwindow* probe = glfwCreateWindow(16, 16, "probe", nullptr, nullptr);
     if (probe == nullptr) return "";
     glfwMakeContextCurrent(probe);
-    std::string found;
-    using GetString = const unsigned char* (*)(unsigned int);
-    auto get_string = reinterpret_cast<GetString>(glfwGetProcAddress("glGetString"));
-    if (get_string != nullptr) {
-      const auto* version = reinterpret_cast<const char*>(get_string(GL_VERSION));
-      const auto* renderer = reinterpret_cast<const char*>(get_string(GL_RENDERER));
-      found = std::string("; the driver offers OpenGL ") + (version ? version : "?") + " on " +
-              (renderer ? renderer : "?");
-    }
+    const std::string found = describe_offered_context(glfw_proc);
     glfwMakeContextCurrent(nullptr);
     glfwDestroyWindow(probe);
     last_glfw_error() = refusal;

@@ -77,16 +77,7 @@ class OsMesaDisplay final : public DisplayBackend {
     if (probe == nullptr) return " (and no default context could be created either)";
     std::vector<float> pixel(4);
     std::string found;
-    if (OSMesaMakeCurrent(probe, pixel.data(), GL_FLOAT, 1, 1)) {
-      using GetString = const unsigned char* (*)(unsigned int);
-      auto get_string = reinterpret_cast<GetString>(OSMesaGetProcAddress("glGetString"));
-      if (get_string != nullptr) {
-        const auto* version = reinterpret_cast<const char*>(get_string(GL_VERSION));
-        const auto* renderer = reinterpret_cast<const char*>(get_string(GL_RENDERER));
-        found = std::string("; the driver offers OpenGL ") + (version ? version : "?") + " on " +
-                (renderer ? renderer : "?");
-      }
-    }
+    if (OSMesaMakeCurrent(probe, pixel.data(), GL_FLOAT, 1, 1)) found = describe_offered_context(osmesa_proc);
     OSMesaDestroyContext(probe);
     return found;
   }
