@@ -11,8 +11,10 @@
 #include "protocols/observer.h"
 #include "runner/clock.h"
 #include "runner/display/display_backend.h"
+#include "runner/session/frame_timing.h"
 #include "runner/session/interrupt.h"
 #include "runner/session/keyboard_responses.h"
+#include "runner/session/slow_flip_clock.h"
 #include "runner/software_version.h"
 #include "runner/store/result_store.h"
 #include "stimuli/exr_io.h"
@@ -87,7 +89,8 @@ class SessionLoop {
         store_(store),
         session_id_(session_id),
         renderer_(display.width_px(), display.height_px()),
-        period_s_(1.0 / display.refresh_hz()) {
+        period_s_(1.0 / display.refresh_hz()),
+        timing_(display.refresh_hz()) {
     for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
   }
 
@@ -98,7 +101,6 @@ class SessionLoop {
     const bool interactive = prepared_.observer == nullptr;
     if (interactive) discard_keys_before_onset(plan);
     if (aborted_) return false;
-    double previous_flip_s = 0.0;
     for (int frame = 0; frame < plan.stimulus_frames; ++frame) {
       draw(placements);
       display_.present();
@@ -109,8 +111,12 @@ class SessionLoop {
       record.scheduled_s = run.onset_s + frame * period_s_;
       record.flip_s = flip_s;
       // A flip more than 1.5 refresh periods after the previous one means a refresh was missed.
-      record.dropped = frame > 0 && (flip_s - previous_flip_s) > 1.5 * period_s_;
-      previous_flip_s = flip_s;
+      record.dropped = timing_.on_flip(flip_s, plan.trial_index, frame);
+      if (record.dropped) {
+        store_.log_event(session_id_, flip_s, "dropped_frame",
+                         "trial " + std::to_string(plan.trial_index) + " frame " + std::to_string(frame) + ": " +
+                             std::to_string(1000.0 * timing_.dropped().back().interval_s) + " ms since the previous flip");
+      }
       run.frames.push_back(record);
       if (interactive && !run.response)
         run.response = poll_keyboard(plan, run.onset_s);
@@ -125,7 +131,7 @@ class SessionLoop {
       while (!run.response) {
         draw({});
         display_.present();
-        clock_.on_flip();
+        timing_.on_flip(clock_.on_flip(), plan.trial_index, -1);
         run.response = poll_keyboard(plan, run.onset_s);
         if (aborted_) return false;
       }
@@ -140,6 +146,7 @@ class SessionLoop {
   }
 
   bool aborted() const { return aborted_; }
+  FrameTimingSummary timing_summary() const { return timing_.summary(); }
   const std::string& abort_reason() const { return abort_reason_; }
 
  private:
@@ -232,6 +239,7 @@ class SessionLoop {
   FrameRenderer renderer_;
   double period_s_;
   std::map<std::string, SceneTexture> textures_;
+  FrameTimingMonitor timing_;
   bool aborted_ = false;
   std::string abort_reason_;
 };
@@ -300,6 +308,8 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     // Frame k of the session flips at k / refresh_hz, across resumptions too.
     clock = std::make_unique<VirtualClock>(display->refresh_hz(), 0.0, resumed ? store->frame_count(resumed->id) : 0);
   }
+  if (options.slow_flip_every)
+    clock = std::make_unique<SlowFlipClock>(std::move(clock), display->refresh_hz(), *options.slow_flip_every);
 
   // 3. The session row.
   if (!store) store = std::make_unique<ResultStore>(result.db_path);
@@ -356,6 +366,12 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     if (!loop.run_trial(prepared.trials[static_cast<std::size_t>(index)], progress)) break;
     ++result.trials_run_now;
   }
+  // Frame timing of this run (a resumed session reports the frames shown since resuming).
+  const FrameTimingSummary timing = loop.timing_summary();
+  store->log_event(result.session_id, clock->now_s(), "frame_timing", timing.describe());
+  progress << "Frame timing: " << timing.describe() << "\n";
+  result.frames_shown = timing.frames_shown;
+  result.frames_dropped = timing.frames_dropped;
   if (loop.aborted()) {
     store->log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
     store->finish_session(result.session_id, "aborted");

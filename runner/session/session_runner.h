@@ -19,6 +19,10 @@ struct RunOptions {
   // Stop after this many trials as if the run had been cut off (for demonstrations of resume and
   // for tests); the session stays "running".
   std::optional<int> stop_after_trials;
+  // Timing self-test (library callers and tests only, never an experiment file): every Nth flip
+  // arrives one refresh period late (runner/session/slow_flip_clock.h), so the dropped-frame
+  // detection and the session summary can be checked on any machine.
+  std::optional<int> slow_flip_every;
 };
 
 struct RunResult {
@@ -27,6 +31,8 @@ struct RunResult {
   std::string db_path;
   int trials_in_design = 0;
   int trials_run_now = 0;
+  std::int64_t frames_shown = 0;    // stimulus flips in this run
+  std::int64_t frames_dropped = 0;  // of them, more than 1.5 refresh periods after the previous flip
 };
 
 // Exit codes of `glarelab run`, also used by main.

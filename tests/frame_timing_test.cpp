@@ -1,0 +1,113 @@
+// Dropped-frame detection and the session's frame-timing summary: unit checks on hand-made flip
+// times, and whole offscreen sessions with the virtual clock, with and without injected slow flips.
+#include <gtest/gtest.h>
+
+#include <sqlite3.h>
+
+#include <sstream>
+#include <stdexcept>
+
+#include "runner/session/frame_timing.h"
+#include "runner/session/session_runner.h"
+#include "runner/store/result_store.h"
+#include "cli_process.h"
+
+namespace glarelab {
+namespace {
+
+TEST(FrameTimingMonitor, CountsFlipsLaterThanOneAndAHalfPeriods) {
+  FrameTimingMonitor monitor(100.0);  // 10 ms period
+  // Trial 0: frames at 0, 10, 20 (on time), 36 (16 ms: late), 51 (15 ms: exactly 1.5, not late).
+  EXPECT_FALSE(monitor.on_flip(0.000, 0, 0));
+  EXPECT_FALSE(monitor.on_flip(0.010, 0, 1));
+  EXPECT_FALSE(monitor.on_flip(0.020, 0, 2));
+  EXPECT_TRUE(monitor.on_flip(0.036, 0, 3));
+  EXPECT_FALSE(monitor.on_flip(0.0505, 0, 4));
+  // A response-screen flip, then trial 1's onset 13 ms later: 3 ms of onset jitter, not a drop.
+  monitor.on_flip(0.0605, 0, -1);
+  EXPECT_FALSE(monitor.on_flip(0.0735, 1, 0));
+  EXPECT_TRUE(monitor.on_flip(0.1035, 1, 1));  // 30 ms
+  const FrameTimingSummary s = monitor.summary();
+  EXPECT_EQ(s.frames_shown, 7);
+  EXPECT_EQ(s.frames_dropped, 2);
+  EXPECT_EQ(s.onsets, 1);
+  EXPECT_NEAR(s.onset_jitter_mean_ms, 3.0, 1e-9);
+  EXPECT_NEAR(s.onset_jitter_max_ms, 3.0, 1e-9);
+  ASSERT_EQ(monitor.dropped().size(), 2u);
+  EXPECT_EQ(monitor.dropped()[1].trial_index, 1);
+  EXPECT_EQ(monitor.dropped()[1].frame_index, 1);
+  EXPECT_NEAR(monitor.dropped()[1].interval_s, 0.030, 1e-12);
+}
+
+struct SessionCounts {
+  RunResult result;
+  std::int64_t dropped_in_frames_table = 0;
+  std::int64_t dropped_events = 0;
+  std::int64_t frames_in_table = 0;
+  std::string summary_event;
+};
+
+SessionCounts run_demo(const test::ScratchDir& scratch, std::optional<int> slow_flip_every) {
+  const auto experiment = test::demo_variant(scratch.path(), {{"stimulus_frames", "stimulus_frames = 5"},
+                                                              {"repetitions", "repetitions = 1"}});
+  RunOptions options;
+  options.experiment_path = experiment.string();
+  options.display = "offscreen";
+  options.observer = "simulated";
+  options.db_path = (scratch.path() / "timing.db").string();
+  options.slow_flip_every = slow_flip_every;
+  std::ostringstream progress;
+  SessionCounts counts;
+  counts.result = run_session(options, progress);
+  const ResultStore store(options.db_path);
+  for (const TrialRecord& trial : store.load_trials(counts.result.session_id)) {
+    for (const FrameRecord& frame : store.load_frames(trial.id)) {
+      ++counts.frames_in_table;
+      counts.dropped_in_frames_table += frame.dropped;
+    }
+  }
+  sqlite3_stmt* statement = nullptr;
+  if (sqlite3_prepare_v2(store.handle(), "SELECT kind || ':' || message FROM session_events ORDER BY id", -1,
+                         &statement, nullptr) != SQLITE_OK)
+    throw std::runtime_error(sqlite3_errmsg(store.handle()));
+  while (sqlite3_step(statement) == SQLITE_ROW) {
+    const std::string line = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
+    if (line.rfind("dropped_frame:", 0) == 0) ++counts.dropped_events;
+    if (line.rfind("frame_timing:", 0) == 0) counts.summary_event = line;
+  }
+  sqlite3_finalize(statement);
+  return counts;
+}
+
+TEST(FrameTiming, VirtualClockSessionDropsNothing) {
+  const test::ScratchDir scratch;
+  const SessionCounts counts = run_demo(scratch, std::nullopt);
+  ASSERT_EQ(counts.result.status, "completed");
+  EXPECT_EQ(counts.result.frames_dropped, 0);
+  EXPECT_EQ(counts.dropped_in_frames_table, 0);
+  EXPECT_EQ(counts.dropped_events, 0);
+  EXPECT_EQ(counts.result.frames_shown, counts.frames_in_table);
+  EXPECT_EQ(counts.frames_in_table, 5 * counts.result.trials_in_design);
+  EXPECT_NE(counts.summary_event.find("dropped 0;"), std::string::npos) << counts.summary_event;
+}
+
+// Every 7th flip arrives one period late. Offscreen simulated sessions flip only stimulus
+// frames (5 per trial), so flip n (1-based) is frame (n - 1) % 5 of its trial; a delayed flip is a
+// dropped frame unless it is a trial's onset (frame 0), which counts as onset jitter instead.
+TEST(FrameTiming, InjectedSlowFlipsAreCountedWithTheirTrial) {
+  const test::ScratchDir scratch;
+  const SessionCounts counts = run_demo(scratch, 7);
+  ASSERT_EQ(counts.result.status, "completed");
+  const std::int64_t flips = 5 * counts.result.trials_in_design;
+  std::int64_t expected_drops = 0;
+  for (std::int64_t n = 7; n <= flips; n += 7) expected_drops += ((n - 1) % 5) != 0;
+  EXPECT_GT(expected_drops, 0);
+  EXPECT_EQ(counts.result.frames_dropped, expected_drops);
+  EXPECT_EQ(counts.dropped_in_frames_table, expected_drops);
+  EXPECT_EQ(counts.dropped_events, expected_drops);
+  EXPECT_NE(counts.summary_event.find("dropped " + std::to_string(expected_drops) + ";"), std::string::npos)
+      << counts.summary_event;
+}
+
+}  // namespace
+}  // namespace glarelab
