@@ -68,8 +68,10 @@ TEST(GlarePsf, WavelengthScalingInAngle) {
   ApertureGeometry geometry;
   geometry.pupil_diameter_mm = 3.0;
   geometry.discs.push_back({0.5, 0.3, 0.2, 0.0});
-  const auto psf_450 = compute_monochromatic_psf(geometry, pupil_only_options(1024, 30.0, 450.0)).psf;
-  const auto psf_650 = compute_monochromatic_psf(geometry, pupil_only_options(1024, 30.0, 650.0)).psf;
+  // Different aperture widths, so the two rasters and angular grids differ (10.0 vs 12.0 urad per
+  // pixel) and the comparison goes through a real resampling.
+  const auto psf_450 = compute_monochromatic_psf(geometry, pupil_only_options(1024, 45.0, 450.0)).psf;
+  const auto psf_650 = compute_monochromatic_psf(geometry, pupil_only_options(1024, 54.0, 650.0)).psf;
   const int n = psf_650.size_px;
   const double density_450 = 1.0 / (psf_450.degrees_per_pixel * psf_450.degrees_per_pixel);
   const double density_650 = 1.0 / (psf_650.degrees_per_pixel * psf_650.degrees_per_pixel);
