@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "glare/psf_scale.h"
+
 namespace glarelab {
 namespace {
 
@@ -90,6 +92,11 @@ ImageRGBA convolve_image_cpu(const ImageRGBA& image, const Psf& psf, const Convo
     for (std::size_t k = 0; k < count; ++k) out.rgba[4 * k + static_cast<std::size_t>(c)] = static_cast<float>(result[k]);
   }
   return out;
+}
+
+ImageRGBA convolve_image_at_scale_cpu(const ImageRGBA& image, double image_degrees_per_pixel, const Psf& psf,
+                                      const ConvolutionOptions& options, ConvolutionReport* report) {
+  return convolve_image_cpu(image, resample_psf_to_display(psf, image_degrees_per_pixel), options, report);
 }
 
 }  // namespace glarelab

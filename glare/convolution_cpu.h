@@ -36,4 +36,9 @@ std::vector<double> convolve_plane_cpu(const std::vector<double>& plane, int wid
 ImageRGBA convolve_image_cpu(const ImageRGBA& image, const Psf& psf, const ConvolutionOptions& options,
                              ConvolutionReport* report = nullptr);
 
+// The same after mapping the PSF onto the image's pixel scale (psf_scale.h: sum-conserving,
+// throws PsfScaleError when it cannot).
+ImageRGBA convolve_image_at_scale_cpu(const ImageRGBA& image, double image_degrees_per_pixel, const Psf& psf,
+                                      const ConvolutionOptions& options, ConvolutionReport* report = nullptr);
+
 }  // namespace glarelab

@@ -6,6 +6,7 @@
 
 #include "glare/convolution_cpu.h"
 #include "glare/psf_cpu.h"
+#include "stimuli/display_model.h"
 
 namespace glarelab {
 namespace {
@@ -82,6 +83,35 @@ TEST(GlareConvolution, ImageChannelsUseTheirPsfChannelAndKeepAlpha) {
   EXPECT_NEAR(out.pixel(9, 9)[0], psf.at(0, 8, 8), 1e-7);
   EXPECT_NEAR(out.pixel(9, 9)[2], 4.0 * psf.at(0, 8, 8), 4e-7);
   EXPECT_EQ(out.pixel(0, 0)[3], 0.5f);
+}
+
+TEST(GlareConvolution, PsfAtDisplayScaleConservesEnergy) {
+  // A 4 mm pupil PSF (0.0033 deg per pixel over 512 px = 1.7 deg) onto a display of 0.25 mm pixels
+  // seen from 600 mm (0.0239 deg per pixel): the image of a few sources keeps its total, per channel.
+  DisplaySpec spec;
+  spec.pixel_pitch_mm = 0.25;
+  spec.viewing_distance_mm = 600.0;
+  const double display_degrees_per_pixel = DisplayModel(spec).degrees_per_pixel_at_centre();
+  ApertureGeometry geometry;
+  geometry.pupil_diameter_mm = 4.0;
+  MonochromaticPsfOptions options;
+  options.raster.grid_px = 512;
+  options.raster.aperture_width_mm = 10.0;
+  options.wavelength_nm = 575.0;
+  const Psf psf = compute_monochromatic_psf(geometry, options).psf;
+  ImageRGBA image(301, 203, 0.0f);
+  image.pixel(150, 100)[0] = 1000.0f;
+  image.pixel(100, 80)[1] = 50.0f;
+  image.pixel(200, 120)[2] = 7.0f;
+  const ImageRGBA out = convolve_image_at_scale_cpu(image, display_degrees_per_pixel, psf, {});
+  double sums[3] = {0, 0, 0};
+  for (int y = 0; y < out.height_px; ++y)
+    for (int x = 0; x < out.width_px; ++x)
+      for (int c = 0; c < 3; ++c) sums[c] += out.pixel(x, y)[c];
+  EXPECT_NEAR(sums[0] / 1000.0, 1.0, 1e-5);  // float image pixels
+  EXPECT_NEAR(sums[1] / 50.0, 1.0, 1e-5);
+  EXPECT_NEAR(sums[2] / 7.0, 1.0, 1e-5);
+  EXPECT_GT(out.pixel(150, 100)[0], 100.0f);  // the core stays near the source's pixel
 }
 
 TEST(GlareConvolution, SunNextToDimBackgroundFloatNeedsTheBrightSplit) {
