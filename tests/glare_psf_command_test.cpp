@@ -41,6 +41,9 @@ TEST(GlarePsfCommand, WritesSpectralPsfExrAndRefusesBadOptions) {
 
   const auto bad = test::run_glarelab({"psf", "--backend", "gl", "--out", out}, dir.path());
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  const auto odd = test::run_glarelab({"psf", "--grid", "255", "--out", out}, dir.path());
+  EXPECT_EQ(odd.exit_code, 2) << odd.output;
+  EXPECT_NE(odd.output.find("even"), std::string::npos) << odd.output;
   const auto aliased = test::run_glarelab(
       {"psf", "--fresnel", "paper", "--grid", "64", "--out", (dir.path() / "paper.exr").string()}, dir.path());
   EXPECT_EQ(aliased.exit_code, 0) << aliased.output;

@@ -37,7 +37,18 @@ Action add_psf_command(CLI::App& app) {
   command->add_flag("--spectral", args->spectral, "Spectral PSF in linear Rec.709 R,G,B (chromatic blur, CIE 1931 weights)");
   command->add_option("--wavelength-samples", args->wavelength_samples, "Wavelength samples over 380-770 nm for --spectral")
       ->check(CLI::Range(1, 1024))->capture_default_str();
-  command->add_option("--grid", args->grid_px, "Aperture and PSF grid size N (even)")->check(CLI::Range(16, 8192))->capture_default_str();
+  command->add_option("--grid", args->grid_px, "Aperture and PSF grid size N (even)")
+      ->check(CLI::Range(16, 8192))
+      ->check(CLI::Validator([](const std::string& text) {
+                               // The grid's centre pixel N/2 is the optical axis and the PSF's DC.
+                               try {
+                                 return std::stoi(text) % 2 == 0 ? std::string() : std::string("must be even");
+                               } catch (const std::exception&) {
+                                 return std::string("must be an even integer");
+                               }
+                             },
+                             "EVEN"))
+      ->capture_default_str();
   command->add_option("--aperture-width-mm", args->aperture_width_mm, "Side of the square aperture grid (mm)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   command->add_option("--supersampling", args->supersampling, "Sub-samples per pixel side (>= 2)")->check(CLI::Range(2, 16))->capture_default_str();
