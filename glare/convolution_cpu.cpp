@@ -82,6 +82,10 @@ ImageRGBA convolve_image_cpu(const ImageRGBA& image, const Psf& psf, const Convo
                              ConvolutionReport* report) {
   if (psf.channels != 1 && psf.channels != 3)
     throw std::invalid_argument("glare/convolution_cpu: the PSF must have 1 or 3 channels");
+  // One NaN or Inf would spread over the whole image through the FFT; negative luminance is not light.
+  const NonFiniteReport pixels = inspect_pixels(image);
+  if (!pixels.clean())
+    throw std::invalid_argument("glare/convolution_cpu: the image cannot be convolved: it has " + pixels.describe());
   ImageRGBA out = image;
   const std::size_t count = static_cast<std::size_t>(image.width_px) * image.height_px;
   std::vector<double> plane(count);

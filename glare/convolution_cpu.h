@@ -32,7 +32,8 @@ std::vector<double> convolve_plane_cpu(const std::vector<double>& plane, int wid
                                        ConvolutionReport* report = nullptr);
 
 // R, G, B of the image each with the PSF's channel of the same index (a one-channel PSF serves all
-// three); alpha and depth are copied unchanged.
+// three); alpha and depth are copied unchanged. Refuses (std::invalid_argument naming the pixel
+// counts) an image with NaN, Inf or negative R, G, B.
 ImageRGBA convolve_image_cpu(const ImageRGBA& image, const Psf& psf, const ConvolutionOptions& options,
                              ConvolutionReport* report = nullptr);
 

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 #include "glare/convolution_cpu.h"
 #include "glare/psf_cpu.h"
@@ -83,6 +85,22 @@ TEST(GlareConvolution, ImageChannelsUseTheirPsfChannelAndKeepAlpha) {
   EXPECT_NEAR(out.pixel(9, 9)[0], psf.at(0, 8, 8), 1e-7);
   EXPECT_NEAR(out.pixel(9, 9)[2], 4.0 * psf.at(0, 8, 8), 4e-7);
   EXPECT_EQ(out.pixel(0, 0)[3], 0.5f);
+}
+
+TEST(GlareConvolution, RefusesNonFiniteAndNegativePixelsNamingTheCounts) {
+  const Psf psf = test_psf(16);
+  ImageRGBA image(20, 18, 1.0f);
+  image.pixel(3, 4)[1] = std::numeric_limits<float>::quiet_NaN();
+  image.pixel(5, 4)[0] = -1.0f;
+  image.pixel(6, 4)[2] = -2.0f;
+  try {
+    convolve_image_cpu(image, psf, {});
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("NaN"), std::string::npos) << message;
+    EXPECT_NE(message.find("2 negative"), std::string::npos) << message;
+  }
 }
 
 TEST(GlareConvolution, PsfAtDisplayScaleConservesEnergy) {
