@@ -8,6 +8,9 @@ find_package(CLI11 CONFIG REQUIRED)
 pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
 pkg_check_modules(SQLITE3 REQUIRED IMPORTED_TARGET sqlite3)
 pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
+# FFTW3 double (reference) and float (speed) FFTs, with their thread libraries (libfftw3-dev).
+pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
+pkg_check_modules(FFTW3F REQUIRED IMPORTED_TARGET fftw3f)
 
 if(NOT EXISTS /usr/include/Random123/philox.h)
   message(FATAL_ERROR "Random123 headers not found: install librandom123-dev (scripts/setup.sh does)")
@@ -19,6 +22,7 @@ endif()
 add_library(glarelab_deps INTERFACE)
 target_link_libraries(glarelab_deps INTERFACE
   OpenEXR::OpenEXR glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::SQLITE3 PkgConfig::PNG
+  PkgConfig::FFTW3 PkgConfig::FFTW3F
   Threads::Threads ${CMAKE_DL_LIBS})
 if(TARGET tomlplusplus::tomlplusplus)
   target_link_libraries(glarelab_deps INTERFACE tomlplusplus::tomlplusplus)

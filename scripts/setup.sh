@@ -14,6 +14,7 @@ PACKAGES=(
   libopenexr-dev libpng-dev                        # images
   libsqlite3-dev sqlite3                           # results store (sqlite3: the shell, for inspecting results)
   libtomlplusplus-dev libcli11-dev librandom123-dev # experiment files, command line, counter-based random numbers
+  libfftw3-dev                                     # FFTs for the glare engine's CPU path (double and float)
   libgtest-dev libgmock-dev libbenchmark-dev       # tests and benchmarks
 )
 

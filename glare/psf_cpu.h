@@ -1,0 +1,41 @@
+#pragma once
+// Monochromatic PSF on the CPU (Ritschel et al. 2009, Eq. 3): PSF = K |FFT(A E)|^2, shifted so the
+// DC term sits at pixel (N/2, N/2), with K chosen so the PSF sums to 1. Angular pixel size in the
+// Fraunhofer limit: theta_px = lambda / (N dx) radians (docs/GLARE_OPTICS.md derives it).
+#include <string>
+
+#include "glare/aperture_geometry.h"
+#include "glare/aperture_raster.h"
+#include "glare/fft_cpu.h"
+#include "glare/fresnel.h"
+#include "glare/psf.h"
+
+namespace glarelab {
+
+struct MonochromaticPsfOptions {
+  ApertureRasterOptions raster;
+  double wavelength_nm = 575.0;  // Ritschel's reference wavelength (section 5)
+  PhaseForm phase = PhaseForm::defocus;  // uses ApertureGeometry::defocus_dioptres (0 = in focus)
+  bool strict_sampling = false;  // aliased phase: throw instead of returning a warning
+  FftPrecision precision = FftPrecision::float64;
+};
+
+struct MonochromaticPsfResult {
+  Psf psf;                          // one channel "Y", sums to 1
+  double unnormalised_sum = 0.0;    // sum |FFT|^2 before K (= N^2 sum |A|^2 by Parseval)
+  double aperture_energy = 0.0;     // sum |A|^2
+  std::string sampling_warning;     // non-empty when the phase is aliased (and strict_sampling is off)
+};
+
+// Angular size (degrees) of one PSF pixel for an aperture grid of side N dx = aperture_width_mm.
+double psf_degrees_per_pixel(double wavelength_nm, double aperture_width_mm);
+
+// |FFT(field)|^2 of an N x N complex field, fftshifted (DC to (N/2, N/2)), unnormalised.
+std::vector<double> shifted_power_spectrum(std::vector<std::complex<double>> field, int grid_px, FftPrecision precision);
+
+MonochromaticPsfResult compute_monochromatic_psf(const ApertureGeometry& geometry, const MonochromaticPsfOptions& options);
+// The same from an already rasterised aperture (the rasteriser does not depend on wavelength).
+MonochromaticPsfResult compute_monochromatic_psf(const ApertureGrid& grid, double pupil_diameter_mm,
+                                                 double defocus_dioptres, const MonochromaticPsfOptions& options);
+
+}  // namespace glarelab
