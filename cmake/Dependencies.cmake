@@ -8,6 +8,11 @@ find_package(CLI11 CONFIG REQUIRED)
 pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
 pkg_check_modules(SQLITE3 REQUIRED IMPORTED_TARGET sqlite3)
 pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
+# Analysis: Boost.Math distributions (header-only), NLopt for maximum-likelihood fits,
+# nlohmann JSON for the trials.condition column.
+find_package(Boost 1.74 REQUIRED)
+find_package(nlohmann_json 3 CONFIG REQUIRED)
+find_package(NLopt CONFIG REQUIRED)
 
 if(NOT EXISTS /usr/include/Random123/philox.h)
   message(FATAL_ERROR "Random123 headers not found: install librandom123-dev (scripts/setup.sh does)")
@@ -19,7 +24,8 @@ endif()
 add_library(glarelab_deps INTERFACE)
 target_link_libraries(glarelab_deps INTERFACE
   OpenEXR::OpenEXR glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::SQLITE3 PkgConfig::PNG
-  Threads::Threads ${CMAKE_DL_LIBS})
+  Threads::Threads ${CMAKE_DL_LIBS}
+  Boost::headers nlohmann_json::nlohmann_json NLopt::nlopt)
 if(TARGET tomlplusplus::tomlplusplus)
   target_link_libraries(glarelab_deps INTERFACE tomlplusplus::tomlplusplus)
 endif()

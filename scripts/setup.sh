@@ -15,6 +15,8 @@ PACKAGES=(
   libsqlite3-dev sqlite3                           # results store (sqlite3: the shell, for inspecting results)
   libtomlplusplus-dev libcli11-dev librandom123-dev # experiment files, command line, counter-based random numbers
   libgtest-dev libgmock-dev libbenchmark-dev       # tests and benchmarks
+  libboost-dev libnlopt-cxx-dev nlohmann-json3-dev  # analysis: Boost.Math distributions, NLopt fits, JSON conditions
+  python3-scipy chromium                           # analysis tests: SciPy cross-check, report rendering
 )
 
 missing=()
