@@ -11,6 +11,11 @@ pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
 # FFTW3 double (reference) and float (speed) FFTs, with their thread libraries (libfftw3-dev).
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
 pkg_check_modules(FFTW3F REQUIRED IMPORTED_TARGET fftw3f)
+# Analysis: Boost.Math distributions (header-only), NLopt for maximum-likelihood fits,
+# nlohmann JSON for the trials.condition column.
+find_package(Boost 1.74 REQUIRED)
+find_package(nlohmann_json 3 CONFIG REQUIRED)
+find_package(NLopt CONFIG REQUIRED)
 
 if(NOT EXISTS /usr/include/Random123/philox.h)
   message(FATAL_ERROR "Random123 headers not found: install librandom123-dev (scripts/setup.sh does)")
@@ -23,7 +28,8 @@ add_library(glarelab_deps INTERFACE)
 target_link_libraries(glarelab_deps INTERFACE
   OpenEXR::OpenEXR glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::SQLITE3 PkgConfig::PNG
   PkgConfig::FFTW3 PkgConfig::FFTW3F
-  Threads::Threads ${CMAKE_DL_LIBS})
+  Threads::Threads ${CMAKE_DL_LIBS}
+  Boost::headers nlohmann_json::nlohmann_json NLopt::nlopt)
 if(TARGET tomlplusplus::tomlplusplus)
   target_link_libraries(glarelab_deps INTERFACE tomlplusplus::tomlplusplus)
 endif()

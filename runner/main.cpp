@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   auto run_action = glarelab::cli::add_run_command(app);
   auto validate_action = glarelab::cli::add_validate_command(app);
   auto psf_action = glarelab::cli::add_psf_command(app);
+  auto analyze_action = glarelab::cli::add_analyze_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -23,5 +24,6 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("run")) return run_action();
   if (app.got_subcommand("validate")) return validate_action();
   if (app.got_subcommand("psf")) return psf_action();
+  if (app.got_subcommand("analyze")) return analyze_action();
   return 2;
 }

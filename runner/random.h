@@ -17,6 +17,7 @@ enum class RandomStream : std::uint32_t {
   tracker_simulation = 5,
   staircase = 6,
   adjustment_start = 7,
+  analysis_bootstrap = 8,  // parametric bootstrap of psychometric fits (analysis/)
 };
 
 class CounterRandom {

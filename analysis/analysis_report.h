@@ -1,0 +1,48 @@
+#pragma once
+// Everything `glarelab analyze` computes from loaded databases: one analysis per procedure
+// found, timing and tracker quality, and the figures (SVG) that go into the report.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "analysis/adjustment_analysis.h"
+#include "analysis/forced_choice_analysis.h"
+#include "analysis/loaded_database.h"
+#include "analysis/rating_analysis.h"
+#include "analysis/staircase_analysis.h"
+#include "analysis/timing_quality.h"
+#include "analysis/tracker_quality.h"
+
+namespace glarelab::analysis {
+
+struct AnalysisOptions {
+  int bootstrap_samples = 200;  // per psychometric fit
+  int last_reversals = 6;       // staircase threshold: mean of the last k reversals
+  std::uint64_t seed = 1;       // bootstrap draws
+};
+
+struct Figure {
+  std::string file_stem;  // "staircase_1" -> figures/staircase_1.svg
+  std::string section;    // forced_choice | staircase | adjustment | rating | timing | tracker
+  std::string caption;
+  std::string svg;
+};
+
+struct AnalysisReport {
+  LoadedData data;
+  AnalysisOptions options;
+  ForcedChoiceAnalysis forced_choice;
+  std::vector<StaircaseResult> staircases;
+  AdjustmentAnalysis adjustments;
+  RatingAnalysis ratings;
+  TimingQuality timing;
+  TrackerQuality tracker;
+  std::vector<Figure> figures;
+};
+
+AnalysisReport analyse(LoadedData data, const AnalysisOptions& options);
+
+// The figures of a report (called by analyse; separate so the drawing is one concept).
+std::vector<Figure> draw_figures(const AnalysisReport& report);
+
+}  // namespace glarelab::analysis

@@ -1,0 +1,278 @@
+#include "analysis/loaded_database.h"
+
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <bit>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <stdexcept>
+
+namespace glarelab::analysis {
+namespace {
+
+// A read-only connection that names the file in every error.
+class ReadOnlyDatabase {
+ public:
+  explicit ReadOnlyDatabase(const std::string& path) : path_(path) {
+    if (!std::filesystem::exists(path)) throw StoreError("analysis: " + path + ": no such file");
+    if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
+      const std::string message = db_ != nullptr ? sqlite3_errmsg(db_) : "out of memory";
+      sqlite3_close(db_);
+      throw StoreError("analysis: " + path + ": cannot open: " + message);
+    }
+  }
+  ~ReadOnlyDatabase() { sqlite3_close(db_); }
+  ReadOnlyDatabase(const ReadOnlyDatabase&) = delete;
+  ReadOnlyDatabase& operator=(const ReadOnlyDatabase&) = delete;
+
+  sqlite3_stmt* prepare(const std::string& sql) const {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt, nullptr) != SQLITE_OK) {
+      throw StoreError("analysis: " + path_ + ": " + sqlite3_errmsg(db_) + " in: " + sql);
+    }
+    return stmt;
+  }
+  bool step(sqlite3_stmt* stmt) const {
+    const int rc = sqlite3_step(stmt);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    throw StoreError("analysis: " + path_ + ": " + sqlite3_errmsg(db_));
+  }
+  // Column names of `table`; empty when the table does not exist.
+  std::set<std::string> columns(const std::string& table) const {
+    std::set<std::string> names;
+    sqlite3_stmt* stmt = prepare("PRAGMA table_info(" + table + ")");
+    while (step(stmt)) names.insert(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 1)));
+    sqlite3_finalize(stmt);
+    return names;
+  }
+  int user_version() const {
+    sqlite3_stmt* stmt = prepare("PRAGMA user_version");
+    const int version = step(stmt) ? sqlite3_column_int(stmt, 0) : 0;
+    sqlite3_finalize(stmt);
+    return version;
+  }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  sqlite3* db_ = nullptr;
+};
+
+// Finalizes on every path.
+struct StatementGuard {
+  sqlite3_stmt* stmt;
+  ~StatementGuard() { sqlite3_finalize(stmt); }
+};
+
+std::string text(sqlite3_stmt* stmt, int column) {
+  const unsigned char* value = sqlite3_column_text(stmt, column);
+  return value != nullptr ? reinterpret_cast<const char*>(value) : std::string();
+}
+std::optional<double> optional_real(sqlite3_stmt* stmt, int column) {
+  if (sqlite3_column_type(stmt, column) == SQLITE_NULL) return std::nullopt;
+  return sqlite3_column_double(stmt, column);
+}
+std::optional<int> optional_int(sqlite3_stmt* stmt, int column) {
+  if (sqlite3_column_type(stmt, column) == SQLITE_NULL) return std::nullopt;
+  return sqlite3_column_int(stmt, column);
+}
+
+// "col" when the table has it, else "NULL": older schema versions lack the non-contract columns.
+std::string column_or_null(const std::set<std::string>& have, const std::string& name) {
+  return have.count(name) != 0 ? name : "NULL";
+}
+
+void require_columns(const ReadOnlyDatabase& db, const std::string& table, const std::set<std::string>& have,
+                     const std::vector<std::string>& needed) {
+  for (const std::string& name : needed) {
+    if (have.count(name) == 0) {
+      throw StoreError("analysis: " + db.path() + ": table " + table + " lacks the contract column '" + name + "'");
+    }
+  }
+}
+
+void load_one(const std::string& path, LoadedData& data) {
+  const ReadOnlyDatabase db(path);
+  const int version = db.user_version();
+  if (version > ResultStore::kSchemaVersion) {
+    throw StoreError("analysis: " + path + ": schema version " + std::to_string(version) +
+                     " is newer than this glarelab reads (" + std::to_string(ResultStore::kSchemaVersion) +
+                     "): update glarelab");
+  }
+  const auto session_columns = db.columns("sessions");
+  const auto trial_columns = db.columns("trials");
+  if (session_columns.empty() || trial_columns.empty()) {
+    throw StoreError("analysis: " + path + ": not a glarelab results database (no sessions or trials table)");
+  }
+  require_columns(db, "sessions", session_columns,
+                  {"id", "experiment", "participant", "seed", "started_utc", "finished_utc", "status", "config",
+                   "software_version", "renderer"});
+  require_columns(db, "trials", trial_columns,
+                  {"id", "session_id", "trial_index", "block", "procedure", "condition", "intensity", "response",
+                   "correct", "response_time_s", "onset_s", "staircase", "reversal"});
+  if (version < ResultStore::kSchemaVersion) {
+    data.notes.push_back(path + ": schema version " + std::to_string(version) + " is older than the current " +
+                         std::to_string(ResultStore::kSchemaVersion) +
+                         "; loaded the contract columns it has (columns added later read as empty)");
+  }
+  const auto frame_columns = db.columns("frames");
+  const auto tracker_columns = db.columns("tracker_samples");
+  const bool have_adjustments = !db.columns("adjustments").empty();
+  if (frame_columns.empty()) data.notes.push_back(path + ": no frames table: timing quality not available");
+  if (tracker_columns.empty()) data.notes.push_back(path + ": no tracker_samples table");
+
+  const std::size_t first = data.sessions.size();
+  {
+    StatementGuard query{db.prepare(
+        "SELECT id, experiment, participant, seed, started_utc, finished_utc, status, config, software_version, "
+        "renderer, " +
+        column_or_null(session_columns, "display_backend") + ", " + column_or_null(session_columns, "clock") + ", " +
+        column_or_null(session_columns, "observer") + " FROM sessions ORDER BY id")};
+    while (db.step(query.stmt)) {
+      LoadedSession session;
+      session.database = path;
+      SessionRecord& r = session.record;
+      r.id = sqlite3_column_int64(query.stmt, 0);
+      r.experiment = text(query.stmt, 1);
+      r.participant = text(query.stmt, 2);
+      r.seed = std::bit_cast<std::uint64_t>(static_cast<std::int64_t>(sqlite3_column_int64(query.stmt, 3)));
+      r.started_utc = text(query.stmt, 4);
+      r.finished_utc = text(query.stmt, 5);
+      r.status = text(query.stmt, 6);
+      r.config = text(query.stmt, 7);
+      r.software_version = text(query.stmt, 8);
+      r.renderer = text(query.stmt, 9);
+      r.display_backend = text(query.stmt, 10);
+      r.clock = text(query.stmt, 11);
+      r.observer = text(query.stmt, 12);
+      data.sessions.push_back(std::move(session));
+    }
+  }
+  std::map<std::int64_t, std::size_t> session_at;
+  for (std::size_t i = first; i < data.sessions.size(); ++i) session_at[data.sessions[i].record.id] = i;
+
+  std::map<std::int64_t, std::pair<std::size_t, std::size_t>> trial_at;  // trial id -> (session, trial)
+  {
+    StatementGuard query{db.prepare(
+        "SELECT id, session_id, trial_index, block, procedure, condition, intensity, response, correct, "
+        "response_time_s, onset_s, staircase, reversal, " +
+        column_or_null(trial_columns, "started_utc") + " FROM trials ORDER BY session_id, trial_index")};
+    int unreadable = 0;
+    while (db.step(query.stmt)) {
+      LoadedTrial trial;
+      TrialRecord& r = trial.record;
+      r.id = sqlite3_column_int64(query.stmt, 0);
+      r.session_id = sqlite3_column_int64(query.stmt, 1);
+      r.trial_index = sqlite3_column_int(query.stmt, 2);
+      r.block = sqlite3_column_int(query.stmt, 3);
+      r.procedure = text(query.stmt, 4);
+      r.condition = text(query.stmt, 5);
+      r.intensity = optional_real(query.stmt, 6);
+      r.response = text(query.stmt, 7);
+      r.correct = optional_int(query.stmt, 8);
+      r.response_time_s = optional_real(query.stmt, 9);
+      r.onset_s = sqlite3_column_double(query.stmt, 10);
+      r.staircase = text(query.stmt, 11);
+      r.reversal = optional_int(query.stmt, 12);
+      r.started_utc = text(query.stmt, 13);
+      try {
+        trial.condition = parse_condition_json(r.condition);
+      } catch (const std::invalid_argument&) {
+        ++unreadable;
+        trial.condition = {{"name", r.condition}};
+      }
+      const auto owner = session_at.find(r.session_id);
+      if (owner == session_at.end()) continue;  // a trial without its session is not analysable
+      auto& trials = data.sessions[owner->second].trials;
+      trial_at[r.id] = {owner->second, trials.size()};
+      trials.push_back(std::move(trial));
+    }
+    if (unreadable > 0) {
+      data.notes.push_back(path + ": " + std::to_string(unreadable) +
+                           " trial(s) with a condition that is not a JSON object: used as the condition name");
+    }
+  }
+  if (!frame_columns.empty()) {
+    StatementGuard query{db.prepare(
+        "SELECT trial_id, frame_index, scheduled_s, flip_s, dropped FROM frames ORDER BY trial_id, frame_index")};
+    while (db.step(query.stmt)) {
+      const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
+      if (found == trial_at.end()) continue;
+      FrameRecord frame;
+      frame.frame_index = sqlite3_column_int(query.stmt, 1);
+      frame.scheduled_s = sqlite3_column_double(query.stmt, 2);
+      frame.flip_s = sqlite3_column_double(query.stmt, 3);
+      frame.dropped = sqlite3_column_int(query.stmt, 4) != 0;
+      data.sessions[found->second.first].trials[found->second.second].frames.push_back(frame);
+    }
+  }
+  if (!tracker_columns.empty()) {
+    StatementGuard query{db.prepare(
+        "SELECT session_id, eye, device_time_s, session_time_s, pupil_diameter_mm, gaze_x, gaze_y, confidence, valid "
+        "FROM tracker_samples ORDER BY session_id, session_time_s, eye")};
+    while (db.step(query.stmt)) {
+      const auto owner = session_at.find(sqlite3_column_int64(query.stmt, 0));
+      if (owner == session_at.end()) continue;
+      TrackerSampleRecord sample;
+      sample.eye = sqlite3_column_int(query.stmt, 1);
+      sample.device_time_s = sqlite3_column_double(query.stmt, 2);
+      sample.session_time_s = sqlite3_column_double(query.stmt, 3);
+      sample.pupil_diameter_mm = optional_real(query.stmt, 4);
+      sample.gaze_x = optional_real(query.stmt, 5);
+      sample.gaze_y = optional_real(query.stmt, 6);
+      sample.confidence = sqlite3_column_double(query.stmt, 7);
+      sample.valid = sqlite3_column_int(query.stmt, 8) != 0;
+      data.sessions[owner->second].tracker_samples.push_back(sample);
+    }
+  }
+  if (have_adjustments) {
+    StatementGuard query{db.prepare("SELECT trial_id, spot, value FROM adjustments ORDER BY trial_id, spot")};
+    while (db.step(query.stmt)) {
+      const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
+      if (found == trial_at.end()) continue;
+      data.sessions[found->second.first].trials[found->second.second].adjustments.push_back(
+          {sqlite3_column_int(query.stmt, 1), sqlite3_column_double(query.stmt, 2)});
+    }
+  }
+}
+
+}  // namespace
+
+const std::string* LoadedTrial::condition_value(const std::string& key) const {
+  for (const auto& [name, value] : condition) {
+    if (name == key) return &value;
+  }
+  return nullptr;
+}
+
+ConditionFields parse_condition_json(const std::string& text) {
+  nlohmann::ordered_json parsed;
+  try {
+    parsed = nlohmann::ordered_json::parse(text);
+  } catch (const nlohmann::json::exception& error) {
+    throw std::invalid_argument(std::string("condition is not JSON: ") + error.what());
+  }
+  if (!parsed.is_object()) throw std::invalid_argument("condition is not a JSON object");
+  ConditionFields fields;
+  for (const auto& [key, value] : parsed.items()) {
+    fields.emplace_back(key, value.is_string() ? value.get<std::string>() : value.dump());
+  }
+  return fields;
+}
+
+LoadedData load_databases(const std::vector<std::string>& paths) {
+  LoadedData data;
+  for (const std::string& path : paths) load_one(path, data);
+  for (std::size_t i = 0; i < data.sessions.size(); ++i) {
+    LoadedSession& session = data.sessions[i];
+    session.label = session.record.participant + " (" +
+                    (paths.size() > 1 ? std::filesystem::path(session.database).filename().string() + "#" : "#") +
+                    std::to_string(session.record.id) + ")";
+  }
+  return data;
+}
+
+}  // namespace glarelab::analysis

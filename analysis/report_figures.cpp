@@ -1,0 +1,233 @@
+// Figures of the analysis report (analysis/analysis_report.h), drawn with analysis/svg_plot.h.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "analysis/analysis_report.h"
+#include "analysis/svg_plot.h"
+
+namespace glarelab::analysis {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Figure forced_choice_figure(const ForcedChoiceAnalysis& analysis) {
+  std::vector<std::string> labels;
+  const auto& rows = analysis.groups;
+  for (const PairPreference& p : rows) labels.push_back(p.group);
+  SvgPlot plot("Forced choice: share choosing the preferred option (95% CI, normal approx.)", "", "relative frequency",
+               std::max(560, 90 * static_cast<int>(rows.size()) + 80), 340);
+  plot.set_x_categories(labels);
+  plot.set_y_range(0.0, 1.0);
+  plot.horizontal_rule(0.5, "#888");
+  bool any_neither = false;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const PairPreference& p = rows[i];
+    const double x = static_cast<double>(i);
+    const double share = p.share_a();
+    const long n = p.chose_a + p.chose_b;
+    plot.bar(x - 0.15, 0.3, share, series_colour(0));
+    plot.bar(x + 0.15, 0.3, 1.0 - share, series_colour(1));
+    if (n > 0) {
+      const double half = 1.96 * std::sqrt(share * (1.0 - share) / static_cast<double>(n));
+      plot.error_bar(x - 0.15, std::max(0.0, share - half), std::min(1.0, share + half));
+    }
+    if (p.neither > 0) {
+      any_neither = true;
+      plot.markers({x}, {p.neither_share()}, "#000", 4.0);
+    }
+  }
+  plot.legend("preferred option (first named)", series_colour(0));
+  plot.legend("other option", series_colour(1));
+  if (any_neither) plot.legend("'neither' share (dot)", "#000");
+  if (rows.empty()) plot.note("no forced-choice pairs to show");
+  return {"forced_choice", "forced_choice", "Relative frequency of choices per condition; options are named in the table.",
+          plot.svg()};
+}
+
+Figure staircase_track_figure(const StaircaseResult& s, std::size_t index) {
+  SvgPlot plot("Staircase track: " + s.participant_label + ", " + s.name, "trial", "intensity");
+  double low = kInf;
+  double high = -kInf;
+  std::vector<double> x, y, xc, yc, xi, yi, xr, yr;
+  for (std::size_t i = 0; i < s.track.size(); ++i) {
+    const StaircasePoint& p = s.track[i];
+    low = std::min(low, p.intensity);
+    high = std::max(high, p.intensity);
+    x.push_back(static_cast<double>(i + 1));
+    y.push_back(p.intensity);
+    (p.correct ? xc : xi).push_back(static_cast<double>(i + 1));
+    (p.correct ? yc : yi).push_back(p.intensity);
+    if (p.reversal) {
+      xr.push_back(static_cast<double>(i + 1));
+      yr.push_back(p.intensity);
+    }
+  }
+  if (s.track.empty()) {
+    low = 0.0;
+    high = 1.0;
+    plot.note("no answered trials");
+  }
+  const double pad = 0.08 * (high - low);
+  plot.set_x_range(0.0, static_cast<double>(s.track.size() + 1));
+  plot.set_y_range(low - pad, high + pad);
+  plot.line(x, y, "#999", 1.0);
+  plot.markers(xr, yr, "#d00", 6.0, true);
+  plot.markers(xc, yc, series_colour(0));
+  plot.markers(xi, yi, series_colour(2), 3.5, true);
+  if (s.reversal_threshold) plot.horizontal_rule(*s.reversal_threshold, "#d00");
+  plot.legend("correct", series_colour(0));
+  plot.legend("incorrect (hollow)", series_colour(2));
+  plot.legend("reversal (ring)", "#d00");
+  if (!s.threshold_note.empty()) plot.note(s.threshold_note);
+  return {"staircase_" + std::to_string(index), "staircase", "Track of " + s.name + " (" + s.participant_label + ")",
+          plot.svg()};
+}
+
+Figure psychometric_figure(const StaircaseResult& s, std::size_t index) {
+  SvgPlot plot("Psychometric fits: " + s.participant_label + ", " + s.name, "intensity", "proportion correct");
+  std::vector<std::pair<double, bool>> trials;
+  for (const StaircasePoint& p : s.track) trials.emplace_back(p.intensity, p.correct);
+  const auto levels = levels_from_trials(trials);
+  double low = levels.empty() ? 0.0 : levels.front().intensity;
+  double high = levels.empty() ? 1.0 : levels.back().intensity;
+  const double pad = 0.1 * (high - low);
+  plot.set_x_range(low - pad, high + pad);
+  plot.set_y_range(0.0, 1.0);
+  std::vector<double> x, y;
+  for (const StimulusLevel& level : levels) {
+    x.push_back(level.intensity);
+    y.push_back(static_cast<double>(level.correct) / static_cast<double>(level.trials));
+  }
+  plot.markers(x, y, "#333", 4.0);
+  for (std::size_t f = 0; f < s.fits.size(); ++f) {
+    const PsychometricFit& fit = s.fits[f];
+    if (!fit.ok()) {
+      plot.note(shape_name(fit.shape) + ": " + fit.unavailable);
+      continue;
+    }
+    std::vector<double> cx, cy;
+    for (int i = 0; i <= 100; ++i) {
+      const double value = low - pad + (high - low + 2 * pad) * i / 100.0;
+      if (fit.shape == PsychometricShape::weibull && value <= 0.0) continue;
+      cx.push_back(value);
+      cy.push_back(fit.probability(value));
+    }
+    plot.line(cx, cy, series_colour(f + 1), 1.8, f == 2);
+    plot.legend(shape_name(fit.shape), series_colour(f + 1));
+  }
+  return {"psychometric_" + std::to_string(index), "staircase",
+          "Proportion correct per intensity with maximum-likelihood fits (" + s.name + ", " + s.participant_label + ")",
+          plot.svg()};
+}
+
+Figure adjustment_figure(const AdjustmentAnalysis& a) {
+  SvgPlot plot("Double adjustment: perceived luminance (mean +/- SE over participants)", "target intensity",
+               "perceived luminance");
+  plot.set_x_categories(a.targets);
+  double high = 0.0;
+  for (const AdjustmentCell& cell : a.cells) high = std::max(high, cell.perceived.mean + cell.perceived.standard_error.value_or(0.0));
+  plot.set_y_range(0.0, high > 0.0 ? high * 1.1 : 1.0);
+  const double width = 0.8 / static_cast<double>(std::max<std::size_t>(a.conditions.size(), 1));
+  for (std::size_t c = 0; c < a.conditions.size(); ++c) {
+    for (const AdjustmentCell& cell : a.cells) {
+      if (cell.condition != a.conditions[c]) continue;
+      const auto t = static_cast<double>(std::find(a.targets.begin(), a.targets.end(), cell.target) - a.targets.begin());
+      const double x = t - 0.4 + width * (static_cast<double>(c) + 0.5);
+      plot.bar(x, width * 0.9, cell.perceived.mean, series_colour(c));
+      if (cell.perceived.standard_error) {
+        plot.error_bar(x, cell.perceived.mean - *cell.perceived.standard_error,
+                       cell.perceived.mean + *cell.perceived.standard_error);
+      }
+    }
+    plot.legend(a.conditions[c], series_colour(c));
+  }
+  return {"adjustment", "adjustment", "Perceived luminance per condition and target intensity.", plot.svg()};
+}
+
+Figure rating_figure(const RatingDistribution& r, std::size_t index) {
+  SvgPlot plot("Ratings: " + r.condition, "category", "answers");
+  std::vector<std::string> names;
+  long most = 0;
+  for (const auto& [name, count] : r.categories) {
+    names.push_back(name);
+    most = std::max(most, count);
+  }
+  plot.set_x_categories(names);
+  plot.set_y_range(0.0, static_cast<double>(std::max(most, 1L)) * 1.1);
+  for (std::size_t i = 0; i < r.categories.size(); ++i) {
+    plot.bar(static_cast<double>(i), 0.7, static_cast<double>(r.categories[i].second), series_colour(0));
+  }
+  return {"rating_" + std::to_string(index), "rating", "Distribution of ratings for " + r.condition, plot.svg()};
+}
+
+Figure response_time_figure(const TimingQuality& timing) {
+  SvgPlot plot("Response times (all answered trials)", "response time (s)", "trials");
+  const auto& values = timing.response_times_s;
+  if (values.empty()) {
+    plot.note("no response times recorded");
+    return {"response_times", "timing", "Histogram of response times.", plot.svg()};
+  }
+  const auto [min_it, max_it] = std::minmax_element(values.begin(), values.end());
+  const double low = *min_it;
+  const double high = *max_it > low ? *max_it : low + 1.0;
+  constexpr int kBins = 30;
+  std::vector<long> counts(kBins, 0);
+  for (double v : values) {
+    const int bin = std::min(kBins - 1, static_cast<int>((v - low) / (high - low) * kBins));
+    ++counts[static_cast<std::size_t>(bin)];
+  }
+  plot.set_x_range(low, high);
+  plot.set_y_range(0.0, static_cast<double>(*std::max_element(counts.begin(), counts.end())) * 1.1);
+  const double width = (high - low) / kBins;
+  for (int b = 0; b < kBins; ++b) {
+    plot.bar(low + (b + 0.5) * width, width * 0.95, static_cast<double>(counts[static_cast<std::size_t>(b)]), series_colour(1));
+  }
+  return {"response_times", "timing", "Histogram of response times.", plot.svg()};
+}
+
+Figure pupil_figure(const SessionTracker& s, std::size_t index) {
+  SvgPlot plot("Pupil diameter aligned to trial onset: " + s.label, "time from onset (s)", "pupil diameter (mm)");
+  std::vector<double> x, y;
+  double low = kInf;
+  double high = -kInf;
+  for (std::size_t i = 0; i < s.pupil.time_from_onset_s.size(); ++i) {
+    if (!s.pupil.pupil_diameter_mm[i]) continue;
+    x.push_back(s.pupil.time_from_onset_s[i]);
+    y.push_back(*s.pupil.pupil_diameter_mm[i]);
+    low = std::min(low, y.back());
+    high = std::max(high, y.back());
+  }
+  if (x.empty()) {
+    low = 0.0;
+    high = 8.0;
+    plot.note("no valid pupil samples around trial onsets");
+  }
+  plot.set_x_range(-0.5, 2.0);
+  plot.set_y_range(low - 0.1 * (high - low) - 0.05, high + 0.1 * (high - low) + 0.05);
+  plot.line(x, y, series_colour(1));
+  return {"pupil_" + std::to_string(index), "tracker", "Mean pupil diameter around trial onsets (" + s.label + ")",
+          plot.svg()};
+}
+
+}  // namespace
+
+std::vector<Figure> draw_figures(const AnalysisReport& report) {
+  std::vector<Figure> figures;
+  if (!report.forced_choice.empty()) figures.push_back(forced_choice_figure(report.forced_choice));
+  for (std::size_t i = 0; i < report.staircases.size(); ++i) {
+    figures.push_back(staircase_track_figure(report.staircases[i], i + 1));
+    figures.push_back(psychometric_figure(report.staircases[i], i + 1));
+  }
+  if (!report.adjustments.empty()) figures.push_back(adjustment_figure(report.adjustments));
+  for (std::size_t i = 0; i < report.ratings.conditions.size(); ++i) {
+    figures.push_back(rating_figure(report.ratings.conditions[i], i + 1));
+  }
+  if (!report.data.sessions.empty()) figures.push_back(response_time_figure(report.timing));
+  for (std::size_t i = 0; i < report.tracker.sessions.size(); ++i) {
+    figures.push_back(pupil_figure(report.tracker.sessions[i], i + 1));
+  }
+  return figures;
+}
+
+}  // namespace glarelab::analysis

@@ -1,0 +1,301 @@
+#include "analysis/report_output.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "analysis/svg_plot.h"
+#include "analysis/tidy_csv.h"
+#include "runner/software_version.h"
+
+namespace glarelab::analysis {
+namespace {
+
+std::string fixed(double value, int digits = 3) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.*f", digits, value);
+  return text;
+}
+
+std::string general(double value) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
+}
+
+std::string describe(const TestResult& test, const char* symbol) {
+  if (!test.ok()) return "not computed: " + test.unavailable;
+  return std::string(symbol) + "(" + general(test.df1) + ") = " + fixed(test.statistic, 2) + ", " + format_p(test.p_value);
+}
+
+std::string describe_binomial(const TestResult& test) {
+  if (!test.ok()) return "not computed: " + test.unavailable;
+  return "exact binomial " + format_p(test.p_value);
+}
+
+std::string describe_anova(const RepeatedMeasuresAnova& anova) {
+  if (!anova.ok()) return "not computed: " + anova.unavailable;
+  std::string text = "F(" + general(anova.df_condition) + ", " + general(anova.df_error) + ") = " + fixed(anova.f, 2) +
+                     ", " + format_p(anova.p_value) + " (" + std::to_string(anova.subjects) + " participants)";
+  if (anova.levels >= 3) {
+    text += "; Greenhouse-Geisser epsilon = " + fixed(anova.epsilon_gg, 3) + ", corrected F(" +
+            fixed(anova.df_condition * anova.epsilon_gg, 2) + ", " + fixed(anova.df_error * anova.epsilon_gg, 2) + "), " +
+            format_p(anova.p_value_gg);
+  }
+  return text;
+}
+
+std::string preference_sentence(const PairPreference& p) {
+  const long decided = p.chose_a + p.chose_b;
+  std::string text = p.group + ": '" + p.option_a + "' over '" + p.option_b + "' in " + std::to_string(p.chose_a) + " of " +
+                     std::to_string(decided) + " (" + fixed(100.0 * p.share_a(), 1) + "%); " +
+                     describe(p.chi_square, "chi2") + "; " + describe_binomial(p.binomial);
+  if (p.neither > 0) text += "; 'neither' " + std::to_string(p.neither) + " (" + fixed(100.0 * p.neither_share(), 1) + "% of all answers)";
+  return text;
+}
+
+std::string fit_sentence(const PsychometricFit& fit) {
+  if (!fit.ok()) return shape_name(fit.shape) + ": " + fit.unavailable;
+  std::string text = shape_name(fit.shape) + ": threshold " + general(fit.threshold);
+  if (fit.threshold_ci) text += " [" + general(fit.threshold_ci->low) + ", " + general(fit.threshold_ci->high) + "]";
+  text += ", slope " + general(fit.slope);
+  if (fit.slope_ci) text += " [" + general(fit.slope_ci->low) + ", " + general(fit.slope_ci->high) + "]";
+  text += ", lapse " + fixed(fit.lapse, 3) + ", deviance " + fixed(fit.deviance, 2) + " (df " +
+          std::to_string(fit.deviance_df) + ")";
+  if (fit.bootstrap_failures > 0) text += ", " + std::to_string(fit.bootstrap_failures) + " bootstrap refits not identifiable";
+  return text;
+}
+
+void html_list(std::ostringstream& out, const std::vector<std::string>& items) {
+  if (items.empty()) return;
+  out << "<ul>\n";
+  for (const std::string& item : items) out << "<li>" << html_escape(item) << "</li>\n";
+  out << "</ul>\n";
+}
+
+void html_figures(std::ostringstream& out, const AnalysisReport& report, const std::string& section) {
+  for (const Figure& figure : report.figures) {
+    if (figure.section != section) continue;
+    out << "<figure id=\"fig-" << html_escape(figure.file_stem) << "\">\n" << figure.svg << "<figcaption>"
+        << html_escape(figure.caption) << " (also figures/" << html_escape(figure.file_stem) << ".svg)</figcaption></figure>\n";
+  }
+}
+
+std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
+
+}  // namespace
+
+std::string render_html(const AnalysisReport& report) {
+  std::ostringstream out;
+  out << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+         "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; style-src 'unsafe-inline'; img-src data:\">\n"
+         "<title>glarelab analysis</title>\n<style>\n"
+         "body{font-family:sans-serif;margin:24px;max-width:1150px;color:#111}table{border-collapse:collapse;margin:8px 0}"
+         "td,th{border:1px solid #bbb;padding:3px 8px;font-size:13px;text-align:left}th{background:#eee}"
+         "figure{display:inline-block;margin:8px}figcaption{font-size:12px;color:#444;max-width:560px}"
+         ".note{color:#a00}\n</style></head><body>\n";
+  out << "<h1>glarelab analysis</h1>\n<p>glarelab " << html_escape(software_version()) << "; "
+      << report.data.sessions.size() << " session(s)";
+  long trials = 0;
+  for (const LoadedSession& s : report.data.sessions) trials += static_cast<long>(s.trials.size());
+  out << ", " << trials << " trial(s). Tidy CSV: trials.csv, frames.csv, tracker_samples.csv.</p>\n";
+  if (!report.data.notes.empty()) {
+    out << "<h2>Notes on the data</h2>\n<div class=\"note\">";
+    html_list(out, report.data.notes);
+    out << "</div>\n";
+  }
+
+  out << "<h2>Sessions</h2>\n<table><tr><th>session</th><th>experiment</th><th>participant</th><th>status</th>"
+         "<th>trials</th><th>started (UTC)</th><th>display</th><th>observer</th><th>software</th><th>database</th></tr>\n";
+  std::vector<std::string> session_notes;
+  for (const LoadedSession& s : report.data.sessions) {
+    out << "<tr>" << cell(std::to_string(s.record.id)) << cell(s.record.experiment) << cell(s.record.participant)
+        << cell(s.record.status) << cell(std::to_string(s.trials.size())) << cell(s.record.started_utc)
+        << cell(s.record.display_backend + " " + s.record.renderer) << cell(s.record.observer)
+        << cell(s.record.software_version) << cell(s.database) << "</tr>\n";
+    if (s.record.status == "aborted") {
+      session_notes.push_back("session " + s.label + " was aborted after " + std::to_string(s.trials.size()) +
+                              " trial(s): its answered trials are included");
+    } else if (s.record.status == "running") {
+      session_notes.push_back("session " + s.label + " is still running or was killed: its committed trials are included");
+    }
+  }
+  out << "</table>\n";
+  html_list(out, session_notes);
+
+  if (!report.forced_choice.empty()) {
+    out << "<h2>Forced choice</h2>\n<p>Relative frequency with which each option was chosen over the other, exact "
+           "two-sided binomial test and Pearson chi-square test against no preference (Ritschel et al. 2009, Sec. 6.1).</p>\n";
+    out << "<table><tr><th>group</th><th>preferred</th><th>other</th><th>chosen</th><th>of</th><th>share</th>"
+           "<th>chi-square</th><th>binomial</th><th>neither</th></tr>\n";
+    for (const auto* list : {&report.forced_choice.groups, &report.forced_choice.pooled}) {
+      for (const PairPreference& p : *list) {
+        out << "<tr>" << cell(p.group) << cell(p.option_a) << cell(p.option_b) << cell(std::to_string(p.chose_a))
+            << cell(std::to_string(p.chose_a + p.chose_b)) << cell(fixed(p.share_a(), 3))
+            << cell(describe(p.chi_square, "chi2")) << cell(describe_binomial(p.binomial))
+            << cell(p.neither > 0 ? std::to_string(p.neither) + " (" + fixed(100.0 * p.neither_share(), 1) + "%)" : "0")
+            << "</tr>\n";
+      }
+    }
+    out << "</table>\n";
+    html_list(out, report.forced_choice.notes);
+    html_figures(out, report, "forced_choice");
+  }
+
+  if (!report.staircases.empty()) {
+    out << "<h2>Staircases and QUEST</h2>\n<p>Threshold as the mean intensity at the last " << report.options.last_reversals
+        << " reversals; maximum-likelihood fits psi = gamma + (1 - gamma - lambda) F with lambda in [0, 0.06] and "
+        << report.options.bootstrap_samples << " parametric bootstrap samples for the 95% intervals (Wichmann &amp; Hill 2001).</p>\n";
+    out << "<table><tr><th>participant</th><th>staircase</th><th>procedure</th><th>trials</th><th>reversals</th>"
+           "<th>threshold (reversals)</th><th>QUEST estimate</th><th>fits</th></tr>\n";
+    for (const StaircaseResult& s : report.staircases) {
+      std::string threshold = s.reversal_threshold ? general(*s.reversal_threshold) + " (last " +
+                                                         std::to_string(s.reversals_used) + ")"
+                                                   : "-";
+      if (!s.threshold_note.empty()) threshold += "; " + s.threshold_note;
+      std::string fits;
+      for (const PsychometricFit& fit : s.fits) fits += fit_sentence(fit) + "\n";
+      if (!s.guess_note.empty()) fits += s.guess_note;
+      out << "<tr>" << cell(s.participant_label) << cell(s.name) << cell(s.procedure) << cell(std::to_string(s.track.size()))
+          << cell(std::to_string(s.reversals)) << cell(threshold)
+          << cell(s.quest_estimate ? general(*s.quest_estimate) : "-") << "<td style=\"white-space:pre-line\">"
+          << html_escape(fits) << "</td></tr>\n";
+    }
+    out << "</table>\n";
+    html_figures(out, report, "staircase");
+  }
+
+  if (!report.adjustments.empty()) {
+    const AdjustmentAnalysis& a = report.adjustments;
+    out << "<h2>Double adjustment</h2>\n<p>Perceived luminance (mean of the adjusted spots), mean and standard error over "
+           "participants (Ritschel et al. 2009, Fig. 12 right).</p>\n";
+    out << "<table><tr><th>condition</th><th>target</th><th>mean</th><th>SE</th><th>participants</th></tr>\n";
+    for (const AdjustmentCell& c : a.cells) {
+      out << "<tr>" << cell(c.condition) << cell(c.target) << cell(general(c.perceived.mean))
+          << cell(c.perceived.standard_error ? general(*c.perceived.standard_error) : "- (one participant)")
+          << cell(std::to_string(c.perceived.n)) << "</tr>\n";
+    }
+    out << "</table>\n<ul>\n";
+    for (const AdjustmentAnova& anova : a.anovas) {
+      out << "<li>Repeated-measures ANOVA at target " << html_escape(anova.target) << ": "
+          << html_escape(describe_anova(anova.anova)) << "</li>\n";
+    }
+    for (const PairedComparison& p : a.paired) {
+      out << "<li>Paired t-test at target " << html_escape(p.target) << ", " << html_escape(p.condition_a) << " vs "
+          << html_escape(p.condition_b) << ": " << html_escape(describe(p.t_test, "t")) << "</li>\n";
+    }
+    out << "</ul>\n";
+    html_list(out, a.notes);
+    html_figures(out, report, "adjustment");
+  }
+
+  if (!report.ratings.empty()) {
+    out << "<h2>Ratings</h2>\n<table><tr><th>condition</th><th>answers</th><th>distribution</th><th>mean</th><th>median</th></tr>\n";
+    for (const RatingDistribution& r : report.ratings.conditions) {
+      std::string distribution;
+      for (const auto& [name, count] : r.categories) distribution += name + ": " + std::to_string(count) + "  ";
+      out << "<tr>" << cell(r.condition) << cell(std::to_string(r.answers)) << cell(distribution)
+          << cell(r.mean ? general(*r.mean) : "- (not numeric)") << cell(r.median ? general(*r.median) : "-") << "</tr>\n";
+    }
+    out << "</table>\n";
+    html_figures(out, report, "rating");
+  }
+
+  out << "<h2>Timing quality</h2>\n<table><tr><th>session</th><th>status</th><th>trials</th><th>frames</th>"
+         "<th>dropped</th><th>onset jitter SD (ms)</th><th>max |onset error| (ms)</th><th>frame interval (ms)</th></tr>\n";
+  for (const SessionTiming& t : report.timing.sessions) {
+    out << "<tr>" << cell(t.label) << cell(t.status) << cell(std::to_string(t.trials)) << cell(std::to_string(t.frames))
+        << cell(std::to_string(t.dropped) +
+                (t.frames > 0 ? " (" + fixed(100.0 * static_cast<double>(t.dropped) / static_cast<double>(t.frames), 2) + "%)" : ""))
+        << cell(t.onset_jitter_sd_s ? fixed(1000.0 * *t.onset_jitter_sd_s, 3) : "- (no frames)")
+        << cell(t.onset_jitter_max_abs_s ? fixed(1000.0 * *t.onset_jitter_max_abs_s, 3) : "-")
+        << cell(t.frame_interval_mean_s ? fixed(1000.0 * *t.frame_interval_mean_s, 3) + " +/- " +
+                                              fixed(1000.0 * *t.frame_interval_sd_s, 3)
+                                        : "-")
+        << "</tr>\n";
+  }
+  out << "</table>\n";
+  if (report.timing.response_time_median_s) {
+    out << "<p>Response times: median " << fixed(*report.timing.response_time_median_s, 3) << " s, mean "
+        << fixed(*report.timing.response_time_mean_s, 3) << " s over " << report.timing.response_times_s.size()
+        << " answered trials.</p>\n";
+  }
+  html_figures(out, report, "timing");
+
+  out << "<h2>Tracker quality</h2>\n";
+  if (report.tracker.sessions.empty()) {
+    out << "<p>No tracker samples in these sessions.</p>\n";
+  } else {
+    out << "<table><tr><th>session</th><th>samples</th><th>valid</th><th>blinks</th></tr>\n";
+    for (const SessionTracker& t : report.tracker.sessions) {
+      out << "<tr>" << cell(t.label) << cell(std::to_string(t.samples)) << cell(fixed(100.0 * t.valid_fraction(), 1) + "%")
+          << cell(std::to_string(t.blinks)) << "</tr>\n";
+    }
+    out << "</table>\n";
+    html_figures(out, report, "tracker");
+  }
+  out << "</body></html>\n";
+  return out.str();
+}
+
+std::string render_terminal_summary(const AnalysisReport& report) {
+  std::ostringstream out;
+  long trials = 0;
+  long aborted = 0;
+  for (const LoadedSession& s : report.data.sessions) {
+    trials += static_cast<long>(s.trials.size());
+    aborted += s.record.status == "aborted" ? 1 : 0;
+  }
+  out << "Analysed " << report.data.sessions.size() << " session(s), " << trials << " trial(s)";
+  if (aborted > 0) out << " (" << aborted << " aborted)";
+  out << "\n";
+  for (const std::string& note : report.data.notes) out << "  note: " << note << "\n";
+  for (const PairPreference& p : report.forced_choice.pooled) out << "  forced choice " << preference_sentence(p) << "\n";
+  for (const StaircaseResult& s : report.staircases) {
+    out << "  " << s.procedure << " " << s.participant_label << " " << s.name << ": ";
+    if (s.reversal_threshold) {
+      out << "threshold " << general(*s.reversal_threshold) << " (mean of last " << s.reversals_used << " reversals)";
+    } else {
+      out << s.threshold_note;
+    }
+    if (!s.fits.empty()) out << "; " << fit_sentence(s.fits.front());
+    out << "\n";
+  }
+  for (const AdjustmentAnova& anova : report.adjustments.anovas) {
+    out << "  adjustment at target " << anova.target << ": " << describe_anova(anova.anova) << "\n";
+  }
+  for (const RatingDistribution& r : report.ratings.conditions) {
+    out << "  rating " << r.condition << ": " << r.answers << " answers";
+    if (r.mean) out << ", mean " << general(*r.mean) << ", median " << general(*r.median);
+    out << "\n";
+  }
+  long frames = 0;
+  long dropped = 0;
+  for (const SessionTiming& t : report.timing.sessions) {
+    frames += t.frames;
+    dropped += t.dropped;
+  }
+  out << "  timing: " << frames << " frames, " << dropped << " dropped";
+  if (report.timing.response_time_median_s) out << "; median response time " << fixed(*report.timing.response_time_median_s, 3) << " s";
+  out << "\n";
+  return out.str();
+}
+
+std::vector<std::string> write_report(const AnalysisReport& report, const std::string& directory) {
+  std::vector<std::string> written = write_tidy_csv(report.data, directory);
+  const std::filesystem::path dir(directory);
+  std::filesystem::create_directories(dir / "figures");
+  auto write = [&](const std::filesystem::path& path, const std::string& content) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << content;
+    out.close();
+    if (!out) throw StoreError("analysis: writing " + path.string() + " failed");
+    written.push_back(path.string());
+  };
+  write(dir / "report.html", render_html(report));
+  for (const Figure& figure : report.figures) write(dir / "figures" / (figure.file_stem + ".svg"), figure.svg);
+  return written;
+}
+
+}  // namespace glarelab::analysis

@@ -1,0 +1,185 @@
+#include "analysis/tidy_csv.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "runner/store/result_store.h"
+
+namespace glarelab::analysis {
+namespace {
+
+class CsvFile {
+ public:
+  explicit CsvFile(const std::string& path) : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
+    if (!out_) throw StoreError("analysis: cannot write " + path);
+  }
+  void row(const std::vector<std::string>& fields) {
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      if (i > 0) out_ << ',';
+      out_ << csv_field(fields[i]);
+    }
+    out_ << "\r\n";  // RFC 4180 line ends
+  }
+  void close() {
+    out_.close();
+    if (!out_) throw StoreError("analysis: writing " + path_ + " failed");
+  }
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+};
+
+std::string optional_number(const std::optional<double>& value) { return value ? csv_number(*value) : std::string(); }
+std::string optional_int(const std::optional<int>& value) { return value ? std::to_string(*value) : std::string(); }
+
+}  // namespace
+
+std::string csv_field(const std::string& value) {
+  const bool needs_quotes = value.find_first_of(",\"\r\n") != std::string::npos ||
+                            (!value.empty() && (value.front() == ' ' || value.back() == ' '));
+  if (!needs_quotes) return value;
+  std::string quoted = "\"";
+  for (char c : value) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+std::string csv_number(double value) {
+  char text[40];
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value) break;
+  }
+  return text;
+}
+
+std::string condition_column(const std::string& key) {
+  std::string name = "condition_";
+  for (char c : key) {
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+    name += plain ? c : '_';
+  }
+  return name;
+}
+
+std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::string& directory) {
+  std::filesystem::create_directories(directory);
+  const std::filesystem::path dir(directory);
+  std::vector<std::string> written;
+
+  // Condition keys in first-seen order over all trials; each becomes a column.
+  std::vector<std::string> keys;
+  std::set<std::string> seen;
+  bool any_adjustments = false;
+  for (const LoadedSession& session : data.sessions) {
+    for (const LoadedTrial& trial : session.trials) {
+      any_adjustments = any_adjustments || !trial.adjustments.empty();
+      for (const auto& field : trial.condition) {
+        if (seen.insert(field.first).second) keys.push_back(field.first);
+      }
+    }
+  }
+
+  {
+    const std::string path = (dir / "trials.csv").string();
+    CsvFile file(path);
+    std::vector<std::string> header = {"database", "session_id", "participant", "experiment", "session_status",
+                                       "trial_id", "trial_index", "block", "procedure", "condition"};
+    std::set<std::string> used(header.begin(), header.end());
+    for (const std::string& key : keys) {
+      std::string column = condition_column(key);
+      while (!used.insert(column).second) column += "_";  // keys that differ only in odd characters
+      header.push_back(column);
+    }
+    for (const char* column : {"intensity", "response", "correct", "response_time_s", "onset_s", "staircase",
+                               "reversal", "adjustment_mean"}) {
+      header.emplace_back(column);
+    }
+    file.row(header);
+    for (const LoadedSession& session : data.sessions) {
+      for (const LoadedTrial& trial : session.trials) {
+        const TrialRecord& r = trial.record;
+        std::vector<std::string> row = {session.database, std::to_string(session.record.id), session.record.participant,
+                                        session.record.experiment, session.record.status, std::to_string(r.id),
+                                        std::to_string(r.trial_index), std::to_string(r.block), r.procedure,
+                                        r.condition};
+        for (const std::string& key : keys) {
+          const std::string* value = trial.condition_value(key);
+          row.push_back(value != nullptr ? *value : std::string());
+        }
+        std::string adjustment_mean;
+        if (!trial.adjustments.empty()) {
+          double sum = 0.0;
+          for (const AdjustmentRecord& a : trial.adjustments) sum += a.value;
+          adjustment_mean = csv_number(sum / static_cast<double>(trial.adjustments.size()));
+        }
+        for (std::string value : {optional_number(r.intensity), r.response, optional_int(r.correct),
+                                  optional_number(r.response_time_s), csv_number(r.onset_s), r.staircase,
+                                  optional_int(r.reversal), adjustment_mean}) {
+          row.push_back(std::move(value));
+        }
+        file.row(row);
+      }
+    }
+    file.close();
+    written.push_back(path);
+  }
+  {
+    const std::string path = (dir / "frames.csv").string();
+    CsvFile file(path);
+    file.row({"database", "session_id", "trial_id", "trial_index", "frame_index", "scheduled_s", "flip_s", "dropped"});
+    for (const LoadedSession& session : data.sessions) {
+      const std::string session_id = std::to_string(session.record.id);
+      for (const LoadedTrial& trial : session.trials) {
+        const std::string trial_id = std::to_string(trial.record.id);
+        const std::string trial_index = std::to_string(trial.record.trial_index);
+        for (const FrameRecord& frame : trial.frames) {
+          file.row({session.database, session_id, trial_id, trial_index, std::to_string(frame.frame_index),
+                    csv_number(frame.scheduled_s), csv_number(frame.flip_s), frame.dropped ? "1" : "0"});
+        }
+      }
+    }
+    file.close();
+    written.push_back(path);
+  }
+  {
+    const std::string path = (dir / "tracker_samples.csv").string();
+    CsvFile file(path);
+    file.row({"database", "session_id", "eye", "device_time_s", "session_time_s", "pupil_diameter_mm", "gaze_x",
+              "gaze_y", "confidence", "valid"});
+    for (const LoadedSession& session : data.sessions) {
+      const std::string session_id = std::to_string(session.record.id);
+      for (const TrackerSampleRecord& s : session.tracker_samples) {
+        file.row({session.database, session_id, std::to_string(s.eye), csv_number(s.device_time_s),
+                  csv_number(s.session_time_s), optional_number(s.pupil_diameter_mm), optional_number(s.gaze_x),
+                  optional_number(s.gaze_y), csv_number(s.confidence), s.valid ? "1" : "0"});
+      }
+    }
+    file.close();
+    written.push_back(path);
+  }
+  if (any_adjustments) {
+    const std::string path = (dir / "adjustments.csv").string();
+    CsvFile file(path);
+    file.row({"database", "session_id", "trial_id", "spot", "value"});
+    for (const LoadedSession& session : data.sessions) {
+      for (const LoadedTrial& trial : session.trials) {
+        for (const AdjustmentRecord& a : trial.adjustments) {
+          file.row({session.database, std::to_string(session.record.id), std::to_string(trial.record.id),
+                    std::to_string(a.spot), csv_number(a.value)});
+        }
+      }
+    }
+    file.close();
+    written.push_back(path);
+  }
+  return written;
+}
+
+}  // namespace glarelab::analysis

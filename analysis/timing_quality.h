@@ -1,0 +1,33 @@
+#pragma once
+// Timing quality per session from the frames table: dropped frames, onset jitter (flip of a
+// trial's first frame minus its schedule), frame intervals; and response times over all trials.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/loaded_database.h"
+
+namespace glarelab::analysis {
+
+struct SessionTiming {
+  std::string label;
+  std::string status;
+  long trials = 0;
+  long frames = 0;
+  long dropped = 0;
+  std::optional<double> onset_jitter_sd_s;      // SD of first-frame (flip - scheduled)
+  std::optional<double> onset_jitter_max_abs_s;
+  std::optional<double> frame_interval_mean_s;
+  std::optional<double> frame_interval_sd_s;
+};
+
+struct TimingQuality {
+  std::vector<SessionTiming> sessions;
+  std::vector<double> response_times_s;  // every answered trial
+  std::optional<double> response_time_median_s;
+  std::optional<double> response_time_mean_s;
+};
+
+TimingQuality analyse_timing(const LoadedData& data);
+
+}  // namespace glarelab::analysis

@@ -1,0 +1,35 @@
+#pragma once
+// Eye-tracker quality per session: the fraction of valid samples, blinks (runs of invalid
+// samples of one eye lasting 50 to 500 ms, the range of blink durations in Holmqvist et al.
+// 2011, "Eye Tracking", Sec. 5.4; shorter gaps are dropouts, longer ones lost tracking), and
+// the pupil diameter over time aligned to each trial's onset (mean over trials and eyes in
+// 50 ms bins from -0.5 s to +2 s).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/loaded_database.h"
+
+namespace glarelab::analysis {
+
+struct PupilTrace {
+  std::vector<double> time_from_onset_s;  // bin centres
+  std::vector<std::optional<double>> pupil_diameter_mm;  // empty bin: no valid sample
+};
+
+struct SessionTracker {
+  std::string label;
+  long samples = 0;
+  long valid = 0;
+  long blinks = 0;
+  PupilTrace pupil;
+  double valid_fraction() const { return samples > 0 ? static_cast<double>(valid) / static_cast<double>(samples) : 0.0; }
+};
+
+struct TrackerQuality {
+  std::vector<SessionTracker> sessions;  // only sessions with samples
+};
+
+TrackerQuality analyse_tracker(const LoadedData& data);
+
+}  // namespace glarelab::analysis

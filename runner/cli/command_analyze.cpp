@@ -1,0 +1,41 @@
+#include <iostream>
+
+#include "analysis/analysis_report.h"
+#include "analysis/report_output.h"
+#include "runner/cli/commands.h"
+
+namespace glarelab::cli {
+
+Action add_analyze_command(CLI::App& app) {
+  struct Options {
+    std::vector<std::string> databases;
+    std::string out = "analysis";
+    analysis::AnalysisOptions analysis;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* analyze = app.add_subcommand(
+      "analyze", "Statistics, fits, tidy CSV and an HTML report (with SVG figures) from one or more results databases");
+  analyze->add_option("databases", options->databases, "Results database(s) (SQLite)")->required()->check(CLI::ExistingFile);
+  analyze->add_option("--out", options->out, "Output directory (created)")->capture_default_str();
+  analyze->add_option("--bootstrap", options->analysis.bootstrap_samples,
+                      "Parametric bootstrap samples per psychometric fit (0: no intervals)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000));
+  analyze->add_option("--reversals", options->analysis.last_reversals,
+                      "Staircase threshold: mean of the last K reversals")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  analyze->add_option("--seed", options->analysis.seed, "Seed of the bootstrap draws")->capture_default_str();
+  return [=]() {
+    return report_errors([&]() {
+      const analysis::AnalysisReport report =
+          analysis::analyse(analysis::load_databases(options->databases), options->analysis);
+      const auto written = analysis::write_report(report, options->out);
+      std::cout << analysis::render_terminal_summary(report);
+      std::cout << "  wrote " << written.size() << " files to " << options->out << " (report.html, trials.csv, figures/)\n";
+      return 0;
+    });
+  };
+}
+
+}  // namespace glarelab::cli
