@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "glare/eye_model.h"
@@ -55,6 +56,9 @@ TEST(EyePupil, HippusMeanOverSixtySecondsMatchesEq2) {
     const HippusStatistics s = hippus_over(eye, 60.0, 30.0);
     EXPECT_NEAR(s.mean_mm, moon_spencer_pupil_diameter_mm(luminance), 0.1) << "L = " << luminance << " cd/m2";
     EXPECT_GT(s.sd_mm, 0.0) << "the pupil must oscillate (hippus)";
+    std::printf("hippus L = %g cd/m2: mean %.4f mm, Eq. 2 %.4f mm, error %+.4f mm, sd %.4f mm, range [%.3f, %.3f] mm\n",
+                luminance, s.mean_mm, moon_spencer_pupil_diameter_mm(luminance),
+                s.mean_mm - moon_spencer_pupil_diameter_mm(luminance), s.sd_mm, s.min_mm, s.max_mm);
   }
 }
 
@@ -85,6 +89,8 @@ TEST(EyePupil, HippusAmplitudeGrowsWithLuminanceAsEq1Predicts) {
     const double p = moon_spencer_pupil_diameter_mm(luminance);
     const double predicted = 0.1 * (9.0 / p) * std::sqrt(1.0 - p / 9.0) * ValueNoise::standard_deviation();
     EXPECT_NEAR(sd / predicted, 1.0, 0.3) << "L = " << luminance << ": sd " << sd << " mm, Eq. 1 " << predicted;
+    std::printf("hippus amplitude L = %g cd/m2 (p = %.3f mm): sd %.4f mm over 6 eyes, Eq. 1 predicts %.4f mm\n", luminance,
+                p, sd, predicted);
   }
   for (std::size_t k = 1; k < measured.size(); ++k)
     EXPECT_GT(measured[k], measured[k - 1]) << "amplitude must grow with luminance: " << luminances[k - 1] << " -> "
