@@ -38,6 +38,9 @@ struct ApertureGeometry {
   // Defocus of the eye (accommodation error), in dioptres; gives the quadratic phase
   // phi(r) = pi * defocus_dioptres * r^2 / lambda of a thin-lens focus error.
   double defocus_dioptres = 0.0;
+  // False for the "control" condition (no glare): the consumer passes the image through unchanged
+  // and ignores everything else here (the eye model then sends the pupil only, no scatterers).
+  bool glare_enabled = true;
 };
 
 }  // namespace glarelab

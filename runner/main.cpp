@@ -2,6 +2,9 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "runner/cli/commands.h"
 #include "runner/software_version.h"
@@ -10,10 +13,14 @@ int main(int argc, char** argv) {
   CLI::App app{"glarelab: psychophysics experiments with HDR stimuli and glare"};
   app.set_version_flag("--version", std::string("glarelab ") + glarelab::software_version());
   app.require_subcommand(1);
-  auto run_action = glarelab::cli::add_run_command(app);
-  auto validate_action = glarelab::cli::add_validate_command(app);
-  auto psf_action = glarelab::cli::add_psf_command(app);
-  auto analyze_action = glarelab::cli::add_analyze_command(app);
+  // Each subcommand registers its options and hands back what to run once parsing succeeded.
+  const std::vector<std::pair<std::string, glarelab::cli::Action>> commands = {
+      {"run", glarelab::cli::add_run_command(app)},
+      {"validate", glarelab::cli::add_validate_command(app)},
+      {"psf", glarelab::cli::add_psf_command(app)},
+      {"eye-trace", glarelab::cli::add_eye_trace_command(app)},
+      {"analyze", glarelab::cli::add_analyze_command(app)},
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -21,9 +28,7 @@ int main(int argc, char** argv) {
     const int code = app.exit(error);
     return code == 0 ? 0 : 2;
   }
-  if (app.got_subcommand("run")) return run_action();
-  if (app.got_subcommand("validate")) return validate_action();
-  if (app.got_subcommand("psf")) return psf_action();
-  if (app.got_subcommand("analyze")) return analyze_action();
+  for (const auto& [name, action] : commands)
+    if (app.got_subcommand(name)) return action();
   return 2;
 }
