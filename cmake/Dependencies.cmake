@@ -8,6 +8,7 @@ find_package(CLI11 CONFIG REQUIRED)
 pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
 pkg_check_modules(SQLITE3 REQUIRED IMPORTED_TARGET sqlite3)
 pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
+pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
 
 if(NOT EXISTS /usr/include/Random123/philox.h)
   message(FATAL_ERROR "Random123 headers not found: install librandom123-dev (scripts/setup.sh does)")
@@ -18,7 +19,7 @@ endif()
 
 add_library(glarelab_deps INTERFACE)
 target_link_libraries(glarelab_deps INTERFACE
-  OpenEXR::OpenEXR glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::SQLITE3 PkgConfig::PNG
+  OpenEXR::OpenEXR glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::SQLITE3 PkgConfig::PNG PkgConfig::FFTW3
   Threads::Threads ${CMAKE_DL_LIBS})
 if(TARGET tomlplusplus::tomlplusplus)
   target_link_libraries(glarelab_deps INTERFACE tomlplusplus::tomlplusplus)

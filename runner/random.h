@@ -17,6 +17,7 @@ enum class RandomStream : std::uint32_t {
   tracker_simulation = 5,
   staircase = 6,
   adjustment_start = 7,
+  glare_gl_test_input = 8,  // random test signals for the GL glare engine tests
 };
 
 class CounterRandom {

@@ -15,6 +15,7 @@ PACKAGES=(
   libsqlite3-dev sqlite3                           # results store (sqlite3: the shell, for inspecting results)
   libtomlplusplus-dev libcli11-dev librandom123-dev # experiment files, command line, counter-based random numbers
   libgtest-dev libgmock-dev libbenchmark-dev       # tests and benchmarks
+  libfftw3-dev                                     # FFTW: the CPU FFT and the double-precision reference for the GL FFT
 )
 
 missing=()
