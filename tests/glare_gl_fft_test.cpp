@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -60,7 +61,9 @@ TEST_F(GlFftTest, ForwardMatchesFftwDouble) {
     fft.upload(input);
     fft.transform(gl::FftDirection::forward);
     const double error = relative_l2(fft.download(), fftw_2d(input, n, n, FFTW_FORWARD));
-    RecordProperty("forward_relative_l2_" + std::to_string(n), std::to_string(error));
+    std::ostringstream figure;
+    figure << error;
+    RecordProperty("forward_relative_l2_" + std::to_string(n), figure.str());
     EXPECT_LE(error, 1e-5) << "N = " << n;
   }
 }
