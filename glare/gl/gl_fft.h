@@ -1,6 +1,7 @@
 #pragma once
 // 2D complex-to-complex FFT on the GPU by OpenGL 4.5 compute shaders (glare/shaders/fft_radix2.comp):
-// radix-2 Stockham passes, rows then columns, on a std430 shader storage buffer of vec2 (real,
+// radix-4 Stockham passes (one radix-2 pass first for odd
+// powers of two), rows then columns, on a std430 shader storage buffer of vec2 (real,
 // imaginary) holding `layers` grids of width x height, layer-major, row-major, row 0 first.
 // Same sign convention as FFTW: forward X[k] = sum_n x[n] exp(-2 pi i k n / L); the inverse is
 // scaled by 1 / (width * height), so inverse(forward(x)) = x.
@@ -42,18 +43,23 @@ class GlFft {
   std::vector<std::complex<float>> download() const;
 
  private:
+  // One compiled pass shader (radix 2 or 4) and its uniform locations.
+  struct Pass {
+    Program program;
+    GLint length, span, twiddle_stride, axis_stride, line_stride, lines, layer_stride, conjugate, scale, lines_along_x;
+  };
+  static Pass make_pass(const char* shader_path);
   void run_axis(bool rows, float conjugate, bool scale_last_pass);
 
   int width_;
   int height_;
   int layers_;
   int max_length_;
-  Program program_;
+  Pass radix2_;
+  Pass radix4_;
   Buffer data_;
   Buffer scratch_;
   Buffer twiddles_;
-  GLint length_location_, span_location_, twiddle_stride_location_, axis_stride_location_, line_stride_location_,
-      lines_location_, layer_stride_location_, conjugate_location_, scale_location_;
 };
 
 }  // namespace glarelab::gl

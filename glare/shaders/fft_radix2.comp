@@ -1,5 +1,5 @@
 #version 450
-// One radix-2 Stockham pass of a batched 1D complex FFT along one axis of a 2D grid (rows or
+// One radix-2 Stockham pass (the first pass for odd powers of two; then fft_radix4.comp) of a batched 1D complex FFT along one axis of a 2D grid (rows or
 // columns), reading `source` and writing `destination` (ping-pong, so no pass reads what it writes).
 // Formulation of Govindaraju et al. 2008, "High Performance Discrete Fourier Transforms on Graphics
 // Processors", FftIteration with R = 2: butterfly j combines elements j and j + L/2 of the input
@@ -11,7 +11,7 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Source { vec2 source[]; };
 layout(std430, binding = 1) writeonly buffer Destination { vec2 destination[]; };
-layout(std430, binding = 2) readonly buffer Twiddles { vec2 twiddles[]; };  // (cos, -sin)(2 pi m / L_max), m < L_max / 2
+layout(std430, binding = 2) readonly buffer Twiddles { vec2 twiddles[]; };  // (cos, -sin)(2 pi m / L_max), m < L_max
 
 uniform uint uLength;         // L, the transform length along this axis
 uniform uint uSpan;           // Ns, the length of the sub-transforms already combined
@@ -22,12 +22,13 @@ uniform uint uLines;          // number of lines in one layer
 uniform uint uLayerStride;    // elements per layer (width * height)
 uniform float uConjugate;     // +1 forward (exp(-i...)), -1 inverse (exp(+i...))
 uniform float uScale;         // 1, or 1 / (width * height) on the last pass of an inverse transform
+uniform bool uLinesAlongX;    // columns: invocation x walks the lines, so neighbours touch adjacent memory
 
 vec2 complex_multiply(vec2 a, vec2 b) { return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x); }
 
 void main() {
-  const uint j = gl_GlobalInvocationID.x;
-  const uint line = gl_GlobalInvocationID.y;
+  const uint j = uLinesAlongX ? gl_GlobalInvocationID.y : gl_GlobalInvocationID.x;
+  const uint line = uLinesAlongX ? gl_GlobalInvocationID.x : gl_GlobalInvocationID.y;
   if (j >= uLength / 2u || line >= uLines) return;
   const uint base = gl_GlobalInvocationID.z * uLayerStride + line * uLineStride;
   const uint k = j & (uSpan - 1u);  // j % Ns, Ns a power of two
