@@ -94,6 +94,20 @@ void BM_GlFft(benchmark::State& state) {
   state.counters["rel_l2_vs_fftw_double"] = std::sqrt(error / norm);
 }
 
+// The aperture alone (2 x 2 supersampling, 250 primitives); its exactness against the CPU rule
+// is tested in tests/glare_gl_aperture_test.cpp.
+void BM_GlAperture(benchmark::State& state) {
+  context();
+  const int n = static_cast<int>(state.range(0));
+  const ApertureGeometry geometry = bench_geometry();
+  gl::GlAperture aperture(n, kApertureWidthMm, 2);
+  for (auto _ : state) {
+    aperture.draw(geometry);
+    glFinish();
+  }
+  state.counters["primitives"] = static_cast<double>(geometry.discs.size() + geometry.lines.size());
+}
+
 void BM_GlPsf(benchmark::State& state) {
   context();
   const int n = static_cast<int>(state.range(0));
@@ -198,6 +212,7 @@ void BM_GlConvolution(benchmark::State& state) {
 }
 
 BENCHMARK(BM_GlFft)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GlAperture)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlPsf)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlSpectralPsf)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlConvolution)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();

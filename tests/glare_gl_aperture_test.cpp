@@ -69,13 +69,13 @@ ApertureGeometry busy_geometry() {
   const CounterRandom random(3, RandomStream::glare_gl_test_input);
   ApertureGeometry g;
   g.pupil_diameter_mm = 6.0;
-  for (std::uint64_t i = 0; i < 40; ++i)
+  for (std::uint64_t i = 0; i < 150; ++i)  // more than one 64-primitive culling chunk
     g.discs.push_back({6.0 * random.uniform(i, 0) - 3.0, 6.0 * random.uniform(i, 1) - 3.0,
-                       0.05 + 0.4 * random.uniform(i, 2), random.uniform(i, 3)});
-  for (std::uint64_t i = 0; i < 12; ++i)
-    g.lines.push_back({6.0 * random.uniform(100 + i, 0) - 3.0, 6.0 * random.uniform(100 + i, 1) - 3.0,
-                       6.0 * random.uniform(100 + i, 2) - 3.0, 6.0 * random.uniform(100 + i, 3) - 3.0,
-                       0.02 + 0.15 * random.uniform(200 + i, 0), 0.2 + 0.5 * random.uniform(200 + i, 1)});
+                       0.05 + 0.25 * random.uniform(i, 2), random.uniform(i, 3)});
+  for (std::uint64_t i = 0; i < 70; ++i)
+    g.lines.push_back({6.0 * random.uniform(300 + i, 0) - 3.0, 6.0 * random.uniform(300 + i, 1) - 3.0,
+                       6.0 * random.uniform(300 + i, 2) - 3.0, 6.0 * random.uniform(300 + i, 3) - 3.0,
+                       0.02 + 0.15 * random.uniform(400 + i, 0), 0.2 + 0.5 * random.uniform(400 + i, 1)});
   g.lines.push_back({1.0, 1.0, 1.0, 1.0, 0.6, 0.5});  // a degenerate segment: a disc of radius width/2
   // A pentagram: under the even-odd rule its central pentagon is outside.
   AperturePolygon star;

@@ -5,6 +5,7 @@
 // pixel size dx = width / N, x right, y up, texel row 0 the top row (image order). Coverage rule
 // (the CPU rasteriser's): a subsample belongs to a primitive when its centre is inside it.
 // Requires a current OpenGL 4.5 context; not thread-safe.
+#include <cstdint>
 #include <vector>
 
 #include "glare/aperture_geometry.h"
@@ -38,8 +39,15 @@ class GlAperture {
   Program downsample_program_;
   Texture samples_;
   Texture aperture_;
-  Buffer discs_, lines_, polygons_, vertices_;
+  Buffer discs_, lines_, polygons_, vertices_, bin_offsets_, bin_items_;
 };
+
+// Culling bins for aperture_supersample.comp: B x B bins over the supersampled grid of
+// samples_across (S) samples, B = min(64, S); a disc or line is listed in every bin its bounding
+// box (grown by one sample) touches, discs first, then lines (index | 0x80000000), each in index
+// order. Returns the B*B + 1 offsets followed by the items.
+int bins_across_for(int samples_across);
+std::vector<std::uint32_t> bin_primitives(const ApertureGeometry& geometry, int samples_across, double aperture_width_mm);
 
 // Reads an R32F texture (row 0 = texel row 0).
 std::vector<float> read_r32f(GLuint texture, int width, int height);
