@@ -107,7 +107,23 @@ TEST_F(GlConvolutionTest, MatchesDirectDoubleConvolution) {
     RecordProperty("direct_relative_l2_channels_" + std::to_string(channels), figure(error));
     EXPECT_LE(error, 1e-4) << channels << " PSF channel(s)";
     EXPECT_EQ(result.pixel(3, 4)[3], image.pixel(3, 4)[3]) << "alpha passes through";
+    EXPECT_FALSE(report.psf_spectrum_reused);
   }
+  // The same PSF again with another image: its spectrum is reused and the result still exact.
+  const Psf psf = random_psf(15, 3, 5);
+  ImageRGBA second(40, 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x)
+      for (int c = 0; c < 3; ++c) second.pixel(x, y)[c] = static_cast<float>(random.uniform(static_cast<std::uint64_t>(5000 + y * 40 + x), static_cast<std::uint32_t>(c)));
+  gl::GlConvolutionReport report;
+  const ImageRGBA result = convolution.convolve(second, psf, {}, &report);
+  EXPECT_TRUE(report.psf_spectrum_reused) << report.describe();
+  EXPECT_LE(relative_l2(result, direct_convolution(second, psf)), 1e-4);
+  Psf changed = psf;
+  changed.values[7] *= 2.0;
+  const ImageRGBA changed_result = convolution.convolve(second, changed, {}, &report);
+  EXPECT_FALSE(report.psf_spectrum_reused);
+  EXPECT_LE(relative_l2(changed_result, direct_convolution(second, changed)), 1e-4);
 }
 
 TEST_F(GlConvolutionTest, DeltaImageGivesBackThePsf) {
@@ -126,6 +142,21 @@ TEST_F(GlConvolutionTest, DeltaImageGivesBackThePsf) {
   RecordProperty("delta_max_error_over_peak", figure(worst / peak));
   EXPECT_LE(worst / peak, 1e-5);
   EXPECT_LE(std::abs(result.pixel(49, 0)[1]), 1e-5 * peak) << "nothing outside the PSF's reach";
+
+  // A source in the corner: its PSF is cut at the edges, and nothing wraps to the far sides.
+  ImageRGBA corner(50, 45);
+  corner.pixel(0, 0)[0] = corner.pixel(0, 0)[1] = corner.pixel(0, 0)[2] = 1.0f;
+  const ImageRGBA cut = convolution.convolve(corner, psf, {.split_bright = false});
+  double worst_inside = 0.0, worst_far = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int y = 0; y < 45; ++y)
+      for (int x = 0; x < 50; ++x) {
+        const double expected = x <= 15 && y <= 15 ? psf.at(c, x + 15, y + 15) : 0.0;
+        (x <= 15 && y <= 15 ? worst_inside : worst_far) =
+            std::max(x <= 15 && y <= 15 ? worst_inside : worst_far, std::abs(cut.pixel(x, y)[c] - expected));
+      }
+  EXPECT_LE(worst_inside / peak, 1e-5);
+  EXPECT_LE(worst_far / peak, 1e-5) << "the PSF wrapped around an image edge";
 }
 
 TEST_F(GlConvolutionTest, SunBesideDimBackgroundStaysAccurateWhenSplit) {

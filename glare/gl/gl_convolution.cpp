@@ -37,7 +37,8 @@ int padded_fft_length(int length) {
 
 std::string GlConvolutionReport::describe() const {
   std::ostringstream text;
-  text << "GL convolution on a " << padded_width_px << " x " << padded_height_px << " padded grid";
+  text << "GL convolution on a " << padded_width_px << " x " << padded_height_px << " padded grid"
+       << (psf_spectrum_reused ? " (PSF spectrum reused)" : "");
   if (split)
     text << "; " << bright_pixels << " bright pixel(s) above " << bright_threshold << " summed directly";
   else if (bright_pixels > 0)
@@ -71,8 +72,10 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
                                 " with a " + std::to_string(k) + " px PSF needs a padded grid above " +
                                 std::to_string(kFftMaxLength));
   if (!ffts_ || ffts_->image.width() != padded_width || ffts_->image.height() != padded_height ||
-      ffts_->kernel.layers() != psf.channels)
+      ffts_->kernel.layers() != psf.channels) {
     ffts_ = std::make_unique<Ffts>(Ffts{GlFft(padded_width, padded_height, 3), GlFft(padded_width, padded_height, psf.channels)});
+    kernel_ready_ = false;
+  }
   const std::size_t layer = static_cast<std::size_t>(padded_width) * padded_height;
 
   // Split into bright (summed directly) and dim (by FFT) parts.
@@ -113,18 +116,26 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   ffts_->image.upload(padded);
 
   // PSF centre (k/2, k/2) at index (0, 0), wrapping: circular convolution equals linear
-  // convolution on the image window because the padding is at least k - 1.
-  std::vector<std::complex<float>> kernel(static_cast<std::size_t>(psf.channels) * layer);
-  for (int c = 0; c < psf.channels; ++c)
-    for (int v = 0; v < k; ++v)
-      for (int u = 0; u < k; ++u) {
-        const int x = (u - k / 2 + padded_width) % padded_width, y = (v - k / 2 + padded_height) % padded_height;
-        kernel[c * layer + static_cast<std::size_t>(y) * padded_width + x] = static_cast<float>(psf.at(c, u, v));
-      }
-  ffts_->kernel.upload(kernel);
+  // convolution on the image window because the padding is at least k - 1. The PSF's spectrum is
+  // kept while the same PSF comes again on the same padded grid (static glare, successive frames).
+  const bool kernel_cached = kernel_ready_ && cached_psf_size_ == k && cached_psf_values_ == psf.values;
+  if (!kernel_cached) {
+    std::vector<std::complex<float>> kernel(static_cast<std::size_t>(psf.channels) * layer);
+    for (int c = 0; c < psf.channels; ++c)
+      for (int v = 0; v < k; ++v)
+        for (int u = 0; u < k; ++u) {
+          const int x = (u - k / 2 + padded_width) % padded_width, y = (v - k / 2 + padded_height) % padded_height;
+          kernel[c * layer + static_cast<std::size_t>(y) * padded_width + x] = static_cast<float>(psf.at(c, u, v));
+        }
+    ffts_->kernel.upload(kernel);
+    ffts_->kernel.transform(FftDirection::forward);
+    cached_psf_size_ = k;
+    cached_psf_values_ = psf.values;
+    kernel_ready_ = true;
+  }
+  local_report.psf_spectrum_reused = kernel_cached;
 
   ffts_->image.transform(FftDirection::forward);
-  ffts_->kernel.transform(FftDirection::forward);
   const GLuint multiply = multiply_program_.get();
   glUseProgram(multiply);
   glUniform1ui(glGetUniformLocation(multiply, "uLayerSize"), static_cast<GLuint>(layer));

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "glare/gl/gl_fft.h"
 #include "glare/psf.h"
@@ -31,6 +32,7 @@ struct GlConvolutionReport {
   bool split = false;
   std::size_t bright_pixels = 0;
   double bright_threshold = 0.0;  // in the image's units (cd/m2 for a calibrated image)
+  bool psf_spectrum_reused = false;  // the same PSF as the previous call: its FFT was not redone
   std::string describe() const;
 };
 
@@ -51,6 +53,9 @@ class GlConvolution {
   std::unique_ptr<Ffts> ffts_;  // reused while the padded size and PSF channel count stay the same
   Program multiply_program_, splat_program_;
   Buffer bright_, bright_values_, kernel_;
+  bool kernel_ready_ = false;  // ffts_->kernel holds the spectrum of the PSF below
+  int cached_psf_size_ = 0;
+  std::vector<double> cached_psf_values_;
 };
 
 // Smallest supported FFT length >= length (at least kFftMinLength); 0 when above kFftMaxLength.
