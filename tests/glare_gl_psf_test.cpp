@@ -200,6 +200,18 @@ TEST(CmfWeights, FitFollowsCie1931Table) {
   EXPECT_DOUBLE_EQ(samples.back().wavelength_nm, 380.0 + 31.0 * 390.0 / 32.0);
 }
 
+TEST_F(GlPsfTest, SameApertureGivesBitIdenticalPsf) {
+  ApertureGeometry geometry;
+  geometry.pupil_diameter_mm = 5.0;
+  for (int i = 0; i < 100; ++i) geometry.discs.push_back({0.04 * i - 2.0, 0.03 * i - 1.5, 0.1, 0.5});
+  geometry.lines = {{-2.0, 1.0, 2.0, -1.0, 0.05, 0.2}};
+  gl::GlPsf psf(128, 10.0, 2);
+  const Psf first = psf.spectral(geometry, 16);
+  psf.monochromatic(ApertureGeometry{}, 500.0);  // something else in between
+  const Psf second = psf.spectral(geometry, 16);
+  EXPECT_EQ(first.values, second.values);
+}
+
 TEST_F(GlPsfTest, RefusesGridsTheFftCannotTake) {
   EXPECT_THROW(gl::GlPsf(300, 8.0, 2), std::invalid_argument);
   gl::GlPsf psf(64, 8.0, 2);
