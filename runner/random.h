@@ -18,6 +18,7 @@ enum class RandomStream : std::uint32_t {
   staircase = 6,
   adjustment_start = 7,
   analysis_bootstrap = 8,  // parametric bootstrap of psychometric fits (analysis/)
+  glare_gl_test_input = 9,  // random test signals for the GL glare engine tests
 };
 
 class CounterRandom {

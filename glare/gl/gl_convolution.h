@@ -1,0 +1,64 @@
+#pragma once
+// Convolution of an HDR image (stimuli/image.h, R, G, B) with a PSF (glare/psf.h) on the GPU by FFT
+// (Ritschel et al. 2009, section 5): both zero-padded to powers of two at least image + PSF - 1 in
+// each direction, so nothing wraps around an edge and any image size works; pointwise complex
+// product; inverse FFT; the image-sized window read back. Alpha is passed through.
+//
+// Dynamic range: the float32 FFT spreads rounding noise of about 1e-7 of the brightest pixel's
+// energy over the whole frame, which swamps a 1e-2 cd/m2 surround next to a 1e8 cd/m2 source. So
+// pixels brighter than split_dynamic_range times the median pixel are taken out of the FFT and added
+// by direct summation (bright_splat.comp); convolution is linear, so the sum is the same function.
+// Requires a current OpenGL 4.5 context; not thread-safe.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "glare/gl/gl_fft.h"
+#include "glare/psf.h"
+#include "stimuli/image.h"
+
+namespace glarelab::gl {
+
+struct GlConvolutionOptions {
+  bool split_bright = true;
+  double split_dynamic_range = 1e4;          // bright: max(R, G, B) > this x median over pixels of max(R, G, B)
+  std::size_t max_direct_bright_pixels = 4096;  // beyond this the split is not made (cost: pixels x bright pixels)
+};
+
+struct GlConvolutionReport {
+  int padded_width_px = 0;
+  int padded_height_px = 0;
+  bool split = false;
+  std::size_t bright_pixels = 0;
+  double bright_threshold = 0.0;  // in the image's units (cd/m2 for a calibrated image)
+  bool psf_spectrum_reused = false;  // the same PSF as the previous call: its FFT was not redone
+  std::string describe() const;
+};
+
+class GlConvolution {
+ public:
+  GlConvolution();
+  ~GlConvolution();
+  GlConvolution(const GlConvolution&) = delete;
+  GlConvolution& operator=(const GlConvolution&) = delete;
+
+  // Throws std::invalid_argument("GL convolution: ...") for an empty image, NaN/Inf/negative pixels
+  // (with their counts), a malformed PSF, or a padded size above 4096.
+  ImageRGBA convolve(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options = {},
+                     GlConvolutionReport* report = nullptr);
+
+ private:
+  struct Ffts;
+  std::unique_ptr<Ffts> ffts_;  // reused while the padded size and PSF channel count stay the same
+  Program multiply_program_, splat_program_;
+  Buffer bright_, bright_values_, kernel_;
+  bool kernel_ready_ = false;  // ffts_->kernel holds the spectrum of the PSF below
+  int cached_psf_size_ = 0;
+  std::vector<double> cached_psf_values_;
+};
+
+// Smallest supported FFT length >= length (at least kFftMinLength); 0 when above kFftMaxLength.
+int padded_fft_length(int length);
+
+}  // namespace glarelab::gl

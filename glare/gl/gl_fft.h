@@ -1,0 +1,65 @@
+#pragma once
+// 2D complex-to-complex FFT on the GPU by OpenGL 4.5 compute shaders (glare/shaders/fft_radix2.comp):
+// radix-4 Stockham passes (one radix-2 pass first for odd
+// powers of two), rows then columns, on a std430 shader storage buffer of vec2 (real,
+// imaginary) holding `layers` grids of width x height, layer-major, row-major, row 0 first.
+// Same sign convention as FFTW: forward X[k] = sum_n x[n] exp(-2 pi i k n / L); the inverse is
+// scaled by 1 / (width * height), so inverse(forward(x)) = x.
+// Twiddle factors are computed in double precision on the CPU and uploaded as floats (issue 3).
+// A current OpenGL 4.5 context is required (glare/gl/gl_compute_context.h); not thread-safe.
+#include <complex>
+#include <vector>
+
+#include "runner/gl/gl_objects.h"
+
+namespace glarelab::gl {
+
+enum class FftDirection { forward, inverse };
+
+// Lengths the GL FFT accepts along either axis: powers of two from 16 to 4096. The PSF grids of the
+// glare engine are 256 to 4096; the convolution also pads small images to 16..128.
+constexpr int kFftMinLength = 16;
+constexpr int kFftMaxLength = 4096;
+bool is_supported_fft_length(int length);
+
+class GlFft {
+ public:
+  // Throws std::invalid_argument("GL FFT: ...") for an unsupported width, height or layer count.
+  GlFft(int width, int height, int layers = 1);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int layers() const { return layers_; }
+  std::size_t element_count() const;  // layers * height * width
+
+  // The buffer that holds the data (input before transform(), output after). Other passes write
+  // into it and read from it directly; transform() may exchange it with the scratch buffer, so ask
+  // again after each transform.
+  GLuint data() const { return data_.get(); }
+
+  void transform(FftDirection direction);
+
+  void upload(const std::vector<std::complex<float>>& values);  // element_count() values
+  std::vector<std::complex<float>> download() const;
+
+ private:
+  // One compiled pass shader (radix 2 or 4) and its uniform locations.
+  struct Pass {
+    Program program;
+    GLint length, span, twiddle_stride, axis_stride, line_stride, lines, layer_stride, conjugate, scale, lines_along_x;
+  };
+  static Pass make_pass(const char* shader_path);
+  void run_axis(bool rows, float conjugate, bool scale_last_pass);
+
+  int width_;
+  int height_;
+  int layers_;
+  int max_length_;
+  Pass radix2_;
+  Pass radix4_;
+  Buffer data_;
+  Buffer scratch_;
+  Buffer twiddles_;
+};
+
+}  // namespace glarelab::gl

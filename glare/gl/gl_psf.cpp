@@ -1,0 +1,182 @@
+#include "glare/gl/gl_psf.h"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "glare/gl/cmf_weights.h"
+#include "runner/gl/shader_program.h"
+
+namespace glarelab::gl {
+namespace {
+
+constexpr GLuint kTile = 8;          // local size of the 2D PSF shaders
+constexpr GLuint kReduceSpan = 512;  // values per workgroup in sum_reduce.comp
+constexpr GLuint kNormaliseGroup = 256;
+
+GLuint tiles(int extent) { return (static_cast<GLuint>(extent) + kTile - 1) / kTile; }
+
+Buffer storage(std::size_t bytes) {
+  Buffer buffer = create_buffer();
+  glNamedBufferStorage(buffer.get(), static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  return buffer;
+}
+
+}  // namespace
+
+GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
+    : size_px_(size_px),
+      aperture_((is_supported_fft_length(size_px)
+                     ? size_px
+                     : throw std::invalid_argument("GL PSF: grid size " + std::to_string(size_px) +
+                                                   " is not a power of two from 16 to 4096")),
+                aperture_width_mm, supersampling),
+      fft_(size_px, size_px) {
+  load_program_ = build_program({"glare/shaders/psf_load_aperture.comp"});
+  power_program_ = build_program({"glare/shaders/psf_power_shift.comp"});
+  reduce_program_ = build_program({"glare/shaders/sum_reduce.comp"});
+  normalise_program_ = build_program({"glare/shaders/psf_normalise.comp"});
+  spectral_program_ = build_program({"glare/shaders/psf_spectral.comp"});
+  const std::size_t count = static_cast<std::size_t>(size_px) * size_px;
+  phase_x_ = storage(static_cast<std::size_t>(size_px) * 2 * sizeof(float));
+  phase_y_ = storage(static_cast<std::size_t>(size_px) * 2 * sizeof(float));
+  power_ = storage(count * sizeof(float));
+  spectral_ = storage(3 * count * sizeof(float));
+  const std::size_t partials = 3 * ((count + kReduceSpan - 1) / kReduceSpan);
+  partial_a_ = storage(partials * sizeof(float));
+  partial_b_ = storage(partials * sizeof(float));
+  weights_ = create_buffer();
+  check_gl_error("GL PSF: creating buffers and programs");
+}
+
+double GlPsf::degrees_per_pixel(double wavelength_nm) const {
+  // Fraunhofer: one PSF pixel is one frequency step 1 / (N dx) of the aperture grid, an angle of
+  // lambda / (N dx) radians (Goodman 2005, section 4.3; issue 3 "Physical scale").
+  const double wavelength_mm = wavelength_nm * 1e-6;
+  return wavelength_mm / (size_px_ * aperture_.pixel_size_mm()) * 180.0 / std::numbers::pi;
+}
+
+void GlPsf::normalise(GLuint values, int channels) {
+  const GLuint reduce = reduce_program_.get();
+  glUseProgram(reduce);
+  GLuint count = static_cast<GLuint>(size_px_) * static_cast<GLuint>(size_px_);
+  const GLuint per_channel = count;
+  GLuint source = values;
+  bool to_a = true;
+  while (count > 1) {
+    const GLuint groups = (count + kReduceSpan - 1) / kReduceSpan;
+    const GLuint destination = to_a ? partial_a_.get() : partial_b_.get();
+    glUniform1ui(glGetUniformLocation(reduce, "uCount"), count);
+    glUniform1ui(glGetUniformLocation(reduce, "uGroupsPerChannel"), groups);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, source);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, destination);
+    glDispatchCompute(groups, static_cast<GLuint>(channels), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    source = destination;
+    to_a = !to_a;
+    count = groups;
+  }
+  const GLuint normalise_program = normalise_program_.get();
+  glUseProgram(normalise_program);
+  glUniform1ui(glGetUniformLocation(normalise_program, "uCount"), per_channel);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, values);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, source);
+  glDispatchCompute((per_channel + kNormaliseGroup - 1) / kNormaliseGroup, static_cast<GLuint>(channels), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void GlPsf::run_monochromatic(const ApertureGeometry& geometry, double wavelength_nm) {
+  if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
+    throw std::invalid_argument("GL PSF: wavelength " + std::to_string(wavelength_nm) + " nm is not positive");
+  aperture_.draw(geometry);
+
+  // Defocus phase pi D r^2 / lambda with D in 1/m, r in m, lambda in m, written for r in mm and
+  // lambda in nm: pi D r_mm^2 1e3 / lambda_nm. Per axis: exp(i a x^2) (see psf_load_aperture.comp).
+  const double a_per_mm2 = std::numbers::pi * geometry.defocus_dioptres * 1e3 / wavelength_nm;
+  std::vector<std::complex<float>> phase_x(static_cast<std::size_t>(size_px_)), phase_y(phase_x.size());
+  const double dx_mm = aperture_.pixel_size_mm();
+  for (int i = 0; i < size_px_; ++i) {
+    const double x_mm = (i + 0.5 - size_px_ / 2.0) * dx_mm;  // column centre; row j: y = -(same), same square
+    const std::complex<double> phase = std::polar(1.0, a_per_mm2 * x_mm * x_mm);
+    phase_x[static_cast<std::size_t>(i)] = std::complex<float>(phase);
+    phase_y[static_cast<std::size_t>(i)] = std::complex<float>(phase);
+  }
+  glNamedBufferSubData(phase_x_.get(), 0, static_cast<GLsizeiptr>(phase_x.size() * sizeof(phase_x[0])), phase_x.data());
+  glNamedBufferSubData(phase_y_.get(), 0, static_cast<GLsizeiptr>(phase_y.size() * sizeof(phase_y[0])), phase_y.data());
+
+  const GLuint load = load_program_.get();
+  glUseProgram(load);
+  glUniform1i(glGetUniformLocation(load, "uSize"), size_px_);
+  glBindImageTexture(0, aperture_.texture(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, fft_.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, phase_x_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, phase_y_.get());
+  glDispatchCompute(tiles(size_px_), tiles(size_px_), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+  fft_.transform(FftDirection::forward);
+
+  const GLuint power = power_program_.get();
+  glUseProgram(power);
+  glUniform1i(glGetUniformLocation(power, "uSize"), size_px_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, fft_.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, power_.get());
+  glDispatchCompute(tiles(size_px_), tiles(size_px_), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+  normalise(power_.get(), 1);
+  glUseProgram(0);
+  check_gl_error("GL PSF: monochromatic");
+}
+
+void GlPsf::run_spectral(const ApertureGeometry& geometry, int wavelength_count, double reference_wavelength_nm) {
+  const std::vector<SpectralSample> samples = spectral_samples(wavelength_count);
+  run_monochromatic(geometry, reference_wavelength_nm);
+  std::vector<float> weights;
+  for (const SpectralSample& sample : samples)
+    weights.insert(weights.end(), {static_cast<float>(sample.weight.r), static_cast<float>(sample.weight.g),
+                                   static_cast<float>(sample.weight.b),
+                                   static_cast<float>(reference_wavelength_nm / sample.wavelength_nm)});
+  glNamedBufferData(weights_.get(), static_cast<GLsizeiptr>(weights.size() * sizeof(float)), weights.data(), GL_DYNAMIC_DRAW);
+
+  const GLuint spectral = spectral_program_.get();
+  glUseProgram(spectral);
+  glUniform1i(glGetUniformLocation(spectral, "uSize"), size_px_);
+  glUniform1i(glGetUniformLocation(spectral, "uWavelengthCount"), wavelength_count);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, power_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, spectral_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, weights_.get());
+  glDispatchCompute(tiles(size_px_), tiles(size_px_), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  normalise(spectral_.get(), 3);
+  glUseProgram(0);
+  check_gl_error("GL PSF: spectral");
+}
+
+Psf GlPsf::read(int channels, double wavelength_nm) const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  const std::size_t count = static_cast<std::size_t>(channels) * size_px_ * size_px_;
+  std::vector<float> values(count);
+  glGetNamedBufferSubData(result_buffer(channels), 0, static_cast<GLsizeiptr>(count * sizeof(float)), values.data());
+  check_gl_error("GL PSF: reading back");
+  Psf psf;
+  psf.size_px = size_px_;
+  psf.channels = channels;
+  psf.degrees_per_pixel = degrees_per_pixel(wavelength_nm);
+  psf.values.assign(values.begin(), values.end());
+  return psf;
+}
+
+Psf GlPsf::monochromatic(const ApertureGeometry& geometry, double wavelength_nm) {
+  run_monochromatic(geometry, wavelength_nm);
+  return read(1, wavelength_nm);
+}
+
+Psf GlPsf::spectral(const ApertureGeometry& geometry, int wavelength_count, double reference_wavelength_nm) {
+  run_spectral(geometry, wavelength_count, reference_wavelength_nm);
+  return read(3, reference_wavelength_nm);
+}
+
+}  // namespace glarelab::gl

@@ -1,0 +1,48 @@
+#pragma once
+// The GPU point-spread function (Ritschel et al. 2009, sections 4-5) from an ApertureGeometry:
+// aperture (glare/gl/gl_aperture.h) times the defocus phase, GL FFT (glare/gl/gl_fft.h),
+// |F|^2 with the zero frequency at pixel (N/2, N/2), each channel normalised to sum 1 by a pairwise
+// reduction on the GPU. Angular pixel size in the Fraunhofer limit: lambda / (N dx) radians.
+// The spectral PSF resamples the reference-wavelength PSF in angle for n wavelengths over
+// 380-770 nm and weights them by the CIE 1931 CMFs in linear Rec.709 (glare/gl/cmf_weights.h).
+// Requires a current OpenGL 4.5 context; not thread-safe.
+#include <vector>
+
+#include "glare/aperture_geometry.h"
+#include "glare/gl/gl_aperture.h"
+#include "glare/gl/gl_fft.h"
+#include "glare/psf.h"
+
+namespace glarelab::gl {
+
+class GlPsf {
+ public:
+  // size_px: a power of two 16..4096 (is_supported_fft_length); aperture_width_mm: the side of the
+  // pupil-plane grid. Throws std::invalid_argument("GL PSF: ...") / ("GL aperture: ...").
+  GlPsf(int size_px, double aperture_width_mm, int supersampling = 2);
+
+  // Y PSF at one wavelength (channels = 1).
+  Psf monochromatic(const ApertureGeometry& geometry, double wavelength_nm);
+  // Linear Rec.709 PSF (channels = 3) from the PSF at reference_wavelength_nm (the paper uses 575 nm).
+  Psf spectral(const ApertureGeometry& geometry, int wavelength_count = 32, double reference_wavelength_nm = 575.0);
+
+  // The same work without reading back (for timing): the result stays in result_buffer().
+  void run_monochromatic(const ApertureGeometry& geometry, double wavelength_nm);
+  void run_spectral(const ApertureGeometry& geometry, int wavelength_count, double reference_wavelength_nm);
+  GLuint result_buffer(int channels) const { return channels == 1 ? power_.get() : spectral_.get(); }
+  Psf read(int channels, double wavelength_nm) const;
+
+  int size_px() const { return size_px_; }
+  double degrees_per_pixel(double wavelength_nm) const;
+
+ private:
+  void normalise(GLuint values, int channels);
+
+  int size_px_;
+  GlAperture aperture_;
+  GlFft fft_;
+  Program load_program_, power_program_, reduce_program_, normalise_program_, spectral_program_;
+  Buffer phase_x_, phase_y_, power_, spectral_, weights_, partial_a_, partial_b_;
+};
+
+}  // namespace glarelab::gl

@@ -1,0 +1,18 @@
+#version 450
+// Convolution theorem: the spectrum of image * PSF is the pointwise product of their spectra
+// (Ritschel et al. 2009, section 5, "Convolution"). Image layers are R, G, B; a one-channel (Y)
+// PSF multiplies all three.
+layout(local_size_x = 256) in;
+layout(std430, binding = 0) buffer Image { vec2 image[]; };
+layout(std430, binding = 1) readonly buffer Kernel { vec2 kernel[]; };
+uniform uint uLayerSize;   // padded width * height
+uniform uint uImageLayers;
+uniform uint uKernelLayers;  // 1 or uImageLayers
+
+void main() {
+  const uint index = gl_GlobalInvocationID.x;
+  if (index >= uLayerSize * uImageLayers) return;
+  const vec2 a = image[index];
+  const vec2 b = kernel[uKernelLayers == 1u ? index % uLayerSize : index];
+  image[index] = vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x);
+}

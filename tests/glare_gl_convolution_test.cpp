@@ -1,0 +1,221 @@
+// GPU convolution against a direct O(n^2 k^2) CPU convolution in double, a delta image, and the
+// dynamic-range hard case: a 1e8 cd/m2 pixel beside a 1e-2 cd/m2 background.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "glare/gl/gl_compute_context.h"
+#include "glare/gl/gl_convolution.h"
+#include "runner/random.h"
+
+namespace glarelab {
+namespace {
+
+class GlConvolutionTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { context_ = gl::create_compute_context(); }
+  static void TearDownTestSuite() { context_.reset(); }
+  static std::unique_ptr<DisplayBackend> context_;
+};
+std::unique_ptr<DisplayBackend> GlConvolutionTest::context_;
+
+std::string figure(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+// out(x, y) = sum_{u, v} image(x - (u - k/2), y - (v - k/2)) psf(u, v), zero outside the image.
+std::vector<double> direct_convolution(const ImageRGBA& image, const Psf& psf) {
+  const int w = image.width_px, h = image.height_px, k = psf.size_px;
+  std::vector<double> out(3 * static_cast<std::size_t>(w) * h, 0.0);
+  for (int c = 0; c < 3; ++c)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        double sum = 0.0;
+        for (int v = 0; v < k; ++v)
+          for (int u = 0; u < k; ++u) {
+            const int sx = x - (u - k / 2), sy = y - (v - k / 2);
+            if (sx < 0 || sy < 0 || sx >= w || sy >= h) continue;
+            sum += double(image.pixel(sx, sy)[c]) * psf.at(psf.channels == 1 ? 0 : c, u, v);
+          }
+        out[(static_cast<std::size_t>(c) * h + y) * w + x] = sum;
+      }
+  return out;
+}
+
+Psf random_psf(int size, int channels, std::uint64_t seed) {
+  const CounterRandom random(seed, RandomStream::glare_gl_test_input);
+  Psf psf{size, 0.01, channels, std::vector<double>(static_cast<std::size_t>(channels) * size * size)};
+  for (int c = 0; c < channels; ++c) {
+    double sum = 0.0;
+    for (int i = 0; i < size * size; ++i) sum += psf.values[static_cast<std::size_t>(c * size * size + i)] = random.uniform(static_cast<std::uint64_t>(i), static_cast<std::uint32_t>(c));
+    for (int i = 0; i < size * size; ++i) psf.values[static_cast<std::size_t>(c * size * size + i)] /= sum;
+  }
+  return psf;
+}
+
+// A glare-like PSF: a narrow core and a 1/r^3 tail (the envelope of an Airy pattern), unit sum.
+Psf core_and_tail_psf(int size) {
+  Psf psf{size, 0.01, 3, std::vector<double>(3 * static_cast<std::size_t>(size) * size)};
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0.0;
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const double r = std::hypot(x - size / 2, y - size / 2);
+        sum += psf.at(c, x, y) = std::exp(-r * r / (2.0 * (1.0 + 0.3 * c))) + 1e-3 / (1.0 + r * r * r);
+      }
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) psf.at(c, x, y) /= sum;
+  }
+  return psf;
+}
+
+double relative_l2(const ImageRGBA& actual, const std::vector<double>& expected) {
+  const std::size_t plane = static_cast<std::size_t>(actual.width_px) * actual.height_px;
+  double error = 0.0, norm = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int y = 0; y < actual.height_px; ++y)
+      for (int x = 0; x < actual.width_px; ++x) {
+        const double e = expected[c * plane + static_cast<std::size_t>(y) * actual.width_px + x];
+        error += (actual.pixel(x, y)[c] - e) * (actual.pixel(x, y)[c] - e);
+        norm += e * e;
+      }
+  return std::sqrt(error / norm);
+}
+
+TEST_F(GlConvolutionTest, MatchesDirectDoubleConvolution) {
+  const CounterRandom random(21, RandomStream::glare_gl_test_input);
+  ImageRGBA image(40, 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x)
+      for (int c = 0; c < 4; ++c) image.pixel(x, y)[c] = static_cast<float>(100.0 * random.uniform(static_cast<std::uint64_t>(y * 40 + x), static_cast<std::uint32_t>(c)));
+  gl::GlConvolution convolution;
+  for (const int channels : {1, 3}) {
+    const Psf psf = random_psf(15, channels, 5);
+    gl::GlConvolutionReport report;
+    const ImageRGBA result = convolution.convolve(image, psf, {}, &report);
+    EXPECT_EQ(report.padded_width_px, 64);   // 40 + 14 -> 64
+    EXPECT_EQ(report.padded_height_px, 64);  // 30 + 14 -> 64
+    EXPECT_FALSE(report.split);
+    const double error = relative_l2(result, direct_convolution(image, psf));
+    RecordProperty("direct_relative_l2_channels_" + std::to_string(channels), figure(error));
+    EXPECT_LE(error, 1e-4) << channels << " PSF channel(s)";
+    EXPECT_EQ(result.pixel(3, 4)[3], image.pixel(3, 4)[3]) << "alpha passes through";
+    EXPECT_FALSE(report.psf_spectrum_reused);
+  }
+  // The same PSF again with another image: its spectrum is reused and the result still exact.
+  const Psf psf = random_psf(15, 3, 5);
+  ImageRGBA second(40, 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x)
+      for (int c = 0; c < 3; ++c) second.pixel(x, y)[c] = static_cast<float>(random.uniform(static_cast<std::uint64_t>(5000 + y * 40 + x), static_cast<std::uint32_t>(c)));
+  gl::GlConvolutionReport report;
+  const ImageRGBA result = convolution.convolve(second, psf, {}, &report);
+  EXPECT_TRUE(report.psf_spectrum_reused) << report.describe();
+  EXPECT_LE(relative_l2(result, direct_convolution(second, psf)), 1e-4);
+  Psf changed = psf;
+  changed.values[7] *= 2.0;
+  const ImageRGBA changed_result = convolution.convolve(second, changed, {}, &report);
+  EXPECT_FALSE(report.psf_spectrum_reused);
+  EXPECT_LE(relative_l2(changed_result, direct_convolution(second, changed)), 1e-4);
+}
+
+TEST_F(GlConvolutionTest, DeltaImageGivesBackThePsf) {
+  const Psf psf = core_and_tail_psf(31);
+  ImageRGBA image(50, 45);
+  image.pixel(20, 25)[0] = image.pixel(20, 25)[1] = image.pixel(20, 25)[2] = 1.0f;
+  gl::GlConvolution convolution;
+  const ImageRGBA result = convolution.convolve(image, psf, {.split_bright = false});
+  double worst = 0.0, peak = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int v = 0; v < 31; ++v)
+      for (int u = 0; u < 31; ++u) {
+        peak = std::max(peak, psf.at(c, u, v));
+        worst = std::max(worst, std::abs(result.pixel(20 + u - 15, 25 + v - 15)[c] - psf.at(c, u, v)));
+      }
+  RecordProperty("delta_max_error_over_peak", figure(worst / peak));
+  EXPECT_LE(worst / peak, 1e-5);
+  EXPECT_LE(std::abs(result.pixel(49, 0)[1]), 1e-5 * peak) << "nothing outside the PSF's reach";
+
+  // A source in the corner: its PSF is cut at the edges, and nothing wraps to the far sides.
+  ImageRGBA corner(50, 45);
+  corner.pixel(0, 0)[0] = corner.pixel(0, 0)[1] = corner.pixel(0, 0)[2] = 1.0f;
+  const ImageRGBA cut = convolution.convolve(corner, psf, {.split_bright = false});
+  double worst_inside = 0.0, worst_far = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int y = 0; y < 45; ++y)
+      for (int x = 0; x < 50; ++x) {
+        const double expected = x <= 15 && y <= 15 ? psf.at(c, x + 15, y + 15) : 0.0;
+        (x <= 15 && y <= 15 ? worst_inside : worst_far) =
+            std::max(x <= 15 && y <= 15 ? worst_inside : worst_far, std::abs(cut.pixel(x, y)[c] - expected));
+      }
+  EXPECT_LE(worst_inside / peak, 1e-5);
+  EXPECT_LE(worst_far / peak, 1e-5) << "the PSF wrapped around an image edge";
+}
+
+TEST_F(GlConvolutionTest, SunBesideDimBackgroundStaysAccurateWhenSplit) {
+  const int w = 96, h = 64;
+  ImageRGBA image(w, h, 1e-2f);
+  for (int c = 0; c < 3; ++c) image.pixel(20, 30)[c] = 1e8f;
+  const Psf psf = core_and_tail_psf(63);
+  const std::vector<double> expected = direct_convolution(image, psf);
+  const std::size_t plane = static_cast<std::size_t>(w) * h;
+  // Dim region: where the exact result is below 10 x the background.
+  const auto dim_error = [&](const ImageRGBA& result) {
+    double worst = 0.0;
+    int count = 0;
+    for (int c = 0; c < 3; ++c)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const double e = expected[c * plane + static_cast<std::size_t>(y) * w + x];
+          if (e >= 0.1) continue;
+          ++count;
+          worst = std::max(worst, std::abs(result.pixel(x, y)[c] - e) / e);
+        }
+    EXPECT_GT(count, 1000);
+    return worst;
+  };
+  gl::GlConvolution convolution;
+  gl::GlConvolutionReport report;
+  const double unsplit = dim_error(convolution.convolve(image, psf, {.split_bright = false}));
+  const ImageRGBA split_result = convolution.convolve(image, psf, {}, &report);
+  const double split = dim_error(split_result);
+  RecordProperty("dim_region_max_relative_error_unsplit", figure(unsplit));
+  RecordProperty("dim_region_max_relative_error_split", figure(split));
+  EXPECT_TRUE(report.split) << report.describe();
+  EXPECT_EQ(report.bright_pixels, 1u);
+  EXPECT_GT(unsplit, 1e-2) << "the hard case must be hard for a plain float32 FFT";
+  EXPECT_LT(split, 1e-2);
+  EXPECT_LE(relative_l2(split_result, expected), 1e-5);
+}
+
+TEST_F(GlConvolutionTest, RefusesBadInput) {
+  gl::GlConvolution convolution;
+  const Psf psf = random_psf(5, 1, 1);
+  EXPECT_THROW(convolution.convolve(ImageRGBA{}, psf), std::invalid_argument);
+  ImageRGBA image(8, 8, 1.0f);
+  image.pixel(2, 2)[1] = std::nanf("");
+  image.pixel(3, 2)[0] = -1.0f;
+  try {
+    convolution.convolve(image, psf);
+    FAIL() << "NaN and negative pixels were accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("GL convolution"), std::string::npos) << error.what();
+  }
+  Psf broken = psf;
+  broken.values.pop_back();
+  EXPECT_THROW(convolution.convolve(ImageRGBA(8, 8, 1.0f), broken), std::invalid_argument);
+  EXPECT_THROW(convolution.convolve(ImageRGBA(4000, 8, 1.0f), random_psf(201, 1, 2)), std::invalid_argument);
+  EXPECT_EQ(gl::padded_fft_length(1), 16);
+  EXPECT_EQ(gl::padded_fft_length(4096), 4096);
+  EXPECT_EQ(gl::padded_fft_length(4097), 0);
+}
+
+}  // namespace
+}  // namespace glarelab
