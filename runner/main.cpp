@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   auto run_action = glarelab::cli::add_run_command(app);
   auto validate_action = glarelab::cli::add_validate_command(app);
+  auto devices_action = glarelab::cli::add_devices_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -21,5 +22,6 @@ int main(int argc, char** argv) {
   }
   if (app.got_subcommand("run")) return run_action();
   if (app.got_subcommand("validate")) return validate_action();
+  if (app.got_subcommand("devices")) return devices_action();
   return 2;
 }

@@ -15,6 +15,8 @@ PACKAGES=(
   libsqlite3-dev sqlite3                           # results store (sqlite3: the shell, for inspecting results)
   libtomlplusplus-dev libcli11-dev librandom123-dev # experiment files, command line, counter-based random numbers
   libgtest-dev libgmock-dev libbenchmark-dev       # tests and benchmarks
+  libzmq3-dev cppzmq-dev libmsgpack-cxx-dev        # eye trackers: Pupil Core network API (ZeroMQ + msgpack)
+  libhidapi-dev libusb-1.0-0-dev                   # response devices (HID) and the USB device list
 )
 
 missing=()

@@ -11,6 +11,7 @@ using Action = std::function<int()>;
 
 Action add_run_command(CLI::App& app);
 Action add_validate_command(CLI::App& app);
+Action add_devices_command(CLI::App& app);
 
 // Runs `body`, turning glarelab's error types into a message on stderr and the documented exit code.
 int report_errors(const std::function<int()>& body);

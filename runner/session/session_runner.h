@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include "runner/tracker/tracker_session.h"
+
 namespace glarelab {
 
 struct RunOptions {
@@ -19,6 +21,7 @@ struct RunOptions {
   // Stop after this many trials as if the run had been cut off (for demonstrations of resume and
   // for tests); the session stays "running".
   std::optional<int> stop_after_trials;
+  TrackerOptions tracker;  // --tracker and the pupil options (runner/tracker/)
 };
 
 struct RunResult {
@@ -27,6 +30,7 @@ struct RunResult {
   std::string db_path;
   int trials_in_design = 0;
   int trials_run_now = 0;
+  std::string tracker_summary;  // one line, empty without a tracker
 };
 
 // Exit codes of `glarelab run`, also used by main.
