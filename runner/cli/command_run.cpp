@@ -55,7 +55,8 @@ Action add_run_command(CLI::App& app) {
       if (result.status == "running") {
         std::cout << "  stopped early; finish with: glarelab run " << options->experiment_path << " --db "
                   << result.db_path << " --resume " << result.session_id << " --display " << options->display
-                  << " --observer " << options->observer << "\n";
+                  << " --observer " << options->observer
+                  << (options->tracker.spec != "none" ? " --tracker " + options->tracker.spec : std::string()) << "\n";
       }
       return result.status == "aborted" ? static_cast<int>(kExitAborted) : static_cast<int>(kExitOk);
     });

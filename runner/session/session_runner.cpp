@@ -166,7 +166,7 @@ class SessionLoop {
         if (aborted_) return false;
       }
     }
-    store_.log_event(session_id_, clock_.now_s(), "pupil_calibration", tracker_.finish_calibration(clock_.now_s()));
+    tracker_.finish_calibration(clock_.now_s());  // logged as a pupil_calibration event by the tracker logger
     return true;
   }
 
