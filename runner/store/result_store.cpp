@@ -300,6 +300,9 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
       const std::string what = "migrating the schema from version " + std::to_string(from) + " to " +
                                std::to_string(from + 1);
       Transaction transaction(db_, path_, what);
+      // Another connection (a second process opening the same new file) may have migrated between
+      // the version read above and this write lock: read it again under the lock.
+      if (read_user_version(db_, path_) > from) continue;
       exec(db_, path_, kMigrations[static_cast<std::size_t>(from)], what);
       const std::string bump = "PRAGMA user_version=" + std::to_string(from + 1);
       exec(db_, path_, bump.c_str(), what);
