@@ -33,3 +33,17 @@ target_link_libraries(glarelab_deps INTERFACE
 if(TARGET tomlplusplus::tomlplusplus)
   target_link_libraries(glarelab_deps INTERFACE tomlplusplus::tomlplusplus)
 endif()
+
+# Eye trackers and response devices (runner/tracker, runner/devices): ZeroMQ (Pupil Core network
+# API) with cppzmq, msgpack-cxx header-only without Boost, hidapi (hidraw backend), libusb.
+pkg_check_modules(ZMQ REQUIRED IMPORTED_TARGET libzmq)
+pkg_check_modules(HIDAPI REQUIRED IMPORTED_TARGET hidapi-hidraw)
+pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)
+if(NOT EXISTS /usr/include/zmq.hpp)
+  message(FATAL_ERROR "cppzmq not found: install cppzmq-dev (scripts/setup.sh does)")
+endif()
+if(NOT EXISTS /usr/include/msgpack.hpp)
+  message(FATAL_ERROR "msgpack-cxx not found: install libmsgpack-cxx-dev (scripts/setup.sh does)")
+endif()
+target_link_libraries(glarelab_deps INTERFACE PkgConfig::ZMQ PkgConfig::HIDAPI PkgConfig::LIBUSB)
+target_compile_definitions(glarelab_deps INTERFACE MSGPACK_NO_BOOST)

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
       {"psf", glarelab::cli::add_psf_command(app)},
       {"eye-trace", glarelab::cli::add_eye_trace_command(app)},
       {"analyze", glarelab::cli::add_analyze_command(app)},
+      {"devices", glarelab::cli::add_devices_command(app)},
   };
   try {
     app.parse(argc, argv);

@@ -18,6 +18,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev       # tests and benchmarks
   libboost-dev libnlopt-cxx-dev nlohmann-json3-dev  # analysis: Boost.Math distributions, NLopt fits, JSON conditions
   python3-scipy chromium                           # analysis tests: SciPy cross-check, report rendering
+  libzmq3-dev cppzmq-dev libmsgpack-cxx-dev        # eye trackers: Pupil Core network API (ZeroMQ + msgpack)
+  libhidapi-dev libusb-1.0-0-dev                   # response devices (HID) and the USB device list
 )
 
 missing=()

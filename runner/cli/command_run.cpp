@@ -28,6 +28,21 @@ Action add_run_command(CLI::App& app) {
   auto* stop_option = run->add_option("--stop-after", *stop_after,
                                       "Stop after N trials, leaving the session resumable (as if the run had been cut off)")
                           ->check(CLI::PositiveNumber);
+  // --- tracker (runner/tracker/) ---
+  run->add_option("--tracker", options->tracker.spec,
+                  "Eye tracker: none, simulated, replay:FILE.csv, replay:FILE.db#SESSION or pupil-labs://HOST:PORT")
+      ->capture_default_str();
+  run->add_flag("--tracker-optional", options->tracker.optional,
+                "Continue without the tracker when it does not answer at start (logged)");
+  run->add_option("--pupil-model", options->tracker.pupil_model,
+                  "Model pupil: measured diameter, or calibrated (black/white screens, mapped onto 2-8 mm)")
+      ->check(CLI::IsMember({"measured", "calibrated"}))
+      ->capture_default_str();
+  run->add_option("--pupil-calibration-s", options->tracker.calibration_screen_s,
+                  "Seconds of each calibration screen (black, then white)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  // --- end tracker ---
   return [=]() {
     if (seed_option->count() > 0) options->seed = *seed;
     if (resume_option->count() > 0) options->resume_session_id = *resume;
@@ -36,10 +51,12 @@ Action add_run_command(CLI::App& app) {
       const RunResult result = run_session(*options, std::cout);
       const ResultStore store(result.db_path);
       std::cout << summarise_session(store, result.session_id).describe(result.db_path);
+      if (!result.tracker_summary.empty()) std::cout << "  " << result.tracker_summary << "\n";
       if (result.status == "running") {
         std::cout << "  stopped early; finish with: glarelab run " << options->experiment_path << " --db "
                   << result.db_path << " --resume " << result.session_id << " --display " << options->display
-                  << " --observer " << options->observer << "\n";
+                  << " --observer " << options->observer
+                  << (options->tracker.spec != "none" ? " --tracker " + options->tracker.spec : std::string()) << "\n";
       }
       return result.status == "aborted" ? static_cast<int>(kExitAborted) : static_cast<int>(kExitOk);
     });

@@ -5,6 +5,7 @@
 #include "runner/display/display_backend.h"
 #include "runner/session/session_runner.h"
 #include "runner/store/result_store.h"
+#include "runner/tracker/tracker_source.h"
 #include "stimuli/exr_io.h"
 
 namespace glarelab::cli {
@@ -19,6 +20,9 @@ int report_errors(const std::function<int()>& body) {
     std::cerr << "error: " << error.what() << "\n";
     return kExitBadInput;
   } catch (const DisplayError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitDevice;
+  } catch (const TrackerError& error) {
     std::cerr << "error: " << error.what() << "\n";
     return kExitDevice;
   } catch (const StoreError& error) {

@@ -17,6 +17,8 @@
 #include "runner/session/slow_flip_clock.h"
 #include "runner/software_version.h"
 #include "runner/store/result_store.h"
+#include "runner/tracker/real_time_pacer.h"
+#include "runner/tracker/tracker_session.h"
 #include "stimuli/exr_io.h"
 #include "stimuli/frame_renderer.h"
 #include "stimuli/scene_library.h"
@@ -82,8 +84,10 @@ struct TrialRun {
 class SessionLoop {
  public:
   SessionLoop(PreparedSession& prepared, DisplayBackend& display, SessionClock& clock, ResultStore& store,
-              std::int64_t session_id)
-      : prepared_(prepared),
+              std::int64_t session_id, TrackerSession& tracker, RealTimePacer* pacer)
+      : tracker_(tracker),
+        pacer_(pacer),
+        prepared_(prepared),
         display_(display),
         clock_(clock),
         store_(store),
@@ -105,6 +109,7 @@ class SessionLoop {
       draw(placements);
       display_.present();
       const double flip_s = clock_.on_flip();
+      after_flip(flip_s);
       if (frame == 0) run.onset_s = flip_s;
       FrameRecord record;
       record.frame_index = frame;
@@ -131,7 +136,9 @@ class SessionLoop {
       while (!run.response) {
         draw({});
         display_.present();
-        timing_.on_flip(clock_.on_flip(), plan.trial_index, -1);
+        const double flip_s = clock_.on_flip();
+        timing_.on_flip(flip_s, plan.trial_index, -1);
+        after_flip(flip_s);
         run.response = poll_keyboard(plan, run.onset_s);
         if (aborted_) return false;
       }
@@ -149,7 +156,40 @@ class SessionLoop {
   FrameTimingSummary timing_summary() const { return timing_.summary(); }
   const std::string& abort_reason() const { return abort_reason_; }
 
+  // --- tracker (runner/tracker/) ---
+  // Pupil calibration (Luidolt 2020, 5.2.1 ii): a black, then a white full screen (display peak),
+  // each for the configured time; returns false when aborted.
+  bool calibrate_pupil() {
+    for (const bool black : {true, false}) {
+      tracker_.begin_calibration_phase(black);
+      const double luminance_cd_m2 = black ? 0.0 : prepared_.experiment.display.peak_luminance_cd_m2;
+      const double phase_start_s = clock_.now_s();
+      while (clock_.now_s() - phase_start_s < tracker_.calibration_screen_s()) {
+        renderer_.compose({}, luminance_cd_m2);
+        renderer_.encode_to_display(prepared_.experiment.display);
+        display_.present();
+        after_flip(clock_.on_flip());
+        check_interrupt();
+        if (!aborted_ && display_.close_requested()) {
+          aborted_ = true;
+          abort_reason_ = "window closed";
+        }
+        if (aborted_) return false;
+      }
+    }
+    tracker_.finish_calibration(clock_.now_s());  // logged as a pupil_calibration event by the tracker logger
+    return true;
+  }
+
  private:
+  void after_flip(double flip_s) {
+    if (pacer_ != nullptr) pacer_->wait_for_next_frame();
+    tracker_.on_frame(flip_s);
+  }
+  TrackerSession& tracker_;
+  RealTimePacer* pacer_;
+  // --- end tracker ---
+
   std::vector<Placement> layout(const TrialPlan& plan) const {
     std::vector<PixelRect> sizes;
     for (const auto& scene_name : plan.scenes) {
@@ -298,11 +338,16 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   result.trials_in_design = static_cast<int>(prepared.trials.size());
   const int first_trial = static_cast<int>(done_trials.size());
 
+  // --- tracker: source built (bad --tracker value: exit 2) before anything is opened ---
+  TrackerSession tracker(options.tracker, prepared.experiment.seed);
+  // --- end tracker ---
+
   // 2. The display (a device failure is reported before a session exists).
   auto display = create_display(options.display, display_request(prepared.experiment));
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock;
-  if (display->real_time()) {
+  // A live tracker needs the real-time clock (and an offscreen run paced in real time).
+  if (display->real_time() || tracker.live()) {
     clock = std::make_unique<MonotonicClock>(resumed ? store->last_flip_s(resumed->id) + 1.0 : 0.0);
   } else {
     // Frame k of the session flips at k / refresh_hz, across resumptions too.
@@ -310,6 +355,12 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   }
   if (options.slow_flip_every)
     clock = std::make_unique<SlowFlipClock>(std::move(clock), display->refresh_hz(), *options.slow_flip_every);
+
+  // --- tracker: started on the session clock (absent: TrackerError, exit 3, unless optional) ---
+  const std::optional<std::string> tracker_note = tracker.start(*clock);
+  std::unique_ptr<RealTimePacer> pacer;
+  if (tracker.live() && !display->real_time()) pacer = std::make_unique<RealTimePacer>(display->refresh_hz());
+  // --- end tracker ---
 
   // 3. The session row.
   if (!store) store = std::make_unique<ResultStore>(result.db_path);
@@ -356,11 +407,18 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
              << "\n";
   }
 
+  // --- tracker: logged from here on; calibration before the trials ---
+  if (tracker_note) store->log_event(result.session_id, clock->now_s(), "tracker_absent", *tracker_note);
+  tracker.attach_log(result.db_path, result.session_id);
+  // --- end tracker ---
+
   // 4. The trials.
-  SessionLoop loop(prepared, *display, *clock, *store, result.session_id);
-  for (int index = first_trial; index < result.trials_in_design; ++index) {
+  SessionLoop loop(prepared, *display, *clock, *store, result.session_id, tracker, pacer.get());
+  const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
+  for (int index = first_trial; calibrated && index < result.trials_in_design; ++index) {
     if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
       result.status = "running";
+      result.tracker_summary = tracker.finish(clock->now_s());
       return result;
     }
     if (!loop.run_trial(prepared.trials[static_cast<std::size_t>(index)], progress)) break;
@@ -372,6 +430,7 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   progress << "Frame timing: " << timing.describe() << "\n";
   result.frames_shown = timing.frames_shown;
   result.frames_dropped = timing.frames_dropped;
+  result.tracker_summary = tracker.finish(clock->now_s());
   if (loop.aborted()) {
     store->log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
     store->finish_session(result.session_id, "aborted");

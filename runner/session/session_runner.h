@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include "runner/tracker/tracker_session.h"
+
 namespace glarelab {
 
 struct RunOptions {
@@ -23,6 +25,7 @@ struct RunOptions {
   // arrives one refresh period late (runner/session/slow_flip_clock.h), so the dropped-frame
   // detection and the session summary can be checked on any machine.
   std::optional<int> slow_flip_every;
+  TrackerOptions tracker;  // --tracker and the pupil options (runner/tracker/)
 };
 
 struct RunResult {
@@ -33,6 +36,7 @@ struct RunResult {
   int trials_run_now = 0;
   std::int64_t frames_shown = 0;    // stimulus flips in this run
   std::int64_t frames_dropped = 0;  // of them, more than 1.5 refresh periods after the previous flip
+  std::string tracker_summary;  // one line, empty without a tracker
 };
 
 // Exit codes of `glarelab run`, also used by main.

@@ -1,0 +1,145 @@
+#include "runner/tracker/simulated_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "runner/clock.h"
+
+namespace glarelab {
+
+namespace {
+constexpr double kMaxPupilMm = 9.0;  // p_max of Ritschel 2009, Eq. 1
+constexpr double kSaccadeDuration_s = 0.03;
+// Sub-indices of CounterRandom(seed, tracker_simulation): one per independent use.
+constexpr std::uint32_t kSubBlinkInterval = 1, kSubBlinkDuration = 2, kSubFixation = 3, kSubFixationX = 4,
+                        kSubFixationY = 5, kSubMeasurement = 6, kSubNoiseLattice = 10;
+}  // namespace
+
+double moon_spencer_pupil_diameter_mm(double field_luminance_cd_m2) {
+  // Ritschel et al. 2009, Eq. 2 (Moon and Spencer 1944): p = 4.9 - 3 tanh(0.4 (log L + 1)).
+  return 4.9 - 3.0 * std::tanh(0.4 * (std::log10(std::max(field_luminance_cd_m2, 1e-6)) + 1.0));
+}
+
+double hippus_pupil_diameter_mm(double mean_pupil_mm, double noise) {
+  // Ritschel et al. 2009, Eq. 1: h = p + noise * (p_max / p) * sqrt(1 - p / p_max).
+  const double p = mean_pupil_mm;
+  return p + noise * (kMaxPupilMm / p) * std::sqrt(std::max(0.0, 1.0 - p / kMaxPupilMm));
+}
+
+SimulatedTracker::SimulatedTracker(std::uint64_t seed, SimulatedTrackerSettings settings)
+    : random_(seed, RandomStream::tracker_simulation), settings_(settings) {}
+
+void SimulatedTracker::start(const SessionClock& clock) {
+  // A resumed session continues its time line; the simulated eye starts where the clock is.
+  start_s_ = clock.now_s();
+  next_k_ = static_cast<std::int64_t>(std::ceil(start_s_ * settings_.rate_hz - 1e-9));
+}
+
+std::string SimulatedTracker::description() const {
+  std::ostringstream text;
+  text << "simulated (seed " << random_.seed() << ", " << settings_.rate_hz << " Hz per eye, hippus around "
+       << moon_spencer_pupil_diameter_mm(settings_.field_luminance_cd_m2) << " mm)";
+  return text.str();
+}
+
+double SimulatedTracker::value_noise(double x) const {
+  // Value noise: random values on the integer lattice, smoothstep-interpolated; three octaves
+  // (frequencies 1, 2, 4; amplitudes 1, 1/2, 1/4), normalised to [-1, 1].
+  double sum = 0.0;
+  double amplitude = 1.0;
+  double frequency = 1.0;
+  double norm = 0.0;
+  for (std::uint32_t octave = 0; octave < 3; ++octave) {
+    const double u = x * frequency;
+    const double cell = std::floor(u);
+    const double f = u - cell;
+    const auto i = static_cast<std::uint64_t>(static_cast<std::int64_t>(cell) + (std::int64_t{1} << 40));
+    const double a = 2.0 * random_.uniform(i, kSubNoiseLattice + octave) - 1.0;
+    const double b = 2.0 * random_.uniform(i + 1, kSubNoiseLattice + octave) - 1.0;
+    const double s = f * f * (3.0 - 2.0 * f);
+    sum += amplitude * (a + (b - a) * s);
+    norm += amplitude;
+    amplitude *= 0.5;
+    frequency *= 2.0;
+  }
+  return sum / norm;
+}
+
+void SimulatedTracker::extend_schedules(double t_s) const {
+  while (blink_start_s_.empty() || blink_start_s_.back() <= t_s) {
+    const auto n = static_cast<std::uint64_t>(blink_start_s_.size());
+    const double previous_end = blink_end_s_.empty() ? 0.0 : blink_end_s_.back();
+    const double interval = settings_.mean_blink_interval_s * (0.5 + random_.uniform(n, kSubBlinkInterval));
+    const double duration = settings_.blink_duration_s * (0.67 + 0.66 * random_.uniform(n, kSubBlinkDuration));
+    blink_start_s_.push_back(previous_end + interval);
+    blink_end_s_.push_back(previous_end + interval + duration);
+  }
+  while (fixation_start_s_.empty() || fixation_start_s_.back() <= t_s) {
+    const auto n = static_cast<std::uint64_t>(fixation_start_s_.size());
+    const double previous = fixation_start_s_.empty() ? 0.0 : fixation_start_s_.back();
+    const double duration = settings_.mean_fixation_s * (0.45 + 1.1 * random_.uniform(n, kSubFixation));
+    fixation_start_s_.push_back(n == 0 ? 0.0 : previous + duration);
+    fixation_x_.push_back(0.1 + 0.8 * random_.uniform(n, kSubFixationX));
+    fixation_y_.push_back(0.1 + 0.8 * random_.uniform(n, kSubFixationY));
+  }
+}
+
+bool SimulatedTracker::blinking(double t_s) const {
+  extend_schedules(t_s);
+  const auto it = std::upper_bound(blink_start_s_.begin(), blink_start_s_.end(), t_s);
+  if (it == blink_start_s_.begin()) return false;
+  const auto i = static_cast<std::size_t>(it - blink_start_s_.begin()) - 1;
+  return t_s < blink_end_s_[i];
+}
+
+TrackerSample SimulatedTracker::sample(std::int64_t k, int eye) const {
+  const double t = static_cast<double>(k) / settings_.rate_hz;
+  TrackerSample out;
+  out.eye = eye;
+  out.device_time_s = t;
+  out.session_time_s = t;
+  if (blinking(t)) {
+    // What a real tracker reports while the lid covers the pupil (Luidolt 2020, 7.2).
+    out.pupil_diameter_mm = 0.0;
+    out.confidence = 0.0;
+    out.valid = false;
+    return out;
+  }
+  const double mean_mm = moon_spencer_pupil_diameter_mm(settings_.field_luminance_cd_m2);
+  // Eq. 1 evaluates noise at t / p.
+  const double hippus_mm =
+      hippus_pupil_diameter_mm(mean_mm, settings_.hippus_noise_amplitude * value_noise(t / mean_mm));
+  const auto index = static_cast<std::uint64_t>(k);
+  out.pupil_diameter_mm =
+      hippus_mm + settings_.measurement_noise_mm * random_.normal(index, kSubMeasurement + static_cast<std::uint32_t>(eye));
+  out.confidence = 0.95;
+  out.valid = true;
+  // Gaze: fixations joined by 30 ms linear saccades.
+  extend_schedules(t);
+  const auto it = std::upper_bound(fixation_start_s_.begin(), fixation_start_s_.end(), t);
+  const auto i = static_cast<std::size_t>(it - fixation_start_s_.begin()) - 1;
+  double x = fixation_x_[i];
+  double y = fixation_y_[i];
+  const double since = t - fixation_start_s_[i];
+  if (i > 0 && since < kSaccadeDuration_s) {
+    const double w = since / kSaccadeDuration_s;
+    x = fixation_x_[i - 1] + (x - fixation_x_[i - 1]) * w;
+    y = fixation_y_[i - 1] + (y - fixation_y_[i - 1]) * w;
+  }
+  out.gaze_x = x;
+  out.gaze_y = y;
+  return out;
+}
+
+TrackerBatch SimulatedTracker::poll(double now_s) {
+  TrackerBatch batch;
+  while (static_cast<double>(next_k_) / settings_.rate_hz <= now_s) {
+    for (int eye = 0; eye < 2; ++eye) batch.samples.push_back(sample(next_k_, eye));
+    ++next_k_;
+  }
+  status_.samples += static_cast<std::int64_t>(batch.samples.size());
+  return batch;
+}
+
+}  // namespace glarelab

@@ -1,0 +1,60 @@
+#pragma once
+// A simulated binocular tracker at 120 Hz per eye: pupil from the hippus model of Ritschel et al.
+// 2009 (Eq. 1) around the Moon-Spencer mean pupil (Eq. 2), blinks reported as a real tracker does
+// (confidence 0, diameter 0), saccades between fixations, and measurement noise. Every value is a
+// pure function of (seed, time): poll(t) returns exactly the samples up to t, in order.
+#include <cstdint>
+#include <vector>
+
+#include "runner/random.h"
+#include "runner/tracker/tracker_source.h"
+
+namespace glarelab {
+
+struct SimulatedTrackerSettings {
+  double rate_hz = 120.0;                    // per eye
+  double field_luminance_cd_m2 = 50.0;       // adapting luminance for Eq. 2
+  double hippus_noise_amplitude = 0.25;      // scale of noise() in Eq. 1 (unitless)
+  double measurement_noise_mm = 0.02;        // tracker noise, standard deviation
+  double mean_blink_interval_s = 4.0;        // blinks every 2..6 s (uniform)
+  double blink_duration_s = 0.15;            // 0.1..0.2 s (uniform around this)
+  double mean_fixation_s = 0.45;             // fixations 0.2..0.7 s, then a 30 ms saccade
+};
+
+// The hippus model, exposed for tests and for the glare engine's later unification with its own
+// eye model (glare/). Eq. 2 of Ritschel 2009 (Moon and Spencer 1944): mean pupil in mm for a field
+// luminance in cd/m2, log base 10.
+double moon_spencer_pupil_diameter_mm(double field_luminance_cd_m2);
+// Eq. 1 of Ritschel 2009 with p_max = 9 mm; `noise` in [-1, 1] is the value-noise term.
+double hippus_pupil_diameter_mm(double mean_pupil_mm, double noise);
+
+class SimulatedTracker final : public TrackerSource {
+ public:
+  SimulatedTracker(std::uint64_t seed, SimulatedTrackerSettings settings = {});
+  void start(const SessionClock& clock) override;
+  void stop() override {}
+  TrackerBatch poll(double now_s) override;
+  bool live() const override { return false; }
+  TrackerStatus status() const override { return status_; }
+  std::string description() const override;
+
+  // Sample k of `eye` (time k / rate_hz on the session clock), and whether a blink covers time t.
+  TrackerSample sample(std::int64_t k, int eye) const;
+  bool blinking(double t_s) const;
+  // Three octaves of value noise in [-1, 1] at x (Ritschel 2009, Sec. 3.2).
+  double value_noise(double x) const;
+
+ private:
+  void extend_schedules(double t_s) const;
+
+  CounterRandom random_;
+  SimulatedTrackerSettings settings_;
+  double start_s_ = 0.0;
+  std::int64_t next_k_ = 0;
+  TrackerStatus status_;
+  // Lazily extended schedules: blink [start, end) intervals and fixation onsets with targets.
+  mutable std::vector<double> blink_start_s_, blink_end_s_;
+  mutable std::vector<double> fixation_start_s_, fixation_x_, fixation_y_;
+};
+
+}  // namespace glarelab

@@ -1,0 +1,99 @@
+#include "runner/tracker/tracker_session.h"
+
+#include <sstream>
+
+#include "protocols/config_error.h"
+#include "runner/clock.h"
+
+namespace glarelab {
+
+TrackerSession::TrackerSession(const TrackerOptions& options, std::uint64_t seed) : options_(options) {
+  // A bad --tracker value or replay file is bad input (exit 2); only an absent device is exit 3.
+  try {
+    source_ = make_tracker_source(options.spec, seed);
+  } catch (const TrackerError& error) {
+    throw ConfigError({"--tracker", 0, 0}, "tracker", error.what());
+  }
+  if (options_.pupil_model != "measured" && options_.pupil_model != "calibrated")
+    throw ConfigError({"--pupil-model", 0, 0}, "pupil-model", "'" + options_.pupil_model + "': choose measured or calibrated");
+  if (!(options_.calibration_screen_s > 0.0))
+    throw ConfigError({"--pupil-calibration-s", 0, 0}, "pupil-calibration-s", "must be positive");
+}
+
+TrackerSession::~TrackerSession() {
+  if (source_) source_->stop();
+}
+
+std::optional<std::string> TrackerSession::start(const SessionClock& clock) {
+  if (!source_) return std::nullopt;
+  try {
+    source_->start(clock);
+  } catch (const TrackerError& error) {
+    if (!options_.optional) throw;
+    source_.reset();
+    return std::string(error.what()) + "; continuing without a tracker (--tracker-optional)";
+  }
+  return std::nullopt;
+}
+
+void TrackerSession::attach_log(const std::string& db_path, std::int64_t session_id) {
+  if (source_) logger_ = std::make_unique<TrackerLogger>(db_path, session_id);
+}
+
+void TrackerSession::on_frame(double now_s) {
+  if (!source_) return;
+  TrackerBatch batch = source_->poll(now_s);
+  if (batch.empty()) return;
+  samples_ += static_cast<std::int64_t>(batch.samples.size());
+  std::vector<FilteredPupil> filtered;
+  std::vector<FilteredPupil>* keep = phase_ == Phase::black ? &black_phase_ : phase_ == Phase::white ? &white_phase_ : nullptr;
+  filter_.add_batch(batch, keep);
+  if (logger_) logger_->enqueue(std::move(batch));
+}
+
+void TrackerSession::begin_calibration_phase(bool black_screen) { phase_ = black_screen ? Phase::black : Phase::white; }
+
+std::string TrackerSession::finish_calibration(double now_s) {
+  phase_ = Phase::none;
+  std::string why;
+  range_ = calibrate_pupil_range(black_phase_, white_phase_, &why);
+  const std::string line = range_ ? "pupil range " + range_->describe() + "; model pupil mapped onto 2-8 mm"
+                                  : "pupil calibration failed: " + why + "; the model pupil is the measured diameter";
+  if (logger_) {
+    TrackerBatch note;
+    note.notices.push_back({now_s, "pupil_calibration", line});
+    logger_->enqueue(std::move(note));
+  }
+  black_phase_.clear();
+  white_phase_.clear();
+  return line;
+}
+
+double TrackerSession::model_pupil_mm() const {
+  const double measured = filter_.model_pupil_mm();
+  return range_ ? map_pupil_to_model_range(measured, *range_) : measured;
+}
+
+std::string TrackerSession::finish(double now_s) {
+  if (!source_ || finished_) return {};
+  finished_ = true;
+  source_->stop();
+  on_frame(now_s);  // what arrived between the last frame and stop()
+  const TrackerStatus status = source_->status();
+  std::ostringstream line;
+  line.precision(3);
+  line << "tracker " << source_->description() << ": " << samples_ << " samples, " << filter_.rejected()
+       << " rejected by the pupil filter, " << status.malformed_messages << " malformed messages skipped";
+  if (source_->live())
+    line << ", " << status.connection_losses << " connection losses, " << status.reconnections
+         << " reconnections (longest gap " << status.longest_gap_s << " s)";
+  if (logger_) {
+    TrackerBatch note;
+    note.notices.push_back({now_s, "tracker_summary", line.str()});
+    logger_->enqueue(std::move(note));
+    logger_->finish();
+  }
+  return line.str();
+}
+
+}  // namespace glarelab

@@ -1,0 +1,67 @@
+#pragma once
+// What the session loop sees of the tracker: started before the trials, polled once per frame,
+// finished after them. Samples go to the TrackerLogger (its own thread and connection) and to the
+// PupilFilter, whose model pupil is what the glare model gets (model_pupil_mm).
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runner/tracker/pupil_calibration.h"
+#include "runner/tracker/pupil_filter.h"
+#include "runner/tracker/tracker_logger.h"
+#include "runner/tracker/tracker_source.h"
+
+namespace glarelab {
+
+class SessionClock;
+
+struct TrackerOptions {
+  std::string spec = "none";           // --tracker
+  bool optional = false;               // --tracker-optional: continue without a tracker that is absent
+  std::string pupil_model = "measured";  // measured | calibrated (Luidolt 2020 5.2.1 ii)
+  double calibration_screen_s = 5.0;   // each of the black and white screens
+};
+
+class TrackerSession {
+ public:
+  // Builds the source; throws TrackerError for a bad --tracker value or an unreadable replay file.
+  TrackerSession(const TrackerOptions& options, std::uint64_t seed);
+  ~TrackerSession();
+
+  bool active() const { return source_ != nullptr; }
+  bool live() const { return source_ && source_->live(); }
+  bool wants_calibration() const { return active() && options_.pupil_model == "calibrated"; }
+  double calibration_screen_s() const { return options_.calibration_screen_s; }
+
+  // Starts the source. An absent tracker throws TrackerError, unless the options allow going on
+  // without: then the source is dropped and the reason returned (to be logged).
+  std::optional<std::string> start(const SessionClock& clock);
+  // Once the session row exists: samples are logged from here on.
+  void attach_log(const std::string& db_path, std::int64_t session_id);
+  // Once per frame: poll, filter, hand to the logger. Never blocks on the database.
+  void on_frame(double now_s);
+  // Calibration phases: samples filtered while a phase is open are kept for calibrate().
+  void begin_calibration_phase(bool black_screen);
+  // Ends calibration; returns the log line (the range, or why it failed and that the measured pupil is used).
+  std::string finish_calibration(double now_s);
+
+  // The pupil for the glare model (mm): measured, or mapped onto 2-8 mm after a calibration.
+  double model_pupil_mm() const;
+  // Stops the source, writes what is left, returns a one-line summary (empty without a tracker).
+  std::string finish(double now_s);
+
+ private:
+  TrackerOptions options_;
+  std::unique_ptr<TrackerSource> source_;
+  std::unique_ptr<TrackerLogger> logger_;
+  PupilFilter filter_;
+  std::int64_t samples_ = 0;
+  enum class Phase { none, black, white } phase_ = Phase::none;
+  std::vector<FilteredPupil> black_phase_, white_phase_;
+  std::optional<PupilRange> range_;
+  bool finished_ = false;
+};
+
+}  // namespace glarelab
