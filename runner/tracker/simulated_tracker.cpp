@@ -13,22 +13,23 @@ constexpr double kMaxPupilMm = 9.0;  // p_max of Ritschel 2009, Eq. 1
 constexpr double kSaccadeDuration_s = 0.03;
 // Sub-indices of CounterRandom(seed, tracker_simulation): one per independent use.
 constexpr std::uint32_t kSubBlinkInterval = 1, kSubBlinkDuration = 2, kSubFixation = 3, kSubFixationX = 4,
-                        kSubFixationY = 5, kSubMeasurement = 6, kSubNoiseLattice = 10;
+                        kSubFixationY = 5, kSubMeasurement = 6;
 }  // namespace
 
-double moon_spencer_pupil_diameter_mm(double field_luminance_cd_m2) {
-  // Ritschel et al. 2009, Eq. 2 (Moon and Spencer 1944): p = 4.9 - 3 tanh(0.4 (log L + 1)).
-  return 4.9 - 3.0 * std::tanh(0.4 * (std::log10(std::max(field_luminance_cd_m2, 1e-6)) + 1.0));
+namespace {
+// The glare engine's pupil model with this tracker's hippus scale, so the simulated tracker reports
+// the pupil of the same eye model (Ritschel et al. 2009, Eqs. 1 and 2).
+EyeParameters tracker_eye_parameters(const SimulatedTrackerSettings& settings) {
+  EyeParameters parameters;
+  parameters.hippus_noise_amplitude = settings.hippus_noise_amplitude;
+  return parameters;
 }
-
-double hippus_pupil_diameter_mm(double mean_pupil_mm, double noise) {
-  // Ritschel et al. 2009, Eq. 1: h = p + noise * (p_max / p) * sqrt(1 - p / p_max).
-  const double p = mean_pupil_mm;
-  return p + noise * (kMaxPupilMm / p) * std::sqrt(std::max(0.0, 1.0 - p / kMaxPupilMm));
-}
+}  // namespace
 
 SimulatedTracker::SimulatedTracker(std::uint64_t seed, SimulatedTrackerSettings settings)
-    : random_(seed, RandomStream::tracker_simulation), settings_(settings) {}
+    : random_(seed, RandomStream::tracker_simulation),
+      settings_(settings),
+      pupil_(tracker_eye_parameters(settings), seed) {}
 
 void SimulatedTracker::start(const SessionClock& clock) {
   // A resumed session continues its time line; the simulated eye starts where the clock is.
@@ -39,31 +40,8 @@ void SimulatedTracker::start(const SessionClock& clock) {
 std::string SimulatedTracker::description() const {
   std::ostringstream text;
   text << "simulated (seed " << random_.seed() << ", " << settings_.rate_hz << " Hz per eye, hippus around "
-       << moon_spencer_pupil_diameter_mm(settings_.field_luminance_cd_m2) << " mm)";
+       << pupil_.mean_diameter_mm(settings_.field_luminance_cd_m2) << " mm)";
   return text.str();
-}
-
-double SimulatedTracker::value_noise(double x) const {
-  // Value noise: random values on the integer lattice, smoothstep-interpolated; three octaves
-  // (frequencies 1, 2, 4; amplitudes 1, 1/2, 1/4), normalised to [-1, 1].
-  double sum = 0.0;
-  double amplitude = 1.0;
-  double frequency = 1.0;
-  double norm = 0.0;
-  for (std::uint32_t octave = 0; octave < 3; ++octave) {
-    const double u = x * frequency;
-    const double cell = std::floor(u);
-    const double f = u - cell;
-    const auto i = static_cast<std::uint64_t>(static_cast<std::int64_t>(cell) + (std::int64_t{1} << 40));
-    const double a = 2.0 * random_.uniform(i, kSubNoiseLattice + octave) - 1.0;
-    const double b = 2.0 * random_.uniform(i + 1, kSubNoiseLattice + octave) - 1.0;
-    const double s = f * f * (3.0 - 2.0 * f);
-    sum += amplitude * (a + (b - a) * s);
-    norm += amplitude;
-    amplitude *= 0.5;
-    frequency *= 2.0;
-  }
-  return sum / norm;
 }
 
 void SimulatedTracker::extend_schedules(double t_s) const {
@@ -106,10 +84,7 @@ TrackerSample SimulatedTracker::sample(std::int64_t k, int eye) const {
     out.valid = false;
     return out;
   }
-  const double mean_mm = moon_spencer_pupil_diameter_mm(settings_.field_luminance_cd_m2);
-  // Eq. 1 evaluates noise at t / p.
-  const double hippus_mm =
-      hippus_pupil_diameter_mm(mean_mm, settings_.hippus_noise_amplitude * value_noise(t / mean_mm));
+  const double hippus_mm = pupil_.hippus_diameter_mm(t, pupil_.mean_diameter_mm(settings_.field_luminance_cd_m2));
   const auto index = static_cast<std::uint64_t>(k);
   out.pupil_diameter_mm =
       hippus_mm + settings_.measurement_noise_mm * random_.normal(index, kSubMeasurement + static_cast<std::uint32_t>(eye));

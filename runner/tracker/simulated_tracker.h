@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "glare/pupil_model.h"
 #include "runner/random.h"
 #include "runner/tracker/tracker_source.h"
 
@@ -21,12 +22,6 @@ struct SimulatedTrackerSettings {
   double mean_fixation_s = 0.45;             // fixations 0.2..0.7 s, then a 30 ms saccade
 };
 
-// The hippus model, exposed for tests and for the glare engine's later unification with its own
-// eye model (glare/). Eq. 2 of Ritschel 2009 (Moon and Spencer 1944): mean pupil in mm for a field
-// luminance in cd/m2, log base 10.
-double moon_spencer_pupil_diameter_mm(double field_luminance_cd_m2);
-// Eq. 1 of Ritschel 2009 with p_max = 9 mm; `noise` in [-1, 1] is the value-noise term.
-double hippus_pupil_diameter_mm(double mean_pupil_mm, double noise);
 
 class SimulatedTracker final : public TrackerSource {
  public:
@@ -42,13 +37,13 @@ class SimulatedTracker final : public TrackerSource {
   TrackerSample sample(std::int64_t k, int eye) const;
   bool blinking(double t_s) const;
   // Three octaves of value noise in [-1, 1] at x (Ritschel 2009, Sec. 3.2).
-  double value_noise(double x) const;
 
  private:
   void extend_schedules(double t_s) const;
 
   CounterRandom random_;
   SimulatedTrackerSettings settings_;
+  PupilModel pupil_;
   double start_s_ = 0.0;
   std::int64_t next_k_ = 0;
   TrackerStatus status_;
