@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "glare/gl/cmf_weights.h"
+#include "glare/cie_cmf.h"
 #include "glare/gl/gl_compute_context.h"
 #include "glare/gl/gl_convolution.h"
 #include "glare/gl/gl_fft.h"

@@ -1,6 +1,8 @@
 #include "glare/cie_cmf.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace glarelab {
 namespace {
@@ -25,6 +27,17 @@ Xyz cie1931_cmf(double l) {
 LinearRgb xyz_to_linear_rec709(const Xyz& c) {
   return {3.2406 * c.x - 1.5372 * c.y - 0.4986 * c.z, -0.9689 * c.x + 1.8758 * c.y + 0.0415 * c.z,
           0.0557 * c.x - 0.2040 * c.y + 1.0570 * c.z};
+}
+
+std::vector<SpectralSample> spectral_samples(int wavelength_count) {
+  if (wavelength_count < 1)
+    throw std::invalid_argument("glare/cie_cmf: wavelength count " + std::to_string(wavelength_count) + " is below 1");
+  std::vector<SpectralSample> samples;
+  for (int i = 0; i < wavelength_count; ++i) {
+    const double wavelength_nm = 380.0 + i * (770.0 - 380.0) / wavelength_count;
+    samples.push_back({wavelength_nm, xyz_to_linear_rec709(cie1931_cmf(wavelength_nm))});
+  }
+  return samples;
 }
 
 }  // namespace glarelab

@@ -4,6 +4,8 @@
 // Functions", JCGT 2(2), 2013, section 2.1 (Eq. 2 and its table). Chosen over shipping the CIE
 // table: Debian packages no CMF table for C++, and the fit is within a few percent of the peak,
 // far below what the PSF's spectral sampling (32 samples) resolves.
+#include <vector>
+
 namespace glarelab {
 
 struct Xyz {
@@ -18,5 +20,16 @@ struct LinearRgb {
 
 // XYZ (D65 white) to linear Rec.709 / sRGB primaries: IEC 61966-2-1:1999, section 5.2 matrix.
 LinearRgb xyz_to_linear_rec709(const Xyz& xyz);
+
+// One wavelength of the chromatic blur with its CMF weight in linear Rec.709. Both compute backends
+// (spectral_psf.cpp, gl/gl_psf.cpp) take their wavelengths and weights from here.
+struct SpectralSample {
+  double wavelength_nm = 0.0;
+  LinearRgb weight;
+};
+
+// Ritschel et al. 2009, section 5: lambda_i = 380 nm + i (770 nm - 380 nm) / n, i = 0..n-1, for an
+// equal-energy spectrum s(lambda) = 1. Throws std::invalid_argument for n < 1.
+std::vector<SpectralSample> spectral_samples(int wavelength_count);
 
 }  // namespace glarelab

@@ -30,9 +30,9 @@ SpectralPsfResult spectral_psf_from_reference(const Psf& reference, const Spectr
   const std::size_t plane = static_cast<std::size_t>(n) * n;
   std::vector<double> xyz(3 * plane, 0.0);
   const double centre = n / 2;
-  for (int i = 0; i < options.wavelength_samples; ++i) {
-    // Ritschel et al. 2009, section 5: lambda_i = 380 + i (770 - 380) / n nm.
-    const double wavelength_nm = 380.0 + i * (770.0 - 380.0) / options.wavelength_samples;
+  for (const SpectralSample& sample : spectral_samples(options.wavelength_samples)) {
+    // Ritschel et al. 2009, section 5: lambda_i = 380 + i (770 - 380) / n nm (cie_cmf.h).
+    const double wavelength_nm = sample.wavelength_nm;
     const Xyz weight = cie1931_cmf(wavelength_nm);
     const double scale = options.reference_wavelength_nm / wavelength_nm;  // x_i = x lambda_ref / lambda_i
     const double jacobian = scale * scale;

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <vector>
 
-#include "glare/gl/cmf_weights.h"
+#include "glare/cie_cmf.h"
 #include "glare/gl/gl_compute_context.h"
 #include "glare/gl/gl_psf.h"
 
@@ -176,28 +176,6 @@ TEST_F(GlPsfTest, SpectralMatchesDoubleReferenceAndSumsToOne) {
     return moment;
   };
   EXPECT_GT(spread(0), spread(2));
-}
-
-TEST(CmfWeights, FitFollowsCie1931Table) {
-  // CIE 1931 2-degree observer (CIE 015:2018, Table 1 values at 5 nm).
-  struct Row { double nm, x, y, z; };
-  for (const Row row : {Row{450.0, 0.33620, 0.03800, 1.77211}, Row{500.0, 0.00490, 0.32300, 0.27200},
-                        Row{555.0, 0.51205, 1.00000, 0.00575}, Row{600.0, 1.06220, 0.63100, 0.00080},
-                        Row{650.0, 0.28350, 0.10700, 0.00000}}) {
-    const CieXyz fit = cie1931_cmf_fit(row.nm);
-    EXPECT_NEAR(fit.x, row.x, 0.025) << row.nm << " nm";
-    EXPECT_NEAR(fit.y, row.y, 0.025) << row.nm << " nm";
-    EXPECT_NEAR(fit.z, row.z, 0.025) << row.nm << " nm";
-  }
-  // D65 white (X, Y, Z) = (0.95047, 1, 1.08883) is Rec.709 (1, 1, 1).
-  const LinearRgb white = xyz_to_linear_rec709({0.95047, 1.0, 1.08883});
-  EXPECT_NEAR(white.r, 1.0, 1e-3);
-  EXPECT_NEAR(white.g, 1.0, 1e-3);
-  EXPECT_NEAR(white.b, 1.0, 1e-3);
-  const auto samples = spectral_samples(32);
-  ASSERT_EQ(samples.size(), 32u);
-  EXPECT_DOUBLE_EQ(samples.front().wavelength_nm, 380.0);
-  EXPECT_DOUBLE_EQ(samples.back().wavelength_nm, 380.0 + 31.0 * 390.0 / 32.0);
 }
 
 TEST_F(GlPsfTest, SameApertureGivesBitIdenticalPsf) {

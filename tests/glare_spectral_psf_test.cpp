@@ -13,6 +13,22 @@
 namespace glarelab {
 namespace {
 
+TEST(GlareCieCmf, SpectralSamplesFollowSection5) {
+  // Ritschel et al. 2009, section 5: lambda_i = 380 + i (770 - 380) / n nm; weights are the CMFs in
+  // linear Rec.709. D65 white (X, Y, Z) = (0.95047, 1, 1.08883) is Rec.709 (1, 1, 1).
+  const LinearRgb white = xyz_to_linear_rec709({0.95047, 1.0, 1.08883});
+  EXPECT_NEAR(white.r, 1.0, 1e-3);
+  EXPECT_NEAR(white.g, 1.0, 1e-3);
+  EXPECT_NEAR(white.b, 1.0, 1e-3);
+  const auto samples = spectral_samples(32);
+  ASSERT_EQ(samples.size(), 32u);
+  EXPECT_DOUBLE_EQ(samples.front().wavelength_nm, 380.0);
+  EXPECT_DOUBLE_EQ(samples.back().wavelength_nm, 380.0 + 31.0 * 390.0 / 32.0);
+  const LinearRgb expected = xyz_to_linear_rec709(cie1931_cmf(samples[10].wavelength_nm));
+  EXPECT_EQ(samples[10].weight.g, expected.g);
+  EXPECT_THROW(spectral_samples(0), std::invalid_argument);
+}
+
 TEST(GlareCieCmf, FitMatchesCie1931TableValues) {
   // CIE 1931 2-degree observer, 5 nm table (CIE 015:2018, Table B.1), hand-copied values. The
   // Wyman et al. 2013 multi-lobe fit is within a few percent of the peak (their Fig. 2): tolerance

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "glare/gl/cmf_weights.h"
+#include "glare/cie_cmf.h"
 #include "runner/gl/shader_program.h"
 
 namespace glarelab::gl {

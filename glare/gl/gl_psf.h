@@ -4,7 +4,7 @@
 // |F|^2 with the zero frequency at pixel (N/2, N/2), each channel normalised to sum 1 by a pairwise
 // reduction on the GPU. Angular pixel size in the Fraunhofer limit: lambda / (N dx) radians.
 // The spectral PSF resamples the reference-wavelength PSF in angle for n wavelengths over
-// 380-770 nm and weights them by the CIE 1931 CMFs in linear Rec.709 (glare/gl/cmf_weights.h).
+// 380-770 nm and weights them by the CIE 1931 CMFs in linear Rec.709 (glare/cie_cmf.h).
 // Requires a current OpenGL 4.5 context; not thread-safe.
 #include <vector>
 
