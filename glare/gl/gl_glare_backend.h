@@ -1,0 +1,32 @@
+#pragma once
+// The GL glare backend: gl_psf.h (aperture, FFT, spectral weights) and gl_convolution.h on an
+// OpenGL 4.5 context it owns (an offscreen one from gl_compute_context.h unless given one). The
+// GlPsf is kept while the grid, aperture width and supersampling stay the same. Phase forms: none
+// and defocus (the paper's Eq. 3 phase cannot be sampled on any GL grid; docs/GLARE_OPTICS.md).
+#include <memory>
+
+#include "glare/gl/gl_convolution.h"
+#include "glare/gl/gl_psf.h"
+#include "glare/glare_backend.h"
+#include "runner/display/display_backend.h"
+
+namespace glarelab::gl {
+
+class GlGlareBackend : public GlareBackend {
+ public:
+  // context: the current context to work in (nullptr: create an offscreen one; DisplayError if none).
+  explicit GlGlareBackend(std::unique_ptr<DisplayBackend> context = nullptr);
+  ~GlGlareBackend() override;
+  std::string name() const override { return "gl"; }
+  Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) override;
+  ImageRGBA convolve(const ImageRGBA& image, const Psf& psf) override;
+  const GlInfo& gl_info() const { return context_->gl_info(); }
+
+ private:
+  std::unique_ptr<DisplayBackend> context_;
+  std::unique_ptr<GlPsf> psf_;
+  PsfOptions psf_layout_;  // grid, width and supersampling psf_ was made for
+  std::unique_ptr<GlConvolution> convolution_;
+};
+
+}  // namespace glarelab::gl
