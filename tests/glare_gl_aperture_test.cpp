@@ -1,5 +1,5 @@
 // The GPU aperture rasteriser against an independent CPU double implementation of the same coverage
-// rule (written here from the rule's statement in glare/gl/gl_aperture.h): every subsample must
+// rule (written here from the rule's statement in glare/aperture_raster.h): every subsample must
 // agree, except subsamples whose point lies within a hair of some edge, where float and double
 // coordinates may round to different sides.
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "glare/aperture_raster.h"
 #include "glare/gl/gl_aperture.h"
 #include "glare/gl/gl_compute_context.h"
 #include "runner/random.h"
@@ -113,7 +114,10 @@ TEST_F(GlApertureTest, EverySubsampleMatchesTheCpuCoverageRule) {
   int mismatches = 0, near_edge_mismatches = 0, partially_covered = 0;
   for (int b = 0; b < across; ++b)
     for (int a = 0; a < across; ++a) {
-      const double x = (a + 0.5 - across / 2.0) * h, y = (across / 2.0 - b - 0.5) * h;
+      // aperture_raster.h: sub-sample a' of pixel i at x = (i - N/2 - 1/2 + (a' + 1/2) / s) dx, so with
+      // a = s i + a' the point is (a + 1/2 - (S + s) / 2) h; rows alike, y pointing up.
+      const double axis = (across + s) / 2.0;
+      const double x = (a + 0.5 - axis) * h, y = (axis - b - 0.5) * h;
       const CpuSample expected = cpu_sample(geometry, x, y);
       const std::size_t index = static_cast<std::size_t>(b) * across + a;
       cpu[index] = expected.transmittance;
@@ -142,6 +146,26 @@ TEST_F(GlApertureTest, EverySubsampleMatchesTheCpuCoverageRule) {
       worst = std::max(worst, std::abs(pixels[static_cast<std::size_t>(j) * n + i] - mean));
     }
   EXPECT_LE(worst, near_edge_mismatches > 0 ? 1.0 / (s * s) + 1e-6 : 1e-6);
+}
+
+TEST_F(GlApertureTest, PupilsMatchTheCpuRasteriserPixelForPixel) {
+  // The CPU rasteriser (glare/aperture_raster.cpp) is the other backend's aperture: the two must put
+  // the optical axis on the same pixel centre, or the PSFs differ by a half-pixel shift (error ~1/N).
+  for (const int n : {256, 1024})
+    for (const double pupil_mm : {1.5, 2.42649, 9.0}) {
+      ApertureGeometry geometry;
+      geometry.pupil_diameter_mm = pupil_mm;
+      geometry.discs.push_back({1.25, -0.5, 0.3, 0.25});
+      gl::GlAperture aperture(n, 10.0, 2);
+      aperture.draw(geometry);
+      const std::vector<float> gpu = aperture.read();
+      ApertureRasterOptions options;
+      options.grid_px = n;
+      const ApertureGrid cpu = rasterise_aperture(geometry, options);
+      int differing = 0;
+      for (std::size_t k = 0; k < gpu.size(); ++k) differing += std::abs(gpu[k] - cpu.transmittance[k]) > 1e-6;
+      EXPECT_EQ(differing, 0) << n << " px, pupil " << pupil_mm << " mm";
+    }
 }
 
 TEST_F(GlApertureTest, PupilAreaAndOrientation) {

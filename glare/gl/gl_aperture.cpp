@@ -42,15 +42,19 @@ GLuint groups(int extent) { return (static_cast<GLuint>(extent) + kLocalSize - 1
 
 int bins_across_for(int samples_across) { return std::min(64, samples_across); }
 
-std::vector<std::uint32_t> bin_primitives(const ApertureGeometry& geometry, int samples_across, double aperture_width_mm) {
+double axis_samples(int samples_across, int supersampling) { return 0.5 * (samples_across + supersampling); }
+
+std::vector<std::uint32_t> bin_primitives(const ApertureGeometry& geometry, int samples_across, double aperture_width_mm,
+                                          int supersampling) {
   const int bins_across = bins_across_for(samples_across);
   const double h = aperture_width_mm / samples_across;
+  const double axis = axis_samples(samples_across, supersampling);
   // Sample a (column, or row) lies in bin a B / S (integer division, as in the shader). Column of
-  // x: a = x / h + S/2 - 0.5; row of y: b = S/2 - 0.5 - y / h. The range is grown by one sample so
+  // x: a = x / h + c - 0.5; row of y: b = c - 0.5 - y / h. The range is grown by one sample so
   // float rounding in the shader cannot put a covered sample outside it.
   const auto bin_range = [&](double lo_mm, double hi_mm, bool rows, int& first, int& last) {
-    const double a0 = (rows ? samples_across / 2.0 - 0.5 - hi_mm / h : lo_mm / h + samples_across / 2.0 - 0.5) - 1.0;
-    const double a1 = (rows ? samples_across / 2.0 - 0.5 - lo_mm / h : hi_mm / h + samples_across / 2.0 - 0.5) + 1.0;
+    const double a0 = (rows ? axis - 0.5 - hi_mm / h : lo_mm / h + axis - 0.5) - 1.0;
+    const double a1 = (rows ? axis - 0.5 - lo_mm / h : hi_mm / h + axis - 0.5) + 1.0;
     const double first_sample = std::max(std::ceil(a0), 0.0);
     const double last_sample = std::min(std::floor(a1), samples_across - 1.0);
     if (!(first_sample <= last_sample)) return false;
@@ -132,7 +136,7 @@ void GlAperture::draw(const ApertureGeometry& geometry) {
                                                transmittance_bits, 0u});
     for (const double coordinate : polygon.vertices_mm) vertices.push_back(static_cast<float>(coordinate));
   }
-  const std::vector<std::uint32_t> bins = bin_primitives(geometry, size_px_ * supersampling_, aperture_width_mm_);
+  const std::vector<std::uint32_t> bins = bin_primitives(geometry, size_px_ * supersampling_, aperture_width_mm_, supersampling_);
   const int bins_across = bins_across_for(size_px_ * supersampling_);
   const std::vector<std::uint32_t> offsets(bins.begin(), bins.begin() + bins_across * bins_across + 1);
   const std::vector<std::uint32_t> items(bins.begin() + bins_across * bins_across + 1, bins.end());
@@ -150,6 +154,7 @@ void GlAperture::draw(const ApertureGeometry& geometry) {
   glUseProgram(draw);
   glUniform1i(glGetUniformLocation(draw, "uSamplesAcross"), across);
   glUniform1f(glGetUniformLocation(draw, "uSampleMm"), static_cast<float>(aperture_width_mm_ / across));
+  glUniform1f(glGetUniformLocation(draw, "uAxisSamples"), static_cast<float>(axis_samples(across, supersampling_)));
   glUniform1f(glGetUniformLocation(draw, "uPupilRadiusMm"), static_cast<float>(0.5 * geometry.pupil_diameter_mm));
   glUniform1i(glGetUniformLocation(draw, "uBinsAcross"), bins_across);
   glUniform1i(glGetUniformLocation(draw, "uPolygonCount"), static_cast<GLint>(geometry.polygons.size()));

@@ -1,8 +1,9 @@
 #pragma once
 // The GPU aperture rasteriser: draws an ApertureGeometry (glare/aperture_geometry.h) into an R32F
 // texture of N x N transmittances at s x s supersampling (glare/shaders/aperture_supersample.comp,
-// then aperture_downsample.comp). The grid spans aperture_width_mm centred on the optical axis,
-// pixel size dx = width / N, x right, y up, texel row 0 the top row (image order). Coverage rule
+// then aperture_downsample.comp). The grid has pixel size dx = width / N with the optical axis at
+// the centre of pixel (N/2, N/2), x right, y up, texel row 0 the top row (image order), exactly as
+// the CPU rasteriser (aperture_raster.h). Coverage rule
 // (the CPU rasteriser's): a subsample belongs to a primitive when its centre is inside it.
 // Requires a current OpenGL 4.5 context; not thread-safe.
 #include <cstdint>
@@ -47,7 +48,11 @@ class GlAperture {
 // box (grown by one sample) touches, discs first, then lines (index | 0x80000000), each in index
 // order. Returns the B*B + 1 offsets followed by the items.
 int bins_across_for(int samples_across);
-std::vector<std::uint32_t> bin_primitives(const ApertureGeometry& geometry, int samples_across, double aperture_width_mm);
+std::vector<std::uint32_t> bin_primitives(const ApertureGeometry& geometry, int samples_across, double aperture_width_mm,
+                                          int supersampling);
+// The optical axis in sample units, c = (S + s) / 2: the centre of pixel (N/2, N/2), where the CPU
+// rasteriser puts it (aperture_raster.h); a sample (a, b) lies at ((a + 0.5 - c) h, (c - b - 0.5) h).
+double axis_samples(int samples_across, int supersampling);
 
 // Reads an R32F texture (row 0 = texel row 0).
 std::vector<float> read_r32f(GLuint texture, int width, int height);

@@ -98,7 +98,9 @@ void GlPsf::run_monochromatic(const ApertureGeometry& geometry, double wavelengt
   std::vector<std::complex<float>> phase_x(static_cast<std::size_t>(size_px_)), phase_y(phase_x.size());
   const double dx_mm = aperture_.pixel_size_mm();
   for (int i = 0; i < size_px_; ++i) {
-    const double x_mm = (i + 0.5 - size_px_ / 2.0) * dx_mm;  // column centre; row j: y = -(same), same square
+    // Pixel centres as in aperture_raster.h: column i at x = (i - N/2) dx, row j at y = (N/2 - j) dx,
+    // whose square is the same function of the index.
+    const double x_mm = (i - size_px_ / 2) * dx_mm;
     const std::complex<double> phase = std::polar(1.0, a_per_mm2 * x_mm * x_mm);
     phase_x[static_cast<std::size_t>(i)] = std::complex<float>(phase);
     phase_y[static_cast<std::size_t>(i)] = std::complex<float>(phase);

@@ -5,7 +5,9 @@
 // Coverage rule, shared with the CPU rasteriser: a sample belongs to a primitive when its point is
 // inside it - disc: distance <= radius; line: distance to the segment <= width / 2; polygon: even-odd.
 // Texel (a, b): a to the right, b down from the top row; its point in millimetres is
-//   x = (a + 0.5 - S / 2) h, y = (S / 2 - b - 0.5) h, with S samples across and h = width / S.
+//   x = (a + 0.5 - c) h, y = (c - b - 0.5) h, with S = N s samples across, h = width / S and
+//   c = (S + s) / 2 the axis in sample units: the centre of pixel (N/2, N/2), as aperture_raster.h
+//   states (sub-sample a' of pixel i at x = (i - N/2 - 1/2 + (a' + 1/2) / s) dx).
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(r32f, binding = 0) uniform writeonly image2D uSamples;
 
@@ -21,6 +23,7 @@ layout(std430, binding = 5) readonly buffer BinItems { uint bin_items[]; };     
 
 uniform int uSamplesAcross;  // S = N * supersampling
 uniform float uSampleMm;     // h
+uniform float uAxisSamples;  // c = (S + s) / 2
 uniform float uPupilRadiusMm;
 uniform int uBinsAcross;  // B: the grid is split into B x B bins of S / B samples (S a multiple of B)
 uniform int uPolygonCount;
@@ -50,8 +53,7 @@ bool inside_polygon_even_odd(vec2 p, uint first, uint count) {
 void main() {
   const ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
   if (texel.x >= uSamplesAcross || texel.y >= uSamplesAcross) return;
-  const float half_across = 0.5 * float(uSamplesAcross);
-  const vec2 p = vec2(float(texel.x) + 0.5 - half_across, half_across - float(texel.y) - 0.5) * uSampleMm;
+  const vec2 p = vec2(float(texel.x) + 0.5 - uAxisSamples, uAxisSamples - float(texel.y) - 0.5) * uSampleMm;
   float transmittance = dot(p, p) <= uPupilRadiusMm * uPupilRadiusMm ? 1.0 : 0.0;
   if (transmittance == 0.0) {
     imageStore(uSamples, texel, vec4(0.0));
