@@ -7,15 +7,22 @@
 // Transmittance composes multiplicatively (Ritschel et al. 2009, section 4: every part of the eye
 // attenuates what passes through it): at a point p,
 //   A(p) = [|p| <= pupil_diameter_mm / 2] * prod over primitives containing p of transmittance.
+#include <cstdint>
 #include <vector>
 
 namespace glarelab {
+
+// The part of the eye a primitive stands for (Ritschel et al. 2009, Table 1), so a PSF can be
+// computed from chosen parts only (`glarelab psf --components`). 64-bit so the primitives have no
+// padding bytes and compare bytewise. Hand-made geometry may leave it unspecified.
+enum class ApertureComponent : std::uint64_t { unspecified, lens, gratings, vitreous, cornea, retina, lids, lashes };
 
 struct ApertureDisc {  // lens, cornea, vitreous and retina particles
   double centre_x_mm = 0.0;
   double centre_y_mm = 0.0;
   double radius_mm = 0.0;
   double transmittance = 0.0;  // 0 = opaque
+  ApertureComponent component = ApertureComponent::unspecified;
 };
 
 struct ApertureLine {  // lens fibres (gratings), eyelashes: a segment with a width
@@ -23,11 +30,13 @@ struct ApertureLine {  // lens fibres (gratings), eyelashes: a segment with a wi
   double x1_mm = 0.0, y1_mm = 0.0;
   double width_mm = 0.0;
   double transmittance = 0.0;
+  ApertureComponent component = ApertureComponent::unspecified;
 };
 
 struct AperturePolygon {  // eyelids: a simple polygon (convex or not, even-odd rule)
   std::vector<double> vertices_mm;  // x0, y0, x1, y1, ...
   double transmittance = 0.0;
+  ApertureComponent component = ApertureComponent::unspecified;
 };
 
 struct ApertureGeometry {

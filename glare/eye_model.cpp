@@ -66,12 +66,24 @@ ApertureGeometry EyeModel::geometry_at(double time_s) const {
   // Front to back, as Ritschel section 5 draws them.
   geometry.discs.reserve(cornea_retina_.cornea().size() + lens_.particles().size() +
                          vitreous_.particles().size() + cornea_retina_.retina().size());
+  // Each part tagged with its component as it is appended (ApertureComponent).
+  const auto tag_new_discs = [&](std::size_t from, ApertureComponent component) {
+    for (std::size_t k = from; k < geometry.discs.size(); ++k) geometry.discs[k].component = component;
+  };
+  std::size_t from = geometry.discs.size();
   geometry.discs.insert(geometry.discs.end(), cornea_retina_.cornea().begin(), cornea_retina_.cornea().end());
+  tag_new_discs(from, ApertureComponent::cornea);
+  from = geometry.discs.size();
   lens_.append_particles(state.lens_equator_displacement_mm, geometry.discs);
+  tag_new_discs(from, ApertureComponent::lens);
   if (state.gratings_in_pupil)
     geometry.lines.insert(geometry.lines.end(), lens_.grating_lines().begin(), lens_.grating_lines().end());
+  from = geometry.discs.size();
   vitreous_.append_particles(state.vitreous_angle_rad, geometry.discs);
+  tag_new_discs(from, ApertureComponent::vitreous);
+  from = geometry.discs.size();
   geometry.discs.insert(geometry.discs.end(), cornea_retina_.retina().begin(), cornea_retina_.retina().end());
+  tag_new_discs(from, ApertureComponent::retina);
   eyelids_.append_occluders(state.lid_closure, geometry);
   return geometry;
 }

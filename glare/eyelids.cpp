@@ -79,6 +79,7 @@ void EyelidModel::append_occluders(double closure, ApertureGeometry& geometry) c
   for (const bool is_upper : {true, false}) {
     AperturePolygon lid;
     lid.transmittance = 0.0;
+    lid.component = ApertureComponent::lids;
     for (int k = 0; k <= kMarginSegments; ++k) {
       const double x = -kLidHalfWidthMm + 2.0 * kLidHalfWidthMm * k / kMarginSegments;
       lid.vertices_mm.push_back(x);
@@ -98,6 +99,7 @@ void EyelidModel::append_occluders(double closure, ApertureGeometry& geometry) c
     line.y1_mm = root_y + direction * lash.overhang_mm * std::cos(lash.tilt_rad);
     line.width_mm = parameters_.eyelash_width_mm;
     line.transmittance = 0.0;
+    line.component = ApertureComponent::lashes;
     geometry.lines.push_back(line);
   }
 }

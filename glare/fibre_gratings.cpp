@@ -29,7 +29,8 @@ void add_radial_fibre_gratings(ApertureGeometry& geometry, const FibreGratingOpt
     for (int k = 0; k < lines; ++k) {
       const double angle = 2.0 * std::numbers::pi * (k + offset) / lines;
       const double c = std::cos(angle), s = std::sin(angle);
-      geometry.lines.push_back({inner * c, inner * s, outer * c, outer * s, options.duty * period_mm, options.transmittance});
+      geometry.lines.push_back({inner * c, inner * s, outer * c, outer * s, options.duty * period_mm, options.transmittance,
+                                ApertureComponent::gratings});
     }
     inner = outer;
   }

@@ -174,6 +174,7 @@ LensModel::LensModel(const EyeParameters& p, std::uint64_t seed) : parameters_(p
       line.y1_mm = r1 * uy + offset * vy;
       line.width_mm = p.lens_grating_line_width_fraction * period;
       line.transmittance = p.lens_grating_transmittance;
+      line.component = ApertureComponent::gratings;
       grating_lines_.push_back(line);
       grating_min_reach_mm_ = std::min(grating_min_reach_mm_, std::hypot(r0, offset) - 0.5 * line.width_mm);
     }

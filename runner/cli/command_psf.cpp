@@ -1,10 +1,13 @@
+#include <cstdint>
 #include <iostream>
 #include <memory>
 
+#include "glare/aperture_components.h"
+#include "glare/eye_model.h"
 #include "glare/fibre_gratings.h"
+#include "glare/glare_backend.h"
 #include "glare/psf_cpu.h"
 #include "glare/psf_exr.h"
-#include "glare/spectral_psf.h"
 #include "runner/cli/commands.h"
 
 namespace glarelab::cli {
@@ -22,8 +25,24 @@ struct PsfArguments {
   double defocus_dioptres = 0.0;
   std::string backend = "cpu";
   bool gratings = false;
+  std::string mode;  // empty: a bare pupil (with --gratings); else the eye model in this mode
+  double time_s = 0.0;
+  std::uint64_t seed = 1;
+  std::string components = "all";
   std::string out;
 };
+
+// The control condition has no glare: its PSF is the identity of convolution, a unit pixel at the
+// centre, on the grid and angular scale the glare PSF would have.
+Psf delta_psf(const PsfOptions& options) {
+  Psf psf;
+  psf.size_px = options.grid_px;
+  psf.channels = options.spectral ? 3 : 1;
+  psf.degrees_per_pixel = psf_degrees_per_pixel(options.wavelength_nm, options.aperture_width_mm);
+  psf.values.assign(static_cast<std::size_t>(psf.channels) * psf.size_px * psf.size_px, 0.0);
+  for (int c = 0; c < psf.channels; ++c) psf.at(c, psf.size_px / 2, psf.size_px / 2) = 1.0;
+  return psf;
+}
 
 }  // namespace
 
@@ -54,15 +73,55 @@ Action add_psf_command(CLI::App& app) {
   command->add_option("--supersampling", args->supersampling, "Sub-samples per pixel side (>= 2)")->check(CLI::Range(2, 16))->capture_default_str();
   command->add_option("--fresnel", args->fresnel, "Phase before the FFT: none (Fraunhofer), defocus, paper (Eq. 3, d = 24 mm)")
       ->check(CLI::IsMember({"none", "defocus", "paper"}))->capture_default_str();
-  command->add_option("--defocus-dioptres", args->defocus_dioptres, "Accommodation error (dioptres) for --fresnel defocus")->capture_default_str();
-  command->add_option("--backend", args->backend, "Compute backend")->check(CLI::IsMember({"cpu"}))->capture_default_str();
-  command->add_flag("--gratings", args->gratings, "Add radial lens-fibre gratings (annulus 1.5-2.5 mm, halo at 3 deg for 568 nm)");
+  CLI::Option* pupil_option = command->get_option("--pupil-diameter-mm");
+  CLI::Option* defocus_option =
+      command->add_option("--defocus-dioptres", args->defocus_dioptres,
+                          "Accommodation error (dioptres) for --fresnel defocus (with --mode: replaces the eye's)")
+          ->capture_default_str();
+  command->add_option("--backend", args->backend, "Compute backend: cpu (FFTW double), gl, or auto (gl on a hardware GPU)")
+      ->check(CLI::IsMember({"cpu", "gl", "auto"}))->capture_default_str();
+  CLI::Option* gratings_option = command->add_flag(
+      "--gratings", args->gratings, "Add radial lens-fibre gratings (annulus 1.5-2.5 mm, halo at 3 deg for 568 nm)");
+  CLI::Option* mode_option =
+      command->add_option("--mode", args->mode,
+                          "Aperture from the eye model (docs/EYE_MODEL.md) in this condition: dynamic, static (frozen "
+                          "at the eye's static time), control (no glare: a delta PSF)")
+          ->check(CLI::IsMember({"dynamic", "static", "control"}))
+          ->excludes(gratings_option);
+  command->add_option("--time-s", args->time_s, "Time of the eye model (s)")->check(CLI::NonNegativeNumber)->needs(mode_option)->capture_default_str();
+  command->add_option("--seed", args->seed, "Seed of the eye model")->needs(mode_option)->capture_default_str();
+  command->add_option("--components", args->components,
+                      "Parts of the eye to keep, comma-separated: pupil,lens,gratings,vitreous,cornea,retina,lashes, or all")
+      ->needs(mode_option)
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            try {
+              parse_component_selection(text);
+              return std::string();
+            } catch (const std::invalid_argument& error) {
+              return std::string(error.what());
+            }
+          },
+          "COMPONENTS"))
+      ->capture_default_str();
   command->add_option("--out", args->out, "Output EXR file")->required();
   return [=]() {
     return report_errors([&]() {
       ApertureGeometry geometry;
       geometry.pupil_diameter_mm = args->pupil_diameter_mm;
       geometry.defocus_dioptres = args->defocus_dioptres;
+      if (!args->mode.empty()) {
+        EyeParameters parameters;
+        parameters.mode = parse_glare_mode(args->mode);
+        geometry = keep_components(EyeModel(parameters, args->seed).geometry_at(args->time_s),
+                                   parse_component_selection(args->components));
+        if (pupil_option->count() > 0) geometry.pupil_diameter_mm = args->pupil_diameter_mm;
+        if (defocus_option->count() > 0) geometry.defocus_dioptres = args->defocus_dioptres;
+        std::cout << "psf: eye model " << args->mode << ", t " << args->time_s << " s, seed " << args->seed << ": pupil "
+                  << geometry.pupil_diameter_mm << " mm, defocus " << geometry.defocus_dioptres << " D, "
+                  << geometry.discs.size() << " discs, " << geometry.lines.size() << " lines, "
+                  << geometry.polygons.size() << " polygons (" << args->components << ")\n";
+      }
       if (args->gratings) {
         FibreGratingOptions gratings;
         gratings.period_um = grating_period_um(568.0, 3.0);
@@ -74,28 +133,28 @@ Action add_psf_command(CLI::App& app) {
                     << pixel_um << " um aperture pixels (need < " << 0.5 * gratings.period_um
                     << " um: e.g. --grid 2048 --aperture-width-mm 5.6)\n";
       }
-      MonochromaticPsfOptions options;
-      options.raster.grid_px = args->grid_px;
-      options.raster.aperture_width_mm = args->aperture_width_mm;
-      options.raster.supersampling = args->supersampling;
+      PsfOptions options;
+      options.grid_px = args->grid_px;
+      options.aperture_width_mm = args->aperture_width_mm;
+      options.supersampling = args->supersampling;
       options.wavelength_nm = args->wavelength_nm;
+      options.spectral = args->spectral;
+      options.wavelength_samples = args->wavelength_samples;
       options.phase = parse_phase_form(args->fresnel);
-      const MonochromaticPsfResult mono = compute_monochromatic_psf(geometry, options);
-      if (!mono.sampling_warning.empty()) std::cerr << "warning: " << mono.sampling_warning << "\n";
-      Psf psf = mono.psf;
-      if (args->spectral) {
-        SpectralPsfOptions spectral;
-        spectral.wavelength_samples = args->wavelength_samples;
-        spectral.reference_wavelength_nm = args->wavelength_nm;
-        const SpectralPsfResult result = spectral_psf_from_reference(mono.psf, spectral);
-        std::cout << "psf: clamped negative Rec.709 fraction R " << result.clamped_negative_fraction[0] << ", G "
-                  << result.clamped_negative_fraction[1] << ", B " << result.clamped_negative_fraction[2] << "\n";
-        psf = result.psf;
+      GlareBackendChoice choice = create_glare_backend(args->backend);
+      std::cout << "psf: " << choice.reason << "\n";
+      Psf psf;
+      if (!geometry.glare_enabled) {
+        psf = delta_psf(options);
+        std::cout << "psf: control condition: no glare, a delta PSF (the image passes through unchanged)\n";
+      } else {
+        psf = choice.backend->psf(geometry, options);
+        if (!choice.backend->last_warning().empty()) std::cerr << "warning: " << choice.backend->last_warning() << "\n";
       }
       write_psf_exr(args->out, psf);
       std::cout << "psf: wrote " << args->out << ": " << psf.size_px << "x" << psf.size_px << " px, "
                 << (psf.channels == 1 ? "Y" : "R,G,B") << ", " << psf.degrees_per_pixel << " deg/px, pupil "
-                << args->pupil_diameter_mm << " mm, fresnel " << args->fresnel << ", backend cpu\n";
+                << args->pupil_diameter_mm << " mm, fresnel " << args->fresnel << ", backend " << choice.backend->name() << "\n";
       return 0;
     });
   };
