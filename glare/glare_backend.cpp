@@ -47,7 +47,8 @@ GlareBackendChoice create_glare_backend(const std::string& name, const GlareBack
     auto backend = cpu();
     const std::string picked = backend->name();
     return {std::move(backend), "glare backend auto picked " + picked + ": the OpenGL renderer is " + renderer +
-                                    ", a software rasteriser, on which a compute FFT is about 100 times slower than FFTW."};
+                                    ", a software rasteriser: the GL path would run on the same CPU cores, slower than FFTW "
+                                    "(docs/PERFORMANCE.md)."};
   }
   return {std::make_unique<gl::GlGlareBackend>(std::move(context)),
           "glare backend auto picked gl: the OpenGL renderer " + renderer + " is a hardware GPU."};

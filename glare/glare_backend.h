@@ -4,8 +4,9 @@
 // and options and return the same Psf (glare/psf.h) and ImageRGBA; tests compare them.
 //
 // Choosing: create_glare_backend("cpu" | "gl" | "auto"). On a hardware GPU the GL path is the fast
-// one; on a software rasteriser (Mesa llvmpipe/softpipe/swrast, VMware SVGA3D) a compute FFT runs
-// about 100 times slower than FFTW on the same cores (docs/PERFORMANCE.md), so `auto` takes the CPU.
+// one; on a software rasteriser (Mesa llvmpipe/softpipe/swrast, VMware SVGA3D) the GL path runs on
+// the same CPU cores and is slower than FFTW there (3x for the PSF, 20x for the convolution at
+// N = 1024 on llvmpipe, docs/PERFORMANCE.md), so `auto` takes the CPU.
 #include <memory>
 #include <string>
 

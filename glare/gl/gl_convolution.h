@@ -47,6 +47,9 @@ class GlConvolution {
   // (with their counts), a malformed PSF, or a padded size above 4096.
   ImageRGBA convolve(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options = {},
                      GlConvolutionReport* report = nullptr);
+  // Drops the kept PSF spectrum, so the next call transforms its PSF again (as for a new PSF each
+  // frame in dynamic glare; the benchmark times that case).
+  void forget_psf() { kernel_ready_ = false; }
 
  private:
   struct Ffts;

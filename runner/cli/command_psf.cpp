@@ -154,7 +154,7 @@ Action add_psf_command(CLI::App& app) {
       write_psf_exr(args->out, psf);
       std::cout << "psf: wrote " << args->out << ": " << psf.size_px << "x" << psf.size_px << " px, "
                 << (psf.channels == 1 ? "Y" : "R,G,B") << ", " << psf.degrees_per_pixel << " deg/px, pupil "
-                << args->pupil_diameter_mm << " mm, fresnel " << args->fresnel << ", backend " << choice.backend->name() << "\n";
+                << geometry.pupil_diameter_mm << " mm, fresnel " << args->fresnel << ", backend " << choice.backend->name() << "\n";
       return 0;
     });
   };

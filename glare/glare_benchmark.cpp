@@ -1,0 +1,270 @@
+#include "glare/glare_benchmark.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "glare/aperture_raster.h"
+#include "glare/convolution_cpu.h"
+#include "glare/eye_model.h"
+#include "glare/gl/gl_aperture.h"
+#include "glare/gl/gl_compute_context.h"
+#include "glare/gl/gl_convolution.h"
+#include "glare/gl/gl_fft.h"
+#include "glare/gl/gl_psf.h"
+#include "glare/psf_cpu.h"
+#include "glare/psf_scale.h"
+#include "glare/spectral_psf.h"
+
+namespace glarelab {
+namespace {
+
+constexpr double kApertureWidthMm = 10.0;
+constexpr double kWavelengthNm = 575.0;  // Ritschel's reference wavelength (section 5)
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Fastest of `repeats` runs of `work` (which must finish its work before returning).
+template <typename Work>
+double fastest(int repeats, Work&& work) {
+  double best = 1e300;
+  for (int r = 0; r < std::max(1, repeats); ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    best = std::min(best, seconds_since(start));
+  }
+  return best;
+}
+
+template <typename A, typename B>
+double relative_l2(const A& test, const B& reference) {
+  double difference = 0.0, norm = 0.0;
+  for (std::size_t k = 0; k < reference.size(); ++k) {
+    const double d = static_cast<double>(test[k]) - static_cast<double>(reference[k]);
+    difference += d * d;
+    norm += static_cast<double>(reference[k]) * static_cast<double>(reference[k]);
+  }
+  return norm > 0.0 ? std::sqrt(difference / norm) : 0.0;
+}
+
+std::vector<float> rgb_of(const ImageRGBA& image) {
+  std::vector<float> values;
+  values.reserve(image.rgba.size() / 4 * 3);
+  for (std::size_t k = 0; k < image.rgba.size(); ++k)
+    if (k % 4 != 3) values.push_back(image.rgba[k]);
+  return values;
+}
+
+// N x 3N/4 HDR frame: a 1-3 cd/m2 gradient and a 1e5 cd/m2 source of N/64 px, off centre.
+ImageRGBA benchmark_frame(int grid_px) {
+  ImageRGBA image(grid_px, grid_px * 3 / 4, 0.0f);
+  for (int y = 0; y < image.height_px; ++y)
+    for (int x = 0; x < image.width_px; ++x) {
+      float* p = image.pixel(x, y);
+      p[0] = 1.0f + 2.0f * static_cast<float>(x) / static_cast<float>(image.width_px);
+      p[1] = 1.5f;
+      p[2] = 1.0f + 2.0f * static_cast<float>(y) / static_cast<float>(image.height_px);
+    }
+  const int side = std::max(1, grid_px / 64), x0 = grid_px * 5 / 8, y0 = image.height_px / 3;
+  for (int y = y0; y < y0 + side; ++y)
+    for (int x = x0; x < x0 + side; ++x) {
+      float* p = image.pixel(x, y);
+      p[0] = p[1] = p[2] = 1e5f;
+    }
+  return image;
+}
+
+// The PSF onto display pixels 4 times its own: N/4 pixels across on the frame.
+Psf at_display_scale(const Psf& psf) { return resample_psf_to_display(psf, 4.0 * psf.degrees_per_pixel); }
+
+// Central N x N of a 2N PSF (its centre 2N/2 lands on N/2).
+std::vector<double> central_crop(const Psf& large, int n) {
+  std::vector<double> crop(static_cast<std::size_t>(n) * n);
+  const int offset = (large.size_px - n) / 2;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) crop[static_cast<std::size_t>(y) * n + x] = large.at(0, x + offset, y + offset);
+  return crop;
+}
+
+struct CpuRun {
+  GlareBenchmarkRow row;
+  Psf mono, spectral;
+  ImageRGBA frame;
+};
+
+CpuRun run_cpu(const ApertureGeometry& geometry, int n, FftPrecision precision, const GlareBenchmarkOptions& options) {
+  CpuRun run;
+  run.row.grid_px = n;
+  run.row.backend = std::string("cpu ") + fft_precision_name(precision);
+  ApertureRasterOptions raster;
+  raster.grid_px = n;
+  raster.aperture_width_mm = kApertureWidthMm;
+  ApertureGrid grid;
+  run.row.aperture_s = fastest(options.repeats, [&] { grid = rasterise_aperture(geometry, raster); });
+  MonochromaticPsfOptions mono;
+  mono.raster = raster;
+  mono.wavelength_nm = kWavelengthNm;
+  mono.precision = precision;
+  (void)compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, geometry.defocus_dioptres, mono);  // FFTW plans
+  run.row.psf_s = fastest(options.repeats, [&] {
+    run.mono = compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, geometry.defocus_dioptres, mono).psf;
+  });
+  SpectralPsfOptions spectral;
+  spectral.wavelength_samples = options.wavelength_samples;
+  spectral.reference_wavelength_nm = kWavelengthNm;
+  run.row.spectral_s = fastest(options.repeats, [&] { run.spectral = spectral_psf_from_reference(run.mono, spectral).psf; });
+  const ImageRGBA frame = benchmark_frame(n);
+  const Psf kernel = at_display_scale(run.spectral);
+  ConvolutionOptions convolution;
+  convolution.precision = precision;
+  run.row.convolution_s = fastest(options.repeats, [&] { run.frame = convolve_image_cpu(frame, kernel, convolution); });
+  return run;
+}
+
+struct GlRun {
+  GlareBenchmarkRow row;
+  Psf mono, spectral;
+  ImageRGBA frame;
+};
+
+GlRun run_gl(const ApertureGeometry& geometry, int n, const GlareBenchmarkOptions& options) {
+  GlRun run;
+  run.row.grid_px = n;
+  run.row.backend = "gl";
+  gl::GlAperture aperture(n, kApertureWidthMm, 2);
+  gl::GlPsf psf(n, kApertureWidthMm, 2);
+  // Warm-up: llvmpipe compiles each shader at its first dispatch.
+  aperture.draw(geometry);
+  psf.run_spectral(geometry, options.wavelength_samples, kWavelengthNm);
+  glFinish();
+  run.row.aperture_s = fastest(options.repeats, [&] {
+    aperture.draw(geometry);
+    glFinish();
+  });
+  const double mono_total = fastest(options.repeats, [&] {
+    psf.run_monochromatic(geometry, kWavelengthNm);
+    glFinish();
+  });
+  run.mono = psf.read(1, kWavelengthNm);
+  const double spectral_total = fastest(options.repeats, [&] {
+    psf.run_spectral(geometry, options.wavelength_samples, kWavelengthNm);
+    glFinish();
+  });
+  run.spectral = psf.read(3, kWavelengthNm);
+  // GlPsf draws its own aperture: the stages are the differences of the cumulative runs.
+  run.row.psf_s = std::max(0.0, mono_total - run.row.aperture_s);
+  run.row.spectral_s = std::max(0.0, spectral_total - mono_total);
+  const ImageRGBA frame = benchmark_frame(n);
+  const Psf kernel = at_display_scale(run.spectral);
+  gl::GlConvolution convolution;
+  (void)convolution.convolve(frame, kernel);  // warm-up
+  // A new PSF each frame (dynamic glare): its spectrum is transformed again on every timed call.
+  run.row.convolution_s = fastest(options.repeats, [&] {
+    convolution.forget_psf();
+    run.frame = convolution.convolve(frame, kernel);
+  });
+  return run;
+}
+
+std::string milliseconds(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, seconds < 0.1 ? "%.1f" : "%.0f", 1e3 * seconds);
+  return text;
+}
+
+std::string scientific(double value) {
+  if (value == 0.0) return "0 (reference)";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1e", value);
+  return text;
+}
+
+}  // namespace
+
+GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options) {
+  const auto progress = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  for (int n : options.grid_sizes) {
+    if (n < 16 || n % 2 != 0) throw std::invalid_argument("glare benchmark: grid " + std::to_string(n) + " is not an even size >= 16");
+    if (options.include_gl && !gl::is_supported_fft_length(n))
+      throw std::invalid_argument("glare benchmark: grid " + std::to_string(n) + " is not a GL FFT size (powers of two 16..4096)");
+  }
+  GlareBenchmarkResult result;
+  // The first instant from time_s on (steps of 0.1 s) with no blink under way: a closing lid would
+  // make the aperture, and so the timings, depend on the blink phase.
+  const EyeModel eye(EyeParameters{}, options.seed);
+  double time_s = options.time_s;
+  while (eye.state_at(time_s).blink_closure > 0.0 && time_s < options.time_s + 60.0) time_s += 0.1;
+  const ApertureGeometry geometry = eye.geometry_at(time_s);
+  {
+    std::ostringstream text;
+    text << "eye model (default parameters) at t = " << time_s << " s (no blink), seed " << options.seed << ": pupil "
+         << geometry.pupil_diameter_mm << " mm, " << geometry.discs.size() << " discs, " << geometry.lines.size()
+         << " lines, " << geometry.polygons.size() << " polygons; aperture width " << kApertureWidthMm
+         << " mm, supersampling 2, " << options.wavelength_samples << " wavelengths";
+    result.aperture = text.str();
+  }
+  std::unique_ptr<DisplayBackend> context;
+  if (options.include_gl) {
+    context = gl::create_compute_context();
+    result.renderer = context->gl_info().renderer;
+  }
+  for (int n : options.grid_sizes) {
+    progress("bench: N = " + std::to_string(n) + ": CPU double reference at 2N = " + std::to_string(2 * n));
+    MonochromaticPsfOptions fine;
+    fine.raster.grid_px = 2 * n;
+    fine.raster.aperture_width_mm = kApertureWidthMm;
+    fine.wavelength_nm = kWavelengthNm;
+    const std::vector<double> reference_2n = central_crop(compute_monochromatic_psf(geometry, fine).psf, n);
+
+    progress("bench: N = " + std::to_string(n) + ": cpu float64");
+    CpuRun reference = run_cpu(geometry, n, FftPrecision::float64, options);
+    reference.row.discretisation_error = relative_l2(reference.mono.values, reference_2n);
+    const std::vector<float> reference_frame = rgb_of(reference.frame);
+    result.rows.push_back(reference.row);
+
+    progress("bench: N = " + std::to_string(n) + ": cpu float32");
+    CpuRun single = run_cpu(geometry, n, FftPrecision::float32, options);
+    single.row.psf_error = relative_l2(single.mono.values, reference.mono.values);
+    single.row.spectral_error = relative_l2(single.spectral.values, reference.spectral.values);
+    single.row.frame_error = relative_l2(rgb_of(single.frame), reference_frame);
+    single.row.discretisation_error = relative_l2(single.mono.values, reference_2n);
+    result.rows.push_back(single.row);
+
+    if (options.include_gl) {
+      progress("bench: N = " + std::to_string(n) + ": gl on " + result.renderer);
+      GlRun gpu = run_gl(geometry, n, options);
+      gpu.row.psf_error = relative_l2(gpu.mono.values, reference.mono.values);
+      gpu.row.spectral_error = relative_l2(gpu.spectral.values, reference.spectral.values);
+      gpu.row.frame_error = relative_l2(rgb_of(gpu.frame), reference_frame);
+      gpu.row.discretisation_error = relative_l2(gpu.mono.values, reference_2n);
+      result.rows.push_back(gpu.row);
+    }
+  }
+  if (context) context.reset();
+  return result;
+}
+
+std::string format_glare_benchmark_table(const GlareBenchmarkResult& result) {
+  std::ostringstream table;
+  table << "| N | backend | aperture ms | FFT+PSF ms | spectral ms | convolution ms (N x 3N/4) | total ms "
+           "| PSF error vs CPU double | spectral error vs CPU double | frame error vs CPU double "
+           "| PSF error vs 2N reference |\n";
+  table << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const GlareBenchmarkRow& row : result.rows)
+    table << "| " << row.grid_px << " | " << row.backend << " | " << milliseconds(row.aperture_s) << " | "
+          << milliseconds(row.psf_s) << " | " << milliseconds(row.spectral_s) << " | " << milliseconds(row.convolution_s)
+          << " | " << milliseconds(row.total_s()) << " | " << scientific(row.psf_error) << " | "
+          << scientific(row.spectral_error) << " | " << scientific(row.frame_error) << " | "
+          << scientific(row.discretisation_error) << " |\n";
+  return table.str();
+}
+
+}  // namespace glarelab

@@ -1,0 +1,55 @@
+// glarelab bench: speed against error of the glare stages on both compute backends, per grid size
+// (glare/glare_benchmark.h), as a Markdown table on stdout; progress on stderr.
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include "glare/glare_backend.h"
+#include "glare/glare_benchmark.h"
+#include "runner/cli/commands.h"
+
+namespace glarelab::cli {
+namespace {
+
+struct BenchArguments {
+  bool quick = false;
+  bool no_gl = false;
+  int repeats = 0;  // 0: 1 with --quick, else 3
+};
+
+}  // namespace
+
+Action add_bench_command(CLI::App& app) {
+  auto args = std::make_shared<BenchArguments>();
+  CLI::App* command = app.add_subcommand(
+      "bench", "Time the glare stages on the CPU and GL backends beside their errors (a speed-against-error table)");
+  command->add_flag("--quick", args->quick, "Grids 256, 512, 1024 and one run per stage (default adds 2048, best of 3)");
+  command->add_flag("--no-gl", args->no_gl, "CPU backends only");
+  command->add_option("--repeats", args->repeats, "Runs per stage, the fastest kept (default 1 with --quick, else 3)")
+      ->check(CLI::Range(1, 100));
+  return [=]() {
+    return report_errors([&]() {
+      GlareBenchmarkOptions options;
+      options.grid_sizes = args->quick ? std::vector<int>{256, 512, 1024} : std::vector<int>{256, 512, 1024, 2048};
+      options.repeats = args->repeats > 0 ? args->repeats : (args->quick ? 1 : 3);
+      options.include_gl = !args->no_gl;
+      options.progress = [](const std::string& line) { std::cerr << line << std::endl; };
+      const GlareBenchmarkResult result = run_glare_benchmark(options);
+      std::cout << "Aperture: " << result.aperture << ".\n";
+      if (!result.renderer.empty()) std::cout << "OpenGL renderer: " << result.renderer << ".\n";
+      std::ifstream cpuinfo("/proc/cpuinfo");
+      for (std::string line; std::getline(cpuinfo, line);)
+        if (line.rfind("model name", 0) == 0) {
+          std::cout << "CPU: " << line.substr(line.find(':') + 2) << ".\n";
+          break;
+        }
+      std::cout << "Errors are relative L2: against the CPU double path at the same N, and the monochromatic PSF "
+                   "against the CPU double PSF of the 2N grid (central N x N).\n\n"
+                << format_glare_benchmark_table(result);
+      if (!args->no_gl) std::cout << "\n" << create_glare_backend("auto").reason << "\n";
+      return 0;
+    });
+  };
+}
+
+}  // namespace glarelab::cli
