@@ -5,7 +5,7 @@
 //
 // Choosing: create_glare_backend("cpu" | "gl" | "auto"). On a hardware GPU the GL path is the fast
 // one; on a software rasteriser (Mesa llvmpipe/softpipe/swrast, VMware SVGA3D) the GL path runs on
-// the same CPU cores and is slower than FFTW there (3x for the PSF, 20x for the convolution at
+// the same CPU cores and is slower than FFTW there (3x for the PSF, 15x for the convolution at
 // N = 1024 on llvmpipe, docs/PERFORMANCE.md), so `auto` takes the CPU.
 #include <memory>
 #include <string>
