@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
       {"eye-trace", glarelab::cli::add_eye_trace_command(app)},
       {"analyze", glarelab::cli::add_analyze_command(app)},
       {"devices", glarelab::cli::add_devices_command(app)},
+      {"render", glarelab::cli::add_render_command(app)},
   };
   try {
     app.parse(argc, argv);
