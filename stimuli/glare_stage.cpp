@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "glare/aperture_raster.h"
 #include "glare/convolution_cpu.h"
 #include "glare/psf_cpu.h"
 #include "glare/psf_scale.h"
@@ -28,10 +29,34 @@ double min_luminance(const ImageRGBA& image) {
   return image.empty() ? 0.0 : lowest;
 }
 
+// Convolves only the part of the frame that glare can change: the bounding box of its non-black
+// pixels grown by the PSF's half-size. Outside it the exact result is 0 (no light within the PSF's
+// reach), which is what the frame already holds; inside it the zero-padded FFT convolution of the
+// crop equals that of the whole frame, because everything the crop leaves out is black. A stimulus
+// on a black background (the demo: two 256 px scenes on a 1024 x 512 display) costs a fraction.
 ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf) {
   ConvolutionOptions options;
   options.precision = FftPrecision::float64;
-  return convolve_image_cpu(frame, display_psf, options);
+  int x0 = frame.width_px, y0 = frame.height_px, x1 = -1, y1 = -1;
+  for (int y = 0; y < frame.height_px; ++y)
+    for (int x = 0; x < frame.width_px; ++x) {
+      const float* p = frame.pixel(x, y);
+      if (p[0] != 0.0f || p[1] != 0.0f || p[2] != 0.0f) {
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+    }
+  if (x1 < 0) return frame;  // all black: so is its glare
+  const int reach = display_psf.size_px / 2;
+  x0 = std::max(0, x0 - reach), y0 = std::max(0, y0 - reach);
+  x1 = std::min(frame.width_px - 1, x1 + reach), y1 = std::min(frame.height_px - 1, y1 + reach);
+  if (x0 == 0 && y0 == 0 && x1 == frame.width_px - 1 && y1 == frame.height_px - 1 && frame.depth.empty())
+    return convolve_image_cpu(frame, display_psf, options);
+  ImageRGBA crop(x1 - x0 + 1, y1 - y0 + 1);
+  for (int y = y0; y <= y1; ++y) std::copy_n(frame.pixel(x0, y), 4 * crop.width_px, crop.pixel(0, y - y0));
+  const ImageRGBA glared = convolve_image_cpu(crop, display_psf, options);
+  ImageRGBA out = frame;
+  for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(0, y - y0), 4 * crop.width_px, out.pixel(x0, y));
+  return out;
 }
 
 }  // namespace
@@ -73,7 +98,7 @@ EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
   return *found->second;
 }
 
-Psf GlareStage::display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state) {
+std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state) {
   if (mode == GlareMode::control) throw std::invalid_argument("glare stage: control has no PSF");
   EyeModel& eye = eye_for(mode, field_luminance_cd_m2);
   if (mode == GlareMode::dynamic && time_s > last_recorded_s_) {
@@ -88,7 +113,11 @@ Psf GlareStage::display_psf(GlareMode mode, double time_s, double field_luminanc
   options.raster.supersampling = spec_.supersampling;
   options.wavelength_nm = 575.0;  // Ritschel's reference wavelength (section 5)
   options.phase = PhaseForm::defocus;
-  const MonochromaticPsfResult mono = compute_monochromatic_psf(geometry, options);
+  const ApertureGrid aperture = rasterise_aperture(geometry, options.raster);
+  if (std::all_of(aperture.transmittance.begin(), aperture.transmittance.end(), [](double a) { return a == 0.0; }))
+    return std::nullopt;
+  const MonochromaticPsfResult mono =
+      compute_monochromatic_psf(aperture, geometry.pupil_diameter_mm, geometry.defocus_dioptres, options);
   SpectralPsfOptions spectral;
   spectral.wavelength_samples = spec_.wavelength_samples;
   spectral.reference_wavelength_nm = options.wavelength_nm;
@@ -105,7 +134,7 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
 
   const double mean_cd_m2 = mean_luminance(frame_cd_m2);
   // Static: the frozen eye and the frame determine the PSF; computed once per field luminance.
-  Psf psf;
+  std::optional<Psf> psf;
   EyeState state;
   if (mode == GlareMode::static_eye) {
     auto cached = static_psfs_.find(mean_cd_m2);
@@ -114,10 +143,19 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     state = eye_for(mode, mean_cd_m2).state_at(time_s);
   } else {
     psf = display_psf(mode, time_s, mean_cd_m2, &state);
+    if (psf) last_open_dynamic_psf_ = psf;
   }
   r.pupil_diameter_mm = state.pupil_diameter_mm;
   r.gratings_in_pupil = state.gratings_in_pupil;
-  r.wing_fraction = psf_wing_fraction(psf);
+  if (!psf) {
+    r.eye_closed = true;
+    psf = mode == GlareMode::dynamic ? last_open_dynamic_psf_ : std::nullopt;
+    if (!psf) {
+      r.skip_reason = "eye closed (blink): no light reaches the retina and no open frame came before";
+      return frame_cd_m2;
+    }
+  }
+  r.wing_fraction = psf_wing_fraction(*psf);
   r.visibility_bound =
       visibility_bound(max_luminance(frame_cd_m2), min_luminance(frame_cd_m2), r.wing_fraction, spec_.visibility_floor_cd_m2);
   if (spec_.skip_invisible && r.visibility_bound < spec_.visibility_weber_fraction) {
@@ -126,7 +164,7 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     return frame_cd_m2;
   }
   r.convolved = true;
-  return convolve_frame(frame_cd_m2, psf);
+  return convolve_frame(frame_cd_m2, *psf);
 }
 
 }  // namespace glarelab

@@ -27,6 +27,10 @@ struct GlareFrameReport {
   std::string skip_reason;         // non-empty when a dynamic or static frame was not convolved
   double pupil_diameter_mm = 0.0;  // 0 for control
   bool gratings_in_pupil = false;
+  // The lids closed the pupil completely (a blink): no light, no PSF. A dynamic eye then holds the
+  // PSF of the last frame it saw open (a closed eye's PSF is undefined, and dropping the glare for
+  // the ~0.1 s of closure would flash the frame); with no such frame the glare is skipped.
+  bool eye_closed = false;
   // Upper bound of max_x |glare(x) - frame(x)| / max(frame(x), floor) (see visibility_bound()).
   double visibility_bound = 0.0;
   double wing_fraction = 0.0;      // PSF energy outside the central display pixel (largest channel)
@@ -49,8 +53,8 @@ class GlareStage {
   ImageRGBA apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report = nullptr);
 
   // The spectral PSF at the display's pixel scale for a mode and time (not for control), with the
-  // eye adapted to `field_luminance_cd_m2`. Exposed for tests and the render command.
-  Psf display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state = nullptr);
+  // eye adapted to `field_luminance_cd_m2`; nothing when the lids close the pupil completely.
+  std::optional<Psf> display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state = nullptr);
 
  private:
   EyeModel& eye_for(GlareMode mode, double field_luminance_cd_m2);
@@ -65,7 +69,8 @@ class GlareStage {
   // Static: one frozen eye per field luminance (adapted to it), so identical frames give identical
   // glare at every time.
   std::map<double, std::unique_ptr<EyeModel>> static_eyes_;
-  std::map<double, Psf> static_psfs_;
+  std::map<double, std::optional<Psf>> static_psfs_;
+  std::optional<Psf> last_open_dynamic_psf_;
 };
 
 }  // namespace glarelab

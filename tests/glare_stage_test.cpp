@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "glare/convolution_cpu.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {
@@ -101,10 +102,10 @@ TEST(GlareStage, ConvolutionConservesEachChannelsEnergyWhenNothingLeavesTheFrame
 }
 
 TEST(GlareStage, VisibilityBoundHoldsAndSkippingAnInvisibleFrameCostsLessThanTheThreshold) {
-  // A very dim frame (lamp 2e-4 cd/m2 on black): the skip is decided from the bound.
+  // A very dim frame (lamp 1e-4 cd/m2 on black): the skip is decided from the bound.
   GlareSpec spec = small_spec();
   GlareStage skipping(spec, small_display(), 5);
-  const ImageRGBA dim = lamp_frame(0.0f, 2e-4f);
+  const ImageRGBA dim = lamp_frame(0.0f, 1e-4f);
   GlareFrameReport report;
   const ImageRGBA skipped = skipping.apply(dim, GlareMode::static_eye, 0.0, &report);
   EXPECT_FALSE(report.convolved);
@@ -135,17 +136,32 @@ TEST(GlareStage, VisibilityBoundHoldsAndSkippingAnInvisibleFrameCostsLessThanThe
 }
 
 TEST(GlareStage, FibreGratingsDropOutBehindASmallPupil) {
-  // Moon and Spencer (Ritschel Eq. 2): D = 4.9 - 3 tanh(0.4 log10 L) mm. A 2000 cd/m2 field gives
-  // 2.30 mm, inside the clear lens centre (cortex annulus from 3 mm); 0.01 cd/m2 gives 6.89 mm.
-  // Hippus moves the pupil by ~0.3 mm at most, far from the 3 mm edge in both cases.
+  // Moon and Spencer (Ritschel Eq. 2): D = 4.9 - 3 tanh(0.4 (log10 L + 1)) mm. A 2000 cd/m2 field
+  // gives 2.09 mm, inside the clear lens centre (cortex annulus from 3 mm); 0.01 cd/m2 gives 6.04 mm.
+  // Hippus (Eq. 1) adds at most 0.1 (9 / D) sqrt(1 - D / 9): 0.38 mm and 0.06 mm.
   GlareStage stage(small_spec(), small_display(), 9);
   GlareFrameReport bright, dark;
   stage.apply(ImageRGBA(96, 64, 2000.0f), GlareMode::static_eye, 0.0, &bright);
   stage.apply(ImageRGBA(96, 64, 0.01f), GlareMode::static_eye, 0.0, &dark);
-  EXPECT_NEAR(bright.pupil_diameter_mm, 4.9 - 3.0 * std::tanh(0.4 * std::log10(2000.0)), 0.4);
-  EXPECT_NEAR(dark.pupil_diameter_mm, 4.9 - 3.0 * std::tanh(0.4 * std::log10(0.01)), 0.4);
+  EXPECT_NEAR(bright.pupil_diameter_mm, 4.9 - 3.0 * std::tanh(0.4 * (std::log10(2000.0) + 1.0)), 0.38);
+  EXPECT_NEAR(dark.pupil_diameter_mm, 4.9 - 3.0 * std::tanh(0.4 * (std::log10(0.01) + 1.0)), 0.07);
   EXPECT_FALSE(bright.gratings_in_pupil);
   EXPECT_TRUE(dark.gratings_in_pupil);
+}
+
+TEST(GlareStage, CroppedConvolutionEqualsTheWholeFrameConvolution) {
+  // The stage convolves only the black-bordered region light can reach; the reference convolves
+  // the whole frame with the same PSF.
+  GlareStage stage(small_spec(), small_display(), 4);
+  const ImageRGBA frame = lamp_frame(0.0f, 300.0f);
+  const std::optional<Psf> psf = stage.display_psf(GlareMode::static_eye, 0.0, mean_luminance(frame));
+  ASSERT_TRUE(psf.has_value());
+  const ImageRGBA whole = convolve_image_cpu(frame, *psf, ConvolutionOptions{});
+  const ImageRGBA cropped = stage.apply(frame, GlareMode::static_eye, 0.0);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < whole.rgba.size(); ++i)
+    worst = std::max(worst, static_cast<double>(std::abs(whole.rgba[i] - cropped.rgba[i])));
+  EXPECT_LT(worst, 300.0 * 1e-6);
 }
 
 TEST(GlareStage, VisibilityBoundFormula) {
@@ -157,3 +173,4 @@ TEST(GlareStage, VisibilityBoundFormula) {
 
 }  // namespace
 }  // namespace glarelab
+

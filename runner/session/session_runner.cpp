@@ -232,7 +232,7 @@ class SessionLoop {
     const double first_flip_s = clock_.now_s() + period_s_;
     const int count = mode == GlareMode::static_eye ? 1 : plan.stimulus_frames;
     std::vector<ImageRGBA> frames;
-    int skipped = 0, gratings_hidden = 0;
+    int skipped = 0, gratings_hidden = 0, closed = 0;
     std::string skip_reason;
     double smallest_pupil_mm = 1e9;
     for (int k = 0; k < count; ++k) {
@@ -243,6 +243,7 @@ class SessionLoop {
         if (skip_reason.empty()) skip_reason = report.skip_reason;
       }
       if (!report.gratings_in_pupil) ++gratings_hidden;
+      if (report.eye_closed && report.convolved) ++closed;  // held PSF; otherwise counted as skipped
       smallest_pupil_mm = std::min(smallest_pupil_mm, report.pupil_diameter_mm);
     }
     const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + to_string(mode) + "): ";
@@ -250,6 +251,10 @@ class SessionLoop {
     if (skipped > 0)
       store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
                        trial + "convolution skipped on " + std::to_string(skipped) + of_frames + ": " + skip_reason);
+    if (closed > 0)
+      store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
+                       trial + "eye closed by a blink on " + std::to_string(closed) + of_frames +
+                           ": the PSF of the last open frame is held");
     if (gratings_hidden > 0)
       store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
                        trial + "lens fibre gratings left out on " + std::to_string(gratings_hidden) + of_frames +
