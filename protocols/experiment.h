@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "protocols/config_error.h"
+#include "protocols/glare_config.h"
 
 namespace glarelab {
 
@@ -73,6 +74,7 @@ struct Experiment {
   ForcedChoiceSpec forced_choice;
   std::vector<ConditionRow> conditions;
   SimulatedObserverSpec simulated_observer;
+  GlareSpec glare;  // [glare] and the default glare mode of conditions
 };
 
 // Parses and validates a file. Throws ConfigError (file:line:column, key) for syntax errors,

@@ -364,7 +364,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   TableReader top(root, "", origin_name);
   // Declare the top-level tables before reading any, so a misspelt [procedur] is reported as
   // such rather than as a missing [procedure].
-  for (const char* section : {"experiment", "display", "scenes", "procedure", "conditions", "observer"}) {
+  for (const char* section : {"experiment", "display", "scenes", "procedure", "conditions", "observer", "glare"}) {
     top.node(section);
   }
   top.report_unused();
@@ -375,9 +375,13 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   read_procedure_section(top, experiment);
   ConditionSource conditions = read_conditions_section(top, base);
   read_observer_section(top, experiment);
+  experiment.glare = read_glare_section(top);
 
   if (experiment.procedure == "forced_choice") check_forced_choice_rows(conditions.rows, experiment, conditions.csv);
-  for (LocatedRow& located : conditions.rows) experiment.conditions.push_back(std::move(located.row));
+  for (LocatedRow& located : conditions.rows) {
+    glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here
+    experiment.conditions.push_back(std::move(located.row));
+  }
   return experiment;
 }
 

@@ -76,6 +76,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
                         {"lapse", observer.lapse},
                         {"response_time_median_s", observer.response_time_median_s}};
   print_section(out, "observer", toml::table{{"simulated", std::move(simulated)}});
+  print_section(out, "glare", glare_section_toml(experiment.glare));
 
   // Rows are written key by key in column order (toml++ would sort the keys of a whole table);
   // each line is still formatted by toml++, so keys and values are quoted correctly. The parser

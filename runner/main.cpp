@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
       {"analyze", glarelab::cli::add_analyze_command(app)},
       {"devices", glarelab::cli::add_devices_command(app)},
       {"bench", glarelab::cli::add_bench_command(app)},
+      {"render", glarelab::cli::add_render_command(app)},
   };
   try {
     app.parse(argc, argv);

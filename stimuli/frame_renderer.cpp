@@ -105,6 +105,23 @@ ImageRGBA FrameRenderer::read_stimulus() const {
   return read_framebuffer(stimulus_framebuffer_.get(), width_px_, height_px_);
 }
 
+void FrameRenderer::replace_stimulus(const ImageRGBA& image) {
+  if (image.width_px != width_px_ || image.height_px != height_px_)
+    throw DisplayError("frame renderer: replacing the " + std::to_string(width_px_) + "x" + std::to_string(height_px_) +
+                       " stimulus with a " + std::to_string(image.width_px) + "x" + std::to_string(image.height_px) +
+                       " image");
+  // GL rows start at the bottom; glarelab images start at the top.
+  const std::size_t row_floats = static_cast<std::size_t>(width_px_) * 4;
+  std::vector<float> bottom_up(image.rgba.size());
+  for (int y = 0; y < height_px_; ++y) {
+    std::copy_n(image.rgba.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * row_floats), row_floats,
+                bottom_up.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(height_px_ - 1 - y) * row_floats));
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(stimulus_texture_.get(), 0, 0, 0, width_px_, height_px_, GL_RGBA, GL_FLOAT, bottom_up.data());
+  gl::check_gl_error("replacing the stimulus frame");
+}
+
 ImageRGBA FrameRenderer::read_display() const { return read_framebuffer(0, width_px_, height_px_); }
 
 }  // namespace glarelab

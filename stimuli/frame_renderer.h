@@ -39,6 +39,9 @@ class FrameRenderer {
   // Read-backs (row 0 at the top). The stimulus is in cd/m2; the display image holds drive values.
   ImageRGBA read_stimulus() const;
   ImageRGBA read_display() const;
+  // Overwrites the stimulus framebuffer with an image of the same size (row 0 at the top, cd/m2):
+  // how a frame processed on the CPU (stimuli/glare_stage.h) returns for encoding.
+  void replace_stimulus(const ImageRGBA& image);
 
   int width_px() const { return width_px_; }
   int height_px() const { return height_px_; }

@@ -1,5 +1,6 @@
 #include "runner/session/session_runner.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <ostream>
@@ -21,6 +22,7 @@
 #include "runner/tracker/tracker_session.h"
 #include "stimuli/exr_io.h"
 #include "stimuli/frame_renderer.h"
+#include "stimuli/glare_stage.h"
 #include "stimuli/scene_library.h"
 
 namespace glarelab {
@@ -94,7 +96,8 @@ class SessionLoop {
         session_id_(session_id),
         renderer_(display.width_px(), display.height_px()),
         period_s_(1.0 / display.refresh_hz()),
-        timing_(display.refresh_hz()) {
+        timing_(display.refresh_hz()),
+        glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed) {
     for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
   }
 
@@ -105,8 +108,12 @@ class SessionLoop {
     const bool interactive = prepared_.observer == nullptr;
     if (interactive) discard_keys_before_onset(plan);
     if (aborted_) return false;
+    const std::vector<ImageRGBA> glare_frames = prepare_glare(plan, placements);
     for (int frame = 0; frame < plan.stimulus_frames; ++frame) {
-      draw(placements);
+      if (glare_frames.empty())
+        draw(placements);
+      else
+        draw(placements, &glare_frames[std::min<std::size_t>(static_cast<std::size_t>(frame), glare_frames.size() - 1)]);
       display_.present();
       const double flip_s = clock_.on_flip();
       after_flip(flip_s);
@@ -204,10 +211,66 @@ class SessionLoop {
     return placements;
   }
 
-  void draw(const std::vector<Placement>& placements) {
+  // `glared`: the composed frame after glare (prepare_glare), drawn in its place.
+  void draw(const std::vector<Placement>& placements, const ImageRGBA* glared = nullptr) {
     renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
+    if (glared != nullptr) renderer_.replace_stimulus(*glared);
     renderer_.encode_to_display(prepared_.experiment.display);
   }
+
+  // --- glare (stimuli/glare_stage.h) ---
+  // The trial's stimulus frames after glare, all prepared before onset: glare on the CPU takes
+  // longer than a refresh period (llvmpipe and FFTW), so a window run could not compute it between
+  // flips (issue 4). Frame k is computed for the time it is planned to flip, first_flip + k periods.
+  // Control: empty (the composed frame is shown untouched). Static: one frame serves all.
+  // Skip decisions are logged once per trial as 'glare_skipped' events.
+  std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements) {
+    const GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
+    if (mode == GlareMode::control) return {};
+    renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
+    const ImageRGBA composed = renderer_.read_stimulus();
+    const double first_flip_s = clock_.now_s() + period_s_;
+    const int count = mode == GlareMode::static_eye ? 1 : plan.stimulus_frames;
+    std::vector<ImageRGBA> frames;
+    int skipped = 0, gratings_hidden = 0, closed = 0;
+    std::string skip_reason;
+    double smallest_pupil_mm = 1e9;
+    for (int k = 0; k < count; ++k) {
+      GlareFrameReport report;
+      frames.push_back(glare_.apply(composed, mode, first_flip_s + k * period_s_, &report));
+      if (!report.skip_reason.empty()) {
+        ++skipped;
+        if (skip_reason.empty()) skip_reason = report.skip_reason;
+      }
+      if (!report.gratings_in_pupil) ++gratings_hidden;
+      if (report.eye_closed && report.convolved) ++closed;  // held PSF; otherwise counted as skipped
+      smallest_pupil_mm = std::min(smallest_pupil_mm, report.pupil_diameter_mm);
+    }
+    const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + to_string(mode) + "): ";
+    const std::string of_frames = " of " + std::to_string(count) + " glare frame(s)";
+    if (skipped > 0)
+      store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
+                       trial + "convolution skipped on " + std::to_string(skipped) + of_frames + ": " + skip_reason);
+    if (closed > 0)
+      store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
+                       trial + "eye closed by a blink on " + std::to_string(closed) + of_frames +
+                           ": the PSF of the last open frame is held");
+    if (gratings_hidden > 0)
+      store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
+                       trial + "lens fibre gratings left out on " + std::to_string(gratings_hidden) + of_frames +
+                           ": pupil (smallest " + std::to_string(smallest_pupil_mm) +
+                           " mm) inside the clear lens centre (cortex annulus from " +
+                           std::to_string(2.0 * EyeParameters{}.lens_cortex_inner_radius_mm) + " mm diameter)");
+    return frames;
+  }
+
+  const ConditionRow& condition_row(const TrialPlan& plan) const {
+    for (const ConditionRow& row : prepared_.experiment.conditions)
+      if (row.name() == plan.condition_name) return row;
+    throw std::logic_error("session: trial " + std::to_string(plan.trial_index) + " names condition '" +
+                           plan.condition_name + "', which the experiment does not have");
+  }
+  // --- end glare ---
 
   void check_interrupt() {
     if (interrupt_requested()) {
@@ -280,6 +343,7 @@ class SessionLoop {
   double period_s_;
   std::map<std::string, SceneTexture> textures_;
   FrameTimingMonitor timing_;
+  GlareStage glare_;
   bool aborted_ = false;
   std::string abort_reason_;
 };

@@ -1,0 +1,80 @@
+// [glare] table and the "glare" condition column. Read through TableReader so a misspelt key stops
+// the run (protocols/toml_table_reader.h).
+#include "protocols/glare_config.h"
+
+#include <limits>
+
+#include "protocols/experiment.h"
+#include "protocols/toml_table_reader.h"
+
+namespace glarelab {
+namespace {
+
+double read_positive(TableReader& reader, std::string_view key, double fallback, bool allow_zero) {
+  const std::optional<double> value = reader.number(key);
+  if (!value) return fallback;
+  if (allow_zero ? !(*value >= 0.0) : !(*value > 0.0))
+    reader.fail(key, std::string("must be ") + (allow_zero ? ">= 0" : "> 0") + ", found " + std::to_string(*value));
+  return *value;
+}
+
+int read_bounded_int(TableReader& reader, std::string_view key, int fallback, int minimum, int maximum) {
+  const std::optional<std::int64_t> value = reader.integer(key);
+  if (!value) return fallback;
+  if (*value < minimum || *value > maximum)
+    reader.fail(key, "must be in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "], found " +
+                         std::to_string(*value));
+  return static_cast<int>(*value);
+}
+
+GlareMode parse_mode_at(const std::string& name, const SourceLocation& where, const std::string& key) {
+  if (name == "dynamic") return GlareMode::dynamic;
+  if (name == "static") return GlareMode::static_eye;
+  if (name == "control") return GlareMode::control;
+  throw ConfigError(where, key, "unknown glare mode '" + name + "' (supported: 'dynamic', 'static', 'control')");
+}
+
+}  // namespace
+
+GlareSpec read_glare_section(TableReader& top) {
+  GlareSpec spec;
+  const toml::table* table = top.table("glare");
+  if (table == nullptr) return spec;
+  TableReader reader(*table, "glare", top.file());
+  if (const std::optional<std::string> mode = reader.string("mode"))
+    spec.mode = parse_mode_at(*mode, reader.value_location("mode"), reader.key_path("mode"));
+  spec.static_time_s = read_positive(reader, "static_time_s", spec.static_time_s, true);
+  spec.grid_px = read_bounded_int(reader, "grid_px", spec.grid_px, 16, 8192);
+  // The grid's centre pixel N/2 is the optical axis and the PSF's DC term.
+  if (spec.grid_px % 2 != 0) reader.fail("grid_px", "must be even, found " + std::to_string(spec.grid_px));
+  spec.aperture_width_mm = read_positive(reader, "aperture_width_mm", spec.aperture_width_mm, false);
+  spec.supersampling = read_bounded_int(reader, "supersampling", spec.supersampling, 2, 16);
+  spec.wavelength_samples = read_bounded_int(reader, "wavelength_samples", spec.wavelength_samples, 1, 1024);
+  spec.visibility_weber_fraction =
+      read_positive(reader, "visibility_weber_fraction", spec.visibility_weber_fraction, false);
+  spec.visibility_floor_cd_m2 = read_positive(reader, "visibility_floor_cd_m2", spec.visibility_floor_cd_m2, false);
+  spec.skip_invisible = reader.boolean("skip_invisible").value_or(spec.skip_invisible);
+  reader.report_unused();
+  return spec;
+}
+
+toml::table glare_section_toml(const GlareSpec& spec) {
+  const char* mode = spec.mode == GlareMode::dynamic ? "dynamic" : spec.mode == GlareMode::static_eye ? "static" : "control";
+  return toml::table{{"mode", mode},
+                     {"static_time_s", spec.static_time_s},
+                     {"grid_px", spec.grid_px},
+                     {"aperture_width_mm", spec.aperture_width_mm},
+                     {"supersampling", spec.supersampling},
+                     {"wavelength_samples", spec.wavelength_samples},
+                     {"visibility_weber_fraction", spec.visibility_weber_fraction},
+                     {"visibility_floor_cd_m2", spec.visibility_floor_cd_m2},
+                     {"skip_invisible", spec.skip_invisible}};
+}
+
+GlareMode glare_mode_for(const GlareSpec& spec, const ConditionRow& row) {
+  const std::string* value = row.find("glare");
+  if (value == nullptr || value->empty()) return spec.mode;
+  return parse_mode_at(*value, row.where, "condition '" + row.name() + "' glare");
+}
+
+}  // namespace glarelab

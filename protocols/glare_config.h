@@ -1,0 +1,43 @@
+#pragma once
+// The [glare] table of an experiment file and the per-condition glare mode (column "glare" of the
+// condition table): which of Ritschel et al. 2009's conditions -- dynamic eye, static (frozen) eye,
+// control (no glare) -- each condition shows, and how the glare is computed (docs/EXPERIMENT_FILES.md).
+#include <string>
+
+#include <toml++/toml.h>
+
+#include "glare/eye_parameters.h"
+
+namespace glarelab {
+
+class TableReader;
+struct ConditionRow;
+
+struct GlareSpec {
+  // Mode of conditions without a "glare" column value. Control by default: an experiment that does
+  // not mention glare shows its scenes unchanged.
+  GlareMode mode = GlareMode::control;
+  double static_time_s = 0.0;         // the instant a static eye is frozen at
+  int grid_px = 256;                  // aperture and PSF grid N (even)
+  double aperture_width_mm = 10.0;    // side of the aperture grid: PSF pixel = lambda / width
+  int supersampling = 2;              // aperture coverage sub-samples per pixel side (>= 2)
+  int wavelength_samples = 32;        // chromatic blur samples over 380-770 nm (Ritschel section 5)
+  // Visibility threshold for skipping a frame's glare: the largest relative change glare could make
+  // anywhere in the frame must reach this Weber fraction (Spencer 1995 section 2: veiling luminance
+  // is seen as a contrast against the local background; ~1% is the foveal Weber fraction).
+  double visibility_weber_fraction = 0.01;
+  // Luminance below which a relative change is measured against this floor instead (relative
+  // changes of a black pixel are meaningless); 0.01 cd/m2 is near the bottom of mesopic vision.
+  double visibility_floor_cd_m2 = 0.01;
+  bool skip_invisible = true;         // false: always convolve (for measuring the skip error)
+};
+
+// Reads [glare] if present (strictly: unknown keys are errors). `top` is the document root.
+GlareSpec read_glare_section(TableReader& top);
+// The table resolved_config_toml writes (every key explicit).
+toml::table glare_section_toml(const GlareSpec& spec);
+// The mode of one condition: its "glare" column, else spec.mode. ConfigError (at the row) for an
+// unknown mode name.
+GlareMode glare_mode_for(const GlareSpec& spec, const ConditionRow& row);
+
+}  // namespace glarelab

@@ -1,0 +1,131 @@
+// glarelab render: the control frame is the composed stimulus (the scenes placed side by side on
+// the background, nothing else), dynamic glare conserves the frame's luminance when nothing falls
+// off its edge, and the PNG preview decodes to the display encoding of the frame.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cli_process.h"
+#include "scratch_dir.h"
+#include "stimuli/display_model.h"
+#include "stimuli/exr_io.h"
+#include "stimuli/png_io.h"
+
+namespace glarelab {
+namespace {
+
+// 32 x 32 black scene with a 4 x 4 lamp in the middle.
+void write_lamp_scene(const std::string& path, float lamp_cd_m2) {
+  ImageRGBA scene(32, 32, 0.0f);
+  for (int y = 14; y < 18; ++y)
+    for (int x = 14; x < 18; ++x)
+      for (int c = 0; c < 3; ++c) scene.pixel(x, y)[c] = lamp_cd_m2;
+  write_exr(path, scene);
+}
+
+std::string experiment_text() {
+  return R"([experiment]
+name = "render-test"
+seed = 42
+
+[display]
+width_px = 128
+height_px = 64
+peak_luminance_cd_m2 = 250.0
+
+[scenes]
+dim = { file = "dim.exr" }
+bright = { file = "bright.exr" }
+
+[procedure]
+type = "forced_choice"
+stimulus_frames = 2
+
+[glare]
+grid_px = 128
+wavelength_samples = 8
+
+[[conditions.rows]]
+name = "plain"
+scene_a = "dim"
+scene_b = "bright"
+glare = "control"
+
+[[conditions.rows]]
+name = "moving"
+scene_a = "dim"
+scene_b = "bright"
+glare = "dynamic"
+)";
+}
+
+double luminance_sum(const ImageRGBA& image) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < image.rgba.size(); i += 4)
+    sum += luminance_rec709(image.rgba[i], image.rgba[i + 1], image.rgba[i + 2]);
+  return sum;
+}
+
+class RenderCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    write_lamp_scene((dir.path() / "dim.exr").string(), 80.0f);
+    write_lamp_scene((dir.path() / "bright.exr").string(), 200.0f);
+    experiment = dir.write("experiment.toml", experiment_text());
+  }
+  ImageRGBA render(const std::vector<std::string>& extra, const std::string& out) {
+    std::vector<std::string> arguments = {"render", experiment, "--out", (dir.path() / out).string()};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    const test::RunOutput result = test::run_glarelab(arguments, dir.path());
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    std::printf("%s", result.output.c_str());
+    return out.ends_with(".png") ? read_png_encoded((dir.path() / out).string()) : read_exr((dir.path() / out).string()).image;
+  }
+  test::ScratchDir dir;
+  std::string experiment;
+};
+
+TEST_F(RenderCommand, ControlIsTheComposedStimulusAndDynamicConservesLuminance) {
+  const ImageRGBA control = render({"--condition", "plain", "--time", "0.5"}, "control.exr");
+  ASSERT_EQ(control.width_px, 128);
+  ASSERT_EQ(control.height_px, 64);
+  // Composed by hand: two 64-px columns, each 32-px scene centred -> lamps at x 30..33 and 94..97,
+  // y 30..33; everything else is the 0 cd/m2 background.
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 128; ++x) {
+      const bool in_y = y >= 30 && y < 34;
+      const float expected = in_y && x >= 30 && x < 34 ? 80.0f : in_y && x >= 94 && x < 98 ? 200.0f : 0.0f;
+      ASSERT_EQ(control.pixel(x, y)[0], expected) << x << "," << y;
+    }
+  // The dynamic condition with its glare switched off is the same composed frame, bit for bit.
+  const ImageRGBA off = render({"--condition", "moving", "--time", "0.5", "--glare", "control"}, "off.exr");
+  EXPECT_EQ(off.rgba, control.rgba);
+
+  const ImageRGBA dynamic = render({"--condition", "moving", "--time", "0.5"}, "dynamic.exr");
+  EXPECT_NE(dynamic.rgba, control.rgba);
+  EXPECT_NEAR(luminance_sum(dynamic) / luminance_sum(control), 1.0, 1e-3);
+  EXPECT_LT(dynamic.pixel(95, 31)[1], 200.0f);  // the lamp loses light to its surround
+  EXPECT_GT(dynamic.pixel(90, 31)[1], 0.0f);
+}
+
+TEST_F(RenderCommand, PngPreviewIsTheDisplayEncodedFrame) {
+  const ImageRGBA png = render({"--condition", "plain", "--time", "0"}, "preview.png");
+  ASSERT_EQ(png.width_px, 128);
+  ASSERT_EQ(png.height_px, 64);
+  DisplaySpec display;  // the test experiment keeps the default sRGB encoding, peak 250
+  display.peak_luminance_cd_m2 = 250.0;
+  const DisplayModel model(display);
+  EXPECT_NEAR(png.pixel(31, 31)[0], model.encode(80.0), 0.5 / 255.0 + 1e-6);
+  EXPECT_NEAR(png.pixel(95, 31)[0], model.encode(200.0), 0.5 / 255.0 + 1e-6);
+  EXPECT_EQ(png.pixel(5, 5)[0], 0.0f);
+}
+
+TEST_F(RenderCommand, UnknownConditionIsRefusedWithTheNamesThereAre) {
+  const test::RunOutput result = test::run_glarelab(
+      {"render", experiment, "--condition", "nope", "--out", (dir.path() / "x.exr").string()}, dir.path());
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("'plain', 'moving'"), std::string::npos) << result.output;
+}
+
+}  // namespace
+}  // namespace glarelab
