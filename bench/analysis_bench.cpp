@@ -103,19 +103,26 @@ void BM_AnalyzeHundredSessions(benchmark::State& state) {
   static const std::string path = generate_database();
   const std::string out = (bench_dir() / "out").string();
   double load_s = 0.0, analyse_s = 0.0, write_s = 0.0, cpu_s = 0.0;
+  double load_cpu_s = 0.0, analyse_cpu_s = 0.0, write_cpu_s = 0.0;
   for (auto _ : state) {
     const double cpu_start = process_cpu_s();
     auto start = std::chrono::steady_clock::now();
     auto data = glarelab::analysis::load_databases({path});
     load_s += seconds_since(start);
+    const double cpu_loaded = process_cpu_s();
     start = std::chrono::steady_clock::now();
     glarelab::analysis::AnalysisOptions options;
     const auto report = glarelab::analysis::analyse(std::move(data), options);
     analyse_s += seconds_since(start);
+    const double cpu_analysed = process_cpu_s();
     start = std::chrono::steady_clock::now();
     const auto written = glarelab::analysis::write_report(report, out);
     write_s += seconds_since(start);
-    cpu_s += process_cpu_s() - cpu_start;
+    const double cpu_end = process_cpu_s();
+    load_cpu_s += cpu_loaded - cpu_start;
+    analyse_cpu_s += cpu_analysed - cpu_loaded;
+    write_cpu_s += cpu_end - cpu_analysed;
+    cpu_s += cpu_end - cpu_start;
     benchmark::DoNotOptimize(written.size());
   }
   const auto runs = static_cast<double>(state.iterations());
@@ -123,6 +130,9 @@ void BM_AnalyzeHundredSessions(benchmark::State& state) {
   state.counters["analyse_s"] = analyse_s / runs;
   state.counters["write_s"] = write_s / runs;
   state.counters["process_cpu_s"] = cpu_s / runs;
+  state.counters["load_cpu_s"] = load_cpu_s / runs;
+  state.counters["analyse_cpu_s"] = analyse_cpu_s / runs;
+  state.counters["write_cpu_s"] = write_cpu_s / runs;
   state.counters["threads"] = glarelab::analysis::worker_threads(0, 300);
   state.counters["sessions"] = kSessions;
   state.counters["trials"] = kSessions * (kTrialsPerSession + 20);
