@@ -11,6 +11,7 @@ AnalysisReport analyse(LoadedData data, const AnalysisOptions& options) {
   staircase_options.bootstrap_samples = options.bootstrap_samples;
   staircase_options.last_reversals = options.last_reversals;
   staircase_options.seed = options.seed;
+  staircase_options.threads = options.threads;
   report.staircases = analyse_staircases(report.data, staircase_options);
   report.adjustments = analyse_adjustments(report.data);
   report.ratings = analyse_ratings(report.data);

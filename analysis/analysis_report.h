@@ -19,6 +19,7 @@ struct AnalysisOptions {
   int bootstrap_samples = 200;  // per psychometric fit
   int last_reversals = 6;       // staircase threshold: mean of the last k reversals
   std::uint64_t seed = 1;       // bootstrap draws
+  unsigned threads = 0;         // psychometric fit threads; 0: one per hardware thread
 };
 
 struct Figure {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <unordered_map>
 #include <stdexcept>
 
 namespace glarelab::analysis {
@@ -47,6 +48,11 @@ class ReadOnlyDatabase {
     while (step(stmt)) names.insert(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 1)));
     sqlite3_finalize(stmt);
     return names;
+  }
+  void exec(const char* sql) const {
+    if (sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) != SQLITE_OK) {
+      throw StoreError("analysis: " + path_ + ": " + sqlite3_errmsg(db_) + " in: " + sql);
+    }
   }
   int user_version() const {
     sqlite3_stmt* stmt = prepare("PRAGMA user_version");
@@ -96,6 +102,9 @@ void require_columns(const ReadOnlyDatabase& db, const std::string& table, const
 
 void load_one(const std::string& path, LoadedData& data) {
   const ReadOnlyDatabase db(path);
+  // One read transaction: every table is read from the same snapshot, even while a runner is
+  // still appending to the file (closing the connection ends it).
+  db.exec("BEGIN");
   const int version = db.user_version();
   if (version > ResultStore::kSchemaVersion) {
     throw StoreError("analysis: " + path + ": schema version " + std::to_string(version) +
@@ -154,7 +163,10 @@ void load_one(const std::string& path, LoadedData& data) {
   std::map<std::int64_t, std::size_t> session_at;
   for (std::size_t i = first; i < data.sessions.size(); ++i) session_at[data.sessions[i].record.id] = i;
 
-  std::map<std::int64_t, std::pair<std::size_t, std::size_t>> trial_at;  // trial id -> (session, trial)
+  std::unordered_map<std::int64_t, std::pair<std::size_t, std::size_t>> trial_at;  // trial id -> (session, trial)
+  // An experiment repeats a few condition texts over thousands of trials: each distinct text is
+  // parsed once (nullopt: not a JSON object).
+  std::unordered_map<std::string, std::optional<ConditionFields>> parsed_conditions;
   {
     StatementGuard query{db.prepare(
         "SELECT id, session_id, trial_index, block, procedure, condition, intensity, response, correct, "
@@ -178,9 +190,17 @@ void load_one(const std::string& path, LoadedData& data) {
       r.staircase = text(query.stmt, 11);
       r.reversal = optional_int(query.stmt, 12);
       r.started_utc = text(query.stmt, 13);
-      try {
-        trial.condition = parse_condition_json(r.condition);
-      } catch (const std::invalid_argument&) {
+      auto [parsed, first_seen] = parsed_conditions.try_emplace(r.condition);
+      if (first_seen) {
+        try {
+          parsed->second = parse_condition_json(r.condition);
+        } catch (const std::invalid_argument&) {
+          parsed->second = std::nullopt;
+        }
+      }
+      if (parsed->second) {
+        trial.condition = *parsed->second;
+      } else {
         ++unreadable;
         trial.condition = {{"name", r.condition}};
       }

@@ -40,8 +40,13 @@ double negative_log_likelihood(const Problem& problem, double alpha, double beta
   for (const StimulusLevel& level : *problem.levels) {
     const double psi = std::clamp(psychometric_probability(problem.shape, level.intensity, alpha, beta, problem.guess, lapse),
                                   kProbabilityFloor, 1.0 - kProbabilityFloor);
-    sum += static_cast<double>(level.correct) * std::log(psi) +
-           static_cast<double>(level.trials - level.correct) * std::log1p(-psi);
+    // A zero count contributes exactly (-)0 (psi is clamped, so the log is finite): skipping its log
+    // leaves the sum bit-identical and saves a transcendental call at the many all-correct or
+    // all-wrong levels of a staircase.
+    const long wrong = level.trials - level.correct;
+    const double right_term = level.correct > 0 ? static_cast<double>(level.correct) * std::log(psi) : 0.0;
+    const double wrong_term = wrong > 0 ? static_cast<double>(wrong) * std::log1p(-psi) : 0.0;
+    sum += right_term + wrong_term;
   }
   return -sum;
 }

@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <map>
 
+#include "analysis/parallel_jobs.h"
+
 namespace glarelab::analysis {
 namespace {
 
@@ -25,6 +27,15 @@ double guess_rate_of(const LoadedTrial& trial, std::string& note) {
 
 std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const StaircaseOptions& options) {
   std::vector<StaircaseResult> results;
+  // The fits (the bulk of the analysis time: each bootstrap replicate is a full ML fit) are
+  // collected first and run on worker threads; each is seeded by its staircase, not by the order
+  // in which threads reach it.
+  struct FitJob {
+    std::size_t result;
+    std::vector<StimulusLevel> levels;
+    PsychometricFitOptions options;
+  };
+  std::vector<FitJob> jobs;
   for (std::size_t s = 0; s < data.sessions.size(); ++s) {
     const LoadedSession& session = data.sessions[s];
     std::map<std::string, std::size_t> index_of;
@@ -84,10 +95,14 @@ std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const St
         fit_options.guess_rate = result.guess_rate;
         fit_options.bootstrap_samples = options.bootstrap_samples;
         fit_options.seed = options.seed + i;
-        result.fits.push_back(fit_psychometric(levels, fit_options));
+        jobs.push_back({i, levels, fit_options});
       }
     }
   }
+  std::vector<PsychometricFit> fits(jobs.size());
+  run_parallel_jobs(jobs.size(), options.threads,
+                    [&](std::size_t j) { fits[j] = fit_psychometric(jobs[j].levels, jobs[j].options); });
+  for (std::size_t j = 0; j < jobs.size(); ++j) results[jobs[j].result].fits.push_back(std::move(fits[j]));
   return results;
 }
 

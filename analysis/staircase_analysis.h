@@ -39,6 +39,7 @@ struct StaircaseOptions {
   int last_reversals = 6;       // k
   int bootstrap_samples = 200;  // per fit
   std::uint64_t seed = 1;
+  unsigned threads = 0;  // fit threads; 0: one per hardware thread (results do not depend on it)
 };
 
 std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const StaircaseOptions& options);

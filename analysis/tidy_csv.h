@@ -12,7 +12,7 @@ namespace glarelab::analysis {
 // RFC 4180 field: quoted (with doubled quotes) when it holds a comma, quote, CR or LF, or
 // leading/trailing spaces.
 std::string csv_field(const std::string& value);
-// Shortest round-trip text for a double ("%.17g" trimmed by a round-trip check).
+// Shortest round-trip text for a double (std::to_chars).
 std::string csv_number(double value);
 
 // Column name for a condition key: "condition_" + the key with every character other than

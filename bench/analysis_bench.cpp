@@ -3,12 +3,16 @@
 // the benchmark loads it, analyses it (bootstrap 200 per fit) and writes CSV, HTML and SVG.
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <chrono>
 
 #include <cmath>
 #include <filesystem>
 
 #include "analysis/analysis_report.h"
+#include "analysis/parallel_jobs.h"
 #include "analysis/report_output.h"
 #include "runner/random.h"
 #include "runner/store/result_store.h"
@@ -80,15 +84,56 @@ std::string generate_database() {
   return path;
 }
 
+// CPU seconds of the whole process (all threads), user + system.
+double process_cpu_s() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Stage timers (wall seconds) and the process CPU time are reported as counters, so the output
+// says where the time goes: load (SQLite + condition parsing), analyse (mostly the bootstrap
+// fits, on one thread per core), write (CSV, HTML, SVG).
 void BM_AnalyzeHundredSessions(benchmark::State& state) {
   static const std::string path = generate_database();
   const std::string out = (bench_dir() / "out").string();
+  double load_s = 0.0, analyse_s = 0.0, write_s = 0.0, cpu_s = 0.0;
+  double load_cpu_s = 0.0, analyse_cpu_s = 0.0, write_cpu_s = 0.0;
   for (auto _ : state) {
+    const double cpu_start = process_cpu_s();
+    auto start = std::chrono::steady_clock::now();
+    auto data = glarelab::analysis::load_databases({path});
+    load_s += seconds_since(start);
+    const double cpu_loaded = process_cpu_s();
+    start = std::chrono::steady_clock::now();
     glarelab::analysis::AnalysisOptions options;
-    const auto report = glarelab::analysis::analyse(glarelab::analysis::load_databases({path}), options);
+    const auto report = glarelab::analysis::analyse(std::move(data), options);
+    analyse_s += seconds_since(start);
+    const double cpu_analysed = process_cpu_s();
+    start = std::chrono::steady_clock::now();
     const auto written = glarelab::analysis::write_report(report, out);
+    write_s += seconds_since(start);
+    const double cpu_end = process_cpu_s();
+    load_cpu_s += cpu_loaded - cpu_start;
+    analyse_cpu_s += cpu_analysed - cpu_loaded;
+    write_cpu_s += cpu_end - cpu_analysed;
+    cpu_s += cpu_end - cpu_start;
     benchmark::DoNotOptimize(written.size());
   }
+  const auto runs = static_cast<double>(state.iterations());
+  state.counters["load_s"] = load_s / runs;
+  state.counters["analyse_s"] = analyse_s / runs;
+  state.counters["write_s"] = write_s / runs;
+  state.counters["process_cpu_s"] = cpu_s / runs;
+  state.counters["load_cpu_s"] = load_cpu_s / runs;
+  state.counters["analyse_cpu_s"] = analyse_cpu_s / runs;
+  state.counters["write_cpu_s"] = write_cpu_s / runs;
+  state.counters["threads"] = glarelab::analysis::worker_threads(0, 300);
   state.counters["sessions"] = kSessions;
   state.counters["trials"] = kSessions * (kTrialsPerSession + 20);
   state.counters["frames"] = static_cast<double>(kSessions) * (kTrialsPerSession + 20) * kFramesPerTrial;

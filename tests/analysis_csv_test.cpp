@@ -25,6 +25,10 @@ TEST(AnalysisCsv, QuotingNumbersAndColumnNames) {
     EXPECT_EQ(std::strtod(csv_number(value).c_str(), nullptr), value) << csv_number(value);
   }
   EXPECT_EQ(csv_number(0.1), "0.1");
+  // Python's repr (also shortest round trip) as the reference.
+  EXPECT_EQ(csv_number(1.0 / 3.0), "0.3333333333333333");
+  EXPECT_EQ(csv_number(0.1 + 0.2), "0.30000000000000004");
+  EXPECT_EQ(csv_number(-2.5), "-2.5");
   EXPECT_EQ(condition_column("target cd/m2"), "condition_target_cd_m2");
 }
 

@@ -25,6 +25,10 @@ Action add_analyze_command(CLI::App& app) {
                       "Staircase threshold: mean of the last K reversals")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
+  analyze->add_option("--threads", options->analysis.threads,
+                      "Threads for the psychometric fits (0: one per hardware thread; results do not depend on it)")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 1024u));
   analyze->add_option("--seed", options->analysis.seed, "Seed of the bootstrap draws")->capture_default_str();
   return [=]() {
     return report_errors([&]() {
