@@ -69,7 +69,7 @@ TEST(ExampleStudies, SpencerStaircaseRecordsIntensitiesAndReversals) {
   base.n_down = 2;
   base.n_reversals = 8;
   base.n_trials = 20;
-  base.min_value = 100.0;
+  base.min_value = 101.0;
   base.max_value = 250.0;
   std::map<std::string, Staircase> reference;
   base.start_value = 200.0;

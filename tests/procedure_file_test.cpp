@@ -47,7 +47,7 @@ TEST(ProcedureFile, SpencerStaircasesTakeDefaultsFromTheProcedureTable) {
     EXPECT_EQ(track.staircase.n_down, 2);
     EXPECT_EQ(track.staircase.n_reversals, 8);
     EXPECT_EQ(track.staircase.n_trials, 20);
-    EXPECT_EQ(track.staircase.min_value, 100.0);
+    EXPECT_EQ(track.staircase.min_value, 101.0);
     EXPECT_EQ(track.staircase.max_value, 250.0);
   }
   EXPECT_EQ(e.adaptive.threshold_reversals, 6);
