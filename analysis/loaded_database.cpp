@@ -249,7 +249,7 @@ void load_one(const std::string& path, LoadedData& data) {
     }
   }
   if (have_adjustments) {
-    StatementGuard query{db.prepare("SELECT trial_id, spot, value FROM adjustments ORDER BY trial_id, spot")};
+    StatementGuard query{db.prepare("SELECT trial_id, spot, value_cd_m2 FROM adjustments ORDER BY trial_id, spot")};
     while (db.step(query.stmt)) {
       const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
       if (found == trial_at.end()) continue;

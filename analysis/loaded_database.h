@@ -2,7 +2,7 @@
 // A results database read into plain structs for analysis. The database is opened read-only,
 // so analysing never migrates or alters a file (ResultStore would upgrade it on open).
 // Schema versions up to ResultStore::kSchemaVersion load; older ones load with a note; the
-// optional `adjustments(trial_id, spot, value)` table is read when it exists.
+// optional `adjustments(trial_id, spot, value_cd_m2)` table is read when it exists.
 #include <cstdint>
 #include <map>
 #include <optional>

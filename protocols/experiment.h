@@ -10,6 +10,8 @@
 
 #include "protocols/config_error.h"
 #include "protocols/glare_config.h"
+#include "protocols/quest.h"
+#include "protocols/staircase.h"
 
 namespace glarelab {
 
@@ -50,9 +52,47 @@ struct ForcedChoiceSpec {
   std::string layout = "side_by_side";
   std::string question = "Which light is brighter?";
   int stimulus_frames = 30;
+  // When the file gave the duration in seconds: the value as written. stimulus_frames is then
+  // the nearest whole number of refresh periods, and the runner logs the rounding.
+  std::optional<double> stimulus_duration_s;
   int repetitions = 1;
   bool counterbalance_sides = true;
   std::vector<std::string> responses = {"left", "right"};
+};
+
+// One adaptive track (a staircase or a QUEST) and the condition row whose scenes it shows: the
+// row's "reference" scene at its own luminance, the "comparison" scene scaled so its peak is the
+// track's intensity in cd/m2 (QUEST: 10^intensity, its scale being log10 cd/m2).
+struct AdaptiveTrackSpec {
+  std::string condition;  // name of the condition row; empty: the first row
+  StaircaseSpec staircase;  // used when procedure == "staircase"
+  QuestSpec quest;          // used when procedure == "quest"
+  SourceLocation where;
+};
+
+struct AdaptiveSpec {
+  std::vector<AdaptiveTrackSpec> tracks;  // interleaved when more than one
+  int threshold_reversals = 6;  // staircase threshold: mean of the last k reversal intensities
+};
+
+// Likert ratings (Luidolt 2020, section 7.2): every condition row's scene rated on every named
+// category, 1..scale_points.
+struct RatingSpec {
+  std::vector<std::string> categories;
+  int scale_points = 5;
+  int repetitions = 1;
+};
+
+// Double adjustment (Yoshida et al. 2008, as used by Ritschel et al. 2009, section 6.1): the
+// condition row's "target" scene centred between two copies of its "comparison" scene, whose
+// luminances the observer adjusts simultaneously, in log steps, until they match the target.
+struct AdjustmentSpec {
+  double coarse_step_log10 = 0.1;   // one coarse key press: x 10^0.1 (about 26 %)
+  double fine_step_log10 = 0.01;    // one fine key press: x 10^0.01 (about 2.3 %)
+  // Start values: 10^(log10(target peak) + u), u uniform in [-range, range], drawn per trial and
+  // spot (stream adjustment_start), so the starting point gives the answer away to nobody.
+  double start_range_log10 = 0.3;
+  int repetitions = 1;
 };
 
 struct SimulatedObserverSpec {
@@ -61,6 +101,11 @@ struct SimulatedObserverSpec {
   double slope = 3.5;
   double lapse = 0.02;
   double response_time_median_s = 0.6;
+  // Ratings: the simulated rating is round(mean + rating_sd * N(0, 1)) clamped to the scale; the
+  // mean is the condition row's "simulated_rating" (the scale's middle when absent).
+  double rating_sd = 0.7;
+  // Adjustment: each setting is the target's peak times 10^(match_sd_log10 * N(0, 1)).
+  double match_sd_log10 = 0.05;
 };
 
 struct Experiment {
@@ -72,6 +117,9 @@ struct Experiment {
   std::map<std::string, SceneSpec> scenes;
   std::string procedure = "forced_choice";
   ForcedChoiceSpec forced_choice;
+  AdaptiveSpec adaptive;  // staircase and quest
+  RatingSpec rating;
+  AdjustmentSpec adjustment;
   std::vector<ConditionRow> conditions;
   SimulatedObserverSpec simulated_observer;
   GlareSpec glare;  // [glare] and the default glare mode of conditions

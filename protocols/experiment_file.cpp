@@ -8,7 +8,11 @@
 #include <set>
 #include <sstream>
 
+#include "protocols/adaptive_config.h"
+#include "protocols/adjustment_procedure.h"
 #include "protocols/csv_table.h"
+#include "protocols/rating_procedure.h"
+#include "protocols/stimulus_duration.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -17,7 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kSupportedProcedures = {"forced_choice"};
+const std::vector<std::string> kSupportedProcedures = {"forced_choice", "staircase", "quest", "rating",
+                                                      "adjustment"};
 // Condition columns the forced-choice trial record itself writes into condition_json.
 const std::vector<std::string> kForcedChoiceReservedColumns = {"left", "right"};
 
@@ -144,11 +149,21 @@ void read_procedure_section(TableReader& top, Experiment& experiment) {
     reader.fail("type", "unsupported procedure '" + *type + "' (supported: " + join_quoted(kSupportedProcedures) + ")");
   }
   experiment.procedure = *type;
+  if (experiment.procedure == "rating" || experiment.procedure == "adjustment") {
+    read_stimulus_duration(reader, experiment.display.refresh_hz, experiment.forced_choice);
+    if (experiment.procedure == "rating") read_rating_procedure(reader, experiment);
+    else read_adjustment_procedure(reader, experiment);
+    reader.report_unused();
+    return;
+  }
 
   ForcedChoiceSpec& spec = experiment.forced_choice;
-  spec.alternatives = read_int(reader, "alternatives", spec.alternatives, 2, "2");
-  // Only two side-by-side alternatives are implemented; more would need another layout.
-  if (spec.alternatives != 2) reader.fail("alternatives", "must be 2, found " + std::to_string(spec.alternatives));
+  spec.alternatives = read_int(reader, "alternatives", spec.alternatives, 2, "2 or 3");
+  // Two sources side by side; a third alternative is the answer "neither" (Spencer 1995).
+  if (spec.alternatives != 2 && spec.alternatives != 3)
+    reader.fail("alternatives", "must be 2 or 3 (two sources, optionally 'neither'), found " +
+                                    std::to_string(spec.alternatives));
+  if (spec.alternatives == 3) spec.responses = {"left", "right", "neither"};
   if (const std::optional<std::string> layout = reader.string("layout")) {
     if (*layout != "side_by_side") {
       reader.fail("layout", "unsupported layout '" + *layout + "' (supported: 'side_by_side')");
@@ -156,9 +171,13 @@ void read_procedure_section(TableReader& top, Experiment& experiment) {
     spec.layout = *layout;
   }
   spec.question = reader.string("question").value_or(spec.question);
-  spec.stimulus_frames = read_int(reader, "stimulus_frames", spec.stimulus_frames, 1, ">= 1");
-  spec.repetitions = read_int(reader, "repetitions", spec.repetitions, 1, ">= 1");
-  spec.counterbalance_sides = reader.boolean("counterbalance_sides").value_or(spec.counterbalance_sides);
+  read_stimulus_duration(reader, experiment.display.refresh_hz, spec);
+  if (experiment.procedure == "forced_choice") {
+    spec.repetitions = read_int(reader, "repetitions", spec.repetitions, 1, ">= 1");
+    spec.counterbalance_sides = reader.boolean("counterbalance_sides").value_or(spec.counterbalance_sides);
+  } else {
+    read_adaptive_procedure(reader, experiment);
+  }
   if (const toml::array* responses = reader.array("responses")) {
     std::vector<std::string> names;
     for (std::size_t i = 0; i < responses->size(); ++i) {
@@ -199,6 +218,8 @@ void read_observer_section(TableReader& top, Experiment& experiment) {
   if (spec.lapse >= 0.5) reader.fail("lapse", "must be in [0, 0.5), found " + std::to_string(spec.lapse));
   spec.response_time_median_s =
       read_number(reader, "response_time_median_s", spec.response_time_median_s, Bound::positive);
+  spec.rating_sd = read_number(reader, "rating_sd", spec.rating_sd, Bound::non_negative);
+  spec.match_sd_log10 = read_number(reader, "match_sd_log10", spec.match_sd_log10, Bound::non_negative);
   reader.report_unused();
 }
 
@@ -311,14 +332,39 @@ ConditionSource read_conditions_section(TableReader& top, const std::string& bas
   return source;
 }
 
+// Every row names an existing scene in each of `columns` (forced choice: scene_a and scene_b;
+// staircase and QUEST: reference and comparison).
+void check_scene_columns(const std::vector<LocatedRow>& rows, const Experiment& experiment,
+                         const std::optional<CsvTable>& csv, const std::vector<std::string>& columns) {
+  std::vector<std::string> scene_names;
+  for (const auto& entry : experiment.scenes) scene_names.push_back(entry.first);
+  for (const std::string& column : columns) {
+    if (csv) csv->require_column(column);
+  }
+  const std::string needs = (experiment.procedure == "forced_choice" ? std::string("forced choice")
+                                                                      : experiment.procedure) +
+                            " needs " + columns[0] + (columns.size() > 1 ? " and " + columns[1] : std::string());
+  for (const LocatedRow& located : rows) {
+    const ConditionRow& row = located.row;
+    for (const std::string& column : columns) {
+      std::size_t f = 0;
+      while (f < row.fields.size() && row.fields[f].first != column) ++f;
+      if (f == row.fields.size()) {
+        throw ConfigError(row.where, column, "condition row " + std::to_string(row.number) +
+                                                 " has no '" + column + "' (" + needs + ")");
+      }
+      const std::string& scene = row.fields[f].second;
+      if (experiment.scenes.count(scene) == 0) {
+        throw ConfigError(located.value_where[f], column,
+                          "unknown scene '" + scene + "' (scenes in [scenes]: " + join_quoted(scene_names) + ")");
+      }
+    }
+  }
+}
+
 // Forced choice shows the scenes named in columns scene_a and scene_b of every row.
 void check_forced_choice_rows(const std::vector<LocatedRow>& rows, const Experiment& experiment,
                               const std::optional<CsvTable>& csv) {
-  std::vector<std::string> scene_names;
-  for (const auto& entry : experiment.scenes) scene_names.push_back(entry.first);
-  for (const std::string column : {"scene_a", "scene_b"}) {
-    if (csv) csv->require_column(column);
-  }
   for (const LocatedRow& located : rows) {
     const ConditionRow& row = located.row;
     for (std::size_t f = 0; f < row.fields.size(); ++f) {
@@ -330,20 +376,8 @@ void check_forced_choice_rows(const std::vector<LocatedRow>& rows, const Experim
                           "shown on each side under 'left' and 'right')");
       }
     }
-    for (const std::string column : {"scene_a", "scene_b"}) {
-      std::size_t f = 0;
-      while (f < row.fields.size() && row.fields[f].first != column) ++f;
-      if (f == row.fields.size()) {
-        throw ConfigError(row.where, column, "condition row " + std::to_string(row.number) +
-                                                 " has no '" + column + "' (forced choice needs scene_a and scene_b)");
-      }
-      const std::string& scene = row.fields[f].second;
-      if (experiment.scenes.count(scene) == 0) {
-        throw ConfigError(located.value_where[f], column,
-                          "unknown scene '" + scene + "' (scenes in [scenes]: " + join_quoted(scene_names) + ")");
-      }
-    }
   }
+  check_scene_columns(rows, experiment, csv, {"scene_a", "scene_b"});
 }
 
 }  // namespace
@@ -378,10 +412,15 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   experiment.glare = read_glare_section(top);
 
   if (experiment.procedure == "forced_choice") check_forced_choice_rows(conditions.rows, experiment, conditions.csv);
+  else if (experiment.procedure == "rating") check_scene_columns(conditions.rows, experiment, conditions.csv, {"scene"});
+  else if (experiment.procedure == "adjustment")
+    check_scene_columns(conditions.rows, experiment, conditions.csv, {"target", "comparison"});
+  else check_scene_columns(conditions.rows, experiment, conditions.csv, {"reference", "comparison"});
   for (LocatedRow& located : conditions.rows) {
     glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here
     experiment.conditions.push_back(std::move(located.row));
   }
+  if (experiment.procedure == "staircase" || experiment.procedure == "quest") check_adaptive_conditions(experiment);
   return experiment;
 }
 

@@ -37,8 +37,10 @@ bool nearly_equal(double a, double b) {
 std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
                                                   const std::map<std::string, double>& source_peak_cd_m2) {
   const ForcedChoiceSpec& spec = experiment.forced_choice;
-  if (spec.responses.size() != kPositions.size()) {
-    throw std::invalid_argument("forced choice: expected " + std::to_string(kPositions.size()) + " responses");
+  // One response per position, plus "neither" in the 3-way variant (Spencer 1995).
+  if (spec.responses.size() != kPositions.size() && spec.responses.size() != kPositions.size() + 1) {
+    throw std::invalid_argument("forced choice: expected " + std::to_string(kPositions.size()) + " or " +
+                                std::to_string(kPositions.size() + 1) + " responses");
   }
 
   std::vector<Presentation> design;
@@ -78,8 +80,21 @@ std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
     plan.allowed_responses = spec.responses;
     const double left = plan.source_luminance_cd_m2[0];
     const double right = plan.source_luminance_cd_m2[1];
-    if (!nearly_equal(left, right)) plan.correct_response = spec.responses[left > right ? 0 : 1];
-    plan.question = spec.question;
+    // Preference questions ("which is more attractive?") have no right answer: a row with
+    // scored = false leaves `correct` NULL whatever the luminances.
+    const std::string* scored = row.find("scored");
+    const bool has_answer = scored == nullptr || *scored != "false";
+    if (!has_answer) {
+      // no correct response
+    } else if (!nearly_equal(left, right)) {
+      plan.correct_response = spec.responses[left > right ? 0 : 1];
+    } else if (spec.responses.size() == 3) {
+      plan.correct_response = spec.responses[2];  // equal sources: "neither" is the right answer
+    }
+    // A "question" column asks each row its own question (Ritschel 2009: brighter, more
+    // attractive, more realistic), shown above the stimuli.
+    const std::string* question = row.find("question");
+    plan.question = question != nullptr ? *question : spec.question;
     plan.stimulus_frames = spec.stimulus_frames;
 
     JsonObjectWriter json;

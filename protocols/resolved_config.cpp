@@ -20,6 +20,37 @@ void print_section(std::ostringstream& out, const std::string& name, toml::table
   out << root << "\n\n";
 }
 
+// Every parameter of one adaptive track, explicit.
+toml::table adaptive_track_table(const Experiment& experiment, const AdaptiveTrackSpec& track) {
+  toml::table table;
+  if (experiment.procedure == "staircase") {
+    const StaircaseSpec& s = track.staircase;
+    toml::array steps;
+    for (double step : s.step_sizes) steps.push_back(step);
+    table = toml::table{{"name", s.name},
+                        {"start_intensity", s.start_value},
+                        {"step_sizes", std::move(steps)},
+                        {"step_type", to_string(s.step_type)},
+                        {"n_up", s.n_up},
+                        {"n_down", s.n_down},
+                        {"n_reversals", s.n_reversals},
+                        {"n_trials", s.n_trials},
+                        {"apply_initial_rule", s.apply_initial_rule}};
+    if (s.min_value) table.insert("min_value", *s.min_value);
+    if (s.max_value) table.insert("max_value", *s.max_value);
+  } else {
+    const QuestSpec& q = track.quest;
+    table = toml::table{{"name", q.name},         {"t_guess", q.t_guess}, {"t_guess_sd", q.t_guess_sd},
+                        {"p_threshold", q.p_threshold}, {"beta", q.beta}, {"delta", q.delta},
+                        {"gamma", q.gamma},       {"grain", q.grain},     {"range", q.range},
+                        {"method", to_string(q.placement)}, {"n_trials", q.n_trials}};
+    if (q.min_value) table.insert("min_value", *q.min_value);
+    if (q.max_value) table.insert("max_value", *q.max_value);
+  }
+  if (!track.condition.empty()) table.insert("condition", track.condition);
+  return table;
+}
+
 }  // namespace
 
 std::string resolved_config_toml(const Experiment& experiment) {
@@ -60,21 +91,52 @@ std::string resolved_config_toml(const Experiment& experiment) {
   const ForcedChoiceSpec& spec = experiment.forced_choice;
   toml::array responses;
   for (const std::string& response : spec.responses) responses.push_back(response);
-  print_section(out, "procedure",
-                toml::table{{"type", experiment.procedure},
-                            {"alternatives", spec.alternatives},
-                            {"layout", spec.layout},
-                            {"question", spec.question},
-                            {"stimulus_frames", spec.stimulus_frames},
-                            {"repetitions", spec.repetitions},
-                            {"counterbalance_sides", spec.counterbalance_sides},
-                            {"responses", std::move(responses)}});
+  toml::table procedure;
+  if (experiment.procedure == "rating") {
+    toml::array categories;
+    for (const std::string& category : experiment.rating.categories) categories.push_back(category);
+    procedure = toml::table{{"type", experiment.procedure},
+                            {"categories", std::move(categories)},
+                            {"scale_points", experiment.rating.scale_points},
+                            {"repetitions", experiment.rating.repetitions}};
+  } else if (experiment.procedure == "adjustment") {
+    const AdjustmentSpec& adjustment = experiment.adjustment;
+    procedure = toml::table{{"type", experiment.procedure},
+                            {"coarse_step_log10", adjustment.coarse_step_log10},
+                            {"fine_step_log10", adjustment.fine_step_log10},
+                            {"start_range_log10", adjustment.start_range_log10},
+                            {"repetitions", adjustment.repetitions}};
+  } else {
+    procedure = toml::table{{"type", experiment.procedure},
+                        {"alternatives", spec.alternatives},
+                        {"layout", spec.layout},
+                        {"question", spec.question},
+                        {"responses", std::move(responses)}};
+  }
+  // The duration as the file gave it, so the rounding is redone (and logged) on resume.
+  if (spec.stimulus_duration_s) {
+    procedure.insert("stimulus_duration_s", *spec.stimulus_duration_s);
+  } else {
+    procedure.insert("stimulus_frames", spec.stimulus_frames);
+  }
+  if (experiment.procedure == "forced_choice") {
+    procedure.insert("repetitions", spec.repetitions);
+    procedure.insert("counterbalance_sides", spec.counterbalance_sides);
+  } else if (experiment.procedure == "staircase" || experiment.procedure == "quest") {
+    procedure.insert("threshold_reversals", experiment.adaptive.threshold_reversals);
+    toml::array tracks;
+    for (const AdaptiveTrackSpec& track : experiment.adaptive.tracks) tracks.push_back(adaptive_track_table(experiment, track));
+    procedure.insert("staircases", std::move(tracks));
+  }
+  print_section(out, "procedure", std::move(procedure));
 
   const SimulatedObserverSpec& observer = experiment.simulated_observer;
   toml::table simulated{{"threshold_log10", observer.threshold_log10},
                         {"slope", observer.slope},
                         {"lapse", observer.lapse},
-                        {"response_time_median_s", observer.response_time_median_s}};
+                        {"response_time_median_s", observer.response_time_median_s},
+                        {"rating_sd", observer.rating_sd},
+                        {"match_sd_log10", observer.match_sd_log10}};
   print_section(out, "observer", toml::table{{"simulated", std::move(simulated)}});
   print_section(out, "glare", glare_section_toml(experiment.glare));
 

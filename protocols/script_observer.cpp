@@ -47,8 +47,9 @@ class ScriptObserver : public Observer {
         if (other == allowed.end()) throw not_allowed(entry, allowed);
         response.value = *other;
       }
-    } else if (allowed.empty() && is_number(entry.text)) {
-      // Procedures without named responses (adjustment, rating) take the number as written.
+    } else if (allowed.empty() && is_numbers(entry.text)) {
+      // Procedures without named responses (adjustment: "L R" or one value for both spots) take
+      // the numbers as written.
       response.value = entry.text;
     } else {
       throw not_allowed(entry, allowed);
@@ -57,14 +58,26 @@ class ScriptObserver : public Observer {
   }
 
  private:
-  static bool is_number(const std::string& text) {
-    try {
-      std::size_t used = 0;
-      (void)std::stod(text, &used);
-      return used == text.size();
-    } catch (const std::exception&) {
-      return false;
+  // One or two numbers separated by blanks.
+  static bool is_numbers(const std::string& text) {
+    std::size_t start = 0;
+    int count = 0;
+    while (start < text.size()) {
+      const std::size_t end = std::min(text.find(' ', start), text.size());
+      if (end > start) {
+        try {
+          const std::string token = text.substr(start, end - start);
+          std::size_t used = 0;
+          (void)std::stod(token, &used);
+          if (used != token.size()) return false;
+        } catch (const std::exception&) {
+          return false;
+        }
+        ++count;
+      }
+      start = end + 1;
     }
+    return count == 1 || count == 2;
   }
 
   static ConfigError not_allowed(const ScriptEntry& entry, const std::vector<std::string>& allowed) {

@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "protocols/adjustment_procedure.h"
 #include "protocols/observer.h"
 #include "runner/random.h"
 
@@ -22,7 +23,8 @@ class SimulatedObserver : public Observer {
   std::string description() const override { return "simulated"; }
 
   Response respond(const TrialPlan& plan) override {
-    if (plan.allowed_responses.size() < 2 || plan.source_luminance_cd_m2.size() < 2) {
+    const bool choice = plan.adjustment_start_cd_m2.empty() && !plan.simulated_rating_mean;
+    if (choice && (plan.allowed_responses.size() < 2 || plan.source_luminance_cd_m2.size() < 2)) {
       throw std::invalid_argument("simulated observer: trial " + std::to_string(plan.trial_index) +
                                   " needs two positions and at least two allowed responses");
     }
@@ -31,10 +33,30 @@ class SimulatedObserver : public Observer {
     const double u = choice_random_.uniform(index);
 
     Response response;
-    if (plan.correct_response.empty()) {
+    if (!plan.adjustment_start_cd_m2.empty()) {
+      // A matching observer: each spot is set to the target's luminance (position 1) times
+      // 10^(match_sd_log10 * N(0, 1)), independently per spot.
+      const double target_cd_m2 = plan.source_luminance_cd_m2.at(1);
+      response.value =
+          format_adjustment_response(target_cd_m2 * std::pow(10.0, spec_.match_sd_log10 * choice_random_.normal(index, 0)),
+                                     target_cd_m2 * std::pow(10.0, spec_.match_sd_log10 * choice_random_.normal(index, 1)));
+    } else if (plan.simulated_rating_mean) {
+      // A rating: the condition's mean plus Gaussian noise, rounded to the scale's points.
+      const double rating = std::round(*plan.simulated_rating_mean + spec_.rating_sd * choice_random_.normal(index));
+      const double top = static_cast<double>(plan.allowed_responses.size());
+      response.value = plan.allowed_responses[static_cast<std::size_t>(std::clamp(rating, 1.0, top)) - 1];
+    } else if (plan.correct_response.empty()) {
       // No right answer: each allowed response is equally likely.
       const auto pick = static_cast<std::size_t>(u * static_cast<double>(plan.allowed_responses.size()));
       response.value = plan.allowed_responses[std::min(pick, plan.allowed_responses.size() - 1)];
+    } else if (plan.allowed_responses.size() == 3) {
+      // 3-way with "neither" (Spencer 1995): the observer names the brighter side when it sees a
+      // difference, with probability (1 - 2 lapse) W(d) (the 2-AFC curve without its guessing
+      // half), and otherwise answers the third response, "neither".
+      const double d = log_ratio(plan.source_luminance_cd_m2[0], plan.source_luminance_cd_m2[1]);
+      const std::string& neither = plan.allowed_responses[2];
+      const bool seen = plan.correct_response != neither && u < (1.0 - 2.0 * spec_.lapse) * weibull(d);
+      response.value = seen ? plan.correct_response : neither;
     } else {
       const double d = log_ratio(plan.source_luminance_cd_m2[0], plan.source_luminance_cd_m2[1]);
       if (u < p_correct(d)) {
@@ -68,10 +90,10 @@ class SimulatedObserver : public Observer {
   //   p(d) = gamma + (1 - gamma - lambda) * (1 - exp(-(d / alpha)^beta))
   // with guess rate gamma = 0.5 (2-AFC), lapse rate lambda, threshold alpha (log10 units) and
   // slope beta. p runs from chance (0.5) at d = 0 to 1 - lambda for large d.
+  double weibull(double d) const { return 1.0 - std::exp(-std::pow(d / spec_.threshold_log10, spec_.slope)); }
   double p_correct(double d) const {
     constexpr double kGuess = 0.5;
-    const double weibull = 1.0 - std::exp(-std::pow(d / spec_.threshold_log10, spec_.slope));
-    return kGuess + (1.0 - kGuess - spec_.lapse) * weibull;
+    return kGuess + (1.0 - kGuess - spec_.lapse) * weibull(d);
   }
 
   SimulatedObserverSpec spec_;

@@ -16,6 +16,15 @@ struct TrialPlan {
   std::vector<std::string> scenes;     // scene name shown at each position
   // Peak luminance (cd/m2) of the source at each position: what a simulated observer compares.
   std::vector<double> source_luminance_cd_m2;
+  // Factor on each position's scene (empty: all 1). Adaptive procedures scale the comparison
+  // scene so that its peak is the trial's intensity in cd/m2.
+  std::vector<double> scene_scale;
+  std::string staircase;  // the adaptive track that runs this trial; empty otherwise
+  // Ratings: the mean rating of the simulated observer for this condition.
+  std::optional<double> simulated_rating_mean;
+  // Adjustment: the start luminances (cd/m2) of the left and right comparison spots; positions
+  // are {"left", "target", "right"} and the comparison scene's scale is setting / its peak.
+  std::vector<double> adjustment_start_cd_m2;
   std::vector<std::string> allowed_responses;
   std::string correct_response;  // empty when no answer is right (equal sources)
   std::optional<double> intensity;
@@ -31,6 +40,10 @@ struct Response {
 struct TrialOutcome {
   std::string response;
   std::optional<int> correct;
+  std::string staircase;          // name of the staircase that ran the trial; empty otherwise
+  std::optional<int> reversal;    // 1 when the trial reversed its staircase's direction, else 0
+  std::optional<double> intensity;  // when the response sets it (adjustment: mean of the settings)
+  std::vector<double> adjustment_settings_cd_m2;  // adjustment: left and right spot
 };
 
 }  // namespace glarelab

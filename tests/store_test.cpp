@@ -158,11 +158,12 @@ TEST(Store, SchemaVersionAndContractColumns) {
   const std::string path = dir.file("nested/results/glarelab.db");
   {
     ResultStore store(path);
-    EXPECT_EQ(store.schema_version(), 1);
+    EXPECT_EQ(store.schema_version(), 2);
     EXPECT_EQ(store.path(), path);
   }
   RawDb db(path);
-  EXPECT_EQ(db.value("PRAGMA user_version"), "1");
+  EXPECT_EQ(db.value("PRAGMA user_version"), "2");
+  EXPECT_THAT(column_names(db, "adjustments"), ::testing::ElementsAre("trial_id", "spot", "value_cd_m2"));
   EXPECT_THAT(column_names(db, "sessions"),
               ::testing::IsSupersetOf({"id", "experiment", "participant", "seed", "started_utc", "finished_utc",
                                        "status", "config", "software_version", "renderer", "display_backend", "clock",
@@ -327,15 +328,44 @@ TEST(Store, NewerSchemaIsRefused) {
   const std::string path = dir.file("future.db");
   {
     RawDb db(path, true);
-    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 2;");
+    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 3;");
   }
   try {
     ResultStore store(path);
     FAIL() << "a database from a newer glarelab was opened";
   } catch (const StoreError& error) {
-    EXPECT_EQ(std::string(error.what()), path + ": schema version 2 is newer than this glarelab (1)");
+    EXPECT_EQ(std::string(error.what()), path + ": schema version 3 is newer than this glarelab (2)");
   }
-  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "2");
+  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "3");
+}
+
+TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
+  test::ScratchDir dir;
+  const std::string path = dir.file("v1.db");
+  std::int64_t session_id = 0;
+  {
+    ResultStore store(path);
+    session_id = store.begin_session(sample_session());
+    store.commit_trial(full_trial(session_id, 0), frames_from(0.0, 2));
+  }
+  {
+    // What a glarelab of schema version 1 left behind: no adjustments table.
+    RawDb db(path, true);
+    db.exec("DROP TABLE adjustments; PRAGMA user_version = 1;");
+  }
+  ResultStore store(path);
+  EXPECT_EQ(store.schema_version(), 2);
+  ASSERT_EQ(store.load_trials(session_id).size(), 1u);
+  TrialRecord adjustment = full_trial(session_id, 1);
+  adjustment.procedure = "adjustment";
+  const std::int64_t trial_id =
+      store.commit_trial(adjustment, frames_from(1.0, 1), {{1, 118.5}, {0, 97.25}});
+  const auto settings = store.load_adjustments(trial_id);
+  ASSERT_EQ(settings.size(), 2u);
+  EXPECT_EQ(settings[0].spot, 0);
+  EXPECT_EQ(settings[0].value_cd_m2, 97.25);
+  EXPECT_EQ(settings[1].spot, 1);
+  EXPECT_EQ(settings[1].value_cd_m2, 118.5);
 }
 
 TEST(Store, TextFileIsRefusedNamingIt) {

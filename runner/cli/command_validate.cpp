@@ -1,7 +1,7 @@
 #include <iostream>
 
 #include "protocols/experiment.h"
-#include "protocols/forced_choice.h"
+#include "protocols/procedure.h"
 #include "runner/cli/commands.h"
 #include "stimuli/scene_library.h"
 
@@ -15,9 +15,9 @@ Action add_validate_command(CLI::App& app) {
     return report_errors([&]() {
       const Experiment experiment = load_experiment(*path);
       const SceneLibrary scenes(experiment);
-      const auto trials = build_forced_choice_trials(experiment, scenes.peak_luminances_cd_m2());
+      const auto procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
       std::cout << *path << ": ok: experiment '" << experiment.name << "', " << experiment.scenes.size()
-                << " scene(s), " << experiment.conditions.size() << " condition row(s), " << trials.size() << " "
+                << " scene(s), " << experiment.conditions.size() << " condition row(s), " << procedure->planned_trials() << " "
                 << experiment.procedure << " trials, display " << experiment.display.width_px << "x"
                 << experiment.display.height_px << " at " << experiment.display.refresh_hz << " Hz\n";
       for (const auto& [name, scene] : scenes.scenes()) {

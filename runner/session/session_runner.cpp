@@ -8,10 +8,13 @@
 #include <vector>
 
 #include "protocols/experiment.h"
-#include "protocols/forced_choice.h"
 #include "protocols/observer.h"
+#include "protocols/procedure.h"
+#include "protocols/adjustment_procedure.h"
+#include "protocols/stimulus_duration.h"
 #include "runner/clock.h"
 #include "runner/display/display_backend.h"
+#include "runner/session/adjustment_keys.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interrupt.h"
 #include "runner/session/keyboard_responses.h"
@@ -38,7 +41,7 @@ struct PreparedSession {
   Experiment experiment;
   std::string resolved_config;
   std::unique_ptr<SceneLibrary> scenes;
-  std::vector<TrialPlan> trials;
+  std::unique_ptr<Procedure> procedure;
   std::unique_ptr<Observer> observer;  // null for the keyboard
   std::string observer_description;
 };
@@ -67,7 +70,7 @@ PreparedSession prepare(Experiment experiment, const RunOptions& options) {
   prepared.experiment = std::move(experiment);
   prepared.resolved_config = resolved_config_toml(prepared.experiment);
   prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment);
-  prepared.trials = build_forced_choice_trials(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
+  prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
   if (!prepared.observer && options.display != "window") {
     throw ConfigError({"--observer", 0, 0}, "observer",
@@ -138,6 +141,15 @@ class SessionLoop {
     }
     if (!interactive) {
       run.response = prepared_.observer->respond(plan);
+      // A script's "abort" ends the session as Escape would; it is not an answer to record.
+      if (run.response->value == "abort") {
+        aborted_ = true;
+        abort_reason_ = "the observer aborted";
+        return false;
+      }
+    } else if (!plan.adjustment_start_cd_m2.empty()) {
+      run.response = adjust_interactively(plan, run.onset_s);
+      if (aborted_) return false;
     } else {
       // Response screen: the background alone, until an allowed key or Escape.
       while (!run.response) {
@@ -153,7 +165,7 @@ class SessionLoop {
     check_interrupt();
     if (aborted_) return false;
     commit(plan, run);
-    const int total = static_cast<int>(prepared_.trials.size());
+    const int total = prepared_.procedure->planned_trials();
     if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
       progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
     return true;
@@ -197,6 +209,43 @@ class SessionLoop {
   RealTimePacer* pacer_;
   // --- end tracker ---
 
+  // Double adjustment with the keyboard: the target and both spots stay on screen while the
+  // observer adjusts (runner/session/adjustment_keys.h) until Enter or Space.
+  std::optional<Response> adjust_interactively(const TrialPlan& plan, double onset_s) {
+    TrialPlan shown = plan;
+    std::vector<double> settings = plan.adjustment_start_cd_m2;
+    const double comparison_peak_cd_m2 = plan.adjustment_start_cd_m2[0] / plan.scene_scale[0];
+    while (true) {
+      shown.scene_scale = {settings[0] / comparison_peak_cd_m2, 1.0, settings[1] / comparison_peak_cd_m2};
+      draw(layout(shown));
+      display_.present();
+      const double flip_s = clock_.on_flip();
+      timing_.on_flip(flip_s, plan.trial_index, -1);
+      after_flip(flip_s);
+      check_interrupt();
+      if (!aborted_ && display_.close_requested()) {
+        aborted_ = true;
+        abort_reason_ = "window closed";
+      }
+      if (aborted_) return std::nullopt;
+      for (const std::string& key : display_.poll_keys()) {
+        const double key_time_s = clock_.now_s();
+        if (key == "escape") {
+          aborted_ = true;
+          abort_reason_ = "Escape pressed";
+          return std::nullopt;
+        }
+        if (accepts_adjustment(key)) return Response{format_adjustment_response(settings[0], settings[1]), key_time_s - onset_s};
+        if (const std::optional<double> factor = adjustment_factor(key, prepared_.experiment.adjustment)) {
+          for (double& setting : settings) setting *= *factor;
+        } else {
+          store_.log_event(session_id_, key_time_s, "ignored_key",
+                           "trial " + std::to_string(plan.trial_index) + ": key '" + key + "' does not adjust");
+        }
+      }
+    }
+  }
+
   std::vector<Placement> layout(const TrialPlan& plan) const {
     std::vector<PixelRect> sizes;
     for (const auto& scene_name : plan.scenes) {
@@ -207,7 +256,8 @@ class SessionLoop {
     const auto rects = side_by_side_layout(display_.width_px(), display_.height_px(), sizes, &columns);
     std::vector<Placement> placements;
     for (std::size_t i = 0; i < plan.scenes.size(); ++i)
-      placements.push_back({&textures_.at(plan.scenes[i]), 1.0, rects[i], columns[i]});
+      placements.push_back({&textures_.at(plan.scenes[i]), plan.scene_scale.empty() ? 1.0 : plan.scene_scale[i],
+                            rects[i], columns[i]});
     return placements;
   }
 
@@ -318,20 +368,25 @@ class SessionLoop {
   }
 
   void commit(const TrialPlan& plan, const TrialRun& run) {
-    const TrialOutcome outcome = score_forced_choice(plan, *run.response);
+    const TrialOutcome outcome = prepared_.procedure->record_response(plan, *run.response);
     TrialRecord record;
     record.session_id = session_id_;
     record.trial_index = plan.trial_index;
     record.block = plan.block;
     record.procedure = plan.procedure;
     record.condition = plan.condition_json;
-    record.intensity = plan.intensity;
+    record.intensity = outcome.intensity ? outcome.intensity : plan.intensity;
     record.response = outcome.response;
     record.correct = outcome.correct;
+    record.staircase = outcome.staircase;
+    record.reversal = outcome.reversal;
     record.response_time_s = run.response->response_time_s;
     record.onset_s = run.onset_s;
     record.started_utc = utc_now_iso8601();
-    store_.commit_trial(record, run.frames);
+    std::vector<AdjustmentSetting> settings;
+    for (std::size_t spot = 0; spot < outcome.adjustment_settings_cd_m2.size(); ++spot)
+      settings.push_back({static_cast<int>(spot), outcome.adjustment_settings_cd_m2[spot]});
+    store_.commit_trial(record, run.frames, settings);
   }
 
   PreparedSession& prepared_;
@@ -399,8 +454,18 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     result.db_path = options.db_path.empty() ? default_db_path(experiment) : options.db_path;
   }
   PreparedSession prepared = prepare(std::move(experiment), options);
-  result.trials_in_design = static_cast<int>(prepared.trials.size());
+  result.trials_in_design = prepared.procedure->planned_trials();
   const int first_trial = static_cast<int>(done_trials.size());
+  // Resume: the committed responses, replayed through the procedure, bring it to the state the
+  // interrupted run had (adaptive procedures continue from the same intensity).
+  for (const TrialRecord& done : done_trials) {
+    const TrialPlan plan = prepared.procedure->next_trial();
+    if (plan.condition_json != done.condition)
+      throw StoreError("SQLite: " + result.db_path + ": session " + std::to_string(resumed->id) + " trial " +
+                       std::to_string(done.trial_index) + " does not match its replay (stored condition " +
+                       done.condition + ", replayed " + plan.condition_json + ")");
+    prepared.procedure->record_response(plan, Response{done.response, done.response_time_s});
+  }
 
   // --- tracker: source built (bad --tracker value: exit 2) before anything is opened ---
   TrackerSession tracker(options.tracker, prepared.experiment.seed);
@@ -452,6 +517,9 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
                      display->kind() + " " + std::to_string(display->width_px()) + "x" +
                          std::to_string(display->height_px()) + " at " + std::to_string(display->refresh_hz()) +
                          " Hz, " + renderer + ", " + clock->name() + " clock");
+    const std::string rounding =
+        describe_duration_rounding(prepared.experiment.forced_choice, prepared.experiment.display.refresh_hz);
+    if (!rounding.empty()) store->log_event(result.session_id, 0.0, "duration_rounding", rounding);
     for (const auto& [name, scene] : prepared.scenes->scenes()) {
       if (scene.peak_cd_m2 > prepared.experiment.display.peak_luminance_cd_m2) {
         store->log_event(result.session_id, 0.0, "clipping",
@@ -464,10 +532,13 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   }
 
   progress << "Session " << result.session_id << " of '" << prepared.experiment.name << "' ("
-           << prepared.trials.size() << " trials, " << display->kind() << ", " << prepared.observer_description
+           << result.trials_in_design << " trials, " << display->kind() << ", " << prepared.observer_description
            << " observer) -> " << result.db_path << "\n";
-  if (!prepared.observer && !prepared.trials.empty()) {
-    progress << prepared.trials.front().question << " " << describe_response_keys(prepared.trials.front().allowed_responses)
+  if (!prepared.observer && !prepared.procedure->finished()) {
+    const TrialPlan first = prepared.procedure->next_trial();
+    progress << first.question << " "
+             << (first.adjustment_start_cd_m2.empty() ? describe_response_keys(first.allowed_responses)
+                                                     : describe_adjustment_keys(prepared.experiment.adjustment))
              << "\n";
   }
 
@@ -479,13 +550,13 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   // 4. The trials.
   SessionLoop loop(prepared, *display, *clock, *store, result.session_id, tracker, pacer.get());
   const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
-  for (int index = first_trial; calibrated && index < result.trials_in_design; ++index) {
+  while (calibrated && !prepared.procedure->finished()) {
     if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
       result.status = "running";
       result.tracker_summary = tracker.finish(clock->now_s());
       return result;
     }
-    if (!loop.run_trial(prepared.trials[static_cast<std::size_t>(index)], progress)) break;
+    if (!loop.run_trial(prepared.procedure->next_trial(), progress)) break;
     ++result.trials_run_now;
   }
   // Frame timing of this run (a resumed session reports the frames shown since resuming).

@@ -90,6 +90,15 @@ CREATE INDEX frames_session_id ON frames(session_id);
 CREATE INDEX tracker_samples_session_id ON tracker_samples(session_id);
 CREATE INDEX session_events_session_id ON session_events(session_id);
 )sql",
+    // 1 -> 2: the settings of double-adjustment trials (two comparison spots per trial).
+    R"sql(
+CREATE TABLE adjustments (
+  trial_id INTEGER NOT NULL REFERENCES trials(id),
+  spot INTEGER NOT NULL CHECK(spot IN (0, 1)),
+  value_cd_m2 REAL NOT NULL,
+  PRIMARY KEY (trial_id, spot)
+);
+)sql",
 };
 static_assert(std::size(kMigrations) == ResultStore::kSchemaVersion, "one migration per schema version");
 
@@ -366,6 +375,11 @@ void ResultStore::reopen_session(std::int64_t session_id) {
 }
 
 std::int64_t ResultStore::commit_trial(const TrialRecord& trial, const std::vector<FrameRecord>& frames) {
+  return commit_trial(trial, frames, {});
+}
+
+std::int64_t ResultStore::commit_trial(const TrialRecord& trial, const std::vector<FrameRecord>& frames,
+                                       const std::vector<AdjustmentSetting>& adjustments) {
   const std::string what =
       "committing trial " + std::to_string(trial.trial_index) + " of session " + std::to_string(trial.session_id);
   Transaction transaction(db_, path_, what);
@@ -404,6 +418,17 @@ std::int64_t ResultStore::commit_trial(const TrialRecord& trial, const std::vect
     frame_insert.bind(5, frame.flip_s);
     frame_insert.bind(6, frame.dropped ? 1 : 0);
     frame_insert.step_done();
+  }
+  if (!adjustments.empty()) {
+    Statement adjustment_insert(db_, path_, "INSERT INTO adjustments (trial_id, spot, value_cd_m2) VALUES (?1, ?2, ?3)",
+                                what + " (adjustments)");
+    for (const AdjustmentSetting& adjustment : adjustments) {
+      adjustment_insert.reset();
+      adjustment_insert.bind(1, trial_id);
+      adjustment_insert.bind(2, adjustment.spot);
+      adjustment_insert.bind(3, adjustment.value_cd_m2);
+      adjustment_insert.step_done();
+    }
   }
   transaction.commit();
   return trial_id;
@@ -507,6 +532,15 @@ std::vector<FrameRecord> ResultStore::load_frames(std::int64_t trial_id) const {
     frames.push_back(frame);
   }
   return frames;
+}
+
+std::vector<AdjustmentSetting> ResultStore::load_adjustments(std::int64_t trial_id) const {
+  Statement select(db_, path_, "SELECT spot, value_cd_m2 FROM adjustments WHERE trial_id = ?1 ORDER BY spot",
+                   "loading the adjustments of trial " + std::to_string(trial_id));
+  select.bind(1, trial_id);
+  std::vector<AdjustmentSetting> adjustments;
+  while (select.step()) adjustments.push_back({select.integer(0), select.real(1)});
+  return adjustments;
 }
 
 double ResultStore::last_flip_s(std::int64_t session_id) const {

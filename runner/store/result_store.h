@@ -61,6 +61,13 @@ struct FrameRecord {
   bool dropped = false;
 };
 
+// One setting of a double-adjustment trial (Yoshida 2008): which comparison spot and the
+// luminance it was left at.
+struct AdjustmentSetting {
+  int spot = 0;  // 0: left of the target, 1: right
+  double value_cd_m2 = 0.0;
+};
+
 struct TrackerSampleRecord {
   int eye = 0;
   double device_time_s = 0.0;
@@ -74,7 +81,7 @@ struct TrackerSampleRecord {
 
 class ResultStore {
  public:
-  static constexpr int kSchemaVersion = 1;
+  static constexpr int kSchemaVersion = 2;
 
   // Opens or creates the database at `path` (created 0600), applies migrations up to
   // kSchemaVersion, sets WAL and synchronous=FULL. Throws StoreError naming the file.
@@ -95,6 +102,9 @@ class ResultStore {
 
   // One transaction: the trial row and its frames. Returns the trial id.
   std::int64_t commit_trial(const TrialRecord& trial, const std::vector<FrameRecord>& frames);
+  // The same with the settings of an adjustment trial, all in one transaction.
+  std::int64_t commit_trial(const TrialRecord& trial, const std::vector<FrameRecord>& frames,
+                            const std::vector<AdjustmentSetting>& adjustments);
   // Tracker samples in one transaction.
   void append_tracker_samples(std::int64_t session_id, const std::vector<TrackerSampleRecord>& samples);
   // Free-form session log line (decisions, warnings, GL info); committed immediately.
@@ -104,6 +114,7 @@ class ResultStore {
   std::vector<SessionRecord> load_sessions() const;
   std::vector<TrialRecord> load_trials(std::int64_t session_id) const;
   std::vector<FrameRecord> load_frames(std::int64_t trial_id) const;
+  std::vector<AdjustmentSetting> load_adjustments(std::int64_t trial_id) const;  // ordered by spot
   // Largest flip_s logged for the session (0 when none), for continuing its time line on resume.
   double last_flip_s(std::int64_t session_id) const;
   std::int64_t frame_count(std::int64_t session_id) const;

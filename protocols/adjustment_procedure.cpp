@@ -1,0 +1,130 @@
+#include "protocols/adjustment_procedure.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "protocols/fixed_design_procedure.h"
+#include "protocols/json_text.h"
+#include "runner/random.h"
+
+namespace glarelab {
+namespace {
+
+double positive(TableReader& reader, std::string_view key, double fallback) {
+  const std::optional<double> value = reader.number(key);
+  if (!value) return fallback;
+  if (!(*value > 0.0)) reader.fail(key, "must be > 0, found " + std::to_string(*value));
+  return *value;
+}
+
+double peak_of(const std::map<std::string, double>& peaks, const std::string& scene) {
+  const auto found = peaks.find(scene);
+  if (found == peaks.end() || !(found->second > 0.0))
+    throw std::invalid_argument("adjustment: scene '" + scene + "' has no positive peak luminance to scale");
+  return found->second;
+}
+
+std::string number_text(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", value);
+  return buffer;
+}
+
+}  // namespace
+
+void read_adjustment_procedure(TableReader& procedure, Experiment& experiment) {
+  AdjustmentSpec& spec = experiment.adjustment;
+  spec.coarse_step_log10 = positive(procedure, "coarse_step_log10", spec.coarse_step_log10);
+  spec.fine_step_log10 = positive(procedure, "fine_step_log10", spec.fine_step_log10);
+  if (const auto range = procedure.number("start_range_log10")) {
+    if (!(*range >= 0.0)) procedure.fail("start_range_log10", "must be >= 0, found " + std::to_string(*range));
+    spec.start_range_log10 = *range;
+  }
+  if (const auto repetitions = procedure.integer("repetitions")) {
+    if (*repetitions < 1 || *repetitions > std::numeric_limits<int>::max())
+      procedure.fail("repetitions", "must be >= 1, found " + std::to_string(*repetitions));
+    spec.repetitions = static_cast<int>(*repetitions);
+  }
+}
+
+std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
+                                               const std::map<std::string, double>& source_peak_cd_m2) {
+  const AdjustmentSpec& spec = experiment.adjustment;
+  std::vector<std::size_t> design;
+  for (std::size_t row = 0; row < experiment.conditions.size(); ++row)
+    for (int repetition = 0; repetition < spec.repetitions; ++repetition) design.push_back(row);
+  shuffle_in_place(design, CounterRandom(experiment.seed, RandomStream::trial_order), 0);
+
+  const CounterRandom start_random(experiment.seed, RandomStream::adjustment_start);
+  std::vector<TrialPlan> trials;
+  for (std::size_t index = 0; index < design.size(); ++index) {
+    const ConditionRow& row = experiment.conditions[design[index]];
+    const std::string* target = row.find("target");
+    const std::string* comparison = row.find("comparison");
+    if (target == nullptr || comparison == nullptr)
+      throw std::invalid_argument("adjustment: condition '" + row.name() + "' lacks target or comparison");
+    const double target_cd_m2 = peak_of(source_peak_cd_m2, *target);
+    const double comparison_peak_cd_m2 = peak_of(source_peak_cd_m2, *comparison);
+    TrialPlan plan;
+    plan.trial_index = static_cast<int>(index);
+    plan.procedure = "adjustment";
+    plan.condition_name = row.name();
+    plan.positions = {"left", "target", "right"};
+    plan.scenes = {*comparison, *target, *comparison};
+    for (std::uint32_t spot = 0; spot < 2; ++spot) {
+      const double u = 2.0 * start_random.uniform(index, spot) - 1.0;
+      plan.adjustment_start_cd_m2.push_back(target_cd_m2 * std::pow(10.0, spec.start_range_log10 * u));
+    }
+    const double left = plan.adjustment_start_cd_m2[0];
+    const double right = plan.adjustment_start_cd_m2[1];
+    plan.scene_scale = {left / comparison_peak_cd_m2, 1.0, right / comparison_peak_cd_m2};
+    plan.source_luminance_cd_m2 = {left, target_cd_m2, right};
+    plan.question = "Adjust both spots until they look as bright as the centre (up/down: coarse, "
+                    "right/left: fine; Enter or Space when they match)";
+    plan.stimulus_frames = experiment.forced_choice.stimulus_frames;
+    JsonObjectWriter json;
+    for (const auto& [column, value] : row.fields) json.add(column, value);
+    json.add("start_left_cd_m2", number_text(left)).add("start_right_cd_m2", number_text(right));
+    plan.condition_json = json.str();
+    trials.push_back(std::move(plan));
+  }
+  return trials;
+}
+
+std::string format_adjustment_response(double left_cd_m2, double right_cd_m2) {
+  return number_text(left_cd_m2) + " " + number_text(right_cd_m2);
+}
+
+TrialOutcome score_adjustment(const TrialPlan& plan, const Response& response) {
+  TrialOutcome outcome;
+  outcome.response = response.value;
+  if (response.value == "abort") return outcome;
+  std::istringstream in(response.value);
+  std::vector<double> settings;
+  double value = 0.0;
+  while (in >> value) settings.push_back(value);
+  in.clear();
+  std::string rest;
+  in >> rest;
+  if (settings.size() == 1) settings.push_back(settings[0]);  // one number sets both spots
+  if (settings.size() != 2 || !rest.empty() || !(settings[0] > 0.0) || !(settings[1] > 0.0) ||
+      !std::isfinite(settings[0]) || !std::isfinite(settings[1])) {
+    throw std::invalid_argument("adjustment: trial " + std::to_string(plan.trial_index) + ": response '" +
+                                response.value + "' is not one or two positive luminances in cd/m2");
+  }
+  outcome.adjustment_settings_cd_m2 = settings;
+  // The perceived luminance is the mean of the two settings (Ritschel et al. 2009, 6.1).
+  outcome.intensity = 0.5 * (settings[0] + settings[1]);
+  return outcome;
+}
+
+std::unique_ptr<Procedure> make_adjustment_procedure(const Experiment& experiment,
+                                                     const std::map<std::string, double>& source_peak_cd_m2) {
+  return std::make_unique<FixedDesignProcedure>(build_adjustment_trials(experiment, source_peak_cd_m2),
+                                                score_adjustment);
+}
+
+}  // namespace glarelab

@@ -1,0 +1,27 @@
+// The one place that maps experiment.procedure to its implementation.
+#include <stdexcept>
+
+#include "protocols/adaptive_procedure.h"
+#include "protocols/adjustment_procedure.h"
+#include "protocols/fixed_design_procedure.h"
+#include "protocols/forced_choice.h"
+#include "protocols/procedure.h"
+#include "protocols/rating_procedure.h"
+
+namespace glarelab {
+
+std::unique_ptr<Procedure> make_procedure(const Experiment& experiment,
+                                          const std::map<std::string, double>& source_peak_cd_m2) {
+  if (experiment.procedure == "forced_choice") {
+    return std::make_unique<FixedDesignProcedure>(build_forced_choice_trials(experiment, source_peak_cd_m2),
+                                                  score_forced_choice);
+  }
+  if (experiment.procedure == "staircase" || experiment.procedure == "quest") {
+    return std::make_unique<AdaptiveProcedure>(experiment, source_peak_cd_m2);
+  }
+  if (experiment.procedure == "rating") return make_rating_procedure(experiment);
+  if (experiment.procedure == "adjustment") return make_adjustment_procedure(experiment, source_peak_cd_m2);
+  throw std::invalid_argument("unknown procedure '" + experiment.procedure + "'");
+}
+
+}  // namespace glarelab

@@ -1,0 +1,38 @@
+#pragma once
+// A procedure decides the trials of a session one at a time, from the responses so far, so
+// adaptive procedures (staircases, QUEST) and fixed designs (forced choice, ratings) run through
+// the same loop. Resuming a session replays the stored responses through a fresh procedure:
+// a procedure's state depends only on the experiment (seed included) and the responses it was
+// given, so the replay reaches exactly the state the interrupted run had.
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "protocols/experiment.h"
+#include "protocols/trial_plan.h"
+
+namespace glarelab {
+
+class Procedure {
+ public:
+  virtual ~Procedure() = default;
+  // True when no further trial is to be run.
+  virtual bool finished() const = 0;
+  // The plan of the next trial (trial_index = number of responses recorded so far). Calling it
+  // twice without a response in between gives the same plan.
+  virtual TrialPlan next_trial() = 0;
+  // Scores the response to the plan last returned by next_trial() and advances the procedure.
+  // A response outside the plan's allowed set (e.g. "abort") is scored but does not advance.
+  virtual TrialOutcome record_response(const TrialPlan& plan, const Response& response) = 0;
+  // Trials the design holds when fixed in advance; for adaptive procedures the minimum (their
+  // length depends on the responses).
+  virtual int planned_trials() const = 0;
+};
+
+// The procedure named by experiment.procedure. source_peak_cd_m2: peak luminance of each scene.
+// Throws std::invalid_argument for a design that cannot be built.
+std::unique_ptr<Procedure> make_procedure(const Experiment& experiment,
+                                          const std::map<std::string, double>& source_peak_cd_m2);
+
+}  // namespace glarelab

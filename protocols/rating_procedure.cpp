@@ -1,0 +1,98 @@
+#include "protocols/rating_procedure.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+#include "protocols/fixed_design_procedure.h"
+#include "protocols/json_text.h"
+#include "runner/random.h"
+
+namespace glarelab {
+
+void read_rating_procedure(TableReader& procedure, Experiment& experiment) {
+  RatingSpec& spec = experiment.rating;
+  const toml::array* categories = procedure.array("categories");
+  if (categories == nullptr)
+    procedure.fail("categories", "missing required key (the named categories to rate, e.g. [\"glare appearance\"])");
+  for (std::size_t i = 0; i < categories->size(); ++i) {
+    const toml::node& element = *categories->get(i);
+    const std::string key = procedure.key_path("categories") + "[" + std::to_string(i) + "]";
+    const std::string& name = expect_string(element, key, procedure.file());
+    const SourceLocation where = to_location(element.source(), procedure.file());
+    if (name.empty()) throw ConfigError(where, key, "category names must not be empty");
+    if (std::find(spec.categories.begin(), spec.categories.end(), name) != spec.categories.end())
+      throw ConfigError(where, key, "duplicate category '" + name + "'");
+    spec.categories.push_back(name);
+  }
+  if (spec.categories.empty()) procedure.fail("categories", "at least one category is required");
+  if (const auto points = procedure.integer("scale_points")) {
+    // Answered with the digit keys 1..9.
+    if (*points < 2 || *points > 9) procedure.fail("scale_points", "must be 2..9, found " + std::to_string(*points));
+    spec.scale_points = static_cast<int>(*points);
+  }
+  if (const auto repetitions = procedure.integer("repetitions")) {
+    if (*repetitions < 1 || *repetitions > std::numeric_limits<int>::max())
+      procedure.fail("repetitions", "must be >= 1, found " + std::to_string(*repetitions));
+    spec.repetitions = static_cast<int>(*repetitions);
+  }
+}
+
+std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {
+  const RatingSpec& spec = experiment.rating;
+  struct Presentation {
+    std::size_t row;
+    std::size_t category;
+  };
+  std::vector<Presentation> design;
+  for (std::size_t row = 0; row < experiment.conditions.size(); ++row)
+    for (std::size_t category = 0; category < spec.categories.size(); ++category)
+      for (int repetition = 0; repetition < spec.repetitions; ++repetition) design.push_back({row, category});
+  shuffle_in_place(design, CounterRandom(experiment.seed, RandomStream::trial_order), 0);
+
+  std::vector<std::string> allowed;
+  for (int point = 1; point <= spec.scale_points; ++point) allowed.push_back(std::to_string(point));
+  std::vector<TrialPlan> trials;
+  for (std::size_t index = 0; index < design.size(); ++index) {
+    const ConditionRow& row = experiment.conditions[design[index].row];
+    const std::string& category = spec.categories[design[index].category];
+    const std::string* scene = row.find("scene");
+    if (scene == nullptr) throw std::invalid_argument("rating: condition '" + row.name() + "' lacks scene");
+    TrialPlan plan;
+    plan.trial_index = static_cast<int>(index);
+    plan.procedure = "rating";
+    plan.condition_name = row.name();
+    plan.positions = {"centre"};
+    plan.scenes = {*scene};
+    plan.allowed_responses = allowed;
+    plan.question = "Rate the " + category + " from 1 to " + std::to_string(spec.scale_points);
+    plan.stimulus_frames = experiment.forced_choice.stimulus_frames;
+    if (const std::string* mean = row.find("simulated_rating")) {
+      try {
+        plan.simulated_rating_mean = std::stod(*mean);
+      } catch (const std::exception&) {
+        throw std::invalid_argument("rating: condition '" + row.name() + "': simulated_rating '" + *mean +
+                                    "' is not a number");
+      }
+    } else {
+      plan.simulated_rating_mean = (1.0 + spec.scale_points) / 2.0;
+    }
+    JsonObjectWriter json;
+    for (const auto& [column, value] : row.fields) json.add(column, value);
+    json.add("category", category);
+    plan.condition_json = json.str();
+    trials.push_back(std::move(plan));
+  }
+  return trials;
+}
+
+std::unique_ptr<Procedure> make_rating_procedure(const Experiment& experiment) {
+  return std::make_unique<FixedDesignProcedure>(build_rating_trials(experiment),
+                                                [](const TrialPlan&, const Response& response) {
+                                                  TrialOutcome outcome;
+                                                  outcome.response = response.value;
+                                                  return outcome;  // a rating has no right answer
+                                                });
+}
+
+}  // namespace glarelab

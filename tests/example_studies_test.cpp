@@ -1,0 +1,180 @@
+// The study files in examples/ run end to end offscreen with the simulated observer, and their
+// trials land in the database as the procedures define them.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "protocols/json_text.h"
+#include "protocols/staircase.h"
+#include "runner/store/result_store.h"
+#include "cli_process.h"
+
+namespace glarelab {
+namespace {
+
+using test::run_glarelab;
+using test::ScratchDir;
+
+struct StudyRun {
+  std::vector<TrialRecord> trials;
+  std::vector<std::string> events;  // "kind: message"
+};
+
+StudyRun run_example(const std::string& file, const ScratchDir& scratch) {
+  const auto db = scratch.path() / "study.db";
+  const auto result = run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/" + file, "--display",
+                                    "offscreen", "--observer", "simulated", "--db", db.string()},
+                                   scratch.path());
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  const ResultStore store(db.string());
+  const auto sessions = store.load_sessions();
+  StudyRun run;
+  if (sessions.size() != 1) {
+    ADD_FAILURE() << "expected one session, found " << sessions.size();
+    return run;
+  }
+  EXPECT_EQ(sessions[0].status, "completed");
+  run.trials = store.load_trials(sessions[0].id);
+  sqlite3_stmt* statement = nullptr;
+  sqlite3_prepare_v2(store.handle(), "SELECT kind || ': ' || message FROM session_events ORDER BY id", -1, &statement,
+                     nullptr);
+  while (sqlite3_step(statement) == SQLITE_ROW)
+    run.events.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)));
+  sqlite3_finalize(statement);
+  return run;
+}
+
+// The value of a "key":"value" member of a flat JSON object written by JsonObjectWriter.
+std::string json_member(const std::string& json, const std::string& key) {
+  const std::string needle = "\"" + key + "\":\"";
+  const auto start = json.find(needle);
+  if (start == std::string::npos) return "";
+  const auto end = json.find('"', start + needle.size());
+  return json.substr(start + needle.size(), end - start - needle.size());
+}
+
+TEST(ExampleStudies, SpencerStaircaseRecordsIntensitiesAndReversals) {
+  const ScratchDir scratch;
+  const StudyRun run = run_example("spencer_staircase.toml", scratch);
+  ASSERT_GE(run.trials.size(), 40u);  // two staircases of at least 20 trials
+  // Replay each staircase's recorded answers through the Staircase class: it must ask for the
+  // intensities that were recorded and reverse where the database says.
+  StaircaseSpec base;
+  base.step_sizes = {4.0, 2.0, 1.0};
+  base.step_type = StepType::db;
+  base.n_up = 1;
+  base.n_down = 2;
+  base.n_reversals = 8;
+  base.n_trials = 20;
+  base.min_value = 101.0;
+  base.max_value = 250.0;
+  std::map<std::string, Staircase> reference;
+  base.start_value = 200.0;
+  reference.emplace("from_above", Staircase(base));
+  base.start_value = 130.0;
+  reference.emplace("from_near", Staircase(base));
+  std::set<std::string> responses;
+  for (const TrialRecord& trial : run.trials) {
+    EXPECT_EQ(trial.procedure, "staircase");
+    ASSERT_TRUE(reference.count(trial.staircase)) << trial.staircase;
+    Staircase& staircase = reference.at(trial.staircase);
+    ASSERT_TRUE(trial.intensity.has_value());
+    EXPECT_NEAR(*trial.intensity, staircase.next_intensity(), 1e-9) << "trial " << trial.trial_index;
+    ASSERT_TRUE(trial.correct.has_value());
+    ASSERT_TRUE(trial.reversal.has_value());
+    EXPECT_EQ(*trial.reversal, staircase.add_response(*trial.correct == 1) ? 1 : 0);
+    EXPECT_EQ(json_member(trial.condition, "staircase"), trial.staircase);
+    responses.insert(trial.response);
+  }
+  for (const auto& [name, staircase] : reference) EXPECT_TRUE(staircase.finished()) << name;
+  EXPECT_TRUE(responses.count("neither")) << "the 3-way observer never answered 'neither'";
+  bool rounding_logged = false;
+  for (const std::string& event : run.events)
+    rounding_logged = rounding_logged || event.find("duration_rounding: stimulus_duration_s 0.25 s -> 15 frames") == 0;
+  EXPECT_TRUE(rounding_logged);
+}
+
+TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
+  const ScratchDir scratch;
+  const StudyRun run = run_example("ritschel_2afc.toml", scratch);
+  // 2 scenes x 3 condition pairs x 3 instructions x 2 side assignments.
+  ASSERT_EQ(run.trials.size(), 36u);
+  std::map<std::string, int> left_count, right_count;
+  std::map<std::string, int> per_row;
+  for (const TrialRecord& trial : run.trials) {
+    EXPECT_EQ(trial.procedure, "forced_choice");
+    EXPECT_FALSE(trial.intensity.has_value());
+    const std::string& c = trial.condition;
+    const bool a_left = json_member(c, "left") == json_member(c, "scene_a");
+    const std::string condition_left = json_member(c, a_left ? "condition_a" : "condition_b");
+    const std::string condition_right = json_member(c, a_left ? "condition_b" : "condition_a");
+    ++left_count[condition_left];
+    ++right_count[condition_right];
+    ++per_row[json_member(c, "name")];
+    // Only the brightness question has a right answer.
+    EXPECT_EQ(trial.correct.has_value(), json_member(c, "instruction") == "brighter") << c;
+  }
+  EXPECT_EQ(per_row.size(), 18u);
+  for (const auto& [row, count] : per_row) EXPECT_EQ(count, 2) << row;
+  for (const std::string condition : {"control", "static", "dynamic"}) {
+    EXPECT_EQ(left_count[condition], 12) << condition;
+    EXPECT_EQ(right_count[condition], 12) << condition;
+  }
+}
+
+TEST(ExampleStudies, LuidoltRatingsRateEverySceneOnEveryCategory) {
+  const ScratchDir scratch;
+  const StudyRun run = run_example("luidolt_ratings.toml", scratch);
+  ASSERT_EQ(run.trials.size(), 18u);  // 3 conditions x 6 categories
+  std::set<std::string> seen;
+  std::map<std::string, double> sum;
+  for (const TrialRecord& trial : run.trials) {
+    EXPECT_EQ(trial.procedure, "rating");
+    EXPECT_FALSE(trial.correct.has_value());
+    const int rating = std::stoi(trial.response);
+    EXPECT_GE(rating, 1);
+    EXPECT_LE(rating, 5);
+    seen.insert(json_member(trial.condition, "name") + "/" + json_member(trial.condition, "category"));
+    sum[json_member(trial.condition, "name")] += rating;
+  }
+  EXPECT_EQ(seen.size(), 18u) << "every scene x category exactly once";
+  // Means 2.0 and 4.2 with noise sd 0.7 over six ratings each: the order survives the noise
+  // (the difference of the means has sd 0.4).
+  EXPECT_LT(sum["control"], sum["dynamic"]);
+}
+
+TEST(ExampleStudies, RitschelAdjustmentStoresBothSettingsAndTheirMean) {
+  const ScratchDir scratch;
+  const auto db = scratch.path() / "study.db";
+  const StudyRun run = run_example("ritschel_adjustment.toml", scratch);
+  ASSERT_EQ(run.trials.size(), 12u);  // 6 condition rows x 2 repetitions
+  const ResultStore store(db.string());
+  for (const TrialRecord& trial : run.trials) {
+    EXPECT_EQ(trial.procedure, "adjustment");
+    EXPECT_FALSE(trial.correct.has_value());
+    const auto settings = store.load_adjustments(trial.id);
+    ASSERT_EQ(settings.size(), 2u);
+    EXPECT_EQ(settings[0].spot, 0);
+    EXPECT_EQ(settings[1].spot, 1);
+    ASSERT_TRUE(trial.intensity.has_value());
+    EXPECT_DOUBLE_EQ(*trial.intensity, 0.5 * (settings[0].value_cd_m2 + settings[1].value_cd_m2));
+    // The scenes lamp_N peak at N cd/m2; the matching observer's settings scatter with
+    // sd 0.05 log10 around the target, so 0.25 log10 is five standard deviations.
+    const std::string target = json_member(trial.condition, "target");
+    const double target_cd_m2 = std::stod(target.substr(target.find('_') + 1));
+    for (const auto& setting : settings)
+      EXPECT_LT(std::abs(std::log10(setting.value_cd_m2 / target_cd_m2)), 0.25) << trial.condition;
+    // Start values lie within start_range_log10 = 0.3 of the target and differ between spots.
+    const double start_left = std::stod(json_member(trial.condition, "start_left_cd_m2"));
+    const double start_right = std::stod(json_member(trial.condition, "start_right_cd_m2"));
+    EXPECT_LE(std::abs(std::log10(start_left / target_cd_m2)), 0.3 + 1e-9);
+    EXPECT_LE(std::abs(std::log10(start_right / target_cd_m2)), 0.3 + 1e-9);
+    EXPECT_NE(start_left, start_right);
+  }
+}
+
+}  // namespace
+}  // namespace glarelab
