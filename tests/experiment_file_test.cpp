@@ -144,7 +144,7 @@ TEST(ExperimentFile, UnknownKeyWithSuggestion) {
   EXPECT_EQ(error_of(path), path +
                                 ":12:1: key 'procedure.stimulus_frame': unknown key 'stimulus_frame' in [procedure] "
                                 "(did you mean 'stimulus_frames'?; allowed: type, alternatives, layout, question, "
-                                "stimulus_frames, repetitions, counterbalance_sides, responses)");
+                                "stimulus_frames, stimulus_duration_s, repetitions, counterbalance_sides, responses)");
 }
 
 TEST(ExperimentFile, UnknownTopLevelTable) {
@@ -175,16 +175,16 @@ TEST(ExperimentFile, RangeChecksAndUnsupportedProcedure) {
     EXPECT_EQ(error_of(path), path + expected) << extra;
   };
   check("stimulus_frames = 0", ":12:19: key 'procedure.stimulus_frames': must be >= 1, found 0");
-  check("alternatives = 3", ":12:16: key 'procedure.alternatives': must be 2, found 3");
+  check("alternatives = 4", ":12:16: key 'procedure.alternatives': must be 2 or 3 (two sources, optionally 'neither'), found 4");
   check("responses = [\"a\", \"a\"]", ":12:19: key 'procedure.responses[1]': duplicate response 'a'");
   check("responses = [\"a\"]",
         ":12:13: key 'procedure.responses': expected 2 distinct responses (one per alternative), found 1");
   check("layout = \"stacked\"", ":12:10: key 'procedure.layout': unsupported layout 'stacked' (supported: 'side_by_side')");
 
   const std::string path = dir.write(
-      "exp.toml", "[experiment]\nname = \"x\"\n[scenes]\na = { file = \"a.exr\" }\n[procedure]\ntype = \"staircase\"\n");
-  EXPECT_EQ(error_of(path),
-            path + ":6:8: key 'procedure.type': unsupported procedure 'staircase' (supported: 'forced_choice')");
+      "exp.toml", "[experiment]\nname = \"x\"\n[scenes]\na = { file = \"a.exr\" }\n[procedure]\ntype = \"method_of_limits\"\n");
+  EXPECT_EQ(error_of(path), path + ":6:8: key 'procedure.type': unsupported procedure 'method_of_limits' (supported: "
+                                   "'forced_choice', 'staircase', 'quest', 'rating', 'adjustment')");
 
   const std::string display = dir.write("exp.toml", "[experiment]\nname = \"x\"\n[display]\nencoding = \"pq\"\n");
   EXPECT_EQ(error_of(display),
