@@ -23,17 +23,12 @@ Texture r32f_texture(int size) {
 }
 
 // Replaces the contents of a mutable storage buffer; never empty, since a zero-size buffer cannot
-// be bound (the shader reads no element past its count uniform).
-void fill(const Buffer& buffer, const std::vector<float>& values) {
-  static const std::vector<float> placeholder(4, 0.0f);
-  const std::vector<float>& data = values.empty() ? placeholder : values;
-  glNamedBufferData(buffer.get(), static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_DYNAMIC_DRAW);
-}
-
-void fill_words(const Buffer& buffer, const std::vector<std::uint32_t>& values) {
-  static const std::vector<std::uint32_t> placeholder(4, 0u);
-  const std::vector<std::uint32_t>& data = values.empty() ? placeholder : values;
-  glNamedBufferData(buffer.get(), static_cast<GLsizeiptr>(data.size() * sizeof(std::uint32_t)), data.data(), GL_DYNAMIC_DRAW);
+// be bound (the shader reads no element past its count uniform, so four zeros stand in for none).
+template <typename Value>
+void fill(const Buffer& buffer, const std::vector<Value>& values) {
+  static const std::vector<Value> zeros_for_empty(4, Value{0});
+  const std::vector<Value>& data = values.empty() ? zeros_for_empty : values;
+  glNamedBufferData(buffer.get(), static_cast<GLsizeiptr>(data.size() * sizeof(Value)), data.data(), GL_DYNAMIC_DRAW);
 }
 
 GLuint groups(int extent) { return (static_cast<GLuint>(extent) + kLocalSize - 1) / kLocalSize; }
@@ -140,8 +135,8 @@ void GlAperture::draw(const ApertureGeometry& geometry) {
   const int bins_across = bins_across_for(size_px_ * supersampling_);
   const std::vector<std::uint32_t> offsets(bins.begin(), bins.begin() + bins_across * bins_across + 1);
   const std::vector<std::uint32_t> items(bins.begin() + bins_across * bins_across + 1, bins.end());
-  fill_words(bin_offsets_, offsets);
-  fill_words(bin_items_, items);
+  fill(bin_offsets_, offsets);
+  fill(bin_items_, items);
   polygons.resize(polygon_words.size());
   if (!polygon_words.empty()) std::memcpy(polygons.data(), polygon_words.data(), polygon_words.size() * sizeof(float));
   fill(discs_, discs);
