@@ -96,4 +96,19 @@ inline std::filesystem::path demo_variant(const std::filesystem::path& dir,
   return path;
 }
 
+// The demo's condition table without its glare column (name,scene_a,scene_b), so every row takes
+// the [glare] default mode, control: for tests about sessions rather than glare.
+inline void write_demo_conditions_without_glare(const std::filesystem::path& path) {
+  std::istringstream demo_rows(read_bytes(std::string(GLARELAB_SOURCE_DIR) + "/examples/demo_conditions.csv"));
+  std::string rows, line;
+  while (std::getline(demo_rows, line)) {
+    // Everything before the third comma.
+    std::size_t end = 0;
+    int commas = 0;
+    while (end < line.size() && !(line[end] == ',' && ++commas == 3)) ++end;
+    rows += line.substr(0, end) + "\n";
+  }
+  write_bytes(path.string(), rows);
+}
+
 }  // namespace glarelab::test

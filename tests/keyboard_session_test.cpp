@@ -16,7 +16,11 @@ TEST(WindowBackend, KeyboardAnswersThenEscapeAborts) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "WindowBackend tests run under xvfb-run (see tests/CMakeLists.txt)";
   ASSERT_EQ(shell("command -v xdotool > /dev/null"), 0) << "xdotool is needed (scripts/setup.sh installs it)";
   const test::ScratchDir scratch;
-  const auto experiment = test::demo_variant(scratch.path(), {{"width_px", "width_px = 512"},
+  // Without glare (every row control): each trial starts at once, so the timed key presses below
+  // answer the trials in order even on a loaded machine.
+  test::write_demo_conditions_without_glare(scratch.path() / "conditions.csv");
+  const auto experiment = test::demo_variant(scratch.path(), {{"file", "file = \"" + (scratch.path() / "conditions.csv").string() + "\""},
+                                                              {"width_px", "width_px = 512"},
                                                               {"height_px", "height_px = 256"},
                                                               {"stimulus_frames", "stimulus_frames = 6"}});
   const auto db = scratch.path() / "keyboard.db";

@@ -147,17 +147,7 @@ TEST(RunCommand, KillAtRandomPointsThenResume) {
   // A longer variant of the demo so kills land in every phase: start-up, trials, commit, finish.
   // Its conditions leave out the demo's glare column (so every row is [glare] mode control): glare
   // is not what this test is about, and it would slow each of its many runs.
-  std::istringstream demo_rows(
-      test::read_bytes(std::string(GLARELAB_SOURCE_DIR) + "/examples/demo_conditions.csv"));
-  std::string rows, line;
-  while (std::getline(demo_rows, line)) {
-    // name,scene_a,scene_b: everything before the third comma.
-    std::size_t end = 0;
-    int commas = 0;
-    while (end < line.size() && !(line[end] == ',' && ++commas == 3)) ++end;
-    rows += line.substr(0, end) + "\n";
-  }
-  test::write_bytes((dir / "conditions_without_glare.csv").string(), rows);
+  test::write_demo_conditions_without_glare(dir / "conditions_without_glare.csv");
   const auto experiment =
       demo_variant(dir, {{"file", "file = \"" + (dir / "conditions_without_glare.csv").string() + "\""},
                         {"stimulus_frames", "stimulus_frames = 12"},

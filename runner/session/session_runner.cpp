@@ -350,6 +350,9 @@ class SessionLoop {
       abort_reason_ = "window closed";
       return std::nullopt;
     }
+    // Every key of the batch is looked at: the first allowed one answers, an Escape anywhere in the
+    // batch still ends the session, and the rest are logged, never silently dropped.
+    std::optional<Response> answer;
     for (const std::string& key : display_.poll_keys()) {
       const double key_time_s = clock_.now_s();
       if (key == "escape") {
@@ -357,14 +360,17 @@ class SessionLoop {
         abort_reason_ = "Escape pressed";
         return std::nullopt;
       }
-      if (auto response = response_for_key(key, plan.allowed_responses)) {
-        return Response{*response, key_time_s - onset_s};
+      const auto response = response_for_key(key, plan.allowed_responses);
+      if (response && !answer) {
+        answer = Response{*response, key_time_s - onset_s};
+        continue;
       }
-      // Outside the allowed set: logged, never recorded as an answer.
+      // Outside the allowed set, or after the answer: logged, never recorded as an answer.
       store_.log_event(session_id_, key_time_s, "ignored_key",
-                       "trial " + std::to_string(plan.trial_index) + ": key '" + key + "' is not a response");
+                       "trial " + std::to_string(plan.trial_index) + ": key '" + key + "' " +
+                           (response ? "came after the answer" : "is not a response"));
     }
-    return std::nullopt;
+    return answer;
   }
 
   void commit(const TrialPlan& plan, const TrialRun& run) {
