@@ -8,7 +8,11 @@ namespace glarelab {
 
 struct TrialPlan {
   int trial_index = 0;  // from 0 within the session
-  int block = 0;
+  int block = 0;        // from 0, in the order the session runs its blocks
+  std::string block_name;  // the block's name from [[blocks]]; empty without blocks
+  // Text of the instruction or break screen shown before this trial (the first trial of a block,
+  // or of the session); empty: no screen. The runner shows it until the observer continues.
+  std::string screen_text;
   std::string procedure;       // forced_choice | staircase | quest | adjustment | rating
   std::string condition_name;
   std::string condition_json;  // the condition row plus presentation facts, as a JSON object
