@@ -217,7 +217,7 @@ void load_one(const std::string& path, LoadedData& data) {
   }
   if (!frame_columns.empty()) {
     StatementGuard query{db.prepare(
-        "SELECT trial_id, frame_index, scheduled_s, flip_s, dropped FROM frames ORDER BY trial_id, frame_index")};
+        "SELECT trial_id, frame_index, scheduled_s, flip_s, dropped FROM frames ORDER BY trial_id, rowid")};
     while (db.step(query.stmt)) {
       const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
       if (found == trial_at.end()) continue;

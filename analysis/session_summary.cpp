@@ -27,7 +27,7 @@ SessionSummary summarise_session(const ResultStore& store, std::int64_t session_
       summary.correct += *trial.correct;
     }
     for (const FrameRecord& frame : store.load_frames(trial.id)) {
-      ++summary.frames;
+      if (frame.frame_index >= 0) ++summary.frames;  // stimulus frames; negative: the trial's other flips
       summary.dropped_frames += frame.dropped ? 1 : 0;
     }
   }

@@ -18,11 +18,14 @@ TimingQuality analyse_timing(const LoadedData& data) {
     std::vector<double> intervals;
     for (const LoadedTrial& trial : session.trials) {
       if (trial.record.response_time_s) quality.response_times_s.push_back(*trial.record.response_time_s);
+      // Frames in flip order; stimulus frames have frame_index >= 0, the trial's other flips
+      // (screens, fixation, intervals between, response, feedback) negative ones. Frame intervals
+      // run over every flip: each one is a refresh of the display.
       for (std::size_t f = 0; f < trial.frames.size(); ++f) {
         const FrameRecord& frame = trial.frames[f];
-        ++timing.frames;
+        if (frame.frame_index >= 0) ++timing.frames;
         timing.dropped += frame.dropped ? 1 : 0;
-        if (f == 0) onset_errors.push_back(frame.flip_s - frame.scheduled_s);
+        if (frame.frame_index == 0) onset_errors.push_back(frame.flip_s - frame.scheduled_s);
         if (f > 0) intervals.push_back(frame.flip_s - trial.frames[f - 1].flip_s);
       }
     }

@@ -4,13 +4,12 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "protocols/forced_choice.h"
 #include "protocols/json_text.h"
 #include "runner/random.h"
 
 namespace glarelab {
 namespace {
-
-const std::vector<std::string> kPositions = {"left", "right"};
 
 std::size_t row_named(const Experiment& experiment, const std::string& name) {
   if (experiment.conditions.empty()) throw std::invalid_argument("adaptive procedure: no condition rows");
@@ -99,13 +98,14 @@ TrialPlan AdaptiveProcedure::next_trial() {
   const std::string& comparison = *row.find("comparison");
   const double intensity_cd_m2 = track.next_luminance_cd_m2();
   const ForcedChoiceSpec& spec = experiment_.forced_choice;
+  const std::vector<std::string>& positions = forced_choice_positions(spec);
 
   TrialPlan plan;
   plan.trial_index = trials_done_;
   plan.procedure = experiment_.procedure;
   plan.condition_name = row.name();
   plan.staircase = track.name;
-  plan.positions = kPositions;
+  plan.positions = positions;
   // The comparison's side is drawn per trial (trial_order stream), so side bias cannot track the
   // intensity.
   const bool comparison_left =
@@ -133,7 +133,7 @@ TrialPlan AdaptiveProcedure::next_trial() {
 
   JsonObjectWriter json;
   for (const auto& [column, value] : row.fields) json.add(column, value);
-  json.add(kPositions[0], plan.scenes[0]).add(kPositions[1], plan.scenes[1]);
+  json.add(positions[0], plan.scenes[0]).add(positions[1], plan.scenes[1]);
   json.add("staircase", track.name);
   plan.condition_json = json.str();
   return plan;
@@ -146,6 +146,12 @@ TrialOutcome AdaptiveProcedure::record_response(const TrialPlan& plan, const Res
   TrialOutcome outcome;
   outcome.response = response.value;
   outcome.staircase = plan.staircase;
+  // No answer within the response window: the trial is recorded unscored and the track does not
+  // move; the same track shows the same intensity again on the next trial.
+  if (response.value == kTimeoutResponse) {
+    ++trials_done_;
+    return outcome;
+  }
   const auto& allowed = plan.allowed_responses;
   if (std::find(allowed.begin(), allowed.end(), response.value) == allowed.end()) return outcome;  // not an answer
   const bool correct = response.value == plan.correct_response;

@@ -10,6 +10,7 @@
 
 #include "protocols/config_error.h"
 #include "protocols/glare_config.h"
+#include "protocols/presentation_config.h"
 #include "protocols/quest.h"
 #include "protocols/staircase.h"
 
@@ -49,7 +50,7 @@ struct ConditionRow {
 
 struct ForcedChoiceSpec {
   int alternatives = 2;
-  std::string layout = "side_by_side";
+  std::string layout = "side_by_side";  // or "sequential": two intervals, one after the other
   std::string question = "Which light is brighter?";
   int stimulus_frames = 30;
   // When the file gave the duration in seconds: the value as written. stimulus_frames is then
@@ -123,6 +124,7 @@ struct Experiment {
   std::vector<ConditionRow> conditions;
   SimulatedObserverSpec simulated_observer;
   GlareSpec glare;  // [glare] and the default glare mode of conditions
+  PresentationSpec presentation;  // [presentation]: screens, fixation, intervals, response window, feedback
 };
 
 // Parses and validates a file. Throws ConfigError (file:line:column, key) for syntax errors,

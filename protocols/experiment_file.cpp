@@ -11,6 +11,7 @@
 #include "protocols/adaptive_config.h"
 #include "protocols/adjustment_procedure.h"
 #include "protocols/csv_table.h"
+#include "protocols/forced_choice.h"
 #include "protocols/rating_procedure.h"
 #include "protocols/stimulus_duration.h"
 #include "protocols/experiment.h"
@@ -23,8 +24,6 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string> kSupportedProcedures = {"forced_choice", "staircase", "quest", "rating",
                                                       "adjustment"};
-// Condition columns the forced-choice trial record itself writes into condition_json.
-const std::vector<std::string> kForcedChoiceReservedColumns = {"left", "right"};
 
 std::string join_quoted(const std::vector<std::string>& items) {
   std::string text;
@@ -163,13 +162,15 @@ void read_procedure_section(TableReader& top, Experiment& experiment) {
   if (spec.alternatives != 2 && spec.alternatives != 3)
     reader.fail("alternatives", "must be 2 or 3 (two sources, optionally 'neither'), found " +
                                     std::to_string(spec.alternatives));
-  if (spec.alternatives == 3) spec.responses = {"left", "right", "neither"};
   if (const std::optional<std::string> layout = reader.string("layout")) {
-    if (*layout != "side_by_side") {
-      reader.fail("layout", "unsupported layout '" + *layout + "' (supported: 'side_by_side')");
+    if (*layout != "side_by_side" && *layout != "sequential") {
+      reader.fail("layout", "unsupported layout '" + *layout + "' (supported: 'side_by_side', 'sequential')");
     }
     spec.layout = *layout;
   }
+  // Default answers name the positions ("left", "right"; sequential: "first", "second"), plus
+  // "neither" with a third alternative.
+  spec.responses = default_responses_for(spec);
   spec.question = reader.string("question").value_or(spec.question);
   read_stimulus_duration(reader, experiment.display.refresh_hz, spec);
   if (experiment.procedure == "forced_choice") {
@@ -188,6 +189,8 @@ void read_procedure_section(TableReader& top, Experiment& experiment) {
       if (name.empty()) throw ConfigError(where, key, "response names must not be empty");
       // "abort" is what a Response carries when the observer quits; it cannot also be an answer.
       if (name == "abort") throw ConfigError(where, key, "'abort' is reserved for ending a session");
+      if (name == kTimeoutResponse)
+        throw ConfigError(where, key, "'timeout' is reserved for a trial not answered within the response window");
       if (std::find(names.begin(), names.end(), name) != names.end()) {
         throw ConfigError(where, key, "duplicate response '" + name + "'");
       }
@@ -369,11 +372,11 @@ void check_forced_choice_rows(const std::vector<LocatedRow>& rows, const Experim
     const ConditionRow& row = located.row;
     for (std::size_t f = 0; f < row.fields.size(); ++f) {
       const std::string& column = row.fields[f].first;
-      if (std::find(kForcedChoiceReservedColumns.begin(), kForcedChoiceReservedColumns.end(), column) !=
-          kForcedChoiceReservedColumns.end()) {
+      const std::vector<std::string>& reserved = forced_choice_positions(experiment.forced_choice);
+      if (std::find(reserved.begin(), reserved.end(), column) != reserved.end()) {
         throw ConfigError(located.key_where[f], column,
                           "column name '" + column + "' is reserved (forced-choice trials record the scene "
-                          "shown on each side under 'left' and 'right')");
+                          "shown at each position under '" + reserved[0] + "' and '" + reserved[1] + "')");
       }
     }
   }
@@ -398,7 +401,8 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   TableReader top(root, "", origin_name);
   // Declare the top-level tables before reading any, so a misspelt [procedur] is reported as
   // such rather than as a missing [procedure].
-  for (const char* section : {"experiment", "display", "scenes", "procedure", "conditions", "observer", "glare"}) {
+  for (const char* section :
+       {"experiment", "display", "scenes", "procedure", "conditions", "observer", "glare", "presentation"}) {
     top.node(section);
   }
   top.report_unused();
@@ -410,6 +414,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   ConditionSource conditions = read_conditions_section(top, base);
   read_observer_section(top, experiment);
   experiment.glare = read_glare_section(top);
+  experiment.presentation = read_presentation_section(top, experiment);
 
   if (experiment.procedure == "forced_choice") check_forced_choice_rows(conditions.rows, experiment, conditions.csv);
   else if (experiment.procedure == "rating") check_scene_columns(conditions.rows, experiment, conditions.csv, {"scene"});

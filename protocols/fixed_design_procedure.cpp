@@ -20,9 +20,11 @@ TrialOutcome FixedDesignProcedure::record_response(const TrialPlan& plan, const 
   }
   const TrialOutcome outcome = scorer_(plan, response);
   const auto& allowed = plan.allowed_responses;
-  // Only an answer moves the design on; "abort" leaves the trial to be shown again.
+  // Only an answer or a timeout (no answer within the response window, recorded unscored) moves
+  // the design on; "abort" leaves the trial to be shown again.
   const bool answered = allowed.empty() ? response.value != "abort"
-                                        : std::find(allowed.begin(), allowed.end(), response.value) != allowed.end();
+                                        : std::find(allowed.begin(), allowed.end(), response.value) != allowed.end() ||
+                                              response.value == kTimeoutResponse;
   if (answered) ++next_;
   return outcome;
 }

@@ -16,8 +16,6 @@ struct Presentation {
   bool swapped = false;
 };
 
-const std::vector<std::string> kPositions = {"left", "right"};
-
 double peak_of(const std::map<std::string, double>& source_peak_cd_m2, const std::string& scene) {
   const auto found = source_peak_cd_m2.find(scene);
   if (found == source_peak_cd_m2.end()) {
@@ -34,13 +32,26 @@ bool nearly_equal(double a, double b) {
 
 }  // namespace
 
+const std::vector<std::string>& forced_choice_positions(const ForcedChoiceSpec& spec) {
+  static const std::vector<std::string> side_by_side = {"left", "right"};
+  static const std::vector<std::string> sequential = {"first", "second"};
+  return spec.layout == "sequential" ? sequential : side_by_side;
+}
+
+std::vector<std::string> default_responses_for(const ForcedChoiceSpec& spec) {
+  std::vector<std::string> responses = forced_choice_positions(spec);
+  if (spec.alternatives == 3) responses.push_back("neither");
+  return responses;
+}
+
 std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
                                                   const std::map<std::string, double>& source_peak_cd_m2) {
   const ForcedChoiceSpec& spec = experiment.forced_choice;
+  const std::vector<std::string>& positions = forced_choice_positions(spec);
   // One response per position, plus "neither" in the 3-way variant (Spencer 1995).
-  if (spec.responses.size() != kPositions.size() && spec.responses.size() != kPositions.size() + 1) {
-    throw std::invalid_argument("forced choice: expected " + std::to_string(kPositions.size()) + " or " +
-                                std::to_string(kPositions.size() + 1) + " responses");
+  if (spec.responses.size() != positions.size() && spec.responses.size() != positions.size() + 1) {
+    throw std::invalid_argument("forced choice: expected " + std::to_string(positions.size()) + " or " +
+                                std::to_string(positions.size() + 1) + " responses");
   }
 
   std::vector<Presentation> design;
@@ -70,7 +81,7 @@ std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
     plan.block = 0;
     plan.procedure = "forced_choice";
     plan.condition_name = row.name();
-    plan.positions = kPositions;
+    plan.positions = positions;
     plan.scenes = presentation.swapped ? std::vector<std::string>{*scene_b, *scene_a}
                                        : std::vector<std::string>{*scene_a, *scene_b};
     for (const std::string& scene : plan.scenes) {
@@ -99,7 +110,7 @@ std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
 
     JsonObjectWriter json;
     for (const auto& [column, value] : row.fields) json.add(column, value);
-    json.add(kPositions[0], plan.scenes[0]).add(kPositions[1], plan.scenes[1]);
+    json.add(positions[0], plan.scenes[0]).add(positions[1], plan.scenes[1]);
     plan.condition_json = json.str();
     trials.push_back(std::move(plan));
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Two-alternative forced choice, side by side ("which light is brighter?").
+// Two-alternative forced choice, side by side or in two intervals ("which light is brighter?").
 // The design: every condition row x repetitions x (both side assignments when counterbalanced),
 // shuffled with the session seed (stream trial_order), so the order is reproducible.
 #include <map>
@@ -10,6 +10,13 @@
 #include "protocols/trial_plan.h"
 
 namespace glarelab {
+
+// The positions of the two alternatives: {"left", "right"} side by side, {"first", "second"} for
+// two intervals one after the other (layout "sequential"). Trial records name the scene shown at
+// each position under these keys.
+const std::vector<std::string>& forced_choice_positions(const ForcedChoiceSpec& spec);
+// The default responses: one per position, plus "neither" with three alternatives.
+std::vector<std::string> default_responses_for(const ForcedChoiceSpec& spec);
 
 // source_peak_cd_m2: peak luminance of each scene, in cd/m2 (from the scene images).
 // Condition rows name their two scenes in columns "scene_a" and "scene_b".

@@ -28,9 +28,10 @@ class Observer {
 std::unique_ptr<Observer> make_simulated_observer(const SimulatedObserverSpec& spec, std::uint64_t seed);
 
 // One response per line, consumed in trial order: an allowed response name ("left"), "1"/"0" for
-// correct/incorrect, or a number. Blank lines and lines starting with '#' are skipped.
+// correct/incorrect, or a number. Blank lines and lines starting with '#' are skipped. With
+// `timeout_allowed` (the experiment has a response window) "timeout" stands for no answer in time.
 // Throws ConfigError (file:line) for a missing file; running out of lines is an error at the
 // trial that needs one, naming the file and the number of responses it held.
-std::unique_ptr<Observer> make_script_observer(const std::string& path);
+std::unique_ptr<Observer> make_script_observer(const std::string& path, bool timeout_allowed = false);
 
 }  // namespace glarelab

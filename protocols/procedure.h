@@ -23,7 +23,8 @@ class Procedure {
   // twice without a response in between gives the same plan.
   virtual TrialPlan next_trial() = 0;
   // Scores the response to the plan last returned by next_trial() and advances the procedure.
-  // A response outside the plan's allowed set (e.g. "abort") is scored but does not advance.
+  // A response outside the plan's allowed set (e.g. "abort") is scored but does not advance;
+  // "timeout" (no answer within the response window) advances without counting as an answer.
   virtual TrialOutcome record_response(const TrialPlan& plan, const Response& response) = 0;
   // Trials the design holds when fixed in advance; for adaptive procedures the minimum (their
   // length depends on the responses).

@@ -139,6 +139,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
                         {"match_sd_log10", observer.match_sd_log10}};
   print_section(out, "observer", toml::table{{"simulated", std::move(simulated)}});
   print_section(out, "glare", glare_section_toml(experiment.glare));
+  print_section(out, "presentation", presentation_section_toml(experiment.presentation));
 
   // Rows are written key by key in column order (toml++ would sort the keys of a whole table);
   // each line is still formatted by toml++, so keys and values are quoted correctly. The parser

@@ -17,8 +17,8 @@ struct ScriptEntry {
 
 class ScriptObserver : public Observer {
  public:
-  ScriptObserver(std::string path, std::vector<ScriptEntry> entries)
-      : path_(std::move(path)), entries_(std::move(entries)) {}
+  ScriptObserver(std::string path, std::vector<ScriptEntry> entries, bool timeout_allowed)
+      : path_(std::move(path)), entries_(std::move(entries)), timeout_allowed_(timeout_allowed) {}
 
   std::string description() const override { return "script:" + path_; }
 
@@ -33,8 +33,10 @@ class ScriptObserver : public Observer {
     const ScriptEntry& entry = entries_[static_cast<std::size_t>(plan.trial_index)];
     const std::vector<std::string>& allowed = plan.allowed_responses;
     Response response;
-    if (std::find(allowed.begin(), allowed.end(), entry.text) != allowed.end() || entry.text == "abort") {
-      // A named response, or "abort" to end the session as an observer pressing Escape would.
+    if (std::find(allowed.begin(), allowed.end(), entry.text) != allowed.end() || entry.text == "abort" ||
+        (timeout_allowed_ && entry.text == kTimeoutResponse)) {
+      // A named response, "abort" to end the session as an observer pressing Escape would, or
+      // "timeout": no answer within the response window.
       response.value = entry.text;
     } else if (!allowed.empty() && (entry.text == "1" || entry.text == "0")) {
       // "1" answers correctly and "0" incorrectly. Without a correct answer (equal sources) "1"
@@ -80,14 +82,16 @@ class ScriptObserver : public Observer {
     return count == 1 || count == 2;
   }
 
-  static ConfigError not_allowed(const ScriptEntry& entry, const std::vector<std::string>& allowed) {
+  ConfigError not_allowed(const ScriptEntry& entry, const std::vector<std::string>& allowed) const {
     std::string names = "'1', '0'";
     for (const std::string& name : allowed) names += ", '" + name + "'";
+    if (timeout_allowed_) names += ", 'timeout'";
     return ConfigError(entry.where, "", "response '" + entry.text + "' is not allowed (allowed: " + names + ", 'abort')");
   }
 
   std::string path_;
   std::vector<ScriptEntry> entries_;
+  bool timeout_allowed_;
 };
 
 std::string trim(const std::string& text) {
@@ -99,7 +103,7 @@ std::string trim(const std::string& text) {
 
 }  // namespace
 
-std::unique_ptr<Observer> make_script_observer(const std::string& path) {
+std::unique_ptr<Observer> make_script_observer(const std::string& path, bool timeout_allowed) {
   namespace fs = std::filesystem;
   std::error_code error;
   if (!fs::is_regular_file(path, error)) throw ConfigError(SourceLocation{path, 0, 0}, "", "response script: file not found");
@@ -115,7 +119,7 @@ std::unique_ptr<Observer> make_script_observer(const std::string& path) {
     const int column = static_cast<int>(line.find_first_not_of(" \t")) + 1;
     entries.push_back({text, SourceLocation{absolute, number, column}});
   }
-  return std::make_unique<ScriptObserver>(absolute, std::move(entries));
+  return std::make_unique<ScriptObserver>(absolute, std::move(entries), timeout_allowed);
 }
 
 }  // namespace glarelab

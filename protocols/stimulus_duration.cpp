@@ -20,34 +20,49 @@ int duration_to_frames(double duration_s, double refresh_hz) {
   return std::max(1, static_cast<int>(frames));
 }
 
-void read_stimulus_duration(TableReader& procedure, double refresh_hz, ForcedChoiceSpec& spec) {
-  const std::optional<std::int64_t> frames = procedure.integer("stimulus_frames");
-  const std::optional<double> seconds = procedure.number("stimulus_duration_s");
+FrameCount read_frame_count(TableReader& reader, std::string_view frames_key, std::string_view seconds_key,
+                            double refresh_hz, FrameCount fallback, bool zero_allowed) {
+  const std::optional<std::int64_t> frames = reader.integer(frames_key);
+  const std::optional<double> seconds = reader.number(seconds_key);
   if (frames && seconds)
-    procedure.fail_at_key("stimulus_duration_s", "give either stimulus_frames or stimulus_duration_s, not both");
+    reader.fail_at_key(seconds_key, "give either " + std::string(frames_key) + " or " + std::string(seconds_key) +
+                                        ", not both");
+  const std::int64_t minimum = zero_allowed ? 0 : 1;
   if (frames) {
-    if (*frames < 1 || *frames > std::numeric_limits<int>::max())
-      procedure.fail("stimulus_frames", "must be >= 1, found " + std::to_string(*frames));
-    spec.stimulus_frames = static_cast<int>(*frames);
-    spec.stimulus_duration_s.reset();
-  } else if (seconds) {
-    try {
-      spec.stimulus_frames = duration_to_frames(*seconds, refresh_hz);
-    } catch (const std::invalid_argument& error) {
-      procedure.fail("stimulus_duration_s", std::to_string(*seconds) + " s is " + error.what());
-    }
-    spec.stimulus_duration_s = *seconds;
+    if (*frames < minimum || *frames > std::numeric_limits<int>::max())
+      reader.fail(frames_key, "must be >= " + std::to_string(minimum) + ", found " + std::to_string(*frames));
+    return FrameCount{static_cast<int>(*frames), std::nullopt};
   }
+  if (seconds) {
+    if (zero_allowed && *seconds == 0.0) return FrameCount{0, 0.0};
+    if (*seconds < 0.0) reader.fail(seconds_key, "must be >= 0, found " + std::to_string(*seconds));
+    try {
+      return FrameCount{duration_to_frames(*seconds, refresh_hz), *seconds};
+    } catch (const std::invalid_argument& error) {
+      reader.fail(seconds_key, std::to_string(*seconds) + " s is " + error.what());
+    }
+  }
+  return fallback;
+}
+
+std::string describe_rounding(std::string_view seconds_key, const FrameCount& count, double refresh_hz) {
+  if (!count.seconds) return "";
+  const double shown_s = count.frames / refresh_hz;
+  std::ostringstream text;
+  text << seconds_key << " " << *count.seconds << " s -> " << count.frames << " frames = " << shown_s << " s at "
+       << refresh_hz << " Hz (rounding " << 1000.0 * (shown_s - *count.seconds) << " ms)";
+  return text.str();
+}
+
+void read_stimulus_duration(TableReader& procedure, double refresh_hz, ForcedChoiceSpec& spec) {
+  const FrameCount count = read_frame_count(procedure, "stimulus_frames", "stimulus_duration_s", refresh_hz,
+                                            FrameCount{spec.stimulus_frames, spec.stimulus_duration_s}, false);
+  spec.stimulus_frames = count.frames;
+  spec.stimulus_duration_s = count.seconds;
 }
 
 std::string describe_duration_rounding(const ForcedChoiceSpec& spec, double refresh_hz) {
-  if (!spec.stimulus_duration_s) return "";
-  const double shown_s = spec.stimulus_frames / refresh_hz;
-  std::ostringstream text;
-  text << "stimulus_duration_s " << *spec.stimulus_duration_s << " s -> " << spec.stimulus_frames << " frames = "
-       << shown_s << " s at " << refresh_hz << " Hz (rounding " << 1000.0 * (shown_s - *spec.stimulus_duration_s)
-       << " ms)";
-  return text.str();
+  return describe_rounding("stimulus_duration_s", FrameCount{spec.stimulus_frames, spec.stimulus_duration_s}, refresh_hz);
 }
 
 }  // namespace glarelab

@@ -19,6 +19,10 @@ double DisplayModel::degrees_for_centred_span(double pixels) const {
   return 2.0 * std::atan(half_extent_mm / spec_.viewing_distance_mm) * kDegreesPerRadian;
 }
 
+double DisplayModel::pixels_for_centred_span(double degrees) const {
+  return 2.0 * spec_.viewing_distance_mm * std::tan(0.5 * degrees / kDegreesPerRadian) / spec_.pixel_pitch_mm;
+}
+
 double DisplayModel::degrees_per_pixel_at_centre() const { return degrees_for_centred_span(1.0); }
 
 double DisplayModel::encode(double luminance_cd_m2) const {

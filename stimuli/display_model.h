@@ -15,6 +15,9 @@ class DisplayModel {
   double degrees_per_pixel_at_centre() const;
   // Visual angle (degrees) of a span of `pixels` centred on the line of sight.
   double degrees_for_centred_span(double pixels) const;
+  // The inverse: pixels of a span centred on the line of sight that subtends `degrees`,
+  // 2 d tan(degrees / 2) / pitch (not rounded).
+  double pixels_for_centred_span(double degrees) const;
 
   // Display drive value in [0, 1] for a luminance (cd/m2): clipped to the peak, then encoded.
   double encode(double luminance_cd_m2) const;

@@ -66,10 +66,29 @@ void FrameRenderer::compose(const std::vector<Placement>& placements, double bac
   const float clear_colour[4] = {background, background, background, 1.0f};
   glClearNamedFramebufferfv(stimulus_framebuffer_.get(), GL_COLOR, 0, clear_colour);
 
+  draw_placements(placements, false);
+  gl::check_gl_error("composing a stimulus frame");
+}
+
+void FrameRenderer::compose_overlay(const std::vector<Placement>& overlays) {
+  glBindFramebuffer(GL_FRAMEBUFFER, stimulus_framebuffer_.get());
+  glViewport(0, 0, width_px_, height_px_);
+  glDisable(GL_DEPTH_TEST);
+  // Premultiplied "over": frame = overlay + (1 - coverage) frame; the frame's alpha stays 1.
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+  draw_placements(overlays, true);
+  glDisable(GL_BLEND);
+  gl::check_gl_error("drawing an overlay on a stimulus frame");
+}
+
+void FrameRenderer::draw_placements(const std::vector<Placement>& placements, bool overlay) {
   glUseProgram(placed_image_program_.get());
   glBindVertexArray(empty_vertex_array_.get());
   glUniform2f(glGetUniformLocation(placed_image_program_.get(), "uViewportPx"), static_cast<float>(width_px_),
               static_cast<float>(height_px_));
+  glUniform1i(glGetUniformLocation(placed_image_program_.get(), "uOverlay"), overlay ? 1 : 0);
   glEnable(GL_SCISSOR_TEST);
   for (const Placement& placement : placements) {
     // Scissor rectangles are bottom-up in GL.
@@ -83,7 +102,6 @@ void FrameRenderer::compose(const std::vector<Placement>& placements, double bac
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
   }
   glDisable(GL_SCISSOR_TEST);
-  gl::check_gl_error("composing a stimulus frame");
 }
 
 void FrameRenderer::encode_to_display(const DisplaySpec& display) {

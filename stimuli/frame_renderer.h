@@ -33,6 +33,10 @@ class FrameRenderer {
 
   // Clears to the background luminance and draws the placements into the stimulus framebuffer.
   void compose(const std::vector<Placement>& placements, double background_cd_m2);
+  // Draws premultiplied overlays (stimuli/overlay_image.h: text, fixation cross) over the stimulus
+  // framebuffer without clearing it: after glare (replace_stimulus), since text on the display is
+  // not seen through the simulated eye. Each overlay is clipped to its `clip` rectangle.
+  void compose_overlay(const std::vector<Placement>& overlays);
   // Encodes the stimulus framebuffer into the default framebuffer (clip at peak, sRGB or gamma).
   void encode_to_display(const DisplaySpec& display);
 
@@ -47,6 +51,8 @@ class FrameRenderer {
   int height_px() const { return height_px_; }
 
  private:
+  void draw_placements(const std::vector<Placement>& placements, bool overlay);
+
   int width_px_;
   int height_px_;
   gl::Texture stimulus_texture_;

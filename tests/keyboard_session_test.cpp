@@ -2,6 +2,7 @@
 // then ended with Escape: the answered trials are kept and the session is marked aborted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "cli_process.h"
@@ -53,7 +54,13 @@ TEST(WindowBackend, KeyboardAnswersThenEscapeAborts) {
   for (const auto& trial : trials) {
     ASSERT_TRUE(trial.response_time_s.has_value());
     EXPECT_GT(*trial.response_time_s, 0.0);
-    EXPECT_EQ(store.load_frames(trial.id).size(), 6u);
+    // Six stimulus frames; the response screen's flips follow with negative frame indices.
+    const auto frames = store.load_frames(trial.id);
+    EXPECT_EQ(std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return f.frame_index >= 0; }), 6);
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+      EXPECT_EQ(frames[f].frame_index, f < 6 ? static_cast<int>(f) : -static_cast<int>(f - 5));
+      if (f > 0) EXPECT_GT(frames[f].flip_s, frames[f - 1].flip_s);
+    }
   }
   EXPECT_EQ(store.integrity_check(), "ok");
 }

@@ -29,8 +29,20 @@ bool FrameTimingMonitor::on_flip(double flip_s, int trial_index, int frame_index
   return late;
 }
 
+std::optional<double> FrameTimingMonitor::on_timed_flip(double flip_s) {
+  std::optional<double> late;
+  if (has_previous_ && flip_s - previous_flip_s_ > 1.5 * period_s_) {
+    late = flip_s - previous_flip_s_;
+    ++timed_flips_late_;
+  }
+  has_previous_ = true;
+  previous_flip_s_ = flip_s;
+  return late;
+}
+
 FrameTimingSummary FrameTimingMonitor::summary() const {
   FrameTimingSummary s;
+  s.timed_flips_late = timed_flips_late_;
   s.frames_shown = frames_shown_;
   s.frames_dropped = static_cast<std::int64_t>(dropped_.size());
   s.onsets = onsets_;
@@ -45,7 +57,9 @@ std::string FrameTimingSummary::describe() const {
                 "frames shown %lld, dropped %lld; onset jitter over %d onsets: mean %.3f ms, max %.3f ms",
                 static_cast<long long>(frames_shown), static_cast<long long>(frames_dropped), onsets,
                 onset_jitter_mean_ms, onset_jitter_max_ms);
-  return text;
+  std::string line = text;
+  if (timed_flips_late > 0) line += "; late flips of other timed phases " + std::to_string(timed_flips_late);
+  return line;
 }
 
 }  // namespace glarelab

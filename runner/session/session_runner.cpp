@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <ostream>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -18,7 +20,10 @@
 #include "runner/session/frame_timing.h"
 #include "runner/session/interrupt.h"
 #include "runner/session/keyboard_responses.h"
+#include "runner/session/presentation_overlays.h"
+#include "runner/session/refresh_rate_check.h"
 #include "runner/session/slow_flip_clock.h"
+#include "runner/session/trial_schedule.h"
 #include "runner/software_version.h"
 #include "runner/store/result_store.h"
 #include "runner/tracker/real_time_pacer.h"
@@ -57,7 +62,7 @@ std::unique_ptr<Observer> make_observer(const std::string& spec, const Experimen
     return observer;
   }
   if (spec.starts_with("script:")) {
-    auto observer = make_script_observer(spec.substr(7));
+    auto observer = make_script_observer(spec.substr(7), experiment.presentation.response_window_s > 0.0);
     *description = observer->description();
     return observer;
   }
@@ -83,6 +88,8 @@ PreparedSession prepare(Experiment experiment, const RunOptions& options) {
 struct TrialRun {
   std::optional<Response> response;  // empty when aborted
   std::vector<FrameRecord> frames;
+  std::vector<PhaseFlip> phases;  // parallel to frames
+  int other_flips = 0;            // flips that are not stimulus frames (frame_index -1, -2, ...)
   double onset_s = 0.0;
 };
 
@@ -100,45 +107,85 @@ class SessionLoop {
         renderer_(display.width_px(), display.height_px()),
         period_s_(1.0 / display.refresh_hz()),
         timing_(display.refresh_hz()),
-        glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed) {
+        glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed),
+        overlays_(renderer_, prepared.experiment),
+        // Ratings and adjustment never read `layout`: it keeps its default there.
+        sequential_(prepared.experiment.forced_choice.layout == "sequential") {
     for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
   }
 
-  // Returns false when the session was aborted during this trial.
+  // Returns false when the session was aborted during this trial. The trial runs its schedule
+  // (runner/session/trial_schedule.h): inter-trial interval, screens, fixation, interval(s),
+  // response, feedback; every flip is stamped and stored with the trial.
   bool run_trial(const TrialPlan& plan, std::ostream& progress) {
-    const std::vector<Placement> placements = layout(plan);
+    const PresentationSpec& presentation = prepared_.experiment.presentation;
+    const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_, first_of_run_);
+    first_of_run_ = false;
     TrialRun run;
     const bool interactive = prepared_.observer == nullptr;
     if (interactive) discard_keys_before_onset(plan);
     if (aborted_) return false;
-    const std::vector<ImageRGBA> glare_frames = prepare_glare(plan, placements);
-    for (int frame = 0; frame < plan.stimulus_frames; ++frame) {
-      if (glare_frames.empty())
-        draw(placements);
-      else
-        draw(placements, &glare_frames[std::min<std::size_t>(static_cast<std::size_t>(frame), glare_frames.size() - 1)]);
+
+    // Background after the previous trial, then the screens.
+    if (!present_timed_blank(plan, run, FlipPhase::inter_trial, schedule.inter_trial_frames, {})) return false;
+    for (const ScreenText& screen : schedule.screens)
+      if (!show_screen(plan, screen, run)) return false;
+
+    // Each interval's placements and glare, prepared before the fixation so the timed sequence
+    // runs flip after flip; glare frame k of an interval is computed for the time it will flip.
+    std::vector<std::vector<Placement>> placements;
+    std::vector<std::vector<ImageRGBA>> glare_frames;
+    std::vector<PixelRect> stimulus_rects;
+    for (int interval = 0; interval < schedule.intervals; ++interval) {
+      placements.push_back(interval_layout(plan, interval));
+      for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
+      std::size_t first_flip = 0;
+      while (schedule.timed[first_flip].interval != interval) ++first_flip;
+      glare_frames.push_back(prepare_glare(plan, placements.back(), static_cast<int>(first_flip)));
+    }
+    const std::vector<Placement> question = overlays_.question(plan.question, stimulus_rects);
+
+    // The timed sequence: fixation, interval 1 [, inter-stimulus interval, interval 2].
+    double sequence_start_s = 0.0;
+    for (std::size_t i = 0; i < schedule.timed.size(); ++i) {
+      const TimedFlip& flip = schedule.timed[i];
+      if (flip.phase == FlipPhase::fixation) {
+        draw({}, nullptr, overlays_.fixation());
+      } else if (flip.phase == FlipPhase::interval) {
+        const std::vector<ImageRGBA>& glared = glare_frames[static_cast<std::size_t>(flip.interval)];
+        const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(flip.frame_in_interval),
+                                                    glared.empty() ? 0 : glared.size() - 1);
+        draw(placements[static_cast<std::size_t>(flip.interval)], glared.empty() ? nullptr : &glared[k], question);
+      } else {
+        draw({}, nullptr, question);
+      }
       display_.present();
       const double flip_s = clock_.on_flip();
       after_flip(flip_s);
-      if (frame == 0) run.onset_s = flip_s;
-      FrameRecord record;
-      record.frame_index = frame;
-      record.scheduled_s = run.onset_s + frame * period_s_;
-      record.flip_s = flip_s;
-      // A flip more than 1.5 refresh periods after the previous one means a refresh was missed.
-      record.dropped = timing_.on_flip(flip_s, plan.trial_index, frame);
-      if (record.dropped) {
-        store_.log_event(session_id_, flip_s, "dropped_frame",
-                         "trial " + std::to_string(plan.trial_index) + " frame " + std::to_string(frame) + ": " +
-                             std::to_string(1000.0 * timing_.dropped().back().interval_s) + " ms since the previous flip");
+      if (i == 0) sequence_start_s = flip_s;
+      if (i == schedule.onset_flip) run.onset_s = flip_s;
+      const double scheduled_s = sequence_start_s + static_cast<double>(i) * period_s_;
+      if (flip.stimulus_frame >= 0) {
+        // A flip more than 1.5 refresh periods after the previous one means a refresh was missed.
+        const bool dropped = timing_.on_flip(flip_s, plan.trial_index, flip.stimulus_frame);
+        if (dropped)
+          log_late_flip(plan, flip_s, "frame " + std::to_string(flip.stimulus_frame), timing_.dropped().back().interval_s);
+        record_flip(run, {flip.phase, flip.interval, flip.stimulus_frame}, scheduled_s, flip_s, dropped);
+      } else {
+        const std::optional<double> late_s = timing_.on_timed_flip(flip_s);
+        if (late_s) log_late_flip(plan, flip_s, std::string(to_string(flip.phase)) + " flip", *late_s);
+        record_flip(run, {flip.phase, -1, -1}, scheduled_s, flip_s, late_s.has_value());
       }
-      run.frames.push_back(record);
-      if (interactive && !run.response)
+      if (interactive && i >= schedule.first_answer_flip && !run.response)
         run.response = poll_keyboard(plan, run.onset_s);
+      else if (interactive)
+        ignore_keys(plan, run.response ? "came after the answer" : "pressed before the last interval's onset");
       else
         check_interrupt();
       if (aborted_) return false;
     }
+
+    const double window_s = presentation.response_window_s;
     if (!interactive) {
       run.response = prepared_.observer->respond(plan);
       // A script's "abort" ends the session as Escape would; it is not an answer to record.
@@ -151,20 +198,39 @@ class SessionLoop {
       run.response = adjust_interactively(plan, run.onset_s);
       if (aborted_) return false;
     } else {
-      // Response screen: the background alone, until an allowed key or Escape.
+      // Response screen: the background (and the question) until an allowed key, Escape, or the
+      // end of the response window.
       while (!run.response) {
-        draw({});
+        if (window_s > 0.0 && clock_.now_s() - run.onset_s >= window_s) {
+          run.response = Response{kTimeoutResponse, std::nullopt};
+          break;
+        }
+        draw({}, nullptr, question);
         display_.present();
         const double flip_s = clock_.on_flip();
         timing_.on_flip(flip_s, plan.trial_index, -1);
         after_flip(flip_s);
+        record_flip(run, {FlipPhase::response, -1, -1}, flip_s, flip_s, false);
         run.response = poll_keyboard(plan, run.onset_s);
         if (aborted_) return false;
       }
     }
+    // An answer after the window closed (a simulated observer's response time) is no answer.
+    if (window_s > 0.0 && run.response->response_time_s && *run.response->response_time_s > window_s)
+      run.response = Response{kTimeoutResponse, std::nullopt};
     check_interrupt();
     if (aborted_) return false;
-    commit(plan, run);
+
+    // The answer is in: scored now, shown as feedback, then committed with every flip. An abort
+    // during the feedback still commits the answered trial.
+    const TrialOutcome outcome = prepared_.procedure->record_response(plan, *run.response);
+    const std::string feedback = feedback_text(outcome);
+    if (!feedback.empty())
+      present_timed_blank(plan, run, FlipPhase::feedback, presentation.feedback_duration.frames,
+                          overlays_.centred_text(feedback));
+    commit(plan, run, outcome);
+    store_.log_event(session_id_, clock_.now_s(), "trial_phases", describe_trial_phases(plan.trial_index, run.phases));
+    if (aborted_) return false;
     const int total = prepared_.procedure->planned_trials();
     if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
       progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
@@ -261,12 +327,148 @@ class SessionLoop {
     return placements;
   }
 
-  // `glared`: the composed frame after glare (prepare_glare), drawn in its place.
-  void draw(const std::vector<Placement>& placements, const ImageRGBA* glared = nullptr) {
+  // `glared`: the composed frame after glare (prepare_glare), drawn in its place. `overlays` (text,
+  // fixation cross) are drawn after glare: they are on the display, not seen through the eye.
+  void draw(const std::vector<Placement>& placements, const ImageRGBA* glared = nullptr,
+            const std::vector<Placement>& overlays = {}) {
     renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
     if (glared != nullptr) renderer_.replace_stimulus(*glared);
+    if (!overlays.empty()) renderer_.compose_overlay(overlays);
     renderer_.encode_to_display(prepared_.experiment.display);
   }
+
+  // --- presentation (runner/session/trial_schedule.h, presentation_overlays.h) ---
+  // What interval `interval` shows: both scenes side by side, or in a sequential trial its own
+  // scene alone, centred.
+  std::vector<Placement> interval_layout(const TrialPlan& plan, int interval) const {
+    if (!sequential_) return layout(plan);
+    const auto i = static_cast<std::size_t>(interval);
+    TrialPlan one = plan;
+    one.scenes = {plan.scenes.at(i)};
+    one.scene_scale = plan.scene_scale.empty() ? std::vector<double>{} : std::vector<double>{plan.scene_scale.at(i)};
+    return layout(one);
+  }
+
+  // Stimulus flips keep their frame index; every other flip of the trial is numbered -1, -2, ...
+  void record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped) {
+    FrameRecord record;
+    record.frame_index = phase.stimulus_frame >= 0 ? phase.stimulus_frame : -(++run.other_flips);
+    record.scheduled_s = scheduled_s;
+    record.flip_s = flip_s;
+    record.dropped = dropped;
+    run.frames.push_back(record);
+    run.phases.push_back(phase);
+  }
+
+  void log_late_flip(const TrialPlan& plan, double flip_s, const std::string& which, double interval_s) {
+    store_.log_event(session_id_, flip_s, "dropped_frame",
+                     "trial " + std::to_string(plan.trial_index) + " " + which + ": " +
+                         std::to_string(1000.0 * interval_s) + " ms since the previous flip");
+  }
+
+  // `frames` flips of the background (with `overlays`), timed from the first of them.
+  bool present_timed_blank(const TrialPlan& plan, TrialRun& run, FlipPhase phase, int frames,
+                           const std::vector<Placement>& overlays) {
+    double start_s = 0.0;
+    for (int k = 0; k < frames; ++k) {
+      draw({}, nullptr, overlays);
+      display_.present();
+      const double flip_s = clock_.on_flip();
+      after_flip(flip_s);
+      if (k == 0) start_s = flip_s;
+      const std::optional<double> late_s = timing_.on_timed_flip(flip_s);
+      if (late_s) log_late_flip(plan, flip_s, std::string(to_string(phase)) + " flip", *late_s);
+      record_flip(run, {phase, -1, -1}, start_s + k * period_s_, flip_s, late_s.has_value());
+      if (prepared_.observer == nullptr)
+        ignore_keys(plan, std::string("pressed during the ") + to_string(phase));
+      else
+        check_interrupt();
+      if (aborted_) return false;
+    }
+    return true;
+  }
+
+  // A text screen until the observer continues: at least screen_min flips; then Space or Enter
+  // (keyboard), at once for non-interactive observers. Logged as a 'screen' event.
+  bool show_screen(const TrialPlan& plan, const ScreenText& screen, TrialRun& run) {
+    const std::vector<Placement> text = overlays_.centred_text(screen.text);
+    const int minimum_flips = prepared_.experiment.presentation.screen_min.frames;
+    int flips = 0;
+    double first_flip_s = 0.0, last_flip_s = 0.0;
+    bool proceed = false;
+    while (!proceed) {
+      draw({}, nullptr, text);
+      display_.present();
+      last_flip_s = clock_.on_flip();
+      timing_.on_flip(last_flip_s, plan.trial_index, -1);
+      after_flip(last_flip_s);
+      if (flips++ == 0) first_flip_s = last_flip_s;
+      record_flip(run, {FlipPhase::screen, -1, -1}, last_flip_s, last_flip_s, false);
+      const bool long_enough = flips >= minimum_flips;
+      if (prepared_.observer != nullptr) {
+        check_interrupt();
+        proceed = long_enough;
+      } else {
+        check_interrupt();
+        if (!aborted_ && display_.close_requested()) {
+          aborted_ = true;
+          abort_reason_ = "window closed";
+        }
+        for (const std::string& key : aborted_ ? std::vector<std::string>{} : display_.poll_keys()) {
+          if (key == "escape") {
+            aborted_ = true;
+            abort_reason_ = "Escape pressed";
+            break;
+          }
+          if ((key == "space" || key == "enter") && long_enough) {
+            proceed = true;
+            continue;
+          }
+          store_.log_event(session_id_, clock_.now_s(), "ignored_key",
+                           "trial " + std::to_string(plan.trial_index) + " " + screen.kind + " screen: key '" + key +
+                               "' " + (key == "space" || key == "enter" ? "before the screen's minimum duration"
+                                                                        : "does not continue (Space or Enter)"));
+        }
+      }
+      if (aborted_) return false;
+    }
+    std::ostringstream message;
+    message << "trial " << plan.trial_index << ", " << screen.kind << ": '" << first_words(screen.text) << "' shown "
+            << flips << " flips (" << last_flip_s - first_flip_s + period_s_ << " s)";
+    store_.log_event(session_id_, last_flip_s, "screen", message.str());
+    return true;
+  }
+
+  // Keys outside the answer period: logged, never an answer; Escape or closing the window ends it.
+  void ignore_keys(const TrialPlan& plan, const std::string& why) {
+    check_interrupt();
+    if (aborted_) return;
+    if (display_.close_requested()) {
+      aborted_ = true;
+      abort_reason_ = "window closed";
+      return;
+    }
+    for (const std::string& key : display_.poll_keys()) {
+      if (key == "escape") {
+        aborted_ = true;
+        abort_reason_ = "Escape pressed";
+        return;
+      }
+      store_.log_event(session_id_, clock_.now_s(), "ignored_key",
+                       "trial " + std::to_string(plan.trial_index) + ": key '" + key + "' " + why);
+    }
+  }
+
+  // "correct" / "wrong" for scored trials, the timeout text for a timeout; empty without feedback
+  // or for an answer that has no right or wrong (preference questions, equal sources, ratings).
+  std::string feedback_text(const TrialOutcome& outcome) const {
+    const PresentationSpec& presentation = prepared_.experiment.presentation;
+    if (presentation.feedback == FeedbackKind::none) return "";
+    if (outcome.response == kTimeoutResponse) return presentation.feedback_timeout_text;
+    if (!outcome.correct) return "";
+    return *outcome.correct == 1 ? presentation.feedback_correct_text : presentation.feedback_wrong_text;
+  }
+  // --- end presentation ---
 
   // --- glare (stimuli/glare_stage.h) ---
   // The trial's stimulus frames after glare, all prepared before onset: glare on the CPU takes
@@ -274,12 +476,14 @@ class SessionLoop {
   // flips (issue 4). Frame k is computed for the time it is planned to flip, first_flip + k periods.
   // Control: empty (the composed frame is shown untouched). Static: one frame serves all.
   // Skip decisions are logged once per trial as 'glare_skipped' events.
-  std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements) {
+  // `flips_before`: timed flips between now and the first of these frames (fixation, interval 1).
+  std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
+                                       int flips_before = 0) {
     const GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
     if (mode == GlareMode::control) return {};
     renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
     const ImageRGBA composed = renderer_.read_stimulus();
-    const double first_flip_s = clock_.now_s() + period_s_;
+    const double first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
     const int count = mode == GlareMode::static_eye ? 1 : plan.stimulus_frames;
     std::vector<ImageRGBA> frames;
     int skipped = 0, gratings_hidden = 0, closed = 0;
@@ -373,8 +577,7 @@ class SessionLoop {
     return answer;
   }
 
-  void commit(const TrialPlan& plan, const TrialRun& run) {
-    const TrialOutcome outcome = prepared_.procedure->record_response(plan, *run.response);
+  void commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome) {
     TrialRecord record;
     record.session_id = session_id_;
     record.trial_index = plan.trial_index;
@@ -405,6 +608,9 @@ class SessionLoop {
   std::map<std::string, SceneTexture> textures_;
   FrameTimingMonitor timing_;
   GlareStage glare_;
+  PresentationOverlays overlays_;
+  bool sequential_;
+  bool first_of_run_ = true;
   bool aborted_ = false;
   std::string abort_reason_;
 };
@@ -526,6 +732,9 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     const std::string rounding =
         describe_duration_rounding(prepared.experiment.forced_choice, prepared.experiment.display.refresh_hz);
     if (!rounding.empty()) store->log_event(result.session_id, 0.0, "duration_rounding", rounding);
+    for (const std::string& presentation_rounding :
+         describe_presentation_roundings(prepared.experiment.presentation, prepared.experiment.display.refresh_hz))
+      store->log_event(result.session_id, 0.0, "duration_rounding", presentation_rounding);
     for (const auto& [name, scene] : prepared.scenes->scenes()) {
       if (scene.peak_cd_m2 > prepared.experiment.display.peak_luminance_cd_m2) {
         store->log_event(result.session_id, 0.0, "clipping",
@@ -535,6 +744,14 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
                              " cd/m2: brighter pixels are shown at the peak");
       }
     }
+  }
+
+  // Durations are frames of [display] refresh_hz: another actual rate scales every one of them.
+  const std::string refresh_warning =
+      refresh_rate_warning(prepared.experiment.display.refresh_hz, display->refresh_hz());
+  if (!refresh_warning.empty()) {
+    std::cerr << "warning: " << refresh_warning << "\n";
+    store->log_event(result.session_id, clock->now_s(), "refresh_rate", refresh_warning);
   }
 
   progress << "Session " << result.session_id << " of '" << prepared.experiment.name << "' ("

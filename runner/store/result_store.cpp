@@ -519,7 +519,7 @@ std::vector<TrialRecord> ResultStore::load_trials(std::int64_t session_id) const
 std::vector<FrameRecord> ResultStore::load_frames(std::int64_t trial_id) const {
   Statement select(db_, path_,
                    "SELECT frame_index, scheduled_s, flip_s, dropped FROM frames WHERE trial_id = ?1 "
-                   "ORDER BY frame_index",
+                   "ORDER BY rowid",  // flip order: a trial's other flips (frame_index < 0) surround its stimulus
                    "loading the frames of trial " + std::to_string(trial_id));
   select.bind(1, trial_id);
   std::vector<FrameRecord> frames;

@@ -55,7 +55,10 @@ struct TrialRecord {
 };
 
 struct FrameRecord {
-  int frame_index = 0;  // within the trial
+  // Stimulus frames: 0, 1, ... within the trial (on across both intervals of a sequential trial).
+  // The trial's other flips (screens, fixation, intervals between, response, feedback): -1, -2, ...
+  // in flip order (docs/DATABASE.md).
+  int frame_index = 0;
   double scheduled_s = 0.0;
   double flip_s = 0.0;
   bool dropped = false;
@@ -113,7 +116,7 @@ class ResultStore {
   std::optional<SessionRecord> load_session(std::int64_t session_id) const;
   std::vector<SessionRecord> load_sessions() const;
   std::vector<TrialRecord> load_trials(std::int64_t session_id) const;
-  std::vector<FrameRecord> load_frames(std::int64_t trial_id) const;
+  std::vector<FrameRecord> load_frames(std::int64_t trial_id) const;  // in flip order
   std::vector<AdjustmentSetting> load_adjustments(std::int64_t trial_id) const;  // ordered by spot
   // Largest flip_s logged for the session (0 when none), for continuing its time line on resume.
   double last_flip_s(std::int64_t session_id) const;
