@@ -47,3 +47,14 @@ if(NOT EXISTS /usr/include/msgpack.hpp)
 endif()
 target_link_libraries(glarelab_deps INTERFACE PkgConfig::ZMQ PkgConfig::HIDAPI PkgConfig::LIBUSB)
 target_compile_definitions(glarelab_deps INTERFACE MSGPACK_NO_BOOST)
+
+# On-screen text (stimuli/text_image.*): FreeType rasterises DejaVu Sans, a font every Debian
+# system can have (fonts-dejavu-core); the file is fixed here so text looks the same everywhere.
+find_package(Freetype REQUIRED)
+set(GLARELAB_FONT_FILE "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf" CACHE FILEPATH
+    "TrueType font for instruction and message screens")
+if(NOT EXISTS "${GLARELAB_FONT_FILE}")
+  message(FATAL_ERROR "${GLARELAB_FONT_FILE} not found: install fonts-dejavu-core (scripts/setup.sh does)")
+endif()
+target_link_libraries(glarelab_deps INTERFACE Freetype::Freetype)
+target_compile_definitions(glarelab_deps INTERFACE GLARELAB_FONT_FILE="${GLARELAB_FONT_FILE}")

@@ -20,6 +20,7 @@ PACKAGES=(
   python3-scipy chromium                           # analysis tests: SciPy cross-check, report rendering
   libzmq3-dev cppzmq-dev libmsgpack-cxx-dev        # eye trackers: Pupil Core network API (ZeroMQ + msgpack)
   libhidapi-dev libusb-1.0-0-dev                   # response devices (HID) and the USB device list
+  libfreetype-dev fonts-dejavu-core                # text on instruction and message screens
 )
 
 missing=()
