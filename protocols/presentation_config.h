@@ -25,7 +25,7 @@ struct FrameCount {
 enum class FeedbackKind { none, text };
 
 struct PresentationSpec {
-  // Shown once when a run starts (a session, or a resumed one), until the observer continues.
+  // Shown before the session's first trial, until the observer continues.
   std::string instructions;
   // A break screen before every n-th trial (trial_index a multiple of n, not the first); 0: none.
   int break_every_trials = 0;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -123,6 +124,13 @@ TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
     EXPECT_EQ(left_count[condition], 12) << condition;
     EXPECT_EQ(right_count[condition], 12) << condition;
   }
+  // The instruction screen opens the session; 0.5 s between trials is 30 frames at 60 Hz.
+  const auto logged = [&](const std::string& prefix) {
+    return std::any_of(run.events.begin(), run.events.end(), [&](const std::string& e) { return e.rfind(prefix, 0) == 0; });
+  };
+  EXPECT_TRUE(logged("screen: trial 0, instructions: 'Two images of the same scene are shown ...' shown 60 flips"));
+  EXPECT_TRUE(logged("duration_rounding: presentation.isi_duration_s 0.5 s -> 30 frames"));
+  EXPECT_TRUE(logged("trial_phases: trial 1: inter-trial 30, interval 1 15 (frames 0-14) flips"));
 }
 
 TEST(ExampleStudies, LuidoltRatingsRateEverySceneOnEveryCategory) {

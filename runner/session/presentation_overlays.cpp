@@ -17,13 +17,15 @@ PresentationOverlays::PresentationOverlays(FrameRenderer& renderer, const Experi
   max_width_px_ = std::max(1, renderer.width_px() * 9 / 10);
 }
 
-const SceneTexture& PresentationOverlays::text_texture(const std::string& text) {
+const SceneTexture* PresentationOverlays::text_texture(const std::string& text) {
   auto found = texts_.find(text);
   if (found == texts_.end()) {
     const ImageRGBA image = text_overlay(text, line_height_px_, max_width_px_, spec_.text_cd_m2);
+    // Text without a visible glyph (blanks only) rasterises to an empty image: nothing to draw.
+    if (image.width_px == 0 || image.height_px == 0) return nullptr;
     found = texts_.emplace(text, renderer_.upload(image)).first;
   }
-  return found->second;
+  return &found->second;
 }
 
 Placement PresentationOverlays::placed(const SceneTexture& texture, PixelRect rect) const {
@@ -32,15 +34,16 @@ Placement PresentationOverlays::placed(const SceneTexture& texture, PixelRect re
 
 std::vector<Placement> PresentationOverlays::question(const std::string& text, const std::vector<PixelRect>& stimuli) {
   if (!spec_.question_above_stimuli || text.empty()) return {};
-  const SceneTexture& texture = text_texture(text);
-  return {placed(texture, rect_above(stimuli, texture.width_px, texture.height_px, renderer_.width_px(),
-                                     renderer_.height_px(), line_height_px_ / 2))};
+  const SceneTexture* texture = text_texture(text);
+  if (texture == nullptr) return {};
+  return {placed(*texture, rect_above(stimuli, texture->width_px, texture->height_px, renderer_.width_px(),
+                                      renderer_.height_px(), line_height_px_ / 2))};
 }
 
 std::vector<Placement> PresentationOverlays::centred_text(const std::string& text) {
-  if (text.empty()) return {};
-  const SceneTexture& texture = text_texture(text);
-  return {placed(texture, centred_rect(texture.width_px, texture.height_px, renderer_.width_px(), renderer_.height_px()))};
+  const SceneTexture* texture = text.empty() ? nullptr : text_texture(text);
+  if (texture == nullptr) return {};
+  return {placed(*texture, centred_rect(texture->width_px, texture->height_px, renderer_.width_px(), renderer_.height_px()))};
 }
 
 std::vector<Placement> PresentationOverlays::fixation() {

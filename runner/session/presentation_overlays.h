@@ -28,7 +28,7 @@ class PresentationOverlays {
   int fixation_size_px() const { return fixation_size_px_; }
 
  private:
-  const SceneTexture& text_texture(const std::string& text);
+  const SceneTexture* text_texture(const std::string& text);  // null for text without glyphs
   Placement placed(const SceneTexture& texture, PixelRect rect) const;
 
   FrameRenderer& renderer_;

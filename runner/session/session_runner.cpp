@@ -119,8 +119,7 @@ class SessionLoop {
   // response, feedback; every flip is stamped and stored with the trial.
   bool run_trial(const TrialPlan& plan, std::ostream& progress) {
     const PresentationSpec& presentation = prepared_.experiment.presentation;
-    const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_, first_of_run_);
-    first_of_run_ = false;
+    const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_);
     TrialRun run;
     const bool interactive = prepared_.observer == nullptr;
     if (interactive) discard_keys_before_onset(plan);
@@ -610,7 +609,6 @@ class SessionLoop {
   GlareStage glare_;
   PresentationOverlays overlays_;
   bool sequential_;
-  bool first_of_run_ = true;
   bool aborted_ = false;
   std::string abort_reason_;
 };

@@ -17,10 +17,11 @@ const char* to_string(FlipPhase phase) {
   return "?";
 }
 
-TrialSchedule schedule_trial(const PresentationSpec& spec, const TrialPlan& plan, bool sequential, bool first_of_run) {
+TrialSchedule schedule_trial(const PresentationSpec& spec, const TrialPlan& plan, bool sequential) {
   TrialSchedule schedule;
-  schedule.inter_trial_frames = first_of_run ? 0 : spec.inter_stimulus.frames;
-  if (first_of_run && !spec.instructions.empty()) schedule.screens.push_back({"instructions", spec.instructions});
+  const bool first = plan.trial_index == 0;
+  schedule.inter_trial_frames = first ? 0 : spec.inter_stimulus.frames;
+  if (first && !spec.instructions.empty()) schedule.screens.push_back({"instructions", spec.instructions});
   if (spec.break_every_trials > 0 && plan.trial_index > 0 && plan.trial_index % spec.break_every_trials == 0)
     schedule.screens.push_back({"break", spec.break_text});
   if (!plan.screen_text.empty()) schedule.screens.push_back({"block", plan.screen_text});

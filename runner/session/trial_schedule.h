@@ -42,9 +42,9 @@ struct TrialSchedule {
   std::size_t onset_flip = 0;       // index into `timed` of stimulus frame 0
 };
 
-// `first_of_run`: the first trial of this run (a session start or a resume): instructions are shown
-// and no inter-trial interval precedes it.
-TrialSchedule schedule_trial(const PresentationSpec& spec, const TrialPlan& plan, bool sequential, bool first_of_run);
+// Trial 0 opens with the instructions and has no inter-trial interval before it. The schedule
+// depends only on the plan, so a resumed session flips exactly as an uninterrupted one.
+TrialSchedule schedule_trial(const PresentationSpec& spec, const TrialPlan& plan, bool sequential);
 
 // "trial 3: inter-trial 2, fixation 3, interval 1 4 (frames 0-3), inter-stimulus 2, interval 2 4
 // (frames 4-7), response 0, feedback 5 flips": the runs of phases in the order they flipped.
