@@ -179,7 +179,7 @@ TEST(ExperimentFile, RangeChecksAndUnsupportedProcedure) {
   check("responses = [\"a\", \"a\"]", ":12:19: key 'procedure.responses[1]': duplicate response 'a'");
   check("responses = [\"a\"]",
         ":12:13: key 'procedure.responses': expected 2 distinct responses (one per alternative), found 1");
-  check("layout = \"stacked\"", ":12:10: key 'procedure.layout': unsupported layout 'stacked' (supported: 'side_by_side')");
+  check("layout = \"stacked\"", ":12:10: key 'procedure.layout': unsupported layout 'stacked' (supported: 'side_by_side', 'sequential')");
 
   const std::string path = dir.write(
       "exp.toml", "[experiment]\nname = \"x\"\n[scenes]\na = { file = \"a.exr\" }\n[procedure]\ntype = \"method_of_limits\"\n");

@@ -60,7 +60,9 @@ TEST(WindowBackend, KeyboardAnswersThenEscapeAborts) {
     EXPECT_EQ(std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return f.frame_index >= 0; }), 6);
     for (std::size_t f = 0; f < frames.size(); ++f) {
       EXPECT_EQ(frames[f].frame_index, f < 6 ? static_cast<int>(f) : -static_cast<int>(f - 5));
-      if (f > 0) EXPECT_GT(frames[f].flip_s, frames[f - 1].flip_s);
+      if (f > 0) {
+        EXPECT_GT(frames[f].flip_s, frames[f - 1].flip_s);
+      }
     }
   }
   EXPECT_EQ(store.integrity_check(), "ok");

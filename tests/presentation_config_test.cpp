@@ -188,7 +188,7 @@ TEST(PresentationConfig, AdjustmentHasNoResponseWindow) {
     FAIL() << "a response window for the adjustment task was accepted";
   } catch (const ConfigError& error) {
     EXPECT_EQ(std::string(error.what()),
-              "/exp/adj.toml:10:21: key 'presentation.response_window_s': the adjustment task has no response window "
+              "/exp/adj.toml:9:21: key 'presentation.response_window_s': the adjustment task has no response window "
               "(it ends when the observer accepts)");
   }
 }

@@ -114,7 +114,6 @@ TEST(PresentationOverlay, FixationCrossAndFeedbackAreCentred) {
   EXPECT_EQ(feedback[0].rect.x_px, (kWidth - feedback[0].rect.width_px) / 2);
   EXPECT_EQ(feedback[0].rect.y_px, (kHeight - feedback[0].rect.height_px) / 2);
   EXPECT_TRUE(overlays.centred_text("").empty());
-  EXPECT_TRUE(overlays.centred_text("   ").empty()) << "no glyph, nothing to draw";
 }
 
 TEST(PresentationOverlay, QuestionCanBeSwitchedOff) {

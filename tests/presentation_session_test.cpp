@@ -16,14 +16,14 @@ namespace {
 using test::run_glarelab;
 using test::ScratchDir;
 
-struct Setup {
+struct StudySetup {
   std::string procedure = "layout = \"sequential\"\nstimulus_frames = 4\nrepetitions = 2";
   std::string rows = "{ name = \"far\", scene_a = \"lamp_100\", scene_b = \"lamp_200\" }";
   std::string presentation;
   std::string observer = "threshold_log10 = 0.05";
 };
 
-std::string write_experiment(const ScratchDir& scratch, const Setup& setup) {
+std::string write_experiment(const ScratchDir& scratch, const StudySetup& setup) {
   const std::string scenes = std::string(GLARELAB_SOURCE_DIR) + "/examples/scenes/";
   return scratch.write(
       "experiment.toml",
@@ -79,7 +79,7 @@ const std::string kPhases =
 
 TEST(PresentationSession, EveryFlipOfEveryPhaseIsCountedAndStamped) {
   const ScratchDir scratch;
-  Setup setup;
+  StudySetup setup;
   setup.presentation = kPhases;
   const std::string db = scratch.file("p.db");
   const auto result = run_glarelab({"run", write_experiment(scratch, setup), "--display", "offscreen", "--observer",
@@ -108,7 +108,9 @@ TEST(PresentationSession, EveryFlipOfEveryPhaseIsCountedAndStamped) {
       // The virtual clock: one flip after another, no gaps anywhere in the session.
       EXPECT_NEAR(frame.flip_s, flip++ / 60.0, 1e-12);
       EXPECT_FALSE(frame.dropped);
-      if (frame.frame_index >= 0) EXPECT_NEAR(frame.scheduled_s, frame.flip_s, 1e-12);
+      if (frame.frame_index >= 0) {
+        EXPECT_NEAR(frame.scheduled_s, frame.flip_s, 1e-12);
+      }
     }
     EXPECT_TRUE(trials[t].correct.has_value());
   }
@@ -134,7 +136,7 @@ TEST(PresentationSession, EveryFlipOfEveryPhaseIsCountedAndStamped) {
 
 TEST(PresentationSession, StopAndResumeFlipsExactlyAsAnUninterruptedRun) {
   const ScratchDir scratch;
-  Setup setup;
+  StudySetup setup;
   setup.presentation = kPhases;
   const std::string experiment = write_experiment(scratch, setup);
   const std::vector<std::string> common = {"run", experiment, "--display", "offscreen", "--observer", "simulated"};
@@ -153,7 +155,7 @@ TEST(PresentationSession, StopAndResumeFlipsExactlyAsAnUninterruptedRun) {
 
 TEST(PresentationSession, SequentialCorrectRateGrowsWithTheLuminanceDifference) {
   const ScratchDir scratch;
-  Setup setup;
+  StudySetup setup;
   setup.procedure = "layout = \"sequential\"\nstimulus_frames = 1\nrepetitions = 15";
   setup.rows = "{ name = \"near\", scene_a = \"lamp_100\", scene_b = \"lamp_105\" }, "
                "{ name = \"far\", scene_a = \"lamp_100\", scene_b = \"lamp_200\" }";
@@ -194,7 +196,7 @@ TEST(PresentationSession, SequentialCorrectRateGrowsWithTheLuminanceDifference) 
 
 TEST(PresentationSession, ScriptAnswersSequentialTrialsIncludingTimeouts) {
   const ScratchDir scratch;
-  Setup setup;
+  StudySetup setup;
   setup.procedure = "layout = \"sequential\"\nstimulus_frames = 2\nrepetitions = 3";
   setup.presentation = "response_window_s = 2.0\nfeedback = \"text\"\nfeedback_frames = 2";
   test::write_bytes(scratch.file("answers.txt"), "first\nsecond\n1\n0\ntimeout\n1\n");
@@ -228,7 +230,7 @@ TEST(PresentationSession, ScriptAnswersSequentialTrialsIncludingTimeouts) {
     EXPECT_NE(phases.find("feedback 2 flips"), std::string::npos) << phases;
 
   // Without a response window a script cannot time out: refused at its line.
-  Setup unlimited = setup;
+  StudySetup unlimited = setup;
   unlimited.presentation = "";
   const auto refused = run_glarelab({"run", write_experiment(scratch, unlimited), "--display", "offscreen",
                                      "--observer", "script:" + scratch.file("answers.txt"), "--db",
@@ -241,7 +243,7 @@ TEST(PresentationSession, ScriptAnswersSequentialTrialsIncludingTimeouts) {
 
 TEST(PresentationSession, SlowAnswersTimeOutAndAreNeverScored) {
   const ScratchDir scratch;
-  Setup setup;
+  StudySetup setup;
   setup.procedure = "stimulus_frames = 2\nrepetitions = 2";
   setup.presentation = "response_window_s = 1.0\nfeedback = \"text\"\nfeedback_frames = 3";
   // Median response time 10 s (lognormal, sigma 0.25 of ln t): never within 1 s.
@@ -280,7 +282,7 @@ TEST(PresentationSession, SlowAnswersTimeOutAndAreNeverScored) {
 
 TEST(PresentationSession, DurationsInSecondsAreRoundedAndLogged) {
   const ScratchDir scratch;
-  Setup setup;
+  StudySetup setup;
   setup.procedure = "stimulus_duration_s = 0.05\nrepetitions = 1\ncounterbalance_sides = false";
   setup.presentation = "fixation_duration_s = 0.1\nisi_duration_s = 0.03\nfeedback = \"text\"\nfeedback_duration_s = 0.04";
   const std::string db = scratch.file("r.db");
@@ -306,7 +308,7 @@ TEST(PresentationSession, DurationsInSecondsAreRoundedAndLogged) {
 
 TEST(PresentationSession, BadPresentationValueStopsTheRunAtItsLine) {
   const ScratchDir scratch;
-  Setup setup;
+  StudySetup setup;
   setup.presentation = "fixation_frames = -1";
   const std::string experiment = write_experiment(scratch, setup);
   const auto result = run_glarelab({"run", experiment, "--display", "offscreen", "--observer", "simulated", "--db",
