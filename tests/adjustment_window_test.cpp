@@ -1,7 +1,9 @@
 // The double-adjustment example in a real X window (under xvfb-run), adjusted with keys and
 // mouse-wheel clicks sent by xdotool: the recorded settings are the start values times
-// 10^(the hand-summed log10 steps).
+// 10^(the hand-summed log10 steps). An optional response device that is absent is logged and
+// the keyboard and wheel go on.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -50,7 +52,10 @@ TEST(WindowBackend, AdjustmentWithKeysAndWheelStepsInLogUnits) {
   const test::ScratchDir scratch;
   const auto experiment = small_adjustment_example(scratch.path());
   const auto db = scratch.path() / "adjustment.db";
-  test::GlarelabProcess process({"run", experiment.string(), "--display", "window", "--db", db.string()},
+  // An optional device that is absent (no HID device has these ids): the keyboard and wheel go on.
+  test::GlarelabProcess process({"run", experiment.string(), "--display", "window", "--db", db.string(),
+                                 "--response-device", "fffe:fffd", "--buttons", "1:0=up,1:1=down,1:2=accept",
+                                 "--response-device-optional"},
                                 scratch.path() / "out.txt");
   ASSERT_TRUE(process.started());
   // Focus the window and put the pointer over it (wheel clicks go to the window under the pointer).
@@ -62,13 +67,14 @@ TEST(WindowBackend, AdjustmentWithKeysAndWheelStepsInLogUnits) {
   //  trial 0: Up Up (+0.2), wheel up (+0.1), Shift+wheel down (-0.01), Right Right (+0.02): +0.31
   //  trial 1: Down (-0.1), F (fine mode), 3 wheel ups (+0.03), Up (+0.01), Left (-0.01): -0.07
   const std::vector<std::string> trials = {
-      "key Up Up click 4 keydown shift click 5 keyup shift key Right Right Return",
-      "key Down f click 4 click 4 click 4 key Up Left Return",
+      "xdotool key Up Up && xdotool click 4 && xdotool keydown shift && xdotool click 5 && xdotool keyup shift && "
+      "xdotool key Right Right Return",
+      "xdotool key Down f && xdotool click --repeat 3 4 && xdotool key Up Left Return",
   };
   const std::vector<double> expected_log10 = {0.31, -0.07};
   for (const auto& inputs : trials) {
     std::this_thread::sleep_for(std::chrono::milliseconds(700));
-    ASSERT_EQ(shell("xdotool " + inputs), 0);
+    ASSERT_EQ(shell(inputs), 0);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   ASSERT_EQ(shell("xdotool key Escape"), 0);
@@ -77,6 +83,15 @@ TEST(WindowBackend, AdjustmentWithKeysAndWheelStepsInLogUnits) {
   const ResultStore store(db.string());
   const auto session = store.load_sessions().at(0);
   EXPECT_EQ(session.status, "aborted");
+  EXPECT_EQ(session.observer, "keyboard");
+  sqlite3_stmt* statement = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = 'response_device_absent'",
+                               -1, &statement, nullptr),
+            SQLITE_OK);
+  ASSERT_EQ(sqlite3_step(statement), SQLITE_ROW);
+  const std::string absent = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
+  sqlite3_finalize(statement);
+  EXPECT_NE(absent.find("HID: no device fffe:fffd"), std::string::npos) << absent;
   const auto recorded = store.load_trials(session.id);
   ASSERT_EQ(recorded.size(), 2u) << test::read_bytes((scratch.path() / "out.txt").string());
   for (std::size_t k = 0; k < recorded.size(); ++k) {
