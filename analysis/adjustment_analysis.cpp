@@ -51,7 +51,7 @@ AdjustmentAnalysis analyse_adjustments(const LoadedData& data) {
         continue;
       }
       const std::string condition = first_value(trial, {"glare", "condition", "name"}, "(all)");
-      const std::string target = first_value(trial, {"target_cd_m2", "target"}, "(all)");
+      const std::string target = first_value(trial, {"target_level", "target_cd_m2", "target"}, "(all)");
       add_unique(analysis.conditions, condition);
       add_unique(analysis.targets, target);
       // Participants are identified by their code, so two sessions of one person pool.

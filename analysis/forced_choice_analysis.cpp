@@ -7,7 +7,16 @@
 namespace glarelab::analysis {
 namespace {
 
-const std::vector<std::string> kPositions = {"left", "right"};
+// Positions of the two alternatives: side by side, or the two intervals of sequential 2-AFC.
+const std::vector<std::string> kPositions = {"left", "right", "first", "second"};
+
+// What stands at a position: its glare mode when the trial compares glare modes ("left_glare" =
+// "dynamic": Ritschel et al. 2009, section 6.1, the same scene under two glare conditions),
+// otherwise the scene shown there.
+const std::string* option_at(const LoadedTrial& trial, const std::string& position) {
+  if (const std::string* glare = trial.condition_value(position + "_glare")) return glare;
+  return trial.condition_value(position);
+}
 
 struct Counts {
   std::map<std::string, long> chosen;
@@ -30,7 +39,7 @@ std::string group_of(const LoadedTrial& trial, std::string& pool) {
   if (const std::string* name = trial.condition_value("name")) return *name;
   std::string rest;
   for (const auto& [key, value] : trial.condition) {
-    if (std::find(kPositions.begin(), kPositions.end(), key) != kPositions.end()) continue;
+    if (std::find(kPositions.begin(), kPositions.end(), key) != kPositions.end() || key.ends_with("_glare")) continue;
     rest += (rest.empty() ? "" : ", ") + key + "=" + value;
   }
   return rest.empty() ? "(no condition)" : rest;
@@ -86,14 +95,14 @@ ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data) {
       ++analysis.trials;
       std::vector<std::string> options;
       for (const std::string& position : kPositions) {
-        if (const std::string* option = trial.condition_value(position)) options.push_back(*option);
+        if (const std::string* option = option_at(trial, position)) options.push_back(*option);
       }
       if (options.size() != 2 || options[0] == options[1]) {
         ++unusable;
         continue;
       }
       std::string chosen;
-      if (const std::string* named = trial.condition_value(trial.record.response);
+      if (const std::string* named = option_at(trial, trial.record.response);
           named != nullptr && std::find(kPositions.begin(), kPositions.end(), trial.record.response) != kPositions.end()) {
         chosen = *named;
       } else {
@@ -126,7 +135,7 @@ ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data) {
   for (const auto& [key, counts] : by_pool) analysis.pooled.push_back(make_preference("pooled: " + key.first, key.second, counts));
   if (unusable > 0) {
     analysis.notes.push_back(std::to_string(unusable) +
-                             " forced-choice trial(s) left out: no two distinct options at left/right in the condition, "
+                             " forced-choice trial(s) left out: no two distinct options at left/right (or first/second) in the condition, "
                              "or the response names neither option (e.g. an aborted trial)");
   }
   return analysis;

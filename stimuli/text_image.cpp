@@ -105,30 +105,27 @@ long advance_26_6(FT_Face face, const std::vector<char32_t>& run) {
   return pen;
 }
 
+std::vector<std::vector<char32_t>> split_at(const std::vector<char32_t>& text, char32_t separator) {
+  std::vector<std::vector<char32_t>> parts(1);
+  for (const char32_t code : text) {
+    if (code == separator)
+      parts.emplace_back();
+    else
+      parts.back().push_back(code);
+  }
+  return parts;
+}
+
 // Splits into lines: at '\n', and at spaces where a line would grow past max_width (26.6).
 std::vector<std::vector<char32_t>> wrap_lines(FT_Face face, const std::vector<char32_t>& text, long max_width_26_6) {
-  std::vector<std::vector<char32_t>> paragraphs(1);
-  for (const char32_t code : text) {
-    if (code == U'\n')
-      paragraphs.emplace_back();
-    else
-      paragraphs.back().push_back(code);
-  }
   std::vector<std::vector<char32_t>> lines;
-  for (const auto& paragraph : paragraphs) {
+  for (const auto& paragraph : split_at(text, U'\n')) {
     if (max_width_26_6 <= 0) {
       lines.push_back(paragraph);
       continue;
     }
-    std::vector<std::vector<char32_t>> words(1);
-    for (const char32_t code : paragraph) {
-      if (code == U' ')
-        words.emplace_back();
-      else
-        words.back().push_back(code);
-    }
     std::vector<char32_t> line;
-    for (const auto& word : words) {
+    for (const auto& word : split_at(paragraph, U' ')) {
       std::vector<char32_t> candidate = line;
       if (!candidate.empty()) candidate.push_back(U' ');
       candidate.insert(candidate.end(), word.begin(), word.end());

@@ -70,6 +70,50 @@ TEST(AnalysisReport, ForcedChoicePerSceneAndPooledAsRitschel) {
   EXPECT_NEAR(pooled.share_a(), 54.0 / 80.0, 1e-15);
 }
 
+// Ritschel's own design: the same scene on both sides, each under its own glare mode
+// ("left_glare"/"right_glare"), and a sequential (two-interval) block answering "first"/"second".
+TEST(AnalysisReport, ForcedChoiceComparesGlareModesOfTheSameSceneAndIntervals) {
+  const test::ScratchDir dir;
+  const std::string path = dir.file("modes.db");
+  {
+    ResultStore store(path);
+    const auto id = store.begin_session(test::synthetic_session("P1"));
+    std::vector<TrialSpec> specs;
+    // 10 trials dynamic vs static, sides alternating; dynamic chosen 8 times.
+    for (int i = 0; i < 10; ++i) {
+      const bool dynamic_left = i % 2 == 0;
+      const bool chose_dynamic = i < 8;
+      const std::string condition =
+          std::string("{\"scene\":\"Gem\",\"instruction\":\"brighter\",\"left\":\"gem\",\"right\":\"gem\",") +
+          "\"left_glare\":\"" + (dynamic_left ? "dynamic" : "static") + "\",\"right_glare\":\"" +
+          (dynamic_left ? "static" : "dynamic") + "\"}";
+      specs.push_back({"forced_choice", condition, (chose_dynamic == dynamic_left) ? "left" : "right", {}, {}, "", {}});
+    }
+    // 6 sequential trials control (first) vs static (second); static chosen 5 times.
+    for (int i = 0; i < 6; ++i) {
+      const std::string condition =
+          "{\"scene\":\"Park\",\"instruction\":\"realistic\",\"first\":\"park\",\"second\":\"park\","
+          "\"first_glare\":\"control\",\"second_glare\":\"static\"}";
+      specs.push_back({"forced_choice", condition, i < 5 ? "second" : "first", {}, {}, "", {}});
+    }
+    test::commit_trials(store, id, specs);
+    store.finish_session(id, "completed");
+  }
+  const ForcedChoiceAnalysis fc = analyse(load_databases({path}), {}).forced_choice;
+  EXPECT_TRUE(fc.notes.empty()) << fc.notes.front();
+  ASSERT_EQ(fc.groups.size(), 2u);
+  EXPECT_EQ(fc.groups[0].option_a, "dynamic");
+  EXPECT_EQ(fc.groups[0].option_b, "static");
+  EXPECT_EQ(fc.groups[0].chose_a, 8);
+  EXPECT_EQ(fc.groups[0].chose_b, 2);
+  // Exact two-sided binomial, 8 of 10: 2 * (1 + 10 + 45) / 1024.
+  EXPECT_NEAR(fc.groups[0].binomial.p_value, 112.0 / 1024.0, 1e-14);
+  EXPECT_EQ(fc.groups[1].option_a, "static");
+  EXPECT_EQ(fc.groups[1].option_b, "control");
+  EXPECT_EQ(fc.groups[1].chose_a, 5);
+  EXPECT_EQ(fc.groups[1].chose_b, 1);
+}
+
 // One participant with a staircase that never reverses, one whose answers are all correct, an
 // aborted session, adjustments by a single participant (no ANOVA) and ratings.
 std::string hard_cases_database(const test::ScratchDir& dir, const std::string& participant) {

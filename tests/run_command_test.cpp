@@ -220,16 +220,20 @@ TEST(RunCommand, KillAtRandomPointsThenResume) {
 TEST(RunCommand, InterruptMarksSessionAbortedAndKeepsData) {
   const ScratchDir scratch;
   const auto& dir = scratch.path();
+  // Without the demo's glare column (every row control): how fast trials come depends only on
+  // the frames, so a loaded machine still reaches three trials well before the run ends.
+  test::write_demo_conditions_without_glare(dir / "conditions_without_glare.csv");
   const auto experiment =
-      demo_variant(dir, {{"stimulus_frames", "stimulus_frames = 60"},
+      demo_variant(dir, {{"file", "file = \"" + (dir / "conditions_without_glare.csv").string() + "\""},
+                        {"stimulus_frames", "stimulus_frames = 60"},
                         {"repetitions", "repetitions = 20"},
                         {"width_px", "width_px = 512"},
                         {"height_px", "height_px = 256"}}).string();
   const auto db = dir / "i.db";
   test::GlarelabProcess process({"run", experiment, "--db", db.string(), "--display", "offscreen", "--observer", "simulated"},
                                    dir / "out.txt");
-  // Wait until some trials are in, then Ctrl-C.
-  for (int i = 0; i < 400; ++i) {
+  // Wait until some trials are in (at most 60 s), then Ctrl-C.
+  for (int i = 0; i < 2400; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(25));
     if (std::filesystem::exists(db)) {
       const ResultStore store(db.string());

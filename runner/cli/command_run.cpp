@@ -43,6 +43,16 @@ Action add_run_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   // --- end tracker ---
+  // --- response device (docs/DEVICES.md) ---
+  run->add_option("--response-device", options->response_device.selector,
+                  "USB HID response device (button box, gamepad): VID:PID or VID:PID:USAGE_PAGE in hex "
+                  "(glarelab devices lists them)");
+  run->add_option("--buttons", options->response_device.buttons,
+                  "Its buttons: BYTE:BIT=NAME,... where NAME is a response (or its number) or an adjustment "
+                  "action (up, down, coarse_up, coarse_down, fine_up, fine_down, fine_mode, accept)");
+  run->add_flag("--response-device-optional", options->response_device.optional,
+                "In a window: continue with the keyboard when the response device is absent at start (logged)");
+  // --- end response device ---
   return [=]() {
     if (seed_option->count() > 0) options->seed = *seed;
     if (resume_option->count() > 0) options->resume_session_id = *resume;
@@ -52,11 +62,17 @@ Action add_run_command(CLI::App& app) {
       const ResultStore store(result.db_path);
       std::cout << summarise_session(store, result.session_id).describe(result.db_path);
       if (!result.tracker_summary.empty()) std::cout << "  " << result.tracker_summary << "\n";
+      if (!result.device_summary.empty()) std::cout << "  " << result.device_summary << "\n";
       if (result.status == "running") {
         std::cout << "  stopped early; finish with: glarelab run " << options->experiment_path << " --db "
                   << result.db_path << " --resume " << result.session_id << " --display " << options->display
                   << " --observer " << options->observer
-                  << (options->tracker.spec != "none" ? " --tracker " + options->tracker.spec : std::string()) << "\n";
+                  << (options->tracker.spec != "none" ? " --tracker " + options->tracker.spec : std::string())
+                  << (options->response_device.selector.empty()
+                          ? std::string()
+                          : " --response-device " + options->response_device.selector + " --buttons " +
+                                options->response_device.buttons)
+                  << "\n";
       }
       return result.status == "aborted" ? static_cast<int>(kExitAborted) : static_cast<int>(kExitOk);
     });

@@ -2,6 +2,7 @@
 
 #include "protocols/config_error.h"
 #include "runner/cli/commands.h"
+#include "runner/devices/hid_device.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/session_runner.h"
 #include "runner/store/result_store.h"
@@ -20,6 +21,9 @@ int report_errors(const std::function<int()>& body) {
     std::cerr << "error: " << error.what() << "\n";
     return kExitBadInput;
   } catch (const DisplayError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitDevice;
+  } catch (const DeviceError& error) {
     std::cerr << "error: " << error.what() << "\n";
     return kExitDevice;
   } catch (const TrackerError& error) {

@@ -1,12 +1,63 @@
 #include "runner/devices/hid_device.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
 #include "runner/clock.h"
 
 namespace glarelab {
+
+namespace {
+
+// 1-4 hex digits, optionally after 0x; nullopt otherwise.
+std::optional<std::uint16_t> parse_hex16(std::string text) {
+  if (text.starts_with("0x") || text.starts_with("0X")) text = text.substr(2);
+  if (text.empty() || text.size() > 4) return std::nullopt;
+  char* end = nullptr;
+  const unsigned long value = std::strtoul(text.c_str(), &end, 16);
+  if (*end != '\0' || text.find_first_of("+- ") != std::string::npos) return std::nullopt;
+  return static_cast<std::uint16_t>(value);
+}
+
+std::string hex4(std::uint16_t value) {
+  char text[8];
+  std::snprintf(text, sizeof text, "%04x", value);
+  return text;
+}
+
+}  // namespace
+
+HidSelector parse_hid_selector(const std::string& text) {
+  std::vector<std::string> parts;
+  std::istringstream fields(text);
+  std::string field;
+  while (std::getline(fields, field, ':')) parts.push_back(field);
+  if (!text.empty() && text.back() == ':') parts.push_back("");
+  const auto bad = [&](const std::string& why) {
+    return DeviceError("HID device '" + text + "': " + why + " (expected VID:PID or VID:PID:USAGE_PAGE in hex, e.g. 1209:0001)");
+  };
+  if (parts.size() < 2 || parts.size() > 3) throw bad("wrong number of fields");
+  HidSelector selector;
+  const auto vendor = parse_hex16(parts[0]);
+  const auto product = parse_hex16(parts[1]);
+  if (!vendor) throw bad("vendor id '" + parts[0] + "' is not 1-4 hex digits");
+  if (!product) throw bad("product id '" + parts[1] + "' is not 1-4 hex digits");
+  selector.vendor_id = *vendor;
+  selector.product_id = *product;
+  if (parts.size() == 3) {
+    const auto page = parse_hex16(parts[2]);
+    if (!page) throw bad("usage page '" + parts[2] + "' is not 1-4 hex digits");
+    selector.usage_page = *page;
+  }
+  return selector;
+}
+
+std::string describe_hid_selector(const HidSelector& selector) {
+  return hex4(selector.vendor_id) + ":" + hex4(selector.product_id) +
+         (selector.usage_page ? " usage page 0x" + hex4(*selector.usage_page) : std::string());
+}
 
 std::vector<ButtonBinding> parse_button_mapping(const std::string& text) {
   std::vector<ButtonBinding> mapping;

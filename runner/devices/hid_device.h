@@ -8,6 +8,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -32,6 +33,12 @@ struct HidSelector {
   std::uint16_t product_id = 0;
   std::optional<std::uint16_t> usage_page;
 };
+
+// Parses "VID:PID" or "VID:PID:USAGE_PAGE", each 1-4 hex digits with an optional 0x
+// ("1209:0001", "0x046d:0xc216:0x01"). Throws DeviceError naming the text.
+HidSelector parse_hid_selector(const std::string& text);
+// "1209:0001" or "1209:0001 usage page 0x0001".
+std::string describe_hid_selector(const HidSelector& selector);
 
 // One mapped button: bit `bit` (0 = least significant) of byte `byte_index` of the input report
 // (byte 0 is the report id for devices that number their reports) means `response`.
@@ -62,6 +69,10 @@ class HidReportSource {
 // Opens a real device through hidapi (hidraw backend). Throws DeviceError when no device matches.
 std::unique_ptr<HidReportSource> open_hidapi_device(const HidSelector& selector);
 
+// How a session opens (and after an unplug, reopens) its device: open_hidapi_device for real
+// devices; tests pass a function that hands out fake devices and can refuse (unplugged).
+using HidOpener = std::function<std::unique_ptr<HidReportSource>(const HidSelector&)>;
+
 // A device for tests: reports pushed by the test are read in order.
 class FakeHidReportSource final : public HidReportSource {
  public:
@@ -91,6 +102,7 @@ class HidResponseDevice {
   std::vector<ButtonEvent> take_events();
   bool unplugged() const { return unplugged_; }
   std::int64_t reports_read() const { return reports_read_; }
+  std::string description() const { return source_->description(); }
 
  private:
   void read_loop();

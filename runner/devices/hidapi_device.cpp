@@ -1,20 +1,12 @@
 // HidReportSource for real devices through hidapi (hidraw backend: no kernel driver detaching).
 #include <hidapi/hidapi.h>
 
-#include <cstdio>
-
 #include "runner/devices/device_list.h"
 #include "runner/devices/hid_device.h"
 
 namespace glarelab {
 
 namespace {
-
-std::string hex4(std::uint16_t value) {
-  char text[8];
-  std::snprintf(text, sizeof text, "%04x", value);
-  return text;
-}
 
 class HidapiReportSource final : public HidReportSource {
  public:
@@ -40,8 +32,7 @@ class HidapiReportSource final : public HidReportSource {
 }  // namespace
 
 std::unique_ptr<HidReportSource> open_hidapi_device(const HidSelector& selector) {
-  const std::string wanted = hex4(selector.vendor_id) + ":" + hex4(selector.product_id) +
-                             (selector.usage_page ? " usage page 0x" + hex4(*selector.usage_page) : std::string());
+  const std::string wanted = describe_hid_selector(selector);
   if (hid_init() != 0) throw DeviceError("HID: hidapi could not be initialised");
   for (const HidDeviceInfo& info : list_hid_devices()) {
     if (info.vendor_id != selector.vendor_id || info.product_id != selector.product_id) continue;

@@ -40,9 +40,13 @@ struct GlInfo {
   std::string describe() const;  // "OpenGL 4.5 (Core Profile) Mesa 22.3.6 on llvmpipe (LLVM 15.0.6, 256 bits)"
 };
 
-struct KeyEvent {
-  std::string key;        // "left", "right", "up", "down", "escape", "space", "enter", "a".."z", "0".."9"
-  double session_time_s;  // stamped on the session clock right after the events were polled
+// One input from the person at the display, in the order it happened.
+struct InputEvent {
+  // A key: "left", "right", "up", "down", "escape", "space", "enter", "a".."z", "0".."9";
+  // or one click of the mouse wheel: "wheel_up" (away from the user) or "wheel_down".
+  std::string name;
+  bool shift = false;  // Shift was held (the fine mode of the adjustment task)
+  bool is_key() const { return !name.starts_with("wheel_"); }
 };
 
 class DisplayBackend {
@@ -58,8 +62,15 @@ class DisplayBackend {
   virtual bool real_time() const = 0;
   // Presents the default framebuffer: a vsync'd buffer swap for a window, glFinish offscreen.
   virtual void present() = 0;
-  // Keys pressed since the last call (window); none offscreen.
-  virtual std::vector<std::string> poll_keys() = 0;
+  // Keys pressed and wheel clicks since the last call, in order (window); none offscreen.
+  virtual std::vector<InputEvent> poll_input() = 0;
+  // The keys of poll_input(); wheel clicks are dropped (the wheel only adjusts, it never answers).
+  std::vector<std::string> poll_keys() {
+    std::vector<std::string> keys;
+    for (const InputEvent& event : poll_input())
+      if (event.is_key()) keys.push_back(event.name);
+    return keys;
+  }
   // The user closed the window.
   virtual bool close_requested() const = 0;
   // Makes this backend's context current on the calling thread and (re)loads GL entry points.

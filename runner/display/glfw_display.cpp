@@ -101,11 +101,11 @@ class GlfwDisplay final : public DisplayBackend {
       throw DisplayError("GLFW: could not reload OpenGL entry points");
   }
 
-  std::vector<std::string> poll_keys() override {
+  std::vector<InputEvent> poll_input() override {
     glfwPollEvents();
-    std::vector<std::string> keys;
-    keys.swap(pending_keys_);
-    return keys;
+    std::vector<InputEvent> input;
+    input.swap(pending_input_);
+    return input;
   }
 
  private:
@@ -145,11 +145,21 @@ class GlfwDisplay final : public DisplayBackend {
       throw DisplayError(message.str());
     }
     glfwSetWindowUserPointer(window_, this);
-    glfwSetKeyCallback(window_, [](GLFWwindow* window, int key, int, int action, int) {
+    glfwSetKeyCallback(window_, [](GLFWwindow* window, int key, int, int action, int mods) {
       if (action != GLFW_PRESS) return;
       auto* self = static_cast<GlfwDisplay*>(glfwGetWindowUserPointer(window));
       const std::string name = key_name(key);
-      if (!name.empty()) self->pending_keys_.push_back(name);
+      if (!name.empty()) self->pending_input_.push_back({name, (mods & GLFW_MOD_SHIFT) != 0});
+    });
+    // The wheel: a notched wheel reports +-1 per click; a touchpad reports fractions, which add up
+    // to clicks. The scroll callback carries no modifiers, so Shift is read from the key state.
+    glfwSetScrollCallback(window_, [](GLFWwindow* window, double, double y_offset) {
+      auto* self = static_cast<GlfwDisplay*>(glfwGetWindowUserPointer(window));
+      const bool shift = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                         glfwGetKey(window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+      self->wheel_clicks_ += y_offset;
+      for (; self->wheel_clicks_ >= 1.0; self->wheel_clicks_ -= 1.0) self->pending_input_.push_back({"wheel_up", shift});
+      for (; self->wheel_clicks_ <= -1.0; self->wheel_clicks_ += 1.0) self->pending_input_.push_back({"wheel_down", shift});
     });
     glfwMakeContextCurrent(window_);
     // Vsync: one buffer swap per vertical refresh, so a stimulus of n frames stays n refreshes.
@@ -179,7 +189,8 @@ class GlfwDisplay final : public DisplayBackend {
   int height_px_ = 0;
   double refresh_hz_ = 60.0;
   GlInfo info_;
-  std::vector<std::string> pending_keys_;
+  std::vector<InputEvent> pending_input_;
+  double wheel_clicks_ = 0.0;  // scroll not yet a whole click
 };
 
 }  // namespace

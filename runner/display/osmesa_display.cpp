@@ -57,7 +57,7 @@ class OsMesaDisplay final : public DisplayBackend {
   double refresh_hz() const override { return refresh_hz_; }
   bool real_time() const override { return false; }
   void present() override { glFinish(); }
-  std::vector<std::string> poll_keys() override { return {}; }
+  std::vector<InputEvent> poll_input() override { return {}; }
   bool close_requested() const override { return false; }
 
   void make_current() override {

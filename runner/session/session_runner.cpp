@@ -1,6 +1,7 @@
 #include "runner/session/session_runner.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -17,11 +18,13 @@
 #include "runner/clock.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/adjustment_keys.h"
+#include "runner/session/device_pause_screen.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interrupt.h"
 #include "runner/session/keyboard_responses.h"
 #include "runner/session/presentation_overlays.h"
 #include "runner/session/refresh_rate_check.h"
+#include "runner/session/response_device_input.h"
 #include "runner/session/slow_flip_clock.h"
 #include "runner/session/trial_schedule.h"
 #include "runner/software_version.h"
@@ -77,7 +80,17 @@ PreparedSession prepare(Experiment experiment, const RunOptions& options) {
   prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment);
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
-  if (!prepared.observer && options.display != "window") {
+  // --- response device (docs/DEVICES.md): the person answers with it, in a window or offscreen ---
+  const bool device = !options.response_device.selector.empty();
+  if (device && prepared.observer)
+    throw ConfigError({"--response-device", 0, 0}, "response-device",
+                      "a response device is answered by a person: use it with --observer keyboard, not " + options.observer);
+  if (device && options.display != "window" && options.response_device.optional)
+    throw ConfigError({"--response-device-optional", 0, 0}, "response-device-optional",
+                      "an offscreen run has no other way to answer than its response device: it cannot be optional");
+  if (device && options.display != "window") prepared.observer_description = "response device";
+  // --- end response device ---
+  if (!prepared.observer && options.display != "window" && !device) {
     throw ConfigError({"--observer", 0, 0}, "observer",
                       "the keyboard observer needs --display window; offscreen runs use --observer simulated or "
                       "script:FILE");
@@ -238,6 +251,22 @@ class SessionLoop {
 
   bool aborted() const { return aborted_; }
   FrameTimingSummary timing_summary() const { return timing_.summary(); }
+
+  // --- response device (runner/session/response_device_input.h) ---
+  // `pause_message`: the image shown while the device is unplugged (rendered before the session
+  // starts, so a font problem stops the run before anything is written).
+  void attach_response_device(ResponseDeviceInput* device, const ImageRGBA& pause_message) {
+    device_ = device;
+    pause_message_ = renderer_.upload(pause_message);
+  }
+  // After a device pause the trial in progress ends without being committed (run_trial returns
+  // false as for an abort) and is to be run again from its onset; true once per such trial.
+  bool take_trial_rerun() {
+    if (!rerun_trial_) return false;
+    rerun_trial_ = aborted_ = false;
+    return true;
+  }
+  // --- end response device ---
   const std::string& abort_reason() const { return abort_reason_; }
 
   // --- tracker (runner/tracker/) ---
@@ -274,14 +303,17 @@ class SessionLoop {
   RealTimePacer* pacer_;
   // --- end tracker ---
 
-  // Double adjustment with the keyboard: the target and both spots stay on screen while the
-  // observer adjusts (runner/session/adjustment_keys.h) until Enter or Space.
+  // Double adjustment: the target and both spots stay on screen while the observer adjusts with
+  // keys, the wheel or device buttons (runner/session/adjustment_keys.h) until accepted. Each
+  // setting is its start times 10^(the log10 steps taken so far).
   std::optional<Response> adjust_interactively(const TrialPlan& plan, double onset_s) {
     TrialPlan shown = plan;
-    std::vector<double> settings = plan.adjustment_start_cd_m2;
+    AdjustmentControl control(prepared_.experiment.adjustment);
+    double offset_log10 = 0.0;
+    const auto setting = [&](std::size_t spot) { return plan.adjustment_start_cd_m2[spot] * std::pow(10.0, offset_log10); };
     const double comparison_peak_cd_m2 = plan.adjustment_start_cd_m2[0] / plan.scene_scale[0];
     while (true) {
-      shown.scene_scale = {settings[0] / comparison_peak_cd_m2, 1.0, settings[1] / comparison_peak_cd_m2};
+      shown.scene_scale = {setting(0) / comparison_peak_cd_m2, 1.0, setting(1) / comparison_peak_cd_m2};
       draw(layout(shown));
       display_.present();
       const double flip_s = clock_.on_flip();
@@ -293,22 +325,66 @@ class SessionLoop {
         abort_reason_ = "window closed";
       }
       if (aborted_) return std::nullopt;
-      for (const std::string& key : display_.poll_keys()) {
-        const double key_time_s = clock_.now_s();
-        if (key == "escape") {
+      for (const TimedInput& input : adjustment_inputs(plan, onset_s)) {
+        if (input.name == "escape" && input.source == TimedInput::Source::key) {
           aborted_ = true;
           abort_reason_ = "Escape pressed";
           return std::nullopt;
         }
-        if (accepts_adjustment(key)) return Response{format_adjustment_response(settings[0], settings[1]), key_time_s - onset_s};
-        if (const std::optional<double> factor = adjustment_factor(key, prepared_.experiment.adjustment)) {
-          for (double& setting : settings) setting *= *factor;
-        } else {
-          store_.log_event(session_id_, key_time_s, "ignored_key",
-                           "trial " + std::to_string(plan.trial_index) + ": key '" + key + "' does not adjust");
-        }
+        const AdjustmentStep step = control.apply(input.name, input.shift);
+        if (step.effect == AdjustmentEffect::accept)
+          return Response{format_adjustment_response(setting(0), setting(1)), input.session_time_s - onset_s};
+        if (step.effect == AdjustmentEffect::step) offset_log10 += step.log10_step;
+        if (step.effect == AdjustmentEffect::mode_change)
+          store_.log_event(session_id_, input.session_time_s, "adjustment_mode",
+                           "trial " + std::to_string(plan.trial_index) + ": fine mode " + (control.fine_mode() ? "on" : "off"));
+        if (step.effect == AdjustmentEffect::none && device_ != nullptr) device_->log_not_adjusting(plan, input);
+        if (step.effect == AdjustmentEffect::none && device_ == nullptr)
+          store_.log_event(session_id_, input.session_time_s, "ignored_key",
+                           "trial " + std::to_string(plan.trial_index) + ": key '" + input.name + "' does not adjust");
+      }
+      if (aborted_) return std::nullopt;  // the device pause ended the trial
+    }
+  }
+
+  // Device presses (stamped when read), then keys and wheel clicks (stamped now), in that order.
+  std::vector<TimedInput> adjustment_inputs(const TrialPlan& plan, double onset_s) {
+    std::vector<TimedInput> inputs;
+    if (device_ != nullptr) {
+      bool unplugged = false;
+      inputs = device_->adjustment_presses(plan, onset_s, &unplugged);
+      if (unplugged && inputs.empty()) {
+        pause_for_response_device(plan.trial_index);
+        return {};
       }
     }
+    for (const InputEvent& event : display_.poll_input())
+      inputs.push_back({event.is_key() ? TimedInput::Source::key : TimedInput::Source::wheel, event.name, event.shift,
+                        clock_.now_s()});
+    return inputs;
+  }
+
+  // The device pause: the message on screen until the device is back (the trial is then re-run)
+  // or the session is ended; either way the trial in progress ends uncommitted.
+  void pause_for_response_device(int trial_index) {
+    const auto show_frame = [&] {
+      renderer_.compose({centred_placement(*pause_message_, display_.width_px(), display_.height_px())},
+                        prepared_.experiment.display.background_cd_m2);
+      renderer_.encode_to_display(prepared_.experiment.display);
+      display_.present();
+      const double flip_s = clock_.on_flip();
+      timing_.on_flip(flip_s, trial_index, -1);
+      after_flip(flip_s);
+    };
+    const auto message_pixels = [&] {
+      return lit_pixels(renderer_.read_stimulus(), 0.5 * device_pause_text_cd_m2(prepared_.experiment.display));
+    };
+    const ResponseDeviceInput::PauseResult result = device_->pause(trial_index, display_, clock_, show_frame, message_pixels);
+    aborted_ = true;
+    if (result.resumed)
+      rerun_trial_ = true;
+    else
+      abort_reason_ = result.abort_reason;
   }
 
   std::vector<Placement> layout(const TrialPlan& plan) const {
@@ -556,6 +632,13 @@ class SessionLoop {
     // Every key of the batch is looked at: the first allowed one answers, an Escape anywhere in the
     // batch still ends the session, and the rest are logged, never silently dropped.
     std::optional<Response> answer;
+    // Device presses first: they were stamped when read, so before the keys of this poll.
+    if (device_ != nullptr) {
+      bool unplugged = false;
+      answer = device_->answer(plan, onset_s, &unplugged);
+      if (unplugged) pause_for_response_device(plan.trial_index);
+      if (aborted_) return std::nullopt;
+    }
     for (const std::string& key : display_.poll_keys()) {
       const double key_time_s = clock_.now_s();
       if (key == "escape") {
@@ -611,6 +694,9 @@ class SessionLoop {
   bool sequential_;
   bool aborted_ = false;
   std::string abort_reason_;
+  ResponseDeviceInput* device_ = nullptr;
+  bool rerun_trial_ = false;
+  std::optional<SceneTexture> pause_message_;
 };
 
 DisplayRequest display_request(const Experiment& experiment) {
@@ -680,13 +766,15 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   // --- tracker: source built (bad --tracker value: exit 2) before anything is opened ---
   TrackerSession tracker(options.tracker, prepared.experiment.seed);
   // --- end tracker ---
+  ResponseDeviceSession device(options.response_device);  // bad --response-device/--buttons: exit 2
 
   // 2. The display (a device failure is reported before a session exists).
   auto display = create_display(options.display, display_request(prepared.experiment));
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock;
-  // A live tracker needs the real-time clock (and an offscreen run paced in real time).
-  if (display->real_time() || tracker.live()) {
+  // A live tracker or response device needs the real-time clock (and an offscreen run paced in
+  // real time).
+  if (display->real_time() || tracker.live() || device.configured()) {
     clock = std::make_unique<MonotonicClock>(resumed ? store->last_flip_s(resumed->id) + 1.0 : 0.0);
   } else {
     // Frame k of the session flips at k / refresh_hz, across resumptions too.
@@ -698,8 +786,18 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   // --- tracker: started on the session clock (absent: TrackerError, exit 3, unless optional) ---
   const std::optional<std::string> tracker_note = tracker.start(*clock);
   std::unique_ptr<RealTimePacer> pacer;
-  if (tracker.live() && !display->real_time()) pacer = std::make_unique<RealTimePacer>(display->refresh_hz());
   // --- end tracker ---
+  // --- response device: opened on the session clock (absent: DeviceError, exit 3, unless optional) ---
+  const std::optional<std::string> device_note = device.start(*clock);
+  const ResponseDeviceStopper device_stopper(device);
+  const ImageRGBA pause_message =
+      device.active() ? device_pause_message_image(prepared.experiment.display, display->width_px()) : ImageRGBA{};
+  if (device.active())
+    prepared.observer_description =
+        (display->real_time() ? "keyboard and response device " : "response device ") + device.description();
+  // --- end response device ---
+  if ((tracker.live() || device.active()) && !display->real_time())
+    pacer = std::make_unique<RealTimePacer>(display->refresh_hz());
 
   // 3. The session row.
   if (!store) store = std::make_unique<ResultStore>(result.db_path);
@@ -767,9 +865,13 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   if (tracker_note) store->log_event(result.session_id, clock->now_s(), "tracker_absent", *tracker_note);
   tracker.attach_log(result.db_path, result.session_id);
   // --- end tracker ---
+  if (device.active()) store->log_event(result.session_id, clock->now_s(), "response_device", device.description());
+  if (device_note) store->log_event(result.session_id, clock->now_s(), "response_device_absent", *device_note);
+  ResponseDeviceInput device_input(device, *store, result.session_id);
 
   // 4. The trials.
   SessionLoop loop(prepared, *display, *clock, *store, result.session_id, tracker, pacer.get());
+  if (device.active()) loop.attach_response_device(&device_input, pause_message);
   const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
   while (calibrated && !prepared.procedure->finished()) {
     if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
@@ -777,7 +879,10 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
       result.tracker_summary = tracker.finish(clock->now_s());
       return result;
     }
-    if (!loop.run_trial(prepared.procedure->next_trial(), progress)) break;
+    if (!loop.run_trial(prepared.procedure->next_trial(), progress)) {
+      if (loop.take_trial_rerun()) continue;  // after a device pause: the same trial again
+      break;
+    }
     ++result.trials_run_now;
   }
   // Frame timing of this run (a resumed session reports the frames shown since resuming).
@@ -787,6 +892,10 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   result.frames_shown = timing.frames_shown;
   result.frames_dropped = timing.frames_dropped;
   result.tracker_summary = tracker.finish(clock->now_s());
+  device.stop();
+  result.device_summary = device.summary();
+  if (!result.device_summary.empty())
+    store->log_event(result.session_id, clock->now_s(), "response_device_summary", result.device_summary);
   if (loop.aborted()) {
     store->log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
     store->finish_session(result.session_id, "aborted");

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "runner/session/response_device_session.h"
 #include "runner/tracker/tracker_session.h"
 
 namespace glarelab {
@@ -26,6 +27,7 @@ struct RunOptions {
   // detection and the session summary can be checked on any machine.
   std::optional<int> slow_flip_every;
   TrackerOptions tracker;  // --tracker and the pupil options (runner/tracker/)
+  ResponseDeviceOptions response_device;  // --response-device, --buttons (docs/DEVICES.md)
 };
 
 struct RunResult {
@@ -37,6 +39,7 @@ struct RunResult {
   std::int64_t frames_shown = 0;    // stimulus flips in this run
   std::int64_t frames_dropped = 0;  // of them, more than 1.5 refresh periods after the previous flip
   std::string tracker_summary;  // one line, empty without a tracker
+  std::string device_summary;   // one line, empty without a response device
 };
 
 // Exit codes of `glarelab run`, also used by main.
