@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "analysis/timing_quality.h"
 #include "protocols/adaptive_procedure.h"
 #include "protocols/fixed_design_procedure.h"
 #include "runner/session/refresh_rate_check.h"
@@ -147,6 +148,30 @@ TEST(ProcedureTimeout, StaircaseRepeatsTheIntensityAfterATimeout) {
   // An answer moves it: correct (100 > 50) -> down by 4 dB under the initial 1-up/1-down rule.
   procedure.record_response(second, Response{second.correct_response, 0.5});
   EXPECT_NEAR(*procedure.next_trial().intensity, 100.0 / std::pow(10.0, 4.0 / 20.0), 1e-9);
+}
+
+// Timing quality over a trial with other flips around its stimulus frames (frame_index < 0):
+// stimulus frames are counted alone, the onset is frame 0, intervals run over every flip.
+TEST(TimingQualityWithPhases, StimulusFramesAloneAreCountedAndFrameZeroIsTheOnset) {
+  analysis::LoadedData data;
+  data.sessions.emplace_back();
+  data.sessions[0].trials.emplace_back();
+  // Flip order: fixation -1 -2, stimulus 0 1 (frame 0 scheduled 1 ms early), feedback -3 (late).
+  data.sessions[0].trials[0].frames = {{-1, 0.0, 0.0, false},
+                                       {-2, 0.01, 0.01, false},
+                                       {0, 0.019, 0.02, false},
+                                       {1, 0.03, 0.03, false},
+                                       {-3, 0.06, 0.06, true}};
+  const analysis::TimingQuality quality = analysis::analyse_timing(data);
+  ASSERT_EQ(quality.sessions.size(), 1u);
+  const analysis::SessionTiming& timing = quality.sessions[0];
+  EXPECT_EQ(timing.frames, 2);
+  EXPECT_EQ(timing.dropped, 1);
+  ASSERT_TRUE(timing.onset_jitter_max_abs_s.has_value());
+  EXPECT_NEAR(*timing.onset_jitter_max_abs_s, 0.001, 1e-12);
+  // Intervals 0.01, 0.01, 0.01, 0.03: mean 0.015.
+  ASSERT_TRUE(timing.frame_interval_mean_s.has_value());
+  EXPECT_NEAR(*timing.frame_interval_mean_s, 0.015, 1e-12);
 }
 
 }  // namespace
