@@ -191,7 +191,9 @@ class SessionLoop {
       if (interactive && i >= schedule.first_answer_flip && !run.response)
         run.response = poll_keyboard(plan, run.onset_s);
       else if (interactive)
-        ignore_keys(plan, run.response ? "came after the answer" : "pressed before the last interval's onset");
+        ignore_keys(plan, run.response                       ? "came after the answer"
+                          : flip.phase == FlipPhase::fixation ? "pressed before onset"
+                                                              : "pressed before the second interval's onset");
       else
         check_interrupt();
       if (aborted_) return false;
