@@ -199,6 +199,28 @@ TEST_F(GlareBackendAgreement, NonPowerOfTwoImageWithSourcesAtTheEdgesDoesNotWrap
   }
 }
 
+TEST_F(GlareBackendAgreement, ClosedEyeIsRefusedByTypeOnBothBackends) {
+  // Lids closed by a blink of the eye model: no light on either backend, told apart from an error by
+  // the exception's type (the glare stage then holds the last open frame's PSF).
+  EyeParameters parameters;
+  const EyeModel eye(parameters, 6);
+  const double closed_s = eye.eyelids().blink_onset_s(1) + parameters.blink_closing_duration_s +
+                          0.5 * parameters.blink_closed_duration_s;
+  ASSERT_EQ(eye.state_at(closed_s).blink_closure, 1.0);
+  const ApertureGeometry closed = eye.geometry_at(closed_s);
+  PsfOptions options;
+  options.grid_px = 128;
+  options.spectral = true;
+  options.wavelength_samples = 4;
+  CpuGlareBackend cpu(FftPrecision::float64);
+  EXPECT_THROW(cpu.psf(closed, options), ClosedApertureError);
+  EXPECT_THROW(gl_->psf(closed, options), ClosedApertureError);
+  // Half a second later the eye is open and both give a PSF.
+  const ApertureGeometry open = eye.geometry_at(closed_s + 0.5);
+  EXPECT_NO_THROW(cpu.psf(open, options));
+  EXPECT_NO_THROW(gl_->psf(open, options));
+}
+
 // A backend that fails the test when used: the control condition must not reach it.
 class UntouchableBackend : public GlareBackend {
  public:

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "glare/cie_cmf.h"
 #include "runner/gl/shader_program.h"
@@ -78,6 +79,14 @@ void GlPsf::normalise(GLuint values, int channels) {
     to_a = !to_a;
     count = groups;
   }
+  // A closed eye (lids over the whole pupil) sums to 0 and would normalise to NaN: refused by type,
+  // as on the CPU (glare/psf.h). One float per channel comes back; the PSF is read back anyway.
+  std::vector<float> sums(static_cast<std::size_t>(channels));
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glGetNamedBufferSubData(source, 0, static_cast<GLsizeiptr>(sums.size() * sizeof(float)), sums.data());
+  for (const float sum : sums)
+    if (!(sum > 0.0f))
+      throw ClosedApertureError("GL PSF: the aperture transmits no light (pupil outside the grid or fully blocked)");
   const GLuint normalise_program = normalise_program_.get();
   glUseProgram(normalise_program);
   glUniform1ui(glGetUniformLocation(normalise_program, "uCount"), per_channel);
