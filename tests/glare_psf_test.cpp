@@ -161,14 +161,16 @@ double airy_ring_relative_error(const Psf& psf, double pupil_mm, double waveleng
 }
 
 TEST(GlarePsf, SmallestAndLargestPupilsAtTheSmallestAndLargestGrids) {
-  // 1.5 and 9 mm (issue 3) at N = 256 and 4096 (the largest grid; about 2-5 s per PSF on the two
-  // shared cores). The grid spans W = 16 D, so the pupil covers N/16 pixels and the ring lies at
-  // 1.22 x 16 = 19.5 PSF pixels for either pupil.
+  // 1.5 and 9 mm (issue 3) at N = 256 and 4096 (the largest grid; 1-2 s per PSF on the two shared
+  // cores). N = 256 spans W = 16 D: the pupil covers 16 pixels, the ring lies at 1.22 W / D = 19.5
+  // PSF pixels. N = 4096 spans one W = 96 mm for both: the 1.5 mm pupil covers 64 pixels (ring at
+  // 78 px), the 9 mm one 384 (ring at 13 px).
   for (const int grid_px : {256, 4096})
     for (const double pupil_mm : {1.5, 9.0}) {
       ApertureGeometry geometry;
       geometry.pupil_diameter_mm = pupil_mm;
-      const auto result = compute_monochromatic_psf(geometry, pupil_only_options(grid_px, 16.0 * pupil_mm, 575.0));
+      const double width_mm = grid_px == 256 ? 16.0 * pupil_mm : 96.0;
+      const auto result = compute_monochromatic_psf(geometry, pupil_only_options(grid_px, width_mm, 575.0));
       const double ring_error = airy_ring_relative_error(result.psf, pupil_mm, 575.0);
       std::printf("N = %d, pupil %.1f mm: Airy ring relative error %.2e, sum - 1 = %.1e\n", grid_px, pupil_mm, ring_error,
                   test::channel_sum(result.psf, 0) - 1.0);
