@@ -114,6 +114,7 @@ class SessionLoop {
         period_s_(1.0 / display.refresh_hz()),
         timing_(display.refresh_hz()),
         glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed) {
+    log_glare_setup();
     for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
   }
 
@@ -350,9 +351,25 @@ class SessionLoop {
   // flips (issue 4). Frame k is computed for the time it is planned to flip, first_flip + k periods.
   // Control: empty (the composed frame is shown untouched). Static: one frame serves all.
   // Skip decisions are logged once per trial as 'glare_skipped' events.
+  // Tracker inputs (when a tracker runs) are those known at preparation, for all the trial's
+  // frames: the filtered pupil, the detected blinks (blink_source "tracker") and the latest gaze.
   std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements) {
     const GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
     if (mode == GlareMode::control) return {};
+    const GlareSpec& spec = prepared_.experiment.glare;
+    std::optional<GazePoint> gaze;
+    std::optional<TrackerGaze> tracked;
+    if (tracker_.active()) {
+      const std::optional<double> pupil_mm = tracker_.measured_pupil_mm();
+      if (spec.pupil_source == "tracker" && pupil_mm) glare_.record_measured_pupil(clock_.now_s(), *pupil_mm);
+      if (spec.blink_source == "tracker") {
+        std::vector<DetectedBlink> blinks;
+        for (const TrackerBlinkInterval& blink : tracker_.detected_blinks()) blinks.push_back({blink.onset_s, blink.offset_s});
+        glare_.set_detected_blinks(blinks);
+      }
+      tracked = tracker_.latest_gaze();
+      if (tracked) gaze = GazePoint{tracked->x, tracked->y};
+    }
     renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
     const ImageRGBA composed = renderer_.read_stimulus();
     const double first_flip_s = clock_.now_s() + period_s_;
@@ -361,9 +378,11 @@ class SessionLoop {
     int skipped = 0, gratings_hidden = 0, closed = 0;
     std::string skip_reason;
     double smallest_pupil_mm = 1e9;
+    std::optional<GazeWindow> window;
     for (int k = 0; k < count; ++k) {
       GlareFrameReport report;
-      frames.push_back(glare_.apply(composed, mode, first_flip_s + k * period_s_, &report));
+      frames.push_back(glare_.apply(composed, mode, first_flip_s + k * period_s_, &report, gaze));
+      if (report.window && !window) window = report.window;
       if (!report.skip_reason.empty()) {
         ++skipped;
         if (skip_reason.empty()) skip_reason = report.skip_reason;
@@ -387,7 +406,46 @@ class SessionLoop {
                            ": pupil (smallest " + std::to_string(smallest_pupil_mm) +
                            " mm) inside the clear lens centre (cortex annulus from " +
                            std::to_string(2.0 * EyeParameters{}.lens_cortex_inner_radius_mm) + " mm diameter)");
+    if (window)
+      store_.log_event(session_id_, clock_.now_s(), "glare_window",
+                       trial + describe_glare_window(*window, tracked));
+    display_.make_current();  // a GL glare backend works in a context of its own
     return frames;
+  }
+
+  // Once per session: the glare backend (what and why) and where the eye's inputs come from.
+  void log_glare_setup() {
+    const GlareSpec& spec = prepared_.experiment.glare;
+    bool any_glare = false;
+    for (const ConditionRow& row : prepared_.experiment.conditions)
+      any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control;
+    if (!any_glare) {
+      store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
+      return;
+    }
+    store_.log_event(session_id_, clock_.now_s(), "glare_backend", glare_.backend_reason());
+    display_.make_current();  // making a GL backend (or asking GL for auto) changed the current context
+    const bool tracked = tracker_.active();
+    std::string inputs = std::string("pupil: ") +
+                         (tracked && spec.pupil_source == "tracker" ? "the tracker's filtered pupil (model's until its first sample)"
+                                                                    : "the eye model's (Eq. 1-2)") +
+                         "; blinks: " +
+                         (tracked && spec.blink_source == "tracker" ? "detected by the tracker" : "the eye model's schedule");
+    if (!tracked && (spec.blink_source == "tracker" || spec.pupil_source == "tracker"))
+      inputs += " (no tracker: the model's)";
+    if (spec.gaze_window_px > 0)
+      inputs += "; gaze window " + std::to_string(spec.gaze_window_px) + " px around " +
+                (tracked ? std::string("the tracker's latest gaze") : "the display centre: no tracker, no gaze");
+    store_.log_event(session_id_, clock_.now_s(), "glare_inputs", inputs);
+  }
+
+  static std::string describe_glare_window(const GazeWindow& window, const std::optional<TrackerGaze>& tracked) {
+    std::string text = "gaze window " + std::to_string(window.width_px) + "x" + std::to_string(window.height_px) +
+                       " px at (" + std::to_string(window.x0_px) + ", " + std::to_string(window.y0_px) + "), centred on ";
+    if (tracked)
+      return text + "gaze (" + std::to_string(tracked->x) + ", " + std::to_string(tracked->y) + ") from the tracker at " +
+             std::to_string(tracked->session_time_s) + " s";
+    return text + "the display centre (no gaze)";
   }
 
   const ConditionRow& condition_row(const TrialPlan& plan) const {
