@@ -1,5 +1,5 @@
 // The compute-backend seam: the factory's choice, GPU against the CPU double reference on an eye
-// aperture (relative L2 <= 1e-3, issue 3 acceptance), determinism per backend, and the control
+// aperture (relative L2 <= 1e-3), determinism per backend, and the control
 // condition passing the image through without touching a backend.
 #include <gtest/gtest.h>
 
@@ -136,7 +136,7 @@ TEST_F(GlareBackendAgreement, ConvolvedHdrFrameAgreesWithCpuDouble) {
 }
 
 TEST_F(GlareBackendAgreement, SmallestAndLargestPupilsAtSmallestAndLargestGrids) {
-  // 1.5 and 9 mm pupils (issue 3) at 256 and 1024 against the CPU; 4096 is checked against the
+  // 1.5 and 9 mm pupils at 256 and 1024 against the CPU; 4096 is checked against the
   // Airy ring below (a CPU double reference at 4096 as well would double its cost).
   CpuGlareBackend cpu(FftPrecision::float64);
   for (const int n : {256, 1024})

@@ -161,7 +161,7 @@ double airy_ring_relative_error(const Psf& psf, double pupil_mm, double waveleng
 }
 
 TEST(GlarePsf, SmallestAndLargestPupilsAtTheSmallestAndLargestGrids) {
-  // 1.5 and 9 mm (issue 3) at N = 256 and 4096 (the largest grid; 1-2 s per PSF on the two shared
+  // 1.5 and 9 mm at N = 256 and 4096 (the largest grid; 1-2 s per PSF on the two shared
   // cores). N = 256 spans W = 16 D: the pupil covers 16 pixels, the ring lies at 1.22 W / D = 19.5
   // PSF pixels. N = 4096 spans one W = 96 mm for both: the 1.5 mm pupil covers 64 pixels (ring at
   // 78 px), the 9 mm one 384 (ring at 13 px).

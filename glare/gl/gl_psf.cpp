@@ -59,7 +59,7 @@ GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
 
 double GlPsf::degrees_per_pixel(double wavelength_nm) const {
   // Fraunhofer: one PSF pixel is one frequency step 1 / (N dx) of the aperture grid, an angle of
-  // lambda / (N dx) radians (Goodman 2005, section 4.3; issue 3 "Physical scale").
+  // lambda / (N dx) radians (Goodman 2005, section 4.3).
   const double wavelength_mm = wavelength_nm * 1e-6;
   return wavelength_mm / (size_px_ * aperture_.pixel_size_mm()) * 180.0 / std::numbers::pi;
 }

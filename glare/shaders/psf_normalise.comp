@@ -1,5 +1,5 @@
 #version 450
-// Divides every channel by its sum, so each PSF channel sums to 1 (issue 3; the paper's K).
+// Divides every channel by its sum, so each PSF channel sums to 1 (the paper's K).
 // Grid-stride loop: a 4096^2 channel has 65536 groups of 256 values, one more than the 65535
 // work groups per dimension OpenGL guarantees (GL_MAX_COMPUTE_WORK_GROUP_COUNT), so the host
 // dispatches at most kMaxNormaliseGroups (gl_psf.cpp) and each invocation strides over the channel.

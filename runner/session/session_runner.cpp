@@ -348,7 +348,7 @@ class SessionLoop {
   // --- glare (stimuli/glare_stage.h) ---
   // The trial's stimulus frames after glare, all prepared before onset: glare on the CPU takes
   // longer than a refresh period (llvmpipe and FFTW), so a window run could not compute it between
-  // flips (issue 4). Frame k is computed for the time it is planned to flip, first_flip + k periods.
+  // flips. Frame k is computed for the time it is planned to flip, first_flip + k periods.
   // Control: empty (the composed frame is shown untouched). Static: one frame serves all.
   // Skip decisions are logged once per trial as 'glare_skipped' events.
   // Tracker inputs (when a tracker runs) are those known at preparation, for all the trial's
