@@ -176,7 +176,6 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
   }
   spec.question = reader.string("question").value_or(spec.question);
   read_stimulus_duration(reader, experiment.display.refresh_hz, spec);
-  read_block_keys(reader, experiment);
   std::optional<GeneratedDesign> generated;
   if (experiment.procedure == "forced_choice") {
     spec.repetitions = read_int(reader, "repetitions", spec.repetitions, 1, ">= 1");
@@ -189,6 +188,7 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
   } else {
     read_adaptive_procedure(reader, experiment);
   }
+  read_block_keys(reader, experiment);
   if (const toml::array* responses = reader.array("responses")) {
     std::vector<std::string> names;
     for (std::size_t i = 0; i < responses->size(); ++i) {

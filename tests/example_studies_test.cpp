@@ -129,7 +129,9 @@ TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
   for (std::size_t i = 0; i < run.trials.size(); ++i) {
     EXPECT_EQ(run.trials[i].block, static_cast<int>(i / 12));
     const std::string instruction = json_member(run.trials[i].condition, "instruction");
-    if (i % 12 != 0) EXPECT_EQ(instruction, json_member(run.trials[i - 1].condition, "instruction"));
+    if (i % 12 != 0) {
+      EXPECT_EQ(instruction, json_member(run.trials[i - 1].condition, "instruction"));
+    }
     instructions.insert(instruction);
   }
   EXPECT_EQ(instructions, (std::set<std::string>{"brighter", "attractive", "realistic"}));

@@ -199,8 +199,8 @@ condition_b = "static"
   auto error = [&](const std::string& entries) -> std::string {
     try {
       parse_experiment_text(base + entries, "p.toml", "/");
-    } catch (const ConfigError& e) {
-      return e.what();
+    } catch (const ConfigError& failure) {
+      return failure.what();
     }
     return "no error";
   };

@@ -81,7 +81,9 @@ TEST(BlockOrder, WilliamsSquaresAreBalancedForCarryOver) {
       for (int p = 0; p < n; ++p) EXPECT_EQ((position_count[{block, p}]), rows / n) << "n = " << n;
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b)
-        if (a != b) EXPECT_EQ((neighbour_count[{a, b}]), n % 2 == 0 ? 1 : 2) << "n = " << n << ": " << a << " -> " << b;
+        if (a != b) {
+          EXPECT_EQ((neighbour_count[{a, b}]), n % 2 == 0 ? 1 : 2) << "n = " << n << ": " << a << " -> " << b;
+        }
   }
 }
 

@@ -150,7 +150,8 @@ TEST(ProcedureBlocks, ExperimentsWithoutBlocksKeepTheirSingleShuffledList) {
   }
   // Nor does the stored configuration mention blocks.
   const std::string resolved = resolved_config_toml(e);
-  EXPECT_EQ(resolved.find("block"), std::string::npos) << resolved;
+  EXPECT_EQ(resolved.find("block_order"), std::string::npos) << resolved;
+  EXPECT_EQ(resolved.find("[[blocks]]"), std::string::npos) << resolved;
   EXPECT_EQ(resolved.find("participant_number"), std::string::npos) << resolved;
 }
 

@@ -54,18 +54,18 @@ const std::string kRating = experiment("type = \"rating\"\ncategories = [\"glare
 
 const std::map<std::string, double> kPeakCdM2 = {{"lamp_100", 100.0}, {"lamp_130", 130.0}, {"lamp_160", 160.0}};
 
-struct Run {
+struct SessionRows {
   std::vector<TrialRecord> trials;
   std::vector<std::vector<AdjustmentSetting>> settings;  // per trial
 };
 
-Run run_offscreen(const ScratchDir& scratch, const std::string& text, const std::string& observer) {
+SessionRows run_offscreen(const ScratchDir& scratch, const std::string& text, const std::string& observer) {
   const std::string name = std::to_string(std::hash<std::string>{}(text + observer));
   const std::string file = scratch.write(name + ".toml", text);
   const auto db = scratch.path() / (name + ".db");
   const auto result = run_glarelab({"run", file, "--display", "offscreen", "--observer", observer, "--db", db.string()},
                                    scratch.path());
-  Run run;
+  SessionRows run;
   EXPECT_EQ(result.exit_code, 0) << result.output;
   if (result.exit_code != 0) return run;
   const ResultStore store(db.string());
@@ -94,7 +94,7 @@ TEST(ProcedureEndToEnd, ForcedChoiceTwoAndThreeWayWithAScript) {
   const ScratchDir scratch;
   // Two rows both ways round: 4 trials, each answered "left". Left is right exactly when the
   // brighter lamp (130 or 160 against 100) is on the left: once per row.
-  const Run two = run_offscreen(scratch, kForcedChoice2, script(scratch, "left.txt", "left\nleft\nleft\nleft\n"));
+  const SessionRows two = run_offscreen(scratch, kForcedChoice2, script(scratch, "left.txt", "left\nleft\nleft\nleft\n"));
   ASSERT_EQ(two.trials.size(), 4u);
   int correct = 0;
   for (const TrialRecord& t : two.trials) {
@@ -108,7 +108,7 @@ TEST(ProcedureEndToEnd, ForcedChoiceTwoAndThreeWayWithAScript) {
   }
   EXPECT_EQ(correct, 2);
   // 3-way, every answer "neither": right for the two trials of equal lamps, wrong for the others.
-  const Run three =
+  const SessionRows three =
       run_offscreen(scratch, kForcedChoice3, script(scratch, "neither.txt", "neither\nneither\nneither\nneither\n"));
   ASSERT_EQ(three.trials.size(), 4u);
   std::map<std::string, int> correct_by_row;
@@ -127,7 +127,7 @@ TEST(ProcedureEndToEnd, StaircaseAndQuestWithAScript) {
   const ScratchDir scratch;
   // Correct, correct, wrong, correct from 150 cd/m2 in 10 cd/m2 steps: down to 140 and 130, up to
   // 140 (first reversal), down again (second reversal); two reversals and four trials end it.
-  const Run staircase = run_offscreen(scratch, kStaircase, script(scratch, "s.txt", "1\n1\n0\n1\n"));
+  const SessionRows staircase = run_offscreen(scratch, kStaircase, script(scratch, "s.txt", "1\n1\n0\n1\n"));
   ASSERT_EQ(staircase.trials.size(), 4u);
   const std::vector<double> intensity = {150.0, 140.0, 130.0, 140.0};
   const std::vector<int> correct = {1, 1, 0, 1}, reversal = {0, 0, 1, 1};
@@ -146,7 +146,7 @@ TEST(ProcedureEndToEnd, StaircaseAndQuestWithAScript) {
     EXPECT_EQ(t.response, correct[i] == 1 ? comparison_side : reference_side) << t.condition;
   }
   // QUEST starts at t_guess (10^2.1 cd/m2); reversal is 0 for QUEST.
-  const Run quest = run_offscreen(scratch, kQuest, script(scratch, "q.txt", "1\n0\n1\n"));
+  const SessionRows quest = run_offscreen(scratch, kQuest, script(scratch, "q.txt", "1\n0\n1\n"));
   ASSERT_EQ(quest.trials.size(), 3u);
   ASSERT_TRUE(quest.trials[0].intensity.has_value());
   EXPECT_NEAR(*quest.trials[0].intensity, std::pow(10.0, 2.1), 1e-9 * std::pow(10.0, 2.1));
@@ -162,7 +162,7 @@ TEST(ProcedureEndToEnd, StaircaseAndQuestWithAScript) {
 
 TEST(ProcedureEndToEnd, AdjustmentAndRatingWithAScript) {
   const ScratchDir scratch;
-  const Run adjustment = run_offscreen(scratch, kAdjustment, script(scratch, "a.txt", "120 130\n90\n"));
+  const SessionRows adjustment = run_offscreen(scratch, kAdjustment, script(scratch, "a.txt", "120 130\n90\n"));
   ASSERT_EQ(adjustment.trials.size(), 2u);
   const std::vector<std::string> response = {"120 130", "90"};
   const std::vector<double> mean = {125.0, 90.0};
@@ -179,7 +179,7 @@ TEST(ProcedureEndToEnd, AdjustmentAndRatingWithAScript) {
     EXPECT_DOUBLE_EQ(adjustment.settings[i][0].value_cd_m2, settings[i][0]);
     EXPECT_DOUBLE_EQ(adjustment.settings[i][1].value_cd_m2, settings[i][1]);
   }
-  const Run rating = run_offscreen(scratch, kRating, script(scratch, "r.txt", "4\n2\n"));
+  const SessionRows rating = run_offscreen(scratch, kRating, script(scratch, "r.txt", "4\n2\n"));
   ASSERT_EQ(rating.trials.size(), 2u);
   std::map<std::string, std::string> by_category;
   for (std::size_t i = 0; i < 2; ++i) {
@@ -200,7 +200,7 @@ TEST(ProcedureEndToEnd, AdjustmentAndRatingWithAScript) {
 TEST(ProcedureEndToEnd, EveryProcedureWithTheSimulatedObserver) {
   const ScratchDir scratch;
   for (const std::string* text : {&kForcedChoice2, &kForcedChoice3}) {
-    const Run run = run_offscreen(scratch, *text, "simulated");
+    const SessionRows run = run_offscreen(scratch, *text, "simulated");
     ASSERT_EQ(run.trials.size(), 4u);
     for (const TrialRecord& t : run.trials) {
       EXPECT_EQ(t.procedure, "forced_choice");
@@ -213,7 +213,7 @@ TEST(ProcedureEndToEnd, EveryProcedureWithTheSimulatedObserver) {
     }
   }
 
-  const Run staircase = run_offscreen(scratch, kStaircase, "simulated");
+  const SessionRows staircase = run_offscreen(scratch, kStaircase, "simulated");
   StaircaseSpec spec;
   spec.start_value = 150.0;
   spec.step_type = StepType::lin;
@@ -235,7 +235,7 @@ TEST(ProcedureEndToEnd, EveryProcedureWithTheSimulatedObserver) {
   }
   EXPECT_TRUE(reference.finished());
 
-  const Run quest = run_offscreen(scratch, kQuest, "simulated");
+  const SessionRows quest = run_offscreen(scratch, kQuest, "simulated");
   ASSERT_EQ(quest.trials.size(), 3u);
   for (const TrialRecord& t : quest.trials) {
     EXPECT_EQ(t.procedure, "quest");
@@ -245,7 +245,7 @@ TEST(ProcedureEndToEnd, EveryProcedureWithTheSimulatedObserver) {
     EXPECT_EQ(*t.correct, (t.response == comparison_side) == (*t.intensity >= 100.0) ? 1 : 0);
   }
 
-  const Run adjustment = run_offscreen(scratch, kAdjustment, "simulated");
+  const SessionRows adjustment = run_offscreen(scratch, kAdjustment, "simulated");
   ASSERT_EQ(adjustment.trials.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     const TrialRecord& t = adjustment.trials[i];
@@ -257,7 +257,7 @@ TEST(ProcedureEndToEnd, EveryProcedureWithTheSimulatedObserver) {
     EXPECT_FALSE(t.reversal.has_value());
   }
 
-  const Run rating = run_offscreen(scratch, kRating, "simulated");
+  const SessionRows rating = run_offscreen(scratch, kRating, "simulated");
   ASSERT_EQ(rating.trials.size(), 2u);
   for (const TrialRecord& t : rating.trials) {
     EXPECT_EQ(t.procedure, "rating");

@@ -106,7 +106,9 @@ TEST(PairDesign, RitschelCountsAndSideBalance) {
   for (std::size_t i = 0; i < trials.size(); ++i) {
     const TrialPlan& plan = trials[i];
     EXPECT_EQ(plan.block, static_cast<int>(i / 12));
-    if (i % 12 != 0) EXPECT_EQ(plan.block_name, trials[i - 1].block_name);
+    if (i % 12 != 0) {
+      EXPECT_EQ(plan.block_name, trials[i - 1].block_name);
+    }
     EXPECT_EQ(plan.screen_text.empty(), i % 12 != 0) << i;
     EXPECT_NE(plan.question.find(plan.block_name), std::string::npos) << plan.question;
     // Only the brightness question has a right answer.
