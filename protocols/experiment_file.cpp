@@ -350,10 +350,11 @@ ConditionSource read_conditions_section(TableReader& top, const std::string& bas
 ConditionSource generated_conditions(TableReader& top, const GeneratedDesign& generated, Experiment& experiment) {
   for (const char* section : {"conditions", "blocks"}) {
     if (top.node(section) != nullptr)
-      top.fail_at_key(section, std::string("design = \"all_pairs\" generates the ") +
-                                   (section == std::string("blocks") ? "blocks (one per instruction)" : "condition rows") +
-                                   "; remove [" + section + "] or the design key (" + generated.where.file + ":" +
-                                   std::to_string(generated.where.line) + ")");
+      top.fail_at_key(section, section == std::string("blocks")
+                                   ? "design = \"all_pairs\" generates the blocks (one per instruction); remove "
+                                     "[[blocks]] or the design key at " + generated.where.to_string()
+                                   : "design = \"all_pairs\" generates the condition rows; remove [conditions] or "
+                                     "the design key at " + generated.where.to_string());
   }
   ConditionSource source;
   for (const ConditionRow& row : generated.rows) {
