@@ -8,8 +8,10 @@
 #include <utility>
 #include <vector>
 
+#include "protocols/block_design.h"
 #include "protocols/config_error.h"
 #include "protocols/glare_config.h"
+#include "protocols/observer_preferences.h"
 #include "protocols/quest.h"
 #include "protocols/staircase.h"
 
@@ -106,6 +108,8 @@ struct SimulatedObserverSpec {
   double rating_sd = 0.7;
   // Adjustment: each setting is the target's peak times 10^(match_sd_log10 * N(0, 1)).
   double match_sd_log10 = 0.05;
+  // Choices between two conditions without a right answer (protocols/observer_preferences.h).
+  std::vector<ConditionPreference> preferences;
 };
 
 struct Experiment {
@@ -123,6 +127,7 @@ struct Experiment {
   std::vector<ConditionRow> conditions;
   SimulatedObserverSpec simulated_observer;
   GlareSpec glare;  // [glare] and the default glare mode of conditions
+  DesignSpec design;  // [[blocks]], their order and the participant number (protocols/block_design.h)
 };
 
 // Parses and validates a file. Throws ConfigError (file:line:column, key) for syntax errors,

@@ -21,6 +21,7 @@
 #include "runner/session/interrupt.h"
 #include "runner/session/keyboard_responses.h"
 #include "runner/session/response_device_input.h"
+#include "runner/session/participant_number.h"
 #include "runner/session/slow_flip_clock.h"
 #include "runner/software_version.h"
 #include "runner/store/result_store.h"
@@ -575,6 +576,7 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   std::optional<SessionRecord> resumed;
   std::vector<TrialRecord> done_trials;
   Experiment experiment;
+  std::optional<ParticipantNumber> participant;  // of a new session
   if (options.resume_session_id) {
     Experiment from_file = load_experiment(options.experiment_path);
     result.db_path = options.db_path.empty() ? default_db_path(from_file) : options.db_path;
@@ -589,6 +591,14 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
                        " is already completed");
     // The stored, fully resolved configuration is the design being finished: same seed, same order.
     experiment = parse_experiment_text(resumed->config, "<session " + std::to_string(resumed->id) + " config>", "/");
+    // The block order is the stored one; the file does not carry a session's participant number.
+    if (options.participant_number && !experiment.design.blocks.empty() &&
+        *options.participant_number != participant_number_of(experiment.design))
+      throw ConfigError({"--participant-number", 0, 0}, "participant-number",
+                        "session " + std::to_string(resumed->id) + " runs the block order of participant number " +
+                            std::to_string(participant_number_of(experiment.design)) + ", not " +
+                            std::to_string(*options.participant_number));
+    from_file.design.participant_number = experiment.design.participant_number;
     if (resolved_config_toml(from_file) != resumed->config) {
       progress << "note: " << options.experiment_path
                << " differs from the configuration stored with the session; resuming with the stored one\n";
@@ -602,6 +612,9 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     experiment = load_experiment(options.experiment_path);
     if (options.seed) experiment.seed = *options.seed;
     result.db_path = options.db_path.empty() ? default_db_path(experiment) : options.db_path;
+    participant = choose_participant_number(options.participant_number, experiment.design.participant_number,
+                                            result.db_path, experiment.name);
+    experiment.design.participant_number = participant->value;
   }
   PreparedSession prepared = prepare(std::move(experiment), options);
   result.trials_in_design = prepared.procedure->planned_trials();
@@ -682,6 +695,8 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     const std::string rounding =
         describe_duration_rounding(prepared.experiment.forced_choice, prepared.experiment.display.refresh_hz);
     if (!rounding.empty()) store->log_event(result.session_id, 0.0, "duration_rounding", rounding);
+    store->log_event(result.session_id, 0.0, "participant_number",
+                     std::to_string(participant->value) + " (" + participant->source + ")");
     for (const auto& [name, scene] : prepared.scenes->scenes()) {
       if (scene.peak_cd_m2 > prepared.experiment.display.peak_luminance_cd_m2) {
         store->log_event(result.session_id, 0.0, "clipping",
