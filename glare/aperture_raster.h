@@ -25,7 +25,7 @@ namespace glarelab {
 struct ApertureRasterOptions {
   int grid_px = 512;                // N (any even size; the FFT prefers powers of two)
   double aperture_width_mm = 10.0;  // side of the square the grid covers
-  int supersampling = 2;            // s, at least 2 (issue 3)
+  int supersampling = 2;            // s, at least 2
 };
 
 struct ApertureGrid {

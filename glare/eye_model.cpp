@@ -1,6 +1,8 @@
 #include "glare/eye_model.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -28,6 +30,14 @@ void EyeModel::record_frame_luminance(double time_s, double mean_luminance_cd_m2
   field_.record_frame(time_s, mean_luminance_cd_m2);
 }
 
+void EyeModel::record_measured_pupil(double time_s, double diameter_mm) {
+  if (!std::isfinite(time_s) || !std::isfinite(diameter_mm) || !(diameter_mm > 0.0))
+    throw std::invalid_argument("eye model: a measured pupil needs a finite time and a positive diameter");
+  if (!measured_pupils_.empty() && time_s < measured_pupils_.back().first)
+    throw std::invalid_argument("eye model: measured pupils must come in time order");
+  measured_pupils_.emplace_back(time_s, diameter_mm);
+}
+
 double EyeModel::model_time_s(double time_s) const {
   if (!std::isfinite(time_s) || time_s < 0.0)
     throw std::invalid_argument("eye model: time must be finite and >= 0 s (got " + std::to_string(time_s) + ")");
@@ -41,6 +51,12 @@ EyeState EyeModel::state_at(double time_s) const {
   state.field_luminance_cd_m2 = field_.field_luminance_cd_m2(t);
   state.mean_pupil_diameter_mm = pupil_.mean_diameter_mm(state.field_luminance_cd_m2);
   state.pupil_diameter_mm = pupil_.hippus_diameter_mm(t, state.mean_pupil_diameter_mm);
+  if (parameters_.mode == GlareMode::dynamic && !measured_pupils_.empty() && measured_pupils_.front().first <= t) {
+    const auto after = std::upper_bound(measured_pupils_.begin(), measured_pupils_.end(), t,
+                                        [](double time, const std::pair<double, double>& m) { return time < m.first; });
+    state.pupil_diameter_mm = std::clamp(std::prev(after)->second, parameters_.pupil_min_diameter_mm,
+                                         parameters_.pupil_max_diameter_mm);
+  }
   // Ritschel 3.3: the low-frequency power follows the pupil size "as determined in Eq. 2".
   state.defocus_dioptres = accommodation_.fluctuation_dioptres(t, state.mean_pupil_diameter_mm);
   state.accommodation_dioptres = parameters_.accommodative_demand_dioptres + state.defocus_dioptres;

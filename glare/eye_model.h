@@ -14,6 +14,8 @@
 // time): the same call gives bit-identical results whether or not other times were computed before.
 // Not thread-safe (the vitreous keeps a cache of integration checkpoints); use one model per thread.
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "glare/accommodation_model.h"
 #include "glare/aperture_geometry.h"
@@ -49,6 +51,16 @@ class EyeModel {
   // The displayed frame shown from time_s on had this mean luminance. Frames in time order.
   void record_frame_luminance(double time_s, double mean_luminance_cd_m2);
 
+  // Measured pupil (an eye tracker's filtered diameter): from time_s on, until the next
+  // measurement, the pupil is this diameter (clamped to the model's [1.5, 9] mm) instead of Eq. 1-2.
+  // Everything that depends on the pupil (gratings in the pupil, the aperture) follows; the
+  // accommodation keeps Eq. 2's pupil (its field-luminance driver). Times in order. A static eye
+  // ignores measurements (it is frozen at static_time_s, field luminance included).
+  void record_measured_pupil(double time_s, double diameter_mm);
+  // Blinks from an eye tracker instead of the lids' own schedule (eyelids.h).
+  // Every blink so far as (onset_s, offset_s), offset +infinity while closed (eyelids.h).
+  void set_recorded_blinks(std::vector<std::pair<double, double>> blinks) { eyelids_.set_recorded_blinks(std::move(blinks)); }
+
   EyeState state_at(double time_s) const;
   // The aperture at time_s. Control mode: glare_enabled = false and no scatterers (pupil only).
   // Fibre gratings that cannot reach into the pupil are left out (they change nothing: the aperture
@@ -74,6 +86,7 @@ class EyeModel {
   VitreousModel vitreous_;
   CorneaRetinaParticles cornea_retina_;
   EyelidModel eyelids_;
+  std::vector<std::pair<double, double>> measured_pupils_;  // (time_s, diameter_mm), time ascending
 };
 
 }  // namespace glarelab

@@ -23,7 +23,7 @@ struct EyeParameters {
   // --- Pupil and hippus (section 3.2, Eqs. 1 and 2) ---
   double pupil_max_diameter_mm = 9.0;  // p_max of Eq. 1 (paper: 9 mm); also the upper clamp
   // Lower clamp of the simulated pupil. Eq. 2 alone never goes below 1.9 mm; hippus can. 1.5 mm is the
-  // smallest pupil the glare engine must handle (issue 3), a little under the ~2 mm physiological
+  // smallest pupil the glare engine must handle, a little under the ~2 mm physiological
   // minimum of Luidolt 2020 section 2.1.3 ("approximately 2 to 8 mm").
   double pupil_min_diameter_mm = 1.5;
   // Scale of noise() in Eq. 1 (noise is three-octave value noise in [-1, 1]). The paper does not state

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "glare/eye_random_channels.h"
 #include "runner/random.h"
@@ -44,8 +45,39 @@ double EyelidModel::blink_onset_s(std::int64_t index) const {
   return static_cast<double>(index) * interval_s_ + u * (interval_s_ - blink_duration_s());
 }
 
+void EyelidModel::set_recorded_blinks(std::vector<std::pair<double, double>> blinks) {
+  for (std::size_t k = 0; k < blinks.size(); ++k) {
+    const auto [onset_s, offset_s] = blinks[k];
+    if (!std::isfinite(onset_s) || !(offset_s >= onset_s))
+      throw std::invalid_argument("eyelids: a recorded blink needs a finite onset and an offset at or after it");
+    if (k > 0 && onset_s < blinks[k - 1].first)
+      throw std::invalid_argument("eyelids: recorded blinks must come in time order");
+  }
+  recorded_ = true;
+  recorded_blinks_.clear();
+  for (const auto& [onset_s, offset_s] : blinks) recorded_blinks_.push_back({onset_s, offset_s});
+}
+
+double EyelidModel::recorded_closure(const RecordedBlink& blink, double time_s) const {
+  const double since = time_s - blink.onset_s;
+  if (since < 0.0) return 0.0;
+  if (since < closing_s_) return half_cosine(since / closing_s_);
+  const double opening_from_s = std::max(blink.offset_s, blink.onset_s + closing_s_);
+  if (time_s < opening_from_s) return 1.0;
+  const double opening = time_s - opening_from_s;
+  return opening >= opening_s_ ? 0.0 : 1.0 - half_cosine(opening / opening_s_);
+}
+
 double EyelidModel::blink_closure(double time_s) const {
   if (time_s < 0.0) return 0.0;
+  if (recorded_) {
+    // The last blink begun by time_s and the one before it (still opening when the next began).
+    const auto after = std::upper_bound(recorded_blinks_.begin(), recorded_blinks_.end(), time_s,
+                                        [](double t, const RecordedBlink& blink) { return t < blink.onset_s; });
+    double closure = 0.0;
+    for (auto it = after; it != recorded_blinks_.begin() && after - it < 2;) closure = std::max(closure, recorded_closure(*--it, time_s));
+    return closure;
+  }
   // Blinks never span two intervals, so only the interval holding time_s can be blinking.
   const auto index = static_cast<std::int64_t>(std::floor(time_s / interval_s_));
   const double since = time_s - blink_onset_s(index);

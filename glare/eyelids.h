@@ -7,9 +7,14 @@
 //  - Blinks: one per blink_mean_interval_s at a uniform random offset; closure rises over the closing
 //    phase, holds, and falls over the slower opening phase, each with a half-cosine profile.
 //  - Squint: a constant closure; the lid closure is squint + (1 - squint) * blink.
+//  - Or blinks from outside: after set_recorded_blinks() the schedule is off and the lids follow
+//    recorded onsets and offsets (an eye tracker's detected blinks): closing from each onset with the
+//    same profile, held closed until the offset (or until the closing phase ends, if later), then
+//    opening. Overlapping blinks take the larger closure, so the lids never jump open.
 //  - Lashes: opaque line segments rooted on each margin, reaching into the opening by a random
 //    overhang (their projection along the axis), moving with the lids.
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "glare/aperture_geometry.h"
@@ -28,6 +33,13 @@ class EyelidModel {
   // Onset of the blink of interval `index` (blink k starts in [k I, (k + 1) I - duration]).
   double blink_onset_s(std::int64_t index) const;
   double blink_duration_s() const { return closing_s_ + closed_s_ + opening_s_; }
+  // Blink of interval `index` of the schedule: closure > 0 exactly on (onset, onset + duration).
+  double blink_end_s(std::int64_t index) const { return blink_onset_s(index) + blink_duration_s(); }
+
+  // Recorded blinks replace the schedule from now on: every blink so far, each (onset_s, offset_s)
+  // with offset_s +infinity while still closed, onsets ascending. An empty list keeps the lids open.
+  void set_recorded_blinks(std::vector<std::pair<double, double>> blinks);
+  bool uses_recorded_blinks() const { return recorded_; }
 
   double upper_margin_centre_mm(double closure) const;
   double lower_margin_centre_mm(double closure) const;
@@ -45,6 +57,12 @@ class EyelidModel {
   std::uint64_t seed_;
   double closing_s_, closed_s_, opening_s_, interval_s_;
   std::vector<Lash> lashes_;
+  bool recorded_ = false;
+  struct RecordedBlink {
+    double onset_s, offset_s;
+  };
+  std::vector<RecordedBlink> recorded_blinks_;
+  double recorded_closure(const RecordedBlink& blink, double time_s) const;
 };
 
 }  // namespace glarelab

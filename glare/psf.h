@@ -2,6 +2,7 @@
 // A point-spread function sampled on a square grid centred on pixel (size/2, size/2), with its
 // angular pixel size (DESIGN.md image contract). Channels are "Y" (one wavelength) or linear
 // Rec.709 "R,G,B" (spectral); each channel sums to 1.
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,14 @@ struct Psf {
   double at(int channel, int x, int y) const {
     return values[(static_cast<std::size_t>(channel) * size_px + y) * size_px + x];
   }
+};
+
+// The aperture transmits no light (the lids cover the pupil in a blink, or the pupil lies outside
+// the grid): the PSF is undefined (0 / 0). Thrown by both backends' psf(), so a caller tells a closed
+// eye from an error by type and from the same rasterised pixels the PSF would have used.
+class ClosedApertureError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 }  // namespace glarelab

@@ -61,7 +61,7 @@ MonochromaticPsfResult compute_monochromatic_psf(const ApertureGrid& grid, doubl
   }
   for (double a : grid.transmittance) result.aperture_energy += a * a;
   if (!(result.aperture_energy > 0.0))
-    throw std::runtime_error("glare/psf_cpu: the aperture transmits no light (pupil outside the grid or fully blocked)");
+    throw ClosedApertureError("glare/psf_cpu: the aperture transmits no light (pupil outside the grid or fully blocked)");
 
   const int n = grid.grid_px;
   std::vector<double> power = shifted_power_spectrum(apply_quadratic_phase(grid, coefficient), n, options.precision);

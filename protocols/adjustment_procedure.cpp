@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "protocols/blocked_design.h"
 #include "protocols/fixed_design_procedure.h"
 #include "protocols/json_text.h"
 #include "runner/random.h"
@@ -53,15 +54,18 @@ void read_adjustment_procedure(TableReader& procedure, Experiment& experiment) {
 std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
                                                const std::map<std::string, double>& source_peak_cd_m2) {
   const AdjustmentSpec& spec = experiment.adjustment;
-  std::vector<std::size_t> design;
-  for (std::size_t row = 0; row < experiment.conditions.size(); ++row)
-    for (int repetition = 0; repetition < spec.repetitions; ++repetition) design.push_back(row);
-  shuffle_in_place(design, CounterRandom(experiment.seed, RandomStream::trial_order), 0);
+  const auto design = order_fixed_design<std::size_t>(
+      experiment, spec.repetitions, [](const std::vector<std::size_t>& rows, int repetitions) {
+        std::vector<std::size_t> units;
+        for (const std::size_t row : rows)
+          for (int repetition = 0; repetition < repetitions; ++repetition) units.push_back(row);
+        return units;
+      });
 
   const CounterRandom start_random(experiment.seed, RandomStream::adjustment_start);
   std::vector<TrialPlan> trials;
   for (std::size_t index = 0; index < design.size(); ++index) {
-    const ConditionRow& row = experiment.conditions[design[index]];
+    const ConditionRow& row = experiment.conditions[design[index].unit];
     const std::string* target = row.find("target");
     const std::string* comparison = row.find("comparison");
     if (target == nullptr || comparison == nullptr)
@@ -85,6 +89,7 @@ std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
     plan.question = "Adjust both spots until they look as bright as the centre (up/down: coarse, "
                     "right/left: fine; Enter or Space when they match)";
     plan.stimulus_frames = experiment.forced_choice.stimulus_frames;
+    apply_block_placement(design[index].placement, false, plan);
     JsonObjectWriter json;
     for (const auto& [column, value] : row.fields) json.add(column, value);
     json.add("start_left_cd_m2", number_text(left)).add("start_right_cd_m2", number_text(right));

@@ -8,9 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "protocols/block_design.h"
 #include "protocols/config_error.h"
 #include "protocols/glare_config.h"
 #include "protocols/presentation_config.h"
+#include "protocols/observer_preferences.h"
 #include "protocols/quest.h"
 #include "protocols/staircase.h"
 
@@ -107,6 +109,8 @@ struct SimulatedObserverSpec {
   double rating_sd = 0.7;
   // Adjustment: each setting is the target's peak times 10^(match_sd_log10 * N(0, 1)).
   double match_sd_log10 = 0.05;
+  // Choices between two conditions without a right answer (protocols/observer_preferences.h).
+  std::vector<ConditionPreference> preferences;
 };
 
 struct Experiment {
@@ -125,6 +129,7 @@ struct Experiment {
   SimulatedObserverSpec simulated_observer;
   GlareSpec glare;  // [glare] and the default glare mode of conditions
   PresentationSpec presentation;  // [presentation]: screens, fixation, intervals, response window, feedback
+  DesignSpec design;  // [[blocks]], their order and the participant number (protocols/block_design.h)
 };
 
 // Parses and validates a file. Throws ConfigError (file:line:column, key) for syntax errors,

@@ -10,8 +10,10 @@
 
 #include "protocols/adaptive_config.h"
 #include "protocols/adjustment_procedure.h"
+#include "protocols/block_config.h"
 #include "protocols/csv_table.h"
 #include "protocols/forced_choice.h"
+#include "protocols/pair_design.h"
 #include "protocols/rating_procedure.h"
 #include "protocols/stimulus_duration.h"
 #include "protocols/experiment.h"
@@ -140,7 +142,8 @@ void read_scenes_section(TableReader& top, Experiment& experiment, const std::st
   }
 }
 
-void read_procedure_section(TableReader& top, Experiment& experiment) {
+// Returns the generated conditions and blocks of design = "all_pairs" (protocols/pair_design.h).
+std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experiment& experiment) {
   TableReader reader(require_table(top, "procedure"), "procedure", top.file());
   const std::optional<std::string> type = reader.string("type");
   if (!type) reader.fail("type", "missing required key (supported: " + join_quoted(kSupportedProcedures) + ")");
@@ -152,8 +155,9 @@ void read_procedure_section(TableReader& top, Experiment& experiment) {
     read_stimulus_duration(reader, experiment.display.refresh_hz, experiment.forced_choice);
     if (experiment.procedure == "rating") read_rating_procedure(reader, experiment);
     else read_adjustment_procedure(reader, experiment);
+    read_block_keys(reader, experiment);
     reader.report_unused();
-    return;
+    return std::nullopt;
   }
 
   ForcedChoiceSpec& spec = experiment.forced_choice;
@@ -173,12 +177,19 @@ void read_procedure_section(TableReader& top, Experiment& experiment) {
   spec.responses = default_responses_for(spec);
   spec.question = reader.string("question").value_or(spec.question);
   read_stimulus_duration(reader, experiment.display.refresh_hz, spec);
+  std::optional<GeneratedDesign> generated;
   if (experiment.procedure == "forced_choice") {
     spec.repetitions = read_int(reader, "repetitions", spec.repetitions, 1, ">= 1");
     spec.counterbalance_sides = reader.boolean("counterbalance_sides").value_or(spec.counterbalance_sides);
+    generated = read_pair_design(reader, experiment);
+    // The generated design promises every mode equally often on each side.
+    if (generated && !spec.counterbalance_sides)
+      reader.fail("counterbalance_sides", "design = \"all_pairs\" shows every pair both ways round; remove "
+                                          "counterbalance_sides = false");
   } else {
     read_adaptive_procedure(reader, experiment);
   }
+  read_block_keys(reader, experiment);
   if (const toml::array* responses = reader.array("responses")) {
     std::vector<std::string> names;
     for (std::size_t i = 0; i < responses->size(); ++i) {
@@ -203,6 +214,7 @@ void read_procedure_section(TableReader& top, Experiment& experiment) {
     spec.responses = std::move(names);
   }
   reader.report_unused();
+  return generated;
 }
 
 void read_observer_section(TableReader& top, Experiment& experiment) {
@@ -223,6 +235,7 @@ void read_observer_section(TableReader& top, Experiment& experiment) {
       read_number(reader, "response_time_median_s", spec.response_time_median_s, Bound::positive);
   spec.rating_sd = read_number(reader, "rating_sd", spec.rating_sd, Bound::non_negative);
   spec.match_sd_log10 = read_number(reader, "match_sd_log10", spec.match_sd_log10, Bound::non_negative);
+  spec.preferences = read_preferences(reader);
   reader.report_unused();
 }
 
@@ -335,6 +348,29 @@ ConditionSource read_conditions_section(TableReader& top, const std::string& bas
   return source;
 }
 
+// design = "all_pairs" writes the condition rows and blocks itself: a [conditions] table or
+// [[blocks]] beside it would be a second, conflicting design.
+ConditionSource generated_conditions(TableReader& top, const GeneratedDesign& generated, Experiment& experiment) {
+  for (const char* section : {"conditions", "blocks"}) {
+    if (top.node(section) != nullptr)
+      top.fail_at_key(section, section == std::string("blocks")
+                                   ? "design = \"all_pairs\" generates the blocks (one per instruction); remove "
+                                     "[[blocks]] or the design key at " + generated.where.to_string()
+                                   : "design = \"all_pairs\" generates the condition rows; remove [conditions] or "
+                                     "the design key at " + generated.where.to_string());
+  }
+  ConditionSource source;
+  for (const ConditionRow& row : generated.rows) {
+    LocatedRow located;
+    located.row = row;
+    located.value_where.assign(row.fields.size(), generated.where);
+    located.key_where.assign(row.fields.size(), generated.where);
+    source.rows.push_back(std::move(located));
+  }
+  experiment.design.blocks = generated.blocks;
+  return source;
+}
+
 // Every row names an existing scene in each of `columns` (forced choice: scene_a and scene_b;
 // staircase and QUEST: reference and comparison).
 void check_scene_columns(const std::vector<LocatedRow>& rows, const Experiment& experiment,
@@ -405,13 +441,15 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
        {"experiment", "display", "scenes", "procedure", "conditions", "observer", "glare", "presentation"}) {
     top.node(section);
   }
+  top.node("blocks");  // [[blocks]] (protocols/block_config.h)
   top.report_unused();
 
   read_experiment_section(top, experiment);
   read_display_section(top, experiment);
   read_scenes_section(top, experiment, base);
-  read_procedure_section(top, experiment);
-  ConditionSource conditions = read_conditions_section(top, base);
+  const std::optional<GeneratedDesign> generated = read_procedure_section(top, experiment);
+  ConditionSource conditions = generated ? generated_conditions(top, *generated, experiment) : read_conditions_section(top, base);
+  if (!generated) read_blocks_section(top, experiment);
   read_observer_section(top, experiment);
   experiment.glare = read_glare_section(top);
   experiment.presentation = read_presentation_section(top, experiment);
@@ -426,6 +464,8 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
     experiment.conditions.push_back(std::move(located.row));
   }
   if (experiment.procedure == "staircase" || experiment.procedure == "quest") check_adaptive_conditions(experiment);
+  check_blocks(experiment);
+  check_preferences(experiment);
   return experiment;
 }
 

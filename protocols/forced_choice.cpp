@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "protocols/blocked_design.h"
 #include "protocols/json_text.h"
 #include "runner/random.h"
 
@@ -54,21 +55,24 @@ std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
                                 std::to_string(positions.size() + 1) + " responses");
   }
 
-  std::vector<Presentation> design;
-  for (std::size_t row = 0; row < experiment.conditions.size(); ++row) {
-    for (int repetition = 0; repetition < spec.repetitions; ++repetition) {
-      design.push_back({row, false});
-      // Counterbalancing shows every pair both ways round, so a side bias of the observer adds
-      // equally to both and cancels in the proportion correct.
-      if (spec.counterbalance_sides) design.push_back({row, true});
-    }
-  }
-  shuffle_in_place(design, CounterRandom(experiment.seed, RandomStream::trial_order), 0);
+  // Counterbalancing shows every pair both ways round, so a side bias of the observer adds
+  // equally to both and cancels in the proportion correct.
+  const auto design = order_fixed_design<Presentation>(
+      experiment, spec.repetitions, [&](const std::vector<std::size_t>& rows, int repetitions) {
+        std::vector<Presentation> units;
+        for (const std::size_t row : rows) {
+          for (int repetition = 0; repetition < repetitions; ++repetition) {
+            units.push_back({row, false});
+            if (spec.counterbalance_sides) units.push_back({row, true});
+          }
+        }
+        return units;
+      });
 
   std::vector<TrialPlan> trials;
   trials.reserve(design.size());
   for (std::size_t index = 0; index < design.size(); ++index) {
-    const Presentation& presentation = design[index];
+    const Presentation& presentation = design[index].unit;
     const ConditionRow& row = experiment.conditions[presentation.row];
     const std::string* scene_a = row.find("scene_a");
     const std::string* scene_b = row.find("scene_b");
@@ -78,7 +82,6 @@ std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
 
     TrialPlan plan;
     plan.trial_index = static_cast<int>(index);
-    plan.block = 0;
     plan.procedure = "forced_choice";
     plan.condition_name = row.name();
     plan.positions = positions;
@@ -106,6 +109,15 @@ std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
     // attractive, more realistic), shown above the stimuli.
     const std::string* question = row.find("question");
     plan.question = question != nullptr ? *question : spec.question;
+    apply_block_placement(design[index].placement, question != nullptr, plan);
+    // What each side shows, by the names of the row's condition_a / condition_b columns (Ritschel's
+    // dynamic, static, control): the simulated observer's preferences are between these.
+    const std::string* condition_a = row.find("condition_a");
+    const std::string* condition_b = row.find("condition_b");
+    if (condition_a != nullptr && condition_b != nullptr) {
+      plan.position_conditions = presentation.swapped ? std::vector<std::string>{*condition_b, *condition_a}
+                                                      : std::vector<std::string>{*condition_a, *condition_b};
+    }
     plan.stimulus_frames = spec.stimulus_frames;
 
     JsonObjectWriter json;

@@ -2,7 +2,11 @@
 // the run (protocols/toml_table_reader.h).
 #include "protocols/glare_config.h"
 
+#include <bit>
+#include <cstdint>
+#include <initializer_list>
 #include <limits>
+#include <string_view>
 
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
@@ -25,6 +29,18 @@ int read_bounded_int(TableReader& reader, std::string_view key, int fallback, in
     reader.fail(key, "must be in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "], found " +
                          std::to_string(*value));
   return static_cast<int>(*value);
+}
+
+std::string read_choice(TableReader& reader, std::string_view key, const std::string& fallback,
+                        std::initializer_list<const char*> choices) {
+  const std::optional<std::string> value = reader.string(key);
+  if (!value) return fallback;
+  std::string listed;
+  for (const char* choice : choices) {
+    if (*value == choice) return *value;
+    listed += std::string(listed.empty() ? "" : ", ") + "'" + choice + "'";
+  }
+  reader.fail(key, "unknown value '" + *value + "' (supported: " + listed + ")");
 }
 
 GlareMode parse_mode_at(const std::string& name, const SourceLocation& where, const std::string& key) {
@@ -54,6 +70,19 @@ GlareSpec read_glare_section(TableReader& top) {
       read_positive(reader, "visibility_weber_fraction", spec.visibility_weber_fraction, false);
   spec.visibility_floor_cd_m2 = read_positive(reader, "visibility_floor_cd_m2", spec.visibility_floor_cd_m2, false);
   spec.skip_invisible = reader.boolean("skip_invisible").value_or(spec.skip_invisible);
+  spec.backend = read_choice(reader, "backend", spec.backend, {"auto", "cpu", "gl"});
+  // The GL FFT takes powers of two from 16 to 4096 (glare/gl/gl_fft.h): refused here, not mid-session.
+  if (spec.backend == "gl" && (spec.grid_px > 4096 || !std::has_single_bit(static_cast<unsigned>(spec.grid_px))))
+    reader.fail("backend", "'gl' needs grid_px a power of two from 16 to 4096, found grid_px = " +
+                               std::to_string(spec.grid_px) + " (use \"cpu\" or change grid_px)");
+  if (const std::optional<std::int64_t> window = reader.integer("gaze_window_px")) {
+    if (*window != 0 && (*window < 16 || *window > 8192 || !std::has_single_bit(static_cast<std::uint64_t>(*window))))
+      reader.fail("gaze_window_px", "must be 0 (whole frame) or a power of two from 16 to 8192, found " +
+                                        std::to_string(*window));
+    spec.gaze_window_px = static_cast<int>(*window);
+  }
+  spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source, {"tracker", "model"});
+  spec.blink_source = read_choice(reader, "blink_source", spec.blink_source, {"model", "tracker"});
   reader.report_unused();
   return spec;
 }
@@ -68,7 +97,11 @@ toml::table glare_section_toml(const GlareSpec& spec) {
                      {"wavelength_samples", spec.wavelength_samples},
                      {"visibility_weber_fraction", spec.visibility_weber_fraction},
                      {"visibility_floor_cd_m2", spec.visibility_floor_cd_m2},
-                     {"skip_invisible", spec.skip_invisible}};
+                     {"skip_invisible", spec.skip_invisible},
+                     {"backend", spec.backend},
+                     {"gaze_window_px", spec.gaze_window_px},
+                     {"pupil_source", spec.pupil_source},
+                     {"blink_source", spec.blink_source}};
 }
 
 GlareMode glare_mode_for(const GlareSpec& spec, const ConditionRow& row) {

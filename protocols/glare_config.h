@@ -30,6 +30,18 @@ struct GlareSpec {
   // changes of a black pixel are meaningless); 0.01 cd/m2 is near the bottom of mesopic vision.
   double visibility_floor_cd_m2 = 0.01;
   bool skip_invisible = true;         // false: always convolve (for measuring the skip error)
+  // Compute backend (glare/glare_backend.h): "auto" (gl on a hardware GPU, else the CPU), "cpu"
+  // (FFTW double) or "gl" (OpenGL 4.5 compute; needs grid_px a power of two from 16 to 4096).
+  std::string backend = "auto";
+  // Gaze-contingent glare (Luidolt 2020, 5.2.3): 0 convolves the whole frame; a power of two
+  // convolves that square window around the gaze and blends it in with a Gaussian falloff.
+  int gaze_window_px = 0;
+  // The dynamic eye's pupil: "tracker" takes the tracker's filtered pupil when a tracker runs (the
+  // model's Eq. 1-2 pupil otherwise), "model" always the model's.
+  std::string pupil_source = "tracker";
+  // The dynamic eye's blinks: "model" its own schedule (eyelids.h), "tracker" the blinks the
+  // tracker detects (Luidolt 2020, 7.2: a detected blink may drive the eyelids instead).
+  std::string blink_source = "model";
 };
 
 // Reads [glare] if present (strictly: unknown keys are errors). `top` is the document root.

@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "protocols/blocked_design.h"
 #include "protocols/fixed_design_procedure.h"
 #include "protocols/json_text.h"
 #include "runner/random.h"
@@ -44,18 +45,21 @@ std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {
     std::size_t row;
     std::size_t category;
   };
-  std::vector<Presentation> design;
-  for (std::size_t row = 0; row < experiment.conditions.size(); ++row)
-    for (std::size_t category = 0; category < spec.categories.size(); ++category)
-      for (int repetition = 0; repetition < spec.repetitions; ++repetition) design.push_back({row, category});
-  shuffle_in_place(design, CounterRandom(experiment.seed, RandomStream::trial_order), 0);
+  const auto design = order_fixed_design<Presentation>(
+      experiment, spec.repetitions, [&](const std::vector<std::size_t>& rows, int repetitions) {
+        std::vector<Presentation> units;
+        for (const std::size_t row : rows)
+          for (std::size_t category = 0; category < spec.categories.size(); ++category)
+            for (int repetition = 0; repetition < repetitions; ++repetition) units.push_back({row, category});
+        return units;
+      });
 
   std::vector<std::string> allowed;
   for (int point = 1; point <= spec.scale_points; ++point) allowed.push_back(std::to_string(point));
   std::vector<TrialPlan> trials;
   for (std::size_t index = 0; index < design.size(); ++index) {
-    const ConditionRow& row = experiment.conditions[design[index].row];
-    const std::string& category = spec.categories[design[index].category];
+    const ConditionRow& row = experiment.conditions[design[index].unit.row];
+    const std::string& category = spec.categories[design[index].unit.category];
     const std::string* scene = row.find("scene");
     if (scene == nullptr) throw std::invalid_argument("rating: condition '" + row.name() + "' lacks scene");
     TrialPlan plan;
@@ -67,6 +71,7 @@ std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {
     plan.allowed_responses = allowed;
     plan.question = "Rate the " + category + " from 1 to " + std::to_string(spec.scale_points);
     plan.stimulus_frames = experiment.forced_choice.stimulus_frames;
+    apply_block_placement(design[index].placement, false, plan);
     if (const std::string* mean = row.find("simulated_rating")) {
       try {
         plan.simulated_rating_mean = std::stod(*mean);

@@ -7,6 +7,7 @@
 
 #include <toml++/toml.h>
 
+#include "protocols/block_config.h"
 #include "protocols/experiment.h"
 
 namespace glarelab {
@@ -128,6 +129,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
     for (const AdaptiveTrackSpec& track : experiment.adaptive.tracks) tracks.push_back(adaptive_track_table(experiment, track));
     procedure.insert("staircases", std::move(tracks));
   }
+  insert_block_keys(experiment.design, procedure);
   print_section(out, "procedure", std::move(procedure));
 
   const SimulatedObserverSpec& observer = experiment.simulated_observer;
@@ -137,9 +139,16 @@ std::string resolved_config_toml(const Experiment& experiment) {
                         {"response_time_median_s", observer.response_time_median_s},
                         {"rating_sd", observer.rating_sd},
                         {"match_sd_log10", observer.match_sd_log10}};
+  if (!observer.preferences.empty()) simulated.insert("preferences", preferences_toml(observer.preferences));
   print_section(out, "observer", toml::table{{"simulated", std::move(simulated)}});
   print_section(out, "glare", glare_section_toml(experiment.glare));
   print_section(out, "presentation", presentation_section_toml(experiment.presentation));
+
+  if (!experiment.design.blocks.empty()) {
+    toml::table blocks;
+    blocks.insert("blocks", blocks_toml(experiment.design));
+    out << blocks << "\n\n";
+  }
 
   // Rows are written key by key in column order (toml++ would sort the keys of a whole table);
   // each line is still formatted by toml++, so keys and values are quoted correctly. The parser

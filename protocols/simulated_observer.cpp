@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "protocols/adjustment_procedure.h"
@@ -45,6 +46,10 @@ class SimulatedObserver : public Observer {
       const double rating = std::round(*plan.simulated_rating_mean + spec_.rating_sd * choice_random_.normal(index));
       const double top = static_cast<double>(plan.allowed_responses.size());
       response.value = plan.allowed_responses[static_cast<std::size_t>(std::clamp(rating, 1.0, top)) - 1];
+    } else if (const std::optional<double> prefer_first = preference_for(plan); prefer_first && plan.correct_response.empty()) {
+      // No right answer, two conditions with a stated preference: the first position's condition
+      // is chosen with its preference probability (same uniform draw, so still one per trial).
+      response.value = plan.allowed_responses[u < *prefer_first ? 0 : 1];
     } else if (plan.correct_response.empty()) {
       // No right answer: each allowed response is equally likely.
       const auto pick = static_cast<std::size_t>(u * static_cast<double>(plan.allowed_responses.size()));
@@ -77,6 +82,13 @@ class SimulatedObserver : public Observer {
   }
 
  private:
+  // Probability of choosing position 0 over position 1 from the preferences between the two
+  // conditions shown; nothing when the plan names no conditions or the pair has no preference.
+  std::optional<double> preference_for(const TrialPlan& plan) const {
+    if (plan.position_conditions.size() != 2) return std::nullopt;
+    return preference_probability(spec_.preferences, plan.position_conditions[0], plan.position_conditions[1]);
+  }
+
   // |log10(L_left / L_right)|: Weber-like discrimination depends on the luminance ratio.
   static double log_ratio(double left, double right) {
     if (left > 0.0 && right > 0.0) return std::abs(std::log10(left / right));

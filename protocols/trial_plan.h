@@ -18,6 +18,10 @@ struct TrialPlan {
   std::string condition_json;  // the condition row plus presentation facts, as a JSON object
   std::vector<std::string> positions;  // e.g. {"left", "right"}
   std::vector<std::string> scenes;     // scene name shown at each position
+  // The condition each position shows (forced choice rows with condition_a / condition_b columns,
+  // e.g. Ritschel's dynamic, static, control); empty otherwise. The simulated observer's
+  // preferences ([observer.simulated.preferences]) are between these names.
+  std::vector<std::string> position_conditions;
   // Peak luminance (cd/m2) of the source at each position: what a simulated observer compares.
   std::vector<double> source_luminance_cd_m2;
   // Factor on each position's scene (empty: all 1). Adaptive procedures scale the comparison

@@ -19,6 +19,8 @@ enum class RandomStream : std::uint32_t {
   adjustment_start = 7,
   analysis_bootstrap = 8,  // parametric bootstrap of psychometric fits (analysis/)
   glare_gl_test_input = 9,  // random test signals for the GL glare engine tests
+  block_order = 10,          // random block orders, one seed per participant (protocols/block_design.h)
+  block_trial_order = 11,    // trial orders within blocks, one seed per participant and block
 };
 
 class CounterRandom {

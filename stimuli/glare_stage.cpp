@@ -1,6 +1,7 @@
-// Glare for one composed frame, on the CPU (glare/psf_cpu, spectral_psf, psf_scale, convolution_cpu).
-// The whole CPU path sits in GlareStage::display_psf() and convolve_frame(): replacing them with a
-// compute backend is a change to those two functions only.
+// Glare for one composed frame. The PSF and the convolution are the compute backend's
+// (glare/glare_backend.h, the same code `glarelab psf` and `bench` run); this file adds what a
+// session needs around them: the eyes over time, the blink hold, the static cache, the crop to the
+// region light can reach, the gaze window and the skip decision.
 #include "stimuli/glare_stage.h"
 
 #include <algorithm>
@@ -8,11 +9,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "glare/aperture_raster.h"
-#include "glare/convolution_cpu.h"
-#include "glare/psf_cpu.h"
+#include "glare/gl/gl_fft.h"
 #include "glare/psf_scale.h"
-#include "glare/spectral_psf.h"
 #include "stimuli/display_model.h"
 
 namespace glarelab {
@@ -27,36 +25,6 @@ double min_luminance(const ImageRGBA& image) {
   for (std::size_t i = 0; i + 3 < image.rgba.size(); i += 4)
     lowest = std::min(lowest, luminance_rec709(image.rgba[i], image.rgba[i + 1], image.rgba[i + 2]));
   return image.empty() ? 0.0 : lowest;
-}
-
-// Convolves only the part of the frame that glare can change: the bounding box of its non-black
-// pixels grown by the PSF's half-size. Outside it the exact result is 0 (no light within the PSF's
-// reach), which is what the frame already holds; inside it the zero-padded FFT convolution of the
-// crop equals that of the whole frame, because everything the crop leaves out is black. A stimulus
-// on a black background (the demo: two 256 px scenes on a 1024 x 512 display) costs a fraction.
-ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf) {
-  ConvolutionOptions options;
-  options.precision = FftPrecision::float64;
-  int x0 = frame.width_px, y0 = frame.height_px, x1 = -1, y1 = -1;
-  for (int y = 0; y < frame.height_px; ++y)
-    for (int x = 0; x < frame.width_px; ++x) {
-      const float* p = frame.pixel(x, y);
-      if (p[0] != 0.0f || p[1] != 0.0f || p[2] != 0.0f) {
-        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-      }
-    }
-  if (x1 < 0) return frame;  // all black: so is its glare
-  const int reach = display_psf.size_px / 2;
-  x0 = std::max(0, x0 - reach), y0 = std::max(0, y0 - reach);
-  x1 = std::min(frame.width_px - 1, x1 + reach), y1 = std::min(frame.height_px - 1, y1 + reach);
-  if (x0 == 0 && y0 == 0 && x1 == frame.width_px - 1 && y1 == frame.height_px - 1 && frame.depth.empty())
-    return convolve_image_cpu(frame, display_psf, options);
-  ImageRGBA crop(x1 - x0 + 1, y1 - y0 + 1);
-  for (int y = y0; y <= y1; ++y) std::copy_n(frame.pixel(x0, y), 4 * crop.width_px, crop.pixel(0, y - y0));
-  const ImageRGBA glared = convolve_image_cpu(crop, display_psf, options);
-  ImageRGBA out = frame;
-  for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(0, y - y0), 4 * crop.width_px, out.pixel(x0, y));
-  return out;
 }
 
 }  // namespace
@@ -82,12 +50,51 @@ GlareStage::GlareStage(const GlareSpec& spec, const DisplaySpec& display, std::u
 
 GlareStage::~GlareStage() = default;
 
+GlareBackend& GlareStage::backend() {
+  if (backend_) return *backend_;
+  GlareBackendChoice choice;
+  if (spec_.backend == "auto" && !gl::is_supported_fft_length(spec_.grid_px)) {
+    // The GL FFT takes powers of two 16..4096; "gl" by name is refused for such grids when the
+    // experiment is read (protocols/glare_config.cpp), "auto" takes the CPU without asking GL.
+    choice = create_glare_backend("cpu");
+    choice.reason = "glare backend auto picked " + choice.backend->name() + ": grid_px " +
+                    std::to_string(spec_.grid_px) + " is not a power of two from 16 to 4096, which the GL path needs.";
+  } else {
+    choice = create_glare_backend(spec_.backend);
+  }
+  backend_ = std::move(choice.backend);
+  backend_reason_ = std::move(choice.reason);
+  return *backend_;
+}
+
+const std::string& GlareStage::backend_reason() {
+  backend();
+  return backend_reason_;
+}
+
+void GlareStage::record_measured_pupil(double time_s, double diameter_mm) {
+  measured_pupils_.emplace_back(time_s, diameter_mm);
+  if (dynamic_eye_) dynamic_eye_->record_measured_pupil(time_s, diameter_mm);
+}
+
+void GlareStage::set_detected_blinks(const std::vector<DetectedBlink>& blinks) {
+  detected_blinks_ = blinks;
+  if (!dynamic_eye_) return;
+  std::vector<std::pair<double, double>> intervals;
+  for (const DetectedBlink& blink : blinks) intervals.emplace_back(blink.onset_s, blink.offset_s);
+  dynamic_eye_->set_recorded_blinks(std::move(intervals));
+}
+
 EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
   EyeParameters parameters;
   parameters.initial_field_luminance_cd_m2 = std::max(field_luminance_cd_m2, kMinimumFieldLuminance_cd_m2);
   if (mode == GlareMode::dynamic) {
     parameters.mode = GlareMode::dynamic;
-    if (!dynamic_eye_) dynamic_eye_ = std::make_unique<EyeModel>(parameters, seed_);
+    if (!dynamic_eye_) {
+      dynamic_eye_ = std::make_unique<EyeModel>(parameters, seed_);
+      for (const auto& [time_s, diameter_mm] : measured_pupils_) dynamic_eye_->record_measured_pupil(time_s, diameter_mm);
+      if (detected_blinks_) set_detected_blinks(std::vector<DetectedBlink>(*detected_blinks_));
+    }
     return *dynamic_eye_;
   }
   parameters.mode = GlareMode::static_eye;
@@ -106,26 +113,78 @@ std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double
     last_recorded_s_ = time_s;
   }
   if (state != nullptr) *state = eye.state_at(time_s);
-  const ApertureGeometry geometry = eye.geometry_at(time_s);
-  MonochromaticPsfOptions options;
-  options.raster.grid_px = spec_.grid_px;
-  options.raster.aperture_width_mm = spec_.aperture_width_mm;
-  options.raster.supersampling = spec_.supersampling;
+  PsfOptions options;
+  options.grid_px = spec_.grid_px;
+  options.aperture_width_mm = spec_.aperture_width_mm;
+  options.supersampling = spec_.supersampling;
   options.wavelength_nm = 575.0;  // Ritschel's reference wavelength (section 5)
+  options.spectral = true;
+  options.wavelength_samples = spec_.wavelength_samples;
   options.phase = PhaseForm::defocus;
-  const ApertureGrid aperture = rasterise_aperture(geometry, options.raster);
-  if (std::all_of(aperture.transmittance.begin(), aperture.transmittance.end(), [](double a) { return a == 0.0; }))
-    return std::nullopt;
-  const MonochromaticPsfResult mono =
-      compute_monochromatic_psf(aperture, geometry.pupil_diameter_mm, geometry.defocus_dioptres, options);
-  SpectralPsfOptions spectral;
-  spectral.wavelength_samples = spec_.wavelength_samples;
-  spectral.reference_wavelength_nm = options.wavelength_nm;
-  const SpectralPsfResult colour = spectral_psf_from_reference(mono.psf, spectral);
-  return resample_psf_to_display(colour.psf, DisplayModel(display_).degrees_per_pixel_at_centre());
+  Psf psf;
+  try {
+    psf = backend().psf(eye.geometry_at(time_s), options);
+  } catch (const ClosedApertureError&) {
+    return std::nullopt;  // the lids cover the whole pupil: no light, no PSF
+  }
+  return resample_psf_to_display(psf, DisplayModel(display_).degrees_per_pixel_at_centre());
 }
 
-ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report) {
+// Convolves only the part of the frame that glare can change: the bounding box of its non-black
+// pixels grown by the PSF's half-size. Outside it the exact result is 0 (no light within the PSF's
+// reach), which is what the frame already holds; inside it the zero-padded FFT convolution of the
+// crop equals that of the whole frame, because everything the crop leaves out is black. A stimulus
+// on a black background (the demo: two 256 px scenes on a 1024 x 512 display) costs a fraction.
+ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_psf) {
+  int x0 = frame.width_px, y0 = frame.height_px, x1 = -1, y1 = -1;
+  for (int y = 0; y < frame.height_px; ++y)
+    for (int x = 0; x < frame.width_px; ++x) {
+      const float* p = frame.pixel(x, y);
+      if (p[0] != 0.0f || p[1] != 0.0f || p[2] != 0.0f) {
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+    }
+  if (x1 < 0) return frame;  // all black: so is its glare
+  const int reach = display_psf.size_px / 2;
+  x0 = std::max(0, x0 - reach), y0 = std::max(0, y0 - reach);
+  x1 = std::min(frame.width_px - 1, x1 + reach), y1 = std::min(frame.height_px - 1, y1 + reach);
+  if (x0 == 0 && y0 == 0 && x1 == frame.width_px - 1 && y1 == frame.height_px - 1 && frame.depth.empty())
+    return backend().convolve(frame, display_psf);
+  ImageRGBA crop(x1 - x0 + 1, y1 - y0 + 1);
+  for (int y = y0; y <= y1; ++y) std::copy_n(frame.pixel(x0, y), 4 * crop.width_px, crop.pixel(0, y - y0));
+  const ImageRGBA glared = backend().convolve(crop, display_psf);
+  ImageRGBA out = frame;
+  for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(0, y - y0), 4 * crop.width_px, out.pixel(x0, y));
+  return out;
+}
+
+// The window and its apron (the PSF's reach, so the window is exact) convolved by the backend,
+// then blended into the unconvolved frame: the computation of glare/gaze_window_convolution.h with
+// the backend's convolution in place of the CPU one.
+ImageRGBA GlareStage::convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window) {
+  const int cx0 = std::max(0, window.x0_px - window.apron_px);
+  const int cy0 = std::max(0, window.y0_px - window.apron_px);
+  const int cx1 = std::min(frame.width_px, window.x0_px + window.width_px + window.apron_px);
+  const int cy1 = std::min(frame.height_px, window.y0_px + window.height_px + window.apron_px);
+  ImageRGBA crop(cx1 - cx0, cy1 - cy0);
+  for (int y = cy0; y < cy1; ++y) std::copy_n(frame.pixel(cx0, y), 4 * crop.width_px, crop.pixel(0, y - cy0));
+  const ImageRGBA glared = backend().convolve(crop, display_psf);
+  ImageRGBA out = frame;
+  for (int y = window.y0_px; y < window.y0_px + window.height_px; ++y)
+    for (int x = window.x0_px; x < window.x0_px + window.width_px; ++x) {
+      const double w = gaze_blend_weight(window, x, y);
+      const float* convolved = glared.pixel(x - cx0, y - cy0);
+      float* pixel = out.pixel(x, y);
+      for (int c = 0; c < 3; ++c) {
+        const double base = pixel[c];
+        pixel[c] = static_cast<float>(base + w * (static_cast<double>(convolved[c]) - base));
+      }
+    }
+  return out;
+}
+
+ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
+                            const std::optional<GazePoint>& gaze) {
   GlareFrameReport local;
   GlareFrameReport& r = report != nullptr ? *report : local;
   r = GlareFrameReport{};
@@ -164,7 +223,12 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     return frame_cd_m2;
   }
   r.convolved = true;
-  return convolve_frame(frame_cd_m2, *psf);
+  if (spec_.gaze_window_px == 0) return convolve_frame(frame_cd_m2, *psf);
+  GazeWindowOptions options;
+  options.window_px = spec_.gaze_window_px;
+  const GazePoint at = gaze.value_or(GazePoint{});
+  r.window = place_gaze_window(frame_cd_m2.width_px, frame_cd_m2.height_px, at.x, at.y, psf->size_px, options);
+  return convolve_gaze_window(frame_cd_m2, *psf, *r.window);
 }
 
 }  // namespace glarelab

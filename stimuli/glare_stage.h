@@ -3,18 +3,30 @@
 // time: control returns the frame unchanged; static uses the eye frozen at GlareSpec::static_time_s;
 // dynamic the eye of glare/eye_model.h at the frame's time. The glare itself is Ritschel et al. 2009
 // sections 4-5: aperture -> monochromatic PSF at 575 nm -> spectral PSF (chromatic blur) -> mapped
-// onto the display's pixels (glare/psf_scale.h) -> FFT convolution (glare/convolution_cpu.h).
+// onto the display's pixels (glare/psf_scale.h) -> FFT convolution, the PSF and the convolution both
+// by the compute backend GlareSpec::backend picks (glare/glare_backend.h: cpu, gl or auto).
 //
 // "Model only what a scene needs": the convolution is skipped when the glare cannot be visible
 // anywhere in the frame (bound below), and the report says when the fibre gratings are behind the
 // pupil (the eye model then leaves them out of the aperture; they change nothing).
+//
+// Gaze-contingent glare (GlareSpec::gaze_window_px > 0; Luidolt 2020, 5.2.3): the convolution is
+// done in a power-of-two window around the gaze (exact there) and blended in with a Gaussian
+// falloff (glare/gaze_window_convolution.h); without a gaze the window is centred on the display.
+//
+// Tracker inputs (dynamic eye only): a measured pupil replaces the model's (record_measured_pupil)
+// and, with blink_source "tracker", detected blinks drive the lids (set_detected_blinks).
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "glare/eye_model.h"
+#include "glare/gaze_window_convolution.h"
+#include "glare/glare_backend.h"
 #include "glare/psf.h"
 #include "protocols/experiment.h"
 #include "stimuli/image.h"
@@ -34,6 +46,20 @@ struct GlareFrameReport {
   // Upper bound of max_x |glare(x) - frame(x)| / max(frame(x), floor) (see visibility_bound()).
   double visibility_bound = 0.0;
   double wing_fraction = 0.0;      // PSF energy outside the central display pixel (largest channel)
+  // Gaze window: set when GlareSpec::gaze_window_px > 0 and the frame was convolved.
+  std::optional<GazeWindow> window;
+};
+
+// A gaze point in normalised display coordinates (0..1 from the left and from the top).
+struct GazePoint {
+  double x = 0.5;
+  double y = 0.5;
+};
+
+// A blink an eye tracker detected, on the session clock; offset +infinity while still closed.
+struct DetectedBlink {
+  double onset_s = 0.0;
+  double offset_s = 0.0;
 };
 
 // Fraction of a display-scale PSF's energy outside its central pixel, largest over channels.
@@ -46,26 +72,48 @@ double visibility_bound(double peak_cd_m2, double min_cd_m2, double wing_fractio
 
 class GlareStage {
  public:
-  // `seed` seeds the eye model (the session seed).
+  // `seed` seeds the eye model (the session seed). The compute backend is made on first use (or by
+  // backend_reason()); "gl" without an OpenGL 4.5 context throws DisplayError then. The GL backend
+  // works in a context of its own: a caller drawing with another context makes it current again.
   GlareStage(const GlareSpec& spec, const DisplaySpec& display, std::uint64_t seed);
   ~GlareStage();
 
-  ImageRGBA apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report = nullptr);
+  // `gaze`: where the participant looks, for the gaze window (ignored when gaze_window_px is 0;
+  // nothing: the display centre).
+  ImageRGBA apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report = nullptr,
+                  const std::optional<GazePoint>& gaze = std::nullopt);
 
   // The spectral PSF at the display's pixel scale for a mode and time (not for control), with the
   // eye adapted to `field_luminance_cd_m2`; nothing when the lids close the pupil completely.
   std::optional<Psf> display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state = nullptr);
 
+  // The backend in use, made now if not yet: one sentence saying what was picked and why.
+  const std::string& backend_reason();
+  GlareBackend& backend();
+
+  // The tracker's filtered pupil from time_s on (dynamic eye; see EyeModel::record_measured_pupil).
+  void record_measured_pupil(double time_s, double diameter_mm);
+  // Every blink detected so far, onsets ascending (the last one may still be open): from now on
+  // they, not the lids' own schedule, close the dynamic eye.
+  void set_detected_blinks(const std::vector<DetectedBlink>& blinks);
+
  private:
   EyeModel& eye_for(GlareMode mode, double field_luminance_cd_m2);
+  ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf);
+  ImageRGBA convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window);
 
   GlareSpec spec_;
   DisplaySpec display_;
   std::uint64_t seed_;
+  std::unique_ptr<GlareBackend> backend_;
+  std::string backend_reason_;
   // Dynamic: one eye for the whole session, starting adapted to the first frame it sees, recording
   // every frame's mean luminance (its pupil follows the field luminance).
   std::unique_ptr<EyeModel> dynamic_eye_;
   double last_recorded_s_ = -1.0;
+  // Tracker inputs, kept to hand to the dynamic eye when it is made.
+  std::vector<std::pair<double, double>> measured_pupils_;
+  std::optional<std::vector<DetectedBlink>> detected_blinks_;
   // Static: one frozen eye per field luminance (adapted to it), so identical frames give identical
   // glare at every time.
   std::map<double, std::unique_ptr<EyeModel>> static_eyes_;

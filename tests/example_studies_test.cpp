@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "protocols/json_text.h"
 #include "protocols/staircase.h"
@@ -124,13 +126,104 @@ TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
     EXPECT_EQ(left_count[condition], 12) << condition;
     EXPECT_EQ(right_count[condition], 12) << condition;
   }
-  // The instruction screen opens the session; 0.5 s between trials is 30 frames at 60 Hz.
+  // Each instruction is a block of 12 consecutive trials, numbered in the order they ran.
+  std::set<std::string> instructions;
+  for (std::size_t i = 0; i < run.trials.size(); ++i) {
+    EXPECT_EQ(run.trials[i].block, static_cast<int>(i / 12));
+    const std::string instruction = json_member(run.trials[i].condition, "instruction");
+    if (i % 12 != 0) {
+      EXPECT_EQ(instruction, json_member(run.trials[i - 1].condition, "instruction"));
+    }
+    instructions.insert(instruction);
+  }
+  EXPECT_EQ(instructions, (std::set<std::string>{"brighter", "attractive", "realistic"}));
+  // [presentation]: the instruction screen opens the session, each block's instruction screen
+  // opens its first trial (60 flips each, the minimum), and 0.5 s between trials is 30 frames.
   const auto logged = [&](const std::string& prefix) {
     return std::any_of(run.events.begin(), run.events.end(), [&](const std::string& e) { return e.rfind(prefix, 0) == 0; });
   };
   EXPECT_TRUE(logged("screen: trial 0, instructions: 'Two images of the same scene are shown ...' shown 60 flips"));
+  EXPECT_TRUE(logged("screen: trial 0, block: 'In the next trials: which image "));
+  EXPECT_TRUE(logged("screen: trial 12, block: 'In the next trials: which image "));
   EXPECT_TRUE(logged("duration_rounding: presentation.isi_duration_s 0.5 s -> 30 frames"));
+  EXPECT_TRUE(logged("trial_phases: trial 0: screen 120, interval 1 15 (frames 0-14) flips"));
   EXPECT_TRUE(logged("trial_phases: trial 1: inter-trial 30, interval 1 15 (frames 0-14) flips"));
+  EXPECT_TRUE(logged("trial_phases: trial 12: inter-trial 30, screen 60, interval 1 15 (frames 0-14) flips"));
+  // First session in a new database: participant number 1, and the session says how it was chosen.
+  bool participant_logged = false;
+  for (const std::string& event : run.events)
+    participant_logged = participant_logged || event.find("participant_number: 1 (1 + 0 earlier session(s)") == 0;
+  EXPECT_TRUE(participant_logged);
+}
+
+// Participants in one database: the second session is participant 2 by default; a session given
+// --participant-number 2 explicitly, cut off and resumed, runs exactly participant 2's trials.
+TEST(ExampleStudies, RitschelBlockOrderFollowsTheParticipantNumber) {
+  const ScratchDir scratch;
+  const auto db = scratch.path() / "participants.db";
+  // The study as it is, on a small display with one frame per trial: this test is about orders.
+  const std::string examples = std::string(GLARELAB_SOURCE_DIR) + "/examples/";
+  std::istringstream study(test::read_bytes(examples + "ritschel_2afc.toml"));
+  std::string text, line;
+  while (std::getline(study, line)) {
+    if (line.rfind("width_px", 0) == 0) line = "width_px = 128";
+    if (line.rfind("height_px", 0) == 0) line = "height_px = 64";
+    if (line.rfind("stimulus_duration_s", 0) == 0) line = "stimulus_frames = 1";
+    if (const auto at = line.find("\"scenes/"); at != std::string::npos) line.insert(at + 1, examples);
+    text += line + "\n";
+  }
+  const std::string file = scratch.write("ritschel_small.toml", text);
+  const std::vector<std::string> base = {"run", file, "--display", "offscreen", "--observer", "simulated", "--db",
+                                         db.string()};
+  for (const auto& extra : std::vector<std::vector<std::string>>{
+           {}, {}, {"--participant-number", "2", "--stop-after", "14"}, {"--resume", "3"}}) {
+    std::vector<std::string> arguments = base;
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    const auto result = run_glarelab(arguments, scratch.path());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+  }
+  const ResultStore store(db.string());
+  const auto sessions = store.load_sessions();
+  ASSERT_EQ(sessions.size(), 3u);
+  std::vector<std::vector<std::string>> conditions;
+  std::vector<std::string> orders;
+  for (const auto& session : sessions) {
+    EXPECT_EQ(session.status, "completed");
+    const auto trials = store.load_trials(session.id);
+    ASSERT_EQ(trials.size(), 36u);
+    std::string order;
+    conditions.emplace_back();
+    for (std::size_t i = 0; i < trials.size(); ++i) {
+      if (i % 12 == 0) order += json_member(trials[i].condition, "instruction") + " ";
+      conditions.back().push_back(trials[i].condition);
+    }
+    orders.push_back(order);
+    const int participant = session.id == sessions[0].id ? 1 : 2;
+    EXPECT_NE(session.config.find("participant_number = " + std::to_string(participant)), std::string::npos);
+  }
+  EXPECT_EQ(conditions[1], conditions[2]) << "participant 2, uninterrupted and resumed";
+  // Participant 2's random order is fixed by the seed; with three blocks the chance it repeats
+  // participant 1's is 1/6, and it does not for this seed.
+  EXPECT_NE(orders[0], orders[1]);
+}
+
+// Every runnable file in examples/ runs offscreen with the simulated observer: the study files in
+// their own tests above, demo.toml in RunCommand.DemoRunsOffscreenAndStoresEveryTrial, and any
+// other file here, so a new example cannot go untested.
+TEST(ExampleStudies, EveryExampleRunsOffscreen) {
+  const std::set<std::string> tested_elsewhere = {"spencer_staircase.toml", "ritschel_2afc.toml",
+                                                  "luidolt_ratings.toml", "ritschel_adjustment.toml", "demo.toml"};
+  std::set<std::string> found;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(GLARELAB_SOURCE_DIR) + "/examples")) {
+    if (entry.path().extension() != ".toml") continue;
+    const std::string name = entry.path().filename().string();
+    found.insert(name);
+    if (tested_elsewhere.count(name)) continue;
+    const ScratchDir scratch;
+    const StudyRun run = run_example(name, scratch);
+    EXPECT_FALSE(run.trials.empty()) << name;
+  }
+  for (const std::string& name : tested_elsewhere) EXPECT_TRUE(found.count(name)) << name << " is gone from examples/";
 }
 
 TEST(ExampleStudies, LuidoltRatingsRateEverySceneOnEveryCategory) {

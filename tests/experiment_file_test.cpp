@@ -144,7 +144,8 @@ TEST(ExperimentFile, UnknownKeyWithSuggestion) {
   EXPECT_EQ(error_of(path), path +
                                 ":12:1: key 'procedure.stimulus_frame': unknown key 'stimulus_frame' in [procedure] "
                                 "(did you mean 'stimulus_frames'?; allowed: type, alternatives, layout, question, "
-                                "stimulus_frames, stimulus_duration_s, repetitions, counterbalance_sides, responses)");
+                                "stimulus_frames, stimulus_duration_s, repetitions, counterbalance_sides, design, block_order, "
+            "participant_number, responses)");
 }
 
 TEST(ExperimentFile, UnknownTopLevelTable) {

@@ -1,12 +1,17 @@
 // Procedural eyelids and lashes: blink kinematics and occlusion (Ritschel 3.6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <stdexcept>
 
 #include "glare/eyelids.h"
 
 namespace glarelab {
 namespace {
+
+constexpr double kPi = std::numbers::pi;
 
 // Even-odd point-in-polygon test (the contract's rule), written independently of the model.
 bool inside(const AperturePolygon& polygon, double x, double y) {
@@ -88,6 +93,38 @@ TEST(EyeEyelids, ClosedLidsCoverTheLargestPupilAndOpenLidsClearTheCentre) {
   const ApertureLine& upper_closed = closed.lines.front();
   EXPECT_LT(upper_open.y1_mm, upper_open.y0_mm);
   EXPECT_LT(upper_closed.y0_mm, upper_open.y0_mm);
+}
+
+TEST(EyeEyelids, RecordedBlinksReplaceTheScheduleWithTheSameProfile) {
+  const EyeParameters p;
+  EyelidModel lids(p, 3);
+  const double scheduled_s = lids.blink_onset_s(0) + p.blink_closing_duration_s;  // closed by the schedule
+  EXPECT_EQ(lids.blink_closure(scheduled_s), 1.0);
+  // A detected blink 10.0-10.4 s: half-cosine closing over 0.1 s, closed until the offset, half-cosine
+  // opening over 0.2 s from it.
+  lids.set_recorded_blinks({{10.0, 10.4}});
+  EXPECT_EQ(lids.blink_closure(scheduled_s), 0.0) << "the schedule is off";
+  EXPECT_EQ(lids.blink_closure(9.99), 0.0);
+  EXPECT_NEAR(lids.blink_closure(10.05), 0.5, 1e-12);                          // (1 - cos(pi / 2)) / 2
+  EXPECT_NEAR(lids.blink_closure(10.025), 0.5 * (1.0 - std::cos(0.25 * kPi)), 1e-12);
+  EXPECT_EQ(lids.blink_closure(10.2), 1.0);
+  EXPECT_EQ(lids.blink_closure(10.4), 1.0);
+  EXPECT_NEAR(lids.blink_closure(10.5), 0.5, 1e-12);
+  EXPECT_NEAR(lids.blink_closure(10.6), 0.0, 1e-12);
+  // A blink shorter than the closing phase still closes the lids fully before they open.
+  lids.set_recorded_blinks({{10.0, 10.4}, {20.0, 20.02}});
+  EXPECT_EQ(lids.blink_closure(20.1), 1.0);
+  EXPECT_NEAR(lids.blink_closure(20.2), 0.5, 1e-12);
+  // Still open (no offset yet): closed for as long as it lasts.
+  lids.set_recorded_blinks({{10.0, 10.4}, {20.0, INFINITY}});
+  EXPECT_EQ(lids.blink_closure(35.0), 1.0);
+  // A new blink while the last one is still opening: the larger closure, no jump open.
+  lids.set_recorded_blinks({{30.0, 30.1}, {30.15, 30.3}});
+  EXPECT_NEAR(lids.blink_closure(30.16), std::max(1.0 - 0.5 * (1.0 - std::cos(kPi * 0.3)),
+                                                  0.5 * (1.0 - std::cos(kPi * 0.1))), 1e-12);
+  // Bad input names the model.
+  EXPECT_THROW(lids.set_recorded_blinks({{2.0, 1.0}}), std::invalid_argument);
+  EXPECT_THROW(lids.set_recorded_blinks({{2.0, 3.0}, {1.0, 1.5}}), std::invalid_argument);
 }
 
 TEST(EyeEyelids, SquintNarrowsTheOpeningConstantly) {

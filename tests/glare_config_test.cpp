@@ -53,5 +53,58 @@ TEST(GlareConfig, BadValuesNameTheirKeyAndLine) {
   EXPECT_NE(row.find("unknown glare mode 'wobbly'"), std::string::npos) << row;
 }
 
+TEST(GlareConfig, BackendGazeWindowAndTrackerInputsAreReadStrictlyAndRoundTrip) {
+  const Experiment defaults = parse_experiment_text(experiment_with("[glare]\nmode = \"dynamic\"", ""), "g.toml", "/tmp");
+  EXPECT_EQ(defaults.glare.backend, "auto");
+  EXPECT_EQ(defaults.glare.gaze_window_px, 0);
+  EXPECT_EQ(defaults.glare.pupil_source, "tracker");
+  EXPECT_EQ(defaults.glare.blink_source, "model");
+  const Experiment e = parse_experiment_text(
+      experiment_with("[glare]\nbackend = \"gl\"\ngrid_px = 512\ngaze_window_px = 256\npupil_source = \"model\"\n"
+                      "blink_source = \"tracker\"",
+                      ""),
+      "g.toml", "/tmp");
+  EXPECT_EQ(e.glare.backend, "gl");
+  EXPECT_EQ(e.glare.gaze_window_px, 256);
+  EXPECT_EQ(e.glare.pupil_source, "model");
+  EXPECT_EQ(e.glare.blink_source, "tracker");
+  const std::string resolved = resolved_config_toml(e);
+  EXPECT_NE(resolved.find("backend = 'gl'"), std::string::npos) << resolved;
+  const Experiment reread = parse_experiment_text(resolved, "<stored config>", "/");
+  EXPECT_EQ(resolved_config_toml(reread), resolved);
+  EXPECT_EQ(reread.glare.backend, "gl");
+  EXPECT_EQ(reread.glare.gaze_window_px, 256);
+  EXPECT_EQ(reread.glare.pupil_source, "model");
+  EXPECT_EQ(reread.glare.blink_source, "tracker");
+}
+
+TEST(GlareConfig, BadBackendWindowAndSourcesNameTheirKey) {
+  auto message = [](const std::string& glare_table) {
+    try {
+      parse_experiment_text(experiment_with(glare_table, ""), "g.toml", "/tmp");
+    } catch (const ConfigError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  const std::string cuda = message("[glare]\nbackend = \"cuda\"");
+  EXPECT_NE(cuda.find("g.toml:8"), std::string::npos) << cuda;
+  EXPECT_NE(cuda.find("glare.backend"), std::string::npos) << cuda;
+  EXPECT_NE(cuda.find("unknown value 'cuda'"), std::string::npos) << cuda;
+  // The GL FFT takes powers of two up to 4096: refused when read, not in the middle of a session.
+  const std::string grid = message("[glare]\ngrid_px = 300\nbackend = \"gl\"");
+  EXPECT_NE(grid.find("glare.backend"), std::string::npos) << grid;
+  EXPECT_NE(grid.find("grid_px = 300"), std::string::npos) << grid;
+  EXPECT_EQ(message("[glare]\ngrid_px = 300\nbackend = \"cpu\""), "no error");
+  EXPECT_NE(message("[glare]\ngrid_px = 8192\nbackend = \"gl\"").find("glare.backend"), std::string::npos);
+  for (const char* window : {"300", "8", "-256", "16384"}) {
+    const std::string text = message(std::string("[glare]\ngaze_window_px = ") + window);
+    EXPECT_NE(text.find("glare.gaze_window_px"), std::string::npos) << window << ": " << text;
+    EXPECT_NE(text.find("power of two"), std::string::npos) << window << ": " << text;
+  }
+  EXPECT_NE(message("[glare]\npupil_source = \"camera\"").find("glare.pupil_source"), std::string::npos);
+  EXPECT_NE(message("[glare]\nblink_source = \"eeg\"").find("glare.blink_source"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace glarelab

@@ -151,6 +151,34 @@ TEST(GlarePsf, ExtremePupilsAndGridsStayFiniteAndNormalised) {
   }
 }
 
+// Relative error of the first dark ring of a pupil-only PSF against 1.22 lambda / D.
+double airy_ring_relative_error(const Psf& psf, double pupil_mm, double wavelength_nm) {
+  const auto profile = test::radial_profile(psf);
+  std::size_t k = 1;
+  while (k + 1 < profile.size() && !(profile[k] < profile[k - 1] && profile[k] <= profile[k + 1])) ++k;
+  const double expected_deg = 1.22 * wavelength_nm * 1e-6 / pupil_mm * kDegreesPerRadian;
+  return std::abs(test::parabolic_vertex(profile, k) * psf.degrees_per_pixel - expected_deg) / expected_deg;
+}
+
+TEST(GlarePsf, SmallestAndLargestPupilsAtTheSmallestAndLargestGrids) {
+  // 1.5 and 9 mm at N = 256 and 4096 (the largest grid; 1-2 s per PSF on the two shared
+  // cores). N = 256 spans W = 16 D: the pupil covers 16 pixels, the ring lies at 1.22 W / D = 19.5
+  // PSF pixels. N = 4096 spans one W = 96 mm for both: the 1.5 mm pupil covers 64 pixels (ring at
+  // 78 px), the 9 mm one 384 (ring at 13 px).
+  for (const int grid_px : {256, 4096})
+    for (const double pupil_mm : {1.5, 9.0}) {
+      ApertureGeometry geometry;
+      geometry.pupil_diameter_mm = pupil_mm;
+      const double width_mm = grid_px == 256 ? 16.0 * pupil_mm : 96.0;
+      const auto result = compute_monochromatic_psf(geometry, pupil_only_options(grid_px, width_mm, 575.0));
+      const double ring_error = airy_ring_relative_error(result.psf, pupil_mm, 575.0);
+      std::printf("N = %d, pupil %.1f mm: Airy ring relative error %.2e, sum - 1 = %.1e\n", grid_px, pupil_mm, ring_error,
+                  test::channel_sum(result.psf, 0) - 1.0);
+      EXPECT_LT(ring_error, 0.02) << grid_px << " px, " << pupil_mm << " mm";
+      EXPECT_NEAR(test::channel_sum(result.psf, 0), 1.0, 1e-9) << grid_px << " px, " << pupil_mm << " mm";
+    }
+}
+
 TEST(GlarePsf, FloatPathMatchesDoublePath) {
   ApertureGeometry geometry;
   geometry.pupil_diameter_mm = 6.0;

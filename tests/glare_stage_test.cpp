@@ -5,10 +5,19 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
+#include "glare/aperture_raster.h"
 #include "glare/convolution_cpu.h"
+#include "glare/eye_model.h"
+#include "glare/eyelids.h"
+#include "glare/gaze_window_convolution.h"
+#include "glare/psf_cpu.h"
+#include "glare/psf_scale.h"
+#include "glare/spectral_psf.h"
+#include "stimuli/display_model.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {
@@ -16,6 +25,7 @@ namespace {
 
 GlareSpec small_spec() {
   GlareSpec spec;
+  spec.backend = "cpu";
   spec.grid_px = 128;  // PSF 128 px of lambda / 10 mm = 0.0033 deg: 17 display pixels across
   spec.wavelength_samples = 8;
   return spec;
@@ -162,6 +172,216 @@ TEST(GlareStage, CroppedConvolutionEqualsTheWholeFrameConvolution) {
   for (std::size_t i = 0; i < whole.rgba.size(); ++i)
     worst = std::max(worst, static_cast<double>(std::abs(whole.rgba[i] - cropped.rgba[i])));
   EXPECT_LT(worst, 300.0 * 1e-6);
+}
+
+double relative_l2(const ImageRGBA& test, const ImageRGBA& reference) {
+  double difference = 0.0, norm = 0.0;
+  for (std::size_t k = 0; k < reference.rgba.size(); ++k) {
+    if (k % 4 == 3) continue;
+    const double d = static_cast<double>(test.rgba[k]) - reference.rgba[k];
+    difference += d * d;
+    norm += static_cast<double>(reference.rgba[k]) * reference.rgba[k];
+  }
+  return std::sqrt(difference / norm);
+}
+
+// The stage's CPU result as the stage computed it before it went through the compute backend,
+// spelled out here from the CPU functions: the eye's aperture rasterised, the 575 nm PSF (defocus
+// phase), the chromatic blur, the display scale, then the convolution of the crop light can reach.
+ImageRGBA direct_cpu_glare(const GlareSpec& spec, const DisplaySpec& display, std::uint64_t seed, const ImageRGBA& frame,
+                           double time_s) {
+  EyeParameters parameters;
+  parameters.initial_field_luminance_cd_m2 = mean_luminance(frame);
+  parameters.mode = GlareMode::static_eye;
+  parameters.static_time_s = spec.static_time_s;
+  const ApertureGeometry geometry = EyeModel(parameters, seed).geometry_at(time_s);
+  MonochromaticPsfOptions mono;
+  mono.raster.grid_px = spec.grid_px;
+  mono.raster.aperture_width_mm = spec.aperture_width_mm;
+  mono.raster.supersampling = spec.supersampling;
+  mono.wavelength_nm = 575.0;
+  mono.phase = PhaseForm::defocus;
+  const MonochromaticPsfResult reference = compute_monochromatic_psf(
+      rasterise_aperture(geometry, mono.raster), geometry.pupil_diameter_mm, geometry.defocus_dioptres, mono);
+  SpectralPsfOptions spectral;
+  spectral.wavelength_samples = spec.wavelength_samples;
+  spectral.reference_wavelength_nm = 575.0;
+  const Psf psf = resample_psf_to_display(spectral_psf_from_reference(reference.psf, spectral).psf,
+                                          DisplayModel(display).degrees_per_pixel_at_centre());
+  // The lamp frame's non-black box (44..51, 28..35) grown by the PSF's reach, inside the frame.
+  const int reach = psf.size_px / 2;
+  const int x0 = std::max(0, 44 - reach), y0 = std::max(0, 28 - reach);
+  const int x1 = std::min(frame.width_px - 1, 51 + reach), y1 = std::min(frame.height_px - 1, 35 + reach);
+  ImageRGBA crop(x1 - x0 + 1, y1 - y0 + 1);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) std::copy_n(frame.pixel(x, y), 4, crop.pixel(x - x0, y - y0));
+  const ImageRGBA glared = convolve_image_cpu(crop, psf, ConvolutionOptions{});
+  ImageRGBA out = frame;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) std::copy_n(glared.pixel(x - x0, y - y0), 4, out.pixel(x, y));
+  return out;
+}
+
+TEST(GlareStage, CpuBackendGivesTheDirectCpuComputationBitForBit) {
+  const GlareSpec spec = small_spec();
+  GlareStage stage(spec, small_display(), 4);
+  EXPECT_NE(stage.backend_reason().find("cpu float64"), std::string::npos) << stage.backend_reason();
+  const ImageRGBA frame = lamp_frame(0.0f, 300.0f);
+  GlareFrameReport report;
+  const ImageRGBA out = stage.apply(frame, GlareMode::static_eye, 0.0, &report);
+  ASSERT_TRUE(report.convolved);
+  EXPECT_EQ(out.rgba, direct_cpu_glare(spec, small_display(), 4, frame, 0.0).rgba);
+}
+
+TEST(GlareStage, GlBackendAgreesWithTheCpuBackendOnASessionFrame) {
+  // Small grid and frame: the GL path runs on llvmpipe here.
+  GlareSpec spec = small_spec();
+  GlareStage cpu(spec, small_display(), 21);
+  spec.backend = "gl";
+  GlareStage gl(spec, small_display(), 21);
+  EXPECT_NE(gl.backend_reason().find("glare backend gl"), std::string::npos) << gl.backend_reason();
+  ImageRGBA frame = lamp_frame(0.5f, 2000.0f);
+  frame.pixel(10, 10)[0] = 50.0f;
+  for (const GlareMode mode : {GlareMode::static_eye, GlareMode::dynamic}) {
+    GlareFrameReport cpu_report, gl_report;
+    const ImageRGBA a = cpu.apply(frame, mode, 0.75, &cpu_report);
+    const ImageRGBA b = gl.apply(frame, mode, 0.75, &gl_report);
+    ASSERT_TRUE(cpu_report.convolved && gl_report.convolved);
+    const double error = relative_l2(b, a);
+    std::printf("session frame, %s eye, GL vs CPU double: relative L2 %.3g\n", to_string(mode).c_str(), error);
+    EXPECT_LT(error, 1e-3);
+    EXPECT_GT(relative_l2(a, frame), 1e-3) << "and both are glare, not the frame";
+  }
+}
+
+TEST(GlareStage, GazeWindowEqualsTheGazeWindowConvolutionAndCentresWithoutGaze) {
+  GlareSpec spec = small_spec();
+  spec.gaze_window_px = 32;
+  GlareStage stage(spec, small_display(), 4);
+  const ImageRGBA frame = lamp_frame(0.2f, 300.0f);
+  const std::optional<Psf> psf = stage.display_psf(GlareMode::static_eye, 0.0, mean_luminance(frame));
+  ASSERT_TRUE(psf.has_value());
+  GazeWindowOptions options;
+  options.window_px = 32;
+  GlareFrameReport report;
+  const ImageRGBA windowed = stage.apply(frame, GlareMode::static_eye, 0.0, &report, GazePoint{0.45, 0.4});
+  ASSERT_TRUE(report.window.has_value());
+  EXPECT_EQ(report.window->width_px, 32);
+  EXPECT_EQ(report.window->x0_px, static_cast<int>(std::lround(0.45 * 96 - 16)));
+  EXPECT_EQ(report.window->y0_px, static_cast<int>(std::lround(0.4 * 64 - 16)));
+  const ImageRGBA reference = convolve_image_gaze_window_cpu(frame, *psf, 0.45, 0.4, options);
+  EXPECT_LT(relative_l2(windowed, reference), 1e-7);
+  // Outside the window the frame is untouched.
+  EXPECT_EQ(windowed.pixel(2, 2)[1], frame.pixel(2, 2)[1]);
+  // No gaze: the window sits on the display centre.
+  const ImageRGBA centred = stage.apply(frame, GlareMode::static_eye, 0.0, &report);
+  EXPECT_EQ(report.window->x0_px, 48 - 16);
+  EXPECT_EQ(report.window->y0_px, 32 - 16);
+  EXPECT_LT(relative_l2(centred, convolve_image_gaze_window_cpu(frame, *psf, 0.5, 0.5, options)), 1e-7);
+}
+
+TEST(GlareStage, GazeWindowInADemoSizedSessionFrameIsExactInsideAndCheaper) {
+  // The demo's frame: 1024 x 512, two 256 px dim rooms (0.5 cd/m2) each with a 100 cd/m2 lamp, on
+  // black; grid 256 over 10 mm (a 35 px PSF). Window 256 px around a gaze on the left lamp.
+  DisplaySpec display;
+  display.width_px = 1024;
+  display.height_px = 512;
+  ImageRGBA frame(1024, 512, 0.0f);
+  for (const int left : {128, 640})
+    for (int y = 128; y < 384; ++y)
+      for (int x = left; x < left + 256; ++x) {
+        const bool lamp = std::abs(x - (left + 128)) < 6 && std::abs(y - 200) < 6;
+        for (int c = 0; c < 3; ++c) frame.pixel(x, y)[c] = lamp ? 100.0f : 0.5f;
+      }
+  GlareSpec spec;
+  spec.backend = "cpu";
+  spec.wavelength_samples = 16;
+  GlareStage full(spec, display, 2);
+  spec.gaze_window_px = 256;
+  GlareStage windowed(spec, display, 2);
+  const GazePoint gaze{256.0 / 1024.0, 200.0 / 512.0};
+  full.apply(frame, GlareMode::static_eye, 0.0);  // PSFs computed and cached: only convolutions timed
+  windowed.apply(frame, GlareMode::static_eye, 0.0, nullptr, gaze);
+  const auto time_ms = [](auto&& run) {
+    const auto start = std::chrono::steady_clock::now();
+    run();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  ImageRGBA reference, window_frame;
+  GlareFrameReport report;
+  const double full_ms = time_ms([&] { reference = full.apply(frame, GlareMode::static_eye, 0.0); });
+  const double window_ms = time_ms([&] { window_frame = windowed.apply(frame, GlareMode::static_eye, 0.0, &report, gaze); });
+  ASSERT_TRUE(report.window.has_value());
+  // Inside the window before blending the result is the full-frame convolution: with the blend
+  // weight w, window - frame = w (full - frame) at every window pixel.
+  double worst_inside = 0.0, outside_error = 0.0, outside_norm = 0.0;
+  for (int y = 0; y < 512; ++y)
+    for (int x = 0; x < 1024; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double original = frame.pixel(x, y)[c], full_value = reference.pixel(x, y)[c];
+        const double value = window_frame.pixel(x, y)[c];
+        if (report.window->contains(x, y)) {
+          const double w = gaze_blend_weight(*report.window, x, y);
+          worst_inside = std::max(worst_inside, std::abs(value - (original + w * (full_value - original))) /
+                                                    std::max(full_value, 1e-3));
+        }
+        outside_error += (value - full_value) * (value - full_value);
+        outside_norm += full_value * full_value;
+      }
+  std::printf("gaze window 256 in a 1024 x 512 demo frame: %.1f ms against %.1f ms full frame; relative error in the "
+              "window %.2g, whole-frame relative L2 against full-frame glare %.3g\n",
+              window_ms, full_ms, worst_inside, std::sqrt(outside_error / outside_norm));
+  EXPECT_LT(worst_inside, 1e-5);
+}
+
+TEST(GlareStage, MeasuredPupilReplacesTheModelPupilOfTheDynamicEye) {
+  const ImageRGBA frame = lamp_frame(0.5f, 200.0f);
+  GlareStage model(small_spec(), small_display(), 8);
+  GlareStage measured(small_spec(), small_display(), 8);
+  measured.record_measured_pupil(0.0, 6.5);
+  measured.record_measured_pupil(1.0, 12.0);  // beyond the model's range: held at its 9 mm
+  GlareFrameReport a, b, late;
+  const ImageRGBA model_frame = model.apply(frame, GlareMode::dynamic, 0.5, &a);
+  const ImageRGBA measured_frame = measured.apply(frame, GlareMode::dynamic, 0.5, &b);
+  EXPECT_LT(a.pupil_diameter_mm, 5.0);  // Eq. 2 at about 3 cd/m2: 3.4 mm
+  EXPECT_EQ(b.pupil_diameter_mm, 6.5);
+  EXPECT_GT(relative_l2(measured_frame, model_frame), 1e-3);
+  measured.apply(frame, GlareMode::dynamic, 1.5, &late);
+  EXPECT_EQ(late.pupil_diameter_mm, 9.0);
+  // A static eye stays frozen whatever is measured.
+  GlareFrameReport frozen;
+  measured.apply(frame, GlareMode::static_eye, 0.5, &frozen);
+  model.apply(frame, GlareMode::static_eye, 0.5, &a);
+  EXPECT_EQ(frozen.pupil_diameter_mm, a.pupil_diameter_mm);
+}
+
+TEST(GlareStage, DetectedBlinksDriveTheLidsInsteadOfTheSchedule) {
+  // The schedule's first blink for seed 6, and a detected blink at another time.
+  const EyelidModel lids(EyeParameters{}, 6);
+  const EyeParameters eye;
+  const double scheduled_s = lids.blink_onset_s(1) + eye.blink_closing_duration_s + 0.5 * eye.blink_closed_duration_s;
+  const double detected_onset_s = lids.blink_onset_s(1) + 1.0;
+  const ImageRGBA frame = lamp_frame(0.5f, 200.0f);
+  GlareStage own(small_spec(), small_display(), 6);
+  GlareFrameReport report;
+  own.apply(frame, GlareMode::dynamic, scheduled_s - 0.5, &report);
+  own.apply(frame, GlareMode::dynamic, scheduled_s, &report);
+  EXPECT_TRUE(report.eye_closed) << "the model's own blink closes the eye";
+  GlareStage driven(small_spec(), small_display(), 6);
+  driven.set_detected_blinks({{detected_onset_s, detected_onset_s + 0.15}});
+  driven.apply(frame, GlareMode::dynamic, scheduled_s - 0.5, &report);
+  driven.apply(frame, GlareMode::dynamic, scheduled_s, &report);
+  EXPECT_FALSE(report.eye_closed) << "the schedule no longer blinks";
+  // Closing 100 ms from the detected onset, closed until the offset, then 200 ms opening.
+  driven.apply(frame, GlareMode::dynamic, detected_onset_s + 0.12, &report);
+  EXPECT_TRUE(report.eye_closed);
+  EXPECT_TRUE(report.convolved) << "a dynamic eye holds the PSF of its last open frame";
+  driven.apply(frame, GlareMode::dynamic, detected_onset_s + 0.15 + 0.25, &report);
+  EXPECT_FALSE(report.eye_closed);
+  // A blink still open (no offset yet) keeps the lids closed.
+  driven.set_detected_blinks({{detected_onset_s, detected_onset_s + 0.15}, {detected_onset_s + 2.0, INFINITY}});
+  driven.apply(frame, GlareMode::dynamic, detected_onset_s + 3.5, &report);
+  EXPECT_TRUE(report.eye_closed);
 }
 
 TEST(GlareStage, VisibilityBoundFormula) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "protocols/experiment.h"
 #include "protocols/observer.h"
 #include "scratch_dir.h"
 
@@ -129,6 +130,88 @@ TEST(ScriptObserver, RunningOutAndMissingFile) {
   } catch (const ConfigError& error) {
     EXPECT_EQ(std::string(error.what()), missing + ": response script: file not found");
   }
+}
+
+// A comparison of two conditions without a right answer (equal luminance, or a preference
+// question): the stated preference sets the choice frequency.
+TrialPlan comparison(int index, const std::string& left_condition, const std::string& right_condition) {
+  TrialPlan plan = plan_with(index, 100.0, 100.0);
+  plan.position_conditions = {left_condition, right_condition};
+  return plan;
+}
+
+TEST(SimulatedObserver, PreferencesSetTheChoiceFrequencyOfEachPair) {
+  SimulatedObserverSpec spec;
+  spec.preferences = {{"dynamic", "static", 0.75, {}}, {"static", "control", 0.3, {}}};
+  const auto observer = make_simulated_observer(spec, 2009);
+  constexpr int kTrials = 4000;
+  // Binomial tolerance: 4 standard deviations of the frequency, sqrt(p (1 - p) / n).
+  const auto tolerance = [](double p) { return 4.0 * std::sqrt(p * (1.0 - p) / kTrials); };
+  struct Case {
+    std::string left, right;
+    double p_left;  // probability of choosing the left side
+  };
+  const std::vector<Case> cases = {{"dynamic", "static", 0.75},  // as written
+                                   {"static", "dynamic", 0.25},  // swapped sides: 1 - p for the left
+                                   {"static", "control", 0.3},
+                                   {"control", "static", 0.7},
+                                   {"dynamic", "control", 0.5}};  // no preference: either side
+  for (const Case& c : cases) {
+    int lefts = 0;
+    for (int i = 0; i < kTrials; ++i) lefts += observer->respond(comparison(i, c.left, c.right)).value == "left";
+    EXPECT_NEAR(static_cast<double>(lefts) / kTrials, c.p_left, tolerance(c.p_left)) << c.left << " vs " << c.right;
+  }
+  // A trial with a right answer is answered by the psychometric function, not the preference:
+  // a 1 log10 unit difference is seen but for lapses (2 %), whatever the preference says.
+  int correct = 0;
+  for (int i = 0; i < kTrials; ++i) {
+    TrialPlan plan = comparison(i, "dynamic", "static");
+    plan.source_luminance_cd_m2 = {10.0, 100.0};
+    plan.correct_response = "right";
+    correct += observer->respond(plan).value == "right";
+  }
+  EXPECT_NEAR(static_cast<double>(correct) / kTrials, 1.0 - spec.lapse, tolerance(1.0 - spec.lapse));
+}
+
+TEST(SimulatedObserver, PreferencesInTheExperimentFile) {
+  const std::string base = R"(
+[experiment]
+name = "prefs"
+[scenes]
+s = { file = "/s.exr" }
+[procedure]
+type = "forced_choice"
+[[conditions.rows]]
+scene_a = "s"
+scene_b = "s"
+condition_a = "dynamic"
+condition_b = "static"
+[observer.simulated.preferences]
+)";
+  const Experiment e = parse_experiment_text(base + "\"dynamic>static\" = 0.8\n", "p.toml", "/");
+  ASSERT_EQ(e.simulated_observer.preferences.size(), 1u);
+  EXPECT_EQ(e.simulated_observer.preferences[0].preferred, "dynamic");
+  EXPECT_EQ(e.simulated_observer.preferences[0].other, "static");
+  EXPECT_EQ(e.simulated_observer.preferences[0].probability, 0.8);
+  const std::string resolved = resolved_config_toml(e);
+  EXPECT_EQ(resolved_config_toml(parse_experiment_text(resolved, "<r>", "/")), resolved);
+  EXPECT_NE(resolved.find("[observer.simulated.preferences]"), std::string::npos) << resolved;
+  auto error = [&](const std::string& entries) -> std::string {
+    try {
+      parse_experiment_text(base + entries, "p.toml", "/");
+    } catch (const ConfigError& failure) {
+      return failure.what();
+    }
+    return "no error";
+  };
+  EXPECT_NE(error("\"dynamic>static\" = 1.5\n").find("p.toml:14:"), std::string::npos);
+  EXPECT_NE(error("\"dynamic>static\" = 1.5\n").find("probability in [0, 1]"), std::string::npos);
+  EXPECT_NE(error("\"dynamic\" = 0.5\n").find("\"PREFERRED>OTHER\""), std::string::npos);
+  EXPECT_NE(error("\"dynamic>dynamic\" = 0.5\n").find("preferred to itself"), std::string::npos);
+  EXPECT_NE(error("\"dynamic>statc\" = 0.5\n").find("no condition row shows 'statc'"), std::string::npos);
+  EXPECT_NE(error("\"dynamic>static\" = 0.5\n\"static>dynamic\" = 0.5\n").find("already has a preference"),
+            std::string::npos);
+  EXPECT_NE(error("\"dynamic>static\" = \"high\"\n").find("expected"), std::string::npos);
 }
 
 }  // namespace

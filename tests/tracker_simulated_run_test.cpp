@@ -4,6 +4,11 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
 #include "cli_process.h"
 #include "runner/store/result_store.h"
 #include "runner/tracker/replay_tracker.h"
@@ -49,6 +54,78 @@ TEST(TrackerSimulatedRun, LogsEverySampleOfTheSessionAndTheCalibration) {
   // Polled at each flip: the black screen (flips 0..29, t <= 29/60 s) sees samples k = 0..58 of
   // both eyes (118), the white one (flips 30..59) k = 59..118 (120); no blink falls in them.
   EXPECT_NE(messages[0].find("(120 and 118 accepted samples)"), std::string::npos) << messages[0];
+}
+
+std::vector<std::string> event_messages(const std::string& db, const std::string& kind) {
+  const ResultStore store(db);
+  sqlite3_stmt* statement = nullptr;
+  std::vector<std::string> messages;
+  if (sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = ?1 ORDER BY id", -1, &statement,
+                         nullptr) != SQLITE_OK)
+    return messages;
+  sqlite3_bind_text(statement, 1, kind.c_str(), -1, SQLITE_TRANSIENT);
+  while (sqlite3_step(statement) == SQLITE_ROW)
+    messages.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)));
+  sqlite3_finalize(statement);
+  return messages;
+}
+
+// Every row dynamic, a 64 px gaze window, blinks from the tracker: the session logs its glare
+// backend and inputs once and the window of every trial, centred on the tracker's gaze once the
+// tracker has delivered one (the first trial is prepared before any flip, so before any sample).
+TEST(TrackerSimulatedRun, GazeWindowFollowsTheTrackerAndIsLoggedPerTrial) {
+  test::ScratchDir dir;
+  test::write_demo_conditions_without_glare(dir.path() / "conditions.csv");
+  const auto experiment = test::demo_variant(
+      dir.path(), {{"file", "file = \"" + (dir.path() / "conditions.csv").string() + "\""},
+                   {"width_px", "width_px = 512"},
+                   {"height_px", "height_px = 256"},
+                   {"stimulus_frames", "stimulus_frames = 2"},
+                   {"mode", "mode = \"dynamic\""},
+                   {"wavelength_samples", "wavelength_samples = 8\nbackend = \"cpu\"\ngaze_window_px = 64\nblink_source = \"tracker\""}});
+  const std::string tracked_db = (dir.path() / "tracked.db").string();
+  const auto tracked = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
+                                           "--db", tracked_db, "--seed", "5", "--tracker", "simulated", "--stop-after", "2"},
+                                          dir.path());
+  ASSERT_EQ(tracked.exit_code, 0) << tracked.output;
+  const auto backend = event_messages(tracked_db, "glare_backend");
+  ASSERT_EQ(backend.size(), 1u);
+  EXPECT_NE(backend[0].find("glare backend cpu float64: asked for by name"), std::string::npos) << backend[0];
+  const auto inputs = event_messages(tracked_db, "glare_inputs");
+  ASSERT_EQ(inputs.size(), 1u);
+  EXPECT_NE(inputs[0].find("pupil: the tracker's filtered pupil"), std::string::npos) << inputs[0];
+  EXPECT_NE(inputs[0].find("blinks: detected by the tracker"), std::string::npos) << inputs[0];
+  EXPECT_NE(inputs[0].find("gaze window 64 px around the tracker's latest gaze"), std::string::npos) << inputs[0];
+  const auto windows = event_messages(tracked_db, "glare_window");
+  ASSERT_EQ(windows.size(), 2u);
+  EXPECT_NE(windows[0].find("trial 0 (dynamic): gaze window 64x64 px at (224, 96), centred on the display centre (no gaze)"),
+            std::string::npos)
+      << windows[0];
+  // Trial 1 is prepared after trial 0's two flips (t = 0, 1/60 s): the latest sample is k = 2 at
+  // 1/60 s; its gaze is the simulated tracker's first fixation.
+  const TrackerSample sample = SimulatedTracker(5).sample(2, 1);
+  ASSERT_TRUE(sample.valid);
+  const int x0 = std::clamp(static_cast<int>(std::lround(sample.gaze_x * 512 - 32)), 0, 512 - 64);
+  const int y0 = std::clamp(static_cast<int>(std::lround(sample.gaze_y * 256 - 32)), 0, 256 - 64);
+  EXPECT_NE(windows[1].find("trial 1 (dynamic): gaze window 64x64 px at (" + std::to_string(x0) + ", " +
+                            std::to_string(y0) + "), centred on gaze (" + std::to_string(sample.gaze_x) + ", " +
+                            std::to_string(sample.gaze_y) + ") from the tracker"),
+            std::string::npos)
+      << windows[1];
+
+  // Without a tracker: the display centre, said once for the session and in each trial's line.
+  const std::string plain_db = (dir.path() / "plain.db").string();
+  const auto plain = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
+                                         "--db", plain_db, "--seed", "5", "--stop-after", "1"},
+                                        dir.path());
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  const auto plain_inputs = event_messages(plain_db, "glare_inputs");
+  ASSERT_EQ(plain_inputs.size(), 1u);
+  EXPECT_NE(plain_inputs[0].find("the display centre: no tracker, no gaze"), std::string::npos) << plain_inputs[0];
+  EXPECT_NE(plain_inputs[0].find("(no tracker: the model's)"), std::string::npos) << plain_inputs[0];
+  const auto plain_windows = event_messages(plain_db, "glare_window");
+  ASSERT_EQ(plain_windows.size(), 1u);
+  EXPECT_NE(plain_windows[0].find("the display centre (no gaze)"), std::string::npos) << plain_windows[0];
 }
 
 }  // namespace

@@ -12,6 +12,10 @@ namespace glarelab::gl {
 namespace {
 
 constexpr GLuint kMultiplyGroup = 256;
+// At most this many groups per dispatch (262 144 invocations): OpenGL guarantees only 65535 per
+// dimension and three 4096 x 4096 layers need 196 608; complex_multiply.comp strides over the rest
+// (from a 512 x 256 padded frame on, so the convolution tests run the loop).
+constexpr GLuint kMaxMultiplyGroups = 1024;
 constexpr GLuint kTile = 8;
 
 void validate(const ImageRGBA& image, const Psf& psf) {
@@ -143,7 +147,7 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   glUniform1ui(glGetUniformLocation(multiply, "uKernelLayers"), static_cast<GLuint>(psf.channels));
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ffts_->kernel.data());
-  glDispatchCompute((static_cast<GLuint>(3 * layer) + kMultiplyGroup - 1) / kMultiplyGroup, 1, 1);
+  glDispatchCompute(std::min((static_cast<GLuint>(3 * layer) + kMultiplyGroup - 1) / kMultiplyGroup, kMaxMultiplyGroups), 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   ffts_->image.transform(FftDirection::inverse);
 

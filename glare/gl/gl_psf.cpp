@@ -1,10 +1,12 @@
 #include "glare/gl/gl_psf.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "glare/cie_cmf.h"
 #include "runner/gl/shader_program.h"
@@ -15,6 +17,10 @@ namespace {
 constexpr GLuint kTile = 8;          // local size of the 2D PSF shaders
 constexpr GLuint kReduceSpan = 512;  // values per workgroup in sum_reduce.comp
 constexpr GLuint kNormaliseGroup = 256;
+// At most this many groups per dispatch (524 288 invocations, plenty to fill a GPU): OpenGL
+// guarantees only 65535 per dimension, and a 4096^2 channel would need 65536; psf_normalise.comp
+// strides over the rest (from N = 1024 on, so the tests at 1024 and 4096 run the loop).
+constexpr GLuint kMaxNormaliseGroups = 2048;
 
 GLuint tiles(int extent) { return (static_cast<GLuint>(extent) + kTile - 1) / kTile; }
 
@@ -53,7 +59,7 @@ GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
 
 double GlPsf::degrees_per_pixel(double wavelength_nm) const {
   // Fraunhofer: one PSF pixel is one frequency step 1 / (N dx) of the aperture grid, an angle of
-  // lambda / (N dx) radians (Goodman 2005, section 4.3; issue 3 "Physical scale").
+  // lambda / (N dx) radians (Goodman 2005, section 4.3).
   const double wavelength_mm = wavelength_nm * 1e-6;
   return wavelength_mm / (size_px_ * aperture_.pixel_size_mm()) * 180.0 / std::numbers::pi;
 }
@@ -78,12 +84,21 @@ void GlPsf::normalise(GLuint values, int channels) {
     to_a = !to_a;
     count = groups;
   }
+  // A closed eye (lids over the whole pupil) sums to 0 and would normalise to NaN: refused by type,
+  // as on the CPU (glare/psf.h). One float per channel comes back; the PSF is read back anyway.
+  std::vector<float> sums(static_cast<std::size_t>(channels));
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glGetNamedBufferSubData(source, 0, static_cast<GLsizeiptr>(sums.size() * sizeof(float)), sums.data());
+  for (const float sum : sums)
+    if (!(sum > 0.0f))
+      throw ClosedApertureError("GL PSF: the aperture transmits no light (pupil outside the grid or fully blocked)");
   const GLuint normalise_program = normalise_program_.get();
   glUseProgram(normalise_program);
   glUniform1ui(glGetUniformLocation(normalise_program, "uCount"), per_channel);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, values);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, source);
-  glDispatchCompute((per_channel + kNormaliseGroup - 1) / kNormaliseGroup, static_cast<GLuint>(channels), 1);
+  glDispatchCompute(std::min((per_channel + kNormaliseGroup - 1) / kNormaliseGroup, kMaxNormaliseGroups),
+                    static_cast<GLuint>(channels), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 

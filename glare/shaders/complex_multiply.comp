@@ -10,9 +10,13 @@ uniform uint uImageLayers;
 uniform uint uKernelLayers;  // 1 or uImageLayers
 
 void main() {
-  const uint index = gl_GlobalInvocationID.x;
-  if (index >= uLayerSize * uImageLayers) return;
-  const vec2 a = image[index];
-  const vec2 b = kernel[uKernelLayers == 1u ? index % uLayerSize : index];
-  image[index] = vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x);
+  // Grid-stride: the host dispatches at most kMaxMultiplyGroups (gl_convolution.cpp; OpenGL
+  // guarantees 65535 groups per dimension, three 4096 x 4096 layers would need 196608).
+  const uint total = uLayerSize * uImageLayers;
+  const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+  for (uint index = gl_GlobalInvocationID.x; index < total; index += stride) {
+    const vec2 a = image[index];
+    const vec2 b = kernel[uKernelLayers == 1u ? index % uLayerSize : index];
+    image[index] = vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x);
+  }
 }

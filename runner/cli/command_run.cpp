@@ -12,6 +12,7 @@ Action add_run_command(CLI::App& app) {
   auto seed = std::make_shared<std::uint64_t>(0);
   auto resume = std::make_shared<std::int64_t>(0);
   auto stop_after = std::make_shared<int>(0);
+  auto participant_number = std::make_shared<int>(1);
   CLI::App* run = app.add_subcommand("run", "Run (or resume) an experiment session");
   run->add_option("experiment", options->experiment_path, "Experiment file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("--participant", options->participant, "Participant code stored with the session")
@@ -22,6 +23,11 @@ Action add_run_command(CLI::App& app) {
       ->capture_default_str();
   run->add_option("--observer", options->observer, "Who answers: keyboard, simulated or script:FILE")
       ->capture_default_str();
+  auto* participant_number_option =
+      run->add_option("--participant-number", *participant_number,
+                      "Participant number N >= 1: picks the block order (default: 1 + the sessions of this "
+                      "experiment already in the database)")
+          ->check(CLI::PositiveNumber);
   auto* seed_option = run->add_option("--seed", *seed, "Seed for every random choice (overrides the file's)");
   auto* resume_option =
       run->add_option("--resume", *resume, "Finish the remaining trials of this session (same seed and order)");
@@ -55,6 +61,7 @@ Action add_run_command(CLI::App& app) {
   // --- end response device ---
   return [=]() {
     if (seed_option->count() > 0) options->seed = *seed;
+    if (participant_number_option->count() > 0) options->participant_number = *participant_number;
     if (resume_option->count() > 0) options->resume_session_id = *resume;
     if (stop_option->count() > 0) options->stop_after_trials = *stop_after;
     return report_errors([&]() {

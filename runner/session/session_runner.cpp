@@ -25,6 +25,7 @@
 #include "runner/session/presentation_overlays.h"
 #include "runner/session/refresh_rate_check.h"
 #include "runner/session/response_device_input.h"
+#include "runner/session/participant_number.h"
 #include "runner/session/slow_flip_clock.h"
 #include "runner/session/trial_schedule.h"
 #include "runner/software_version.h"
@@ -124,6 +125,7 @@ class SessionLoop {
         overlays_(renderer_, prepared.experiment),
         // Ratings and adjustment never read `layout`: it keeps its default there.
         sequential_(prepared.experiment.forced_choice.layout == "sequential") {
+    log_glare_setup();
     for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
   }
 
@@ -550,14 +552,30 @@ class SessionLoop {
   // --- glare (stimuli/glare_stage.h) ---
   // The trial's stimulus frames after glare, all prepared before onset: glare on the CPU takes
   // longer than a refresh period (llvmpipe and FFTW), so a window run could not compute it between
-  // flips (issue 4). Frame k is computed for the time it is planned to flip, first_flip + k periods.
+  // flips. Frame k is computed for the time it is planned to flip, first_flip + k periods.
   // Control: empty (the composed frame is shown untouched). Static: one frame serves all.
   // Skip decisions are logged once per trial as 'glare_skipped' events.
+  // Tracker inputs (when a tracker runs) are those known at preparation, for all the trial's
+  // frames: the filtered pupil, the detected blinks (blink_source "tracker") and the latest gaze.
   // `flips_before`: timed flips between now and the first of these frames (fixation, interval 1).
   std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
                                        int flips_before = 0) {
     const GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
     if (mode == GlareMode::control) return {};
+    const GlareSpec& spec = prepared_.experiment.glare;
+    std::optional<GazePoint> gaze;
+    std::optional<TrackerGaze> tracked;
+    if (tracker_.active()) {
+      const std::optional<double> pupil_mm = tracker_.measured_pupil_mm();
+      if (spec.pupil_source == "tracker" && pupil_mm) glare_.record_measured_pupil(clock_.now_s(), *pupil_mm);
+      if (spec.blink_source == "tracker") {
+        std::vector<DetectedBlink> blinks;
+        for (const TrackerBlinkInterval& blink : tracker_.detected_blinks()) blinks.push_back({blink.onset_s, blink.offset_s});
+        glare_.set_detected_blinks(blinks);
+      }
+      tracked = tracker_.latest_gaze();
+      if (tracked) gaze = GazePoint{tracked->x, tracked->y};
+    }
     renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
     const ImageRGBA composed = renderer_.read_stimulus();
     const double first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
@@ -566,9 +584,11 @@ class SessionLoop {
     int skipped = 0, gratings_hidden = 0, closed = 0;
     std::string skip_reason;
     double smallest_pupil_mm = 1e9;
+    std::optional<GazeWindow> window;
     for (int k = 0; k < count; ++k) {
       GlareFrameReport report;
-      frames.push_back(glare_.apply(composed, mode, first_flip_s + k * period_s_, &report));
+      frames.push_back(glare_.apply(composed, mode, first_flip_s + k * period_s_, &report, gaze));
+      if (report.window && !window) window = report.window;
       if (!report.skip_reason.empty()) {
         ++skipped;
         if (skip_reason.empty()) skip_reason = report.skip_reason;
@@ -592,7 +612,46 @@ class SessionLoop {
                            ": pupil (smallest " + std::to_string(smallest_pupil_mm) +
                            " mm) inside the clear lens centre (cortex annulus from " +
                            std::to_string(2.0 * EyeParameters{}.lens_cortex_inner_radius_mm) + " mm diameter)");
+    if (window)
+      store_.log_event(session_id_, clock_.now_s(), "glare_window",
+                       trial + describe_glare_window(*window, tracked));
+    display_.make_current();  // a GL glare backend works in a context of its own
     return frames;
+  }
+
+  // Once per session: the glare backend (what and why) and where the eye's inputs come from.
+  void log_glare_setup() {
+    const GlareSpec& spec = prepared_.experiment.glare;
+    bool any_glare = false;
+    for (const ConditionRow& row : prepared_.experiment.conditions)
+      any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control;
+    if (!any_glare) {
+      store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
+      return;
+    }
+    store_.log_event(session_id_, clock_.now_s(), "glare_backend", glare_.backend_reason());
+    display_.make_current();  // making a GL backend (or asking GL for auto) changed the current context
+    const bool tracked = tracker_.active();
+    std::string inputs = std::string("pupil: ") +
+                         (tracked && spec.pupil_source == "tracker" ? "the tracker's filtered pupil (model's until its first sample)"
+                                                                    : "the eye model's (Eq. 1-2)") +
+                         "; blinks: " +
+                         (tracked && spec.blink_source == "tracker" ? "detected by the tracker" : "the eye model's schedule");
+    if (!tracked && (spec.blink_source == "tracker" || spec.pupil_source == "tracker"))
+      inputs += " (no tracker: the model's)";
+    if (spec.gaze_window_px > 0)
+      inputs += "; gaze window " + std::to_string(spec.gaze_window_px) + " px around " +
+                (tracked ? std::string("the tracker's latest gaze") : "the display centre: no tracker, no gaze");
+    store_.log_event(session_id_, clock_.now_s(), "glare_inputs", inputs);
+  }
+
+  static std::string describe_glare_window(const GazeWindow& window, const std::optional<TrackerGaze>& tracked) {
+    std::string text = "gaze window " + std::to_string(window.width_px) + "x" + std::to_string(window.height_px) +
+                       " px at (" + std::to_string(window.x0_px) + ", " + std::to_string(window.y0_px) + "), centred on ";
+    if (tracked)
+      return text + "gaze (" + std::to_string(tracked->x) + ", " + std::to_string(tracked->y) + ") from the tracker at " +
+             std::to_string(tracked->session_time_s) + " s";
+    return text + "the display centre (no gaze)";
   }
 
   const ConditionRow& condition_row(const TrialPlan& plan) const {
@@ -723,6 +782,7 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   std::optional<SessionRecord> resumed;
   std::vector<TrialRecord> done_trials;
   Experiment experiment;
+  std::optional<ParticipantNumber> participant;  // of a new session
   if (options.resume_session_id) {
     Experiment from_file = load_experiment(options.experiment_path);
     result.db_path = options.db_path.empty() ? default_db_path(from_file) : options.db_path;
@@ -737,6 +797,14 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
                        " is already completed");
     // The stored, fully resolved configuration is the design being finished: same seed, same order.
     experiment = parse_experiment_text(resumed->config, "<session " + std::to_string(resumed->id) + " config>", "/");
+    // The block order is the stored one; the file does not carry a session's participant number.
+    if (options.participant_number && !experiment.design.blocks.empty() &&
+        *options.participant_number != participant_number_of(experiment.design))
+      throw ConfigError({"--participant-number", 0, 0}, "participant-number",
+                        "session " + std::to_string(resumed->id) + " runs the block order of participant number " +
+                            std::to_string(participant_number_of(experiment.design)) + ", not " +
+                            std::to_string(*options.participant_number));
+    from_file.design.participant_number = experiment.design.participant_number;
     if (resolved_config_toml(from_file) != resumed->config) {
       progress << "note: " << options.experiment_path
                << " differs from the configuration stored with the session; resuming with the stored one\n";
@@ -750,6 +818,9 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     experiment = load_experiment(options.experiment_path);
     if (options.seed) experiment.seed = *options.seed;
     result.db_path = options.db_path.empty() ? default_db_path(experiment) : options.db_path;
+    participant = choose_participant_number(options.participant_number, experiment.design.participant_number,
+                                            result.db_path, experiment.name);
+    experiment.design.participant_number = participant->value;
   }
   PreparedSession prepared = prepare(std::move(experiment), options);
   result.trials_in_design = prepared.procedure->planned_trials();
@@ -833,6 +904,8 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     for (const std::string& presentation_rounding :
          describe_presentation_roundings(prepared.experiment.presentation, prepared.experiment.display.refresh_hz))
       store->log_event(result.session_id, 0.0, "duration_rounding", presentation_rounding);
+    store->log_event(result.session_id, 0.0, "participant_number",
+                     std::to_string(participant->value) + " (" + participant->source + ")");
     for (const auto& [name, scene] : prepared.scenes->scenes()) {
       if (scene.peak_cd_m2 > prepared.experiment.display.peak_luminance_cd_m2) {
         store->log_event(result.session_id, 0.0, "clipping",

@@ -18,6 +18,9 @@ struct RunOptions {
   std::string display = "window";       // window | offscreen
   std::string observer = "keyboard";    // keyboard | simulated | script:FILE
   std::optional<std::uint64_t> seed;    // overrides [experiment] seed
+  // Picks the block order (runner/session/participant_number.h); empty: the file's, else 1 + the
+  // sessions of the experiment already in the database.
+  std::optional<int> participant_number;
   std::optional<std::int64_t> resume_session_id;
   // Stop after this many trials as if the run had been cut off (for demonstrations of resume and
   // for tests); the session stays "running".

@@ -54,6 +54,8 @@ class PupilFilter {
   // Processes a batch in order (blinks by time, interleaved with the samples); appends outputs.
   void add_batch(const TrackerBatch& batch, std::vector<FilteredPupil>* out);
   double model_pupil_mm() const;
+  // Whether any sample has been accepted (before that model_pupil_mm() is settings.initial_mm).
+  bool has_measurement() const { return eyes_[0].has_value || eyes_[1].has_value; }
   std::size_t rejected() const { return rejected_; }
   const PupilFilterSettings& settings() const { return settings_; }
 

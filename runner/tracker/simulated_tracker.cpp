@@ -11,9 +11,9 @@ namespace glarelab {
 namespace {
 constexpr double kMaxPupilMm = 9.0;  // p_max of Ritschel 2009, Eq. 1
 constexpr double kSaccadeDuration_s = 0.03;
-// Sub-indices of CounterRandom(seed, tracker_simulation): one per independent use.
-constexpr std::uint32_t kSubBlinkInterval = 1, kSubBlinkDuration = 2, kSubFixation = 3, kSubFixationX = 4,
-                        kSubFixationY = 5, kSubMeasurement = 6;
+// Sub-indices of CounterRandom(seed, tracker_simulation): one per independent use. 1 and 2 drew
+// the blink schedule before the blinks came from the eyelid model; they stay unused.
+constexpr std::uint32_t kSubFixation = 3, kSubFixationX = 4, kSubFixationY = 5, kSubMeasurement = 6;
 }  // namespace
 
 namespace {
@@ -29,7 +29,8 @@ EyeParameters tracker_eye_parameters(const SimulatedTrackerSettings& settings) {
 SimulatedTracker::SimulatedTracker(std::uint64_t seed, SimulatedTrackerSettings settings)
     : random_(seed, RandomStream::tracker_simulation),
       settings_(settings),
-      pupil_(tracker_eye_parameters(settings), seed) {}
+      pupil_(tracker_eye_parameters(settings), seed),
+      eyelids_(EyeParameters{}, seed) {}
 
 void SimulatedTracker::start(const SessionClock& clock) {
   // A resumed session continues its time line; the simulated eye starts where the clock is.
@@ -45,14 +46,6 @@ std::string SimulatedTracker::description() const {
 }
 
 void SimulatedTracker::extend_schedules(double t_s) const {
-  while (blink_start_s_.empty() || blink_start_s_.back() <= t_s) {
-    const auto n = static_cast<std::uint64_t>(blink_start_s_.size());
-    const double previous_end = blink_end_s_.empty() ? 0.0 : blink_end_s_.back();
-    const double interval = settings_.mean_blink_interval_s * (0.5 + random_.uniform(n, kSubBlinkInterval));
-    const double duration = settings_.blink_duration_s * (0.67 + 0.66 * random_.uniform(n, kSubBlinkDuration));
-    blink_start_s_.push_back(previous_end + interval);
-    blink_end_s_.push_back(previous_end + interval + duration);
-  }
   while (fixation_start_s_.empty() || fixation_start_s_.back() <= t_s) {
     const auto n = static_cast<std::uint64_t>(fixation_start_s_.size());
     const double previous = fixation_start_s_.empty() ? 0.0 : fixation_start_s_.back();
@@ -63,13 +56,7 @@ void SimulatedTracker::extend_schedules(double t_s) const {
   }
 }
 
-bool SimulatedTracker::blinking(double t_s) const {
-  extend_schedules(t_s);
-  const auto it = std::upper_bound(blink_start_s_.begin(), blink_start_s_.end(), t_s);
-  if (it == blink_start_s_.begin()) return false;
-  const auto i = static_cast<std::size_t>(it - blink_start_s_.begin()) - 1;
-  return t_s < blink_end_s_[i];
-}
+bool SimulatedTracker::blinking(double t_s) const { return eyelids_.blink_closure(t_s) > 0.0; }
 
 TrackerSample SimulatedTracker::sample(std::int64_t k, int eye) const {
   const double t = static_cast<double>(k) / settings_.rate_hz;

@@ -3,9 +3,14 @@
 // 2009 (Eq. 1) around the Moon-Spencer mean pupil (Eq. 2), blinks reported as a real tracker does
 // (confidence 0, diameter 0), saccades between fixations, and measurement noise. Every value is a
 // pure function of (seed, time): poll(t) returns exactly the samples up to t, in order.
+//
+// One blink schedule: the blinks are the glare engine's eyelid model's (glare/eyelids.h) with the
+// same seed, so a session's simulated tracker blinks exactly when its dynamic eye's lids move (the
+// tracker loses the pupil for the whole lid movement, blink closure > 0).
 #include <cstdint>
 #include <vector>
 
+#include "glare/eyelids.h"
 #include "glare/pupil_model.h"
 #include "runner/random.h"
 #include "runner/tracker/tracker_source.h"
@@ -17,8 +22,6 @@ struct SimulatedTrackerSettings {
   double field_luminance_cd_m2 = 50.0;       // adapting luminance for Eq. 2
   double hippus_noise_amplitude = 0.25;      // scale of noise() in Eq. 1 (unitless)
   double measurement_noise_mm = 0.02;        // tracker noise, standard deviation
-  double mean_blink_interval_s = 4.0;        // blinks every 2..6 s (uniform)
-  double blink_duration_s = 0.15;            // 0.1..0.2 s (uniform around this)
   double mean_fixation_s = 0.45;             // fixations 0.2..0.7 s, then a 30 ms saccade
 };
 
@@ -36,7 +39,7 @@ class SimulatedTracker final : public TrackerSource {
   // Sample k of `eye` (time k / rate_hz on the session clock), and whether a blink covers time t.
   TrackerSample sample(std::int64_t k, int eye) const;
   bool blinking(double t_s) const;
-  // Three octaves of value noise in [-1, 1] at x (Ritschel 2009, Sec. 3.2).
+  const EyelidModel& eyelids() const { return eyelids_; }
 
  private:
   void extend_schedules(double t_s) const;
@@ -44,11 +47,11 @@ class SimulatedTracker final : public TrackerSource {
   CounterRandom random_;
   SimulatedTrackerSettings settings_;
   PupilModel pupil_;
+  EyelidModel eyelids_;
   double start_s_ = 0.0;
   std::int64_t next_k_ = 0;
   TrackerStatus status_;
-  // Lazily extended schedules: blink [start, end) intervals and fixation onsets with targets.
-  mutable std::vector<double> blink_start_s_, blink_end_s_;
+  // Lazily extended schedule: fixation onsets with targets.
   mutable std::vector<double> fixation_start_s_, fixation_x_, fixation_y_;
 };
 

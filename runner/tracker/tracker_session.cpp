@@ -1,5 +1,7 @@
 #include "runner/tracker/tracker_session.h"
 
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "protocols/config_error.h"
@@ -46,9 +48,30 @@ void TrackerSession::on_frame(double now_s) {
   if (batch.empty()) return;
   samples_ += static_cast<std::int64_t>(batch.samples.size());
   std::vector<FilteredPupil> filtered;
+  filter_.add_batch(batch, &filtered);
   std::vector<FilteredPupil>* keep = phase_ == Phase::black ? &black_phase_ : phase_ == Phase::white ? &white_phase_ : nullptr;
-  filter_.add_batch(batch, keep);
+  if (keep != nullptr) keep->insert(keep->end(), filtered.begin(), filtered.end());
+  track_gaze_and_blinks(batch, filtered);
   if (logger_) logger_->enqueue(std::move(batch));
+}
+
+// add_batch gives one FilteredPupil per sample, in order.
+void TrackerSession::track_gaze_and_blinks(const TrackerBatch& batch, const std::vector<FilteredPupil>& filtered) {
+  const double min_confidence = filter_.settings().min_confidence;
+  for (std::size_t k = 0; k < batch.samples.size() && k < filtered.size(); ++k) {
+    const TrackerSample& sample = batch.samples[k];
+    if (sample.valid && sample.confidence >= min_confidence && sample.has_gaze())
+      latest_gaze_ = TrackerGaze{sample.session_time_s, sample.gaze_x, sample.gaze_y};
+    const int eye = filtered[k].eye;
+    eye_seen_[eye] = true;
+    eye_in_blink_[eye] = filtered[k].blink;
+    const bool open_blink = !blinks_.empty() && std::isinf(blinks_.back().offset_s);
+    const bool all_in_blink = (!eye_seen_[0] || eye_in_blink_[0]) && (!eye_seen_[1] || eye_in_blink_[1]);
+    if (!open_blink && all_in_blink)
+      blinks_.push_back({sample.session_time_s, std::numeric_limits<double>::infinity()});
+    else if (open_blink && !filtered[k].blink)
+      blinks_.back().offset_s = sample.session_time_s;
+  }
 }
 
 void TrackerSession::begin_calibration_phase(bool black_screen) { phase_ = black_screen ? Phase::black : Phase::white; }
@@ -72,6 +95,11 @@ std::string TrackerSession::finish_calibration(double now_s) {
 double TrackerSession::model_pupil_mm() const {
   const double measured = filter_.model_pupil_mm();
   return range_ ? map_pupil_to_model_range(measured, *range_) : measured;
+}
+
+std::optional<double> TrackerSession::measured_pupil_mm() const {
+  if (!source_ || !filter_.has_measurement()) return std::nullopt;
+  return model_pupil_mm();
 }
 
 std::string TrackerSession::finish(double now_s) {

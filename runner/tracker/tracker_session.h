@@ -17,6 +17,16 @@ namespace glarelab {
 
 class SessionClock;
 
+struct TrackerGaze {
+  double session_time_s = 0.0;
+  double x = 0.0, y = 0.0;  // normalised display coordinates, origin top left
+};
+
+struct TrackerBlinkInterval {
+  double onset_s = 0.0;
+  double offset_s = 0.0;  // +infinity while the blink lasts
+};
+
 struct TrackerOptions {
   std::string spec = "none";           // --tracker
   bool optional = false;               // --tracker-optional: continue without a tracker that is absent
@@ -49,6 +59,16 @@ class TrackerSession {
 
   // The pupil for the glare model (mm): measured, or mapped onto 2-8 mm after a calibration.
   double model_pupil_mm() const;
+  // The same, or nothing before the filter accepted any sample (or without a tracker).
+  std::optional<double> measured_pupil_mm() const;
+  // The latest gaze that passed the filter's confidence test (valid, confidence >= its
+  // min_confidence, a gaze point), in normalised display coordinates; nothing before the first.
+  // Not latency-compensated: the sample as it arrived.
+  std::optional<TrackerGaze> latest_gaze() const { return latest_gaze_; }
+  // Blinks detected so far: a blink starts at the first sample where every eye seen so far is in a
+  // blink (the filter's blink flag: tracker blink topic or a confidence drop) and ends at the first
+  // sample of an eye out of it. The last one is open (offset +infinity) while it lasts.
+  const std::vector<TrackerBlinkInterval>& detected_blinks() const { return blinks_; }
   // Stops the source, writes what is left, returns a one-line summary (empty without a tracker).
   std::string finish(double now_s);
 
@@ -62,6 +82,11 @@ class TrackerSession {
   std::vector<FilteredPupil> black_phase_, white_phase_;
   std::optional<PupilRange> range_;
   bool finished_ = false;
+  void track_gaze_and_blinks(const TrackerBatch& batch, const std::vector<FilteredPupil>& filtered);
+  std::optional<TrackerGaze> latest_gaze_;
+  std::vector<TrackerBlinkInterval> blinks_;
+  bool eye_seen_[2] = {false, false};
+  bool eye_in_blink_[2] = {false, false};
 };
 
 }  // namespace glarelab

@@ -1,0 +1,74 @@
+#pragma once
+// The trial order of a fixed design (forced choice, ratings, adjustment) with or without blocks.
+// A procedure describes its design as units (forced choice: a condition row shown one way round;
+// ratings: a row on one category; adjustment: a row) made for a set of rows and a number of
+// repetitions; this file orders them:
+// - without [[blocks]]: every row, the procedure's repetitions, one list shuffled with
+//   (seed, RandomStream::trial_order) -- exactly the order these procedures always had;
+// - with [[blocks]]: block after block in the participant's block order (protocols/block_design.h),
+//   each block's units for its own rows and repetitions, shuffled with the block's own seed
+//   (block_trial_seed) or kept as listed.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "protocols/experiment.h"
+#include "protocols/trial_plan.h"
+#include "runner/random.h"
+
+namespace glarelab {
+
+// Where a unit runs: the block's position in the session's order and what the block shows.
+struct BlockPlacement {
+  int block = 0;
+  std::string block_name;
+  std::string screen_text;              // the block's instructions, on its first trial only
+  std::optional<std::string> question;  // the block's question, when it has one
+};
+
+template <typename Unit>
+struct OrderedUnit {
+  Unit unit;
+  BlockPlacement placement;
+};
+
+// Indices of the condition rows a block uses, in the order the block lists them (all rows in
+// table order when it lists none).
+std::vector<std::size_t> block_rows(const Experiment& experiment, const BlockSpec& block);
+
+// Copies block, block_name and screen_text into the plan; the block's question replaces the
+// plan's unless `row_has_question` (a forced-choice row's own "question" column wins).
+void apply_block_placement(const BlockPlacement& placement, bool row_has_question, TrialPlan& plan);
+
+// make_units(const std::vector<std::size_t>& rows, int repetitions) -> std::vector<Unit>.
+template <typename Unit, typename MakeUnits>
+std::vector<OrderedUnit<Unit>> order_fixed_design(const Experiment& experiment, int repetitions,
+                                                  MakeUnits make_units) {
+  std::vector<OrderedUnit<Unit>> ordered;
+  const DesignSpec& design = experiment.design;
+  if (design.blocks.empty()) {
+    std::vector<std::size_t> rows;
+    for (std::size_t row = 0; row < experiment.conditions.size(); ++row) rows.push_back(row);
+    std::vector<Unit> units = make_units(rows, repetitions);
+    shuffle_in_place(units, CounterRandom(experiment.seed, RandomStream::trial_order), 0);
+    for (Unit& unit : units) ordered.push_back({std::move(unit), BlockPlacement{}});
+    return ordered;
+  }
+  int position = 0;
+  for (const int index : block_sequence(design, experiment.seed)) {
+    const BlockSpec& block = design.blocks[static_cast<std::size_t>(index)];
+    std::vector<Unit> units = make_units(block_rows(experiment, block), block.repetitions.value_or(repetitions));
+    if (block.trial_order == TrialOrder::random)
+      shuffle_in_place(units, CounterRandom(block_trial_seed(design, experiment.seed, index), RandomStream::block_trial_order),
+                       0);
+    for (std::size_t i = 0; i < units.size(); ++i) {
+      ordered.push_back({std::move(units[i]),
+                         BlockPlacement{position, block.name, i == 0 ? block.instructions : std::string(), block.question}});
+    }
+    ++position;
+  }
+  return ordered;
+}
+
+}  // namespace glarelab

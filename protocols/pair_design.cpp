@@ -1,0 +1,155 @@
+#include "protocols/pair_design.h"
+
+#include <algorithm>
+
+namespace glarelab {
+namespace {
+
+std::string join_quoted(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "'" : ", '") + item + "'";
+  return text;
+}
+
+struct Instruction {
+  std::string name;
+  std::string question;
+  bool scored = true;
+  std::string instructions;
+};
+
+std::vector<std::string> read_glare_modes(TableReader& procedure) {
+  const toml::array* modes = procedure.array("glare_modes");
+  if (modes == nullptr) procedure.fail("glare_modes", "missing required key for design = \"all_pairs\" (e.g. [\"dynamic\", \"static\", \"control\"])");
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < modes->size(); ++i) {
+    const toml::node& element = *modes->get(i);
+    const std::string key = procedure.key_path("glare_modes") + "[" + std::to_string(i) + "]";
+    const std::string& name = expect_string(element, key, procedure.file());
+    const SourceLocation where = to_location(element.source(), procedure.file());
+    if (name.empty()) throw ConfigError(where, key, "glare mode names must not be empty");
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      throw ConfigError(where, key, "duplicate glare mode '" + name + "'");
+    names.push_back(name);
+  }
+  if (names.size() < 2) procedure.fail("glare_modes", "at least two glare modes are needed to form pairs");
+  return names;
+}
+
+std::vector<Instruction> read_instructions(TableReader& procedure) {
+  const toml::array* array = procedure.array("instructions");
+  if (array == nullptr)
+    procedure.fail("instructions", "missing required key for design = \"all_pairs\" (e.g. [{ name = \"brighter\", "
+                                   "question = \"Which image is brighter?\" }])");
+  std::vector<Instruction> instructions;
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::node& element = *array->get(i);
+    const std::string key = procedure.key_path("instructions") + "[" + std::to_string(i) + "]";
+    if (!element.is_table())
+      throw ConfigError(to_location(element.source(), procedure.file()), key,
+                        "expected a table such as { name = \"brighter\", question = \"Which image is brighter?\" }, "
+                        "found " + describe_toml_type(element));
+    TableReader reader(*element.as_table(), key, procedure.file());
+    Instruction instruction;
+    const std::optional<std::string> name = reader.string("name");
+    if (!name || name->empty()) reader.fail("name", "each instruction needs a non-empty name");
+    for (const Instruction& other : instructions)
+      if (other.name == *name) reader.fail("name", "duplicate instruction '" + *name + "'");
+    instruction.name = *name;
+    const std::optional<std::string> question = reader.string("question");
+    if (!question || question->empty()) reader.fail("question", "each instruction needs its question (shown with every trial)");
+    instruction.question = *question;
+    instruction.scored = reader.boolean("scored").value_or(true);
+    instruction.instructions = reader.string("instructions").value_or("");
+    reader.report_unused();
+    instructions.push_back(std::move(instruction));
+  }
+  if (instructions.empty()) procedure.fail("instructions", "at least one instruction is required");
+  return instructions;
+}
+
+// mode_scenes: each design scene (a key) maps every glare mode to the [scenes] image showing it.
+std::vector<std::pair<std::string, std::vector<std::string>>> read_mode_scenes(TableReader& procedure,
+                                                                              const Experiment& experiment,
+                                                                              const std::vector<std::string>& modes) {
+  const toml::table* table = procedure.table("mode_scenes");
+  if (table == nullptr)
+    procedure.fail("mode_scenes", "missing required key for design = \"all_pairs\": for each scene, the image of "
+                                  "each glare mode, e.g. [procedure.mode_scenes] park = { dynamic = \"park_dynamic\", ... }");
+  TableReader scenes(*table, procedure.key_path("mode_scenes"), procedure.file());
+  scenes.consume_all();  // the keys are the experimenter's scene names
+  if (table->empty()) scenes.fail("", "at least one scene is required");
+  // toml++ keeps keys sorted; generate in the order the experimenter wrote them.
+  std::vector<const toml::key*> keys;
+  for (const auto& entry : *table) keys.push_back(&entry.first);
+  std::sort(keys.begin(), keys.end(),
+            [](const toml::key* a, const toml::key* b) { return a->source().begin < b->source().begin; });
+  std::vector<std::string> known;
+  for (const auto& entry : experiment.scenes) known.push_back(entry.first);
+  std::vector<std::pair<std::string, std::vector<std::string>>> result;
+  for (const toml::key* key : keys) {
+    const std::string scene(key->str());
+    const toml::node& node = *table->get(scene);
+    if (!node.is_table())
+      scenes.fail(scene, "expected a table naming the image of each glare mode, found " + describe_toml_type(node));
+    TableReader reader(*node.as_table(), scenes.key_path(scene), procedure.file());
+    std::vector<std::string> images;
+    for (const std::string& mode : modes) {
+      const std::optional<std::string> image = reader.string(mode);
+      if (!image) reader.fail(mode, "missing the image of glare mode '" + mode + "' for scene '" + scene + "'");
+      if (experiment.scenes.count(*image) == 0)
+        reader.fail(mode, "unknown scene '" + *image + "' (scenes in [scenes]: " + join_quoted(known) + ")");
+      images.push_back(*image);
+    }
+    reader.report_unused();
+    result.emplace_back(scene, std::move(images));
+  }
+  return result;
+}
+
+}  // namespace
+
+std::optional<GeneratedDesign> read_pair_design(TableReader& procedure, const Experiment& experiment) {
+  const std::optional<std::string> design = procedure.string("design");
+  if (!design || *design == "rows") return std::nullopt;
+  if (*design != "all_pairs")
+    procedure.fail("design", "unsupported design '" + *design + "' (supported: 'rows', 'all_pairs')");
+  GeneratedDesign generated;
+  generated.where = procedure.value_location("design");
+  const std::vector<std::string> modes = read_glare_modes(procedure);
+  const std::vector<Instruction> instructions = read_instructions(procedure);
+  const auto mode_scenes = read_mode_scenes(procedure, experiment, modes);
+
+  for (const Instruction& instruction : instructions) {
+    BlockSpec block;
+    block.name = instruction.name;
+    block.instructions = instruction.instructions;
+    block.where = generated.where;
+    for (const auto& [scene, images] : mode_scenes) {
+      for (std::size_t a = 0; a < modes.size(); ++a) {
+        for (std::size_t b = a + 1; b < modes.size(); ++b) {
+          ConditionRow row;
+          row.where = generated.where;
+          row.number = static_cast<int>(generated.rows.size() + 1);
+          const std::string name = scene + "_" + modes[a] + "_vs_" + modes[b] + "_" + instruction.name;
+          row.fields = {{"name", name},
+                        {"scene", scene},
+                        {"instruction", instruction.name},
+                        {"condition_a", modes[a]},
+                        {"condition_b", modes[b]},
+                        {"scene_a", images[a]},
+                        {"scene_b", images[b]},
+                        {"question", instruction.question},
+                        {"scored", instruction.scored ? "true" : "false"}};
+          block.conditions.push_back(name);
+          block.condition_where.push_back(generated.where);
+          generated.rows.push_back(std::move(row));
+        }
+      }
+    }
+    generated.blocks.push_back(std::move(block));
+  }
+  return generated;
+}
+
+}  // namespace glarelab

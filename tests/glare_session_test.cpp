@@ -1,0 +1,51 @@
+// Glare in a session with the GL backend: the backend works in an OpenGL context of its own, so the
+// session must make the display's context current again after every trial's glare; a frame drawn in
+// the wrong context would fail on the scene textures (GL errors end the run with exit code 3).
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <string>
+
+#include "cli_process.h"
+#include "runner/store/result_store.h"
+#include "scratch_dir.h"
+
+namespace glarelab {
+namespace {
+
+std::string first_event(const std::string& db, const std::string& kind) {
+  const ResultStore store(db);
+  sqlite3_stmt* statement = nullptr;
+  std::string message;
+  if (sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = ?1 ORDER BY id", -1, &statement,
+                         nullptr) != SQLITE_OK)
+    return message;
+  sqlite3_bind_text(statement, 1, kind.c_str(), -1, SQLITE_TRANSIENT);
+  if (sqlite3_step(statement) == SQLITE_ROW) message = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
+  sqlite3_finalize(statement);
+  return message;
+}
+
+TEST(GlareSession, GlBackendRunsTrialsBetweenDisplayFrames) {
+  test::ScratchDir dir;
+  test::write_demo_conditions_without_glare(dir.path() / "conditions.csv");
+  const auto experiment = test::demo_variant(
+      dir.path(), {{"file", "file = \"" + (dir.path() / "conditions.csv").string() + "\""},
+                   {"width_px", "width_px = 512"},
+                   {"height_px", "height_px = 256"},
+                   {"stimulus_frames", "stimulus_frames = 2"},
+                   {"mode", "mode = \"dynamic\""},
+                   {"wavelength_samples", "wavelength_samples = 8\nbackend = \"gl\""}});
+  const std::string db = (dir.path() / "gl.db").string();
+  const auto run = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
+                                       "--db", db, "--seed", "3", "--stop-after", "3"},
+                                      dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(first_event(db, "glare_backend").find("glare backend gl: asked for by name"), std::string::npos)
+      << first_event(db, "glare_backend");
+  const ResultStore store(db);
+  EXPECT_EQ(store.load_trials(store.load_sessions().at(0).id).size(), 3u);
+}
+
+}  // namespace
+}  // namespace glarelab
