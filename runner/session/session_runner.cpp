@@ -163,7 +163,11 @@ class SessionLoop {
     double sequence_start_s = 0.0;
     for (std::size_t i = 0; i < schedule.timed.size(); ++i) {
       const TimedFlip& flip = schedule.timed[i];
-      if (flip.phase == FlipPhase::fixation) {
+      // Fixation and inter-stimulus flips repeat the frame before them: only its encoding is redrawn.
+      const bool repeated = i > 0 && flip.phase != FlipPhase::interval && schedule.timed[i - 1].phase == flip.phase;
+      if (repeated) {
+        renderer_.encode_to_display(prepared_.experiment.display);
+      } else if (flip.phase == FlipPhase::fixation) {
         draw({}, nullptr, overlays_.fixation());
       } else if (flip.phase == FlipPhase::interval) {
         const std::vector<ImageRGBA>& glared = glare_frames[static_cast<std::size_t>(flip.interval)];
@@ -450,7 +454,12 @@ class SessionLoop {
                            const std::vector<Placement>& overlays) {
     double start_s = 0.0;
     for (int k = 0; k < frames; ++k) {
-      draw({}, nullptr, overlays);
+      // The stimulus framebuffer keeps the frame between these flips: later ones only re-encode it
+      // (the display's back buffer is not kept across a swap).
+      if (k == 0)
+        draw({}, nullptr, overlays);
+      else
+        renderer_.encode_to_display(prepared_.experiment.display);
       display_.present();
       const double flip_s = clock_.on_flip();
       after_flip(flip_s);
@@ -476,7 +485,10 @@ class SessionLoop {
     double first_flip_s = 0.0, last_flip_s = 0.0;
     bool proceed = false;
     while (!proceed) {
-      draw({}, nullptr, text);
+      if (flips == 0)
+        draw({}, nullptr, text);
+      else
+        renderer_.encode_to_display(prepared_.experiment.display);
       display_.present();
       last_flip_s = clock_.on_flip();
       timing_.on_flip(last_flip_s, plan.trial_index, -1);
