@@ -3,6 +3,7 @@
 // condition table): which of Ritschel et al. 2009's conditions -- dynamic eye, static (frozen) eye,
 // control (no glare) -- each condition shows, and how the glare is computed (docs/EXPERIMENT_FILES.md).
 #include <string>
+#include <utility>
 
 #include <toml++/toml.h>
 
@@ -51,5 +52,10 @@ toml::table glare_section_toml(const GlareSpec& spec);
 // The mode of one condition: its "glare" column, else spec.mode. ConfigError (at the row) for an
 // unknown mode name.
 GlareMode glare_mode_for(const GlareSpec& spec, const ConditionRow& row);
+// Forced choice with a glare mode per side (Ritschel et al. 2009, section 6.1): the row's glare_a
+// and glare_b columns (the modes shown with scene_a and scene_b), or nothing when the row has
+// neither. ConfigError (at the row) for an unknown mode, for only one of the two columns, or for
+// a row that also has a 'glare' column.
+std::optional<std::pair<GlareMode, GlareMode>> position_glare_modes(const ConditionRow& row);
 
 }  // namespace glarelab

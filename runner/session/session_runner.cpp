@@ -30,6 +30,7 @@
 #include "stimuli/exr_io.h"
 #include "stimuli/frame_renderer.h"
 #include "stimuli/glare_stage.h"
+#include "stimuli/position_glare.h"
 #include "stimuli/scene_library.h"
 
 namespace glarelab {
@@ -356,7 +357,17 @@ class SessionLoop {
   // frames: the filtered pupil, the detected blinks (blink_source "tracker") and the latest gaze.
   std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements) {
     const GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
-    if (mode == GlareMode::control) return {};
+    // A mode per position (stimuli/position_glare.h): one layer per placement.
+    std::vector<GlareMode> position_modes;
+    if (plan.position_glare.size() == placements.size())
+      for (const std::string& name : plan.position_glare) position_modes.push_back(parse_glare_mode(name));
+    const auto is_control = [](GlareMode m) { return m == GlareMode::control; };
+    if (position_modes.empty() ? mode == GlareMode::control
+                               : std::all_of(position_modes.begin(), position_modes.end(), is_control))
+      return {};
+    const auto is_dynamic = [](GlareMode m) { return m == GlareMode::dynamic; };
+    const bool dynamic = position_modes.empty() ? mode == GlareMode::dynamic
+                                                : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic);
     const GlareSpec& spec = prepared_.experiment.glare;
     std::optional<GazePoint> gaze;
     std::optional<TrackerGaze> tracked;
@@ -371,29 +382,51 @@ class SessionLoop {
       tracked = tracker_.latest_gaze();
       if (tracked) gaze = GazePoint{tracked->x, tracked->y};
     }
+    std::vector<GlareLayer> layers;
+    std::string modes_label = to_string(mode);
+    if (!position_modes.empty()) {
+      modes_label.clear();
+      for (std::size_t p = 0; p < placements.size(); ++p) {
+        renderer_.compose({placements[p]}, 0.0);
+        layers.push_back({renderer_.read_stimulus(), position_modes[p]});
+        modes_label += (p == 0 ? "" : ", ") + plan.positions.at(p) + " " + to_string(position_modes[p]);
+      }
+    }
     renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
     const ImageRGBA composed = renderer_.read_stimulus();
     const double first_flip_s = clock_.now_s() + period_s_;
-    const int count = mode == GlareMode::static_eye ? 1 : plan.stimulus_frames;
+    const int count = dynamic ? plan.stimulus_frames : 1;
     std::vector<ImageRGBA> frames;
     int skipped = 0, gratings_hidden = 0, closed = 0;
     std::string skip_reason;
     double smallest_pupil_mm = 1e9;
     std::optional<GazeWindow> window;
+    int applications = 0;
     for (int k = 0; k < count; ++k) {
-      GlareFrameReport report;
-      frames.push_back(glare_.apply(composed, mode, first_flip_s + k * period_s_, &report, gaze));
-      if (report.window && !window) window = report.window;
-      if (!report.skip_reason.empty()) {
-        ++skipped;
-        if (skip_reason.empty()) skip_reason = report.skip_reason;
+      const double time_s = first_flip_s + k * period_s_;
+      std::vector<GlareFrameReport> reports;
+      if (layers.empty()) {
+        GlareFrameReport report;
+        frames.push_back(glare_.apply(composed, mode, time_s, &report, gaze));
+        reports.push_back(report);
+      } else {
+        frames.push_back(apply_layered_glare(glare_, composed, layers, time_s, gaze, &reports));
       }
-      if (!report.gratings_in_pupil) ++gratings_hidden;
-      if (report.eye_closed && report.convolved) ++closed;  // held PSF; otherwise counted as skipped
-      smallest_pupil_mm = std::min(smallest_pupil_mm, report.pupil_diameter_mm);
+      for (const GlareFrameReport& report : reports) {
+        ++applications;
+        if (report.window && !window) window = report.window;
+        if (!report.skip_reason.empty()) {
+          ++skipped;
+          if (skip_reason.empty()) skip_reason = report.skip_reason;
+        }
+        if (!report.gratings_in_pupil) ++gratings_hidden;
+        if (report.eye_closed && report.convolved) ++closed;  // held PSF; otherwise counted as skipped
+        smallest_pupil_mm = std::min(smallest_pupil_mm, report.pupil_diameter_mm);
+      }
     }
-    const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + to_string(mode) + "): ";
-    const std::string of_frames = " of " + std::to_string(count) + " glare frame(s)";
+    const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + modes_label + "): ";
+    const std::string of_frames =
+        " of " + std::to_string(applications) + (layers.empty() ? " glare frame(s)" : " glare layer frame(s)");
     if (skipped > 0)
       store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
                        trial + "convolution skipped on " + std::to_string(skipped) + of_frames + ": " + skip_reason);
@@ -419,7 +452,8 @@ class SessionLoop {
     const GlareSpec& spec = prepared_.experiment.glare;
     bool any_glare = false;
     for (const ConditionRow& row : prepared_.experiment.conditions)
-      any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control;
+      any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control ||
+                  (position_glare_modes(row) && *position_glare_modes(row) != std::pair{GlareMode::control, GlareMode::control});
     if (!any_glare) {
       store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
       return;
