@@ -81,6 +81,7 @@ GlareSpec read_glare_section(TableReader& top) {
                                         std::to_string(*window));
     spec.gaze_window_px = static_cast<int>(*window);
   }
+  spec.gaze_latency_compensation = reader.boolean("gaze_latency_compensation").value_or(spec.gaze_latency_compensation);
   spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source, {"tracker", "model"});
   spec.blink_source = read_choice(reader, "blink_source", spec.blink_source, {"model", "tracker"});
   reader.report_unused();
@@ -100,6 +101,7 @@ toml::table glare_section_toml(const GlareSpec& spec) {
                      {"skip_invisible", spec.skip_invisible},
                      {"backend", spec.backend},
                      {"gaze_window_px", spec.gaze_window_px},
+                     {"gaze_latency_compensation", spec.gaze_latency_compensation},
                      {"pupil_source", spec.pupil_source},
                      {"blink_source", spec.blink_source}};
 }

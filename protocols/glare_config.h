@@ -37,6 +37,10 @@ struct GlareSpec {
   // Gaze-contingent glare (Luidolt 2020, 5.2.3): 0 convolves the whole frame; a power of two
   // convolves that square window around the gaze and blends it in with a Gaussian falloff.
   int gaze_window_px = 0;
+  // Latency compensation of the gaze that places the window (runner/tracker/gaze_prediction.h):
+  // false (default) takes the latest confident gaze as it is; true extrapolates the recent gaze
+  // track to the trial's first flip.
+  bool gaze_latency_compensation = false;
   // The dynamic eye's pupil: "tracker" takes the tracker's filtered pupil when a tracker runs (the
   // model's Eq. 1-2 pupil otherwise), "model" always the model's.
   std::string pupil_source = "tracker";

@@ -379,7 +379,8 @@ class SessionLoop {
         for (const TrackerBlinkInterval& blink : tracker_.detected_blinks()) blinks.push_back({blink.onset_s, blink.offset_s});
         glare_.set_detected_blinks(blinks);
       }
-      tracked = tracker_.latest_gaze();
+      // The frames are prepared now and shown from the next flip on: compensation extrapolates to it.
+      tracked = spec.gaze_latency_compensation ? tracker_.predicted_gaze(clock_.now_s() + period_s_) : tracker_.latest_gaze();
       if (tracked) gaze = GazePoint{tracked->x, tracked->y};
     }
     std::vector<GlareLayer> layers;
@@ -470,7 +471,10 @@ class SessionLoop {
       inputs += " (no tracker: the model's)";
     if (spec.gaze_window_px > 0)
       inputs += "; gaze window " + std::to_string(spec.gaze_window_px) + " px around " +
-                (tracked ? std::string("the tracker's latest gaze") : "the display centre: no tracker, no gaze");
+                (tracked ? std::string(spec.gaze_latency_compensation
+                                           ? "the tracker's gaze extrapolated to each trial's first flip"
+                                           : "the tracker's latest gaze (no latency compensation)")
+                         : "the display centre: no tracker, no gaze");
     store_.log_event(session_id_, clock_.now_s(), "glare_inputs", inputs);
   }
 
