@@ -142,14 +142,16 @@ TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
   }
   EXPECT_EQ(instructions, (std::set<std::string>{"brighter", "attractive", "realistic"}));
   // Glare was applied per side and said so (the backend once, the held PSF through blinks per trial).
-  bool backend_logged = false, per_side_logged = false;
+  bool backend_logged = false, per_side_logged = false, mode_logged = false;
   for (const std::string& event : run.events) {
     backend_logged = backend_logged || event.rfind("glare_backend: glare backend", 0) == 0;
+    mode_logged = mode_logged || event.rfind("presentation_mode: glare trials: frames prepared before onset", 0) == 0;
     per_side_logged = per_side_logged || (event.rfind("glare_skipped: trial", 0) == 0 &&
                                           event.find("glare layer frame(s)") != std::string::npos);
   }
   EXPECT_TRUE(backend_logged);
   EXPECT_TRUE(per_side_logged);
+  EXPECT_TRUE(mode_logged);
   // First session in a new database: participant number 1, and the session says how it was chosen.
   bool participant_logged = false;
   for (const std::string& event : run.events)

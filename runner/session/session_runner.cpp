@@ -1,6 +1,7 @@
 #include "runner/session/session_runner.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -403,6 +404,7 @@ class SessionLoop {
     double smallest_pupil_mm = 1e9;
     std::optional<GazeWindow> window;
     int applications = 0;
+    const auto preparation_start = std::chrono::steady_clock::now();
     for (int k = 0; k < count; ++k) {
       const double time_s = first_flip_s + k * period_s_;
       std::vector<GlareFrameReport> reports;
@@ -424,6 +426,18 @@ class SessionLoop {
         if (report.eye_closed && report.convolved) ++closed;  // held PSF; otherwise counted as skipped
         smallest_pupil_mm = std::min(smallest_pupil_mm, report.pupil_diameter_mm);
       }
+    }
+    if (!presentation_mode_logged_) {
+      // Which presentation mode glare trials use, and why (measured on the first one).
+      presentation_mode_logged_ = true;
+      const double per_frame_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - preparation_start).count() / count;
+      store_.log_event(session_id_, clock_.now_s(), "presentation_mode",
+                       "glare trials: frames prepared before onset (" + std::to_string(1000.0 * per_frame_s) +
+                           " ms per glare frame on this machine against a refresh period of " +
+                           std::to_string(1000.0 * period_s_) +
+                           " ms; dynamic glare is a function of time and seed, so prepared frames equal live "
+                           "ones); control trials: composed live at every refresh");
     }
     const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + modes_label + "): ";
     const std::string of_frames =
@@ -584,6 +598,7 @@ class SessionLoop {
   double period_s_;
   std::map<std::string, SceneTexture> textures_;
   FrameTimingMonitor timing_;
+  bool presentation_mode_logged_ = false;
   GlareStage glare_;
   bool aborted_ = false;
   std::string abort_reason_;
