@@ -461,6 +461,9 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   else check_scene_columns(conditions.rows, experiment, conditions.csv, {"reference", "comparison"});
   for (LocatedRow& located : conditions.rows) {
     glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here
+    if (position_glare_modes(located.row) && experiment.procedure != "forced_choice")
+      throw ConfigError(located.row.where, "condition '" + located.row.name() + "' glare_a",
+                        "a glare mode per side (glare_a, glare_b) is for forced choice only");
     experiment.conditions.push_back(std::move(located.row));
   }
   if (experiment.procedure == "staircase" || experiment.procedure == "quest") check_adaptive_conditions(experiment);

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "protocols/blocked_design.h"
+#include "protocols/glare_config.h"
 #include "protocols/json_text.h"
 #include "runner/random.h"
 
@@ -118,11 +119,18 @@ std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
       plan.position_conditions = presentation.swapped ? std::vector<std::string>{*condition_b, *condition_a}
                                                       : std::vector<std::string>{*condition_a, *condition_b};
     }
+    // A glare mode per side (glare_a / glare_b): follows its scene when the sides are swapped.
+    if (const auto modes = position_glare_modes(row)) {
+      const std::string a = to_string(modes->first), b = to_string(modes->second);
+      plan.position_glare = presentation.swapped ? std::vector<std::string>{b, a} : std::vector<std::string>{a, b};
+    }
     plan.stimulus_frames = spec.stimulus_frames;
 
     JsonObjectWriter json;
     for (const auto& [column, value] : row.fields) json.add(column, value);
     json.add(positions[0], plan.scenes[0]).add(positions[1], plan.scenes[1]);
+    // What the analysis compares when both sides show one scene: "left_glare", "right_glare".
+    for (std::size_t p = 0; p < plan.position_glare.size(); ++p) json.add(positions[p] + "_glare", plan.position_glare[p]);
     plan.condition_json = json.str();
     trials.push_back(std::move(plan));
   }

@@ -81,6 +81,7 @@ GlareSpec read_glare_section(TableReader& top) {
                                         std::to_string(*window));
     spec.gaze_window_px = static_cast<int>(*window);
   }
+  spec.gaze_latency_compensation = reader.boolean("gaze_latency_compensation").value_or(spec.gaze_latency_compensation);
   spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source, {"tracker", "model"});
   spec.blink_source = read_choice(reader, "blink_source", spec.blink_source, {"model", "tracker"});
   reader.report_unused();
@@ -100,8 +101,24 @@ toml::table glare_section_toml(const GlareSpec& spec) {
                      {"skip_invisible", spec.skip_invisible},
                      {"backend", spec.backend},
                      {"gaze_window_px", spec.gaze_window_px},
+                     {"gaze_latency_compensation", spec.gaze_latency_compensation},
                      {"pupil_source", spec.pupil_source},
                      {"blink_source", spec.blink_source}};
+}
+
+std::optional<std::pair<GlareMode, GlareMode>> position_glare_modes(const ConditionRow& row) {
+  const std::string* a = row.find("glare_a");
+  const std::string* b = row.find("glare_b");
+  if (a == nullptr && b == nullptr) return std::nullopt;
+  const std::string at = "condition '" + row.name() + "' ";
+  if (a == nullptr || b == nullptr)
+    throw ConfigError(row.where, at + (a == nullptr ? "glare_a" : "glare_b"),
+                      "missing: glare_a and glare_b go together (the glare mode of scene_a and of scene_b)");
+  if (const std::string* whole = row.find("glare"); whole != nullptr && !whole->empty())
+    throw ConfigError(row.where, at + "glare",
+                      "a row with glare_a and glare_b has a mode per side; a 'glare' column for the whole frame "
+                      "contradicts them");
+  return std::pair{parse_mode_at(*a, row.where, at + "glare_a"), parse_mode_at(*b, row.where, at + "glare_b")};
 }
 
 GlareMode glare_mode_for(const GlareSpec& spec, const ConditionRow& row) {

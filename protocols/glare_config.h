@@ -3,6 +3,7 @@
 // condition table): which of Ritschel et al. 2009's conditions -- dynamic eye, static (frozen) eye,
 // control (no glare) -- each condition shows, and how the glare is computed (docs/EXPERIMENT_FILES.md).
 #include <string>
+#include <utility>
 
 #include <toml++/toml.h>
 
@@ -36,6 +37,10 @@ struct GlareSpec {
   // Gaze-contingent glare (Luidolt 2020, 5.2.3): 0 convolves the whole frame; a power of two
   // convolves that square window around the gaze and blends it in with a Gaussian falloff.
   int gaze_window_px = 0;
+  // Latency compensation of the gaze that places the window (runner/tracker/gaze_prediction.h):
+  // false (default) takes the latest confident gaze as it is; true extrapolates the recent gaze
+  // track to the trial's first flip.
+  bool gaze_latency_compensation = false;
   // The dynamic eye's pupil: "tracker" takes the tracker's filtered pupil when a tracker runs (the
   // model's Eq. 1-2 pupil otherwise), "model" always the model's.
   std::string pupil_source = "tracker";
@@ -51,5 +56,10 @@ toml::table glare_section_toml(const GlareSpec& spec);
 // The mode of one condition: its "glare" column, else spec.mode. ConfigError (at the row) for an
 // unknown mode name.
 GlareMode glare_mode_for(const GlareSpec& spec, const ConditionRow& row);
+// Forced choice with a glare mode per side (Ritschel et al. 2009, section 6.1): the row's glare_a
+// and glare_b columns (the modes shown with scene_a and scene_b), or nothing when the row has
+// neither. ConfigError (at the row) for an unknown mode, for only one of the two columns, or for
+// a row that also has a 'glare' column.
+std::optional<std::pair<GlareMode, GlareMode>> position_glare_modes(const ConditionRow& row);
 
 }  // namespace glarelab

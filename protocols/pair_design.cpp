@@ -73,9 +73,6 @@ std::vector<std::pair<std::string, std::vector<std::string>>> read_mode_scenes(T
                                                                               const Experiment& experiment,
                                                                               const std::vector<std::string>& modes) {
   const toml::table* table = procedure.table("mode_scenes");
-  if (table == nullptr)
-    procedure.fail("mode_scenes", "missing required key for design = \"all_pairs\": for each scene, the image of "
-                                  "each glare mode, e.g. [procedure.mode_scenes] park = { dynamic = \"park_dynamic\", ... }");
   TableReader scenes(*table, procedure.key_path("mode_scenes"), procedure.file());
   scenes.consume_all();  // the keys are the experimenter's scene names
   if (table->empty()) scenes.fail("", "at least one scene is required");
@@ -107,6 +104,34 @@ std::vector<std::pair<std::string, std::vector<std::string>>> read_mode_scenes(T
   return result;
 }
 
+// glare_scenes: each listed [scenes] image is its own design scene, shown under every glare mode
+// by the glare engine, so the modes must be the engine's: dynamic, static, control.
+std::vector<std::pair<std::string, std::vector<std::string>>> read_glare_scenes(TableReader& procedure,
+                                                                               const Experiment& experiment,
+                                                                               const std::vector<std::string>& modes) {
+  for (const std::string& mode : modes)
+    if (mode != "dynamic" && mode != "static" && mode != "control")
+      procedure.fail("glare_modes", "glare_scenes renders the glare engine's modes ('dynamic', 'static', 'control'); '" +
+                                        mode + "' is not one (use mode_scenes to show an image for it)");
+  const toml::array* array = procedure.array("glare_scenes");
+  std::vector<std::string> known;
+  for (const auto& entry : experiment.scenes) known.push_back(entry.first);
+  std::vector<std::pair<std::string, std::vector<std::string>>> result;
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::node& element = *array->get(i);
+    const std::string key = procedure.key_path("glare_scenes") + "[" + std::to_string(i) + "]";
+    const std::string& scene = expect_string(element, key, procedure.file());
+    const SourceLocation where = to_location(element.source(), procedure.file());
+    if (experiment.scenes.count(scene) == 0)
+      throw ConfigError(where, key, "unknown scene '" + scene + "' (scenes in [scenes]: " + join_quoted(known) + ")");
+    for (const auto& listed : result)
+      if (listed.first == scene) throw ConfigError(where, key, "duplicate scene '" + scene + "'");
+    result.emplace_back(scene, std::vector<std::string>(modes.size(), scene));
+  }
+  if (result.empty()) procedure.fail("glare_scenes", "at least one scene is required");
+  return result;
+}
+
 }  // namespace
 
 std::optional<GeneratedDesign> read_pair_design(TableReader& procedure, const Experiment& experiment) {
@@ -118,7 +143,18 @@ std::optional<GeneratedDesign> read_pair_design(TableReader& procedure, const Ex
   generated.where = procedure.value_location("design");
   const std::vector<std::string> modes = read_glare_modes(procedure);
   const std::vector<Instruction> instructions = read_instructions(procedure);
-  const auto mode_scenes = read_mode_scenes(procedure, experiment, modes);
+  // Either the glare engine renders each mode (glare_scenes: one [scenes] image per design scene,
+  // a glare mode per side) or pre-rendered images stand for the modes (mode_scenes).
+  const bool rendered = procedure.node("glare_scenes") != nullptr;
+  if (rendered && procedure.node("mode_scenes") != nullptr)
+    procedure.fail("mode_scenes", "give either glare_scenes (the glare engine renders each mode) or mode_scenes "
+                                  "(an image for each mode), not both");
+  if (!rendered && procedure.node("mode_scenes") == nullptr)
+    procedure.fail("glare_scenes", "missing required key for design = \"all_pairs\": the scenes to show under each "
+                                   "glare mode, e.g. glare_scenes = [\"park\"] (rendered by the glare engine), or "
+                                   "[procedure.mode_scenes] park = { dynamic = \"park_dynamic\", ... } (an image per mode)");
+  const auto mode_scenes =
+      rendered ? read_glare_scenes(procedure, experiment, modes) : read_mode_scenes(procedure, experiment, modes);
 
   for (const Instruction& instruction : instructions) {
     BlockSpec block;
@@ -138,9 +174,10 @@ std::optional<GeneratedDesign> read_pair_design(TableReader& procedure, const Ex
                         {"condition_a", modes[a]},
                         {"condition_b", modes[b]},
                         {"scene_a", images[a]},
-                        {"scene_b", images[b]},
-                        {"question", instruction.question},
-                        {"scored", instruction.scored ? "true" : "false"}};
+                        {"scene_b", images[b]}};
+          if (rendered) row.fields.insert(row.fields.end(), {{"glare_a", modes[a]}, {"glare_b", modes[b]}});
+          row.fields.insert(row.fields.end(), {{"question", instruction.question},
+                                               {"scored", instruction.scored ? "true" : "false"}});
           block.conditions.push_back(name);
           block.condition_where.push_back(generated.where);
           generated.rows.push_back(std::move(row));

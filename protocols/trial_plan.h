@@ -22,6 +22,9 @@ struct TrialPlan {
   // e.g. Ritschel's dynamic, static, control); empty otherwise. The simulated observer's
   // preferences ([observer.simulated.preferences]) are between these names.
   std::vector<std::string> position_conditions;
+  // The glare mode shown at each position ("dynamic", "static", "control") when the row gives one
+  // per side (glare_a / glare_b); empty: the row's glare applies to the whole frame.
+  std::vector<std::string> position_glare;
   // Peak luminance (cd/m2) of the source at each position: what a simulated observer compares.
   std::vector<double> source_luminance_cd_m2;
   // Factor on each position's scene (empty: all 1). Adaptive procedures scale the comparison

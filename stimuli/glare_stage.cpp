@@ -184,14 +184,14 @@ ImageRGBA GlareStage::convolve_gaze_window(const ImageRGBA& frame, const Psf& di
 }
 
 ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
-                            const std::optional<GazePoint>& gaze) {
+                            const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2) {
   GlareFrameReport local;
   GlareFrameReport& r = report != nullptr ? *report : local;
   r = GlareFrameReport{};
   r.mode = mode;
   if (mode == GlareMode::control) return frame_cd_m2;
 
-  const double mean_cd_m2 = mean_luminance(frame_cd_m2);
+  const double mean_cd_m2 = field_luminance_cd_m2.value_or(mean_luminance(frame_cd_m2));
   // Static: the frozen eye and the frame determine the PSF; computed once per field luminance.
   std::optional<Psf> psf;
   EyeState state;

@@ -80,8 +80,11 @@ class GlareStage {
 
   // `gaze`: where the participant looks, for the gaze window (ignored when gaze_window_px is 0;
   // nothing: the display centre).
+  // `field_luminance_cd_m2`: what the eye adapts to; nothing: the frame's mean luminance. A frame
+  // split into layers (stimuli/position_glare.h) passes the whole frame's mean for every layer.
   ImageRGBA apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report = nullptr,
-                  const std::optional<GazePoint>& gaze = std::nullopt);
+                  const std::optional<GazePoint>& gaze = std::nullopt,
+                  std::optional<double> field_luminance_cd_m2 = std::nullopt);
 
   // The spectral PSF at the display's pixel scale for a mode and time (not for control), with the
   // eye adapted to `field_luminance_cd_m2`; nothing when the lids close the pupil completely.

@@ -111,14 +111,19 @@ TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
     EXPECT_EQ(trial.procedure, "forced_choice");
     EXPECT_FALSE(trial.intensity.has_value());
     const std::string& c = trial.condition;
-    const bool a_left = json_member(c, "left") == json_member(c, "scene_a");
-    const std::string condition_left = json_member(c, a_left ? "condition_a" : "condition_b");
-    const std::string condition_right = json_member(c, a_left ? "condition_b" : "condition_a");
+    // One scene on both sides, each side under its own glare mode (rendered by the glare engine).
+    EXPECT_EQ(json_member(c, "left"), json_member(c, "scene")) << c;
+    EXPECT_EQ(json_member(c, "right"), json_member(c, "scene")) << c;
+    const std::string condition_left = json_member(c, "left_glare");
+    const std::string condition_right = json_member(c, "right_glare");
+    EXPECT_NE(condition_left, condition_right) << c;
+    const std::set<std::string> pair = {json_member(c, "condition_a"), json_member(c, "condition_b")};
+    EXPECT_EQ(pair, (std::set<std::string>{condition_left, condition_right})) << c;
     ++left_count[condition_left];
     ++right_count[condition_right];
     ++per_row[json_member(c, "name")];
-    // Only the brightness question has a right answer.
-    EXPECT_EQ(trial.correct.has_value(), json_member(c, "instruction") == "brighter") << c;
+    // The same luminance on both sides: no answer is physically right, not even "brighter".
+    EXPECT_FALSE(trial.correct.has_value()) << c;
   }
   EXPECT_EQ(per_row.size(), 18u);
   for (const auto& [row, count] : per_row) EXPECT_EQ(count, 2) << row;
@@ -149,6 +154,17 @@ TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
   EXPECT_TRUE(logged("trial_phases: trial 0: screen 120, interval 1 15 (frames 0-14) flips"));
   EXPECT_TRUE(logged("trial_phases: trial 1: inter-trial 30, interval 1 15 (frames 0-14) flips"));
   EXPECT_TRUE(logged("trial_phases: trial 12: inter-trial 30, screen 60, interval 1 15 (frames 0-14) flips"));
+  // Glare was applied per side and said so (the backend once, the held PSF through blinks per trial).
+  bool backend_logged = false, per_side_logged = false, mode_logged = false;
+  for (const std::string& event : run.events) {
+    backend_logged = backend_logged || event.rfind("glare_backend: glare backend", 0) == 0;
+    mode_logged = mode_logged || event.rfind("presentation_mode: glare trials: frames prepared before onset", 0) == 0;
+    per_side_logged = per_side_logged || (event.rfind("glare_skipped: trial", 0) == 0 &&
+                                          event.find("glare layer frame(s)") != std::string::npos);
+  }
+  EXPECT_TRUE(backend_logged);
+  EXPECT_TRUE(per_side_logged);
+  EXPECT_TRUE(mode_logged);
   // First session in a new database: participant number 1, and the session says how it was chosen.
   bool participant_logged = false;
   for (const std::string& event : run.events)

@@ -76,6 +76,13 @@ TEST(GlareConfig, BackendGazeWindowAndTrackerInputsAreReadStrictlyAndRoundTrip) 
   EXPECT_EQ(reread.glare.gaze_window_px, 256);
   EXPECT_EQ(reread.glare.pupil_source, "model");
   EXPECT_EQ(reread.glare.blink_source, "tracker");
+  EXPECT_FALSE(reread.glare.gaze_latency_compensation);  // off unless asked for
+  const Experiment compensated = parse_experiment_text(
+      experiment_with("[glare]\ngaze_window_px = 256\ngaze_latency_compensation = true", ""), "g.toml", "/tmp");
+  EXPECT_TRUE(compensated.glare.gaze_latency_compensation);
+  EXPECT_TRUE(parse_experiment_text(resolved_config_toml(compensated), "<stored config>", "/").glare.gaze_latency_compensation);
+  EXPECT_THROW(parse_experiment_text(experiment_with("[glare]\ngaze_latency_compensation = 1", ""), "g.toml", "/tmp"),
+               ConfigError);
 }
 
 TEST(GlareConfig, BadBackendWindowAndSourcesNameTheirKey) {

@@ -50,8 +50,39 @@ std::string row_text(const ConditionRow& row) {
   return text;
 }
 
+// The study with pre-rendered stand-in images per mode ([procedure.mode_scenes]), as the example
+// was before the glare engine rendered a mode per side.
+Experiment stand_in_study() {
+  const std::string text = R"(
+[experiment]
+name = "ritschel-stand-ins"
+[scenes]
+lamp_100 = { file = "scenes/lamp_100.exr" }
+lamp_105 = { file = "scenes/lamp_105.exr" }
+lamp_115 = { file = "scenes/lamp_115.exr" }
+lamp_130 = { file = "scenes/lamp_130.exr" }
+lamp_160 = { file = "scenes/lamp_160.exr" }
+lamp_200 = { file = "scenes/lamp_200.exr" }
+[procedure]
+type = "forced_choice"
+counterbalance_sides = true
+design = "all_pairs"
+glare_modes = ["dynamic", "static", "control"]
+block_order = "random"
+instructions = [
+  { name = "brighter", question = "Which image is brighter?", instructions = "In the next trials: which image is brighter?" },
+  { name = "attractive", question = "Which image is more attractive?", scored = false, instructions = "Next: attractive" },
+  { name = "realistic", question = "Which image looks more realistic?", scored = false, instructions = "Next: realistic" },
+]
+[procedure.mode_scenes]
+lamp_dim = { dynamic = "lamp_115", static = "lamp_105", control = "lamp_100" }
+lamp_bright = { dynamic = "lamp_200", static = "lamp_160", control = "lamp_130" }
+)";
+  return parse_experiment_text(text, "stand_ins.toml", kExamples);
+}
+
 TEST(PairDesign, GeneratesTheHandWrittenRitschelTable) {
-  const Experiment e = load_experiment(kExamples + "ritschel_2afc.toml");
+  const Experiment e = stand_in_study();
   std::set<std::string> generated, expected;
   for (const ConditionRow& row : e.conditions) generated.insert(row_text(row));
   std::istringstream lines(kHandWrittenTable);
@@ -85,8 +116,25 @@ Counts count_sides(const std::vector<TrialPlan>& trials) {
   return counts;
 }
 
-TEST(PairDesign, RitschelCountsAndSideBalance) {
+// The example renders each mode with the glare engine (glare_scenes): every row shows one scene on
+// both sides, with glare_a / glare_b the modes of condition_a / condition_b.
+TEST(PairDesign, GlareScenesShowOneSceneUnderAModePerSide) {
   const Experiment e = load_experiment(kExamples + "ritschel_2afc.toml");
+  ASSERT_EQ(e.conditions.size(), 18u);
+  for (const ConditionRow& row : e.conditions) {
+    EXPECT_EQ(*row.find("scene_a"), *row.find("scene"));
+    EXPECT_EQ(*row.find("scene_b"), *row.find("scene"));
+    EXPECT_EQ(*row.find("glare_a"), *row.find("condition_a"));
+    EXPECT_EQ(*row.find("glare_b"), *row.find("condition_b"));
+  }
+  for (const TrialPlan& plan : build_forced_choice_trials(e, kPeaks)) {
+    EXPECT_EQ(plan.position_glare, plan.position_conditions);  // the mode follows its side when swapped
+    EXPECT_TRUE(plan.correct_response.empty());  // equal luminance: no answer is physically right
+  }
+}
+
+TEST(PairDesign, RitschelCountsAndSideBalance) {
+  const Experiment e = stand_in_study();
   const std::vector<TrialPlan> trials = build_forced_choice_trials(e, kPeaks);
   // 2 scenes x 3 pairs (dynamic-static, dynamic-control, static-control) x 3 instructions x 2 sides.
   ASSERT_EQ(trials.size(), 36u);
@@ -211,6 +259,48 @@ instructions = [{ name = "which", question = "Which?" }]
   std::string one_mode = complete;
   one_mode.replace(one_mode.find("[\"a\", \"b\"]"), 10, "[\"a\"]");
   EXPECT_NE(error(one_mode).find("at least two glare modes"), std::string::npos) << error(one_mode);
+  // glare_scenes: the engine's modes only, known scenes, not together with mode_scenes.
+  const std::string rendered = base + "glare_scenes = [\"s1\"]\n";
+  EXPECT_NE(error(rendered).find("'a' is not one"), std::string::npos) << error(rendered);
+  std::string engine_modes = rendered;
+  engine_modes.replace(engine_modes.find("[\"a\", \"b\"]"), 10, "[\"static\", \"control\"]");
+  EXPECT_EQ(error(engine_modes), "no error");
+  std::string unknown_scene = engine_modes;
+  unknown_scene.replace(unknown_scene.find("[\"s1\"]"), 6, "[\"s9\"]");
+  EXPECT_NE(error(unknown_scene).find("p.toml:11:"), std::string::npos) << error(unknown_scene);
+  EXPECT_NE(error(unknown_scene).find("unknown scene 's9'"), std::string::npos) << error(unknown_scene);
+  EXPECT_NE(error(engine_modes + "[procedure.mode_scenes]\nx = { static = \"s1\", control = \"s1\" }\n").find("not both"),
+            std::string::npos);
+}
+
+// Hand-written rows with a glare mode per side: both columns, known modes, forced choice only.
+TEST(PairDesign, GlareColumnsPerSideAreChecked) {
+  const std::string head = R"(
+[experiment]
+name = "sides"
+[scenes]
+s1 = { file = "/s1.exr" }
+[procedure]
+type = "forced_choice"
+[conditions]
+rows = [
+)";
+  auto error = [&](const std::string& row) -> std::string {
+    try {
+      parse_experiment_text(head + row + "\n]\n", "g.toml", "/");
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error(R"({ name = "r", scene_a = "s1", scene_b = "s1", glare_a = "dynamic", glare_b = "control" })"), "no error");
+  EXPECT_NE(error(R"({ name = "r", scene_a = "s1", scene_b = "s1", glare_a = "dynamic" })").find("glare_b"), std::string::npos);
+  EXPECT_NE(error(R"({ name = "r", scene_a = "s1", scene_b = "s1", glare_a = "dynamic", glare_b = "blurry" })")
+                .find("unknown glare mode 'blurry'"),
+            std::string::npos);
+  const std::string both =
+      error(R"({ name = "r", scene_a = "s1", scene_b = "s1", glare = "static", glare_a = "dynamic", glare_b = "static" })");
+  EXPECT_NE(both.find("contradicts"), std::string::npos) << both;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "runner/session/session_runner.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -35,6 +36,7 @@
 #include "stimuli/exr_io.h"
 #include "stimuli/frame_renderer.h"
 #include "stimuli/glare_stage.h"
+#include "stimuli/position_glare.h"
 #include "stimuli/scene_library.h"
 
 namespace glarelab {
@@ -151,11 +153,12 @@ class SessionLoop {
     std::vector<std::vector<ImageRGBA>> glare_frames;
     std::vector<PixelRect> stimulus_rects;
     for (int interval = 0; interval < schedule.intervals; ++interval) {
-      placements.push_back(interval_layout(plan, interval));
+      const TrialPlan shown = interval_plan(plan, interval);
+      placements.push_back(layout(shown));
       for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
       std::size_t first_flip = 0;
       while (schedule.timed[first_flip].interval != interval) ++first_flip;
-      glare_frames.push_back(prepare_glare(plan, placements.back(), static_cast<int>(first_flip)));
+      glare_frames.push_back(prepare_glare(shown, placements.back(), static_cast<int>(first_flip)));
     }
     const std::vector<Placement> question = overlays_.question(plan.question, stimulus_rects);
 
@@ -421,15 +424,18 @@ class SessionLoop {
   }
 
   // --- presentation (runner/session/trial_schedule.h, presentation_overlays.h) ---
-  // What interval `interval` shows: both scenes side by side, or in a sequential trial its own
-  // scene alone, centred.
-  std::vector<Placement> interval_layout(const TrialPlan& plan, int interval) const {
-    if (!sequential_) return layout(plan);
+  // What interval `interval` shows: the whole plan side by side, or in a sequential trial the plan
+  // narrowed to its position `interval` (its scene alone, centred, with that position's glare).
+  TrialPlan interval_plan(const TrialPlan& plan, int interval) const {
+    if (!sequential_) return plan;
     const auto i = static_cast<std::size_t>(interval);
     TrialPlan one = plan;
+    one.positions = {plan.positions.at(i)};
     one.scenes = {plan.scenes.at(i)};
     one.scene_scale = plan.scene_scale.empty() ? std::vector<double>{} : std::vector<double>{plan.scene_scale.at(i)};
-    return layout(one);
+    one.position_glare =
+        plan.position_glare.empty() ? std::vector<std::string>{} : std::vector<std::string>{plan.position_glare.at(i)};
+    return one;
   }
 
   // Stimulus flips keep their frame index; every other flip of the trial is numbered -1, -2, ...
@@ -573,7 +579,17 @@ class SessionLoop {
   std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
                                        int flips_before = 0) {
     const GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
-    if (mode == GlareMode::control) return {};
+    // A mode per position (stimuli/position_glare.h): one layer per placement.
+    std::vector<GlareMode> position_modes;
+    if (plan.position_glare.size() == placements.size())
+      for (const std::string& name : plan.position_glare) position_modes.push_back(parse_glare_mode(name));
+    const auto is_control = [](GlareMode m) { return m == GlareMode::control; };
+    if (position_modes.empty() ? mode == GlareMode::control
+                               : std::all_of(position_modes.begin(), position_modes.end(), is_control))
+      return {};
+    const auto is_dynamic = [](GlareMode m) { return m == GlareMode::dynamic; };
+    const bool dynamic = position_modes.empty() ? mode == GlareMode::dynamic
+                                                : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic);
     const GlareSpec& spec = prepared_.experiment.glare;
     std::optional<GazePoint> gaze;
     std::optional<TrackerGaze> tracked;
@@ -585,32 +601,71 @@ class SessionLoop {
         for (const TrackerBlinkInterval& blink : tracker_.detected_blinks()) blinks.push_back({blink.onset_s, blink.offset_s});
         glare_.set_detected_blinks(blinks);
       }
-      tracked = tracker_.latest_gaze();
+      // The frames are prepared now and shown from the flip after `flips_before` more: compensation
+      // extrapolates to it.
+      tracked = spec.gaze_latency_compensation
+                    ? tracker_.predicted_gaze(clock_.now_s() + (1 + flips_before) * period_s_)
+                    : tracker_.latest_gaze();
       if (tracked) gaze = GazePoint{tracked->x, tracked->y};
+    }
+    std::vector<GlareLayer> layers;
+    std::string modes_label = to_string(mode);
+    if (!position_modes.empty()) {
+      modes_label.clear();
+      for (std::size_t p = 0; p < placements.size(); ++p) {
+        renderer_.compose({placements[p]}, 0.0);
+        layers.push_back({renderer_.read_stimulus(), position_modes[p]});
+        modes_label += (p == 0 ? "" : ", ") + plan.positions.at(p) + " " + to_string(position_modes[p]);
+      }
     }
     renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
     const ImageRGBA composed = renderer_.read_stimulus();
     const double first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
-    const int count = mode == GlareMode::static_eye ? 1 : plan.stimulus_frames;
+    const int count = dynamic ? plan.stimulus_frames : 1;
     std::vector<ImageRGBA> frames;
     int skipped = 0, gratings_hidden = 0, closed = 0;
     std::string skip_reason;
     double smallest_pupil_mm = 1e9;
     std::optional<GazeWindow> window;
+    int applications = 0;
+    const auto preparation_start = std::chrono::steady_clock::now();
     for (int k = 0; k < count; ++k) {
-      GlareFrameReport report;
-      frames.push_back(glare_.apply(composed, mode, first_flip_s + k * period_s_, &report, gaze));
-      if (report.window && !window) window = report.window;
-      if (!report.skip_reason.empty()) {
-        ++skipped;
-        if (skip_reason.empty()) skip_reason = report.skip_reason;
+      const double time_s = first_flip_s + k * period_s_;
+      std::vector<GlareFrameReport> reports;
+      if (layers.empty()) {
+        GlareFrameReport report;
+        frames.push_back(glare_.apply(composed, mode, time_s, &report, gaze));
+        reports.push_back(report);
+      } else {
+        frames.push_back(apply_layered_glare(glare_, composed, layers, time_s, gaze, &reports));
       }
-      if (!report.gratings_in_pupil) ++gratings_hidden;
-      if (report.eye_closed && report.convolved) ++closed;  // held PSF; otherwise counted as skipped
-      smallest_pupil_mm = std::min(smallest_pupil_mm, report.pupil_diameter_mm);
+      for (const GlareFrameReport& report : reports) {
+        ++applications;
+        if (report.window && !window) window = report.window;
+        if (!report.skip_reason.empty()) {
+          ++skipped;
+          if (skip_reason.empty()) skip_reason = report.skip_reason;
+        }
+        if (!report.gratings_in_pupil) ++gratings_hidden;
+        if (report.eye_closed && report.convolved) ++closed;  // held PSF; otherwise counted as skipped
+        smallest_pupil_mm = std::min(smallest_pupil_mm, report.pupil_diameter_mm);
+      }
     }
-    const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + to_string(mode) + "): ";
-    const std::string of_frames = " of " + std::to_string(count) + " glare frame(s)";
+    if (!presentation_mode_logged_) {
+      // Which presentation mode glare trials use, and why (measured on the first one).
+      presentation_mode_logged_ = true;
+      const double per_frame_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - preparation_start).count() / count;
+      store_.log_event(session_id_, clock_.now_s(), "presentation_mode",
+                       "glare trials: frames prepared before onset (" + std::to_string(1000.0 * per_frame_s) +
+                           " ms per glare frame on this machine against a refresh period of " +
+                           std::to_string(1000.0 * period_s_) +
+                           " ms; dynamic glare is a function of time and seed, so prepared frames equal live "
+                           "ones); control trials: composed live at every refresh");
+    }
+    const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + modes_label + "): ";
+    const std::string of_frames =
+        " of " + std::to_string(applications) + (layers.empty() ? " glare frame(s)" : " glare layer frame(s)");
     if (skipped > 0)
       store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
                        trial + "convolution skipped on " + std::to_string(skipped) + of_frames + ": " + skip_reason);
@@ -636,7 +691,8 @@ class SessionLoop {
     const GlareSpec& spec = prepared_.experiment.glare;
     bool any_glare = false;
     for (const ConditionRow& row : prepared_.experiment.conditions)
-      any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control;
+      any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control ||
+                  (position_glare_modes(row) && *position_glare_modes(row) != std::pair{GlareMode::control, GlareMode::control});
     if (!any_glare) {
       store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
       return;
@@ -653,7 +709,10 @@ class SessionLoop {
       inputs += " (no tracker: the model's)";
     if (spec.gaze_window_px > 0)
       inputs += "; gaze window " + std::to_string(spec.gaze_window_px) + " px around " +
-                (tracked ? std::string("the tracker's latest gaze") : "the display centre: no tracker, no gaze");
+                (tracked ? std::string(spec.gaze_latency_compensation
+                                           ? "the tracker's gaze extrapolated to each trial's first flip"
+                                           : "the tracker's latest gaze (no latency compensation)")
+                         : "the display centre: no tracker, no gaze");
     store_.log_event(session_id_, clock_.now_s(), "glare_inputs", inputs);
   }
 
@@ -762,6 +821,7 @@ class SessionLoop {
   double period_s_;
   std::map<std::string, SceneTexture> textures_;
   FrameTimingMonitor timing_;
+  bool presentation_mode_logged_ = false;
   GlareStage glare_;
   PresentationOverlays overlays_;
   bool sequential_;

@@ -60,8 +60,10 @@ void TrackerSession::track_gaze_and_blinks(const TrackerBatch& batch, const std:
   const double min_confidence = filter_.settings().min_confidence;
   for (std::size_t k = 0; k < batch.samples.size() && k < filtered.size(); ++k) {
     const TrackerSample& sample = batch.samples[k];
-    if (sample.valid && sample.confidence >= min_confidence && sample.has_gaze())
+    if (sample.valid && sample.confidence >= min_confidence && sample.has_gaze()) {
       latest_gaze_ = TrackerGaze{sample.session_time_s, sample.gaze_x, sample.gaze_y};
+      gaze_track_.add({sample.session_time_s, sample.gaze_x, sample.gaze_y});
+    }
     const int eye = filtered[k].eye;
     eye_seen_[eye] = true;
     eye_in_blink_[eye] = filtered[k].blink;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "runner/tracker/gaze_prediction.h"
 #include "runner/tracker/pupil_calibration.h"
 #include "runner/tracker/pupil_filter.h"
 #include "runner/tracker/tracker_logger.h"
@@ -65,6 +66,13 @@ class TrackerSession {
   // min_confidence, a gaze point), in normalised display coordinates; nothing before the first.
   // Not latency-compensated: the sample as it arrived.
   std::optional<TrackerGaze> latest_gaze() const { return latest_gaze_; }
+  // The gaze extrapolated to `at_s` from the recent confident samples (runner/tracker/
+  // gaze_prediction.h: latency compensation); nothing before the first gaze.
+  std::optional<TrackerGaze> predicted_gaze(double at_s) const {
+    const std::optional<GazeSample> predicted = gaze_track_.predicted(at_s);
+    if (!predicted) return std::nullopt;
+    return TrackerGaze{predicted->session_time_s, predicted->x, predicted->y};
+  }
   // Blinks detected so far: a blink starts at the first sample where every eye seen so far is in a
   // blink (the filter's blink flag: tracker blink topic or a confidence drop) and ends at the first
   // sample of an eye out of it. The last one is open (offset +infinity) while it lasts.
@@ -84,6 +92,7 @@ class TrackerSession {
   bool finished_ = false;
   void track_gaze_and_blinks(const TrackerBatch& batch, const std::vector<FilteredPupil>& filtered);
   std::optional<TrackerGaze> latest_gaze_;
+  GazeTrack gaze_track_;
   std::vector<TrackerBlinkInterval> blinks_;
   bool eye_seen_[2] = {false, false};
   bool eye_in_blink_[2] = {false, false};

@@ -1,0 +1,30 @@
+#pragma once
+// Glare that differs between the positions of one frame. Ritschel et al. 2009, section 6.1, shows
+// "two images of the same scene where each of the displays was either enhanced by application of
+// dynamic or static glare or not": one frame, a glare condition per side. The composed frame is
+// split into one layer per position (its placement alone, zero elsewhere) and the background part
+// (composed minus the layers); each layer is convolved with the PSF of its own mode, the eye
+// adapted to the whole frame's mean luminance (one eye sees the whole display), and the results
+// are summed with the background part, which is left as it is (exact for the usual black
+// background; for a uniform background a unit-sum PSF changes it only at the layers' edges).
+// Convolution is linear, so layers sharing one mode give the whole-frame glare of that mode.
+#include <optional>
+#include <vector>
+
+#include "stimuli/glare_stage.h"
+#include "stimuli/image.h"
+
+namespace glarelab {
+
+struct GlareLayer {
+  ImageRGBA image_cd_m2;  // the position's placement alone on zero, frame-sized
+  GlareMode mode = GlareMode::control;
+};
+
+// One glared frame at `time_s`. `reports` receives one report per layer that is not control.
+// Throws std::invalid_argument when a layer's size differs from the composed frame's.
+ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers,
+                              double time_s, const std::optional<GazePoint>& gaze,
+                              std::vector<GlareFrameReport>* reports = nullptr);
+
+}  // namespace glarelab

@@ -1,0 +1,119 @@
+// Glare per position (stimuli/position_glare.h): layers sharing one mode give the whole-frame
+// glare (convolution is linear), the eye adapts to the whole frame, a control layer keeps its own
+// light, and each glared layer keeps its energy.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "stimuli/position_glare.h"
+
+namespace glarelab {
+namespace {
+
+GlareSpec small_spec() {
+  GlareSpec spec;
+  spec.backend = "cpu";
+  spec.grid_px = 128;
+  spec.wavelength_samples = 8;
+  return spec;
+}
+
+DisplaySpec small_display() {
+  DisplaySpec display;
+  display.width_px = 128;
+  display.height_px = 64;
+  return display;
+}
+
+// Two lamps, left (x 24..31) and right (x 96..103), rows 28..35, on black; each alone as a layer.
+struct TwoLamps {
+  ImageRGBA composed{128, 64, 0.0f};
+  ImageRGBA left{128, 64, 0.0f};
+  ImageRGBA right{128, 64, 0.0f};
+  TwoLamps(float left_cd_m2, float right_cd_m2) {
+    for (int y = 28; y < 36; ++y)
+      for (int x = 0; x < 8; ++x)
+        for (int c = 0; c < 3; ++c) {
+          composed.pixel(24 + x, y)[c] = left.pixel(24 + x, y)[c] = left_cd_m2;
+          composed.pixel(96 + x, y)[c] = right.pixel(96 + x, y)[c] = right_cd_m2;
+        }
+  }
+};
+
+double relative_l2(const ImageRGBA& a, const ImageRGBA& b) {
+  double difference = 0.0, norm = 0.0;
+  for (std::size_t i = 0; i < a.rgba.size(); ++i) {
+    if (i % 4 == 3) continue;
+    difference += std::pow(double(a.rgba[i]) - b.rgba[i], 2);
+    norm += std::pow(double(b.rgba[i]), 2);
+  }
+  return std::sqrt(difference / norm);
+}
+
+double sum_over(const ImageRGBA& image, int x0, int x1, int channel) {
+  double sum = 0.0;
+  for (int y = 0; y < image.height_px; ++y)
+    for (int x = x0; x < x1; ++x) sum += image.pixel(x, y)[channel];
+  return sum;
+}
+
+TEST(PositionGlare, LayersSharingAModeGiveTheWholeFrameGlare) {
+  const TwoLamps lamps(400.0f, 250.0f);
+  for (const GlareMode mode : {GlareMode::static_eye, GlareMode::dynamic}) {
+    GlareStage whole_stage(small_spec(), small_display(), 11);
+    GlareStage layered_stage(small_spec(), small_display(), 11);
+    const ImageRGBA whole = whole_stage.apply(lamps.composed, mode, 0.4);
+    const ImageRGBA layered =
+        apply_layered_glare(layered_stage, lamps.composed, {{lamps.left, mode}, {lamps.right, mode}}, 0.4, std::nullopt);
+    EXPECT_LT(relative_l2(layered, whole), 1e-6) << to_string(mode);
+    EXPECT_GT(relative_l2(whole, lamps.composed), 1e-3) << "glare must change the frame for the test to mean anything";
+  }
+}
+
+TEST(PositionGlare, ControlSideKeepsItsLightAndTheGlaredSideKeepsItsEnergy) {
+  const TwoLamps lamps(400.0f, 400.0f);
+  GlareStage stage(small_spec(), small_display(), 5);
+  std::vector<GlareFrameReport> reports;
+  const ImageRGBA out = apply_layered_glare(stage, lamps.composed, {{lamps.left, GlareMode::static_eye},
+                                                                     {lamps.right, GlareMode::control}},
+                                            0.0, std::nullopt, &reports);
+  ASSERT_EQ(reports.size(), 1u);  // one report per glared layer
+  EXPECT_TRUE(reports[0].convolved);
+  // The static (left) lamp spreads: its centre loses light. The control (right) lamp is untouched
+  // but for the left lamp's spill, 64 px away.
+  EXPECT_LT(out.pixel(27, 31)[1], 0.99f * 400.0f);
+  EXPECT_NEAR(out.pixel(99, 31)[1], 400.0f, 0.01 * 400.0);
+  // Energy: the left half holds the left lamp's glared light; the frame holds both lamps' light.
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(sum_over(out, 0, 128, c) / sum_over(lamps.composed, 0, 128, c), 1.0, 1e-5) << "channel " << c;
+    EXPECT_GT(sum_over(out, 0, 64, c), sum_over(lamps.composed, 0, 64, c) * 0.99) << "channel " << c;
+  }
+}
+
+TEST(PositionGlare, TheEyeAdaptsToTheWholeFrameNotToOneLayer) {
+  // A dim left lamp next to a bright right one: the layered left glare uses the pupil of the
+  // whole frame's mean, which is what a static eye adapted to the whole frame shows.
+  const TwoLamps lamps(50.0f, 5000.0f);
+  GlareStage layered_stage(small_spec(), small_display(), 2);
+  std::vector<GlareFrameReport> reports;
+  apply_layered_glare(layered_stage, lamps.composed, {{lamps.left, GlareMode::static_eye}, {lamps.right, GlareMode::control}},
+                      0.0, std::nullopt, &reports);
+  GlareStage whole_stage(small_spec(), small_display(), 2);
+  GlareFrameReport whole_report, left_alone_report;
+  whole_stage.apply(lamps.composed, GlareMode::static_eye, 0.0, &whole_report);
+  GlareStage left_stage(small_spec(), small_display(), 2);
+  left_stage.apply(lamps.left, GlareMode::static_eye, 0.0, &left_alone_report);
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].pupil_diameter_mm, whole_report.pupil_diameter_mm);
+  EXPECT_GT(left_alone_report.pupil_diameter_mm, whole_report.pupil_diameter_mm + 0.1);  // darker field: wider pupil
+}
+
+TEST(PositionGlare, ALayerOfAnotherSizeIsRefused) {
+  const TwoLamps lamps(100.0f, 100.0f);
+  GlareStage stage(small_spec(), small_display(), 1);
+  EXPECT_THROW(apply_layered_glare(stage, lamps.composed, {{ImageRGBA(64, 64), GlareMode::static_eye}}, 0.0, std::nullopt),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace glarelab
