@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -24,7 +25,28 @@ using test::ScratchDir;
 struct StudyRun {
   std::vector<TrialRecord> trials;
   std::vector<std::string> events;  // "kind: message"
+  std::string analysis_summary;     // what `glarelab analyze` printed for the study's database
+  std::string report_html;          // the report it wrote
 };
+
+// Every study's database goes through `glarelab analyze` as a lab would run it.
+void analyse_study(const std::filesystem::path& db, const ScratchDir& scratch, StudyRun& run) {
+  const auto out = scratch.path() / "analysis";
+  const auto result = run_glarelab({"analyze", db.string(), "--out", out.string()}, scratch.path());
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  run.analysis_summary = result.output;
+  run.report_html = test::read_bytes((out / "report.html").string());
+  EXPECT_NE(run.report_html.find("<h2>Timing quality</h2>"), std::string::npos);
+  // No statistic printed as NaN or inf ("nan" as a word of its own, as printf and to_string write it).
+  for (const std::string word : {"nan", "NaN", "inf"}) {
+    for (std::size_t at = run.report_html.find(word); at != std::string::npos; at = run.report_html.find(word, at + 1)) {
+      const auto letter = [&](std::size_t i) { return i < run.report_html.size() && std::isalpha(static_cast<unsigned char>(run.report_html[i])); };
+      EXPECT_TRUE((at > 0 && letter(at - 1)) || letter(at + word.size()))
+          << "'" << word << "' in the report: " << run.report_html.substr(at > 60 ? at - 60 : 0, 120);
+    }
+  }
+  EXPECT_TRUE(std::filesystem::exists(out / "trials.csv"));
+}
 
 StudyRun run_example(const std::string& file, const ScratchDir& scratch) {
   const auto db = scratch.path() / "study.db";
@@ -47,6 +69,7 @@ StudyRun run_example(const std::string& file, const ScratchDir& scratch) {
   while (sqlite3_step(statement) == SQLITE_ROW)
     run.events.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)));
   sqlite3_finalize(statement);
+  analyse_study(db, scratch, run);
   return run;
 }
 
@@ -62,6 +85,10 @@ std::string json_member(const std::string& json, const std::string& key) {
 TEST(ExampleStudies, SpencerStaircaseRecordsIntensitiesAndReversals) {
   const ScratchDir scratch;
   const StudyRun run = run_example("spencer_staircase.toml", scratch);
+  // The analysis finds both staircases, their thresholds and fits.
+  EXPECT_NE(run.report_html.find("<h2>Staircases and QUEST</h2>"), std::string::npos);
+  for (const std::string track : {"from_above", "from_near"})
+    EXPECT_NE(run.analysis_summary.find(track + ": threshold"), std::string::npos) << run.analysis_summary;
   ASSERT_GE(run.trials.size(), 40u);  // two staircases of at least 20 trials
   // Replay each staircase's recorded answers through the Staircase class: it must ask for the
   // intensities that were recorded and reverse where the database says.
@@ -103,6 +130,13 @@ TEST(ExampleStudies, SpencerStaircaseRecordsIntensitiesAndReversals) {
 TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
   const ScratchDir scratch;
   const StudyRun run = run_example("ritschel_2afc.toml", scratch);
+  // The analysis compares the glare modes (not the scenes, which are the same on both sides), per
+  // instruction pooled over scenes as Ritschel's Fig. 12.
+  EXPECT_NE(run.report_html.find("<h2>Forced choice</h2>"), std::string::npos);
+  for (const std::string instruction : {"brighter", "attractive", "realistic"})
+    EXPECT_NE(run.analysis_summary.find("forced choice pooled: instruction=" + instruction), std::string::npos)
+        << run.analysis_summary;
+  EXPECT_EQ(run.analysis_summary.find("'lamp_"), std::string::npos) << run.analysis_summary;
   // 2 scenes x 3 condition pairs x 3 instructions x 2 side assignments.
   ASSERT_EQ(run.trials.size(), 36u);
   std::map<std::string, int> left_count, right_count;
@@ -246,6 +280,9 @@ TEST(ExampleStudies, LuidoltRatingsRateEverySceneOnEveryCategory) {
   const ScratchDir scratch;
   const StudyRun run = run_example("luidolt_ratings.toml", scratch);
   ASSERT_EQ(run.trials.size(), 18u);  // 3 conditions x 6 categories
+  EXPECT_NE(run.report_html.find("<h2>Ratings</h2>"), std::string::npos);
+  for (const std::string condition : {"control", "static", "dynamic"})
+    EXPECT_NE(run.analysis_summary.find("rating " + condition + ": 6 answers"), std::string::npos) << run.analysis_summary;
   std::set<std::string> seen;
   std::map<std::string, double> sum;
   for (const TrialRecord& trial : run.trials) {
@@ -267,6 +304,11 @@ TEST(ExampleStudies, RitschelAdjustmentStoresBothSettingsAndTheirMean) {
   const ScratchDir scratch;
   const auto db = scratch.path() / "study.db";
   const StudyRun run = run_example("ritschel_adjustment.toml", scratch);
+  // The analysis groups the settings by target level and glare mode (Ritschel's Fig. 12, right).
+  EXPECT_NE(run.report_html.find("<h2>Double adjustment</h2>"), std::string::npos);
+  for (const std::string level : {"low", "high"})
+    for (const std::string mode : {"control", "static", "dynamic"})
+      EXPECT_NE(run.report_html.find("<td>" + mode + "</td><td>" + level + "</td>"), std::string::npos) << mode << " " << level;
   ASSERT_EQ(run.trials.size(), 12u);  // 6 condition rows x 2 repetitions
   const ResultStore store(db.string());
   for (const TrialRecord& trial : run.trials) {
