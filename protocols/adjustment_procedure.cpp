@@ -14,13 +14,6 @@
 namespace glarelab {
 namespace {
 
-double positive(TableReader& reader, std::string_view key, double fallback) {
-  const std::optional<double> value = reader.number(key);
-  if (!value) return fallback;
-  if (!(*value > 0.0)) reader.fail(key, "must be > 0, found " + std::to_string(*value));
-  return *value;
-}
-
 double peak_of(const std::map<std::string, double>& peaks, const std::string& scene) {
   const auto found = peaks.find(scene);
   if (found == peaks.end() || !(found->second > 0.0))
@@ -38,8 +31,8 @@ std::string number_text(double value) {
 
 void read_adjustment_procedure(TableReader& procedure, Experiment& experiment) {
   AdjustmentSpec& spec = experiment.adjustment;
-  spec.coarse_step_log10 = positive(procedure, "coarse_step_log10", spec.coarse_step_log10);
-  spec.fine_step_log10 = positive(procedure, "fine_step_log10", spec.fine_step_log10);
+  spec.coarse_step_log10 = procedure.positive_number("coarse_step_log10", spec.coarse_step_log10);
+  spec.fine_step_log10 = procedure.positive_number("fine_step_log10", spec.fine_step_log10);
   if (const auto range = procedure.number("start_range_log10")) {
     if (!(*range >= 0.0)) procedure.fail("start_range_log10", "must be >= 0, found " + std::to_string(*range));
     spec.start_range_log10 = *range;

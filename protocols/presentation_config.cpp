@@ -11,13 +11,6 @@
 namespace glarelab {
 namespace {
 
-double read_positive(TableReader& reader, std::string_view key, double fallback) {
-  const std::optional<double> value = reader.number(key);
-  if (!value) return fallback;
-  if (!(*value > 0.0)) reader.fail(key, "must be > 0, found " + std::to_string(*value));
-  return *value;
-}
-
 std::string read_text(TableReader& reader, std::string_view key, const std::string& fallback, bool may_be_empty) {
   const std::optional<std::string> value = reader.string(key);
   if (!value) return fallback;
@@ -52,7 +45,7 @@ PresentationSpec read_presentation_section(TableReader& top, const Experiment& e
   spec.screen_min = read_frame_count(reader, "screen_min_frames", "screen_min_duration_s", refresh_hz, spec.screen_min, true);
 
   spec.fixation = read_frame_count(reader, "fixation_frames", "fixation_duration_s", refresh_hz, spec.fixation, true);
-  spec.fixation_size_deg = read_positive(reader, "fixation_size_deg", spec.fixation_size_deg);
+  spec.fixation_size_deg = reader.positive_number("fixation_size_deg", spec.fixation_size_deg);
   spec.inter_stimulus = read_frame_count(reader, "isi_frames", "isi_duration_s", refresh_hz, spec.inter_stimulus, true);
 
   if (const std::optional<double> window = reader.number("response_window_s")) {
@@ -86,8 +79,8 @@ PresentationSpec read_presentation_section(TableReader& top, const Experiment& e
   spec.feedback_wrong_text = read_text(reader, "feedback_wrong_text", spec.feedback_wrong_text, false);
   spec.feedback_timeout_text = read_text(reader, "feedback_timeout_text", spec.feedback_timeout_text, false);
 
-  spec.text_height_deg = read_positive(reader, "text_height_deg", spec.text_height_deg);
-  spec.text_cd_m2 = read_positive(reader, "text_cd_m2", spec.text_cd_m2);
+  spec.text_height_deg = reader.positive_number("text_height_deg", spec.text_height_deg);
+  spec.text_cd_m2 = reader.positive_number("text_cd_m2", spec.text_cd_m2);
   // Text is drawn on the display, not through the simulated eye: brighter than white would clip.
   if (spec.text_cd_m2 > experiment.display.peak_luminance_cd_m2)
     reader.fail("text_cd_m2", "must not exceed the display's peak_luminance_cd_m2 (" +

@@ -179,4 +179,11 @@ const std::string& expect_string(const toml::node& node, const std::string& key_
   return node.as_string()->get();
 }
 
+double TableReader::positive_number(std::string_view key, double fallback) {
+  const std::optional<double> value = number(key);
+  if (!value) return fallback;
+  if (!(*value > 0.0)) fail(key, "must be > 0, found " + std::to_string(*value));
+  return *value;
+}
+
 }  // namespace glarelab

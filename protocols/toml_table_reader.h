@@ -55,6 +55,8 @@ class TableReader {
   [[noreturn]] void fail_at_key(std::string_view key, const std::string& message) const;
   // Throws for the first key, in document order, that no accessor asked for.
   void report_unused() const;
+  // A number that must be > 0: the value, or `fallback` when the key is absent.
+  double positive_number(std::string_view key, double fallback);
 
  private:
   std::string table_title() const;

@@ -11,6 +11,7 @@
 
 #include "cli_process.h"
 #include "runner/store/result_store.h"
+#include "session_events.h"
 
 namespace glarelab {
 namespace {
@@ -84,13 +85,9 @@ TEST(WindowBackend, AdjustmentWithKeysAndWheelStepsInLogUnits) {
   const auto session = store.load_sessions().at(0);
   EXPECT_EQ(session.status, "aborted");
   EXPECT_EQ(session.observer, "keyboard");
-  sqlite3_stmt* statement = nullptr;
-  ASSERT_EQ(sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = 'response_device_absent'",
-                               -1, &statement, nullptr),
-            SQLITE_OK);
-  ASSERT_EQ(sqlite3_step(statement), SQLITE_ROW);
-  const std::string absent = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
-  sqlite3_finalize(statement);
+  const std::vector<std::string> absent_events = test::session_event_messages(store, "response_device_absent");
+  ASSERT_EQ(absent_events.size(), 1u);
+  const std::string& absent = absent_events[0];
   EXPECT_NE(absent.find("HID: no device fffe:fffd"), std::string::npos) << absent;
   const auto recorded = store.load_trials(session.id);
   ASSERT_EQ(recorded.size(), 2u) << test::read_bytes((scratch.path() / "out.txt").string());

@@ -9,21 +9,14 @@
 #include "cli_process.h"
 #include "runner/store/result_store.h"
 #include "scratch_dir.h"
+#include "session_events.h"
 
 namespace glarelab {
 namespace {
 
 std::string first_event(const std::string& db, const std::string& kind) {
-  const ResultStore store(db);
-  sqlite3_stmt* statement = nullptr;
-  std::string message;
-  if (sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = ?1 ORDER BY id", -1, &statement,
-                         nullptr) != SQLITE_OK)
-    return message;
-  sqlite3_bind_text(statement, 1, kind.c_str(), -1, SQLITE_TRANSIENT);
-  if (sqlite3_step(statement) == SQLITE_ROW) message = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
-  sqlite3_finalize(statement);
-  return message;
+  const std::vector<std::string> messages = test::session_event_messages(db, kind);
+  return messages.empty() ? std::string() : messages.front();
 }
 
 TEST(GlareSession, GlBackendRunsTrialsBetweenDisplayFrames) {

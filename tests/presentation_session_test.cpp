@@ -9,6 +9,7 @@
 
 #include "cli_process.h"
 #include "runner/store/result_store.h"
+#include "session_events.h"
 
 namespace glarelab {
 namespace {
@@ -40,15 +41,7 @@ std::string write_experiment(const ScratchDir& scratch, const StudySetup& setup)
 }
 
 std::vector<std::string> events(const ResultStore& store, const std::string& kind) {
-  std::vector<std::string> messages;
-  sqlite3_stmt* statement = nullptr;
-  sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = ?1 ORDER BY id", -1, &statement,
-                     nullptr);
-  sqlite3_bind_text(statement, 1, kind.c_str(), -1, SQLITE_TRANSIENT);
-  while (sqlite3_step(statement) == SQLITE_ROW)
-    messages.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)));
-  sqlite3_finalize(statement);
-  return messages;
+  return test::session_event_messages(store, kind);
 }
 
 std::string frame_indices(const std::vector<FrameRecord>& frames) {

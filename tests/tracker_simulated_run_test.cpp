@@ -14,6 +14,7 @@
 #include "runner/tracker/replay_tracker.h"
 #include "runner/tracker/simulated_tracker.h"
 #include "scratch_dir.h"
+#include "session_events.h"
 
 namespace glarelab {
 namespace {
@@ -41,14 +42,7 @@ TEST(TrackerSimulatedRun, LogsEverySampleOfTheSessionAndTheCalibration) {
   // notice that and fall back to the measured diameter.
   EXPECT_NE(run.output.find("tracker simulated (seed 11"), std::string::npos) << run.output;
   const ResultStore store(db);
-  sqlite3_stmt* statement = nullptr;
-  ASSERT_EQ(sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = 'pupil_calibration'",
-                               -1, &statement, nullptr),
-            SQLITE_OK);
-  std::vector<std::string> messages;
-  while (sqlite3_step(statement) == SQLITE_ROW)
-    messages.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)));
-  sqlite3_finalize(statement);
+  const std::vector<std::string> messages = test::session_event_messages(store, "pupil_calibration");
   ASSERT_EQ(messages.size(), 1u);
   EXPECT_NE(messages[0].find("did not respond"), std::string::npos) << messages[0];
   // Polled at each flip: the black screen (flips 0..29, t <= 29/60 s) sees samples k = 0..58 of
@@ -57,17 +51,7 @@ TEST(TrackerSimulatedRun, LogsEverySampleOfTheSessionAndTheCalibration) {
 }
 
 std::vector<std::string> event_messages(const std::string& db, const std::string& kind) {
-  const ResultStore store(db);
-  sqlite3_stmt* statement = nullptr;
-  std::vector<std::string> messages;
-  if (sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = ?1 ORDER BY id", -1, &statement,
-                         nullptr) != SQLITE_OK)
-    return messages;
-  sqlite3_bind_text(statement, 1, kind.c_str(), -1, SQLITE_TRANSIENT);
-  while (sqlite3_step(statement) == SQLITE_ROW)
-    messages.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)));
-  sqlite3_finalize(statement);
-  return messages;
+  return test::session_event_messages(db, kind);
 }
 
 // Every row dynamic, a 64 px gaze window, blinks from the tracker: the session logs its glare
