@@ -111,4 +111,16 @@ inline void write_demo_conditions_without_glare(const std::filesystem::path& pat
   write_bytes(path.string(), rows);
 }
 
+// A small, quick demo for glare-in-session tests: 512 x 256 px, two frames per trial, every row
+// dynamic, 8 wavelength samples; `extra_glare_keys` are more [glare] lines ("backend = \"gl\"").
+inline std::filesystem::path small_dynamic_demo(const std::filesystem::path& dir, const std::string& extra_glare_keys) {
+  write_demo_conditions_without_glare(dir / "conditions.csv");
+  return demo_variant(dir, {{"file", "file = \"" + (dir / "conditions.csv").string() + "\""},
+                            {"width_px", "width_px = 512"},
+                            {"height_px", "height_px = 256"},
+                            {"stimulus_frames", "stimulus_frames = 2"},
+                            {"mode", "mode = \"dynamic\""},
+                            {"wavelength_samples", "wavelength_samples = 8\n" + extra_glare_keys}});
+}
+
 }  // namespace glarelab::test

@@ -21,14 +21,7 @@ std::string first_event(const std::string& db, const std::string& kind) {
 
 TEST(GlareSession, GlBackendRunsTrialsBetweenDisplayFrames) {
   test::ScratchDir dir;
-  test::write_demo_conditions_without_glare(dir.path() / "conditions.csv");
-  const auto experiment = test::demo_variant(
-      dir.path(), {{"file", "file = \"" + (dir.path() / "conditions.csv").string() + "\""},
-                   {"width_px", "width_px = 512"},
-                   {"height_px", "height_px = 256"},
-                   {"stimulus_frames", "stimulus_frames = 2"},
-                   {"mode", "mode = \"dynamic\""},
-                   {"wavelength_samples", "wavelength_samples = 8\nbackend = \"gl\""}});
+  const auto experiment = test::small_dynamic_demo(dir.path(), "backend = \"gl\"");
   const std::string db = (dir.path() / "gl.db").string();
   const auto run = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
                                        "--db", db, "--seed", "3", "--stop-after", "3"},

@@ -59,14 +59,8 @@ std::vector<std::string> event_messages(const std::string& db, const std::string
 // tracker has delivered one (the first trial is prepared before any flip, so before any sample).
 TEST(TrackerSimulatedRun, GazeWindowFollowsTheTrackerAndIsLoggedPerTrial) {
   test::ScratchDir dir;
-  test::write_demo_conditions_without_glare(dir.path() / "conditions.csv");
-  const auto experiment = test::demo_variant(
-      dir.path(), {{"file", "file = \"" + (dir.path() / "conditions.csv").string() + "\""},
-                   {"width_px", "width_px = 512"},
-                   {"height_px", "height_px = 256"},
-                   {"stimulus_frames", "stimulus_frames = 2"},
-                   {"mode", "mode = \"dynamic\""},
-                   {"wavelength_samples", "wavelength_samples = 8\nbackend = \"cpu\"\ngaze_window_px = 64\nblink_source = \"tracker\""}});
+  const auto experiment =
+      test::small_dynamic_demo(dir.path(), "backend = \"cpu\"\ngaze_window_px = 64\nblink_source = \"tracker\"");
   const std::string tracked_db = (dir.path() / "tracked.db").string();
   const auto tracked = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
                                            "--db", tracked_db, "--seed", "5", "--tracker", "simulated", "--stop-after", "2"},
