@@ -8,6 +8,7 @@
 #include <csignal>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <sstream>
 #include <thread>
@@ -118,7 +119,8 @@ class DeviceDriver {
   // `bit`: a press made before the trial's onset is logged as ignored, so the test presses again
   // until one of its presses is logged as trial k's answer. False when the session ended first.
   bool answer(int k, int bit) const {
-    const std::string of_trial = "message LIKE 'trial " + std::to_string(k) + ": %'";
+    // Presses during trial k itself ("trial k: button ..."), not on a screen before it.
+    const std::string of_trial = "message LIKE 'trial " + std::to_string(k) + ": button %'";
     const std::string presses = "kind IN ('button', 'ignored_button') AND " + of_trial;
     for (int attempt = 0; attempt < 100; ++attempt) {
       const long long logged = events(presses);
@@ -197,6 +199,37 @@ TEST(HidSession, ButtonPressesAnswerAnOffscreenForcedChoiceWithDeviceStamps) {
   ASSERT_EQ(summary.size(), 1u);
   EXPECT_NE(summary[0].message.find("0 unplug(s)"), std::string::npos) << summary[0].message;
   EXPECT_EQ(store.integrity_check(), "ok");
+}
+
+// A button box may have no Space: any button continues an instruction screen (after its minimum),
+// and the trials that follow are answered as usual.
+TEST(HidSession, AnyButtonContinuesTheInstructionScreen) {
+  const test::ScratchDir scratch;
+  test::FakeHidPort port;
+  const RunOptions options = device_session_options(scratch, port);
+  {
+    std::ofstream experiment(options.experiment_path, std::ios::app);
+    experiment << "\n[presentation]\ninstructions = \"Press a button to begin.\"\n";
+  }
+  SessionThread session(options);
+  DeviceDriver driver(session, port, options.db_path);
+  // The session waits on its instruction screen: the first press continues it.
+  ASSERT_TRUE(wait_for(session, [&] { return driver.events("kind = 'display'") > 0; })) << session.error();
+  const auto continued = [&] { return driver.events("kind = 'button' AND message LIKE '%instructions screen: button%continued'"); };
+  for (int attempt = 0; attempt < 100 && continued() == 0 && !session.done(); ++attempt) {
+    port.click(2);  // "x": not a response, but it continues a screen
+    wait_for(session, [&] { return driver.events("kind IN ('button', 'ignored_button')") > attempt; });
+  }
+  ASSERT_EQ(continued(), 1) << session.error();
+  for (int k = 0; driver.wait_for_trials(k) && !session.done(); ++k)
+    if (!driver.answer(k, k % 2)) break;
+  session.join();
+  ASSERT_EQ(session.error(), "");
+  EXPECT_EQ(session.result().status, "completed");
+  const ResultStore store(options.db_path);
+  const auto trials = store.load_trials(store.load_sessions().at(0).id);
+  ASSERT_EQ(static_cast<int>(trials.size()), session.result().trials_in_design);
+  for (std::size_t k = 0; k < trials.size(); ++k) EXPECT_EQ(trials[k].response, expected_response(static_cast<int>(k)));
 }
 
 TEST(HidSession, UnplugMidTrialPausesWithAMessageAndReRunsTheTrialAfterReplug) {

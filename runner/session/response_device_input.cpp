@@ -57,17 +57,36 @@ void ResponseDeviceInput::log_press(const TrialPlan& plan, const PressDecision& 
                      trial_text(plan.trial_index) + button + decision.ignored_because);
 }
 
-std::optional<Response> ResponseDeviceInput::answer(const TrialPlan& plan, double onset_s, bool* unplugged) {
+std::optional<Response> ResponseDeviceInput::answer(const TrialPlan& plan, double onset_s, double answers_from_s,
+                                                    bool* unplugged) {
   // Gone is read before the presses: the reader queues everything it read before it stops.
   const bool gone = device_.unplugged();
   std::optional<Response> answer;
   for (const PressDecision& decision :
-       decide_presses(device_.take_presses(), plan.allowed_responses, onset_s, false)) {
+       decide_presses(device_.take_presses(), plan.allowed_responses, answers_from_s, false)) {
     log_press(plan, decision);
     if (decision.response) answer = Response{*decision.response, decision.press.session_time_s - onset_s};
   }
   *unplugged = gone && !answer;
   return answer;
+}
+
+bool ResponseDeviceInput::continues_screen(const TrialPlan& plan, const std::string& screen_kind, bool long_enough,
+                                           bool* unplugged) {
+  const bool gone = device_.unplugged();
+  bool continued = false;
+  for (const ButtonEvent& press : device_.take_presses()) {
+    const std::string button = trial_text(plan.trial_index) + screen_kind + " screen: button '" + press.response + "' ";
+    if (long_enough && !continued) {
+      continued = true;
+      store_.log_event(session_id_, press.session_time_s, "button", button + "continued");
+    } else {
+      store_.log_event(session_id_, press.session_time_s, "ignored_button",
+                       button + (continued ? "came after another continued" : "before the screen's minimum duration"));
+    }
+  }
+  *unplugged = gone && !continued;
+  return continued;
 }
 
 std::vector<TimedInput> ResponseDeviceInput::adjustment_presses(const TrialPlan& plan, double onset_s,

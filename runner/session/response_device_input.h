@@ -51,9 +51,14 @@ class ResponseDeviceInput {
  public:
   ResponseDeviceInput(ResponseDeviceSession& device, ResultStore& store, std::int64_t session_id);
 
-  // The answer among the presses since the last poll, or nothing; every press is logged.
-  // `*unplugged` is set when the device is gone and no press answered: the caller pauses.
-  std::optional<Response> answer(const TrialPlan& plan, double onset_s, bool* unplugged);
+  // The answer among the presses since the last poll, or nothing; every press is logged. Response
+  // times count from `onset_s`; presses before `answers_from_s` (the onset, or a sequential
+  // trial's second interval) do not answer. `*unplugged` is set when the device is gone and no
+  // press answered: the caller pauses.
+  std::optional<Response> answer(const TrialPlan& plan, double onset_s, double answers_from_s, bool* unplugged);
+  // Presses on an instruction or break screen: any button continues it once `long_enough` (a button
+  // box may have no Space); earlier presses are logged as ignored. `*unplugged` as above.
+  bool continues_screen(const TrialPlan& plan, const std::string& screen_kind, bool long_enough, bool* unplugged);
   // The presses of the adjustment phase, those before onset logged as ignored; `*unplugged` as above.
   std::vector<TimedInput> adjustment_presses(const TrialPlan& plan, double onset_s, bool* unplugged);
   // An input that did nothing in the adjustment phase, logged as ignored_key or ignored_button.

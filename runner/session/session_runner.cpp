@@ -107,6 +107,9 @@ struct TrialRun {
   std::vector<PhaseFlip> phases;  // parallel to frames
   int other_flips = 0;            // flips that are not stimulus frames (frame_index -1, -2, ...)
   double onset_s = 0.0;
+  // When answers start to count: the onset, or in sequential 2-AFC the second interval's onset
+  // (keys and device presses before it are logged as ignored).
+  double answers_from_s = 0.0;
 };
 
 class SessionLoop {
@@ -197,8 +200,9 @@ class SessionLoop {
         if (late_s) log_late_flip(plan, flip_s, std::string(to_string(flip.phase)) + " flip", *late_s);
         record_flip(run, {flip.phase, -1, -1}, scheduled_s, flip_s, late_s.has_value());
       }
+      if (i == schedule.first_answer_flip) run.answers_from_s = flip_s;
       if (interactive && i >= schedule.first_answer_flip && !run.response)
-        run.response = poll_keyboard(plan, run.onset_s);
+        run.response = poll_keyboard(plan, run.onset_s, run.answers_from_s);
       else if (interactive)
         ignore_keys(plan, run.response                       ? "came after the answer"
                           : flip.phase == FlipPhase::fixation ? "pressed before onset"
@@ -234,7 +238,7 @@ class SessionLoop {
         timing_.on_flip(flip_s, plan.trial_index, -1);
         after_flip(flip_s);
         record_flip(run, {FlipPhase::response, -1, -1}, flip_s, flip_s, false);
-        run.response = poll_keyboard(plan, run.onset_s);
+        run.response = poll_keyboard(plan, run.onset_s, run.answers_from_s);
         if (aborted_) return false;
       }
     }
@@ -526,6 +530,11 @@ class SessionLoop {
                                "' " + (key == "space" || key == "enter" ? "before the screen's minimum duration"
                                                                         : "does not continue (Space or Enter)"));
         }
+        if (!aborted_ && device_ != nullptr) {
+          bool unplugged = false;
+          proceed = device_->continues_screen(plan, screen.kind, long_enough, &unplugged) || proceed;
+          if (unplugged) pause_for_response_device(plan.trial_index);
+        }
       }
       if (aborted_) return false;
     }
@@ -753,7 +762,8 @@ class SessionLoop {
     }
   }
 
-  std::optional<Response> poll_keyboard(const TrialPlan& plan, double onset_s) {
+  // Response times count from `onset_s`; presses stamped before `answers_from_s` do not answer.
+  std::optional<Response> poll_keyboard(const TrialPlan& plan, double onset_s, double answers_from_s) {
     check_interrupt();
     if (aborted_) return std::nullopt;
     if (display_.close_requested()) {
@@ -767,7 +777,7 @@ class SessionLoop {
     // Device presses first: they were stamped when read, so before the keys of this poll.
     if (device_ != nullptr) {
       bool unplugged = false;
-      answer = device_->answer(plan, onset_s, &unplugged);
+      answer = device_->answer(plan, onset_s, answers_from_s, &unplugged);
       if (unplugged) pause_for_response_device(plan.trial_index);
       if (aborted_) return std::nullopt;
     }
