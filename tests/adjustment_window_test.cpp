@@ -99,6 +99,16 @@ TEST(WindowBackend, AdjustmentWithKeysAndWheelStepsInLogUnits) {
     const double start_right = condition_number(recorded[k].condition, "start_right_cd_m2");
     EXPECT_NEAR(settings[0].value_cd_m2 / (start_left * factor), 1.0, 1e-12) << recorded[k].condition;
     EXPECT_NEAR(settings[1].value_cd_m2 / (start_right * factor), 1.0, 1e-12) << recorded[k].condition;
+    // Every flip is in `frames`: the three stimulus frames, then the adjustment phase's flips
+    // (frame_index -1, -2, ... in flip order) until the setting was accepted.
+    const auto frames = store.load_frames(recorded[k].id);
+    ASSERT_GT(frames.size(), 3u);
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+      EXPECT_EQ(frames[f].frame_index, f < 3 ? static_cast<int>(f) : -static_cast<int>(f - 2));
+      if (f > 0) {
+        EXPECT_GT(frames[f].flip_s, frames[f - 1].flip_s);
+      }
+    }
   }
   EXPECT_EQ(store.integrity_check(), "ok");
 }

@@ -222,7 +222,7 @@ class SessionLoop {
         return false;
       }
     } else if (!plan.adjustment_start_cd_m2.empty()) {
-      run.response = adjust_interactively(plan, run.onset_s);
+      run.response = adjust_interactively(plan, run);
       if (aborted_) return false;
     } else {
       // Response screen: the background (and the question) until an allowed key, Escape, or the
@@ -321,7 +321,9 @@ class SessionLoop {
   // Double adjustment: the target and both spots stay on screen while the observer adjusts with
   // keys, the wheel or device buttons (runner/session/adjustment_keys.h) until accepted. Each
   // setting is its start times 10^(the log10 steps taken so far).
-  std::optional<Response> adjust_interactively(const TrialPlan& plan, double onset_s) {
+  // Every flip of the adjustment phase goes into `frames` (a response-phase flip, frame_index < 0).
+  std::optional<Response> adjust_interactively(const TrialPlan& plan, TrialRun& run) {
+    const double onset_s = run.onset_s;
     TrialPlan shown = plan;
     AdjustmentControl control(prepared_.experiment.adjustment);
     double offset_log10 = 0.0;
@@ -334,6 +336,7 @@ class SessionLoop {
       const double flip_s = clock_.on_flip();
       timing_.on_flip(flip_s, plan.trial_index, -1);
       after_flip(flip_s);
+      record_flip(run, {FlipPhase::response, -1, -1}, flip_s, flip_s, false);
       check_interrupt();
       if (!aborted_ && display_.close_requested()) {
         aborted_ = true;
