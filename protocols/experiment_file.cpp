@@ -51,18 +51,6 @@ int read_int(TableReader& reader, std::string_view key, int fallback, std::int64
   return static_cast<int>(*value);
 }
 
-enum class Bound { positive, non_negative };
-
-double read_number(TableReader& reader, std::string_view key, double fallback, Bound bound) {
-  const std::optional<double> value = reader.number(key);
-  if (!value) return fallback;
-  if (bound == Bound::positive && !(*value > 0.0)) reader.fail(key, "must be > 0, found " + std::to_string(*value));
-  if (bound == Bound::non_negative && !(*value >= 0.0)) {
-    reader.fail(key, "must be >= 0, found " + std::to_string(*value));
-  }
-  return *value;
-}
-
 // A required sub-table; `top` reports its absence at the enclosing table.
 const toml::table& require_table(TableReader& parent, std::string_view key) {
   const toml::table* table = parent.table(key);
@@ -92,14 +80,14 @@ void read_display_section(TableReader& top, Experiment& experiment) {
   DisplaySpec& display = experiment.display;
   display.width_px = read_int(reader, "width_px", display.width_px, 1, ">= 1");
   display.height_px = read_int(reader, "height_px", display.height_px, 1, ">= 1");
-  display.refresh_hz = read_number(reader, "refresh_hz", display.refresh_hz, Bound::positive);
+  display.refresh_hz = reader.positive_number("refresh_hz", display.refresh_hz);
   display.viewing_distance_mm =
-      read_number(reader, "viewing_distance_mm", display.viewing_distance_mm, Bound::positive);
-  display.pixel_pitch_mm = read_number(reader, "pixel_pitch_mm", display.pixel_pitch_mm, Bound::positive);
+      reader.positive_number("viewing_distance_mm", display.viewing_distance_mm);
+  display.pixel_pitch_mm = reader.positive_number("pixel_pitch_mm", display.pixel_pitch_mm);
   display.peak_luminance_cd_m2 =
-      read_number(reader, "peak_luminance_cd_m2", display.peak_luminance_cd_m2, Bound::positive);
+      reader.positive_number("peak_luminance_cd_m2", display.peak_luminance_cd_m2);
   display.background_cd_m2 =
-      read_number(reader, "background_cd_m2", display.background_cd_m2, Bound::non_negative);
+      reader.non_negative_number("background_cd_m2", display.background_cd_m2);
   if (const std::optional<std::string> encoding = reader.string("encoding")) {
     if (*encoding == "srgb") {
       display.encoding = DisplayEncoding::srgb;
@@ -109,7 +97,7 @@ void read_display_section(TableReader& top, Experiment& experiment) {
       reader.fail("encoding", "unsupported encoding '" + *encoding + "' (supported: 'srgb', 'gamma')");
     }
   }
-  display.gamma = read_number(reader, "gamma", display.gamma, Bound::positive);
+  display.gamma = reader.positive_number("gamma", display.gamma);
   display.monitor = read_int(reader, "monitor", display.monitor, 0, ">= 0");
   display.fullscreen = reader.boolean("fullscreen").value_or(display.fullscreen);
   reader.report_unused();
@@ -136,7 +124,7 @@ void read_scenes_section(TableReader& top, Experiment& experiment, const std::st
     if (!file) reader.fail("file", "missing required key (the OpenEXR image of scene '" + name + "')");
     if (file->empty()) reader.fail("file", "must not be empty");
     scene.file = resolve_path(base_dir, *file);
-    scene.scale_cd_m2 = read_number(reader, "scale_cd_m2", scene.scale_cd_m2, Bound::positive);
+    scene.scale_cd_m2 = reader.positive_number("scale_cd_m2", scene.scale_cd_m2);
     reader.report_unused();
     experiment.scenes.emplace(name, std::move(scene));
   }
@@ -190,28 +178,19 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
     read_adaptive_procedure(reader, experiment);
   }
   read_block_keys(reader, experiment);
-  if (const toml::array* responses = reader.array("responses")) {
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < responses->size(); ++i) {
-      const toml::node& element = *responses->get(i);
-      const std::string key = reader.key_path("responses") + "[" + std::to_string(i) + "]";
-      const std::string& name = expect_string(element, key, top.file());
-      const SourceLocation where = to_location(element.source(), top.file());
-      if (name.empty()) throw ConfigError(where, key, "response names must not be empty");
-      // "abort" is what a Response carries when the observer quits; it cannot also be an answer.
-      if (name == "abort") throw ConfigError(where, key, "'abort' is reserved for ending a session");
-      if (name == kTimeoutResponse)
-        throw ConfigError(where, key, "'timeout' is reserved for a trial not answered within the response window");
-      if (std::find(names.begin(), names.end(), name) != names.end()) {
-        throw ConfigError(where, key, "duplicate response '" + name + "'");
-      }
-      names.push_back(name);
-    }
-    if (static_cast<int>(names.size()) != spec.alternatives) {
+  const auto reserved = [](const ArrayString& name) {
+    // "abort" is what a Response carries when the observer quits; it cannot also be an answer.
+    if (name.value == "abort") throw ConfigError(name.where, name.key, "'abort' is reserved for ending a session");
+    if (name.value == kTimeoutResponse)
+      throw ConfigError(name.where, name.key, "'timeout' is reserved for a trial not answered within the response window");
+  };
+  if (const auto responses = reader.distinct_names("responses", "response", reserved)) {
+    if (static_cast<int>(responses->size()) != spec.alternatives) {
       reader.fail("responses", "expected " + std::to_string(spec.alternatives) +
-                                   " distinct responses (one per alternative), found " + std::to_string(names.size()));
+                                   " distinct responses (one per alternative), found " + std::to_string(responses->size()));
     }
-    spec.responses = std::move(names);
+    spec.responses.clear();
+    for (const ArrayString& name : *responses) spec.responses.push_back(name.value);
   }
   reader.report_unused();
   return generated;
@@ -226,15 +205,15 @@ void read_observer_section(TableReader& top, Experiment& experiment) {
   if (simulated == nullptr) return;
   TableReader reader(*simulated, "observer.simulated", top.file());
   SimulatedObserverSpec& spec = experiment.simulated_observer;
-  spec.threshold_log10 = read_number(reader, "threshold_log10", spec.threshold_log10, Bound::positive);
-  spec.slope = read_number(reader, "slope", spec.slope, Bound::positive);
-  spec.lapse = read_number(reader, "lapse", spec.lapse, Bound::non_negative);
+  spec.threshold_log10 = reader.positive_number("threshold_log10", spec.threshold_log10);
+  spec.slope = reader.positive_number("slope", spec.slope);
+  spec.lapse = reader.non_negative_number("lapse", spec.lapse);
   // A lapse of 0.5 or more would put the asymptote at or below chance in a 2-AFC task.
   if (spec.lapse >= 0.5) reader.fail("lapse", "must be in [0, 0.5), found " + std::to_string(spec.lapse));
   spec.response_time_median_s =
-      read_number(reader, "response_time_median_s", spec.response_time_median_s, Bound::positive);
-  spec.rating_sd = read_number(reader, "rating_sd", spec.rating_sd, Bound::non_negative);
-  spec.match_sd_log10 = read_number(reader, "match_sd_log10", spec.match_sd_log10, Bound::non_negative);
+      reader.positive_number("response_time_median_s", spec.response_time_median_s);
+  spec.rating_sd = reader.non_negative_number("rating_sd", spec.rating_sd);
+  spec.match_sd_log10 = reader.non_negative_number("match_sd_log10", spec.match_sd_log10);
   spec.preferences = read_preferences(reader);
   reader.report_unused();
 }

@@ -14,14 +14,6 @@
 namespace glarelab {
 namespace {
 
-double read_positive(TableReader& reader, std::string_view key, double fallback, bool allow_zero) {
-  const std::optional<double> value = reader.number(key);
-  if (!value) return fallback;
-  if (allow_zero ? !(*value >= 0.0) : !(*value > 0.0))
-    reader.fail(key, std::string("must be ") + (allow_zero ? ">= 0" : "> 0") + ", found " + std::to_string(*value));
-  return *value;
-}
-
 int read_bounded_int(TableReader& reader, std::string_view key, int fallback, int minimum, int maximum) {
   const std::optional<std::int64_t> value = reader.integer(key);
   if (!value) return fallback;
@@ -59,16 +51,16 @@ GlareSpec read_glare_section(TableReader& top) {
   TableReader reader(*table, "glare", top.file());
   if (const std::optional<std::string> mode = reader.string("mode"))
     spec.mode = parse_mode_at(*mode, reader.value_location("mode"), reader.key_path("mode"));
-  spec.static_time_s = read_positive(reader, "static_time_s", spec.static_time_s, true);
+  spec.static_time_s = reader.non_negative_number("static_time_s", spec.static_time_s);
   spec.grid_px = read_bounded_int(reader, "grid_px", spec.grid_px, 16, 8192);
   // The grid's centre pixel N/2 is the optical axis and the PSF's DC term.
   if (spec.grid_px % 2 != 0) reader.fail("grid_px", "must be even, found " + std::to_string(spec.grid_px));
-  spec.aperture_width_mm = read_positive(reader, "aperture_width_mm", spec.aperture_width_mm, false);
+  spec.aperture_width_mm = reader.positive_number("aperture_width_mm", spec.aperture_width_mm);
   spec.supersampling = read_bounded_int(reader, "supersampling", spec.supersampling, 2, 16);
   spec.wavelength_samples = read_bounded_int(reader, "wavelength_samples", spec.wavelength_samples, 1, 1024);
   spec.visibility_weber_fraction =
-      read_positive(reader, "visibility_weber_fraction", spec.visibility_weber_fraction, false);
-  spec.visibility_floor_cd_m2 = read_positive(reader, "visibility_floor_cd_m2", spec.visibility_floor_cd_m2, false);
+      reader.positive_number("visibility_weber_fraction", spec.visibility_weber_fraction);
+  spec.visibility_floor_cd_m2 = reader.positive_number("visibility_floor_cd_m2", spec.visibility_floor_cd_m2);
   spec.skip_invisible = reader.boolean("skip_invisible").value_or(spec.skip_invisible);
   spec.backend = read_choice(reader, "backend", spec.backend, {"auto", "cpu", "gl"});
   // The GL FFT takes powers of two from 16 to 4096 (glare/gl/gl_fft.h): refused here, not mid-session.

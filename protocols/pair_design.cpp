@@ -19,19 +19,10 @@ struct Instruction {
 };
 
 std::vector<std::string> read_glare_modes(TableReader& procedure) {
-  const toml::array* modes = procedure.array("glare_modes");
-  if (modes == nullptr) procedure.fail("glare_modes", "missing required key for design = \"all_pairs\" (e.g. [\"dynamic\", \"static\", \"control\"])");
+  const auto modes = procedure.distinct_names("glare_modes", "glare mode");
+  if (!modes) procedure.fail("glare_modes", "missing required key for design = \"all_pairs\" (e.g. [\"dynamic\", \"static\", \"control\"])");
   std::vector<std::string> names;
-  for (std::size_t i = 0; i < modes->size(); ++i) {
-    const toml::node& element = *modes->get(i);
-    const std::string key = procedure.key_path("glare_modes") + "[" + std::to_string(i) + "]";
-    const std::string& name = expect_string(element, key, procedure.file());
-    const SourceLocation where = to_location(element.source(), procedure.file());
-    if (name.empty()) throw ConfigError(where, key, "glare mode names must not be empty");
-    if (std::find(names.begin(), names.end(), name) != names.end())
-      throw ConfigError(where, key, "duplicate glare mode '" + name + "'");
-    names.push_back(name);
-  }
+  for (const ArrayString& mode : *modes) names.push_back(mode.value);
   if (names.size() < 2) procedure.fail("glare_modes", "at least two glare modes are needed to form pairs");
   return names;
 }
@@ -113,21 +104,15 @@ std::vector<std::pair<std::string, std::vector<std::string>>> read_glare_scenes(
     if (mode != "dynamic" && mode != "static" && mode != "control")
       procedure.fail("glare_modes", "glare_scenes renders the glare engine's modes ('dynamic', 'static', 'control'); '" +
                                         mode + "' is not one (use mode_scenes to show an image for it)");
-  const toml::array* array = procedure.array("glare_scenes");
   std::vector<std::string> known;
   for (const auto& entry : experiment.scenes) known.push_back(entry.first);
+  const auto scenes = procedure.distinct_names("glare_scenes", "scene", [&](const ArrayString& scene) {
+    if (experiment.scenes.count(scene.value) == 0)
+      throw ConfigError(scene.where, scene.key,
+                        "unknown scene '" + scene.value + "' (scenes in [scenes]: " + join_quoted(known) + ")");
+  });
   std::vector<std::pair<std::string, std::vector<std::string>>> result;
-  for (std::size_t i = 0; i < array->size(); ++i) {
-    const toml::node& element = *array->get(i);
-    const std::string key = procedure.key_path("glare_scenes") + "[" + std::to_string(i) + "]";
-    const std::string& scene = expect_string(element, key, procedure.file());
-    const SourceLocation where = to_location(element.source(), procedure.file());
-    if (experiment.scenes.count(scene) == 0)
-      throw ConfigError(where, key, "unknown scene '" + scene + "' (scenes in [scenes]: " + join_quoted(known) + ")");
-    for (const auto& listed : result)
-      if (listed.first == scene) throw ConfigError(where, key, "duplicate scene '" + scene + "'");
-    result.emplace_back(scene, std::vector<std::string>(modes.size(), scene));
-  }
+  for (const ArrayString& scene : *scenes) result.emplace_back(scene.value, std::vector<std::string>(modes.size(), scene.value));
   if (result.empty()) procedure.fail("glare_scenes", "at least one scene is required");
   return result;
 }

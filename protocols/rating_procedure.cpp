@@ -13,19 +13,10 @@ namespace glarelab {
 
 void read_rating_procedure(TableReader& procedure, Experiment& experiment) {
   RatingSpec& spec = experiment.rating;
-  const toml::array* categories = procedure.array("categories");
-  if (categories == nullptr)
+  const auto categories = procedure.distinct_names("categories", "category");
+  if (!categories)
     procedure.fail("categories", "missing required key (the named categories to rate, e.g. [\"glare appearance\"])");
-  for (std::size_t i = 0; i < categories->size(); ++i) {
-    const toml::node& element = *categories->get(i);
-    const std::string key = procedure.key_path("categories") + "[" + std::to_string(i) + "]";
-    const std::string& name = expect_string(element, key, procedure.file());
-    const SourceLocation where = to_location(element.source(), procedure.file());
-    if (name.empty()) throw ConfigError(where, key, "category names must not be empty");
-    if (std::find(spec.categories.begin(), spec.categories.end(), name) != spec.categories.end())
-      throw ConfigError(where, key, "duplicate category '" + name + "'");
-    spec.categories.push_back(name);
-  }
+  for (const ArrayString& name : *categories) spec.categories.push_back(name.value);
   if (spec.categories.empty()) procedure.fail("categories", "at least one category is required");
   if (const auto points = procedure.integer("scale_points")) {
     // Answered with the digit keys 1..9.

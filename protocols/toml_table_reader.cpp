@@ -186,4 +186,31 @@ double TableReader::positive_number(std::string_view key, double fallback) {
   return *value;
 }
 
+double TableReader::non_negative_number(std::string_view key, double fallback) {
+  const std::optional<double> value = number(key);
+  if (!value) return fallback;
+  if (!(*value >= 0.0)) fail(key, "must be >= 0, found " + std::to_string(*value));
+  return *value;
+}
+
+std::optional<std::vector<ArrayString>> TableReader::distinct_names(
+    std::string_view key, const std::string& what, const std::function<void(const ArrayString&)>& check) {
+  const toml::array* names = array(key);
+  if (names == nullptr) return std::nullopt;
+  std::vector<ArrayString> result;
+  for (std::size_t i = 0; i < names->size(); ++i) {
+    const toml::node& element = *names->get(i);
+    ArrayString name;
+    name.key = key_path(key) + "[" + std::to_string(i) + "]";
+    name.value = expect_string(element, name.key, file_);
+    name.where = to_location(element.source(), file_);
+    if (name.value.empty()) throw ConfigError(name.where, name.key, what + " names must not be empty");
+    if (check) check(name);
+    for (const ArrayString& earlier : result)
+      if (earlier.value == name.value) throw ConfigError(name.where, name.key, "duplicate " + what + " '" + name.value + "'");
+    result.push_back(std::move(name));
+  }
+  return result;
+}
+
 }  // namespace glarelab

@@ -4,6 +4,7 @@
 // with a spelling suggestion. The idea is pbrt-v4's ParameterDictionary::ReportUnused: a typo in
 // an experiment file must stop the run instead of silently falling back to a default.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
@@ -19,6 +20,13 @@ namespace glarelab {
 // "a string", "an integer", ... for error messages.
 std::string describe_toml_type(const toml::node& node);
 SourceLocation to_location(const toml::source_region& region, const std::string& file);
+
+// One element of a string array: its value, dotted key ("procedure.responses[1]") and location.
+struct ArrayString {
+  std::string value;
+  std::string key;
+  SourceLocation where;
+};
 
 class TableReader {
  public:
@@ -57,6 +65,13 @@ class TableReader {
   void report_unused() const;
   // A number that must be > 0: the value, or `fallback` when the key is absent.
   double positive_number(std::string_view key, double fallback);
+  // A number that must be >= 0: the value, or `fallback` when the key is absent.
+  double non_negative_number(std::string_view key, double fallback);
+  // The elements of an array of names, nothing when the key is absent. Each must be a string, not
+  // empty ("<what> names must not be empty"), pass `check` (called with each element in order,
+  // throwing ConfigError at it), and not repeat an earlier one ("duplicate <what> 'NAME'").
+  std::optional<std::vector<ArrayString>> distinct_names(
+      std::string_view key, const std::string& what, const std::function<void(const ArrayString&)>& check = {});
 
  private:
   std::string table_title() const;
