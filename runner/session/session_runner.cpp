@@ -142,7 +142,8 @@ class SessionLoop {
     const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_);
     TrialRun run;
     const bool interactive = prepared_.observer == nullptr;
-    if (interactive) discard_keys_before_onset(plan);
+    // Keys pressed before the trial (late repeats of the previous answer) must not answer it.
+    if (interactive) ignore_keys(plan, "pressed before onset");
     if (aborted_) return false;
 
     // Background after the previous trial, then the screens.
@@ -702,9 +703,11 @@ class SessionLoop {
   void log_glare_setup() {
     const GlareSpec& spec = prepared_.experiment.glare;
     bool any_glare = false;
-    for (const ConditionRow& row : prepared_.experiment.conditions)
+    for (const ConditionRow& row : prepared_.experiment.conditions) {
+      const auto sides = position_glare_modes(row);
       any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control ||
-                  (position_glare_modes(row) && *position_glare_modes(row) != std::pair{GlareMode::control, GlareMode::control});
+                  (sides && *sides != std::pair{GlareMode::control, GlareMode::control});
+    }
     if (!any_glare) {
       store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
       return;
@@ -749,19 +752,6 @@ class SessionLoop {
     if (interrupt_requested()) {
       aborted_ = true;
       abort_reason_ = "interrupted (Ctrl-C or SIGTERM)";
-    }
-  }
-
-  // Keys pressed before a trial's onset (late repeats of the previous answer) must not answer it.
-  void discard_keys_before_onset(const TrialPlan& plan) {
-    for (const std::string& key : display_.poll_keys()) {
-      if (key == "escape") {
-        aborted_ = true;
-        abort_reason_ = "Escape pressed";
-        return;
-      }
-      store_.log_event(session_id_, clock_.now_s(), "ignored_key",
-                       "trial " + std::to_string(plan.trial_index) + ": key '" + key + "' pressed before onset");
     }
   }
 
