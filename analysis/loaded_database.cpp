@@ -106,9 +106,9 @@ void load_one(const std::string& path, LoadedData& data) {
   // still appending to the file (closing the connection ends it).
   db.exec("BEGIN");
   const int version = db.user_version();
-  if (version > ResultStore::kSchemaVersion) {
+  if (version > kResultsSchemaVersion) {
     throw StoreError("analysis: " + path + ": schema version " + std::to_string(version) +
-                     " is newer than this glarelab reads (" + std::to_string(ResultStore::kSchemaVersion) +
+                     " is newer than this glarelab reads (" + std::to_string(kResultsSchemaVersion) +
                      "): update glarelab");
   }
   const auto session_columns = db.columns("sessions");
@@ -122,9 +122,9 @@ void load_one(const std::string& path, LoadedData& data) {
   require_columns(db, "trials", trial_columns,
                   {"id", "session_id", "trial_index", "block", "procedure", "condition", "intensity", "response",
                    "correct", "response_time_s", "onset_s", "staircase", "reversal"});
-  if (version < ResultStore::kSchemaVersion) {
+  if (version < kResultsSchemaVersion) {
     data.notes.push_back(path + ": schema version " + std::to_string(version) + " is older than the current " +
-                         std::to_string(ResultStore::kSchemaVersion) +
+                         std::to_string(kResultsSchemaVersion) +
                          "; loaded the contract columns it has (columns added later read as empty)");
   }
   const auto frame_columns = db.columns("frames");

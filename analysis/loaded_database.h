@@ -1,7 +1,7 @@
 #pragma once
 // A results database read into plain structs for analysis. The database is opened read-only,
 // so analysing never migrates or alters a file (ResultStore would upgrade it on open).
-// Schema versions up to ResultStore::kSchemaVersion load; older ones load with a note; the
+// Schema versions up to kResultsSchemaVersion load; older ones load with a note; the
 // optional `adjustments(trial_id, spot, value_cd_m2)` table is read when it exists.
 #include <cstdint>
 #include <map>
@@ -10,7 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "runner/store/result_store.h"
+#include "core/errors.h"
+#include "core/result_records.h"
 
 namespace glarelab::analysis {
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <nlopt.hpp>
 
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab::analysis {
 namespace {

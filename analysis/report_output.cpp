@@ -7,7 +7,8 @@
 
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
-#include "runner/software_version.h"
+#include "core/errors.h"
+#include "core/software_version.h"
 
 namespace glarelab::analysis {
 namespace {

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <set>
 
-#include "runner/store/result_store.h"
+#include "core/errors.h"
 
 namespace glarelab::analysis {
 namespace {

@@ -14,7 +14,7 @@
 #include "analysis/analysis_report.h"
 #include "analysis/parallel_jobs.h"
 #include "analysis/report_output.h"
-#include "runner/random.h"
+#include "core/random.h"
 #include "runner/store/result_store.h"
 
 namespace {

@@ -13,7 +13,7 @@
 #include <cmath>
 
 #include "glare/gaze_window_convolution.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "glare/cie_cmf.h"
-#include "glare/gl/gl_compute_context.h"
+#include "runner/display/compute_context.h"
 #include "glare/gl/gl_convolution.h"
 #include "glare/gl/gl_fft.h"
 #include "glare/gl/gl_psf.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

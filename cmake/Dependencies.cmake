@@ -24,15 +24,25 @@ if(NOT EXISTS /usr/include/toml++/toml.h AND NOT TARGET tomlplusplus::tomlpluspl
   message(FATAL_ERROR "toml++ not found: install libtomlplusplus-dev (scripts/setup.sh does)")
 endif()
 
-add_library(glarelab_deps INTERFACE)
-target_link_libraries(glarelab_deps INTERFACE
-  OpenEXR::OpenEXR glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::SQLITE3 PkgConfig::PNG
-  PkgConfig::FFTW3 PkgConfig::FFTW3F
-  Threads::Threads ${CMAKE_DL_LIBS}
-  Boost::headers nlohmann_json::nlohmann_json NLopt::nlopt)
+# One interface target per layer, holding only the libraries that layer uses (docs/ARCHITECTURE.md).
+# core: images and their files, random numbers, GL owners.
+add_library(glarelab_deps_core INTERFACE)
+target_link_libraries(glarelab_deps_core INTERFACE OpenEXR::OpenEXR PkgConfig::PNG Threads::Threads ${CMAKE_DL_LIBS})
+# glare: the CPU FFTs.
+add_library(glarelab_deps_glare INTERFACE)
+target_link_libraries(glarelab_deps_glare INTERFACE PkgConfig::FFTW3 PkgConfig::FFTW3F)
+# protocols: experiment files.
+add_library(glarelab_deps_protocols INTERFACE)
 if(TARGET tomlplusplus::tomlplusplus)
-  target_link_libraries(glarelab_deps INTERFACE tomlplusplus::tomlplusplus)
+  target_link_libraries(glarelab_deps_protocols INTERFACE tomlplusplus::tomlplusplus)
 endif()
+# analysis: databases read-only, distributions, fits, JSON conditions.
+add_library(glarelab_deps_analysis INTERFACE)
+target_link_libraries(glarelab_deps_analysis INTERFACE
+  PkgConfig::SQLITE3 Boost::headers nlohmann_json::nlohmann_json NLopt::nlopt)
+# runner: displays, command line, the store, trackers and devices (below).
+add_library(glarelab_deps_runner INTERFACE)
+target_link_libraries(glarelab_deps_runner INTERFACE glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::SQLITE3)
 
 # Eye trackers and response devices (runner/tracker, runner/devices): ZeroMQ (Pupil Core network
 # API) with cppzmq, msgpack-cxx header-only without Boost, hidapi (hidraw backend), libusb.
@@ -45,8 +55,8 @@ endif()
 if(NOT EXISTS /usr/include/msgpack.hpp)
   message(FATAL_ERROR "msgpack-cxx not found: install libmsgpack-cxx-dev (scripts/setup.sh does)")
 endif()
-target_link_libraries(glarelab_deps INTERFACE PkgConfig::ZMQ PkgConfig::HIDAPI PkgConfig::LIBUSB)
-target_compile_definitions(glarelab_deps INTERFACE MSGPACK_NO_BOOST)
+target_link_libraries(glarelab_deps_runner INTERFACE PkgConfig::ZMQ PkgConfig::HIDAPI PkgConfig::LIBUSB)
+target_compile_definitions(glarelab_deps_runner INTERFACE MSGPACK_NO_BOOST)
 
 # On-screen text (stimuli/text_image.*): FreeType rasterises DejaVu Sans, a font every Debian
 # system can have (fonts-dejavu-core); the file is fixed here so text looks the same everywhere.
@@ -56,5 +66,6 @@ set(GLARELAB_FONT_FILE "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf" CACHE F
 if(NOT EXISTS "${GLARELAB_FONT_FILE}")
   message(FATAL_ERROR "${GLARELAB_FONT_FILE} not found: install fonts-dejavu-core (scripts/setup.sh does)")
 endif()
-target_link_libraries(glarelab_deps INTERFACE Freetype::Freetype)
-target_compile_definitions(glarelab_deps INTERFACE GLARELAB_FONT_FILE="${GLARELAB_FONT_FILE}")
+add_library(glarelab_deps_stimuli INTERFACE)
+target_link_libraries(glarelab_deps_stimuli INTERFACE Freetype::Freetype)
+target_compile_definitions(glarelab_deps_stimuli INTERFACE GLARELAB_FONT_FILE="${GLARELAB_FONT_FILE}")

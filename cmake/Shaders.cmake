@@ -4,6 +4,7 @@
 # files from disk.
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 file(GLOB_RECURSE GLARELAB_SHADER_FILES CONFIGURE_DEPENDS
+  ${CMAKE_SOURCE_DIR}/core/*.vert ${CMAKE_SOURCE_DIR}/core/*.frag ${CMAKE_SOURCE_DIR}/core/*.comp
   ${CMAKE_SOURCE_DIR}/runner/*.vert ${CMAKE_SOURCE_DIR}/runner/*.frag ${CMAKE_SOURCE_DIR}/runner/*.comp
   ${CMAKE_SOURCE_DIR}/stimuli/*.vert ${CMAKE_SOURCE_DIR}/stimuli/*.frag ${CMAKE_SOURCE_DIR}/stimuli/*.comp
   ${CMAKE_SOURCE_DIR}/glare/*.vert ${CMAKE_SOURCE_DIR}/glare/*.frag ${CMAKE_SOURCE_DIR}/glare/*.comp)

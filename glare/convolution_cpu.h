@@ -12,7 +12,7 @@
 
 #include "glare/fft_cpu.h"
 #include "glare/psf.h"
-#include "stimuli/image.h"
+#include "core/image.h"
 
 namespace glarelab {
 

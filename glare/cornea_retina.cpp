@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "glare/eye_random_channels.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 

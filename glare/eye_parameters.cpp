@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "protocols/config_error.h"
+#include "core/errors.h"
 
 namespace glarelab {
 

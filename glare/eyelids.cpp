@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "glare/eye_random_channels.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 

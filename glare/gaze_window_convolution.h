@@ -19,7 +19,7 @@
 
 #include "glare/convolution_cpu.h"
 #include "glare/psf.h"
-#include "stimuli/image.h"
+#include "core/image.h"
 
 namespace glarelab {
 

@@ -4,8 +4,8 @@
 #include <cctype>
 #include <stdexcept>
 
+#include "core/errors.h"
 #include "glare/cpu_glare_backend.h"
-#include "glare/gl/gl_compute_context.h"
 #include "glare/gl/gl_glare_backend.h"
 #include "glare/psf_scale.h"
 
@@ -26,16 +26,20 @@ GlareBackendChoice create_glare_backend(const std::string& name, const GlareBack
     const std::string picked = backend->name();
     return {std::move(backend), "glare backend " + picked + ": asked for by name."};
   }
+  const auto make_context = [&]() -> std::unique_ptr<GlContext> {
+    if (!settings.gl_context) throw DisplayError("OpenGL: no context factory was given to the glare engine");
+    return settings.gl_context();
+  };
   if (name == "gl") {
-    auto backend = std::make_unique<gl::GlGlareBackend>();
+    auto backend = std::make_unique<gl::GlGlareBackend>(make_context());
     const std::string renderer = backend->gl_info().renderer;
     return {std::move(backend), "glare backend gl: asked for by name (OpenGL renderer " + renderer + ")."};
   }
   if (name != "auto")
     throw std::invalid_argument("glare backend: unknown name '" + name + "' (expected cpu, gl or auto)");
-  std::unique_ptr<DisplayBackend> context;
+  std::unique_ptr<GlContext> context;
   try {
-    context = gl::create_compute_context();
+    context = make_context();
   } catch (const DisplayError& error) {
     auto backend = cpu();
     const std::string picked = backend->name();

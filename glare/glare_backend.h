@@ -10,11 +10,12 @@
 #include <memory>
 #include <string>
 
+#include "core/gl/gl_context.h"
+#include "core/image.h"
 #include "glare/aperture_geometry.h"
 #include "glare/fft_cpu.h"
 #include "glare/fresnel.h"
 #include "glare/psf.h"
-#include "stimuli/image.h"
 
 namespace glarelab {
 
@@ -44,6 +45,9 @@ class GlareBackend {
 
 struct GlareBackendSettings {
   FftPrecision cpu_precision = FftPrecision::float64;  // float32 for speed, float64 for reference
+  // Makes the OpenGL context the GL path works in (runner/display/compute_context.h gives the
+  // program's). Empty: no GL here; "gl" is refused and "auto" takes the CPU.
+  GlContextFactory gl_context;
 };
 
 struct GlareBackendChoice {
@@ -56,8 +60,8 @@ struct GlareBackendChoice {
 bool is_software_renderer(const std::string& gl_renderer);
 
 // "cpu", "gl" or "auto"; throws std::invalid_argument for another name, and DisplayError (from the
-// GL context) when "gl" is asked for and no OpenGL 4.5 context can be made. "auto" never throws
-// for want of GL: without a context it takes the CPU and says so.
+// GL context factory) when "gl" is asked for and no OpenGL 4.5 context can be made. "auto" never
+// throws for want of GL: without a context it takes the CPU and says so.
 GlareBackendChoice create_glare_backend(const std::string& name, const GlareBackendSettings& settings = {});
 
 // Applies one glare condition to an image whose pixels subtend image_degrees_per_pixel: the control

@@ -12,7 +12,6 @@
 #include "glare/convolution_cpu.h"
 #include "glare/eye_model.h"
 #include "glare/gl/gl_aperture.h"
-#include "glare/gl/gl_compute_context.h"
 #include "glare/gl/gl_convolution.h"
 #include "glare/gl/gl_fft.h"
 #include "glare/gl/gl_psf.h"
@@ -193,7 +192,7 @@ GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options) {
   };
   for (int n : options.grid_sizes) {
     if (n < 16 || n % 2 != 0) throw std::invalid_argument("glare benchmark: grid " + std::to_string(n) + " is not an even size >= 16");
-    if (options.include_gl && !gl::is_supported_fft_length(n))
+    if (options.gl_context && !gl::is_supported_fft_length(n))
       throw std::invalid_argument("glare benchmark: grid " + std::to_string(n) + " is not a GL FFT size (powers of two 16..4096)");
   }
   GlareBenchmarkResult result;
@@ -211,9 +210,9 @@ GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options) {
          << " mm, supersampling 2, " << options.wavelength_samples << " wavelengths";
     result.aperture = text.str();
   }
-  std::unique_ptr<DisplayBackend> context;
-  if (options.include_gl) {
-    context = gl::create_compute_context();
+  std::unique_ptr<GlContext> context;
+  if (options.gl_context) {
+    context = options.gl_context();
     result.renderer = context->gl_info().renderer;
   }
   for (int n : options.grid_sizes) {
@@ -238,7 +237,7 @@ GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options) {
     single.row.discretisation_error = relative_l2(single.mono.values, reference_2n);
     result.rows.push_back(single.row);
 
-    if (options.include_gl) {
+    if (options.gl_context) {
       progress("bench: N = " + std::to_string(n) + ": gl on " + result.renderer);
       GlRun gpu = run_gl(geometry, n, options);
       gpu.row.psf_error = relative_l2(gpu.mono.values, reference.mono.values);

@@ -12,11 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "core/gl/gl_context.h"
+
 namespace glarelab {
 
 struct GlareBenchmarkOptions {
   std::vector<int> grid_sizes = {256, 512, 1024};
-  bool include_gl = true;
+  // The OpenGL context for the gl rows (runner/display/compute_context.h); empty: CPU rows only.
+  GlContextFactory gl_context;
   int wavelength_samples = 32;
   int repeats = 1;  // each stage timed this many times; the fastest is kept
   double time_s = 1.0;
@@ -44,7 +47,7 @@ struct GlareBenchmarkResult {
   std::string renderer;  // GL_RENDERER, empty without GL
 };
 
-// Throws std::invalid_argument for grid sizes the GL FFT cannot take (when include_gl) or odd sizes.
+// Throws std::invalid_argument for grid sizes the GL FFT cannot take (when gl_context is given) or odd sizes.
 GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options);
 
 // A Markdown table, one row per grid and backend, times in ms, errors in scientific notation.

@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <string>
 
-#include "stimuli/image.h"
+#include "core/image.h"
 
 namespace glarelab {
 

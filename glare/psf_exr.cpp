@@ -1,6 +1,6 @@
 #include "glare/psf_exr.h"
 
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 
 namespace glarelab {
 

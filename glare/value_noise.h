@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "glare/eye_random_channels.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 

@@ -6,7 +6,7 @@
 
 #include "protocols/forced_choice.h"
 #include "protocols/json_text.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

@@ -4,7 +4,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

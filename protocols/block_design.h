@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "protocols/config_error.h"
+#include "core/errors.h"
 
 namespace glarelab {
 

@@ -15,7 +15,7 @@
 
 #include "protocols/experiment.h"
 #include "protocols/trial_plan.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "protocols/config_error.h"
+#include "core/errors.h"
 
 namespace glarelab {
 

@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "protocols/block_design.h"
-#include "protocols/config_error.h"
+#include "core/display_spec.h"
+#include "core/errors.h"
+#include "core/scene_spec.h"
 #include "protocols/glare_config.h"
 #include "protocols/presentation_config.h"
 #include "protocols/observer_preferences.h"
@@ -17,29 +19,6 @@
 #include "protocols/staircase.h"
 
 namespace glarelab {
-
-enum class DisplayEncoding { srgb, gamma };
-
-struct DisplaySpec {
-  int width_px = 1280;
-  int height_px = 720;
-  double refresh_hz = 60.0;
-  double viewing_distance_mm = 600.0;
-  double pixel_pitch_mm = 0.25;
-  double peak_luminance_cd_m2 = 250.0;  // white of the display; brighter stimulus values clip
-  double background_cd_m2 = 0.0;        // luminance around and between stimuli
-  DisplayEncoding encoding = DisplayEncoding::srgb;
-  double gamma = 2.2;  // used when encoding == gamma
-  int monitor = 0;
-  bool fullscreen = false;
-};
-
-struct SceneSpec {
-  std::string name;
-  std::string file;            // absolute path of the OpenEXR image
-  double scale_cd_m2 = 1.0;    // multiplies pixel values to give luminance in cd/m2
-  SourceLocation where;
-};
 
 // One row of the condition table, column order kept.
 struct ConditionRow {

@@ -7,7 +7,7 @@
 #include "protocols/blocked_design.h"
 #include "protocols/glare_config.h"
 #include "protocols/json_text.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

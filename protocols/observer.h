@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "protocols/config_error.h"
+#include "core/errors.h"
 #include "protocols/experiment.h"
 #include "protocols/trial_plan.h"
 

@@ -8,7 +8,7 @@
 // Pure logic, no rendering: fast enough for hundreds of simulated runs in a test.
 #include <cstdint>
 
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 

@@ -7,7 +7,7 @@
 
 #include "protocols/adjustment_procedure.h"
 #include "protocols/observer.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

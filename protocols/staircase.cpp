@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 

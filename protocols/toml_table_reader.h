@@ -13,7 +13,7 @@
 
 #include <toml++/toml.h>
 
-#include "protocols/config_error.h"
+#include "core/errors.h"
 
 namespace glarelab {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "runner/cli/commands.h"
-#include "runner/software_version.h"
+#include "core/software_version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"glarelab: psychophysics experiments with HDR stimuli and glare"};

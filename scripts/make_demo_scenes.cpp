@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 
 namespace {
 

@@ -1,7 +1,7 @@
 #pragma once
 // The physical display: geometry (pixels to degrees of visual angle) and photometry (cd/m2 to
 // display drive values through the display encoding).
-#include "protocols/experiment.h"
+#include "core/display_spec.h"
 
 namespace glarelab {
 

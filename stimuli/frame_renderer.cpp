@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "runner/display/display_backend.h"
-#include "runner/gl/shader_program.h"
+#include "core/errors.h"
+#include "core/gl/shader_program.h"
 
 namespace glarelab {
 namespace {

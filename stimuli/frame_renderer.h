@@ -4,9 +4,9 @@
 // backend's default framebuffer. Needs the backend's GL context to be current.
 #include <vector>
 
-#include "runner/gl/gl_objects.h"
+#include "core/gl/gl_objects.h"
 #include "stimuli/display_model.h"
-#include "stimuli/image.h"
+#include "core/image.h"
 #include "stimuli/layout.h"
 
 namespace glarelab {

@@ -45,8 +45,9 @@ double visibility_bound(double peak_cd_m2, double min_cd_m2, double wing_fractio
   return peak_cd_m2 * wing_fraction / std::max(min_cd_m2, floor_cd_m2);
 }
 
-GlareStage::GlareStage(const GlareSpec& spec, const DisplaySpec& display, std::uint64_t seed)
-    : spec_(spec), display_(display), seed_(seed) {}
+GlareStage::GlareStage(const GlareSpec& spec, const DisplaySpec& display, std::uint64_t seed,
+                       GlContextFactory gl_context)
+    : spec_(spec), display_(display), seed_(seed), gl_context_(std::move(gl_context)) {}
 
 GlareStage::~GlareStage() = default;
 
@@ -60,7 +61,7 @@ GlareBackend& GlareStage::backend() {
     choice.reason = "glare backend auto picked " + choice.backend->name() + ": grid_px " +
                     std::to_string(spec_.grid_px) + " is not a power of two from 16 to 4096, which the GL path needs.";
   } else {
-    choice = create_glare_backend(spec_.backend);
+    choice = create_glare_backend(spec_.backend, {.gl_context = gl_context_});
   }
   backend_ = std::move(choice.backend);
   backend_reason_ = std::move(choice.reason);

@@ -24,12 +24,14 @@
 #include <utility>
 #include <vector>
 
+#include "core/display_spec.h"
+#include "core/gl/gl_context.h"
 #include "glare/eye_model.h"
 #include "glare/gaze_window_convolution.h"
 #include "glare/glare_backend.h"
 #include "glare/psf.h"
-#include "protocols/experiment.h"
-#include "stimuli/image.h"
+#include "glare/glare_spec.h"
+#include "core/image.h"
 
 namespace glarelab {
 
@@ -74,8 +76,9 @@ class GlareStage {
  public:
   // `seed` seeds the eye model (the session seed). The compute backend is made on first use (or by
   // backend_reason()); "gl" without an OpenGL 4.5 context throws DisplayError then. The GL backend
-  // works in a context of its own: a caller drawing with another context makes it current again.
-  GlareStage(const GlareSpec& spec, const DisplaySpec& display, std::uint64_t seed);
+  // works in a context of its own, made by `gl_context` (empty: no GL; "auto" takes the CPU): a
+  // caller drawing with another context makes it current again.
+  GlareStage(const GlareSpec& spec, const DisplaySpec& display, std::uint64_t seed, GlContextFactory gl_context = {});
   ~GlareStage();
 
   // `gaze`: where the participant looks, for the gaze window (ignored when gaze_window_px is 0;
@@ -108,6 +111,7 @@ class GlareStage {
   GlareSpec spec_;
   DisplaySpec display_;
   std::uint64_t seed_;
+  GlContextFactory gl_context_;
   std::unique_ptr<GlareBackend> backend_;
   std::string backend_reason_;
   // Dynamic: one eye for the whole session, starting adapted to the first frame it sees, recording

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "stimuli/image.h"
+#include "core/image.h"
 #include "stimuli/layout.h"
 
 namespace glarelab {

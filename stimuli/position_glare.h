@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "stimuli/glare_stage.h"
-#include "stimuli/image.h"
+#include "core/image.h"
 
 namespace glarelab {
 

@@ -2,12 +2,12 @@
 
 #include <stdexcept>
 
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 
 namespace glarelab {
 
-SceneLibrary::SceneLibrary(const Experiment& experiment) {
-  for (const auto& [name, spec] : experiment.scenes) {
+SceneLibrary::SceneLibrary(const std::map<std::string, SceneSpec>& scenes) {
+  for (const auto& [name, spec] : scenes) {
     ExrReadResult read = read_exr(spec.file);
     const NonFiniteReport report = inspect_pixels(read.image);
     if (!report.clean()) {

@@ -3,8 +3,8 @@
 #include <map>
 #include <string>
 
-#include "protocols/experiment.h"
-#include "stimuli/image.h"
+#include "core/image.h"
+#include "core/scene_spec.h"
 
 namespace glarelab {
 
@@ -17,10 +17,10 @@ struct LoadedScene {
 
 class SceneLibrary {
  public:
-  // Reads every scene of the experiment. Throws ImageError naming the file for missing or corrupt
+  // Reads every scene (an experiment's scenes, by name). Throws ImageError naming the file for missing or corrupt
   // files, and for NaN, Inf or negative pixels (with their counts): a luminance cannot be any of
   // those, and a glare model fed one would spread it over the whole frame.
-  explicit SceneLibrary(const Experiment& experiment);
+  explicit SceneLibrary(const std::map<std::string, SceneSpec>& scenes);
 
   const LoadedScene& get(const std::string& name) const;
   const std::map<std::string, LoadedScene>& scenes() const { return scenes_; }

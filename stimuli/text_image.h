@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "stimuli/image.h"
+#include "core/image.h"
 
 namespace glarelab {
 

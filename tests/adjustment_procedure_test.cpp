@@ -6,7 +6,7 @@
 
 #include "protocols/adjustment_procedure.h"
 #include "protocols/observer.h"
-#include "runner/random.h"
+#include "core/random.h"
 #include "runner/session/adjustment_keys.h"
 
 namespace glarelab {

@@ -9,7 +9,7 @@
 #include "analysis/analysis_report.h"
 #include "analysis/report_output.h"
 #include "analysis/svg_plot.h"
-#include "stimuli/png_io.h"
+#include "core/png_io.h"
 #include "tests/analysis_synthetic.h"
 #include "tests/scratch_dir.h"
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "analysis/psychometric_fit.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab::analysis {
 namespace {

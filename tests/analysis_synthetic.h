@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "runner/random.h"
+#include "core/random.h"
 #include "runner/store/result_store.h"
 
 namespace glarelab::test {

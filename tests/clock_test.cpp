@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "runner/clock.h"
+#include "core/clock.h"
 
 namespace glarelab {
 namespace {

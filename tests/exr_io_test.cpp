@@ -15,7 +15,7 @@
 #include <limits>
 #include <random>
 
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 #include "tests/scratch_dir.h"
 
 namespace glarelab {

@@ -8,7 +8,7 @@
 
 #include "cli_process.h"
 #include "glare/eye_model.h"
-#include "protocols/config_error.h"
+#include "core/errors.h"
 #include "scratch_dir.h"
 
 namespace glarelab {

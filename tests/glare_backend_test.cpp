@@ -14,6 +14,7 @@
 #include "glare/glare_backend.h"
 #include "glare/psf_scale.h"
 #include "glare_psf_test_support.h"
+#include "runner/display/compute_context.h"
 
 namespace glarelab {
 namespace {
@@ -58,6 +59,17 @@ ImageRGBA bright_source_frame() {
   return image;
 }
 
+GlareBackendSettings with_gl() { return {.gl_context = gl::compute_context_factory()}; }
+
+TEST(GlareBackendChoice, WithoutAContextFactoryGlIsRefusedAndAutoTakesTheCpu) {
+  // The glare layer makes no context of its own: it is handed a factory (core/gl/gl_context.h).
+  EXPECT_THROW(create_glare_backend("gl"), DisplayError);
+  const GlareBackendChoice choice = create_glare_backend("auto");
+  EXPECT_EQ(choice.backend->name(), "cpu float64");
+  EXPECT_NE(choice.reason.find("no OpenGL 4.5 context"), std::string::npos) << choice.reason;
+  EXPECT_NE(choice.reason.find("no context factory"), std::string::npos) << choice.reason;
+}
+
 TEST(GlareBackendChoice, SoftwareRenderersAreRecognised) {
   EXPECT_TRUE(is_software_renderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
   EXPECT_TRUE(is_software_renderer("softpipe"));
@@ -69,21 +81,23 @@ TEST(GlareBackendChoice, SoftwareRenderersAreRecognised) {
 
 TEST(GlareBackendChoice, AutoTakesTheCpuOnThisMachinesSoftwareRenderer) {
   // This machine renders with Mesa llvmpipe (docs/PERFORMANCE.md); a context made here says so.
-  const GlareBackendChoice gl = create_glare_backend("gl");
+  const GlareBackendChoice gl = create_glare_backend("gl", with_gl());
   const std::string renderer = dynamic_cast<gl::GlGlareBackend&>(*gl.backend).gl_info().renderer;
   if (!is_software_renderer(renderer)) GTEST_SKIP() << "hardware renderer " << renderer << ": auto takes gl here";
-  const GlareBackendChoice choice = create_glare_backend("auto");
+  const GlareBackendChoice choice = create_glare_backend("auto", with_gl());
   std::cout << "auto: " << choice.reason << "\n";
   EXPECT_EQ(choice.backend->name(), "cpu float64");
   EXPECT_NE(choice.reason.find("llvmpipe"), std::string::npos) << choice.reason;
   EXPECT_NE(choice.reason.find("software rasteriser"), std::string::npos) << choice.reason;
-  EXPECT_EQ(create_glare_backend("cpu", {FftPrecision::float32}).backend->name(), "cpu float32");
+  GlareBackendSettings float32;
+  float32.cpu_precision = FftPrecision::float32;
+  EXPECT_EQ(create_glare_backend("cpu", float32).backend->name(), "cpu float32");
   EXPECT_THROW(create_glare_backend("cuda"), std::invalid_argument);
 }
 
 class GlareBackendAgreement : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { gl_ = create_glare_backend("gl").backend; }
+  static void SetUpTestSuite() { gl_ = create_glare_backend("gl", with_gl()).backend; }
   static void TearDownTestSuite() { gl_.reset(); }
   static std::unique_ptr<GlareBackend> gl_;
 };

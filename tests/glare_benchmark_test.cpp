@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "glare/glare_benchmark.h"
+#include "runner/display/compute_context.h"
 
 namespace glarelab {
 namespace {
@@ -17,6 +18,7 @@ TEST(GlareBenchmark, TinyGridsGiveOneRowPerBackendWithErrorsAndATable) {
   GlareBenchmarkOptions options;
   options.grid_sizes = {32, 64};
   options.wavelength_samples = 4;
+  options.gl_context = gl::compute_context_factory();
   std::vector<std::string> progress;
   options.progress = [&](const std::string& line) { progress.push_back(line); };
   const GlareBenchmarkResult result = run_glare_benchmark(options);

@@ -14,8 +14,8 @@
 
 #include "glare/aperture_raster.h"
 #include "glare/gl/gl_aperture.h"
-#include "glare/gl/gl_compute_context.h"
-#include "runner/random.h"
+#include "runner/display/compute_context.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

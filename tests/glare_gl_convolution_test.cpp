@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "glare/gl/gl_compute_context.h"
+#include "runner/display/compute_context.h"
 #include "glare/gl/gl_convolution.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

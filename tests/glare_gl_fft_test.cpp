@@ -10,9 +10,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "glare/gl/gl_compute_context.h"
+#include "runner/display/compute_context.h"
 #include "glare/gl/gl_fft.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

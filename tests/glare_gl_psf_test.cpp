@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "glare/cie_cmf.h"
-#include "glare/gl/gl_compute_context.h"
+#include "runner/display/compute_context.h"
 #include "glare/gl/gl_psf.h"
 
 namespace glarelab {

@@ -12,7 +12,7 @@
 
 #include "glare/cpu_glare_backend.h"
 #include "glare/image_sanitiser.h"
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 
 namespace glarelab {
 namespace {

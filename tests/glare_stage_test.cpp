@@ -18,6 +18,7 @@
 #include "glare/psf_scale.h"
 #include "glare/spectral_psf.h"
 #include "stimuli/display_model.h"
+#include "runner/display/compute_context.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {
@@ -238,7 +239,7 @@ TEST(GlareStage, GlBackendAgreesWithTheCpuBackendOnASessionFrame) {
   GlareSpec spec = small_spec();
   GlareStage cpu(spec, small_display(), 21);
   spec.backend = "gl";
-  GlareStage gl(spec, small_display(), 21);
+  GlareStage gl(spec, small_display(), 21, gl::compute_context_factory());
   EXPECT_NE(gl.backend_reason().find("glare backend gl"), std::string::npos) << gl.backend_reason();
   ImageRGBA frame = lamp_frame(0.5f, 2000.0f);
   frame.pixel(10, 10)[0] = 50.0f;

@@ -6,7 +6,7 @@
 
 #include "cli_process.h"
 #include "pupil_capture_emulator.h"
-#include "runner/clock.h"
+#include "core/clock.h"
 #include "runner/devices/hid_device.h"
 #include "scratch_dir.h"
 

@@ -4,7 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "stimuli/image.h"
+#include "core/image.h"
 
 namespace glarelab {
 namespace {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "stimuli/png_io.h"
+#include "core/png_io.h"
 #include "tests/scratch_dir.h"
 
 namespace glarelab {

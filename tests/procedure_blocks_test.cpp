@@ -8,7 +8,7 @@
 #include "protocols/adjustment_procedure.h"
 #include "protocols/forced_choice.h"
 #include "protocols/rating_procedure.h"
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "runner/random.h"
+#include "core/random.h"
 
 namespace glarelab {
 namespace {

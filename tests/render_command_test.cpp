@@ -8,8 +8,8 @@
 #include "cli_process.h"
 #include "scratch_dir.h"
 #include "stimuli/display_model.h"
-#include "stimuli/exr_io.h"
-#include "stimuli/png_io.h"
+#include "core/exr_io.h"
+#include "core/png_io.h"
 
 namespace glarelab {
 namespace {

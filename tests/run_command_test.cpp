@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
-#include "runner/random.h"
+#include "core/random.h"
 #include "runner/store/result_store.h"
 #include "cli_process.h"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "glare/eye_model.h"
-#include "runner/clock.h"
+#include "core/clock.h"
 #include "runner/tracker/simulated_tracker.h"
 #include "runner/tracker/tracker_session.h"
 #include "scratch_dir.h"

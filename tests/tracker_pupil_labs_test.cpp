@@ -12,7 +12,7 @@
 
 #include "cli_process.h"
 #include "pupil_capture_emulator.h"
-#include "runner/clock.h"
+#include "core/clock.h"
 #include "runner/store/result_store.h"
 #include "runner/tracker/pupil_filter.h"
 #include "runner/tracker/pupil_labs_client.h"

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "runner/clock.h"
+#include "core/clock.h"
 #include "runner/store/result_store.h"
 #include "runner/tracker/clock_offset.h"
 #include "runner/tracker/pupil_calibration.h"

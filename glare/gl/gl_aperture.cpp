@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "runner/gl/shader_program.h"
+#include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
 namespace {

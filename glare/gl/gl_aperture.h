@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "glare/aperture_geometry.h"
-#include "runner/gl/gl_objects.h"
+#include "core/gl/gl_objects.h"
 
 namespace glarelab::gl {
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "runner/gl/shader_program.h"
+#include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
 namespace {

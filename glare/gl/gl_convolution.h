@@ -16,7 +16,7 @@
 
 #include "glare/gl/gl_fft.h"
 #include "glare/psf.h"
-#include "stimuli/image.h"
+#include "core/image.h"
 
 namespace glarelab::gl {
 

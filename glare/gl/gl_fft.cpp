@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "runner/gl/shader_program.h"
+#include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
 namespace {

@@ -10,7 +10,7 @@
 #include <complex>
 #include <vector>
 
-#include "runner/gl/gl_objects.h"
+#include "core/gl/gl_objects.h"
 
 namespace glarelab::gl {
 

@@ -2,12 +2,12 @@
 
 #include <stdexcept>
 
-#include "glare/gl/gl_compute_context.h"
+#include "core/errors.h"
 
 namespace glarelab::gl {
 
-GlGlareBackend::GlGlareBackend(std::unique_ptr<DisplayBackend> context)
-    : context_(context ? std::move(context) : create_compute_context()) {
+GlGlareBackend::GlGlareBackend(std::unique_ptr<GlContext> context) : context_(std::move(context)) {
+  if (!context_) throw DisplayError("OpenGL: the glare engine's GL path was given no context");
   context_->make_current();
   convolution_ = std::make_unique<GlConvolution>();
 }

@@ -1,6 +1,6 @@
 #pragma once
 // The GL glare backend: gl_psf.h (aperture, FFT, spectral weights) and gl_convolution.h on an
-// OpenGL 4.5 context it owns (an offscreen one from gl_compute_context.h unless given one). The
+// OpenGL 4.5 context it is handed and owns (core/gl/gl_context.h). The
 // GlPsf is kept while the grid, aperture width and supersampling stay the same. Phase forms: none
 // and defocus (the paper's Eq. 3 phase cannot be sampled on any GL grid; docs/GLARE_OPTICS.md).
 #include <memory>
@@ -8,14 +8,14 @@
 #include "glare/gl/gl_convolution.h"
 #include "glare/gl/gl_psf.h"
 #include "glare/glare_backend.h"
-#include "runner/display/display_backend.h"
+#include "core/gl/gl_context.h"
 
 namespace glarelab::gl {
 
 class GlGlareBackend : public GlareBackend {
  public:
-  // context: the current context to work in (nullptr: create an offscreen one; DisplayError if none).
-  explicit GlGlareBackend(std::unique_ptr<DisplayBackend> context = nullptr);
+  // context: the context to work in, made current for every call (DisplayError when null).
+  explicit GlGlareBackend(std::unique_ptr<GlContext> context);
   ~GlGlareBackend() override;
   std::string name() const override { return "gl"; }
   Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) override;
@@ -23,7 +23,7 @@ class GlGlareBackend : public GlareBackend {
   const GlInfo& gl_info() const { return context_->gl_info(); }
 
  private:
-  std::unique_ptr<DisplayBackend> context_;
+  std::unique_ptr<GlContext> context_;
   std::unique_ptr<GlPsf> psf_;
   PsfOptions psf_layout_;  // grid, width and supersampling psf_ was made for
   std::unique_ptr<GlConvolution> convolution_;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "glare/cie_cmf.h"
-#include "runner/gl/shader_program.h"
+#include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
 namespace {

@@ -7,6 +7,7 @@
 #include "glare/glare_backend.h"
 #include "glare/glare_benchmark.h"
 #include "runner/cli/commands.h"
+#include "runner/display/compute_context.h"
 
 namespace glarelab::cli {
 namespace {
@@ -32,7 +33,7 @@ Action add_bench_command(CLI::App& app) {
       GlareBenchmarkOptions options;
       options.grid_sizes = args->quick ? std::vector<int>{256, 512, 1024} : std::vector<int>{256, 512, 1024, 2048};
       options.repeats = args->repeats > 0 ? args->repeats : (args->quick ? 1 : 3);
-      options.include_gl = !args->no_gl;
+      if (!args->no_gl) options.gl_context = gl::compute_context_factory();
       options.progress = [](const std::string& line) { std::cerr << line << std::endl; };
       const GlareBenchmarkResult result = run_glare_benchmark(options);
       std::cout << "Aperture: " << result.aperture << ".\n";
@@ -46,7 +47,7 @@ Action add_bench_command(CLI::App& app) {
       std::cout << "Errors are relative L2: against the CPU double path at the same N, and the monochromatic PSF "
                    "against the CPU double PSF of the 2N grid (central N x N).\n\n"
                 << format_glare_benchmark_table(result);
-      if (!args->no_gl) std::cout << "\n" << create_glare_backend("auto").reason << "\n";
+      if (!args->no_gl) std::cout << "\n" << create_glare_backend("auto", {.gl_context = gl::compute_context_factory()}).reason << "\n";
       return 0;
     });
   };

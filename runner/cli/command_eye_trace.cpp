@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "glare/eye_model.h"
-#include "protocols/config_error.h"
+#include "core/errors.h"
 #include "runner/cli/commands.h"
 
 namespace glarelab::cli {

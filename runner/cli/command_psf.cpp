@@ -9,6 +9,7 @@
 #include "glare/psf_cpu.h"
 #include "glare/psf_exr.h"
 #include "runner/cli/commands.h"
+#include "runner/display/compute_context.h"
 
 namespace glarelab::cli {
 namespace {
@@ -141,7 +142,7 @@ Action add_psf_command(CLI::App& app) {
       options.spectral = args->spectral;
       options.wavelength_samples = args->wavelength_samples;
       options.phase = parse_phase_form(args->fresnel);
-      GlareBackendChoice choice = create_glare_backend(args->backend);
+      GlareBackendChoice choice = create_glare_backend(args->backend, {.gl_context = gl::compute_context_factory()});
       std::cout << "psf: " << choice.reason << "\n";
       Psf psf;
       if (!geometry.glare_enabled) {

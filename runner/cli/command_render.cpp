@@ -8,13 +8,14 @@
 
 #include "protocols/experiment.h"
 #include "runner/cli/commands.h"
+#include "runner/display/compute_context.h"
 #include "runner/display/display_backend.h"
 #include "stimuli/display_model.h"
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 #include "stimuli/frame_renderer.h"
 #include "stimuli/glare_stage.h"
 #include "stimuli/layout.h"
-#include "stimuli/png_io.h"
+#include "core/png_io.h"
 #include "stimuli/scene_library.h"
 
 namespace glarelab::cli {
@@ -38,7 +39,7 @@ const ConditionRow& find_condition(const Experiment& experiment, const std::stri
 }
 
 ImageRGBA compose(const Experiment& experiment, const ConditionRow& row) {
-  const SceneLibrary scenes(experiment);
+  const SceneLibrary scenes(experiment.scenes);
   DisplayRequest request;
   request.width_px = experiment.display.width_px;
   request.height_px = experiment.display.height_px;
@@ -66,7 +67,7 @@ int render(const RenderOptions& options) {
   const ConditionRow& row = find_condition(experiment, options.condition);
   const GlareMode mode = options.glare.empty() ? glare_mode_for(experiment.glare, row) : parse_glare_mode(options.glare);
   const ImageRGBA composed = compose(experiment, row);
-  GlareStage stage(experiment.glare, experiment.display, experiment.seed);
+  GlareStage stage(experiment.glare, experiment.display, experiment.seed, gl::compute_context_factory());
   GlareFrameReport report;
   ImageRGBA frame = stage.apply(composed, mode, options.time_s, &report);
 

@@ -1,6 +1,6 @@
 #include <iostream>
 
-#include "analysis/session_summary.h"
+#include "runner/store/session_summary.h"
 #include "runner/cli/commands.h"
 #include "runner/session/session_runner.h"
 #include "runner/store/result_store.h"

@@ -1,13 +1,13 @@
 #include <iostream>
 
-#include "protocols/config_error.h"
+#include "core/errors.h"
 #include "runner/cli/commands.h"
 #include "runner/devices/hid_device.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/session_runner.h"
 #include "runner/store/result_store.h"
 #include "runner/tracker/tracker_source.h"
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 
 namespace glarelab::cli {
 

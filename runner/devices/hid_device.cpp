@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "runner/clock.h"
+#include "core/clock.h"
 
 namespace glarelab {
 

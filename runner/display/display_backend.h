@@ -8,13 +8,10 @@
 #include <string>
 #include <vector>
 
-namespace glarelab {
+#include "core/errors.h"
+#include "core/gl/gl_context.h"
 
-// "SUBSYSTEM: message" errors (GLFW, OSMesa, OpenGL): a clear report instead of a crash.
-class DisplayError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace glarelab {
 
 struct DisplayRequest {
   int width_px = 1280;
@@ -30,16 +27,6 @@ struct DisplayRequest {
   std::vector<std::string> required_extensions;
 };
 
-struct GlInfo {
-  std::string vendor;
-  std::string renderer;
-  std::string version;
-  std::string shading_language_version;
-  int major = 0;
-  int minor = 0;
-  std::string describe() const;  // "OpenGL 4.5 (Core Profile) Mesa 22.3.6 on llvmpipe (LLVM 15.0.6, 256 bits)"
-};
-
 // One input from the person at the display, in the order it happened.
 struct InputEvent {
   // A key: "left", "right", "up", "down", "escape", "space", "enter", "a".."z", "0".."9";
@@ -49,11 +36,10 @@ struct InputEvent {
   bool is_key() const { return !name.starts_with("wheel_"); }
 };
 
-class DisplayBackend {
+// A display is also the GL context it draws with (core/gl/gl_context.h: gl_info, make_current).
+class DisplayBackend : public GlContext {
  public:
-  virtual ~DisplayBackend() = default;
   virtual std::string kind() const = 0;  // "window" | "offscreen"
-  virtual const GlInfo& gl_info() const = 0;
   virtual int width_px() const = 0;   // size of the default framebuffer
   virtual int height_px() const = 0;
   // The refresh rate frames are scheduled at (monitor's for a window, the requested for offscreen).
@@ -73,8 +59,6 @@ class DisplayBackend {
   }
   // The user closed the window.
   virtual bool close_requested() const = 0;
-  // Makes this backend's context current on the calling thread and (re)loads GL entry points.
-  virtual void make_current() = 0;
 };
 
 // The one place a backend is chosen: kind is "window" or "offscreen".

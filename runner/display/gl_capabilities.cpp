@@ -8,8 +8,6 @@
 
 namespace glarelab {
 
-std::string GlInfo::describe() const { return "OpenGL " + version + " on " + renderer + " (" + vendor + ")"; }
-
 namespace {
 std::string gl_string(GLenum name) {
   const auto* text = reinterpret_cast<const char*>(glGetString(name));

@@ -4,7 +4,7 @@
 // background.
 #include "protocols/experiment.h"
 #include "stimuli/frame_renderer.h"
-#include "stimuli/image.h"
+#include "core/image.h"
 
 namespace glarelab {
 

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "runner/clock.h"
+#include "core/clock.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/interrupt.h"
 #include "runner/session/keyboard_responses.h"

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "protocols/config_error.h"
-#include "runner/clock.h"
+#include "core/errors.h"
+#include "core/clock.h"
 
 namespace glarelab {
 namespace {

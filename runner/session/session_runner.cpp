@@ -16,7 +16,8 @@
 #include "protocols/procedure.h"
 #include "protocols/adjustment_procedure.h"
 #include "protocols/stimulus_duration.h"
-#include "runner/clock.h"
+#include "core/clock.h"
+#include "runner/display/compute_context.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/adjustment_keys.h"
 #include "runner/session/device_pause_screen.h"
@@ -29,11 +30,11 @@
 #include "runner/session/participant_number.h"
 #include "runner/session/slow_flip_clock.h"
 #include "runner/session/trial_schedule.h"
-#include "runner/software_version.h"
+#include "core/software_version.h"
 #include "runner/store/result_store.h"
 #include "runner/tracker/real_time_pacer.h"
 #include "runner/tracker/tracker_session.h"
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 #include "stimuli/frame_renderer.h"
 #include "stimuli/glare_stage.h"
 #include "stimuli/position_glare.h"
@@ -80,7 +81,7 @@ PreparedSession prepare(Experiment experiment, const RunOptions& options) {
   PreparedSession prepared;
   prepared.experiment = std::move(experiment);
   prepared.resolved_config = resolved_config_toml(prepared.experiment);
-  prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment);
+  prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment.scenes);
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
   // --- response device (docs/DEVICES.md): the person answers with it, in a window or offscreen ---
@@ -126,7 +127,8 @@ class SessionLoop {
         renderer_(display.width_px(), display.height_px()),
         period_s_(1.0 / display.refresh_hz()),
         timing_(display.refresh_hz()),
-        glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed),
+        glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed,
+               gl::compute_context_factory()),
         overlays_(renderer_, prepared.experiment),
         // Ratings and adjustment never read `layout`: it keeps its default there.
         sequential_(prepared.experiment.forced_choice.layout == "sequential") {

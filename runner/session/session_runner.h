@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "core/errors.h"  // ExitCode: the exit codes of `glarelab run`
 #include "runner/session/response_device_session.h"
 #include "runner/tracker/tracker_session.h"
 
@@ -43,16 +44,6 @@ struct RunResult {
   std::int64_t frames_dropped = 0;  // of them, more than 1.5 refresh periods after the previous flip
   std::string tracker_summary;  // one line, empty without a tracker
   std::string device_summary;   // one line, empty without a response device
-};
-
-// Exit codes of `glarelab run`, also used by main.
-enum ExitCode : int {
-  kExitOk = 0,
-  kExitFailure = 1,     // unexpected internal error
-  kExitBadInput = 2,    // experiment file, condition table, scene image, script, options
-  kExitDevice = 3,      // display, GL or input device
-  kExitStore = 4,       // database
-  kExitAborted = 130,   // Ctrl-C, Escape or window closed: session kept as aborted
 };
 
 // Runs (or resumes) a session. Throws ConfigError/ImageError/DisplayError/StoreError; never

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "runner/clock.h"
+#include "core/clock.h"
 
 namespace glarelab {
 

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <vector>
 
-#include "runner/clock.h"
+#include "core/clock.h"
 
 namespace glarelab {
 

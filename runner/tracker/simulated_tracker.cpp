@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "runner/clock.h"
+#include "core/clock.h"
 
 namespace glarelab {
 

@@ -12,7 +12,7 @@
 
 #include "glare/eyelids.h"
 #include "glare/pupil_model.h"
-#include "runner/random.h"
+#include "core/random.h"
 #include "runner/tracker/tracker_source.h"
 
 namespace glarelab {

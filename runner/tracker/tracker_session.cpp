@@ -4,8 +4,8 @@
 #include <limits>
 #include <sstream>
 
-#include "protocols/config_error.h"
-#include "runner/clock.h"
+#include "core/errors.h"
+#include "core/clock.h"
 
 namespace glarelab {
 

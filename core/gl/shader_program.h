@@ -4,7 +4,7 @@
 #include <initializer_list>
 #include <string_view>
 
-#include "runner/gl/gl_objects.h"
+#include "core/gl/gl_objects.h"
 
 namespace glarelab::gl {
 

@@ -1,4 +1,4 @@
-#include "glare/gl/gl_compute_context.h"
+#include "runner/display/compute_context.h"
 
 namespace glarelab::gl {
 
@@ -10,6 +10,10 @@ std::unique_ptr<DisplayBackend> create_compute_context() {
   request.vsync = false;
   request.title = "glarelab compute";
   return create_display("offscreen", request);
+}
+
+GlContextFactory compute_context_factory() {
+  return []() -> std::unique_ptr<GlContext> { return create_compute_context(); };
 }
 
 }  // namespace glarelab::gl

@@ -1,4 +1,4 @@
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 
 #include <Iex.h>
 #include <Imath/half.h>

@@ -1,4 +1,4 @@
-#include "stimuli/png_io.h"
+#include "core/png_io.h"
 
 #include <png.h>
 

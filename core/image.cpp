@@ -1,4 +1,4 @@
-#include "stimuli/image.h"
+#include "core/image.h"
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "runner/clock.h"
+#include "core/clock.h"
 
 #include <stdexcept>
 

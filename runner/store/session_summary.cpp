@@ -1,4 +1,4 @@
-#include "analysis/session_summary.h"
+#include "runner/store/session_summary.h"
 
 #include <cstdio>
 #include <filesystem>

@@ -1,10 +1,10 @@
-#include "runner/gl/shader_program.h"
+#include "core/gl/shader_program.h"
 
 #include <string>
 #include <vector>
 
-#include "runner/display/display_backend.h"
-#include "runner/embedded_shaders.h"
+#include "core/errors.h"
+#include "core/embedded_shaders.h"
 
 namespace glarelab::gl {
 namespace {

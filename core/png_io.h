@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "stimuli/exr_io.h"
+#include "core/exr_io.h"
 
 namespace glarelab {
 

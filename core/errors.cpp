@@ -1,4 +1,4 @@
-#include "protocols/config_error.h"
+#include "core/errors.h"
 
 #include <utility>
 

@@ -1,0 +1,25 @@
+#pragma once
+// The physical display a session shows its frames on: size, refresh rate, viewing geometry and
+// photometry. Plain data, read from the experiment file by protocols/ and modelled by
+// stimuli/display_model.h; it sits in the base layer because both need it and neither may include
+// the other (docs/ARCHITECTURE.md).
+
+namespace glarelab {
+
+enum class DisplayEncoding { srgb, gamma };
+
+struct DisplaySpec {
+  int width_px = 1280;
+  int height_px = 720;
+  double refresh_hz = 60.0;
+  double viewing_distance_mm = 600.0;
+  double pixel_pitch_mm = 0.25;
+  double peak_luminance_cd_m2 = 250.0;  // white of the display; brighter stimulus values clip
+  double background_cd_m2 = 0.0;        // luminance around and between stimuli
+  DisplayEncoding encoding = DisplayEncoding::srgb;
+  double gamma = 2.2;  // used when encoding == gamma
+  int monitor = 0;
+  bool fullscreen = false;
+};
+
+}  // namespace glarelab

@@ -1,0 +1,7 @@
+#include "core/gl/gl_context.h"
+
+namespace glarelab {
+
+std::string GlInfo::describe() const { return "OpenGL " + version + " on " + renderer + " (" + vendor + ")"; }
+
+}  // namespace glarelab

@@ -1,0 +1,46 @@
+#pragma once
+// How a session's glare is computed and shown: the plain parameters of the glare engine and its
+// stage (stimuli/glare_stage.h), with their defaults. The experiment file's [glare] table is read
+// into this struct by protocols/glare_config.h; nothing here knows about experiment files.
+#include <string>
+
+#include "glare/eye_parameters.h"
+
+namespace glarelab {
+
+struct GlareSpec {
+  // Mode of conditions without a "glare" column value. Control by default: an experiment that does
+  // not mention glare shows its scenes unchanged.
+  GlareMode mode = GlareMode::control;
+  double static_time_s = 0.0;         // the instant a static eye is frozen at
+  int grid_px = 256;                  // aperture and PSF grid N (even)
+  double aperture_width_mm = 10.0;    // side of the aperture grid: PSF pixel = lambda / width
+  int supersampling = 2;              // aperture coverage sub-samples per pixel side (>= 2)
+  int wavelength_samples = 32;        // chromatic blur samples over 380-770 nm (Ritschel section 5)
+  // Visibility threshold for skipping a frame's glare: the largest relative change glare could make
+  // anywhere in the frame must reach this Weber fraction (Spencer 1995 section 2: veiling luminance
+  // is seen as a contrast against the local background; ~1% is the foveal Weber fraction).
+  double visibility_weber_fraction = 0.01;
+  // Luminance below which a relative change is measured against this floor instead (relative
+  // changes of a black pixel are meaningless); 0.01 cd/m2 is near the bottom of mesopic vision.
+  double visibility_floor_cd_m2 = 0.01;
+  bool skip_invisible = true;         // false: always convolve (for measuring the skip error)
+  // Compute backend (glare/glare_backend.h): "auto" (gl on a hardware GPU, else the CPU), "cpu"
+  // (FFTW double) or "gl" (OpenGL 4.5 compute; needs grid_px a power of two from 16 to 4096).
+  std::string backend = "auto";
+  // Gaze-contingent glare (Luidolt 2020, 5.2.3): 0 convolves the whole frame; a power of two
+  // convolves that square window around the gaze and blends it in with a Gaussian falloff.
+  int gaze_window_px = 0;
+  // Latency compensation of the gaze that places the window (runner/tracker/gaze_prediction.h):
+  // false (default) takes the latest confident gaze as it is; true extrapolates the recent gaze
+  // track to the trial's first flip.
+  bool gaze_latency_compensation = false;
+  // The dynamic eye's pupil: "tracker" takes the tracker's filtered pupil when a tracker runs (the
+  // model's Eq. 1-2 pupil otherwise), "model" always the model's.
+  std::string pupil_source = "tracker";
+  // The dynamic eye's blinks: "model" its own schedule (eyelids.h), "tracker" the blinks the
+  // tracker detects (Luidolt 2020, 7.2: a detected blink may drive the eyelids instead).
+  std::string blink_source = "model";
+};
+
+}  // namespace glarelab

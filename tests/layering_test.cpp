@@ -1,0 +1,122 @@
+// The layers' one direction of dependency (docs/ARCHITECTURE.md "Layers"), checked on every
+// `#include "..."` of the source tree, in the manner of Chromium's checkdeps:
+//   core <- glare <- stimuli <- runner;  core <- protocols <- runner;  core <- analysis <- runner,
+// where protocols may read glare's parameter types (and nothing else of glare). A violation is
+// reported as "FILE:LINE: LAYER may not include TARGET".
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "scratch_dir.h"
+
+namespace glarelab {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kLayers = {"core", "glare", "stimuli", "protocols", "analysis", "runner"};
+
+// The layers each layer may include (itself included).
+const std::map<std::string, std::set<std::string>>& allowed_layers() {
+  static const std::map<std::string, std::set<std::string>> allowed = {
+      {"core", {"core"}},
+      {"glare", {"core", "glare"}},
+      {"stimuli", {"core", "glare", "stimuli"}},
+      {"protocols", {"core", "glare", "protocols"}},
+      {"analysis", {"core", "analysis"}},
+      {"runner", {"core", "glare", "stimuli", "protocols", "analysis", "runner"}},
+  };
+  return allowed;
+}
+
+// What protocols may read of glare: the plain parameter types its experiment files fill in.
+const std::set<std::string>& glare_parameter_headers() {
+  static const std::set<std::string> headers = {"glare/eye_parameters.h", "glare/glare_spec.h"};
+  return headers;
+}
+
+// Every upward include under `root`, as "FILE:LINE: LAYER may not include TARGET" (FILE relative
+// to root), in path order.
+std::vector<std::string> layering_violations(const fs::path& root) {
+  static const std::regex include_line(R"(^\s*#\s*include\s*"([^"]+)\")");
+  std::vector<std::string> violations;
+  for (const std::string& layer : kLayers) {
+    if (!fs::is_directory(root / layer)) continue;
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::recursive_directory_iterator(root / layer)) {
+      const std::string extension = entry.path().extension().string();
+      if (entry.is_regular_file() && (extension == ".h" || extension == ".cpp")) files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const fs::path& file : files) {
+      std::ifstream in(file);
+      std::string line;
+      for (int number = 1; std::getline(in, line); ++number) {
+        std::smatch match;
+        if (!std::regex_search(line, match, include_line)) continue;
+        const std::string target = match[1];
+        const std::string target_layer = target.substr(0, target.find('/'));
+        if (target.find('/') == std::string::npos ||
+            std::find(kLayers.begin(), kLayers.end(), target_layer) == kLayers.end())
+          continue;  // a generated or system header, not one of the layers
+        bool allowed = allowed_layers().at(layer).contains(target_layer);
+        if (layer == "protocols" && target_layer == "glare") allowed = glare_parameter_headers().contains(target);
+        if (!allowed)
+          violations.push_back(fs::relative(file, root).string() + ":" + std::to_string(number) + ": " + layer +
+                               " may not include " + target);
+      }
+    }
+  }
+  return violations;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  return text;
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+}
+
+TEST(Layering, EveryIncludeOfTheTreeRunsDownTheLayers) {
+  const fs::path root = GLARELAB_SOURCE_DIR;
+  for (const std::string& layer : kLayers) ASSERT_TRUE(fs::is_directory(root / layer)) << layer;
+  const std::vector<std::string> violations = layering_violations(root);
+  EXPECT_TRUE(violations.empty()) << "includes that run against docs/ARCHITECTURE.md:\n" << joined(violations);
+}
+
+TEST(Layering, APlantedUpwardIncludeIsNamedWithFileAndLine) {
+  // A copy of the real tree's rules on a small tree: one allowed include of each kind and one of
+  // each forbidden kind, planted at known lines.
+  test::ScratchDir scratch;
+  const fs::path root = scratch.path();
+  write_file(root / "core/image.h", "#pragma once\n#include <vector>\n");
+  write_file(root / "glare/psf.cpp", "#include \"glare/psf.h\"\n#include \"core/image.h\"\n#include \"runner/random.h\"\n");
+  write_file(root / "stimuli/frame.cpp", "// frame\n#include \"glare/psf.h\"\n#include \"protocols/experiment.h\"\n");
+  write_file(root / "protocols/glare_config.h",
+             "#include \"glare/glare_spec.h\"\n#include \"glare/psf.h\"\n#include <toml++/toml.h>\n");
+  write_file(root / "analysis/report.cpp", "#include \"analysis/report.h\"\n  #  include \"stimuli/image.h\"\n");
+  write_file(root / "core/gl/owner.h", "#include \"glare/gl/gl_fft.h\"\n");
+  write_file(root / "runner/main.cpp", "#include \"stimuli/frame.h\"\n#include \"analysis/report.h\"\n");
+  const std::vector<std::string> expected = {
+      "core/gl/owner.h:1: core may not include glare/gl/gl_fft.h",
+      "glare/psf.cpp:3: glare may not include runner/random.h",
+      "stimuli/frame.cpp:3: stimuli may not include protocols/experiment.h",
+      "protocols/glare_config.h:2: protocols may not include glare/psf.h",
+      "analysis/report.cpp:2: analysis may not include stimuli/image.h",
+  };
+  EXPECT_EQ(layering_violations(root), expected) << joined(layering_violations(root));
+}
+
+}  // namespace
+}  // namespace glarelab
