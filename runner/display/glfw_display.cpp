@@ -96,6 +96,11 @@ class GlfwDisplay final : public DisplayBackend {
   void present() override { glfwSwapBuffers(window_); }
   bool close_requested() const override { return glfwWindowShouldClose(window_) == GLFW_TRUE; }
   void make_current() override {
+    // Release first: another context on this thread (the OSMesa context of the GL glare path, or
+    // the one "auto" opens to look at the renderer) switches Mesa's shared GL dispatch without GLX
+    // knowing, and GLX (glvnd) skips a make-current to the context it believes is still current,
+    // which left the dispatch empty ("could not reload OpenGL entry points").
+    glfwMakeContextCurrent(nullptr);
     glfwMakeContextCurrent(window_);
     if (gladLoadGL(reinterpret_cast<GLADloadfunc>(glfw_proc)) == 0)
       throw DisplayError("GLFW: could not reload OpenGL entry points");
