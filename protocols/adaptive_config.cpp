@@ -5,6 +5,8 @@
 #include <utility>
 #include <stdexcept>
 
+#include "core/number_text.h"
+
 namespace glarelab {
 namespace {
 
@@ -12,7 +14,7 @@ std::optional<int> read_count(TableReader& reader, std::string_view key, int min
   const std::optional<std::int64_t> value = reader.integer(key);
   if (!value) return std::nullopt;
   if (*value < minimum || *value > std::numeric_limits<int>::max())
-    reader.fail(key, "must be >= " + std::to_string(minimum) + ", found " + std::to_string(*value));
+    reader.fail(key, "must be >= " + number_text(minimum) + ", found " + number_text(*value));
   return static_cast<int>(*value);
 }
 

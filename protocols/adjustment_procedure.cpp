@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/number_text.h"
 #include "protocols/blocked_design.h"
 #include "protocols/fixed_design_procedure.h"
 #include "protocols/json_text.h"
@@ -21,7 +22,7 @@ double peak_of(const std::map<std::string, double>& peaks, const std::string& sc
   return found->second;
 }
 
-std::string number_text(double value) {
+std::string seventeen_digit_text(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.17g", value);
   return buffer;
@@ -34,14 +35,10 @@ void read_adjustment_procedure(TableReader& procedure, Experiment& experiment) {
   spec.coarse_step_log10 = procedure.positive_number("coarse_step_log10", spec.coarse_step_log10);
   spec.fine_step_log10 = procedure.positive_number("fine_step_log10", spec.fine_step_log10);
   if (const auto range = procedure.number("start_range_log10")) {
-    if (!(*range >= 0.0)) procedure.fail("start_range_log10", "must be >= 0, found " + std::to_string(*range));
+    if (!(*range >= 0.0)) procedure.fail("start_range_log10", "must be >= 0, found " + number_text(*range));
     spec.start_range_log10 = *range;
   }
-  if (const auto repetitions = procedure.integer("repetitions")) {
-    if (*repetitions < 1 || *repetitions > std::numeric_limits<int>::max())
-      procedure.fail("repetitions", "must be >= 1, found " + std::to_string(*repetitions));
-    spec.repetitions = static_cast<int>(*repetitions);
-  }
+  spec.repetitions = procedure.repetitions("repetitions", spec.repetitions);
 }
 
 std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
@@ -85,7 +82,7 @@ std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
     apply_block_placement(design[index].placement, false, plan);
     JsonObjectWriter json;
     for (const auto& [column, value] : row.fields) json.add(column, value);
-    json.add("start_left_cd_m2", number_text(left)).add("start_right_cd_m2", number_text(right));
+    json.add("start_left_cd_m2", seventeen_digit_text(left)).add("start_right_cd_m2", seventeen_digit_text(right));
     plan.condition_json = json.str();
     trials.push_back(std::move(plan));
   }
@@ -93,7 +90,7 @@ std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
 }
 
 std::string format_adjustment_response(double left_cd_m2, double right_cd_m2) {
-  return number_text(left_cd_m2) + " " + number_text(right_cd_m2);
+  return seventeen_digit_text(left_cd_m2) + " " + seventeen_digit_text(right_cd_m2);
 }
 
 TrialOutcome score_adjustment(const TrialPlan& plan, const Response& response) {

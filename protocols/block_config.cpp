@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "core/number_text.h"
+
 namespace glarelab {
 namespace {
 
@@ -24,7 +26,7 @@ void read_block_keys(TableReader& procedure, Experiment& experiment) {
   }
   if (const std::optional<std::int64_t> number = procedure.integer("participant_number")) {
     if (*number < 1 || *number > std::numeric_limits<int>::max())
-      procedure.fail("participant_number", "must be >= 1, found " + std::to_string(*number));
+      procedure.fail("participant_number", "must be >= 1, found " + number_text(*number));
     design.participant_number = static_cast<int>(*number);
     design.participant_number_where = procedure.value_location("participant_number");
   }
@@ -66,11 +68,7 @@ void read_blocks_section(TableReader& top, Experiment& experiment) {
                                       describe_toml_type(*conditions));
       }
     }
-    if (const std::optional<std::int64_t> repetitions = reader.integer("repetitions")) {
-      if (*repetitions < 1 || *repetitions > std::numeric_limits<int>::max())
-        reader.fail("repetitions", "must be >= 1, found " + std::to_string(*repetitions));
-      block.repetitions = static_cast<int>(*repetitions);
-    }
+    if (reader.node("repetitions") != nullptr) block.repetitions = reader.repetitions("repetitions", 1);
     block.instructions = reader.string("instructions").value_or("");
     block.question = reader.string("question");
     if (const std::optional<std::string> order = reader.string("trial_order")) {

@@ -1,14 +1,17 @@
 // Experiment files: TOML (toml++) read strictly through TableReader, plus CSV condition tables.
 // Every error names file:line:column and the dotted key so the experimenter can jump to it.
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "protocols/adaptive_config.h"
+#include "core/number_text.h"
 #include "protocols/adjustment_procedure.h"
 #include "protocols/block_config.h"
 #include "protocols/csv_table.h"
@@ -41,14 +44,46 @@ std::string resolve_path(const std::string& base_dir, const std::string& path) {
   return resolved.lexically_normal().string();
 }
 
-int read_int(TableReader& reader, std::string_view key, int fallback, std::int64_t minimum,
-             const char* requirement) {
-  const std::optional<std::int64_t> value = reader.integer(key);
-  if (!value) return fallback;
-  if (*value < minimum || *value > std::numeric_limits<int>::max()) {
-    reader.fail(key, std::string("must be ") + requirement + ", found " + std::to_string(*value));
+int read_int(TableReader& reader, std::string_view key, int fallback, std::int64_t minimum, std::int64_t maximum) {
+  return static_cast<int>(reader.integer_in_range(key, fallback, minimum, maximum));
+}
+
+// Bounds of a display description: what real setups span, with a wide margin. Beyond them a value
+// is a typo, and some (a 1e300 Hz refresh, a 1e300 gamma) would only fail later, mid-session.
+// 16384 px is the texture size every OpenGL 4.5 implementation must support (GL_MAX_TEXTURE_SIZE).
+constexpr std::int64_t kMaxDisplayPx = 16384;
+constexpr double kMinRefreshHz = 1.0, kMaxRefreshHz = 1000.0;
+constexpr double kMinViewingDistanceMm = 10.0, kMaxViewingDistanceMm = 100000.0;  // 1 cm to 100 m
+constexpr double kMinPixelPitchMm = 0.001, kMaxPixelPitchMm = 100.0;
+// From a dim CRT to well beyond any HDR display or projector made.
+constexpr double kMinPeakLuminanceCdM2 = 0.001, kMaxPeakLuminanceCdM2 = 1e5;
+constexpr double kMinGamma = 0.5, kMaxGamma = 5.0;
+constexpr std::int64_t kMaxMonitorIndex = 63;
+// Pixel values times scale_cd_m2 are luminances: a scale outside this range turns any float image
+// into zeros or overflows (1e-300 made every scene black).
+constexpr double kMinSceneScale = 1e-9, kMaxSceneScale = 1e9;
+
+// The experiment name names the default database (results/NAME.db) and the analysis folders, so it
+// must be a safe file name: "../../../tmp/escaped" once wrote outside results/, and a NUL made
+// directories. Letters, digits, UTF-8 text, spaces and - _ . ( ) + , only, starting with a letter,
+// digit or UTF-8 character; at most 100 bytes. Empty string: the name is fine.
+std::string experiment_name_problem(const std::string& name) {
+  constexpr std::size_t kMaxNameBytes = 100;
+  if (name.empty()) return "must not be empty";
+  if (name.size() > kMaxNameBytes)
+    return "must be at most " + std::to_string(kMaxNameBytes) + " bytes (it names files), found " +
+           std::to_string(name.size());
+  const auto is_plain = [](unsigned char c) { return std::isalnum(c) != 0 || c >= 0x80; };
+  if (!is_plain(static_cast<unsigned char>(name.front())))
+    return "must start with a letter or digit (it names the results file results/NAME.db)";
+  for (const char character : name) {
+    const auto c = static_cast<unsigned char>(character);
+    if (is_plain(c) || std::string_view(" -_.()+,").find(character) != std::string_view::npos) continue;
+    std::string shown = c >= 0x20 && c < 0x7f ? "'" + std::string(1, character) + "'" : "byte " + std::to_string(c);
+    return "may hold only letters, digits, spaces and - _ . ( ) + , (it names the results file results/NAME.db); "
+           "found " + shown;
   }
-  return static_cast<int>(*value);
+  return {};
 }
 
 // A required sub-table; `top` reports its absence at the enclosing table.
@@ -62,12 +97,12 @@ void read_experiment_section(TableReader& top, Experiment& experiment) {
   TableReader reader(require_table(top, "experiment"), "experiment", top.file());
   const std::optional<std::string> name = reader.string("name");
   if (!name) reader.fail("name", "missing required key (a string naming the experiment)");
-  if (name->empty()) reader.fail("name", "must not be empty");
+  if (const std::string problem = experiment_name_problem(*name); !problem.empty()) reader.fail("name", problem);
   experiment.name = *name;
   experiment.description = reader.string("description").value_or("");
   const std::optional<std::int64_t> seed = reader.integer("seed");
   if (seed) {
-    if (*seed < 0) reader.fail("seed", "must be >= 0, found " + std::to_string(*seed));
+    if (*seed < 0) reader.fail("seed", "must be >= 0, found " + number_text(*seed));
     experiment.seed = static_cast<std::uint64_t>(*seed);
   }
   reader.report_unused();
@@ -78,16 +113,18 @@ void read_display_section(TableReader& top, Experiment& experiment) {
   if (table == nullptr) return;
   TableReader reader(*table, "display", top.file());
   DisplaySpec& display = experiment.display;
-  display.width_px = read_int(reader, "width_px", display.width_px, 1, ">= 1");
-  display.height_px = read_int(reader, "height_px", display.height_px, 1, ">= 1");
-  display.refresh_hz = reader.positive_number("refresh_hz", display.refresh_hz);
-  display.viewing_distance_mm =
-      reader.positive_number("viewing_distance_mm", display.viewing_distance_mm);
-  display.pixel_pitch_mm = reader.positive_number("pixel_pitch_mm", display.pixel_pitch_mm);
-  display.peak_luminance_cd_m2 =
-      reader.positive_number("peak_luminance_cd_m2", display.peak_luminance_cd_m2);
-  display.background_cd_m2 =
-      reader.non_negative_number("background_cd_m2", display.background_cd_m2);
+  display.width_px = read_int(reader, "width_px", display.width_px, 1, kMaxDisplayPx);
+  display.height_px = read_int(reader, "height_px", display.height_px, 1, kMaxDisplayPx);
+  display.refresh_hz = reader.number_in_range("refresh_hz", display.refresh_hz, kMinRefreshHz, kMaxRefreshHz, "Hz");
+  display.viewing_distance_mm = reader.number_in_range("viewing_distance_mm", display.viewing_distance_mm,
+                                                       kMinViewingDistanceMm, kMaxViewingDistanceMm, "mm");
+  display.pixel_pitch_mm =
+      reader.number_in_range("pixel_pitch_mm", display.pixel_pitch_mm, kMinPixelPitchMm, kMaxPixelPitchMm, "mm");
+  display.peak_luminance_cd_m2 = reader.number_in_range("peak_luminance_cd_m2", display.peak_luminance_cd_m2,
+                                                        kMinPeakLuminanceCdM2, kMaxPeakLuminanceCdM2, "cd/m2");
+  // The background is shown on the display, so it cannot exceed the display's peak.
+  display.background_cd_m2 = reader.number_in_range("background_cd_m2", display.background_cd_m2, 0.0,
+                                                    display.peak_luminance_cd_m2, "cd/m2 (the display's peak)");
   if (const std::optional<std::string> encoding = reader.string("encoding")) {
     if (*encoding == "srgb") {
       display.encoding = DisplayEncoding::srgb;
@@ -97,8 +134,8 @@ void read_display_section(TableReader& top, Experiment& experiment) {
       reader.fail("encoding", "unsupported encoding '" + *encoding + "' (supported: 'srgb', 'gamma')");
     }
   }
-  display.gamma = reader.positive_number("gamma", display.gamma);
-  display.monitor = read_int(reader, "monitor", display.monitor, 0, ">= 0");
+  display.gamma = reader.number_in_range("gamma", display.gamma, kMinGamma, kMaxGamma);
+  display.monitor = read_int(reader, "monitor", display.monitor, 0, kMaxMonitorIndex);
   display.fullscreen = reader.boolean("fullscreen").value_or(display.fullscreen);
   reader.report_unused();
 }
@@ -124,7 +161,7 @@ void read_scenes_section(TableReader& top, Experiment& experiment, const std::st
     if (!file) reader.fail("file", "missing required key (the OpenEXR image of scene '" + name + "')");
     if (file->empty()) reader.fail("file", "must not be empty");
     scene.file = resolve_path(base_dir, *file);
-    scene.scale_cd_m2 = reader.positive_number("scale_cd_m2", scene.scale_cd_m2);
+    scene.scale_cd_m2 = reader.number_in_range("scale_cd_m2", scene.scale_cd_m2, kMinSceneScale, kMaxSceneScale);
     reader.report_unused();
     experiment.scenes.emplace(name, std::move(scene));
   }
@@ -149,11 +186,13 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
   }
 
   ForcedChoiceSpec& spec = experiment.forced_choice;
-  spec.alternatives = read_int(reader, "alternatives", spec.alternatives, 2, "2 or 3");
   // Two sources side by side; a third alternative is the answer "neither" (Spencer 1995).
-  if (spec.alternatives != 2 && spec.alternatives != 3)
-    reader.fail("alternatives", "must be 2 or 3 (two sources, optionally 'neither'), found " +
-                                    std::to_string(spec.alternatives));
+  if (const std::optional<std::int64_t> alternatives = reader.integer("alternatives")) {
+    if (*alternatives != 2 && *alternatives != 3)
+      reader.fail("alternatives", "must be 2 or 3 (two sources, optionally 'neither'), found " +
+                                      number_text(*alternatives));
+    spec.alternatives = static_cast<int>(*alternatives);
+  }
   if (const std::optional<std::string> layout = reader.string("layout")) {
     if (*layout != "side_by_side" && *layout != "sequential") {
       reader.fail("layout", "unsupported layout '" + *layout + "' (supported: 'side_by_side', 'sequential')");
@@ -167,7 +206,7 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
   read_stimulus_duration(reader, experiment.display.refresh_hz, spec);
   std::optional<GeneratedDesign> generated;
   if (experiment.procedure == "forced_choice") {
-    spec.repetitions = read_int(reader, "repetitions", spec.repetitions, 1, ">= 1");
+    spec.repetitions = reader.repetitions("repetitions", spec.repetitions);
     spec.counterbalance_sides = reader.boolean("counterbalance_sides").value_or(spec.counterbalance_sides);
     generated = read_pair_design(reader, experiment);
     // The generated design promises every mode equally often on each side.
@@ -209,7 +248,7 @@ void read_observer_section(TableReader& top, Experiment& experiment) {
   spec.slope = reader.positive_number("slope", spec.slope);
   spec.lapse = reader.non_negative_number("lapse", spec.lapse);
   // A lapse of 0.5 or more would put the asymptote at or below chance in a 2-AFC task.
-  if (spec.lapse >= 0.5) reader.fail("lapse", "must be in [0, 0.5), found " + std::to_string(spec.lapse));
+  if (spec.lapse >= 0.5) reader.fail("lapse", "must be in [0, 0.5), found " + number_text(spec.lapse));
   spec.response_time_median_s =
       reader.positive_number("response_time_median_s", spec.response_time_median_s);
   spec.rating_sd = reader.non_negative_number("rating_sd", spec.rating_sd);

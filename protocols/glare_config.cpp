@@ -8,6 +8,7 @@
 #include <limits>
 #include <string_view>
 
+#include "core/number_text.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -18,8 +19,8 @@ int read_bounded_int(TableReader& reader, std::string_view key, int fallback, in
   const std::optional<std::int64_t> value = reader.integer(key);
   if (!value) return fallback;
   if (*value < minimum || *value > maximum)
-    reader.fail(key, "must be in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "], found " +
-                         std::to_string(*value));
+    reader.fail(key, "must be in [" + number_text(minimum) + ", " + number_text(maximum) + "], found " +
+                         number_text(*value));
   return static_cast<int>(*value);
 }
 
@@ -70,7 +71,7 @@ GlareSpec read_glare_section(TableReader& top) {
   if (const std::optional<std::int64_t> window = reader.integer("gaze_window_px")) {
     if (*window != 0 && (*window < 16 || *window > 8192 || !std::has_single_bit(static_cast<std::uint64_t>(*window))))
       reader.fail("gaze_window_px", "must be 0 (whole frame) or a power of two from 16 to 8192, found " +
-                                        std::to_string(*window));
+                                        number_text(*window));
     spec.gaze_window_px = static_cast<int>(*window);
   }
   spec.gaze_latency_compensation = reader.boolean("gaze_latency_compensation").value_or(spec.gaze_latency_compensation);

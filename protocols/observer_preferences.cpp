@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "core/number_text.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -26,7 +27,7 @@ std::vector<ConditionPreference> read_preferences(TableReader& simulated) {
     if (preference.preferred == preference.other)
       reader.fail_at_key(text, "a condition cannot be preferred to itself");
     const std::optional<double> p = reader.number(text);
-    if (!(*p >= 0.0 && *p <= 1.0)) reader.fail(text, "must be a probability in [0, 1], found " + std::to_string(*p));
+    if (!(*p >= 0.0 && *p <= 1.0)) reader.fail(text, "must be a probability in [0, 1], found " + number_text(*p));
     preference.probability = *p;
     for (const ConditionPreference& earlier : preferences) {
       const bool same = earlier.preferred == preference.preferred && earlier.other == preference.other;

@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "core/number_text.h"
 #include "protocols/experiment.h"
 #include "protocols/stimulus_duration.h"
 #include "protocols/toml_table_reader.h"
@@ -38,7 +39,7 @@ PresentationSpec read_presentation_section(TableReader& top, const Experiment& e
   spec.instructions = read_text(reader, "instructions", spec.instructions, true);
   if (const std::optional<std::int64_t> every = reader.integer("break_every_trials")) {
     if (*every < 0 || *every > std::numeric_limits<int>::max())
-      reader.fail("break_every_trials", "must be >= 0 (0: no breaks), found " + std::to_string(*every));
+      reader.fail("break_every_trials", "must be >= 0 (0: no breaks), found " + number_text(*every));
     spec.break_every_trials = static_cast<int>(*every);
   }
   spec.break_text = read_text(reader, "break_text", spec.break_text, false);
@@ -49,7 +50,7 @@ PresentationSpec read_presentation_section(TableReader& top, const Experiment& e
   spec.inter_stimulus = read_frame_count(reader, "isi_frames", "isi_duration_s", refresh_hz, spec.inter_stimulus, true);
 
   if (const std::optional<double> window = reader.number("response_window_s")) {
-    if (*window < 0.0) reader.fail("response_window_s", "must be >= 0 (0: unlimited), found " + std::to_string(*window));
+    if (*window < 0.0) reader.fail("response_window_s", "must be >= 0 (0: unlimited), found " + number_text(*window));
     // The adjustment task ends when the observer accepts the match; a deadline would cut it short.
     if (*window > 0.0 && experiment.procedure == "adjustment")
       reader.fail("response_window_s", "the adjustment task has no response window (it ends when the observer accepts)");
@@ -59,7 +60,7 @@ PresentationSpec read_presentation_section(TableReader& top, const Experiment& e
     const double second_onset_s = (choice.stimulus_frames + spec.inter_stimulus.frames) / refresh_hz;
     if (*window > 0.0 && choice.layout == "sequential" && *window <= second_onset_s)
       reader.fail("response_window_s", "must be longer than the first interval and the inter-stimulus interval (" +
-                                           std::to_string(second_onset_s) + " s): answers count from the second "
+                                           number_text(second_onset_s) + " s): answers count from the second "
                                            "interval's onset");
     spec.response_window_s = *window;
   }
@@ -84,8 +85,8 @@ PresentationSpec read_presentation_section(TableReader& top, const Experiment& e
   // Text is drawn on the display, not through the simulated eye: brighter than white would clip.
   if (spec.text_cd_m2 > experiment.display.peak_luminance_cd_m2)
     reader.fail("text_cd_m2", "must not exceed the display's peak_luminance_cd_m2 (" +
-                                  std::to_string(experiment.display.peak_luminance_cd_m2) + "), found " +
-                                  std::to_string(spec.text_cd_m2));
+                                  number_text(experiment.display.peak_luminance_cd_m2) + "), found " +
+                                  number_text(spec.text_cd_m2));
   spec.question_above_stimuli = reader.boolean("question_above_stimuli").value_or(spec.question_above_stimuli);
   reader.report_unused();
   return spec;

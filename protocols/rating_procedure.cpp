@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/number_text.h"
 #include "protocols/blocked_design.h"
 #include "protocols/fixed_design_procedure.h"
 #include "protocols/json_text.h"
@@ -20,14 +21,10 @@ void read_rating_procedure(TableReader& procedure, Experiment& experiment) {
   if (spec.categories.empty()) procedure.fail("categories", "at least one category is required");
   if (const auto points = procedure.integer("scale_points")) {
     // Answered with the digit keys 1..9.
-    if (*points < 2 || *points > 9) procedure.fail("scale_points", "must be 2..9, found " + std::to_string(*points));
+    if (*points < 2 || *points > 9) procedure.fail("scale_points", "must be 2..9, found " + number_text(*points));
     spec.scale_points = static_cast<int>(*points);
   }
-  if (const auto repetitions = procedure.integer("repetitions")) {
-    if (*repetitions < 1 || *repetitions > std::numeric_limits<int>::max())
-      procedure.fail("repetitions", "must be >= 1, found " + std::to_string(*repetitions));
-    spec.repetitions = static_cast<int>(*repetitions);
-  }
+  spec.repetitions = procedure.repetitions("repetitions", spec.repetitions);
 }
 
 std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {

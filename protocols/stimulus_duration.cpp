@@ -6,14 +6,16 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/number_text.h"
+
 namespace glarelab {
 
 int duration_to_frames(double duration_s, double refresh_hz) {
   const double period_s = 1.0 / refresh_hz;
   // A relative tolerance keeps 1/60 s written as 0.016667 from counting as shorter than a frame.
   if (duration_s < period_s * (1.0 - 1e-3)) {
-    throw std::invalid_argument("shorter than one frame (" + std::to_string(1000.0 * period_s) + " ms at " +
-                                std::to_string(refresh_hz) + " Hz)");
+    throw std::invalid_argument("shorter than one frame (" + number_text(1000.0 * period_s) + " ms at " +
+                                number_text(refresh_hz) + " Hz)");
   }
   const double frames = std::round(duration_s * refresh_hz);
   if (frames > std::numeric_limits<int>::max()) throw std::invalid_argument("too long");
@@ -30,16 +32,16 @@ FrameCount read_frame_count(TableReader& reader, std::string_view frames_key, st
   const std::int64_t minimum = zero_allowed ? 0 : 1;
   if (frames) {
     if (*frames < minimum || *frames > std::numeric_limits<int>::max())
-      reader.fail(frames_key, "must be >= " + std::to_string(minimum) + ", found " + std::to_string(*frames));
+      reader.fail(frames_key, "must be >= " + number_text(minimum) + ", found " + number_text(*frames));
     return FrameCount{static_cast<int>(*frames), std::nullopt};
   }
   if (seconds) {
     if (zero_allowed && *seconds == 0.0) return FrameCount{0, 0.0};
-    if (*seconds < 0.0) reader.fail(seconds_key, "must be >= 0, found " + std::to_string(*seconds));
+    if (*seconds < 0.0) reader.fail(seconds_key, "must be >= 0, found " + number_text(*seconds));
     try {
       return FrameCount{duration_to_frames(*seconds, refresh_hz), *seconds};
     } catch (const std::invalid_argument& error) {
-      reader.fail(seconds_key, std::to_string(*seconds) + " s is " + error.what());
+      reader.fail(seconds_key, number_text(*seconds) + " s is " + error.what());
     }
   }
   return fallback;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/number_text.h"
+
 namespace glarelab {
 
 std::string describe_toml_type(const toml::node& node) {
@@ -179,17 +181,38 @@ const std::string& expect_string(const toml::node& node, const std::string& key_
   return node.as_string()->get();
 }
 
+double TableReader::number_in_range(std::string_view key, double fallback, double minimum, double maximum,
+                                    std::string_view unit) {
+  const std::optional<double> value = number(key);
+  if (!value) return fallback;
+  if (!(*value >= minimum && *value <= maximum)) {
+    fail(key, "must be from " + number_text(minimum) + " to " + number_text(maximum) +
+                  (unit.empty() ? "" : " " + std::string(unit)) + ", found " + number_text(*value));
+  }
+  return *value;
+}
+
+std::int64_t TableReader::integer_in_range(std::string_view key, std::int64_t fallback, std::int64_t minimum,
+                                           std::int64_t maximum) {
+  const std::optional<std::int64_t> value = integer(key);
+  if (!value) return fallback;
+  if (*value < minimum || *value > maximum) {
+    fail(key, "must be from " + number_text(minimum) + " to " + number_text(maximum) + ", found " + number_text(*value));
+  }
+  return *value;
+}
+
 double TableReader::positive_number(std::string_view key, double fallback) {
   const std::optional<double> value = number(key);
   if (!value) return fallback;
-  if (!(*value > 0.0)) fail(key, "must be > 0, found " + std::to_string(*value));
+  if (!(*value > 0.0)) fail(key, "must be > 0, found " + number_text(*value));
   return *value;
 }
 
 double TableReader::non_negative_number(std::string_view key, double fallback) {
   const std::optional<double> value = number(key);
   if (!value) return fallback;
-  if (!(*value >= 0.0)) fail(key, "must be >= 0, found " + std::to_string(*value));
+  if (!(*value >= 0.0)) fail(key, "must be >= 0, found " + number_text(*value));
   return *value;
 }
 

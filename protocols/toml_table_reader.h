@@ -28,6 +28,10 @@ struct ArrayString {
   SourceLocation where;
 };
 
+// 10,000 repetitions of even one condition is 10,000 trials, many hours of a participant's time;
+// more is a typo, and would only fill memory with a trial list nobody can run.
+inline constexpr std::int64_t kMaxRepetitions = 10000;
+
 class TableReader {
  public:
   // `path` is the dotted name of the table ("" for the document root, "observer.simulated");
@@ -63,6 +67,18 @@ class TableReader {
   [[noreturn]] void fail_at_key(std::string_view key, const std::string& message) const;
   // Throws for the first key, in document order, that no accessor asked for.
   void report_unused() const;
+  // A number in [minimum, maximum] (`unit` is printed after the bounds, e.g. "Hz"): the value, or
+  // `fallback` when the key is absent. The bounds say what a real setup can be; beyond them a value
+  // is a typo, not an experiment ("must be from 1 to 1000 Hz, found 1e+300").
+  double number_in_range(std::string_view key, double fallback, double minimum, double maximum,
+                         std::string_view unit = {});
+  // An integer in [minimum, maximum]: the value, or `fallback` when the key is absent.
+  std::int64_t integer_in_range(std::string_view key, std::int64_t fallback, std::int64_t minimum,
+                                std::int64_t maximum);
+  // How often a design unit (condition row, block) repeats: 1 to kMaxRepetitions.
+  int repetitions(std::string_view key, int fallback) {
+    return static_cast<int>(integer_in_range(key, fallback, 1, kMaxRepetitions));
+  }
   // A number that must be > 0: the value, or `fallback` when the key is absent.
   double positive_number(std::string_view key, double fallback);
   // A number that must be >= 0: the value, or `fallback` when the key is absent.

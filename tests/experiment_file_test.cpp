@@ -192,7 +192,7 @@ TEST(ExperimentFile, RangeChecksAndUnsupportedProcedure) {
             display + ":4:12: key 'display.encoding': unsupported encoding 'pq' (supported: 'srgb', 'gamma')");
   const std::string lapse = dir.write("exp.toml", experiment_text("", "file = \"conditions.csv\"\n") +
                                                       "[observer.simulated]\nlapse = 0.5\n");
-  EXPECT_EQ(error_of(lapse), lapse + ":17:9: key 'observer.simulated.lapse': must be in [0, 0.5), found 0.500000");
+  EXPECT_EQ(error_of(lapse), lapse + ":17:9: key 'observer.simulated.lapse': must be in [0, 0.5), found 0.5");
 }
 
 TEST(ExperimentFile, MissingTomlFile) {
