@@ -1,10 +1,36 @@
+#include <filesystem>
 #include <iostream>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "analysis/analysis_report.h"
 #include "analysis/report_output.h"
 #include "runner/cli/commands.h"
+#include "runner/cli/option_checks.h"
 
 namespace glarelab::cli {
+namespace {
+
+// The databases once each: a file named twice (results/*.db results/a.db, or by two paths to the
+// same file) would count its sessions twice in every statistic.
+std::vector<std::string> distinct_files(const std::vector<std::string>& paths) {
+  std::vector<std::string> distinct;
+  std::set<std::filesystem::path> seen;
+  for (const std::string& path : paths) {
+    std::error_code error;
+    std::filesystem::path identity = std::filesystem::canonical(path, error);
+    if (error) identity = std::filesystem::absolute(path).lexically_normal();
+    if (!seen.insert(identity).second) {
+      std::cerr << "analyze: " << path << " was given more than once; it is read once\n";
+      continue;
+    }
+    distinct.push_back(path);
+  }
+  return distinct;
+}
+
+}  // namespace
 
 Action add_analyze_command(CLI::App& app) {
   struct Options {
@@ -16,7 +42,16 @@ Action add_analyze_command(CLI::App& app) {
   CLI::App* analyze = app.add_subcommand(
       "analyze", "Statistics, fits, tidy CSV and an HTML report (with SVG figures) from one or more results databases");
   analyze->add_option("databases", options->databases, "Results database(s) (SQLite)")->required()->check(CLI::ExistingFile);
-  analyze->add_option("--out", options->out, "Output directory (created)")->capture_default_str();
+  analyze->add_option("--out", options->out, "Output directory (created)")
+      ->check(CLI::Validator(
+          [](std::string& path) -> std::string {
+            std::error_code ignored;
+            if (std::filesystem::exists(path, ignored) && !std::filesystem::is_directory(path, ignored))
+              return path + " is a file, not a directory";
+            return {};
+          },
+          "DIR"))
+      ->capture_default_str();
   analyze->add_option("--bootstrap", options->analysis.bootstrap_samples,
                       "Parametric bootstrap samples per psychometric fit (0: no intervals)")
       ->capture_default_str()
@@ -29,11 +64,13 @@ Action add_analyze_command(CLI::App& app) {
                       "Threads for the psychometric fits (0: one per hardware thread; results do not depend on it)")
       ->capture_default_str()
       ->check(CLI::Range(0u, 1024u));
-  analyze->add_option("--seed", options->analysis.seed, "Seed of the bootstrap draws")->capture_default_str();
+  analyze->add_option("--seed", options->analysis.seed, "Seed of the bootstrap draws")
+      ->check(seed_check())
+      ->capture_default_str();
   return [=]() {
     return report_errors([&]() {
       const analysis::AnalysisReport report =
-          analysis::analyse(analysis::load_databases(options->databases), options->analysis);
+          analysis::analyse(analysis::load_databases(distinct_files(options->databases)), options->analysis);
       const auto written = analysis::write_report(report, options->out);
       std::cout << analysis::render_terminal_summary(report);
       std::cout << "  wrote " << written.size() << " files to " << options->out << " (report.html, trials.csv, figures/)\n";

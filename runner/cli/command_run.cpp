@@ -2,10 +2,15 @@
 
 #include "runner/store/session_summary.h"
 #include "runner/cli/commands.h"
+#include "runner/cli/option_checks.h"
 #include "runner/session/session_runner.h"
 #include "runner/store/result_store.h"
 
 namespace glarelab::cli {
+
+// Participant numbers pick a block order (counterbalancing cycles through them); a million is far
+// beyond any study and keeps the number readable in file names and logs.
+constexpr std::int64_t kMaxParticipantNumber = 1000000;
 
 Action add_run_command(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
@@ -27,13 +32,15 @@ Action add_run_command(CLI::App& app) {
       run->add_option("--participant-number", *participant_number,
                       "Participant number N >= 1: picks the block order (default: 1 + the sessions of this "
                       "experiment already in the database)")
-          ->check(CLI::PositiveNumber);
-  auto* seed_option = run->add_option("--seed", *seed, "Seed for every random choice (overrides the file's)");
+          ->check(whole_number_check(1, kMaxParticipantNumber));
+  auto* seed_option =
+      run->add_option("--seed", *seed, "Seed for every random choice (overrides the file's)")->check(seed_check());
   auto* resume_option =
-      run->add_option("--resume", *resume, "Finish the remaining trials of this session (same seed and order)");
+      run->add_option("--resume", *resume, "Finish the remaining trials of this session (same seed and order)")
+          ->check(whole_number_check(1, INT64_MAX));
   auto* stop_option = run->add_option("--stop-after", *stop_after,
                                       "Stop after N trials, leaving the session resumable (as if the run had been cut off)")
-                          ->check(CLI::PositiveNumber);
+                          ->check(whole_number_check(1, INT32_MAX));
   // --- tracker (runner/tracker/) ---
   run->add_option("--tracker", options->tracker.spec,
                   "Eye tracker: none, simulated, replay:FILE.csv, replay:FILE.db#SESSION or pupil-labs://HOST:PORT")
@@ -46,7 +53,7 @@ Action add_run_command(CLI::App& app) {
       ->capture_default_str();
   run->add_option("--pupil-calibration-s", options->tracker.calibration_screen_s,
                   "Seconds of each calibration screen (black, then white)")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_number_check(0.1, 600.0, "s"))
       ->capture_default_str();
   // --- end tracker ---
   // --- response device (docs/DEVICES.md) ---

@@ -11,6 +11,7 @@ namespace glarelab {
 int count_sessions(const std::string& db_path, const std::string& experiment_name) {
   std::error_code error;
   if (!std::filesystem::exists(db_path, error)) return 0;
+  refuse_directory_as_database(db_path);
   // Read-only: a session writes nothing before its experiment, scenes and display are valid.
   sqlite3* db = nullptr;
   if (sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {

@@ -275,7 +275,14 @@ constexpr const char* kSelectSession =
 
 }  // namespace
 
+void refuse_directory_as_database(const std::string& path) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored))
+    throw StoreError("SQLite: " + path + ": is a directory, not a database file");
+}
+
 ResultStore::ResultStore(const std::string& path) : path_(path) {
+  refuse_directory_as_database(path_);
   create_private_file(path_);
   const int open_rc = sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READWRITE, nullptr);
   try {
@@ -291,6 +298,14 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
                        std::to_string(kSchemaVersion) + ")");
     }
     if (version < 0) throw StoreError(path_ + ": invalid schema version " + std::to_string(version));
+    if (version == 0) {
+      // A new file has no tables. One with tables and no schema version belongs to another
+      // program: adding glarelab's tables to it would mix two programs' data in one file.
+      Statement tables(db_, path_, "SELECT count(*) FROM sqlite_master", "reading the table list");
+      if (tables.step() && tables.int64(0) > 0)
+        throw StoreError("SQLite: " + path_ + ": holds tables but no glarelab schema version: another program's "
+                         "database; give glarelab a file of its own");
+    }
 
     {
       Statement journal(db_, path_, "PRAGMA journal_mode=WAL", "setting journal_mode=WAL");

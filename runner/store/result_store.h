@@ -72,4 +72,8 @@ class ResultStore {
 // Current UTC time as ISO 8601 with milliseconds.
 std::string utc_now_iso8601();
 
+// Throws StoreError ("SQLite: PATH: is a directory, not a database file") for a directory, which
+// SQLite itself reports only as "disk I/O error".
+void refuse_directory_as_database(const std::string& path);
+
 }  // namespace glarelab

@@ -1,0 +1,54 @@
+// The trial loop's setup for a session (glare setup logged, every scene uploaded once) and the
+// pupil calibration before its first trial.
+#include "runner/session/session_loop.h"
+
+#include "runner/display/compute_context.h"
+
+namespace glarelab {
+
+SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, SessionClock& clock, ResultStore& store,
+                         std::int64_t session_id, TrackerSession& tracker, RealTimePacer* pacer)
+    : tracker_(tracker),
+      pacer_(pacer),
+      prepared_(prepared),
+      display_(display),
+      clock_(clock),
+      store_(store),
+      session_id_(session_id),
+      renderer_(display.width_px(), display.height_px()),
+      period_s_(1.0 / display.refresh_hz()),
+      timing_(display.refresh_hz()),
+      glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed,
+             gl::compute_context_factory()),
+      overlays_(renderer_, prepared.experiment),
+      // Ratings and adjustment never read `layout`: it keeps its default there.
+      sequential_(prepared.experiment.forced_choice.layout == "sequential") {
+  log_glare_setup();
+  for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
+}
+
+// --- tracker (runner/tracker/) ---
+bool SessionLoop::calibrate_pupil() {
+  for (const bool black : {true, false}) {
+    tracker_.begin_calibration_phase(black);
+    const double luminance_cd_m2 = black ? 0.0 : prepared_.experiment.display.peak_luminance_cd_m2;
+    const double phase_start_s = clock_.now_s();
+    while (clock_.now_s() - phase_start_s < tracker_.calibration_screen_s()) {
+      renderer_.compose({}, luminance_cd_m2);
+      renderer_.encode_to_display(prepared_.experiment.display);
+      display_.present();
+      after_flip(clock_.on_flip());
+      check_interrupt();
+      if (!aborted_ && display_.close_requested()) {
+        aborted_ = true;
+        abort_reason_ = "window closed";
+      }
+      if (aborted_) return false;
+    }
+  }
+  tracker_.finish_calibration(clock_.now_s());  // logged as a pupil_calibration event by the tracker logger
+  return true;
+}
+// --- end tracker ---
+
+}  // namespace glarelab

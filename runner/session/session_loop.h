@@ -1,0 +1,161 @@
+#pragma once
+// SessionLoop, the trial loop of one session (made by run_session, session_runner.cpp): the state
+// every phase of a trial shares; its member functions are defined by phase, in the .cpp file named
+// above each group below.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "protocols/procedure.h"
+#include "core/clock.h"
+#include "runner/display/display_backend.h"
+#include "runner/session/frame_timing.h"
+#include "runner/session/presentation_overlays.h"
+#include "runner/session/response_device_input.h"
+#include "runner/session/session_setup.h"
+#include "runner/session/trial_schedule.h"
+#include "runner/store/result_store.h"
+#include "runner/tracker/real_time_pacer.h"
+#include "runner/tracker/tracker_session.h"
+#include "stimuli/frame_renderer.h"
+#include "stimuli/glare_stage.h"
+
+namespace glarelab {
+
+// What one run of a trial collected, committed with it (runner/session/trial_commit.cpp).
+struct TrialRun {
+  std::optional<Response> response;  // empty when aborted
+  std::vector<FrameRecord> frames;
+  std::vector<PhaseFlip> phases;  // parallel to frames
+  int other_flips = 0;            // flips that are not stimulus frames (frame_index -1, -2, ...)
+  double onset_s = 0.0;
+  // When answers start to count: the onset, or in sequential 2-AFC the second interval's onset
+  // (keys and device presses before it are logged as ignored).
+  double answers_from_s = 0.0;
+};
+
+class SessionLoop {
+ public:
+  // runner/session/session_loop.cpp: logs the glare setup and uploads every scene.
+  SessionLoop(PreparedSession& prepared, DisplayBackend& display, SessionClock& clock, ResultStore& store,
+              std::int64_t session_id, TrackerSession& tracker, RealTimePacer* pacer);
+
+  // runner/session/trial_run.cpp
+  // Returns false when the session was aborted during this trial. The trial runs its schedule
+  // (runner/session/trial_schedule.h): inter-trial interval, screens, fixation, interval(s),
+  // response, feedback; every flip is stamped and stored with the trial.
+  bool run_trial(const TrialPlan& plan, std::ostream& progress);
+
+  bool aborted() const { return aborted_; }
+  const std::string& abort_reason() const { return abort_reason_; }
+  FrameTimingSummary timing_summary() const { return timing_.summary(); }
+
+  // --- response device (runner/session/response_device_input.h) ---
+  // runner/session/response_device_pause.cpp
+  // `pause_message`: the image shown while the device is unplugged (rendered before the session
+  // starts, so a font problem stops the run before anything is written).
+  void attach_response_device(ResponseDeviceInput* device, const ImageRGBA& pause_message);
+  // After a device pause the trial in progress ends without being committed (run_trial returns
+  // false as for an abort) and is to be run again from its onset; true once per such trial.
+  bool take_trial_rerun();
+  // --- end response device ---
+
+  // --- tracker (runner/tracker/) ---
+  // runner/session/session_loop.cpp
+  // Pupil calibration (Luidolt 2020, 5.2.1 ii): a black, then a white full screen (display peak),
+  // each for the configured time; returns false when aborted.
+  bool calibrate_pupil();
+  // --- end tracker ---
+
+ private:
+  // runner/session/trial_presentation.cpp: drawing and presenting the flips of a trial.
+  std::vector<Placement> layout(const TrialPlan& plan) const;
+  // `glared`: the composed frame after glare (prepare_glare), drawn in its place. `overlays` (text,
+  // fixation cross) are drawn after glare: they are on the display, not seen through the eye.
+  void draw(const std::vector<Placement>& placements, const ImageRGBA* glared = nullptr,
+            const std::vector<Placement>& overlays = {});
+  // What interval `interval` shows: the whole plan side by side, or in a sequential trial the plan
+  // narrowed to its position `interval` (its scene alone, centred, with that position's glare).
+  TrialPlan interval_plan(const TrialPlan& plan, int interval) const;
+  // Stimulus flips keep their frame index; every other flip of the trial is numbered -1, -2, ...
+  void record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped);
+  void log_late_flip(const TrialPlan& plan, double flip_s, const std::string& which, double interval_s);
+  // `frames` flips of the background (with `overlays`), timed from the first of them.
+  bool present_timed_blank(const TrialPlan& plan, TrialRun& run, FlipPhase phase, int frames,
+                           const std::vector<Placement>& overlays);
+  // A text screen until the observer continues: at least screen_min flips; then Space or Enter
+  // (keyboard), at once for non-interactive observers. Logged as a 'screen' event.
+  bool show_screen(const TrialPlan& plan, const ScreenText& screen, TrialRun& run);
+  // After every flip: real-time pacing of an offscreen run, and the tracker's per-frame poll.
+  void after_flip(double flip_s) {
+    if (pacer_ != nullptr) pacer_->wait_for_next_frame();
+    tracker_.on_frame(flip_s);
+  }
+
+  // runner/session/trial_run.cpp
+  // "correct" / "wrong" for scored trials, the timeout text for a timeout; empty without feedback
+  // or for an answer that has no right or wrong (preference questions, equal sources, ratings).
+  std::string feedback_text(const TrialOutcome& outcome) const;
+
+  // runner/session/trial_answers.cpp: keys, device presses and interrupts while a trial runs.
+  void check_interrupt();
+  // Keys outside the answer period: logged, never an answer; Escape or closing the window ends it.
+  void ignore_keys(const TrialPlan& plan, const std::string& why);
+  // Response times count from `onset_s`; presses stamped before `answers_from_s` do not answer.
+  std::optional<Response> poll_keyboard(const TrialPlan& plan, double onset_s, double answers_from_s);
+
+  // runner/session/adjustment_phase.cpp
+  // Double adjustment: the target and both spots stay on screen while the observer adjusts with
+  // keys, the wheel or device buttons (runner/session/adjustment_keys.h) until accepted. Each
+  // setting is its start times 10^(the log10 steps taken so far).
+  // Every flip of the adjustment phase goes into `frames` (a response-phase flip, frame_index < 0).
+  std::optional<Response> adjust_interactively(const TrialPlan& plan, TrialRun& run);
+  // Device presses (stamped when read), then keys and wheel clicks (stamped now), in that order.
+  std::vector<TimedInput> adjustment_inputs(const TrialPlan& plan, double onset_s);
+
+  // runner/session/response_device_pause.cpp
+  // The device pause: the message on screen until the device is back (the trial is then re-run)
+  // or the session is ended; either way the trial in progress ends uncommitted.
+  void pause_for_response_device(int trial_index);
+
+  // --- glare (stimuli/glare_stage.h) ---
+  // runner/session/trial_glare.cpp
+  // The trial's stimulus frames after glare, all prepared before onset (see the definition).
+  // `flips_before`: timed flips between now and the first of these frames (fixation, interval 1).
+  std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
+                                       int flips_before = 0);
+  // Once per session: the glare backend (what and why) and where the eye's inputs come from.
+  void log_glare_setup();
+  const ConditionRow& condition_row(const TrialPlan& plan) const;
+  // --- end glare ---
+
+  // runner/session/trial_commit.cpp
+  void commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome);
+
+  // Initialised in this order (the overlays draw with the renderer).
+  TrackerSession& tracker_;
+  RealTimePacer* pacer_;
+  PreparedSession& prepared_;
+  DisplayBackend& display_;
+  SessionClock& clock_;
+  ResultStore& store_;
+  std::int64_t session_id_;
+  FrameRenderer renderer_;
+  double period_s_;
+  std::map<std::string, SceneTexture> textures_;
+  FrameTimingMonitor timing_;
+  bool presentation_mode_logged_ = false;
+  GlareStage glare_;
+  PresentationOverlays overlays_;
+  bool sequential_;
+  bool aborted_ = false;
+  std::string abort_reason_;
+  ResponseDeviceInput* device_ = nullptr;
+  bool rerun_trial_ = false;
+  std::optional<SceneTexture> pause_message_;
+};
+
+}  // namespace glarelab

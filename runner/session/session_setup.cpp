@@ -1,0 +1,202 @@
+// Setting a session up before its first trial: what is read and checked before any database
+// write, the session clock, and the session row (runner/session/session_setup.h).
+#include "runner/session/session_setup.h"
+
+#include <filesystem>
+#include <utility>
+
+#include "protocols/stimulus_duration.h"
+#include "runner/session/slow_flip_clock.h"
+#include "core/software_version.h"
+
+namespace glarelab {
+namespace {
+
+std::string default_db_path(const Experiment& experiment) {
+  return (std::filesystem::path("results") / (experiment.name + ".db")).string();
+}
+
+std::unique_ptr<Observer> make_observer(const std::string& spec, const Experiment& experiment, std::string* description) {
+  if (spec == "keyboard") {
+    *description = "keyboard";
+    return nullptr;
+  }
+  if (spec == "simulated") {
+    auto observer = make_simulated_observer(experiment.simulated_observer, experiment.seed);
+    *description = observer->description();
+    return observer;
+  }
+  if (spec.starts_with("script:")) {
+    auto observer = make_script_observer(spec.substr(7), experiment.presentation.response_window_s > 0.0);
+    *description = observer->description();
+    return observer;
+  }
+  throw ConfigError({"--observer", 0, 0}, "observer",
+                    "unknown observer '" + spec + "' (choose keyboard, simulated or script:FILE)");
+}
+
+}  // namespace
+
+SessionStart load_session_start(const RunOptions& options, std::ostream& progress) {
+  SessionStart start;
+  if (options.resume_session_id) {
+    Experiment from_file = load_experiment(options.experiment_path);
+    start.db_path = options.db_path.empty() ? default_db_path(from_file) : options.db_path;
+    if (!std::filesystem::exists(start.db_path))
+      throw StoreError("SQLite: " + start.db_path + ": no such database to resume from");
+    start.store = std::make_unique<ResultStore>(start.db_path);
+    start.resumed = start.store->load_session(*options.resume_session_id);
+    if (!start.resumed)
+      throw StoreError("SQLite: " + start.db_path + ": no session " + std::to_string(*options.resume_session_id));
+    if (start.resumed->status == "completed")
+      throw StoreError("SQLite: " + start.db_path + ": session " + std::to_string(start.resumed->id) +
+                       " is already completed");
+    // The stored, fully resolved configuration is the design being finished: same seed, same order.
+    start.experiment =
+        parse_experiment_text(start.resumed->config, "<session " + std::to_string(start.resumed->id) + " config>", "/");
+    // The block order is the stored one; the file does not carry a session's participant number.
+    if (options.participant_number && !start.experiment.design.blocks.empty() &&
+        *options.participant_number != participant_number_of(start.experiment.design))
+      throw ConfigError({"--participant-number", 0, 0}, "participant-number",
+                        "session " + std::to_string(start.resumed->id) +
+                            " runs the block order of participant number " +
+                            std::to_string(participant_number_of(start.experiment.design)) + ", not " +
+                            std::to_string(*options.participant_number));
+    from_file.design.participant_number = start.experiment.design.participant_number;
+    if (resolved_config_toml(from_file) != start.resumed->config) {
+      progress << "note: " << options.experiment_path
+               << " differs from the configuration stored with the session; resuming with the stored one\n";
+    }
+    start.done_trials = start.store->load_trials(start.resumed->id);
+    for (std::size_t i = 0; i < start.done_trials.size(); ++i)
+      if (start.done_trials[i].trial_index != static_cast<int>(i))
+        throw StoreError("SQLite: " + start.db_path + ": session " + std::to_string(start.resumed->id) +
+                         " has a gap in its trials at index " + std::to_string(i));
+  } else {
+    start.experiment = load_experiment(options.experiment_path);
+    if (options.seed) start.experiment.seed = *options.seed;
+    start.db_path = options.db_path.empty() ? default_db_path(start.experiment) : options.db_path;
+    start.participant = choose_participant_number(options.participant_number,
+                                                  start.experiment.design.participant_number, start.db_path,
+                                                  start.experiment.name);
+    start.experiment.design.participant_number = start.participant->value;
+  }
+  return start;
+}
+
+PreparedSession prepare_session(Experiment experiment, const RunOptions& options) {
+  PreparedSession prepared;
+  prepared.experiment = std::move(experiment);
+  prepared.resolved_config = resolved_config_toml(prepared.experiment);
+  prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment.scenes);
+  prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
+  prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
+  // --- response device (docs/DEVICES.md): the person answers with it, in a window or offscreen ---
+  const bool device = !options.response_device.selector.empty();
+  if (device && prepared.observer)
+    throw ConfigError({"--response-device", 0, 0}, "response-device",
+                      "a response device is answered by a person: use it with --observer keyboard, not " + options.observer);
+  if (device && options.display != "window" && options.response_device.optional)
+    throw ConfigError({"--response-device-optional", 0, 0}, "response-device-optional",
+                      "an offscreen run has no other way to answer than its response device: it cannot be optional");
+  if (device && options.display != "window") prepared.observer_description = "response device";
+  // --- end response device ---
+  if (!prepared.observer && options.display != "window" && !device) {
+    throw ConfigError({"--observer", 0, 0}, "observer",
+                      "the keyboard observer needs --display window; offscreen runs use --observer simulated or "
+                      "script:FILE");
+  }
+  return prepared;
+}
+
+void replay_done_trials(Procedure& procedure, const SessionStart& start) {
+  for (const TrialRecord& done : start.done_trials) {
+    const TrialPlan plan = procedure.next_trial();
+    if (plan.condition_json != done.condition)
+      throw StoreError("SQLite: " + start.db_path + ": session " + std::to_string(start.resumed->id) + " trial " +
+                       std::to_string(done.trial_index) + " does not match its replay (stored condition " +
+                       done.condition + ", replayed " + plan.condition_json + ")");
+    procedure.record_response(plan, Response{done.response, done.response_time_s});
+  }
+}
+
+DisplayRequest display_request(const Experiment& experiment) {
+  DisplayRequest request;
+  request.width_px = experiment.display.width_px;
+  request.height_px = experiment.display.height_px;
+  request.refresh_hz = experiment.display.refresh_hz;
+  request.monitor = experiment.display.monitor;
+  request.fullscreen = experiment.display.fullscreen;
+  request.title = "glarelab: " + experiment.name;
+  return request;
+}
+
+std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, const TrackerSession& tracker,
+                                                 const ResponseDeviceSession& device, const SessionStart& start,
+                                                 const RunOptions& options) {
+  std::unique_ptr<SessionClock> clock;
+  // A live tracker or response device needs the real-time clock (and an offscreen run paced in
+  // real time).
+  if (display.real_time() || tracker.live() || device.configured()) {
+    clock = std::make_unique<MonotonicClock>(start.resumed ? start.store->last_flip_s(start.resumed->id) + 1.0 : 0.0);
+  } else {
+    // Frame k of the session flips at k / refresh_hz, across resumptions too.
+    clock = std::make_unique<VirtualClock>(display.refresh_hz(), 0.0,
+                                           start.resumed ? start.store->frame_count(start.resumed->id) : 0);
+  }
+  if (options.slow_flip_every)
+    clock = std::make_unique<SlowFlipClock>(std::move(clock), display.refresh_hz(), *options.slow_flip_every);
+  return clock;
+}
+
+std::int64_t open_session_row(SessionStart& start, const PreparedSession& prepared, const RunOptions& options,
+                              const DisplayBackend& display, const SessionClock& clock, const std::string& renderer,
+                              int first_trial, int trials_in_design) {
+  if (!start.store) start.store = std::make_unique<ResultStore>(start.db_path);
+  ResultStore& store = *start.store;
+  if (start.resumed) {
+    const std::int64_t session_id = start.resumed->id;
+    store.reopen_session(start.resumed->id);
+    store.log_event(session_id, clock.now_s(), "resumed",
+                    "resumed at trial " + std::to_string(first_trial) + " of " + std::to_string(trials_in_design) +
+                        " on " + renderer + " (" + options.display + ", " + clock.name() + " clock)");
+    return session_id;
+  }
+  SessionRecord session;
+  session.experiment = prepared.experiment.name;
+  session.participant = options.participant;
+  session.seed = prepared.experiment.seed;
+  session.started_utc = utc_now_iso8601();
+  session.status = "running";
+  session.config = prepared.resolved_config;
+  session.software_version = software_version();
+  session.renderer = renderer;
+  session.display_backend = display.kind();
+  session.clock = clock.name();
+  session.observer = prepared.observer_description;
+  const std::int64_t session_id = store.begin_session(session);
+  store.log_event(session_id, 0.0, "display",
+                  display.kind() + " " + std::to_string(display.width_px()) + "x" +
+                      std::to_string(display.height_px()) + " at " + std::to_string(display.refresh_hz()) +
+                      " Hz, " + renderer + ", " + clock.name() + " clock");
+  const std::string rounding =
+      describe_duration_rounding(prepared.experiment.forced_choice, prepared.experiment.display.refresh_hz);
+  if (!rounding.empty()) store.log_event(session_id, 0.0, "duration_rounding", rounding);
+  for (const std::string& presentation_rounding :
+       describe_presentation_roundings(prepared.experiment.presentation, prepared.experiment.display.refresh_hz))
+    store.log_event(session_id, 0.0, "duration_rounding", presentation_rounding);
+  store.log_event(session_id, 0.0, "participant_number",
+                  std::to_string(start.participant->value) + " (" + start.participant->source + ")");
+  for (const auto& [name, scene] : prepared.scenes->scenes()) {
+    if (scene.peak_cd_m2 > prepared.experiment.display.peak_luminance_cd_m2) {
+      store.log_event(session_id, 0.0, "clipping",
+                      "scene '" + name + "' peaks at " + std::to_string(scene.peak_cd_m2) +
+                          " cd/m2, above the display's " +
+                          std::to_string(prepared.experiment.display.peak_luminance_cd_m2) +
+                          " cd/m2: brighter pixels are shown at the peak");
+    }
+  }
+  return session_id;
+}
+
+}  // namespace glarelab

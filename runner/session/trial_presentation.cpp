@@ -1,0 +1,146 @@
+// Drawing and presenting a trial's flips: where the scenes go, what a flip draws, the background
+// and text screens around the stimulus, and how each flip is recorded (late ones logged).
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "runner/session/session_loop.h"
+#include "runner/session/trial_schedule.h"
+
+namespace glarelab {
+
+std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
+  std::vector<PixelRect> sizes;
+  for (const auto& scene_name : plan.scenes) {
+    const auto& scene = prepared_.scenes->get(scene_name);
+    sizes.push_back({0, 0, scene.image_cd_m2.width_px, scene.image_cd_m2.height_px});
+  }
+  std::vector<PixelRect> columns;
+  const auto rects = side_by_side_layout(display_.width_px(), display_.height_px(), sizes, &columns);
+  std::vector<Placement> placements;
+  for (std::size_t i = 0; i < plan.scenes.size(); ++i)
+    placements.push_back({&textures_.at(plan.scenes[i]), plan.scene_scale.empty() ? 1.0 : plan.scene_scale[i],
+                          rects[i], columns[i]});
+  return placements;
+}
+
+void SessionLoop::draw(const std::vector<Placement>& placements, const ImageRGBA* glared,
+                       const std::vector<Placement>& overlays) {
+  renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
+  if (glared != nullptr) renderer_.replace_stimulus(*glared);
+  if (!overlays.empty()) renderer_.compose_overlay(overlays);
+  renderer_.encode_to_display(prepared_.experiment.display);
+}
+
+TrialPlan SessionLoop::interval_plan(const TrialPlan& plan, int interval) const {
+  if (!sequential_) return plan;
+  const auto i = static_cast<std::size_t>(interval);
+  TrialPlan one = plan;
+  one.positions = {plan.positions.at(i)};
+  one.scenes = {plan.scenes.at(i)};
+  one.scene_scale = plan.scene_scale.empty() ? std::vector<double>{} : std::vector<double>{plan.scene_scale.at(i)};
+  one.position_glare =
+      plan.position_glare.empty() ? std::vector<std::string>{} : std::vector<std::string>{plan.position_glare.at(i)};
+  return one;
+}
+
+void SessionLoop::record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped) {
+  FrameRecord record;
+  record.frame_index = phase.stimulus_frame >= 0 ? phase.stimulus_frame : -(++run.other_flips);
+  record.scheduled_s = scheduled_s;
+  record.flip_s = flip_s;
+  record.dropped = dropped;
+  run.frames.push_back(record);
+  run.phases.push_back(phase);
+}
+
+void SessionLoop::log_late_flip(const TrialPlan& plan, double flip_s, const std::string& which, double interval_s) {
+  store_.log_event(session_id_, flip_s, "dropped_frame",
+                   "trial " + std::to_string(plan.trial_index) + " " + which + ": " +
+                       std::to_string(1000.0 * interval_s) + " ms since the previous flip");
+}
+
+bool SessionLoop::present_timed_blank(const TrialPlan& plan, TrialRun& run, FlipPhase phase, int frames,
+                                      const std::vector<Placement>& overlays) {
+  double start_s = 0.0;
+  for (int k = 0; k < frames; ++k) {
+    // The stimulus framebuffer keeps the frame between these flips: later ones only re-encode it
+    // (the display's back buffer is not kept across a swap).
+    if (k == 0)
+      draw({}, nullptr, overlays);
+    else
+      renderer_.encode_to_display(prepared_.experiment.display);
+    display_.present();
+    const double flip_s = clock_.on_flip();
+    after_flip(flip_s);
+    if (k == 0) start_s = flip_s;
+    const std::optional<double> late_s = timing_.on_timed_flip(flip_s);
+    if (late_s) log_late_flip(plan, flip_s, std::string(to_string(phase)) + " flip", *late_s);
+    record_flip(run, {phase, -1, -1}, start_s + k * period_s_, flip_s, late_s.has_value());
+    if (prepared_.observer == nullptr)
+      ignore_keys(plan, std::string("pressed during the ") + to_string(phase));
+    else
+      check_interrupt();
+    if (aborted_) return false;
+  }
+  return true;
+}
+
+bool SessionLoop::show_screen(const TrialPlan& plan, const ScreenText& screen, TrialRun& run) {
+  const std::vector<Placement> text = overlays_.centred_text(screen.text);
+  const int minimum_flips = prepared_.experiment.presentation.screen_min.frames;
+  int flips = 0;
+  double first_flip_s = 0.0, last_flip_s = 0.0;
+  bool proceed = false;
+  while (!proceed) {
+    if (flips == 0)
+      draw({}, nullptr, text);
+    else
+      renderer_.encode_to_display(prepared_.experiment.display);
+    display_.present();
+    last_flip_s = clock_.on_flip();
+    timing_.on_flip(last_flip_s, plan.trial_index, -1);
+    after_flip(last_flip_s);
+    if (flips++ == 0) first_flip_s = last_flip_s;
+    record_flip(run, {FlipPhase::screen, -1, -1}, last_flip_s, last_flip_s, false);
+    const bool long_enough = flips >= minimum_flips;
+    if (prepared_.observer != nullptr) {
+      check_interrupt();
+      proceed = long_enough;
+    } else {
+      check_interrupt();
+      if (!aborted_ && display_.close_requested()) {
+        aborted_ = true;
+        abort_reason_ = "window closed";
+      }
+      for (const std::string& key : aborted_ ? std::vector<std::string>{} : display_.poll_keys()) {
+        if (key == "escape") {
+          aborted_ = true;
+          abort_reason_ = "Escape pressed";
+          break;
+        }
+        if ((key == "space" || key == "enter") && long_enough) {
+          proceed = true;
+          continue;
+        }
+        store_.log_event(session_id_, clock_.now_s(), "ignored_key",
+                         "trial " + std::to_string(plan.trial_index) + " " + screen.kind + " screen: key '" + key +
+                             "' " + (key == "space" || key == "enter" ? "before the screen's minimum duration"
+                                                                      : "does not continue (Space or Enter)"));
+      }
+      if (!aborted_ && device_ != nullptr) {
+        bool unplugged = false;
+        proceed = device_->continues_screen(plan, screen.kind, long_enough, &unplugged) || proceed;
+        if (unplugged) pause_for_response_device(plan.trial_index);
+      }
+    }
+    if (aborted_) return false;
+  }
+  std::ostringstream message;
+  message << "trial " << plan.trial_index << ", " << screen.kind << ": '" << first_words(screen.text) << "' shown "
+          << flips << " flips (" << last_flip_s - first_flip_s + period_s_ << " s)";
+  store_.log_event(session_id_, last_flip_s, "screen", message.str());
+  return true;
+}
+
+}  // namespace glarelab

@@ -1,0 +1,152 @@
+// One trial's schedule run flip by flip, from the inter-trial interval to the commit: the timed
+// sequence stamped on the session clock, the answer (keys, response device, adjustment or a
+// non-interactive observer), scoring and feedback.
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "protocols/observer.h"
+#include "protocols/procedure.h"
+#include "runner/session/session_loop.h"
+#include "runner/session/trial_schedule.h"
+
+namespace glarelab {
+
+bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
+  const PresentationSpec& presentation = prepared_.experiment.presentation;
+  const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_);
+  TrialRun run;
+  const bool interactive = prepared_.observer == nullptr;
+  // Keys pressed before the trial (late repeats of the previous answer) must not answer it.
+  if (interactive) ignore_keys(plan, "pressed before onset");
+  if (aborted_) return false;
+
+  // Background after the previous trial, then the screens.
+  if (!present_timed_blank(plan, run, FlipPhase::inter_trial, schedule.inter_trial_frames, {})) return false;
+  for (const ScreenText& screen : schedule.screens)
+    if (!show_screen(plan, screen, run)) return false;
+
+  // Each interval's placements and glare, prepared before the fixation so the timed sequence
+  // runs flip after flip; glare frame k of an interval is computed for the time it will flip.
+  std::vector<std::vector<Placement>> placements;
+  std::vector<std::vector<ImageRGBA>> glare_frames;
+  std::vector<PixelRect> stimulus_rects;
+  for (int interval = 0; interval < schedule.intervals; ++interval) {
+    const TrialPlan shown = interval_plan(plan, interval);
+    placements.push_back(layout(shown));
+    for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
+    std::size_t first_flip = 0;
+    while (schedule.timed[first_flip].interval != interval) ++first_flip;
+    glare_frames.push_back(prepare_glare(shown, placements.back(), static_cast<int>(first_flip)));
+  }
+  const std::vector<Placement> question = overlays_.question(plan.question, stimulus_rects);
+
+  // The timed sequence: fixation, interval 1 [, inter-stimulus interval, interval 2].
+  double sequence_start_s = 0.0;
+  for (std::size_t i = 0; i < schedule.timed.size(); ++i) {
+    const TimedFlip& flip = schedule.timed[i];
+    // Fixation and inter-stimulus flips repeat the frame before them: only its encoding is redrawn.
+    const bool repeated = i > 0 && flip.phase != FlipPhase::interval && schedule.timed[i - 1].phase == flip.phase;
+    if (repeated) {
+      renderer_.encode_to_display(prepared_.experiment.display);
+    } else if (flip.phase == FlipPhase::fixation) {
+      draw({}, nullptr, overlays_.fixation());
+    } else if (flip.phase == FlipPhase::interval) {
+      const std::vector<ImageRGBA>& glared = glare_frames[static_cast<std::size_t>(flip.interval)];
+      const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(flip.frame_in_interval),
+                                                  glared.empty() ? 0 : glared.size() - 1);
+      draw(placements[static_cast<std::size_t>(flip.interval)], glared.empty() ? nullptr : &glared[k], question);
+    } else {
+      draw({}, nullptr, question);
+    }
+    display_.present();
+    const double flip_s = clock_.on_flip();
+    after_flip(flip_s);
+    if (i == 0) sequence_start_s = flip_s;
+    if (i == schedule.onset_flip) run.onset_s = flip_s;
+    const double scheduled_s = sequence_start_s + static_cast<double>(i) * period_s_;
+    if (flip.stimulus_frame >= 0) {
+      // A flip more than 1.5 refresh periods after the previous one means a refresh was missed.
+      const bool dropped = timing_.on_flip(flip_s, plan.trial_index, flip.stimulus_frame);
+      if (dropped)
+        log_late_flip(plan, flip_s, "frame " + std::to_string(flip.stimulus_frame), timing_.dropped().back().interval_s);
+      record_flip(run, {flip.phase, flip.interval, flip.stimulus_frame}, scheduled_s, flip_s, dropped);
+    } else {
+      const std::optional<double> late_s = timing_.on_timed_flip(flip_s);
+      if (late_s) log_late_flip(plan, flip_s, std::string(to_string(flip.phase)) + " flip", *late_s);
+      record_flip(run, {flip.phase, -1, -1}, scheduled_s, flip_s, late_s.has_value());
+    }
+    if (i == schedule.first_answer_flip) run.answers_from_s = flip_s;
+    if (interactive && i >= schedule.first_answer_flip && !run.response)
+      run.response = poll_keyboard(plan, run.onset_s, run.answers_from_s);
+    else if (interactive)
+      ignore_keys(plan, run.response                       ? "came after the answer"
+                        : flip.phase == FlipPhase::fixation ? "pressed before onset"
+                                                            : "pressed before the second interval's onset");
+    else
+      check_interrupt();
+    if (aborted_) return false;
+  }
+
+  const double window_s = presentation.response_window_s;
+  if (!interactive) {
+    run.response = prepared_.observer->respond(plan);
+    // A script's "abort" ends the session as Escape would; it is not an answer to record.
+    if (run.response->value == "abort") {
+      aborted_ = true;
+      abort_reason_ = "the observer aborted";
+      return false;
+    }
+  } else if (!plan.adjustment_start_cd_m2.empty()) {
+    run.response = adjust_interactively(plan, run);
+    if (aborted_) return false;
+  } else {
+    // Response screen: the background (and the question) until an allowed key, Escape, or the
+    // end of the response window.
+    while (!run.response) {
+      if (window_s > 0.0 && clock_.now_s() - run.onset_s >= window_s) {
+        run.response = Response{kTimeoutResponse, std::nullopt};
+        break;
+      }
+      draw({}, nullptr, question);
+      display_.present();
+      const double flip_s = clock_.on_flip();
+      timing_.on_flip(flip_s, plan.trial_index, -1);
+      after_flip(flip_s);
+      record_flip(run, {FlipPhase::response, -1, -1}, flip_s, flip_s, false);
+      run.response = poll_keyboard(plan, run.onset_s, run.answers_from_s);
+      if (aborted_) return false;
+    }
+  }
+  // An answer after the window closed (a simulated observer's response time) is no answer.
+  if (window_s > 0.0 && run.response->response_time_s && *run.response->response_time_s > window_s)
+    run.response = Response{kTimeoutResponse, std::nullopt};
+  check_interrupt();
+  if (aborted_) return false;
+
+  // The answer is in: scored now, shown as feedback, then committed with every flip. An abort
+  // during the feedback still commits the answered trial.
+  const TrialOutcome outcome = prepared_.procedure->record_response(plan, *run.response);
+  const std::string feedback = feedback_text(outcome);
+  if (!feedback.empty())
+    present_timed_blank(plan, run, FlipPhase::feedback, presentation.feedback_duration.frames,
+                        overlays_.centred_text(feedback));
+  commit(plan, run, outcome);
+  store_.log_event(session_id_, clock_.now_s(), "trial_phases", describe_trial_phases(plan.trial_index, run.phases));
+  if (aborted_) return false;
+  const int total = prepared_.procedure->planned_trials();
+  if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
+    progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
+  return true;
+}
+
+std::string SessionLoop::feedback_text(const TrialOutcome& outcome) const {
+  const PresentationSpec& presentation = prepared_.experiment.presentation;
+  if (presentation.feedback == FeedbackKind::none) return "";
+  if (outcome.response == kTimeoutResponse) return presentation.feedback_timeout_text;
+  if (!outcome.correct) return "";
+  return *outcome.correct == 1 ? presentation.feedback_correct_text : presentation.feedback_wrong_text;
+}
+
+}  // namespace glarelab
