@@ -1,0 +1,24 @@
+#pragma once
+// Checks of number and file options shared by the subcommands. CLI11's own Range lets NaN through
+// (every comparison with NaN is false) and reports infinities as "not in range 0.000000 to 1.79e308":
+// these say what the option must be and what was found, and CLI11 prefixes the option's name
+// ("--time-s: must be ..."), so every refusal names the flag and ends the program with exit 2.
+#include <CLI/CLI.hpp>
+
+#include <initializer_list>
+#include <string>
+
+namespace glarelab::cli {
+
+// A finite number (no nan, no inf).
+CLI::Validator finite_number();
+// A finite number in [low, high]; `unit` follows the bounds in the message ("mm", "s"; may be empty).
+CLI::Validator finite_number_in(double low, double high, const std::string& unit);
+// A finite number > 0.
+CLI::Validator finite_positive_number(const std::string& unit);
+// A time the eye model answers for: finite, from 0 to kMaxEyeModelTime_s (24 h, glare/eye_parameters.h).
+CLI::Validator eye_model_time_s();
+// A file name ending in one of `extensions` (".exr", ".png"; compared without case).
+CLI::Validator file_extension_in(std::initializer_list<const char*> extensions, const std::string& what);
+
+}  // namespace glarelab::cli
