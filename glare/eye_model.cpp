@@ -39,8 +39,9 @@ void EyeModel::record_measured_pupil(double time_s, double diameter_mm) {
 }
 
 double EyeModel::model_time_s(double time_s) const {
-  if (!std::isfinite(time_s) || time_s < 0.0)
-    throw std::invalid_argument("eye model: time must be finite and >= 0 s (got " + std::to_string(time_s) + ")");
+  if (!std::isfinite(time_s) || time_s < 0.0 || time_s > kMaxEyeModelTime_s)
+    throw std::invalid_argument(std::string("eye model: time must be finite, >= 0 s and at most ") +
+                                kMaxEyeModelTimeText + " (got " + std::to_string(time_s) + " s)");
   return parameters_.mode == GlareMode::static_eye ? parameters_.static_time_s : time_s;
 }
 

@@ -70,6 +70,9 @@ class Checker {
 void validate(const EyeParameters& p, const std::string& origin) {
   const Checker c(origin);
   c.non_negative("static_time_s", p.static_time_s);
+  if (p.static_time_s > kMaxEyeModelTime_s)
+    c.fail("static_time_s", std::string("must be at most ") + kMaxEyeModelTimeText + ", got " +
+                                Checker::text(p.static_time_s) + " s");
 
   c.in_range("pupil_max_diameter_mm", p.pupil_max_diameter_mm, 1.0, 12.0);
   c.in_range("pupil_min_diameter_mm", p.pupil_min_diameter_mm, 0.5, 12.0);

@@ -13,6 +13,16 @@ namespace glarelab {
 // flagged glare_enabled = false and carries no scatterers; the image passes through unchanged).
 enum class GlareMode { dynamic, static_eye, control };
 
+// The latest time the eye model answers for (static_time_s, session times, `psf --time-s`,
+// `render --time`, `eye-trace --duration-s` and `--static-time-s`): 24 h. A psychophysics session
+// lasts minutes to a few hours (people tire long before a day), and static_time_s is an instant
+// within a viewing, so no real study comes near it; a larger value is a
+// mistake (a time in ms or ns, a stray exponent) and is refused where it is given. The model's cost
+// does not grow with the time (vitreous_model.h), but its inputs are kept where 1 ms steps and the
+// noise lattices stay far inside 64-bit integers and double precision (2^-36 s resolution at 24 h).
+inline constexpr double kMaxEyeModelTime_s = 86400.0;
+inline constexpr const char* kMaxEyeModelTimeText = "86400 s (24 h)";
+
 GlareMode parse_glare_mode(const std::string& name);  // "dynamic", "static", "control"; ConfigError otherwise
 std::string to_string(GlareMode mode);
 

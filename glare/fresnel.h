@@ -30,7 +30,10 @@ inline double quadratic_phase_rad(double coefficient_per_m2, double r2_m2) {
 struct PhaseSamplingReport {
   double max_phase_step_rad = 0.0;   // largest phase change between neighbouring samples inside the pupil
   double max_pixel_mm = 0.0;         // largest sample spacing with steps < pi (infinite for no phase)
-  long long required_grid_px = 0;    // smallest N with dx = aperture_width / N below max_pixel_mm
+  // Smallest N with dx = aperture_width / N below max_pixel_mm, computed in double (a huge defocus
+  // needs more than any integer holds) and saturated at the largest long long.
+  long long required_grid_px = 0;
+  double required_grid_px_exact = 0.0;  // the same, unsaturated (may exceed 2^63)
   bool aliased = false;              // max_phase_step_rad >= pi
   std::string warning;               // empty unless aliased: names the numbers
 };
@@ -41,5 +44,10 @@ struct PhaseSamplingReport {
 // frequency c r) needs pixel < 1 / (2 c r_max).
 PhaseSamplingReport check_phase_sampling(double coefficient_per_m2, double pupil_radius_mm, double pixel_mm,
                                          double aperture_width_mm);
+
+// The largest |defocus| (dioptres) a grid of pixel pixel_mm samples over a pupil of radius
+// pupil_radius_mm at wavelength_nm: the sampling condition above, pixel < 1 / (2 c r) with
+// c = D / lambda, solved for D: |D| < lambda / (2 r dx).
+double max_sampled_defocus_dioptres(double wavelength_nm, double pupil_radius_mm, double pixel_mm);
 
 }  // namespace glarelab

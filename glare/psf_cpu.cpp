@@ -13,6 +13,10 @@ double psf_degrees_per_pixel(double wavelength_nm, double aperture_width_mm) {
   return radians * 180.0 / std::numbers::pi;
 }
 
+double airy_core_diameter_px(double pupil_diameter_mm, double aperture_width_mm) {
+  return 2.44 * aperture_width_mm / pupil_diameter_mm;
+}
+
 std::vector<double> shifted_power_spectrum(std::vector<std::complex<double>> field, int grid_px, FftPrecision precision) {
   const int n = grid_px;
   const std::size_t count = static_cast<std::size_t>(n) * n;

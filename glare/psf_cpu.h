@@ -30,6 +30,13 @@ struct MonochromaticPsfResult {
 // Angular size (degrees) of one PSF pixel for an aperture grid of side N dx = aperture_width_mm.
 double psf_degrees_per_pixel(double wavelength_nm, double aperture_width_mm);
 
+// Diameter, in PSF pixels, of the Airy core of a clear pupil of diameter D on an aperture grid of side
+// W: the first dark ring is at 1.22 lambda / D (Born and Wolf, Principles of Optics, 8.5.2) and a PSF
+// pixel is lambda / W (above), so the core is 2.44 W / D pixels across, whatever lambda and N. When it
+// is wider than the grid, the grid holds no more than a blur of its centre (a pupil spanning fewer
+// than 2.44 aperture pixels); docs/GLARE_OPTICS.md "Grid limits".
+double airy_core_diameter_px(double pupil_diameter_mm, double aperture_width_mm);
+
 // |FFT(field)|^2 of an N x N complex field, fftshifted (DC to (N/2, N/2)), unnormalised.
 std::vector<double> shifted_power_spectrum(std::vector<std::complex<double>> field, int grid_px, FftPrecision precision);
 

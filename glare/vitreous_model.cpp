@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "glare/eye_random_channels.h"
 #include "core/random.h"
@@ -12,6 +13,17 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // Forces older than this many decay times are below e^-40 of their peak and are left out.
 constexpr double kForceHorizonDecays = 40.0;
+// What the forgetting window leaves of the state it starts from (vitreous_model.h).
+constexpr double kForgottenFraction = 0x1p-60;
+
+// 2 x 2 matrices for the powers of the Euler step matrix.
+struct Matrix2 {
+  double a, b, c, d;
+};
+Matrix2 operator*(const Matrix2& x, const Matrix2& y) {
+  return {x.a * y.a + x.b * y.c, x.a * y.b + x.b * y.d, x.c * y.a + x.d * y.c, x.c * y.b + x.d * y.d};
+}
+double infinity_norm(const Matrix2& m) { return std::max(std::abs(m.a) + std::abs(m.b), std::abs(m.c) + std::abs(m.d)); }
 }  // namespace
 
 VitreousDynamics::VitreousDynamics(const EyeParameters& p, std::uint64_t seed)
@@ -23,7 +35,20 @@ VitreousDynamics::VitreousDynamics(const EyeParameters& p, std::uint64_t seed)
       impulse_sd_rad_s_(p.saccade_impulse_sd_rad_s),
       seed_(seed),
       explicit_saccades_(false),
-      checkpoints_{VitreousState{}} {}
+      checkpoints_{{0, VitreousState{}}} {
+  // The forgetting window: the smallest whole number of checkpoints M / kCheckpointSteps with
+  // ||A^M||_inf <= 2^-60, A the forward Euler step matrix (vitreous_model.h). A^1024 by ten squarings.
+  static_assert(kCheckpointSteps == 1024, "A^kCheckpointSteps is formed by ten squarings");
+  const double h = step_s_, w = omega0_rad_s_;
+  Matrix2 checkpoint_matrix{1.0, h, -h * w * w, 1.0 - 2.0 * zeta_ * w * h};
+  for (int k = 0; k < 10; ++k) checkpoint_matrix = checkpoint_matrix * checkpoint_matrix;
+  Matrix2 power = checkpoint_matrix;
+  for (std::int64_t k = 1; k <= kMaxForgettingCheckpoints; ++k, power = power * checkpoint_matrix)
+    if (infinity_norm(power) <= kForgottenFraction) {
+      forgetting_checkpoints_ = k;
+      break;
+    }
+}
 
 VitreousDynamics::VitreousDynamics(const EyeParameters& p, std::vector<Saccade> saccades)
     : VitreousDynamics(p, 0) {
@@ -86,25 +111,69 @@ void VitreousDynamics::integrate(VitreousState& state, std::int64_t from_step, s
   }
 }
 
-VitreousState VitreousDynamics::state_at(double time_s) const {
-  if (!(time_s > 0.0)) return VitreousState{};
-  const auto full_steps = static_cast<std::int64_t>(std::floor(time_s / step_s_));
-  const auto checkpoint = static_cast<std::size_t>(full_steps / kCheckpointSteps);
-  while (checkpoints_.size() <= checkpoint) {
-    VitreousState state = checkpoints_.back();
-    const auto from = static_cast<std::int64_t>(checkpoints_.size() - 1) * kCheckpointSteps;
-    integrate(state, from, from + kCheckpointSteps);
-    checkpoints_.push_back(state);
+double VitreousDynamics::forgetting_window_s() const {
+  return static_cast<double>(forgetting_checkpoints_ * kCheckpointSteps) * step_s_;
+}
+
+double VitreousDynamics::epoch_s() const { return kEpochWindows * forgetting_window_s(); }
+
+VitreousState VitreousDynamics::checkpoint_state(std::int64_t checkpoint) const {
+  if (const auto found = checkpoints_.find(checkpoint); found != checkpoints_.end()) return found->second;
+  // The checkpoint the integration to this one starts from: its epoch's first (0 without a window).
+  const std::int64_t epoch_checkpoints = kEpochWindows * forgetting_checkpoints_;
+  const std::int64_t epoch_start = epoch_checkpoints > 0 ? checkpoint - checkpoint % epoch_checkpoints : 0;
+  if (!checkpoints_.contains(epoch_start)) {
+    // From rest one forgetting window before the epoch (epoch_start > 0 here: checkpoint 0 is cached).
+    VitreousState state;
+    integrate(state, (epoch_start - forgetting_checkpoints_) * kCheckpointSteps, epoch_start * kCheckpointSteps);
+    checkpoints_.emplace(epoch_start, state);
   }
-  VitreousState state = checkpoints_[checkpoint];
-  integrate(state, static_cast<std::int64_t>(checkpoint) * kCheckpointSteps, full_steps);
-  // The remaining fraction of a step, so the angle is continuous in time.
+  // Continue from the latest cached checkpoint of the epoch before this one.
+  auto from = std::prev(checkpoints_.upper_bound(checkpoint));
+  VitreousState state = from->second;
+  for (std::int64_t k = from->first; k < checkpoint; ++k) {
+    integrate(state, k * kCheckpointSteps, (k + 1) * kCheckpointSteps);
+    checkpoints_.emplace(k + 1, state);
+  }
+  return state;
+}
+
+VitreousState VitreousDynamics::finish(VitreousState state, std::int64_t full_steps, double time_s) const {
   const double remainder_s = time_s - static_cast<double>(full_steps) * step_s_;
   if (remainder_s > 0.0) {
     const double begin_s = static_cast<double>(full_steps) * step_s_ - kForceHorizonDecays * force_decay_s_ - step_s_;
     state = step(state, full_steps, remainder_s, saccades_between(begin_s, time_s + step_s_));
   }
   return state;
+}
+
+VitreousState VitreousDynamics::state_at(double time_s) const {
+  if (!(time_s > 0.0)) return VitreousState{};
+  const auto full_steps = static_cast<std::int64_t>(std::floor(time_s / step_s_));
+  const std::int64_t checkpoint = full_steps / kCheckpointSteps;
+  VitreousState state;
+  std::int64_t from_step = 0;
+  // integrate() groups steps by checkpoint interval, so continuing from an earlier step of the same
+  // interval performs exactly the operations continuing from the interval's checkpoint would.
+  if (last_step_ >= 0 && last_step_ / kCheckpointSteps == checkpoint && last_step_ <= full_steps) {
+    state = last_state_;
+    from_step = last_step_;
+  } else {
+    state = checkpoint_state(checkpoint);
+    from_step = checkpoint * kCheckpointSteps;
+  }
+  integrate(state, from_step, full_steps);
+  last_step_ = full_steps;
+  last_state_ = state;
+  return finish(state, full_steps, time_s);
+}
+
+VitreousState VitreousDynamics::state_integrated_from_zero(double time_s) const {
+  if (!(time_s > 0.0)) return VitreousState{};
+  const auto full_steps = static_cast<std::int64_t>(std::floor(time_s / step_s_));
+  VitreousState state;
+  integrate(state, 0, full_steps);
+  return finish(state, full_steps, time_s);
 }
 
 VitreousModel::VitreousModel(const EyeParameters& p, std::uint64_t seed) : dynamics_(p, seed) {

@@ -6,9 +6,11 @@
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <sstream>
 #include <string_view>
 
 #include "core/number_text.h"
+#include "glare/eye_parameters.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -53,6 +55,12 @@ GlareSpec read_glare_section(TableReader& top) {
   if (const std::optional<std::string> mode = reader.string("mode"))
     spec.mode = parse_mode_at(*mode, reader.value_location("mode"), reader.key_path("mode"));
   spec.static_time_s = reader.non_negative_number("static_time_s", spec.static_time_s);
+  // The eye model answers up to 24 h (glare/eye_parameters.h): a larger instant is a mistake.
+  if (spec.static_time_s > kMaxEyeModelTime_s) {
+    std::ostringstream found;
+    found << spec.static_time_s;
+    reader.fail("static_time_s", std::string("must be at most ") + kMaxEyeModelTimeText + ", found " + found.str());
+  }
   spec.grid_px = read_bounded_int(reader, "grid_px", spec.grid_px, 16, 8192);
   // The grid's centre pixel N/2 is the optical axis and the PSF's DC term.
   if (spec.grid_px % 2 != 0) reader.fail("grid_px", "must be even, found " + std::to_string(spec.grid_px));

@@ -10,6 +10,7 @@
 #include "glare/eye_model.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
+#include "runner/cli/option_checks.h"
 
 namespace glarelab::cli {
 
@@ -72,15 +73,22 @@ Action add_eye_trace_command(CLI::App& app) {
   auto options = std::make_shared<EyeTraceOptions>();
   CLI::App* command = app.add_subcommand("eye-trace", "Write the simulated eye's pupil, accommodation, vitreous and "
                                                       "blink state over time as CSV");
-  command->add_option("--duration-s", options->duration_s, "Length of the trace in seconds")->capture_default_str();
-  command->add_option("--rate-hz", options->rate_hz, "Samples per second")->capture_default_str();
+  // Every number is checked here, so a refusal names its flag (exit 2) before the CSV is opened.
+  command->add_option("--duration-s", options->duration_s, "Length of the trace in seconds, at most 86400 (24 h)")
+      ->check(eye_model_time_s())
+      ->capture_default_str();
+  command->add_option("--rate-hz", options->rate_hz, "Samples per second")->check(finite_positive_number("Hz"))->capture_default_str();
   command->add_option("--field-luminance-cd-m2", options->field_luminance_cd_m2, "Constant field luminance (cd/m2)")
+      ->check(finite_positive_number("cd/m2"))
       ->capture_default_str();
-  command->add_option("--seed", options->seed, "Seed of the eye model")->capture_default_str();
+  command->add_option("--seed", options->seed, "Seed of the eye model")->check(seed_check())->capture_default_str();
   command->add_option("--mode", options->mode, "dynamic, static or control")->capture_default_str();
-  command->add_option("--static-time-s", options->static_time_s, "Instant a static eye is frozen at")
+  command->add_option("--static-time-s", options->static_time_s, "Instant a static eye is frozen at (s), at most 86400 (24 h)")
+      ->check(eye_model_time_s())
       ->capture_default_str();
-  command->add_option("--squint", options->squint_closure, "Constant lid closure 0..1")->capture_default_str();
+  command->add_option("--squint", options->squint_closure, "Constant lid closure 0..1")
+      ->check(finite_number_in(0.0, 1.0, ""))
+      ->capture_default_str();
   command->add_option("--out", options->out, "Output CSV file")->required();
   return [=]() { return report_errors([&]() { return write_eye_trace(*options); }); };
 }

@@ -8,6 +8,7 @@
 
 #include "protocols/experiment.h"
 #include "runner/cli/commands.h"
+#include "runner/cli/option_checks.h"
 #include "runner/display/compute_context.h"
 #include "runner/display/display_backend.h"
 #include "stimuli/display_model.h"
@@ -101,12 +102,14 @@ Action add_render_command(CLI::App& app) {
                                                    "linear EXR or a PNG preview");
   command->add_option("experiment", options->experiment_path, "Experiment file (TOML)")->required();
   command->add_option("--condition", options->condition, "Condition name (the 'name' column, or 'row N')")->required();
-  command->add_option("--time", options->time_s, "Session time of the frame (s)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  command->add_option("--time", options->time_s, "Session time of the frame (s), at most 86400 (24 h)")
+      ->check(eye_model_time_s())->capture_default_str();
   command->add_option("--glare", options->glare, "Override the condition's glare mode")
       ->check(CLI::IsMember({"dynamic", "static", "control"}));
+  // Checked before anything is rendered: any other name would get EXR bytes under a misleading extension.
   command->add_option("--out", options->out, "Output file: .exr (linear, cd/m2) or .png (display-encoded preview)")
-      ->required();
+      ->required()
+      ->check(file_extension_in({".exr", ".png"}, "the frame file"));
   return [=]() { return report_errors([&]() { return render(*options); }); };
 }
 

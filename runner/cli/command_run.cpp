@@ -53,7 +53,7 @@ Action add_run_command(CLI::App& app) {
       ->capture_default_str();
   run->add_option("--pupil-calibration-s", options->tracker.calibration_screen_s,
                   "Seconds of each calibration screen (black, then white)")
-      ->check(finite_number_check(0.1, 600.0, "s"))
+      ->check(finite_number_in(0.1, 600.0, "s"))
       ->capture_default_str();
   // --- end tracker ---
   // --- response device (docs/DEVICES.md) ---

@@ -1,23 +1,35 @@
 #pragma once
-// Checks for command-line values, applied to the text before CLI11 converts it, so that "-1" never
-// wraps to 2^64 - 1 and a refusal names the option, the bounds and the value as typed (exit 2).
-// CLI11's own range checks print their bounds with %f ("not in range 0.000000 to 1797693...").
+// Checks of number and file options shared by the subcommands. CLI11's own Range lets NaN through
+// (every comparison with NaN is false) and reports infinities as "not in range 0.000000 to 1.79e308":
+// these say what the option must be and what was found, and CLI11 prefixes the option's name
+// ("--time-s: must be ..."), so every refusal names the flag and ends the program with exit 2.
 #include <CLI/CLI.hpp>
 
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 
 namespace glarelab::cli {
 
+// A finite number (no nan, no inf).
+CLI::Validator finite_number();
+// A finite number in [low, high]; `unit` follows the bounds in the message ("mm", "s"; may be empty).
+CLI::Validator finite_number_in(double low, double high, const std::string& unit);
+// A finite number > 0.
+CLI::Validator finite_positive_number(const std::string& unit);
+// A time the eye model answers for: finite, from 0 to kMaxEyeModelTime_s (24 h, glare/eye_parameters.h).
+CLI::Validator eye_model_time_s();
+// A file name ending in one of `extensions` (".exr", ".png"; compared without case).
+CLI::Validator file_extension_in(std::initializer_list<const char*> extensions, const std::string& what);
+
 // Seeds are stored in the experiment record (TOML) and the sessions table (SQLite), both signed
-// 64-bit integers: a seed is a whole number from 0 to 2^63 - 1.
+// 64-bit integers: a seed is a whole number from 0 to 2^63 - 1. Checked on the text, so "-1" never
+// wraps to 2^64 - 1.
 inline constexpr std::int64_t kMaxSeed = INT64_MAX;
 
 // A whole number (digits only, no sign) from `minimum` to `maximum`.
 CLI::Validator whole_number_check(std::int64_t minimum, std::int64_t maximum);
-// whole_number_check(0, kMaxSeed), named for the message.
+// whole_number_check(0, kMaxSeed).
 CLI::Validator seed_check();
-// A finite number (no nan, inf) from `minimum` to `maximum`, `unit` printed after the bounds.
-CLI::Validator finite_number_check(double minimum, double maximum, const std::string& unit = {});
 
 }  // namespace glarelab::cli
