@@ -26,9 +26,12 @@ class ScriptObserver : public Observer {
     // Entry k answers trial k, not "the next unread line": a session resumed at trial 7 gets
     // entry 7, exactly what the uninterrupted session would have got.
     if (plan.trial_index < 0 || static_cast<std::size_t>(plan.trial_index) >= entries_.size()) {
-      throw std::runtime_error("response script " + path_ + " holds " + std::to_string(entries_.size()) +
-                               " responses; trial " + std::to_string(plan.trial_index) + " needs response " +
-                               std::to_string(plan.trial_index + 1));
+      // Bad input (exit 2), at the end of the script: the line the missing answer belongs on.
+      const int end_line = entries_.empty() ? 1 : entries_.back().where.line + 1;
+      throw ConfigError(SourceLocation{path_, end_line, 0}, "",
+                        "response script holds " + std::to_string(entries_.size()) + " responses; trial " +
+                            std::to_string(plan.trial_index) + " needs response " +
+                            std::to_string(plan.trial_index + 1));
     }
     const ScriptEntry& entry = entries_[static_cast<std::size_t>(plan.trial_index)];
     const std::vector<std::string>& allowed = plan.allowed_responses;

@@ -119,9 +119,9 @@ TEST(ScriptObserver, RunningOutAndMissingFile) {
   const auto observer = make_script_observer(path);
   try {
     observer->respond(plan_with(2, 2.0, 1.0));
-    FAIL() << "expected runtime_error";
-  } catch (const std::runtime_error& error) {
-    EXPECT_EQ(std::string(error.what()), "response script " + path + " holds 2 responses; trial 2 needs response 3");
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& error) {  // bad input (exit 2), where the missing answer belongs
+    EXPECT_EQ(std::string(error.what()), path + ":3: response script holds 2 responses; trial 2 needs response 3");
   }
   const std::string missing = (dir.path() / "none.txt").string();
   try {

@@ -19,6 +19,20 @@
 #include "runner/session/session_setup.h"
 
 namespace glarelab {
+namespace {
+
+// Marks a session that failed after its row was written as aborted, with the reason as an
+// 'aborted' event. A store that itself failed cannot take the mark: the original error is what
+// the caller reports, and the session stays resumable either way.
+void end_failed_session(ResultStore& store, std::int64_t session_id, double now_s, const std::string& reason) {
+  try {
+    store.log_event(session_id, now_s, "aborted", "failed: " + reason);
+    store.finish_session(session_id, "aborted");
+  } catch (const std::exception&) {
+  }
+}
+
+}  // namespace
 
 RunResult run_session(const RunOptions& options, std::ostream& progress) {
   install_interrupt_handlers();
@@ -62,72 +76,79 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   result.session_id = open_session_row(start, prepared, options, *display, *clock, renderer, first_trial,
                                        result.trials_in_design);
   ResultStore& store = *start.store;
+  // From here on a failure (a GL error mid-run, an observer script that runs out of answers, glare
+  // that cannot be computed) ends the session as aborted with its reason, never left running.
+  try {
 
-  // Durations are frames of [display] refresh_hz: another actual rate scales every one of them.
-  const std::string refresh_warning =
-      refresh_rate_warning(prepared.experiment.display.refresh_hz, display->refresh_hz());
-  if (!refresh_warning.empty()) {
-    std::cerr << "warning: " << refresh_warning << "\n";
-    store.log_event(result.session_id, clock->now_s(), "refresh_rate", refresh_warning);
-  }
-
-  progress << "Session " << result.session_id << " of '" << prepared.experiment.name << "' ("
-           << result.trials_in_design << " trials, " << display->kind() << ", " << prepared.observer_description
-           << " observer) -> " << result.db_path << "\n";
-  if (!prepared.observer && !prepared.procedure->finished()) {
-    const TrialPlan first = prepared.procedure->next_trial();
-    progress << first.question << " "
-             << (first.adjustment_start_cd_m2.empty() ? describe_response_keys(first.allowed_responses)
-                                                     : describe_adjustment_keys(prepared.experiment.adjustment))
-             << "\n";
-  }
-
-  // --- tracker: logged from here on; calibration before the trials ---
-  if (tracker_note) store.log_event(result.session_id, clock->now_s(), "tracker_absent", *tracker_note);
-  tracker.attach_log(result.db_path, result.session_id);
-  // --- end tracker ---
-  if (device.active()) store.log_event(result.session_id, clock->now_s(), "response_device", device.description());
-  if (device_note) store.log_event(result.session_id, clock->now_s(), "response_device_absent", *device_note);
-  ResponseDeviceInput device_input(device, store, result.session_id);
-
-  // 4. The trials.
-  SessionLoop loop(prepared, *display, *clock, store, result.session_id, tracker, pacer.get());
-  if (device.active()) loop.attach_response_device(&device_input, pause_message);
-  const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
-  while (calibrated && !prepared.procedure->finished()) {
-    if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
-      result.status = "running";
-      result.tracker_summary = tracker.finish(clock->now_s());
-      return result;
+    // Durations are frames of [display] refresh_hz: another actual rate scales every one of them.
+    const std::string refresh_warning =
+        refresh_rate_warning(prepared.experiment.display.refresh_hz, display->refresh_hz());
+    if (!refresh_warning.empty()) {
+      std::cerr << "warning: " << refresh_warning << "\n";
+      store.log_event(result.session_id, clock->now_s(), "refresh_rate", refresh_warning);
     }
-    if (!loop.run_trial(prepared.procedure->next_trial(), progress)) {
-      if (loop.take_trial_rerun()) continue;  // after a device pause: the same trial again
-      break;
-    }
-    ++result.trials_run_now;
-  }
 
-  // 5. The end of the run and the session's status.
-  // Frame timing of this run (a resumed session reports the frames shown since resuming).
-  const FrameTimingSummary timing = loop.timing_summary();
-  store.log_event(result.session_id, clock->now_s(), "frame_timing", timing.describe());
-  progress << "Frame timing: " << timing.describe() << "\n";
-  result.frames_shown = timing.frames_shown;
-  result.frames_dropped = timing.frames_dropped;
-  result.tracker_summary = tracker.finish(clock->now_s());
-  device.stop();
-  result.device_summary = device.summary();
-  if (!result.device_summary.empty())
-    store.log_event(result.session_id, clock->now_s(), "response_device_summary", result.device_summary);
-  if (loop.aborted()) {
-    store.log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
-    store.finish_session(result.session_id, "aborted");
-    result.status = "aborted";
-  } else {
-    store.finish_session(result.session_id, "completed");
-    result.status = "completed";
+    progress << "Session " << result.session_id << " of '" << prepared.experiment.name << "' ("
+             << result.trials_in_design << " trials, " << display->kind() << ", " << prepared.observer_description
+             << " observer) -> " << result.db_path << "\n";
+    if (!prepared.observer && !prepared.procedure->finished()) {
+      const TrialPlan first = prepared.procedure->next_trial();
+      progress << first.question << " "
+               << (first.adjustment_start_cd_m2.empty() ? describe_response_keys(first.allowed_responses)
+                                                       : describe_adjustment_keys(prepared.experiment.adjustment))
+               << "\n";
+    }
+
+    // --- tracker: logged from here on; calibration before the trials ---
+    if (tracker_note) store.log_event(result.session_id, clock->now_s(), "tracker_absent", *tracker_note);
+    tracker.attach_log(result.db_path, result.session_id);
+    // --- end tracker ---
+    if (device.active()) store.log_event(result.session_id, clock->now_s(), "response_device", device.description());
+    if (device_note) store.log_event(result.session_id, clock->now_s(), "response_device_absent", *device_note);
+    ResponseDeviceInput device_input(device, store, result.session_id);
+
+    // 4. The trials.
+    SessionLoop loop(prepared, *display, *clock, store, result.session_id, tracker, pacer.get());
+    if (device.active()) loop.attach_response_device(&device_input, pause_message);
+    const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
+    while (calibrated && !prepared.procedure->finished()) {
+      if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
+        result.status = "running";
+        result.tracker_summary = tracker.finish(clock->now_s());
+        return result;
+      }
+      if (!loop.run_trial(prepared.procedure->next_trial(), progress)) {
+        if (loop.take_trial_rerun()) continue;  // after a device pause: the same trial again
+        break;
+      }
+      ++result.trials_run_now;
+    }
+
+    // 5. The end of the run and the session's status.
+    // Frame timing of this run (a resumed session reports the frames shown since resuming).
+    const FrameTimingSummary timing = loop.timing_summary();
+    store.log_event(result.session_id, clock->now_s(), "frame_timing", timing.describe());
+    progress << "Frame timing: " << timing.describe() << "\n";
+    result.frames_shown = timing.frames_shown;
+    result.frames_dropped = timing.frames_dropped;
+    result.tracker_summary = tracker.finish(clock->now_s());
+    device.stop();
+    result.device_summary = device.summary();
+    if (!result.device_summary.empty())
+      store.log_event(result.session_id, clock->now_s(), "response_device_summary", result.device_summary);
+    if (loop.aborted()) {
+      store.log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
+      store.finish_session(result.session_id, "aborted");
+      result.status = "aborted";
+    } else {
+      store.finish_session(result.session_id, "completed");
+      result.status = "completed";
+    }
+    return result;
+  } catch (const std::exception& error) {
+    end_failed_session(store, result.session_id, clock->now_s(), error.what());
+    throw;
   }
-  return result;
 }
 
 }  // namespace glarelab

@@ -51,6 +51,13 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
     if (start.resumed->status == "completed")
       throw StoreError("SQLite: " + start.db_path + ": session " + std::to_string(start.resumed->id) +
                        " is already completed");
+    // Another experiment's file names another study: resuming would finish the stored one under
+    // the wrong file's name on the command line.
+    if (from_file.name != start.resumed->experiment)
+      throw ConfigError({options.experiment_path, 0, 0}, "experiment.name",
+                        "session " + std::to_string(start.resumed->id) + " in " + start.db_path +
+                            " is of experiment '" + start.resumed->experiment + "', not '" + from_file.name +
+                            "': resume it with its own experiment file");
     // The stored, fully resolved configuration is the design being finished: same seed, same order.
     start.experiment =
         parse_experiment_text(start.resumed->config, "<session " + std::to_string(start.resumed->id) + " config>", "/");

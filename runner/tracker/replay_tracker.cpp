@@ -3,7 +3,9 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <filesystem>
 
 #include "protocols/csv_table.h"
 
@@ -20,9 +22,22 @@ double parse_number(const CsvCell& cell, const std::string& file, const std::str
   return value;
 }
 
+// Refuses a value outside what the column can hold (the DATABASE.md meaning of tracker_samples):
+// a recorded track with eye 7 or confidence 9 would be stored as if it were real.
+double checked(double value, const CsvCell& cell, const std::string& file, const std::string& column, bool ok,
+               const std::string& expected) {
+  if (!ok || !std::isfinite(value))
+    throw TrackerError(file + ":" + std::to_string(cell.where.line) + ":" + std::to_string(cell.where.column) +
+                       ": column '" + column + "': " + cell.text + " is not " + expected);
+  return value;
+}
+
 }  // namespace
 
 RecordedTrack read_tracker_csv(const std::string& path) {
+  std::error_code missing;
+  if (!std::filesystem::is_regular_file(path, missing))
+    throw TrackerError("tracker replay: " + path + ": file not found");
   CsvTable table;
   try {
     table = read_csv_file(path, {"--tracker replay:" + path, 0, 0});
@@ -50,15 +65,24 @@ RecordedTrack read_tracker_csv(const std::string& path) {
       track.blinks.push_back({number(2), kind.text == "onset", number(6)});
       continue;
     }
+    const auto check = [&](std::size_t i, double value, bool ok, const std::string& expected) {
+      return checked(value, cell(i), path, columns[i], ok, expected);
+    };
     TrackerSample sample;
-    sample.eye = static_cast<int>(number(0));
-    sample.device_time_s = number(1);
-    sample.session_time_s = number(2);
-    sample.pupil_diameter_mm = cell(3).text.empty() ? 0.0 : number(3);
-    sample.gaze_x = cell(4).text.empty() ? -1.0 : number(4);
-    sample.gaze_y = cell(5).text.empty() ? -1.0 : number(5);
-    sample.confidence = number(6);
-    sample.valid = number(7) != 0.0;
+    const double eye = number(0);
+    sample.eye = static_cast<int>(check(0, eye, eye == 0.0 || eye == 1.0, "an eye (0 right, 1 left)"));
+    sample.device_time_s = check(1, number(1), true, "a finite time");
+    sample.session_time_s = check(2, number(2), true, "a finite time");
+    if (!cell(3).text.empty()) {
+      const double pupil = number(3);
+      sample.pupil_diameter_mm = check(3, pupil, pupil >= 0.0 && pupil <= 20.0, "a pupil diameter from 0 to 20 mm");
+    }
+    sample.gaze_x = cell(4).text.empty() ? -1.0 : check(4, number(4), true, "a finite gaze coordinate");
+    sample.gaze_y = cell(5).text.empty() ? -1.0 : check(5, number(5), true, "a finite gaze coordinate");
+    const double confidence = number(6);
+    sample.confidence = check(6, confidence, confidence >= 0.0 && confidence <= 1.0, "a confidence from 0 to 1");
+    const double valid = number(7);
+    sample.valid = check(7, valid, valid == 0.0 || valid == 1.0, "0 or 1") != 0.0;
     track.samples.push_back(sample);
   }
   std::stable_sort(track.blinks.begin(), track.blinks.end(),

@@ -1,5 +1,7 @@
 // The one place a tracker source is chosen from a --tracker value.
 #include <cstdlib>
+#include <fstream>
+#include <string>
 
 #include "runner/tracker/pupil_labs_client.h"
 #include "runner/tracker/replay_tracker.h"
@@ -7,6 +9,18 @@
 #include "runner/tracker/tracker_source.h"
 
 namespace glarelab {
+
+namespace {
+
+// SQLite files begin with this 16-byte header string (sqlite.org/fileformat.html, 1.3).
+bool looks_like_sqlite(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char header[16] = {};
+  in.read(header, sizeof header);
+  return in.gcount() == 16 && std::string(header, 16) == std::string("SQLite format 3\0", 16);
+}
+
+}  // namespace
 
 std::unique_ptr<TrackerSource> make_tracker_source(const std::string& spec, std::uint64_t seed) {
   if (spec == "none") return nullptr;
@@ -25,6 +39,10 @@ std::unique_ptr<TrackerSource> make_tracker_source(const std::string& spec, std:
       return std::make_unique<ReplayTracker>(read_tracker_database(file, session_id),
                                              file + " session " + id_text);
     }
+    // An SQLite file without #SESSION would otherwise be read as a CSV of binary noise.
+    if (looks_like_sqlite(target))
+      throw TrackerError("--tracker " + spec + ": " + target +
+                         " is a results database: name the session to replay, replay:FILE.db#SESSION");
     return std::make_unique<ReplayTracker>(read_tracker_csv(target), target);
   }
   throw TrackerError("--tracker " + spec +

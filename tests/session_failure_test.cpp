@@ -1,0 +1,73 @@
+// A session that fails after its row exists ends as aborted with the reason, never left
+// "running" (which would also shift the default participant number of every later run).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "cli_process.h"
+#include "runner/store/result_store.h"
+#include "session_events.h"
+
+namespace glarelab {
+namespace {
+
+TEST(SessionFailure, AScriptThatRunsOutEndsTheSessionAbortedWithTheReasonAndExit2) {
+  const test::ScratchDir scratch;
+  const auto script = scratch.path() / "answers.txt";
+  test::write_bytes(script.string(), "1\n0\n1\n");  // the demo has 20 trials
+  const auto db = scratch.path() / "short.db";
+  const auto run = test::run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
+                                       "offscreen", "--observer", "script:" + script.string(), "--db", db.string()},
+                                      scratch.path());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  const std::string message = script.string() + ":4: response script holds 3 responses; trial 3 needs response 4";
+  EXPECT_NE(run.output.find(message), std::string::npos) << run.output;
+
+  const ResultStore store(db.string());
+  const auto sessions = store.load_sessions();
+  ASSERT_EQ(sessions.size(), 1u);
+  EXPECT_EQ(sessions[0].status, "aborted");
+  EXPECT_FALSE(sessions[0].finished_utc.empty());
+  EXPECT_EQ(store.load_trials(sessions[0].id).size(), 3u);  // the answered trials are kept
+  const auto aborted = test::session_event_messages(store, "aborted");
+  ASSERT_EQ(aborted.size(), 1u);
+  EXPECT_EQ(aborted[0], "failed: " + message);
+
+  // Still resumable: with the missing answers added, the resume finishes the session.
+  std::string twenty_answers = "1\n0\n1\n";
+  for (int k = 3; k < 20; ++k) twenty_answers += "1\n";
+  test::write_bytes(script.string(), twenty_answers);
+  const auto resumed = test::run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
+                                           "offscreen", "--observer", "script:" + script.string(), "--db",
+                                           db.string(), "--resume", std::to_string(sessions[0].id)},
+                                          scratch.path());
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(store.load_sessions().at(0).status, "completed");
+  EXPECT_EQ(store.load_trials(sessions[0].id).size(), 20u);
+}
+
+TEST(SessionFailure, ResumingWithAnotherExperimentsFileIsRefused) {
+  const test::ScratchDir scratch;
+  const auto db = scratch.path() / "demo.db";
+  const std::string examples = std::string(GLARELAB_SOURCE_DIR) + "/examples/";
+  ASSERT_EQ(test::run_glarelab({"run", examples + "demo.toml", "--display", "offscreen", "--observer", "simulated",
+                                "--db", db.string(), "--stop-after", "2"},
+                               scratch.path())
+                .exit_code,
+            0);
+  const auto other = test::run_glarelab({"run", examples + "luidolt_ratings.toml", "--display", "offscreen",
+                                         "--observer", "simulated", "--db", db.string(), "--resume", "1"},
+                                        scratch.path());
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_NE(other.output.find(examples + "luidolt_ratings.toml: key 'experiment.name': session 1 in " + db.string() +
+                              " is of experiment 'demo-which-light-is-brighter', not 'luidolt-2020-ratings'"),
+            std::string::npos)
+      << other.output;
+  const ResultStore store(db.string());
+  EXPECT_EQ(store.load_sessions().at(0).status, "running");  // untouched, still resumable
+  EXPECT_EQ(store.load_trials(1).size(), 2u);
+}
+
+}  // namespace
+}  // namespace glarelab
