@@ -2,8 +2,12 @@
 // "running" (which would also shift the default participant number of every later run).
 #include <gtest/gtest.h>
 
+#include <signal.h>
+
+#include <chrono>
 #include <filesystem>
 #include <string>
+#include <thread>
 
 #include "cli_process.h"
 #include "runner/store/result_store.h"
@@ -67,6 +71,40 @@ TEST(SessionFailure, ResumingWithAnotherExperimentsFileIsRefused) {
   const ResultStore store(db.string());
   EXPECT_EQ(store.load_sessions().at(0).status, "running");  // untouched, still resumable
   EXPECT_EQ(store.load_trials(1).size(), 2u);
+}
+
+TEST(SessionFailure, SigtermWhileGlareFramesArePreparedEndsWithinAFrameNotATrial) {
+  const test::ScratchDir scratch;
+  const auto& dir = scratch.path();
+  // Every row dynamic glare, 120 frames per trial: preparing one trial's frames takes seconds.
+  std::string rows = "name,scene_a,scene_b,glare\n";
+  for (const char* scene : {"lamp_105", "lamp_115", "lamp_130"})
+    rows += std::string("ratio_") + scene + ",lamp_100," + scene + ",dynamic\n";
+  test::write_bytes((dir / "dynamic.csv").string(), rows);
+  const auto experiment = test::demo_variant(dir, {{"file", "file = \"" + (dir / "dynamic.csv").string() + "\""},
+                                                   {"stimulus_frames", "stimulus_frames = 120"}});
+  const auto db = dir / "term.db";
+  test::GlarelabProcess process(
+      {"run", experiment.string(), "--db", db.string(), "--display", "offscreen", "--observer", "simulated"},
+      dir / "out.txt");
+  // The session row is written just before the first trial's frames are prepared.
+  for (int i = 0; i < 2400 && !std::filesystem::exists(db); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  ASSERT_TRUE(std::filesystem::exists(db)) << test::read_bytes(dir / "out.txt");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto signalled = std::chrono::steady_clock::now();
+  process.signal(SIGTERM);
+  EXPECT_EQ(process.wait(), 130) << test::read_bytes(dir / "out.txt");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+  // One dynamic frame here is ~0.06 s on an idle 2-core machine; the trial's 120 are seconds.
+  EXPECT_LT(seconds, 2.0);
+
+  const ResultStore store(db.string());
+  const auto session = store.load_sessions().at(0);
+  EXPECT_EQ(session.status, "aborted");
+  EXPECT_TRUE(store.load_trials(session.id).empty());  // the trial in preparation never started
+  const auto aborted = test::session_event_messages(store, "aborted");
+  ASSERT_EQ(aborted.size(), 1u);
+  EXPECT_EQ(aborted[0], "interrupted (Ctrl-C or SIGTERM)");
 }
 
 }  // namespace

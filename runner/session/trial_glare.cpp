@@ -87,6 +87,10 @@ std::vector<ImageRGBA> SessionLoop::prepare_glare(const TrialPlan& plan, const s
   int applications = 0;
   const auto preparation_start = std::chrono::steady_clock::now();
   for (int k = 0; k < count; ++k) {
+    // Preparing a trial's frames can take many seconds on a CPU: Ctrl-C and SIGTERM are honoured
+    // within one frame's work, not after the whole trial's.
+    check_interrupt();
+    if (aborted_) return {};
     const double time_s = first_flip_s + k * period_s_;
     std::vector<GlareFrameReport> reports;
     if (layers.empty()) {

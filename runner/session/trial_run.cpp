@@ -39,6 +39,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     std::size_t first_flip = 0;
     while (schedule.timed[first_flip].interval != interval) ++first_flip;
     glare_frames.push_back(prepare_glare(shown, placements.back(), static_cast<int>(first_flip)));
+    if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
   }
   const std::vector<Placement> question = overlays_.question(plan.question, stimulus_rects);
 
