@@ -22,4 +22,8 @@ struct DisplaySpec {
   bool fullscreen = false;
 };
 
+// Visual angle (degrees) of a span of `pixels` centred on the line of sight:
+// 2 atan(pixels * pitch / 2d).
+double centred_span_deg(const DisplaySpec& display, double pixels);
+
 }  // namespace glarelab

@@ -31,14 +31,14 @@ std::vector<std::vector<Overlap>> overlap_weights(int input_px, double input_siz
 
 }  // namespace
 
-Psf resample_psf_to_display(const Psf& psf, double display_degrees_per_pixel) {
-  const double a = psf.degrees_per_pixel, b = display_degrees_per_pixel;
-  if (!(a > 0.0) || !(b > 0.0) || psf.size_px <= 0)
+void check_psf_fits_display(int psf_size_px, double psf_degrees_per_pixel, double display_degrees_per_pixel) {
+  const double a = psf_degrees_per_pixel, b = display_degrees_per_pixel;
+  if (!(a > 0.0) || !(b > 0.0) || psf_size_px <= 0)
     throw PsfScaleError("glare/psf_scale: PSF and display pixel sizes must be > 0 degrees");
-  const double extent_display_px = psf.size_px * a / b;
+  const double extent_display_px = psf_size_px * a / b;
   if (extent_display_px < 2.0) {
     std::ostringstream message;
-    message << "glare/psf_scale: the PSF spans " << psf.size_px * a << " deg = " << extent_display_px
+    message << "glare/psf_scale: the PSF spans " << psf_size_px * a << " deg = " << extent_display_px
             << " display pixels of " << b << " deg; fewer than 2, nothing to convolve with";
     throw PsfScaleError(message.str());
   }
@@ -48,6 +48,12 @@ Psf resample_psf_to_display(const Psf& psf, double display_degrees_per_pixel) {
             << " deg); resampling would alias: compute the PSF over a wider aperture grid";
     throw PsfScaleError(message.str());
   }
+}
+
+Psf resample_psf_to_display(const Psf& psf, double display_degrees_per_pixel) {
+  check_psf_fits_display(psf.size_px, psf.degrees_per_pixel, display_degrees_per_pixel);
+  const double a = psf.degrees_per_pixel, b = display_degrees_per_pixel;
+  const double extent_display_px = psf.size_px * a / b;
   // Even output size covering the whole PSF extent, plus one pixel each side for the half-pixel
   // offsets between the two grids.
   int output_px = static_cast<int>(std::ceil(extent_display_px)) + 2;

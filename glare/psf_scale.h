@@ -23,4 +23,9 @@ class PsfScaleError : public std::runtime_error {
 // The output is square, even-sized, centred on (size/2, size/2) like every Psf.
 Psf resample_psf_to_display(const Psf& psf, double display_degrees_per_pixel);
 
+// The refusals of resample_psf_to_display for a PSF of psf_size_px pixels of psf_degrees_per_pixel,
+// without a PSF: so a session can find, before it writes anything, that its glare cannot be shown
+// at its display's scale. Throws PsfScaleError.
+void check_psf_fits_display(int psf_size_px, double psf_degrees_per_pixel, double display_degrees_per_pixel);
+
 }  // namespace glarelab

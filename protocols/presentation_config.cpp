@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "core/display_spec.h"
 #include "core/number_text.h"
 #include "protocols/experiment.h"
 #include "protocols/stimulus_duration.h"
@@ -81,6 +82,12 @@ PresentationSpec read_presentation_section(TableReader& top, const Experiment& e
   spec.feedback_timeout_text = read_text(reader, "feedback_timeout_text", spec.feedback_timeout_text, false);
 
   spec.text_height_deg = reader.positive_number("text_height_deg", spec.text_height_deg);
+  // One line of text must fit on the display: taller text cannot be rasterised onto it.
+  const double display_height_deg = centred_span_deg(experiment.display, experiment.display.height_px);
+  if (spec.text_height_deg > display_height_deg)
+    reader.fail("text_height_deg", "must fit the display: at most " + number_text(display_height_deg) +
+                                       " deg (its height at viewing_distance_mm), found " +
+                                       number_text(spec.text_height_deg));
   spec.text_cd_m2 = reader.positive_number("text_cd_m2", spec.text_cd_m2);
   // Text is drawn on the display, not through the simulated eye: brighter than white would clip.
   if (spec.text_cd_m2 > experiment.display.peak_luminance_cd_m2)

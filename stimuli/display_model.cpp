@@ -14,10 +14,7 @@ double srgb_encode(double linear) {
   return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
 
-double DisplayModel::degrees_for_centred_span(double pixels) const {
-  const double half_extent_mm = 0.5 * pixels * spec_.pixel_pitch_mm;
-  return 2.0 * std::atan(half_extent_mm / spec_.viewing_distance_mm) * kDegreesPerRadian;
-}
+double DisplayModel::degrees_for_centred_span(double pixels) const { return centred_span_deg(spec_, pixels); }
 
 double DisplayModel::pixels_for_centred_span(double degrees) const {
   return 2.0 * spec_.viewing_distance_mm * std::tan(0.5 * degrees / kDegreesPerRadian) / spec_.pixel_pitch_mm;

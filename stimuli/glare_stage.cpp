@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "glare/gl/gl_fft.h"
+#include "glare/psf_cpu.h"
 #include "glare/psf_scale.h"
 #include "stimuli/display_model.h"
 
@@ -43,6 +44,11 @@ double psf_wing_fraction(const Psf& display_psf) {
 
 double visibility_bound(double peak_cd_m2, double min_cd_m2, double wing_fraction, double floor_cd_m2) {
   return peak_cd_m2 * wing_fraction / std::max(min_cd_m2, floor_cd_m2);
+}
+
+void check_glare_fits_display(const GlareSpec& spec, const DisplaySpec& display) {
+  check_psf_fits_display(spec.grid_px, psf_degrees_per_pixel(kReferenceWavelengthNm, spec.aperture_width_mm),
+                         DisplayModel(display).degrees_per_pixel_at_centre());
 }
 
 GlareStage::GlareStage(const GlareSpec& spec, const DisplaySpec& display, std::uint64_t seed,
@@ -118,7 +124,7 @@ std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double
   options.grid_px = spec_.grid_px;
   options.aperture_width_mm = spec_.aperture_width_mm;
   options.supersampling = spec_.supersampling;
-  options.wavelength_nm = 575.0;  // Ritschel's reference wavelength (section 5)
+  options.wavelength_nm = kReferenceWavelengthNm;
   options.spectral = true;
   options.wavelength_samples = spec_.wavelength_samples;
   options.phase = PhaseForm::defocus;

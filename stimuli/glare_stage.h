@@ -72,6 +72,14 @@ double psf_wing_fraction(const Psf& display_psf);
 // max(L(x), floor) >= max(L_min, floor) this gives L_peak * wing / max(L_min, floor).
 double visibility_bound(double peak_cd_m2, double min_cd_m2, double wing_fraction, double floor_cd_m2);
 
+// The wavelength of the PSF grid: Ritschel et al. 2009's reference wavelength (section 5).
+inline constexpr double kReferenceWavelengthNm = 575.0;
+
+// Throws PsfScaleError (glare/psf_scale.h) when this glare cannot be shown at this display's pixel
+// scale (a PSF narrower than two display pixels, or coarser than one): found before a session
+// writes anything, not at its first glare trial.
+void check_glare_fits_display(const GlareSpec& spec, const DisplaySpec& display);
+
 class GlareStage {
  public:
   // `seed` seeds the eye model (the session seed). The compute backend is made on first use (or by

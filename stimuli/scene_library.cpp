@@ -9,6 +9,10 @@ namespace glarelab {
 SceneLibrary::SceneLibrary(const std::map<std::string, SceneSpec>& scenes) {
   for (const auto& [name, spec] : scenes) {
     ExrReadResult read = read_exr(spec.file);
+    if (read.image.width_px > kMaxSceneTexturePx || read.image.height_px > kMaxSceneTexturePx)
+      throw ImageError(spec.file + ": scene '" + name + "' is " + std::to_string(read.image.width_px) + " x " +
+                       std::to_string(read.image.height_px) + " px; at most " + std::to_string(kMaxSceneTexturePx) +
+                       " px a side (the texture size every OpenGL 4.5 driver must take)");
     const NonFiniteReport report = inspect_pixels(read.image);
     if (!report.clean()) {
       throw ImageError(spec.file + ": scene '" + name + "' has " + report.describe() +

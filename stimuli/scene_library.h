@@ -8,6 +8,10 @@
 
 namespace glarelab {
 
+// GL_MAX_TEXTURE_SIZE is at least 16384 in every OpenGL 4.5 implementation: larger scenes could
+// not be uploaded on some displays, and would fail mid-session.
+inline constexpr int kMaxSceneTexturePx = 16384;
+
 struct LoadedScene {
   SceneSpec spec;
   ImageRGBA image_cd_m2;  // pixel values times scale_cd_m2: linear Rec.709, Y in cd/m2

@@ -5,8 +5,10 @@
 #include <filesystem>
 #include <utility>
 
+#include "glare/psf_scale.h"
 #include "protocols/stimulus_duration.h"
 #include "runner/session/slow_flip_clock.h"
+#include "stimuli/glare_stage.h"
 #include "core/software_version.h"
 
 namespace glarelab {
@@ -33,6 +35,18 @@ std::unique_ptr<Observer> make_observer(const std::string& spec, const Experimen
   }
   throw ConfigError({"--observer", 0, 0}, "observer",
                     "unknown observer '" + spec + "' (choose keyboard, simulated or script:FILE)");
+}
+
+// True when any condition shows static or dynamic glare, on the whole frame or on one side.
+bool uses_glare(const Experiment& experiment) {
+  for (const ConditionRow& row : experiment.conditions) {
+    if (const auto sides = position_glare_modes(row)) {
+      if (sides->first != GlareMode::control || sides->second != GlareMode::control) return true;
+    } else if (glare_mode_for(experiment.glare, row) != GlareMode::control) {
+      return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace
@@ -98,6 +112,14 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment.scenes);
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
+  if (uses_glare(prepared.experiment)) {
+    try {
+      check_glare_fits_display(prepared.experiment.glare, prepared.experiment.display);
+    } catch (const PsfScaleError& error) {
+      throw ConfigError({prepared.experiment.source_file, 0, 0}, "glare",
+                        std::string("the glare cannot be shown on this [display]: ") + error.what());
+    }
+  }
   // --- response device (docs/DEVICES.md): the person answers with it, in a window or offscreen ---
   const bool device = !options.response_device.selector.empty();
   if (device && prepared.observer)

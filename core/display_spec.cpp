@@ -1,0 +1,13 @@
+#include "core/display_spec.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace glarelab {
+
+double centred_span_deg(const DisplaySpec& display, double pixels) {
+  const double half_extent_mm = 0.5 * pixels * display.pixel_pitch_mm;
+  return 2.0 * std::atan(half_extent_mm / display.viewing_distance_mm) * (180.0 / std::numbers::pi);
+}
+
+}  // namespace glarelab

@@ -1,0 +1,64 @@
+// Input that can only be judged with the scenes, display and glare together is still refused
+// before the session row exists: exit 2, the reason, and no database file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "cli_process.h"
+#include "core/exr_io.h"
+
+namespace glarelab {
+namespace {
+
+test::RunOutput run_variant(const test::ScratchDir& scratch,
+                            const std::vector<std::pair<std::string, std::string>>& replacements) {
+  const auto experiment = test::demo_variant(scratch.path(), replacements);
+  return test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated", "--db",
+                             (scratch.path() / "never.db").string()},
+                            scratch.path());
+}
+
+TEST(PrewriteChecks, GlareADisplayCannotShowIsRefusedBeforeTheSessionExists) {
+  const test::ScratchDir scratch;
+  // 100 mm pixels seen from 10 mm: one pixel spans 157 deg, the 0.84 deg PSF less than a pixel.
+  const auto run = run_variant(scratch, {{"viewing_distance_mm", "viewing_distance_mm = 10.0"},
+                                         {"pixel_pitch_mm", "pixel_pitch_mm = 100.0"}});
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("key 'glare': the glare cannot be shown on this [display]: glare/psf_scale: the PSF spans"),
+            std::string::npos)
+      << run.output;
+  EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
+}
+
+TEST(PrewriteChecks, TextTallerThanTheDisplayIsRefusedAtItsKey) {
+  const test::ScratchDir scratch;
+  const auto experiment = test::demo_variant(scratch.path(), {});
+  test::write_bytes(experiment.string(), test::read_bytes(experiment) + "\n[presentation]\ntext_height_deg = 1000\n");
+  const auto run = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
+                                       "--db", (scratch.path() / "never.db").string()},
+                                      scratch.path());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  // The demo's display: 512 px of 0.25 mm at 600 mm, 2 atan(64 / 600) = 12.1771 deg high.
+  EXPECT_NE(run.output.find("key 'presentation.text_height_deg': must fit the display: at most 12.1771 deg (its "
+                            "height at viewing_distance_mm), found 1000"),
+            std::string::npos)
+      << run.output;
+  EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
+}
+
+TEST(PrewriteChecks, ASceneNoGlTextureCanHoldIsRefused) {
+  const test::ScratchDir scratch;
+  ImageRGBA wide(16385, 1);
+  const auto scene = scratch.path() / "wide.exr";
+  write_exr(scene.string(), wide);
+  const auto run = run_variant(scratch, {{"lamp_200", "lamp_200 = { file = \"" + scene.string() + "\" }"}});
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find(scene.string() + ": scene 'lamp_200' is 16385 x 1 px; at most 16384 px a side"),
+            std::string::npos)
+      << run.output;
+  EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
+}
+
+}  // namespace
+}  // namespace glarelab
