@@ -2,9 +2,11 @@
 // write, the session clock, and the session row (runner/session/session_setup.h).
 #include "runner/session/session_setup.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <utility>
 
+#include "core/number_text.h"
 #include "glare/psf_scale.h"
 #include "protocols/stimulus_duration.h"
 #include "runner/session/slow_flip_clock.h"
@@ -47,6 +49,33 @@ bool uses_glare(const Experiment& experiment) {
     }
   }
   return false;
+}
+
+// Forced choice scores a row by its scenes' peak luminances (protocols/forced_choice.cpp). When
+// both peaks are above the display's peak, the display shows both at its white: the difference
+// the row asks about is not on the screen, yet one side is scored as correct. Without glare
+// (which spreads the excess into halos of different size) nothing else shows it, so such a row
+// is refused.
+void refuse_rows_the_display_cannot_tell_apart(const Experiment& experiment, const SceneLibrary& scenes) {
+  if (experiment.procedure != "forced_choice") return;
+  const double peak_cd_m2 = experiment.display.peak_luminance_cd_m2;
+  for (const ConditionRow& row : experiment.conditions) {
+    const std::string* a = row.find("scene_a");
+    const std::string* b = row.find("scene_b");
+    if (a == nullptr || b == nullptr) continue;
+    const auto sides = position_glare_modes(row);
+    const bool glare = sides ? (sides->first != GlareMode::control || sides->second != GlareMode::control)
+                             : glare_mode_for(experiment.glare, row) != GlareMode::control;
+    const double peak_a = scenes.get(*a).peak_cd_m2, peak_b = scenes.get(*b).peak_cd_m2;
+    if (glare || peak_a == peak_b || std::min(peak_a, peak_b) <= peak_cd_m2) continue;
+    throw ConfigError(row.where, "",
+                      "condition '" + row.name() + "': scenes '" + *a + "' (peak " + number_text(peak_a) +
+                          " cd/m2) and '" + *b + "' (peak " + number_text(peak_b) +
+                          " cd/m2) are both above the display's peak_luminance_cd_m2 (" + number_text(peak_cd_m2) +
+                          "): it shows both at its white, so the difference this row scores is not on the screen. "
+                          "Lower their scale_cd_m2, raise the display's peak, or show them with glare, which spreads "
+                          "the excess");
+  }
 }
 
 }  // namespace
@@ -112,6 +141,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment.scenes);
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
+  refuse_rows_the_display_cannot_tell_apart(prepared.experiment, *prepared.scenes);
   if (uses_glare(prepared.experiment)) {
     try {
       check_glare_fits_display(prepared.experiment.glare, prepared.experiment.display);
