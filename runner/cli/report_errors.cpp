@@ -20,57 +20,51 @@
 
 namespace glarelab::cli {
 
+namespace {
+
+int report(const std::string& message, int exit_code) {
+  std::cerr << "error: " << message << "\n";
+  return exit_code;
+}
+
+}  // namespace
+
 int report_errors(const std::function<int()>& body) {
   try {
     return body();
   } catch (const ConfigError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report(error.what(), kExitBadInput);
   } catch (const ImageError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report(error.what(), kExitBadInput);
   } catch (const DisplayError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitDevice;
+    return report(error.what(), kExitDevice);
   } catch (const DeviceError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitDevice;
+    return report(error.what(), kExitDevice);
   } catch (const TrackerError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitDevice;
+    return report(error.what(), kExitDevice);
   } catch (const StoreError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitStore;
+    return report(error.what(), kExitStore);
   } catch (const std::filesystem::filesystem_error& error) {
     // Results folders and output files: the storage could not be written or read.
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitStore;
+    return report(error.what(), kExitStore);
   } catch (const PsfScaleError& error) {
     // The glare cannot be sampled at this display's scale: the configuration asks the impossible.
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report(error.what(), kExitBadInput);
   } catch (const ClosedApertureError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report(error.what(), kExitBadInput);
   } catch (const TextError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report(error.what(), kExitBadInput);
   } catch (const std::invalid_argument& error) {
     // Values the layers below refuse (an option outside what a function can compute).
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report(error.what(), kExitBadInput);
   } catch (const std::out_of_range& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report(error.what(), kExitBadInput);
   } catch (const std::length_error& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report(error.what(), kExitBadInput);
   } catch (const std::bad_alloc&) {
-    std::cerr << "error: out of memory: the input asks for more memory than this machine has\n";
-    return kExitBadInput;
+    return report("out of memory: the input asks for more memory than this machine has", kExitBadInput);
   } catch (const std::exception& error) {
-    std::cerr << "error: internal error (please report it): " << error.what() << "\n";
-    return kExitFailure;
+    return report(std::string("internal error (please report it): ") + error.what(), kExitFailure);
   }
 }
 
