@@ -2,6 +2,8 @@
 // forced-choice session run in this process, pressed by the test as trials appear; unplugging it
 // pauses the session until it is plugged back; the options are checked before anything is opened.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <sqlite3.h>
 
 #include <atomic>
@@ -261,7 +263,10 @@ TEST(HidSession, UnplugMidTrialPausesWithAMessageAndReRunsTheTrialAfterReplug) {
   for (std::size_t k = 0; k < trials.size(); ++k) {  // every trial exactly once, in order
     EXPECT_EQ(trials[k].trial_index, static_cast<int>(k));
     EXPECT_EQ(trials[k].response, expected_response(static_cast<int>(k)));
-    EXPECT_EQ(store.load_frames(trials[k].id).size(), 3u);  // the re-run's frames only
+    // The re-run's stimulus frames only. The response phase's flips (negative frame_index) last
+    // until the driver answers, so their number depends on the machine's load.
+    const auto frames = store.load_frames(trials[k].id);
+    EXPECT_EQ(std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return f.frame_index >= 0; }), 3);
   }
   const auto unplugged = events_of_kind(store, "device_unplugged");
   const auto reconnected = events_of_kind(store, "device_reconnected");
