@@ -239,6 +239,26 @@ TEST(TrackerReplay, ReadsDocumentedCsvColumns) {
   }
 }
 
+// Found by fuzz/replay_tracker_fuzzer.cpp: an eye of 1e95 was converted to int (undefined
+// behaviour). Eyes are 0 or 1 (docs/TRACKERS.md); anything else is refused naming file, line, column.
+TEST(TrackerReplay, RefusesAnEyeOtherThanZeroOrOneNamingTheCell) {
+  test::ScratchDir dir;
+  const std::string header = "session_time_s,eye,device_time_s,pupil_diameter_mm,gaze_x,gaze_y,confidence,valid\n";
+  for (const std::string eye : {"1e95", "2", "-1", "0.5", "nan"}) {
+    const auto path = dir.path() / "eyes.csv";
+    std::ofstream(path) << header << "0.25,1,1.25,5.4,0.2,0.8,0.5,1\n"
+                        << "0.5," << eye << ",1.5,5.5,0.1,0.9,1,1\n";
+    try {
+      read_tracker_csv(path.string());
+      ADD_FAILURE() << "eye " << eye << " was accepted";
+    } catch (const TrackerError& error) {
+      EXPECT_NE(std::string(error.what()).find("eyes.csv:3:5: column 'eye': '" + eye + "' (expected 0 or 1)"),
+                std::string::npos)
+          << error.what();
+    }
+  }
+}
+
 TEST(TrackerLogger, WritesEverySampleWhileTheMainConnectionCommitsTrials) {
   test::ScratchDir dir;
   const std::string db = (dir.path() / "log.db").string();

@@ -51,7 +51,13 @@ RecordedTrack read_tracker_csv(const std::string& path) {
       continue;
     }
     TrackerSample sample;
-    sample.eye = static_cast<int>(number(0));
+    // Eye ids are 0 (right) and 1 (left); anything else is refused here, before the conversion to
+    // int, which is undefined for numbers outside int's range (a typo such as 1e95 in the file).
+    const double eye = number(0);
+    if (eye != 0.0 && eye != 1.0)
+      throw TrackerError(path + ":" + std::to_string(cell(0).where.line) + ":" + std::to_string(cell(0).where.column) +
+                         ": column 'eye': '" + cell(0).text + "' (expected 0 or 1)");
+    sample.eye = static_cast<int>(eye);
     sample.device_time_s = number(1);
     sample.session_time_s = number(2);
     sample.pupil_diameter_mm = cell(3).text.empty() ? 0.0 : number(3);
