@@ -13,6 +13,12 @@
 namespace glarelab::analysis {
 namespace {
 
+// Finalizes on every path.
+struct StatementGuard {
+  sqlite3_stmt* stmt;
+  ~StatementGuard() { sqlite3_finalize(stmt); }
+};
+
 // A read-only connection that names the file in every error.
 class ReadOnlyDatabase {
  public:
@@ -44,9 +50,10 @@ class ReadOnlyDatabase {
   // Column names of `table`; empty when the table does not exist.
   std::set<std::string> columns(const std::string& table) const {
     std::set<std::string> names;
-    sqlite3_stmt* stmt = prepare("PRAGMA table_info(" + table + ")");
-    while (step(stmt)) names.insert(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 1)));
-    sqlite3_finalize(stmt);
+    // Finalized also when step throws (a file that is not a database fails there): an unfinalized
+    // statement makes sqlite3_close fail and the connection leak.
+    const StatementGuard guard{prepare("PRAGMA table_info(" + table + ")")};
+    while (step(guard.stmt)) names.insert(reinterpret_cast<const char*>(sqlite3_column_text(guard.stmt, 1)));
     return names;
   }
   void exec(const char* sql) const {
@@ -55,22 +62,14 @@ class ReadOnlyDatabase {
     }
   }
   int user_version() const {
-    sqlite3_stmt* stmt = prepare("PRAGMA user_version");
-    const int version = step(stmt) ? sqlite3_column_int(stmt, 0) : 0;
-    sqlite3_finalize(stmt);
-    return version;
+    const StatementGuard guard{prepare("PRAGMA user_version")};
+    return step(guard.stmt) ? sqlite3_column_int(guard.stmt, 0) : 0;
   }
   const std::string& path() const { return path_; }
 
  private:
   std::string path_;
   sqlite3* db_ = nullptr;
-};
-
-// Finalizes on every path.
-struct StatementGuard {
-  sqlite3_stmt* stmt;
-  ~StatementGuard() { sqlite3_finalize(stmt); }
 };
 
 std::string text(sqlite3_stmt* stmt, int column) {

@@ -21,6 +21,7 @@ enum class RandomStream : std::uint32_t {
   glare_gl_test_input = 9,  // random test signals for the GL glare engine tests
   block_order = 10,          // random block orders, one seed per participant (protocols/block_design.h)
   block_trial_order = 11,    // trial orders within blocks, one seed per participant and block
+  fuzz_mutation = 12,        // deterministic input mutations of the fuzz targets' replay runs (fuzz/)
 };
 
 class CounterRandom {

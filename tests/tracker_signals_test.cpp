@@ -7,6 +7,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <string>
+#include <vector>
 
 #include "core/clock.h"
 #include "runner/store/result_store.h"
@@ -71,6 +74,50 @@ TEST(TrackerPupilLabsMessages, DecodesPupilAndRejectsMalformed) {
   const std::string garbage = "\xc1\xc1\xc1";
   EXPECT_FALSE(decode_pupil_labs_message("pupil.0.3d", garbage.data(), garbage.size()));
   EXPECT_FALSE(decode_pupil_labs_message("notify.x", good.data(), good.size()));
+}
+
+// Found by fuzz/pupil_labs_fuzzer.cpp: this 79-byte payload declares an array of 0x08008ca2
+// elements, which msgpack allocated (4 GB) before finding the message too short. Counts larger
+// than the payload can hold are now refused by the unpack limit before any allocation. The
+// decoder's answer was already nullopt (the allocation failed or the parse did), so what this test
+// can see is that such messages stay refused and that real messages, nested arrays and maps and
+// long strings included, still decode under the limit; the allocation bound itself is checked by
+// the fuzz target under libFuzzer's malloc limit (scripts/fuzz.sh, docs/HARDENING.md).
+TEST(TrackerPupilLabsMessages, RefusesCountsLargerThanTheMessageAndStillDecodesNestedMessages) {
+  const std::string found(
+      "\x85\xa5\xa2\x69\x64\x01\x63\xaa\x70\x75\x70\x69\x70\x75\x70\x69\x6c\x2e\x31\x2e\x00\xdd\x08\x00\x8c\xa2"
+      "\x69\x64\x01\xa9\x74\x69\x6d\x65\x73\x74\x61\x6d\x70\x64\x5f\x00\x69\x6c\x2e\x31\xef\x0a\x3d\x70\xa3\xd7"
+      "\x0a\xab\x2e\x33\x64\x00\x85\x01\x00\x00\x00\x00\x00\x00\x00\x75\x70\x69\x70\x66\x66\x66",
+      79);
+  EXPECT_FALSE(decode_pupil_labs_message("pupil.0.3d", found.data(), found.size()));
+  for (const std::string& huge : {std::string("\xdd\xff\xff\xff\xff", 5), std::string("\xdf\xff\xff\xff\xff", 5),
+                                  std::string("\x81\xa1x\xdd\x10\x00\x00\x00", 8),
+                                  std::string("\x81\xa1x\xdb\xff\xff\xff\xff", 8)})
+    EXPECT_FALSE(decode_pupil_labs_message("pupil.0.3d", huge.data(), huge.size()));
+
+  // A message as Pupil Capture sends it: nested maps, arrays and a long string around the fields.
+  msgpack::sbuffer buffer;
+  msgpack::packer<msgpack::sbuffer> packer(buffer);
+  packer.pack_map(7);
+  packer.pack(std::string("topic"));
+  packer.pack(std::string("gaze.3d.01."));
+  packer.pack(std::string("norm_pos"));
+  packer.pack(std::vector<double>{0.25, 0.75});
+  packer.pack(std::string("confidence"));
+  packer.pack(0.5);
+  packer.pack(std::string("timestamp"));
+  packer.pack(7.0);
+  packer.pack(std::string("gaze_normals_3d"));
+  packer.pack(std::map<std::string, std::vector<double>>{{"0", {0.1, 0.2, 0.97}}, {"1", {0.0, 0.1, 0.99}}});
+  packer.pack(std::string("base_data"));
+  packer.pack(std::vector<std::vector<int>>{{}, {1}, {1, 2, 3}});
+  packer.pack(std::string("note"));
+  packer.pack(std::string(300, 'x'));
+  const auto gaze = decode_pupil_labs_message("gaze.3d.01.", buffer.data(), buffer.size());
+  ASSERT_TRUE(gaze);
+  EXPECT_EQ(gaze->norm_x, 0.25);
+  EXPECT_EQ(gaze->norm_y, 0.75);
+  EXPECT_EQ(gaze->timestamp_s, 7.0);
 }
 
 TEST(TrackerPupilLabsMessages, ParsesAddresses) {
@@ -236,6 +283,26 @@ TEST(TrackerReplay, ReadsDocumentedCsvColumns) {
     FAIL();
   } catch (const TrackerError& error) {
     EXPECT_NE(std::string(error.what()).find("bad.csv:2:"), std::string::npos) << error.what();
+  }
+}
+
+// Found by fuzz/replay_tracker_fuzzer.cpp: an eye of 1e95 was converted to int (undefined
+// behaviour). Eyes are 0 or 1 (docs/TRACKERS.md); anything else is refused naming file, line, column.
+TEST(TrackerReplay, RefusesAnEyeOtherThanZeroOrOneNamingTheCell) {
+  test::ScratchDir dir;
+  const std::string header = "session_time_s,eye,device_time_s,pupil_diameter_mm,gaze_x,gaze_y,confidence,valid\n";
+  for (const std::string eye : {"1e95", "2", "-1", "0.5", "nan"}) {
+    const auto path = dir.path() / "eyes.csv";
+    std::ofstream(path) << header << "0.25,1,1.25,5.4,0.2,0.8,0.5,1\n"
+                        << "0.5," << eye << ",1.5,5.5,0.1,0.9,1,1\n";
+    try {
+      read_tracker_csv(path.string());
+      ADD_FAILURE() << "eye " << eye << " was accepted";
+    } catch (const TrackerError& error) {
+      EXPECT_NE(std::string(error.what()).find("eyes.csv:3:5: column 'eye': " + eye + " is not an eye (0 right, 1 left)"),
+                std::string::npos)
+          << error.what();
+    }
   }
 }
 

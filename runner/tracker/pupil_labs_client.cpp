@@ -98,7 +98,14 @@ PupilLabsSettings parse_pupil_labs_address(const std::string& spec) {
 std::optional<PupilLabsMessage> decode_pupil_labs_message(const std::string& topic, const void* payload,
                                                           std::size_t payload_bytes) {
   try {
-    const msgpack::object_handle handle = msgpack::unpack(static_cast<const char*>(payload), payload_bytes);
+    // msgpack allocates an array's or map's elements when it reads the declared count, before the
+    // elements themselves: without a limit an 80-byte message declaring 2^28 elements made it
+    // allocate 4 GB (found by fuzz/pupil_labs_fuzzer.cpp). Each element takes at least one byte
+    // (a map pair two) and a string or binary at most the payload, so no valid message declares
+    // more than payload_bytes of anything; a larger count is refused (unpack throws).
+    const msgpack::unpack_limit limit(payload_bytes, payload_bytes / 2, payload_bytes, payload_bytes, payload_bytes);
+    const msgpack::object_handle handle =
+        msgpack::unpack(static_cast<const char*>(payload), payload_bytes, nullptr, nullptr, limit);
     const msgpack::object& root = handle.get();
     if (root.type != msgpack::type::MAP) return std::nullopt;
     PupilLabsMessage message;

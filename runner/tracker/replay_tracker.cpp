@@ -69,6 +69,8 @@ RecordedTrack read_tracker_csv(const std::string& path) {
       return checked(value, cell(i), path, columns[i], ok, expected);
     };
     TrackerSample sample;
+    // Checked before the conversion to int, which is undefined for numbers outside int's range
+    // (a typo such as 1e95 in the file).
     const double eye = number(0);
     sample.eye = static_cast<int>(check(0, eye, eye == 0.0 || eye == 1.0, "an eye (0 right, 1 left)"));
     sample.device_time_s = check(1, number(1), true, "a finite time");
