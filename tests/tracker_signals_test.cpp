@@ -76,7 +76,7 @@ TEST(TrackerPupilLabsMessages, DecodesPupilAndRejectsMalformed) {
   EXPECT_FALSE(decode_pupil_labs_message("notify.x", good.data(), good.size()));
 }
 
-// Found by fuzz/pupil_labs_fuzzer.cpp: this 79-byte payload declares an array of 0x08008ca2
+// Found by fuzz/pupil_labs_fuzzer.cpp: this 74-byte payload declares an array of 0x08008ca2
 // elements, which msgpack allocated (4 GB) before finding the message too short. Counts larger
 // than the payload can hold are now refused by the unpack limit before any allocation. The
 // decoder's answer was already nullopt (the allocation failed or the parse did), so what this test
@@ -84,11 +84,12 @@ TEST(TrackerPupilLabsMessages, DecodesPupilAndRejectsMalformed) {
 // long strings included, still decode under the limit; the allocation bound itself is checked by
 // the fuzz target under libFuzzer's malloc limit (scripts/fuzz.sh, docs/HARDENING.md).
 TEST(TrackerPupilLabsMessages, RefusesCountsLargerThanTheMessageAndStillDecodesNestedMessages) {
-  const std::string found(
+  const char found_bytes[] =
       "\x85\xa5\xa2\x69\x64\x01\x63\xaa\x70\x75\x70\x69\x70\x75\x70\x69\x6c\x2e\x31\x2e\x00\xdd\x08\x00\x8c\xa2"
       "\x69\x64\x01\xa9\x74\x69\x6d\x65\x73\x74\x61\x6d\x70\x64\x5f\x00\x69\x6c\x2e\x31\xef\x0a\x3d\x70\xa3\xd7"
-      "\x0a\xab\x2e\x33\x64\x00\x85\x01\x00\x00\x00\x00\x00\x00\x00\x75\x70\x69\x70\x66\x66\x66",
-      79);
+      "\x0a\xab\x2e\x33\x64\x00\x85\x01\x00\x00\x00\x00\x00\x00\x00\x75\x70\x69\x70\x66\x66\x66";
+  const std::string found(found_bytes, sizeof found_bytes - 1);  // the literal's bytes, not its NUL
+  ASSERT_EQ(found.size(), 74u);
   EXPECT_FALSE(decode_pupil_labs_message("pupil.0.3d", found.data(), found.size()));
   for (const std::string& huge : {std::string("\xdd\xff\xff\xff\xff", 5), std::string("\xdf\xff\xff\xff\xff", 5),
                                   std::string("\x81\xa1x\xdd\x10\x00\x00\x00", 8),

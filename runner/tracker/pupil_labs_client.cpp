@@ -99,7 +99,7 @@ std::optional<PupilLabsMessage> decode_pupil_labs_message(const std::string& top
                                                           std::size_t payload_bytes) {
   try {
     // msgpack allocates an array's or map's elements when it reads the declared count, before the
-    // elements themselves: without a limit an 80-byte message declaring 2^28 elements made it
+    // elements themselves: without a limit a 74-byte message declaring 0x08008ca2 elements made it
     // allocate 4 GB (found by fuzz/pupil_labs_fuzzer.cpp). Each element takes at least one byte
     // (a map pair two) and a string or binary at most the payload, so no valid message declares
     // more than payload_bytes of anything; a larger count is refused (unpack throws).
