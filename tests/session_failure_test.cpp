@@ -16,39 +16,41 @@
 namespace glarelab {
 namespace {
 
-TEST(SessionFailure, AScriptThatRunsOutEndsTheSessionAbortedWithTheReasonAndExit2) {
+TEST(SessionFailure, AScriptShorterThanTheDesignOrWithAWrongLineIsRefusedBeforeAnythingIsWritten) {
   const test::ScratchDir scratch;
+  const std::string demo = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
   const auto script = scratch.path() / "answers.txt";
+  const auto db = scratch.path() / "never.db";
+  const auto run = [&] {
+    return test::run_glarelab(
+        {"run", demo, "--display", "offscreen", "--observer", "script:" + script.string(), "--db", db.string()},
+        scratch.path());
+  };
   test::write_bytes(script.string(), "1\n0\n1\n");  // the demo has 20 trials
-  const auto db = scratch.path() / "short.db";
-  const auto run = test::run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
-                                       "offscreen", "--observer", "script:" + script.string(), "--db", db.string()},
-                                      scratch.path());
-  EXPECT_EQ(run.exit_code, 2) << run.output;
-  const std::string message = script.string() + ":4: response script holds 3 responses; trial 3 needs response 4";
-  EXPECT_NE(run.output.find(message), std::string::npos) << run.output;
+  const auto short_script = run();
+  EXPECT_EQ(short_script.exit_code, 2) << short_script.output;
+  EXPECT_NE(short_script.output.find(script.string() + ":4: response script holds 3 responses; trial 3 needs response 4"),
+            std::string::npos)
+      << short_script.output;
+  EXPECT_FALSE(std::filesystem::exists(db));
 
+  std::string answers;
+  for (int k = 0; k < 20; ++k) answers += k == 11 ? "up\n" : "1\n";
+  test::write_bytes(script.string(), answers);
+  const auto wrong_line = run();
+  EXPECT_EQ(wrong_line.exit_code, 2) << wrong_line.output;
+  EXPECT_NE(wrong_line.output.find(script.string() + ":12:1: response 'up' is not allowed"), std::string::npos)
+      << wrong_line.output;
+  EXPECT_FALSE(std::filesystem::exists(db));
+
+  // A script that ends in "abort" is a complete script: the session runs until that line.
+  answers = "1\n0\nabort\n";
+  test::write_bytes(script.string(), answers);
+  const auto aborted = run();
+  EXPECT_EQ(aborted.exit_code, 130) << aborted.output;
   const ResultStore store(db.string());
-  const auto sessions = store.load_sessions();
-  ASSERT_EQ(sessions.size(), 1u);
-  EXPECT_EQ(sessions[0].status, "aborted");
-  EXPECT_FALSE(sessions[0].finished_utc.empty());
-  EXPECT_EQ(store.load_trials(sessions[0].id).size(), 3u);  // the answered trials are kept
-  const auto aborted = test::session_event_messages(store, "aborted");
-  ASSERT_EQ(aborted.size(), 1u);
-  EXPECT_EQ(aborted[0], "failed: " + message);
-
-  // Still resumable: with the missing answers added, the resume finishes the session.
-  std::string twenty_answers = "1\n0\n1\n";
-  for (int k = 3; k < 20; ++k) twenty_answers += "1\n";
-  test::write_bytes(script.string(), twenty_answers);
-  const auto resumed = test::run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
-                                           "offscreen", "--observer", "script:" + script.string(), "--db",
-                                           db.string(), "--resume", std::to_string(sessions[0].id)},
-                                          scratch.path());
-  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
-  EXPECT_EQ(store.load_sessions().at(0).status, "completed");
-  EXPECT_EQ(store.load_trials(sessions[0].id).size(), 20u);
+  EXPECT_EQ(store.load_sessions().at(0).status, "aborted");
+  EXPECT_EQ(store.load_trials(store.load_sessions().at(0).id).size(), 2u);
 }
 
 TEST(SessionFailure, ResumingWithAnotherExperimentsFileIsRefused) {

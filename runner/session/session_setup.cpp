@@ -78,6 +78,22 @@ void refuse_rows_the_display_cannot_tell_apart(const Experiment& experiment, con
   }
 }
 
+// A response script answers trial k with its line k, whatever happened before, so the whole
+// session can be run on it alone before anything is written: a line that is not an answer to its
+// trial, or a script shorter than the design, is found here at its line (ConfigError, exit 2)
+// rather than at that trial, after the session row exists. Adaptive procedures follow the
+// script's answers to their end as the session would.
+void dry_run_script(const Experiment& experiment, const SceneLibrary& scenes, Observer& script) {
+  constexpr int kMaxDryRunTrials = 1000000;  // far beyond any design; a safeguard, not a limit
+  const std::unique_ptr<Procedure> procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
+  for (int trial = 0; trial < kMaxDryRunTrials && !procedure->finished(); ++trial) {
+    const TrialPlan plan = procedure->next_trial();
+    const Response response = script.respond(plan);
+    if (response.value == "abort") return;  // the session ends there, as Escape would end it
+    procedure->record_response(plan, response);
+  }
+}
+
 }  // namespace
 
 SessionStart load_session_start(const RunOptions& options, std::ostream& progress) {
@@ -142,6 +158,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
   refuse_rows_the_display_cannot_tell_apart(prepared.experiment, *prepared.scenes);
+  if (options.observer.starts_with("script:")) dry_run_script(prepared.experiment, *prepared.scenes, *prepared.observer);
   if (uses_glare(prepared.experiment)) {
     try {
       check_glare_fits_display(prepared.experiment.glare, prepared.experiment.display);
