@@ -4,6 +4,7 @@
 
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <string>
@@ -107,6 +108,29 @@ TEST(SessionFailure, SigtermWhileGlareFramesArePreparedEndsWithinAFrameNotATrial
   const auto aborted = test::session_event_messages(store, "aborted");
   ASSERT_EQ(aborted.size(), 1u);
   EXPECT_EQ(aborted[0], "interrupted (Ctrl-C or SIGTERM)");
+}
+
+TEST(SessionFailure, TwoRunsStartedTogetherOnOneDatabaseGetDistinctParticipantNumbers) {
+  const test::ScratchDir scratch;
+  const auto db = scratch.path() / "shared.db";
+  const std::string demo = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
+  // Both count the sessions before either writes its row (opening a display takes far longer
+  // than starting a process), so both count 0.
+  test::GlarelabProcess first({"run", demo, "--display", "offscreen", "--observer", "simulated", "--db", db.string(),
+                               "--stop-after", "1"},
+                              scratch.path() / "first.txt");
+  test::GlarelabProcess second({"run", demo, "--display", "offscreen", "--observer", "simulated", "--db", db.string(),
+                                "--stop-after", "1"},
+                               scratch.path() / "second.txt");
+  EXPECT_EQ(first.wait(), 0) << test::read_bytes(scratch.path() / "first.txt");
+  EXPECT_EQ(second.wait(), 0) << test::read_bytes(scratch.path() / "second.txt");
+  const ResultStore store(db.string());
+  ASSERT_EQ(store.load_sessions().size(), 2u);
+  std::vector<std::string> numbers = test::session_event_messages(store, "participant_number");
+  ASSERT_EQ(numbers.size(), 2u);
+  std::sort(numbers.begin(), numbers.end());
+  EXPECT_EQ(numbers[0].rfind("1 (1 + 0 earlier session(s)", 0), 0u) << numbers[0];
+  EXPECT_EQ(numbers[1].rfind("2 (1 + 1 earlier session(s)", 0), 0u) << numbers[1];
 }
 
 }  // namespace

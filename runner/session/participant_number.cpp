@@ -35,10 +35,11 @@ int count_sessions(const std::string& db_path, const std::string& experiment_nam
 ParticipantNumber choose_participant_number(const std::optional<int>& from_option,
                                             const std::optional<int>& from_file, const std::string& db_path,
                                             const std::string& experiment_name) {
-  if (from_option) return {*from_option, "from --participant-number"};
-  if (from_file) return {*from_file, "from the experiment file ([procedure] participant_number)"};
+  if (from_option) return {*from_option, "from --participant-number", std::nullopt};
+  if (from_file) return {*from_file, "from the experiment file ([procedure] participant_number)", std::nullopt};
   const int earlier = count_sessions(db_path, experiment_name);
-  return {earlier + 1, "1 + " + std::to_string(earlier) + " earlier session(s) of '" + experiment_name + "' in " + db_path};
+  return {earlier + 1, "1 + " + std::to_string(earlier) + " earlier session(s) of '" + experiment_name + "' in " + db_path,
+          earlier};
 }
 
 }  // namespace glarelab

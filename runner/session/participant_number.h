@@ -11,6 +11,9 @@ namespace glarelab {
 struct ParticipantNumber {
   int value = 1;
   std::string source;  // how it was chosen, for the 'participant_number' session event
+  // Set when the number is 1 + the sessions counted in the database: the session row must then be
+  // written only while that count still holds (ResultStore::begin_session_after).
+  std::optional<int> earlier_sessions;
 };
 
 // Sessions of `experiment_name` in the database at db_path, read without writing (0 when the

@@ -72,9 +72,20 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   if ((tracker.live() || device.active()) && !display->real_time())
     pacer = std::make_unique<RealTimePacer>(display->refresh_hz());
 
-  // 3. The session row.
-  result.session_id = open_session_row(start, prepared, options, *display, *clock, renderer, first_trial,
-                                       result.trials_in_design);
+  // 3. The session row. A participant number counted from the database can be taken by another
+  // run between the count and this write (two runs started together): the design is then made
+  // again for the next free number, so no two sessions share a block order by accident.
+  std::optional<std::int64_t> session_id;
+  while (!(session_id = open_session_row(start, prepared, options, *display, *clock, renderer, first_trial,
+                                         result.trials_in_design))) {
+    start.participant = choose_participant_number(std::nullopt, std::nullopt, start.db_path, prepared.experiment.name);
+    prepared.experiment.design.participant_number = start.participant->value;
+    const std::string observer_description = prepared.observer_description;  // the device's, when one answers
+    prepared = prepare_session(std::move(prepared.experiment), options);
+    prepared.observer_description = observer_description;
+    result.trials_in_design = prepared.procedure->planned_trials();
+  }
+  result.session_id = *session_id;
   ResultStore& store = *start.store;
   // From here on a failure (a GL error mid-run, an observer script that runs out of answers, glare
   // that cannot be computed) ends the session as aborted with its reason, never left running.

@@ -225,7 +225,7 @@ std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, 
   return clock;
 }
 
-std::int64_t open_session_row(SessionStart& start, const PreparedSession& prepared, const RunOptions& options,
+std::optional<std::int64_t> open_session_row(SessionStart& start, const PreparedSession& prepared, const RunOptions& options,
                               const DisplayBackend& display, const SessionClock& clock, const std::string& renderer,
                               int first_trial, int trials_in_design) {
   if (!start.store) start.store = std::make_unique<ResultStore>(start.db_path);
@@ -250,7 +250,11 @@ std::int64_t open_session_row(SessionStart& start, const PreparedSession& prepar
   session.display_backend = display.kind();
   session.clock = clock.name();
   session.observer = prepared.observer_description;
-  const std::int64_t session_id = store.begin_session(session);
+  const std::optional<int> earlier = start.participant->earlier_sessions;
+  const std::optional<std::int64_t> inserted =
+      earlier ? store.begin_session_after(session, *earlier) : std::optional<std::int64_t>(store.begin_session(session));
+  if (!inserted) return std::nullopt;
+  const std::int64_t session_id = *inserted;
   store.log_event(session_id, 0.0, "display",
                   display.kind() + " " + std::to_string(display.width_px()) + "x" +
                       std::to_string(display.height_px()) + " at " + std::to_string(display.refresh_hz()) +

@@ -66,8 +66,9 @@ std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, 
 
 // The session row: a resumed one reopened (with a `resumed` event), or a new one with its setup
 // events (display, duration roundings, participant number, clipping scenes). Opens the store of a
-// new session. Returns the session id.
-std::int64_t open_session_row(SessionStart& start, const PreparedSession& prepared, const RunOptions& options,
+// new session. Returns the session id, or nothing when the participant number was counted from
+// the database and another run has since taken it (nothing is written then).
+std::optional<std::int64_t> open_session_row(SessionStart& start, const PreparedSession& prepared, const RunOptions& options,
                               const DisplayBackend& display, const SessionClock& clock, const std::string& renderer,
                               int first_trial, int trials_in_design);
 

@@ -367,6 +367,18 @@ std::int64_t ResultStore::begin_session(const SessionRecord& session) {
   return sqlite3_last_insert_rowid(db_);
 }
 
+std::optional<std::int64_t> ResultStore::begin_session_after(const SessionRecord& session, int earlier_sessions) {
+  Transaction transaction(db_, path_, "inserting a session");
+  {
+    Statement count(db_, path_, "SELECT COUNT(*) FROM sessions WHERE experiment = ?1", "counting earlier sessions");
+    count.bind(1, session.experiment);
+    if (!count.step() || count.int64(0) != earlier_sessions) return std::nullopt;  // rolled back
+  }
+  const std::int64_t session_id = begin_session(session);
+  transaction.commit();
+  return session_id;
+}
+
 void ResultStore::finish_session(std::int64_t session_id, const std::string& status) {
   const std::string what = "finishing session " + std::to_string(session_id);
   if (status != "completed" && status != "aborted") {

@@ -35,6 +35,10 @@ class ResultStore {
 
   // Inserts a session with status "running"; returns its id.
   std::int64_t begin_session(const SessionRecord& session);
+  // begin_session in one transaction with a count of the sessions of session.experiment already
+  // in the database: nothing is written, and nothing returned, when that count is no longer
+  // `earlier_sessions` (another run took the participant number it was chosen from).
+  std::optional<std::int64_t> begin_session_after(const SessionRecord& session, int earlier_sessions);
   // Sets status (completed | aborted) and finished_utc.
   void finish_session(std::int64_t session_id, const std::string& status);
   // Marks a resumed session running again (finished_utc cleared).
