@@ -15,92 +15,10 @@
 #include <filesystem>
 #include <system_error>
 
+#include "runner/store/schema_migrations.h"
+
 namespace glarelab {
 namespace {
-
-// Schema migrations, in order: kMigrations[i] upgrades user_version i to i + 1. Each runs in
-// its own transaction together with the user_version bump, so a crash leaves the database at
-// a whole version. Published scripts are never edited; a schema change appends a script.
-constexpr const char* kMigrations[] = {
-    // 0 -> 1: the DESIGN contract tables.
-    R"sql(
-CREATE TABLE sessions (
-  id INTEGER PRIMARY KEY,
-  experiment TEXT NOT NULL,
-  participant TEXT NOT NULL,
-  seed INTEGER NOT NULL,
-  started_utc TEXT NOT NULL,
-  finished_utc TEXT,
-  status TEXT NOT NULL CHECK(status IN ('running','completed','aborted')),
-  config TEXT NOT NULL,
-  software_version TEXT NOT NULL,
-  renderer TEXT NOT NULL,
-  display_backend TEXT NOT NULL,
-  clock TEXT NOT NULL,
-  observer TEXT NOT NULL
-);
-CREATE TABLE trials (
-  id INTEGER PRIMARY KEY,
-  session_id INTEGER NOT NULL REFERENCES sessions(id),
-  trial_index INTEGER NOT NULL,
-  block INTEGER NOT NULL,
-  procedure TEXT NOT NULL CHECK(procedure IN ('forced_choice','staircase','quest','adjustment','rating')),
-  condition TEXT NOT NULL,
-  intensity REAL,
-  response TEXT NOT NULL,
-  correct INTEGER CHECK(correct IN (0, 1)),
-  response_time_s REAL,
-  onset_s REAL NOT NULL,
-  staircase TEXT,
-  reversal INTEGER,
-  started_utc TEXT NOT NULL,
-  UNIQUE(session_id, trial_index)
-);
-CREATE TABLE frames (
-  session_id INTEGER NOT NULL REFERENCES sessions(id),
-  trial_id INTEGER NOT NULL REFERENCES trials(id),
-  frame_index INTEGER NOT NULL,
-  scheduled_s REAL NOT NULL,
-  flip_s REAL NOT NULL,
-  dropped INTEGER NOT NULL CHECK(dropped IN (0, 1))
-);
-CREATE TABLE tracker_samples (
-  session_id INTEGER NOT NULL REFERENCES sessions(id),
-  eye INTEGER NOT NULL,
-  device_time_s REAL NOT NULL,
-  session_time_s REAL NOT NULL,
-  pupil_diameter_mm REAL,
-  gaze_x REAL,
-  gaze_y REAL,
-  confidence REAL NOT NULL,
-  valid INTEGER NOT NULL CHECK(valid IN (0, 1))
-);
-CREATE TABLE session_events (
-  id INTEGER PRIMARY KEY,
-  session_id INTEGER NOT NULL REFERENCES sessions(id),
-  session_time_s REAL NOT NULL,
-  wall_utc TEXT NOT NULL,
-  kind TEXT NOT NULL,
-  message TEXT NOT NULL
-);
-CREATE INDEX trials_session_id ON trials(session_id);
-CREATE INDEX frames_trial_id ON frames(trial_id);
--- last_flip_s and frame_count look frames up by session on resume.
-CREATE INDEX frames_session_id ON frames(session_id);
-CREATE INDEX tracker_samples_session_id ON tracker_samples(session_id);
-CREATE INDEX session_events_session_id ON session_events(session_id);
-)sql",
-    // 1 -> 2: the settings of double-adjustment trials (two comparison spots per trial).
-    R"sql(
-CREATE TABLE adjustments (
-  trial_id INTEGER NOT NULL REFERENCES trials(id),
-  spot INTEGER NOT NULL CHECK(spot IN (0, 1)),
-  value_cd_m2 REAL NOT NULL,
-  PRIMARY KEY (trial_id, spot)
-);
-)sql",
-};
-static_assert(std::size(kMigrations) == ResultStore::kSchemaVersion, "one migration per schema version");
 
 [[noreturn]] void fail(sqlite3* db, const std::string& path, const std::string& what) {
   const char* message = db != nullptr ? sqlite3_errmsg(db) : "out of memory";
@@ -327,7 +245,7 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
       // Another connection (a second process opening the same new file) may have migrated
       // between the version read above and this write lock: read it again under the lock.
       if (read_user_version(db_, path_) > from) continue;
-      exec(db_, path_, kMigrations[static_cast<std::size_t>(from)], what);
+      exec(db_, path_, kSchemaMigrations[static_cast<std::size_t>(from)], what);
       const std::string bump = "PRAGMA user_version=" + std::to_string(from + 1);
       exec(db_, path_, bump.c_str(), what);
       transaction.commit();
