@@ -2,7 +2,6 @@
 // Numbers in messages: the shortest text that reads back to the same value ("0.25", "1e+300",
 // "-1e-300", "9223372036854775807"), never printf's fixed six decimals, which turn 1e-300 into
 // "-0.000000" and 1e300 into a 300-digit number.
-#include <concepts>
 #include <cstdint>
 #include <string>
 

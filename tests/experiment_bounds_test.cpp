@@ -6,6 +6,7 @@
 
 #include "core/number_text.h"
 #include "protocols/experiment.h"
+#include "experiment_error.h"
 #include "scratch_dir.h"
 
 namespace glarelab {
@@ -26,14 +27,7 @@ std::string experiment_text(const std::string& name_line, const std::string& dis
          "rows = [{ name = \"ab\", scene_a = \"a\", scene_b = \"b\" }]\n";
 }
 
-std::string error_of(const std::string& path) {
-  try {
-    load_experiment(path);
-  } catch (const ConfigError& error) {
-    return error.what();
-  }
-  return "no error";
-}
+std::string error_of(const std::string& path) { return test::experiment_error(path); }
 
 TEST(NumberText, ShortestTextForWhatPeopleWriteSixDigitsForComputedValues) {
   EXPECT_EQ(number_text(0.25), "0.25");

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "protocols/experiment.h"
+#include "experiment_error.h"
 #include "scratch_dir.h"
 
 namespace glarelab {
@@ -31,14 +32,7 @@ const std::string kCsv =
     "pair one,dim,bright\n"
     "pair two,bright,dim\n";
 
-std::string error_of(const std::string& path) {
-  try {
-    load_experiment(path);
-  } catch (const ConfigError& error) {
-    return error.what();
-  }
-  return "no error";
-}
+std::string error_of(const std::string& path) { return test::experiment_error(path); }
 
 TEST(ExperimentFile, LoadsFileWithCsvConditionsAndDefaults) {
   test::ScratchDir dir;
