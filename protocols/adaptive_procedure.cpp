@@ -120,6 +120,7 @@ TrialPlan AdaptiveProcedure::next_trial() {
                                                 : std::vector<double>{reference_cd_m2, intensity_cd_m2};
   plan.allowed_responses = spec.responses;
   const std::size_t comparison_position = comparison_left ? 0 : 1;
+  plan.comparison_positions = {static_cast<int>(comparison_position)};
   // Relative 1e-9: the same luminance reached by different step paths is still equal.
   if (std::abs(intensity_cd_m2 - reference_cd_m2) <= 1e-9 * std::max(intensity_cd_m2, reference_cd_m2)) {
     plan.correct_response = spec.responses.size() == 3 ? spec.responses[2] : spec.responses[comparison_position];

@@ -76,6 +76,7 @@ std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
     const double right = plan.adjustment_start_cd_m2[1];
     plan.scene_scale = {left / comparison_peak_cd_m2, 1.0, right / comparison_peak_cd_m2};
     plan.source_luminance_cd_m2 = {left, target_cd_m2, right};
+    plan.comparison_positions = {0, 2};
     plan.question = "Adjust both spots until they look as bright as the centre (up/down: coarse, "
                     "right/left: fine; Enter or Space when they match)";
     plan.stimulus_frames = experiment.forced_choice.stimulus_frames;

@@ -30,6 +30,10 @@ struct TrialPlan {
   // Factor on each position's scene (empty: all 1). Adaptive procedures scale the comparison
   // scene so that its peak is the trial's intensity in cd/m2.
   std::vector<double> scene_scale;
+  // The positions whose scene the procedure scales to a luminance (staircase and QUEST: the
+  // comparison; adjustment: the left and right spots); empty for fixed designs.
+  // protocols/comparison_luminance.h sets them to other luminances (glarelab render).
+  std::vector<int> comparison_positions;
   std::string staircase;  // the adaptive track that runs this trial; empty otherwise
   // Ratings: the mean rating of the simulated observer for this condition.
   std::optional<double> simulated_rating_mean;

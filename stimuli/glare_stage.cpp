@@ -112,13 +112,18 @@ EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
   return *found->second;
 }
 
-std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state) {
-  if (mode == GlareMode::control) throw std::invalid_argument("glare stage: control has no PSF");
-  EyeModel& eye = eye_for(mode, field_luminance_cd_m2);
-  if (mode == GlareMode::dynamic && time_s > last_recorded_s_) {
+void GlareStage::record_dynamic_frame(double time_s, double field_luminance_cd_m2) {
+  EyeModel& eye = eye_for(GlareMode::dynamic, field_luminance_cd_m2);
+  if (time_s > last_recorded_s_) {
     eye.record_frame_luminance(time_s, std::max(field_luminance_cd_m2, 0.0));
     last_recorded_s_ = time_s;
   }
+}
+
+std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state) {
+  if (mode == GlareMode::control) throw std::invalid_argument("glare stage: control has no PSF");
+  EyeModel& eye = eye_for(mode, field_luminance_cd_m2);
+  if (mode == GlareMode::dynamic) record_dynamic_frame(time_s, field_luminance_cd_m2);
   if (state != nullptr) *state = eye.state_at(time_s);
   PsfOptions options;
   options.grid_px = spec_.grid_px;

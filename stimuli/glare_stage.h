@@ -101,6 +101,11 @@ class GlareStage {
   // eye adapted to `field_luminance_cd_m2`; nothing when the lids close the pupil completely.
   std::optional<Psf> display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state = nullptr);
 
+  // The dynamic eye sees a frame of this field luminance at time_s without its glare being
+  // computed: the eye's adaptation history (pupil) becomes what computing the frame would have
+  // made it. A preview (glarelab render) passes through the trials before the one it shows this
+  // way. Unlike apply(), it keeps no PSF to hold through a later blink.
+  void record_dynamic_frame(double time_s, double field_luminance_cd_m2);
   // The backend in use, made now if not yet: one sentence saying what was picked and why.
   const std::string& backend_reason();
   GlareBackend& backend();

@@ -31,6 +31,33 @@ TEST(PrewriteChecks, GlareADisplayCannotShowIsRefusedBeforeTheSessionExists) {
   EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
 }
 
+// --save-frames into a path that is a file: refused (exit 4, a file-system error) before the
+// session exists; into a directory it writes every trial's first stimulus frame.
+TEST(PrewriteChecks, SaveFramesIntoAFileIsRefusedAndIntoADirectoryWritesEveryTrial) {
+  const test::ScratchDir scratch;
+  const auto experiment = test::demo_variant(scratch.path(), {});
+  const auto blocked = scratch.path() / "a_file";
+  test::write_bytes(blocked.string(), "not a directory");
+  const auto refused = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer",
+                                           "simulated", "--db", (scratch.path() / "never.db").string(),
+                                           "--save-frames", blocked.string()},
+                                          scratch.path());
+  EXPECT_EQ(refused.exit_code, 4) << refused.output;
+  EXPECT_NE(refused.output.find("a_file"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
+
+  const auto frames = scratch.path() / "frames";
+  const auto saved = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer",
+                                         "simulated", "--db", (scratch.path() / "saved.db").string(), "--stop-after",
+                                         "2", "--save-frames", frames.string()},
+                                        scratch.path());
+  EXPECT_EQ(saved.exit_code, 0) << saved.output;
+  EXPECT_TRUE(std::filesystem::exists(frames / "trial_0000.exr"));
+  EXPECT_TRUE(std::filesystem::exists(frames / "trial_0001.exr"));
+  EXPECT_FALSE(std::filesystem::exists(frames / "trial_0002.exr"));
+  EXPECT_FALSE(std::filesystem::exists(frames / ".glarelab_write_check"));
+}
+
 TEST(PrewriteChecks, TextTallerThanTheDisplayIsRefusedAtItsKey) {
   const test::ScratchDir scratch;
   const auto experiment = test::demo_variant(scratch.path(), {});

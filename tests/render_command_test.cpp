@@ -1,9 +1,11 @@
 // glarelab render: the control frame is the composed stimulus (the scenes placed side by side on
-// the background, nothing else), dynamic glare conserves the frame's luminance when nothing falls
+// the background, nothing else, with the question switched off), dynamic glare conserves the frame's luminance when nothing falls
 // off its edge, and the PNG preview decodes to the display encoding of the frame.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "cli_process.h"
 #include "scratch_dir.h"
@@ -40,6 +42,10 @@ bright = { file = "bright.exr" }
 [procedure]
 type = "forced_choice"
 stimulus_frames = 2
+counterbalance_sides = false  # scene_a on the left in every trial
+
+[presentation]
+question_above_stimuli = false  # the frame holds the scenes alone, so it can be composed by hand
 
 [glare]
 grid_px = 128
@@ -125,6 +131,68 @@ TEST_F(RenderCommand, UnknownConditionIsRefusedWithTheNamesThereAre) {
       {"render", experiment, "--condition", "nope", "--out", (dir.path() / "x.exr").string()}, dir.path());
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.output.find("'plain', 'moving'"), std::string::npos) << result.output;
+}
+
+// Largest R value in the columns [x0, x1) of a frame, over its middle half of rows (the scenes of
+// the examples, below the question text): the peak of the scene shown there.
+float column_peak(const ImageRGBA& image, int x0, int x1) {
+  float peak = 0.0f;
+  for (int y = image.height_px / 4; y < 3 * image.height_px / 4; ++y)
+    for (int x = x0; x < x1; ++x) peak = std::max(peak, image.pixel(x, y)[0]);
+  return peak;
+}
+
+std::string example(const std::string& file) { return std::string(GLARELAB_SOURCE_DIR) + "/examples/" + file; }
+
+// A staircase trial at a chosen intensity: the comparison lamp (lamp_100 scaled) peaks at it, the
+// reference keeps its own 100 cd/m2; without --intensity the track's start (from_near: 130).
+TEST_F(RenderCommand, StaircaseAtAGivenIntensityScalesTheComparisonOnly) {
+  const auto peaks = [&](const std::vector<std::string>& extra, const std::string& out) {
+    std::vector<std::string> arguments = {"--condition", "lamp", "--glare", "control"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    std::vector<std::string> full = {"render", example("spencer_staircase.toml"), "--out", (dir.path() / out).string()};
+    full.insert(full.end(), arguments.begin(), arguments.end());
+    const test::RunOutput result = test::run_glarelab(full, dir.path());
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    const ImageRGBA frame = read_exr((dir.path() / out).string()).image;
+    std::vector<float> sides = {column_peak(frame, 0, frame.width_px / 2),
+                                column_peak(frame, frame.width_px / 2, frame.width_px)};
+    std::sort(sides.begin(), sides.end());
+    return sides;
+  };
+  EXPECT_EQ(peaks({}, "start.exr"), (std::vector<float>{100.0f, 130.0f}));
+  const std::vector<float> chosen = peaks({"--intensity", "180"}, "chosen.exr");
+  ASSERT_EQ(chosen.size(), 2u);
+  EXPECT_EQ(chosen[0], 100.0f);
+  EXPECT_NEAR(chosen[1], 180.0f, 180.0f * 1e-6f);
+}
+
+// An adjustment trial at given settings: the left and right spots at them, the target (lamp_130)
+// in the centre as it is.
+TEST_F(RenderCommand, AdjustmentAtGivenSettingsShowsTheSpotsAtThem) {
+  const std::string out = (dir.path() / "adjustment.exr").string();
+  const test::RunOutput result =
+      test::run_glarelab({"render", example("ritschel_adjustment.toml"), "--condition", "control_low", "--settings",
+                          "50", "300", "--out", out},
+                         dir.path());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("spots at 50 and 300 cd/m2"), std::string::npos) << result.output;
+  const ImageRGBA frame = read_exr(out).image;
+  const int third = frame.width_px / 3;
+  EXPECT_NEAR(column_peak(frame, 0, third), 50.0f, 50.0f * 1e-6f);
+  EXPECT_NEAR(column_peak(frame, third, 2 * third), 130.0f, 130.0f * 1e-6f);
+  EXPECT_NEAR(column_peak(frame, 2 * third, frame.width_px), 300.0f, 300.0f * 1e-6f);
+}
+
+// An intensity for a design without a comparison is refused, saying what it applies to.
+TEST_F(RenderCommand, IntensityForAFixedDesignIsRefused) {
+  const test::RunOutput result =
+      test::run_glarelab({"render", experiment, "--condition", "plain", "--intensity", "120", "--out",
+                          (dir.path() / "x.exr").string()},
+                         dir.path());
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("an intensity applies to staircase and QUEST"), std::string::npos) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "x.exr"));
 }
 
 }  // namespace

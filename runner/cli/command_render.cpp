@@ -1,23 +1,26 @@
-// glarelab render: one stimulus frame of a condition at a time, after its glare (stimuli/
-// glare_stage.h), as linear EXR (cd/m2) or as a display-encoded PNG preview. The frame is composed
-// exactly as a session composes it (offscreen GL, scene_a on the left, scene_b on the right).
+// glarelab render: the first stimulus frame a seeded session shows for a condition, as linear EXR
+// (cd/m2, after glare, with the question text) or as the display-encoded PNG the screen was sent.
+// The frame comes from the session itself (runner/session/stimulus_preview.h), run offscreen with
+// the simulated observer on a database thrown away afterwards: the trials before it pass with the
+// same clock and eye history, so the preview is what a participant of that number would see, for
+// every procedure, per-side glare and overlay. --intensity and --settings show an adaptive track
+// or an adjustment at another point than its start.
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
 
+#include "core/exr_io.h"
+#include "core/png_io.h"
 #include "protocols/experiment.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
-#include "runner/display/compute_context.h"
-#include "runner/display/display_backend.h"
-#include "stimuli/display_model.h"
-#include "core/exr_io.h"
-#include "stimuli/frame_renderer.h"
-#include "stimuli/glare_stage.h"
-#include "stimuli/layout.h"
-#include "core/png_io.h"
-#include "stimuli/scene_library.h"
+#include "runner/session/session_runner.h"
 
 namespace glarelab::cli {
 namespace {
@@ -25,72 +28,100 @@ namespace {
 struct RenderOptions {
   std::string experiment_path;
   std::string condition;
-  double time_s = 0.0;
+  std::optional<double> time_s;
   std::string glare;  // empty: the condition's mode
+  std::vector<double> intensity_cd_m2;  // at most one value
+  std::vector<double> settings_cd_m2;   // two values
+  std::optional<int> participant_number;
+  std::optional<std::uint64_t> seed;
   std::string out;
 };
 
-const ConditionRow& find_condition(const Experiment& experiment, const std::string& name) {
+void check_condition(const Experiment& experiment, const std::string& name) {
   std::string names;
   for (const ConditionRow& row : experiment.conditions) {
-    if (row.name() == name) return row;
+    if (row.name() == name) return;
     names += (names.empty() ? "'" : ", '") + row.name() + "'";
   }
   throw ConfigError({"--condition", 0, 0}, "condition", "unknown condition '" + name + "' (conditions: " + names + ")");
 }
 
-ImageRGBA compose(const Experiment& experiment, const ConditionRow& row) {
-  const SceneLibrary scenes(experiment.scenes);
-  DisplayRequest request;
-  request.width_px = experiment.display.width_px;
-  request.height_px = experiment.display.height_px;
-  request.refresh_hz = experiment.display.refresh_hz;
-  request.title = "glarelab render";
-  const std::unique_ptr<DisplayBackend> display = create_display("offscreen", request);
-  FrameRenderer renderer(display->width_px(), display->height_px());
-  std::vector<SceneTexture> textures;
-  std::vector<PixelRect> sizes;
-  for (const char* column : {"scene_a", "scene_b"}) {
-    const LoadedScene& scene = scenes.get(*row.find(column));
-    textures.push_back(renderer.upload(scene.image_cd_m2));
-    sizes.push_back({0, 0, scene.image_cd_m2.width_px, scene.image_cd_m2.height_px});
+// A directory of its own for the preview's database, removed with everything in it.
+class ScratchDatabase {
+ public:
+  ScratchDatabase() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "glarelab-render-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr)
+      throw std::filesystem::filesystem_error("render: cannot make a scratch directory", std::filesystem::path(pattern),
+                                              std::error_code(errno, std::generic_category()));
+    directory_ = pattern;
   }
-  std::vector<PixelRect> columns;
-  const std::vector<PixelRect> rects = side_by_side_layout(display->width_px(), display->height_px(), sizes, &columns);
-  std::vector<Placement> placements;
-  for (std::size_t i = 0; i < textures.size(); ++i) placements.push_back({&textures[i], 1.0, rects[i], columns[i]});
-  renderer.compose(placements, experiment.display.background_cd_m2);
-  return renderer.read_stimulus();
+  ~ScratchDatabase() {
+    std::error_code ignored;
+    std::filesystem::remove_all(directory_, ignored);
+  }
+  std::string path() const { return (directory_ / "preview.db").string(); }
+
+ private:
+  std::filesystem::path directory_;
+};
+
+std::string describe(const PreviewFrame& frame) {
+  std::ostringstream text;
+  text << "trial " << frame.plan.trial_index << " (" << frame.plan.procedure << "), " << frame.glare_label
+       << " glare at " << frame.time_s << " s";
+  if (frame.plan.intensity && !frame.plan.comparison_positions.empty())
+    text << ", comparison at " << *frame.plan.intensity << " cd/m2";
+  if (!frame.plan.adjustment_start_cd_m2.empty())
+    text << ", spots at " << frame.plan.adjustment_start_cd_m2[0] << " and " << frame.plan.adjustment_start_cd_m2[1]
+         << " cd/m2";
+  if (frame.reports.empty()) return text.str() + ": no glare computed";
+  text << ":";
+  for (const GlareFrameReport& report : frame.reports) {
+    text << " [" << to_string(report.mode) << " "
+         << (report.convolved ? "convolved" : "skipped (" + report.skip_reason + ")") << ", pupil "
+         << report.pupil_diameter_mm << " mm, fibre gratings " << (report.gratings_in_pupil ? "in" : "behind")
+         << " the pupil, wing fraction " << report.wing_fraction << "]";
+  }
+  return text.str();
 }
 
 int render(const RenderOptions& options) {
   const Experiment experiment = load_experiment(options.experiment_path);
-  const ConditionRow& row = find_condition(experiment, options.condition);
-  const GlareMode mode = options.glare.empty() ? glare_mode_for(experiment.glare, row) : parse_glare_mode(options.glare);
-  const ImageRGBA composed = compose(experiment, row);
-  GlareStage stage(experiment.glare, experiment.display, experiment.seed, gl::compute_context_factory());
-  GlareFrameReport report;
-  ImageRGBA frame = stage.apply(composed, mode, options.time_s, &report);
+  check_condition(experiment, options.condition);
+  if (!options.intensity_cd_m2.empty() && !options.settings_cd_m2.empty())
+    throw std::invalid_argument("--intensity (staircase, QUEST) and --settings (adjustment) exclude each other");
+
+  const ScratchDatabase scratch;
+  RunOptions run;
+  run.experiment_path = options.experiment_path;
+  run.db_path = scratch.path();
+  run.display = "offscreen";
+  run.observer = "simulated";
+  run.participant = "render";
+  run.seed = options.seed;
+  run.participant_number = options.participant_number;
+  StimulusPreview preview;
+  preview.condition = options.condition;
+  preview.comparison_cd_m2 = options.intensity_cd_m2.empty() ? options.settings_cd_m2 : options.intensity_cd_m2;
+  preview.time_s = options.time_s;
+  if (!options.glare.empty()) preview.glare = parse_glare_mode(options.glare);
+  run.preview = preview;
+  std::ostringstream progress;  // the session's own progress lines are not the preview's
+  const RunResult result = run_session(run, progress);
+  const PreviewFrame& frame = *result.preview;
 
   std::string extension = std::filesystem::path(options.out).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
   if (extension == ".png") {
-    const DisplayModel model(experiment.display);
-    for (std::size_t i = 0; i < frame.rgba.size(); ++i)
-      frame.rgba[i] = i % 4 == 3 ? 1.0f : static_cast<float>(model.encode(frame.rgba[i]));
-    write_png_encoded(options.out, frame);
+    ImageRGBA encoded = frame.display_drive;
+    for (std::size_t i = 3; i < encoded.rgba.size(); i += 4) encoded.rgba[i] = 1.0f;
+    write_png_encoded(options.out, encoded);
   } else {
-    write_exr(options.out, frame);
+    write_exr(options.out, frame.stimulus_cd_m2);
   }
-  std::cout << "render: condition '" << row.name() << "', " << to_string(mode) << " glare at " << options.time_s
-            << " s: ";
-  if (mode == GlareMode::control)
-    std::cout << "no glare";
-  else
-    std::cout << (report.convolved ? "convolved" : "skipped (" + report.skip_reason + ")") << ", pupil "
-              << report.pupil_diameter_mm << " mm, fibre gratings " << (report.gratings_in_pupil ? "in" : "behind")
-              << " the pupil, PSF grid " << experiment.glare.grid_px << ", wing fraction " << report.wing_fraction;
-  std::cout << " -> " << options.out << " (" << frame.width_px << "x" << frame.height_px << ")\n";
+  std::cout << "render: condition '" << options.condition << "', " << describe(frame) << " -> " << options.out << " ("
+            << frame.stimulus_cd_m2.width_px << "x" << frame.stimulus_cd_m2.height_px << ")\n";
   return 0;
 }
 
@@ -98,19 +129,43 @@ int render(const RenderOptions& options) {
 
 Action add_render_command(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
-  CLI::App* command = app.add_subcommand("render", "Write one stimulus frame of a condition (with its glare) as "
-                                                   "linear EXR or a PNG preview");
+  auto time_s = std::make_shared<double>(0.0);
+  auto participant_number = std::make_shared<int>(1);
+  auto seed = std::make_shared<std::uint64_t>(0);
+  CLI::App* command = app.add_subcommand(
+      "render", "Write the first stimulus frame a seeded session shows for a condition (after glare, with the "
+                "question) as linear EXR or a display-encoded PNG");
   command->add_option("experiment", options->experiment_path, "Experiment file (TOML)")->required();
   command->add_option("--condition", options->condition, "Condition name (the 'name' column, or 'row N')")->required();
-  command->add_option("--time", options->time_s, "Session time of the frame (s), at most 86400 (24 h)")
-      ->check(eye_model_time_s())->capture_default_str();
-  command->add_option("--glare", options->glare, "Override the condition's glare mode")
+  auto* time_option =
+      command->add_option("--time", *time_s,
+                          "Compute the glare for this session time (s, at most 86400) instead of the frame's own")
+          ->check(eye_model_time_s());
+  command->add_option("--glare", options->glare, "Override the condition's glare mode (whole frame)")
       ->check(CLI::IsMember({"dynamic", "static", "control"}));
+  command->add_option("--intensity", options->intensity_cd_m2,
+                      "Staircase or QUEST: the comparison's peak luminance (cd/m2) instead of the track's start")
+      ->expected(1)
+      ->check(finite_positive_number("cd/m2"));
+  command->add_option("--settings", options->settings_cd_m2,
+                      "Adjustment: the left and right spots' luminances (cd/m2) instead of their start")
+      ->expected(2)
+      ->check(finite_positive_number("cd/m2"));
+  auto* participant_option =
+      command->add_option("--participant-number", *participant_number,
+                          "Participant number (block order) of the session previewed (default: the file's, else 1)")
+          ->check(whole_number_check(1, kMaxParticipantNumber));
+  auto* seed_option = command->add_option("--seed", *seed, "Seed (overrides the file's)")->check(seed_check());
   // Checked before anything is rendered: any other name would get EXR bytes under a misleading extension.
   command->add_option("--out", options->out, "Output file: .exr (linear, cd/m2) or .png (display-encoded preview)")
       ->required()
       ->check(file_extension_in({".exr", ".png"}, "the frame file"));
-  return [=]() { return report_errors([&]() { return render(*options); }); };
+  return [=]() {
+    if (time_option->count() > 0) options->time_s = *time_s;
+    if (participant_option->count() > 0) options->participant_number = *participant_number;
+    if (seed_option->count() > 0) options->seed = *seed;
+    return report_errors([&]() { return render(*options); });
+  };
 }
 
 }  // namespace glarelab::cli

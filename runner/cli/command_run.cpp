@@ -8,10 +8,6 @@
 
 namespace glarelab::cli {
 
-// Participant numbers pick a block order (counterbalancing cycles through them); a million is far
-// beyond any study and keeps the number readable in file names and logs.
-constexpr std::int64_t kMaxParticipantNumber = 1000000;
-
 Action add_run_command(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   auto seed = std::make_shared<std::uint64_t>(0);
@@ -41,6 +37,9 @@ Action add_run_command(CLI::App& app) {
   auto* stop_option = run->add_option("--stop-after", *stop_after,
                                       "Stop after N trials, leaving the session resumable (as if the run had been cut off)")
                           ->check(whole_number_check(1, INT32_MAX));
+  run->add_option("--save-frames", options->save_frames_dir,
+                  "Write each trial's first stimulus frame (after glare, with the question; linear cd/m2) "
+                  "as DIR/trial_NNNN.exr, a record of what was shown");
   // --- tracker (runner/tracker/) ---
   run->add_option("--tracker", options->tracker.spec,
                   "Eye tracker: none, simulated, replay:FILE.csv, replay:FILE.db#SESSION or pupil-labs://HOST:PORT")

@@ -32,4 +32,8 @@ CLI::Validator whole_number_check(std::int64_t minimum, std::int64_t maximum);
 // whole_number_check(0, kMaxSeed).
 CLI::Validator seed_check();
 
+// Participant numbers pick a block order (counterbalancing cycles through them); a million is far
+// beyond any study and keeps the number readable in file names and logs.
+constexpr std::int64_t kMaxParticipantNumber = 1000000;
+
 }  // namespace glarelab::cli

@@ -16,6 +16,7 @@
 #include "runner/session/presentation_overlays.h"
 #include "runner/session/response_device_input.h"
 #include "runner/session/session_setup.h"
+#include "runner/session/stimulus_preview.h"
 #include "runner/session/trial_schedule.h"
 #include "runner/store/result_store.h"
 #include "runner/tracker/real_time_pacer.h"
@@ -49,6 +50,15 @@ class SessionLoop {
   // response, feedback; every flip is stamped and stored with the trial.
   bool run_trial(const TrialPlan& plan, std::ostream& progress);
 
+  // A preview (glarelab render, runner/session/stimulus_preview.h): trials of other conditions
+  // run with their glare recorded, not computed; the first trial of the condition ends the loop
+  // once its first stimulus frame is captured (aborted() is then true).
+  void attach_preview(const StimulusPreview& preview) { preview_ = &preview; }
+  std::optional<PreviewFrame> take_preview_frame() { return std::move(preview_frame_); }
+  // Each interval's first stimulus frame (after glare, with overlays; linear cd/m2) written to
+  // `directory` as trial_NNNN.exr (a second interval: trial_NNNN_interval_2.exr).
+  void save_first_frames_to(const std::string& directory) { save_frames_dir_ = directory; }
+
   bool aborted() const { return aborted_; }
   const std::string& abort_reason() const { return abort_reason_; }
   FrameTimingSummary timing_summary() const { return timing_.summary(); }
@@ -80,6 +90,14 @@ class SessionLoop {
   // What interval `interval` shows: the whole plan side by side, or in a sequential trial the plan
   // narrowed to its position `interval` (its scene alone, centred, with that position's glare).
   TrialPlan interval_plan(const TrialPlan& plan, int interval) const;
+  // Flipping: a preview's fast-forward (the trials before the one it captures) advances the clock
+  // flip by flip without drawing or presenting anything.
+  void present() {
+    if (!fast_forward_) display_.present();
+  }
+  void reencode() {
+    if (!fast_forward_) renderer_.encode_to_display(prepared_.experiment.display);
+  }
   // Stimulus flips keep their frame index; every other flip of the trial is numbered -1, -2, ...
   void record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped);
   void log_late_flip(const TrialPlan& plan, double flip_s, const std::string& which, double interval_s);
@@ -130,7 +148,12 @@ class SessionLoop {
   // Once per session: the glare backend (what and why) and where the eye's inputs come from.
   void log_glare_setup();
   const ConditionRow& condition_row(const TrialPlan& plan) const;
+  bool previewed(const TrialPlan& plan) const { return preview_ != nullptr && plan.condition_name == preview_->condition; }
   // --- end glare ---
+
+  // runner/session/trial_run.cpp: at an interval's first flip, before it is presented: the frame
+  // saved (--save-frames) and, for the previewed trial, captured. True when the preview is done.
+  bool capture_first_frame(const TrialPlan& plan, int interval);
 
   // runner/session/trial_commit.cpp
   void commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome);
@@ -156,6 +179,10 @@ class SessionLoop {
   ResponseDeviceInput* device_ = nullptr;
   bool rerun_trial_ = false;
   std::optional<SceneTexture> pause_message_;
+  const StimulusPreview* preview_ = nullptr;
+  bool fast_forward_ = false;
+  std::optional<PreviewFrame> preview_frame_;  // filled in by prepare_glare, then captured
+  std::string save_frames_dir_;
 };
 
 }  // namespace glarelab

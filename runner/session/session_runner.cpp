@@ -7,9 +7,11 @@
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "protocols/comparison_luminance.h"
 #include "runner/session/adjustment_keys.h"
 #include "runner/session/device_pause_screen.h"
 #include "runner/session/interrupt.h"
@@ -121,6 +123,8 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     // 4. The trials.
     SessionLoop loop(prepared, *display, *clock, store, result.session_id, tracker, pacer.get());
     if (device.active()) loop.attach_response_device(&device_input, pause_message);
+    if (options.preview) loop.attach_preview(*options.preview);
+    if (!options.save_frames_dir.empty()) loop.save_first_frames_to(options.save_frames_dir);
     const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
     while (calibrated && !prepared.procedure->finished()) {
       if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
@@ -128,11 +132,26 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
         result.tracker_summary = tracker.finish(clock->now_s());
         return result;
       }
-      if (!loop.run_trial(prepared.procedure->next_trial(), progress)) {
+      TrialPlan plan = prepared.procedure->next_trial();
+      if (options.preview && plan.condition_name == options.preview->condition &&
+          !options.preview->comparison_cd_m2.empty())
+        plan = with_comparison_luminance(std::move(plan), options.preview->comparison_cd_m2);
+      if (!loop.run_trial(plan, progress)) {
         if (loop.take_trial_rerun()) continue;  // after a device pause: the same trial again
         break;
       }
       ++result.trials_run_now;
+    }
+
+    if (options.preview) {
+      result.preview = loop.take_preview_frame();
+      if (!result.preview)
+        throw std::invalid_argument("condition '" + options.preview->condition + "' is not shown in a session of " +
+                                    "participant number " + std::to_string(prepared.experiment.design.participant_number.value_or(1)) +
+                                    (loop.aborted() ? " before it ended (" + loop.abort_reason() + ")" : ""));
+      store.finish_session(result.session_id, "aborted");
+      result.status = "preview";
+      return result;
     }
 
     // 5. The end of the run and the session's status.

@@ -8,6 +8,7 @@
 
 #include "core/errors.h"  // ExitCode: the exit codes of `glarelab run`
 #include "runner/session/response_device_session.h"
+#include "runner/session/stimulus_preview.h"
 #include "runner/tracker/tracker_session.h"
 
 namespace glarelab {
@@ -30,6 +31,14 @@ struct RunOptions {
   // arrives one refresh period late (runner/session/slow_flip_clock.h), so the dropped-frame
   // detection and the session summary can be checked on any machine.
   std::optional<int> slow_flip_every;
+  // --save-frames: each trial's first stimulus frame (after glare, with the overlays; linear cd/m2)
+  // written as DIR/trial_NNNN.exr, a record of what the participant saw. The directory is made
+  // (and checked writable) before the session row; each write takes place before the frame flips.
+  std::string save_frames_dir;
+  // glarelab render (runner/session/stimulus_preview.h): the session runs until the first trial of
+  // the condition and captures its first stimulus frame (RunResult::preview); the caller gives a
+  // database of its own to throw away.
+  std::optional<StimulusPreview> preview;
   TrackerOptions tracker;  // --tracker and the pupil options (runner/tracker/)
   ResponseDeviceOptions response_device;  // --response-device, --buttons (docs/DEVICES.md)
 };
@@ -44,6 +53,7 @@ struct RunResult {
   std::int64_t frames_dropped = 0;  // of them, more than 1.5 refresh periods after the previous flip
   std::string tracker_summary;  // one line, empty without a tracker
   std::string device_summary;   // one line, empty without a response device
+  std::optional<PreviewFrame> preview;  // RunOptions::preview: the captured frame
 };
 
 // Runs (or resumes) a session. Throws ConfigError/ImageError/DisplayError/StoreError; never

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <utility>
 
 #include "core/number_text.h"
@@ -150,6 +151,25 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
   return start;
 }
 
+// --save-frames: the directory made and a file written and removed in it now, so a directory that
+// cannot take the frames stops the run before the session row exists.
+static void prepare_frame_directory(const std::string& directory) {
+  namespace fs = std::filesystem;
+  fs::create_directories(directory);
+  if (!fs::is_directory(directory))
+    throw fs::filesystem_error("--save-frames: not a directory", fs::path(directory),
+                               std::make_error_code(std::errc::not_a_directory));
+  const fs::path probe = fs::path(directory) / ".glarelab_write_check";
+  {
+    std::ofstream out(probe, std::ios::binary);
+    out << "check";
+    if (!out.flush())
+      throw fs::filesystem_error("--save-frames: cannot write frames into the directory", fs::path(directory),
+                                 std::make_error_code(std::errc::permission_denied));
+  }
+  fs::remove(probe);
+}
+
 PreparedSession prepare_session(Experiment experiment, const RunOptions& options) {
   PreparedSession prepared;
   prepared.experiment = std::move(experiment);
@@ -158,6 +178,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
   refuse_rows_the_display_cannot_tell_apart(prepared.experiment, *prepared.scenes);
+  if (!options.save_frames_dir.empty()) prepare_frame_directory(options.save_frames_dir);
   if (options.observer.starts_with("script:")) dry_run_script(prepared.experiment, *prepared.scenes, *prepared.observer);
   if (uses_glare(prepared.experiment)) {
     try {

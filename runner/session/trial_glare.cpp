@@ -35,11 +35,29 @@ std::string describe_glare_window(const GazeWindow& window, const std::optional<
 // frames: the filtered pupil, the detected blinks (blink_source "tracker") and the latest gaze.
 std::vector<ImageRGBA> SessionLoop::prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
                                                   int flips_before) {
-  const GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
+  // A preview (stimulus_preview.h) computes the glare of its own trial's first frame only; other
+  // trials' frames are recorded by the dynamic eye, not computed.
+  const bool captured = previewed(plan);
+  const bool record_only = preview_ != nullptr && !captured;
+  GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
   // A mode per position (stimuli/position_glare.h): one layer per placement.
   std::vector<GlareMode> position_modes;
   if (plan.position_glare.size() == placements.size())
     for (const std::string& name : plan.position_glare) position_modes.push_back(parse_glare_mode(name));
+  if (captured && preview_->glare) {
+    mode = *preview_->glare;
+    position_modes.clear();
+  }
+  const bool first_capture = captured && !preview_frame_;
+  if (first_capture) {
+    preview_frame_.emplace();
+    preview_frame_->plan = plan;
+    preview_frame_->time_s = preview_->time_s.value_or(clock_.now_s() + (1 + flips_before) * period_s_);
+    preview_frame_->glare_label = to_string(mode);
+    for (std::size_t p = 0; p < position_modes.size(); ++p)
+      preview_frame_->glare_label = (p == 0 ? "" : preview_frame_->glare_label + ", ") + plan.positions.at(p) + " " +
+                                    to_string(position_modes[p]);
+  }
   const auto is_control = [](GlareMode m) { return m == GlareMode::control; };
   if (position_modes.empty() ? mode == GlareMode::control
                              : std::all_of(position_modes.begin(), position_modes.end(), is_control))
@@ -47,6 +65,17 @@ std::vector<ImageRGBA> SessionLoop::prepare_glare(const TrialPlan& plan, const s
   const auto is_dynamic = [](GlareMode m) { return m == GlareMode::dynamic; };
   const bool dynamic = position_modes.empty() ? mode == GlareMode::dynamic
                                               : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic);
+  if (record_only) {
+    // The eye sees these frames (its pupil adapts to them) at the times they flip.
+    if (dynamic) {
+      renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
+      const double field_cd_m2 = mean_luminance(renderer_.read_stimulus());
+      const double first_s = clock_.now_s() + (1 + flips_before) * period_s_;
+      for (int k = 0; k < plan.stimulus_frames; ++k) glare_.record_dynamic_frame(first_s + k * period_s_, field_cd_m2);
+    }
+    display_.make_current();
+    return {};
+  }
   const GlareSpec& spec = prepared_.experiment.glare;
   std::optional<GazePoint> gaze;
   std::optional<TrackerGaze> tracked;
@@ -77,8 +106,9 @@ std::vector<ImageRGBA> SessionLoop::prepare_glare(const TrialPlan& plan, const s
   }
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   const ImageRGBA composed = renderer_.read_stimulus();
-  const double first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
-  const int count = dynamic ? plan.stimulus_frames : 1;
+  const double first_flip_s = captured && preview_->time_s ? *preview_->time_s
+                                                           : clock_.now_s() + (1 + flips_before) * period_s_;
+  const int count = captured ? 1 : dynamic ? plan.stimulus_frames : 1;
   std::vector<ImageRGBA> frames;
   int skipped = 0, gratings_hidden = 0, closed = 0;
   std::string skip_reason;
@@ -99,6 +129,10 @@ std::vector<ImageRGBA> SessionLoop::prepare_glare(const TrialPlan& plan, const s
       reports.push_back(report);
     } else {
       frames.push_back(apply_layered_glare(glare_, composed, layers, time_s, gaze, &reports));
+    }
+    if (first_capture && k == 0) {
+      preview_frame_->time_s = time_s;
+      preview_frame_->reports = reports;
     }
     for (const GlareFrameReport& report : reports) {
       ++applications;

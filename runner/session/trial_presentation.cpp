@@ -26,6 +26,7 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
 
 void SessionLoop::draw(const std::vector<Placement>& placements, const ImageRGBA* glared,
                        const std::vector<Placement>& overlays) {
+  if (fast_forward_) return;
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   if (glared != nullptr) renderer_.replace_stimulus(*glared);
   if (!overlays.empty()) renderer_.compose_overlay(overlays);
@@ -69,8 +70,8 @@ bool SessionLoop::present_timed_blank(const TrialPlan& plan, TrialRun& run, Flip
     if (k == 0)
       draw({}, nullptr, overlays);
     else
-      renderer_.encode_to_display(prepared_.experiment.display);
-    display_.present();
+      reencode();
+    present();
     const double flip_s = clock_.on_flip();
     after_flip(flip_s);
     if (k == 0) start_s = flip_s;
@@ -96,8 +97,8 @@ bool SessionLoop::show_screen(const TrialPlan& plan, const ScreenText& screen, T
     if (flips == 0)
       draw({}, nullptr, text);
     else
-      renderer_.encode_to_display(prepared_.experiment.display);
-    display_.present();
+      reencode();
+    present();
     last_flip_s = clock_.on_flip();
     timing_.on_flip(last_flip_s, plan.trial_index, -1);
     after_flip(last_flip_s);

@@ -2,10 +2,13 @@
 // sequence stamped on the session clock, the answer (keys, response device, adjustment or a
 // non-interactive observer), scoring and feedback.
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/exr_io.h"
 #include "protocols/observer.h"
 #include "protocols/procedure.h"
 #include "runner/session/session_loop.h"
@@ -17,6 +20,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   const PresentationSpec& presentation = prepared_.experiment.presentation;
   const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_);
   TrialRun run;
+  fast_forward_ = preview_ != nullptr && !previewed(plan);
   const bool interactive = prepared_.observer == nullptr;
   // Keys pressed before the trial (late repeats of the previous answer) must not answer it.
   if (interactive) ignore_keys(plan, "pressed before onset");
@@ -32,8 +36,9 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   std::vector<std::vector<Placement>> placements;
   std::vector<std::vector<ImageRGBA>> glare_frames;
   std::vector<PixelRect> stimulus_rects;
+  std::vector<TrialPlan> shown_plans;
   for (int interval = 0; interval < schedule.intervals; ++interval) {
-    const TrialPlan shown = interval_plan(plan, interval);
+    const TrialPlan& shown = shown_plans.emplace_back(interval_plan(plan, interval));
     placements.push_back(layout(shown));
     for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
     std::size_t first_flip = 0;
@@ -50,7 +55,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     // Fixation and inter-stimulus flips repeat the frame before them: only its encoding is redrawn.
     const bool repeated = i > 0 && flip.phase != FlipPhase::interval && schedule.timed[i - 1].phase == flip.phase;
     if (repeated) {
-      renderer_.encode_to_display(prepared_.experiment.display);
+      reencode();
     } else if (flip.phase == FlipPhase::fixation) {
       draw({}, nullptr, overlays_.fixation());
     } else if (flip.phase == FlipPhase::interval) {
@@ -58,10 +63,15 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
       const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(flip.frame_in_interval),
                                                   glared.empty() ? 0 : glared.size() - 1);
       draw(placements[static_cast<std::size_t>(flip.interval)], glared.empty() ? nullptr : &glared[k], question);
+      if (flip.frame_in_interval == 0 && capture_first_frame(shown_plans[static_cast<std::size_t>(flip.interval)], flip.interval)) {
+        aborted_ = true;
+        abort_reason_ = "preview captured";
+        return false;
+      }
     } else {
       draw({}, nullptr, question);
     }
-    display_.present();
+    present();
     const double flip_s = clock_.on_flip();
     after_flip(flip_s);
     if (i == 0) sequence_start_s = flip_s;
@@ -111,7 +121,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
         break;
       }
       draw({}, nullptr, question);
-      display_.present();
+      present();
       const double flip_s = clock_.on_flip();
       timing_.on_flip(flip_s, plan.trial_index, -1);
       after_flip(flip_s);
@@ -139,6 +149,19 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   const int total = prepared_.procedure->planned_trials();
   if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
     progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
+  return true;
+}
+
+bool SessionLoop::capture_first_frame(const TrialPlan& plan, int interval) {
+  if (!save_frames_dir_.empty()) {
+    char name[64];
+    std::snprintf(name, sizeof name, interval == 0 ? "trial_%04d.exr" : "trial_%04d_interval_%d.exr", plan.trial_index,
+                  interval + 1);
+    write_exr((std::filesystem::path(save_frames_dir_) / name).string(), renderer_.read_stimulus());
+  }
+  if (!previewed(plan) || interval != 0 || !preview_frame_) return false;
+  preview_frame_->stimulus_cd_m2 = renderer_.read_stimulus();
+  preview_frame_->display_drive = renderer_.read_display();
   return true;
 }
 

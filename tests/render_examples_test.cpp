@@ -1,0 +1,84 @@
+// glarelab render shows exactly the frame a session shows: for every condition of every shipped
+// example, the rendered EXR equals the first stimulus frame (after glare, with the question) of
+// the first trial of that condition in a seeded session of the same file, as the session itself
+// wrote it (run --save-frames). The session computes every glare frame of the trials before; the
+// preview only records them in the eye: equal frames show the eye history is carried over exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <regex>
+#include <string>
+
+#include "cli_process.h"
+#include "core/exr_io.h"
+#include "protocols/experiment.h"
+#include "runner/store/result_store.h"
+#include "scratch_dir.h"
+
+namespace glarelab {
+namespace {
+
+
+class RenderMatchesSession : public ::testing::TestWithParam<std::string> {};
+
+// Index of the first trial of `name` in the session, from each trial's stored condition JSON.
+int first_trial_of(const std::vector<TrialRecord>& trials, const std::string& name) {
+  for (const TrialRecord& trial : trials)
+    if (trial.condition.find("\"name\":\"" + name + "\"") != std::string::npos) return trial.trial_index;
+  return -1;
+}
+
+TEST_P(RenderMatchesSession, EveryConditionEqualsTheSessionsFirstFrameOfIt) {
+  const std::string file = std::string(GLARELAB_SOURCE_DIR) + "/examples/" + GetParam();
+  const test::ScratchDir scratch;
+  const auto db = scratch.path() / "session.db";
+  const auto frames = scratch.path() / "frames";
+  const test::RunOutput session =
+      test::run_glarelab({"run", file, "--display", "offscreen", "--observer", "simulated", "--db", db.string(),
+                          "--save-frames", frames.string()},
+                         scratch.path());
+  ASSERT_EQ(session.exit_code, 0) << session.output;
+  const ResultStore store(db.string());
+  const std::vector<TrialRecord> trials = store.load_trials(store.load_sessions().at(0).id);
+
+  const Experiment experiment = load_experiment(file);
+  ASSERT_FALSE(experiment.conditions.empty());
+  for (const ConditionRow& row : experiment.conditions) {
+    SCOPED_TRACE("condition " + row.name());
+    const int trial = first_trial_of(trials, row.name());
+    ASSERT_GE(trial, 0) << "the session shows no trial of the condition";
+    const auto out = scratch.path() / (row.name() + ".exr");
+    const test::RunOutput render =
+        test::run_glarelab({"render", file, "--condition", row.name(), "--out", out.string()}, scratch.path());
+    ASSERT_EQ(render.exit_code, 0) << render.output;
+    // The render names the trial it shows: the session's first of this condition.
+    std::smatch match;
+    ASSERT_TRUE(std::regex_search(render.output, match, std::regex("trial ([0-9]+) \\("))) << render.output;
+    EXPECT_EQ(std::stoi(match[1]), trial) << render.output;
+
+    char name[32];
+    std::snprintf(name, sizeof name, "trial_%04d.exr", trial);
+    const ImageRGBA shown = read_exr((frames / name).string()).image;
+    const ImageRGBA rendered = read_exr(out.string()).image;
+    ASSERT_EQ(rendered.width_px, shown.width_px);
+    ASSERT_EQ(rendered.height_px, shown.height_px);
+    double peak = 0.0, largest_difference = 0.0;
+    for (std::size_t i = 0; i < shown.rgba.size(); ++i) {
+      peak = std::max(peak, std::abs(static_cast<double>(shown.rgba[i])));
+      largest_difference = std::max(largest_difference, std::abs(static_cast<double>(shown.rgba[i]) - rendered.rgba[i]));
+    }
+    EXPECT_GT(peak, 0.0);
+    EXPECT_EQ(largest_difference, 0.0) << "peak " << peak << " cd/m2; " << render.output;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, RenderMatchesSession,
+                         ::testing::Values("demo.toml", "spencer_staircase.toml", "luidolt_ratings.toml",
+                                           "ritschel_2afc.toml", "ritschel_adjustment.toml"),
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           return param.param.substr(0, param.param.find('.'));
+                         });
+
+}  // namespace
+}  // namespace glarelab
