@@ -110,6 +110,30 @@ TEST(SessionFailure, SigtermWhileGlareFramesArePreparedEndsWithinAFrameNotATrial
   EXPECT_EQ(aborted[0], "interrupted (Ctrl-C or SIGTERM)");
 }
 
+// A failure that can only happen mid-run (here a frame of --save-frames that cannot be written:
+// its name is taken by a directory) ends the session as aborted, with the reason as its 'aborted'
+// event; the trials committed before it stay, and the exit code is the error's, not 1.
+TEST(SessionFailure, AFailureMidRunEndsTheSessionAbortedWithTheReasonAndKeepsItsTrials) {
+  const test::ScratchDir scratch;
+  const auto db = scratch.path() / "failed.db";
+  const auto frames = scratch.path() / "frames";
+  std::filesystem::create_directories(frames / "trial_0002.exr");
+  const std::string demo = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
+  const auto run = test::run_glarelab({"run", demo, "--display", "offscreen", "--observer", "simulated", "--db",
+                                       db.string(), "--save-frames", frames.string()},
+                                      scratch.path());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("trial_0002.exr"), std::string::npos) << run.output;
+  const ResultStore store(db.string());
+  const auto session = store.load_sessions().at(0);
+  EXPECT_EQ(session.status, "aborted");
+  EXPECT_EQ(store.load_trials(session.id).size(), 2u);
+  const auto aborted = test::session_event_messages(store, "aborted");
+  ASSERT_EQ(aborted.size(), 1u);
+  EXPECT_EQ(aborted[0].rfind("failed: ", 0), 0u) << aborted[0];
+  EXPECT_NE(aborted[0].find("trial_0002.exr"), std::string::npos) << aborted[0];
+}
+
 TEST(SessionFailure, TwoRunsStartedTogetherOnOneDatabaseGetDistinctParticipantNumbers) {
   const test::ScratchDir scratch;
   const auto db = scratch.path() / "shared.db";
