@@ -6,6 +6,7 @@ find_package(glfw3 3.3 CONFIG REQUIRED)
 find_package(tomlplusplus CONFIG QUIET)
 find_package(CLI11 CONFIG REQUIRED)
 pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
+pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)  # libegl-dev: headless GL beside OSMesa
 pkg_check_modules(SQLITE3 REQUIRED IMPORTED_TARGET sqlite3)
 pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
 # FFTW3 double (reference) and float (speed) FFTs, with their thread libraries (libfftw3-dev).
@@ -42,7 +43,7 @@ target_link_libraries(glarelab_deps_analysis INTERFACE
   PkgConfig::SQLITE3 Boost::headers nlohmann_json::nlohmann_json NLopt::nlopt)
 # runner: displays, command line, the store, trackers and devices (below).
 add_library(glarelab_deps_runner INTERFACE)
-target_link_libraries(glarelab_deps_runner INTERFACE glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::SQLITE3)
+target_link_libraries(glarelab_deps_runner INTERFACE glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::EGL PkgConfig::SQLITE3)
 
 # Eye trackers and response devices (runner/tracker, runner/devices): ZeroMQ (Pupil Core network
 # API) with cppzmq, msgpack-cxx header-only without Boost, hidapi (hidraw backend), libusb.

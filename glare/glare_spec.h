@@ -41,6 +41,10 @@ struct GlareSpec {
   // The dynamic eye's blinks: "model" its own schedule (eyelids.h), "tracker" the blinks the
   // tracker detects (Luidolt 2020, 7.2: a detected blink may drive the eyelids instead).
   std::string blink_source = "model";
+  // How a session presents glare trials (runner/session/trial_glare.cpp): "auto" measures the
+  // first glare trial (prepared before onset) and computes every later frame live, just before its
+  // flip, when that fits the refresh period; "live" always; "prepared" never.
+  std::string presentation = "auto";
 };
 
 }  // namespace glarelab

@@ -85,6 +85,7 @@ GlareSpec read_glare_section(TableReader& top) {
   spec.gaze_latency_compensation = reader.boolean("gaze_latency_compensation").value_or(spec.gaze_latency_compensation);
   spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source, {"tracker", "model"});
   spec.blink_source = read_choice(reader, "blink_source", spec.blink_source, {"model", "tracker"});
+  spec.presentation = read_choice(reader, "presentation", spec.presentation, {"auto", "live", "prepared"});
   reader.report_unused();
   return spec;
 }
@@ -104,7 +105,8 @@ toml::table glare_section_toml(const GlareSpec& spec) {
                      {"gaze_window_px", spec.gaze_window_px},
                      {"gaze_latency_compensation", spec.gaze_latency_compensation},
                      {"pupil_source", spec.pupil_source},
-                     {"blink_source", spec.blink_source}};
+                     {"blink_source", spec.blink_source},
+                     {"presentation", spec.presentation}};
 }
 
 std::optional<std::pair<GlareMode, GlareMode>> position_glare_modes(const ConditionRow& row) {

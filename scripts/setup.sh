@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(
   build-essential cmake pkg-config git python3 python3-glad glslang-tools  # toolchain, GL loader generator, shader validator
-  libgl-dev libegl-dev libgl1-mesa-dri libglx-mesa0 libosmesa6-dev libglfw3-dev  # OpenGL: OSMesa offscreen, GLFW window
+  libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglx-mesa0 libosmesa6-dev libglfw3-dev  # OpenGL: EGL and OSMesa offscreen, GLFW window
   xvfb xauth xdotool                               # a real X display and key presses for the window tests
   libopenexr-dev libpng-dev                        # images
   libsqlite3-dev sqlite3                           # results store (sqlite3: the shell, for inspecting results)

@@ -56,8 +56,14 @@ void check_backend_renders_pattern(DisplayBackend& display) {
   display.present();
   const ImageRGBA shown = renderer.read_display();
   const DisplayModel model(spec);
-  // The default framebuffer may be 8 bits per channel (window) or float (offscreen).
-  const double tolerance = display.kind() == "window" ? 0.5 / 255.0 + 1e-6 : 1e-5;
+  // The default framebuffer may be 8 bits per channel (window), half float (an EGL pbuffer: 11
+  // significant bits; llvmpipe converts by truncation, so up to one unit in the last place, 2^-11
+  // below 1) or float (OSMesa).
+  const std::string& platform = display.gl_info().platform;
+  const double tolerance = display.kind() == "window"                        ? 0.5 / 255.0 + 1e-6
+                           : platform.find("RGBA16F") != std::string::npos ? std::ldexp(1.0, -11) + 1e-7
+                           : platform.find("RGBA8") != std::string::npos   ? 0.5 / 255.0 + 1e-6
+                                                                           : 1e-5;
   for (int y = 0; y < pattern.height_px; ++y)
     for (int x = 0; x < pattern.width_px; ++x)
       for (int c = 0; c < 3; ++c)
@@ -65,13 +71,62 @@ void check_backend_renders_pattern(DisplayBackend& display) {
             << "pixel " << x << "," << y << " channel " << c;
 }
 
-TEST(OffscreenBackend, RendersKnownPatternInFloat) {
+// Each headless path on its own ("egl", "osmesa") and the one --display offscreen picks.
+class HeadlessBackend : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(HeadlessBackend, RendersKnownPatternInFloat) {
   DisplayRequest request;
   request.width_px = 64;
   request.height_px = 48;
-  auto display = create_display("offscreen", request);
+  auto display = create_display(GetParam(), request);
   EXPECT_EQ(display->kind(), "offscreen");
   EXPECT_GE(display->gl_info().major * 10 + display->gl_info().minor, 45) << display->gl_info().describe();
+  const std::string& platform = display->gl_info().platform;
+  // Where EGL starts (it does on this project's machines), offscreen takes it.
+  if (GetParam() == "osmesa") {
+    EXPECT_EQ(platform, "OSMesa");
+  } else {
+    EXPECT_EQ(platform.rfind("EGL ", 0), 0u) << platform;
+  }
+  check_backend_renders_pattern(*display);
+}
+
+// Two contexts of one kind at once (a session's display and the GL glare engine's own): each draws
+// correctly after the other was current.
+TEST_P(HeadlessBackend, TwoContextsTakeTurns) {
+  DisplayRequest request;
+  request.width_px = 40;
+  request.height_px = 30;
+  auto first = create_display(GetParam(), request);
+  auto second = create_display(GetParam(), request);
+  first->make_current();
+  check_backend_renders_pattern(*first);
+  second->make_current();
+  check_backend_renders_pattern(*second);
+  second.reset();
+  first->make_current();
+  check_backend_renders_pattern(*first);
+}
+
+INSTANTIATE_TEST_SUITE_P(Display, HeadlessBackend, ::testing::Values("egl", "osmesa", "offscreen"));
+
+// EGL that cannot start: asked for by name it is an error naming what was found; --display
+// offscreen falls back to OSMesa and says why. glvnd is pointed at no vendor library, so libEGL
+// offers no platform (each test runs in a process of its own, before any EGL call).
+TEST(DisplayFactory, EglThatCannotStartIsAClearErrorAndOffscreenFallsBackToOsMesa) {
+  ASSERT_EQ(setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/glarelab_no_vendor.json", 1), 0);
+  DisplayRequest request;
+  request.width_px = 64;
+  request.height_px = 48;
+  try {
+    create_display("egl", request);
+    FAIL() << "expected a DisplayError";
+  } catch (const DisplayError& error) {
+    EXPECT_NE(std::string(error.what()).find("EGL: no display could be opened: "), std::string::npos) << error.what();
+  }
+  auto display = create_display("offscreen", request);
+  EXPECT_EQ(display->gl_info().platform.rfind("OSMesa (EGL did not start: EGL: no display could be opened", 0), 0u)
+      << display->gl_info().platform;
   check_backend_renders_pattern(*display);
 }
 

@@ -2,6 +2,7 @@
 // before the session row exists: exit 2, the reason, and no database file.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -56,6 +57,28 @@ TEST(PrewriteChecks, SaveFramesIntoAFileIsRefusedAndIntoADirectoryWritesEveryTri
   EXPECT_TRUE(std::filesystem::exists(frames / "trial_0001.exr"));
   EXPECT_FALSE(std::filesystem::exists(frames / "trial_0002.exr"));
   EXPECT_FALSE(std::filesystem::exists(frames / ".glarelab_write_check"));
+}
+
+// --display egl where EGL cannot start (glvnd pointed at no vendor library): exit 3 naming what
+// EGL answered, before the session exists; --display offscreen runs on OSMesa and logs why.
+TEST(PrewriteChecks, EglThatCannotStartExitsThreeAndOffscreenFallsBackSayingWhy) {
+  const test::ScratchDir scratch;
+  ASSERT_EQ(setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/glarelab_no_vendor.json", 1), 0);
+  const std::string demo = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
+  const auto refused = test::run_glarelab({"run", demo, "--display", "egl", "--observer", "simulated", "--db",
+                                           (scratch.path() / "never.db").string()},
+                                          scratch.path());
+  EXPECT_EQ(refused.exit_code, 3) << refused.output;
+  EXPECT_NE(refused.output.find("EGL: no display could be opened: "), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
+
+  const auto fallback = test::run_glarelab({"run", demo, "--display", "offscreen", "--observer", "simulated", "--db",
+                                            (scratch.path() / "osmesa.db").string(), "--stop-after", "1"},
+                                           scratch.path());
+  unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  EXPECT_EQ(fallback.exit_code, 0) << fallback.output;
+  EXPECT_NE(fallback.output.find("via OSMesa (EGL did not start: EGL: no display could be opened"), std::string::npos)
+      << fallback.output;
 }
 
 TEST(PrewriteChecks, TextTallerThanTheDisplayIsRefusedAtItsKey) {

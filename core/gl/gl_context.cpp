@@ -2,6 +2,8 @@
 
 namespace glarelab {
 
-std::string GlInfo::describe() const { return "OpenGL " + version + " on " + renderer + " (" + vendor + ")"; }
+std::string GlInfo::describe() const {
+  return "OpenGL " + version + " on " + renderer + " (" + vendor + ")" + (platform.empty() ? "" : " via " + platform);
+}
 
 }  // namespace glarelab

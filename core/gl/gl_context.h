@@ -16,7 +16,10 @@ struct GlInfo {
   std::string shading_language_version;
   int major = 0;
   int minor = 0;
-  std::string describe() const;  // "OpenGL 4.5 (Core Profile) Mesa 22.3.6 on llvmpipe (LLVM 15.0.6, 256 bits)"
+  // How the context was made: "EGL surfaceless, RGBA16F pbuffer", "OSMesa", "GLFW window", ...
+  std::string platform;
+  // "OpenGL 4.5 (Core Profile) Mesa 22.3.6 on llvmpipe (LLVM 15.0.6, 256 bits) (Mesa) via EGL surfaceless, ..."
+  std::string describe() const;
 };
 
 class GlContext {

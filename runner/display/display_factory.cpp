@@ -1,17 +1,33 @@
-// The one place a display backend is chosen. Adding EGL headless means one more branch here and
-// one more sibling file; callers only see DisplayBackend.
+// The one place a display backend is chosen. "offscreen" takes EGL (a GPU on a headless server,
+// or llvmpipe) and falls back to OSMesa, keeping EGL's answer in the context's platform text;
+// "egl" and "osmesa" ask for one of them and fail (DisplayError, exit 3) when it cannot start.
 #include "runner/display/display_backend.h"
+#include "runner/display/egl_display.h"
 #include "runner/display/glfw_display.h"
 #include "runner/display/osmesa_display.h"
 
 namespace glarelab {
 
-std::vector<std::string> display_kinds() { return {"window", "offscreen"}; }
+std::vector<std::string> display_kinds() { return {"window", "offscreen", "egl", "osmesa"}; }
 
 std::unique_ptr<DisplayBackend> create_display(const std::string& kind, const DisplayRequest& request) {
   if (kind == "window") return create_glfw_display(request);
-  if (kind == "offscreen") return create_osmesa_display(request);
-  throw DisplayError("display: unknown backend '" + kind + "' (choose window or offscreen)");
+  if (kind == "egl") return create_egl_display(request);
+  if (kind == "osmesa") return create_osmesa_display(request);
+  if (kind == "offscreen") {
+    std::string why_not_egl;
+    try {
+      return create_egl_display(request);
+    } catch (const DisplayError& egl_failure) {
+      why_not_egl = egl_failure.what();
+    }
+    try {
+      return create_osmesa_display(request, why_not_egl);
+    } catch (const DisplayError& osmesa_failure) {
+      throw DisplayError(std::string(osmesa_failure.what()) + " (tried first: " + why_not_egl + ")");
+    }
+  }
+  throw DisplayError("display: unknown backend '" + kind + "' (choose window, offscreen, egl or osmesa)");
 }
 
 }  // namespace glarelab

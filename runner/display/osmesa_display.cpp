@@ -14,7 +14,7 @@ void* osmesa_proc(const char* name) { return reinterpret_cast<void*>(OSMesaGetPr
 
 class OsMesaDisplay final : public DisplayBackend {
  public:
-  explicit OsMesaDisplay(const DisplayRequest& request)
+  OsMesaDisplay(const DisplayRequest& request, const std::string& why_not_egl)
       : width_px_(request.width_px), height_px_(request.height_px), refresh_hz_(request.refresh_hz) {
     if (width_px_ < 1 || height_px_ < 1) throw DisplayError("OSMesa: framebuffer size must be at least 1x1");
     const int attributes[] = {OSMESA_FORMAT,
@@ -44,6 +44,8 @@ class OsMesaDisplay final : public DisplayBackend {
     buffer_.assign(static_cast<std::size_t>(width_px_) * static_cast<std::size_t>(height_px_) * 4, 0.0f);
     make_current();
     info_ = load_and_check_gl("OSMesa", osmesa_proc, request);
+    loaded_ = true;
+    info_.platform = why_not_egl.empty() ? "OSMesa" : "OSMesa (EGL did not start: " + why_not_egl + ")";
   }
 
   ~OsMesaDisplay() override {
@@ -67,6 +69,9 @@ class OsMesaDisplay final : public DisplayBackend {
     }
     // Rows in memory run top to bottom, like every image in glarelab.
     OSMesaPixelStore(OSMESA_Y_UP, 0);
+    // Entry points may differ between contexts (an EGL or GLFW context's were loaded last).
+    if (loaded_ && gladLoadGL(reinterpret_cast<GLADloadfunc>(osmesa_proc)) == 0)
+      throw DisplayError("OSMesa: could not reload OpenGL entry points");
   }
 
  private:
@@ -88,12 +93,13 @@ class OsMesaDisplay final : public DisplayBackend {
   OSMesaContext context_ = nullptr;
   std::vector<float> buffer_;
   GlInfo info_;
+  bool loaded_ = false;  // entry points loaded once by load_and_check_gl
 };
 
 }  // namespace
 
-std::unique_ptr<DisplayBackend> create_osmesa_display(const DisplayRequest& request) {
-  return std::make_unique<OsMesaDisplay>(request);
+std::unique_ptr<DisplayBackend> create_osmesa_display(const DisplayRequest& request, const std::string& why_not_egl) {
+  return std::make_unique<OsMesaDisplay>(request, why_not_egl);
 }
 
 }  // namespace glarelab

@@ -23,6 +23,7 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       overlays_(renderer_, prepared.experiment),
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
+  if (prepared.experiment.glare.presentation == "live") glare_presentation_ = GlarePresentation::live;
   log_glare_setup();
   for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
 }

@@ -13,6 +13,7 @@
 #include "core/clock.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/frame_timing.h"
+#include "runner/session/interval_glare.h"
 #include "runner/session/presentation_overlays.h"
 #include "runner/session/response_device_input.h"
 #include "runner/session/session_setup.h"
@@ -141,10 +142,19 @@ class SessionLoop {
 
   // --- glare (stimuli/glare_stage.h) ---
   // runner/session/trial_glare.cpp
-  // The trial's stimulus frames after glare, all prepared before onset (see the definition).
-  // `flips_before`: timed flips between now and the first of these frames (fixation, interval 1).
-  std::vector<ImageRGBA> prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
-                                       int flips_before = 0);
+  // An interval's glare set up before the fixation (see the definition): modes, composed frame,
+  // layers and tracker inputs. `flips_before`: timed flips between now and the interval's first
+  // stimulus frame (fixation, interval 1).
+  IntervalGlare begin_glare(const TrialPlan& plan, const std::vector<Placement>& placements, int flips_before = 0);
+  void update_glare_gaze(IntervalGlare& glare, double flip_s);
+  // Frame k of the interval, computed for its flip time if it is needed and not yet there.
+  void compute_glare_frame(IntervalGlare& glare, int k);
+  // Every frame of the interval before onset (prepared presentation); stops on an interrupt.
+  void prepare_glare_frames(IntervalGlare& glare);
+  // The interval's glare_skipped, glare_window and gaze_latency events.
+  void log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare);
+  // Once, after the first glare interval: prepared or live from then on, with the measured cost.
+  void settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare);
   // Once per session: the glare backend (what and why) and where the eye's inputs come from.
   void log_glare_setup();
   const ConditionRow& condition_row(const TrialPlan& plan) const;
@@ -171,6 +181,11 @@ class SessionLoop {
   std::map<std::string, SceneTexture> textures_;
   FrameTimingMonitor timing_;
   bool presentation_mode_logged_ = false;
+  // Live glare needs a frame's glare computed within this fraction of the refresh period; the rest
+  // composes, encodes and flips it.
+  static constexpr double kLiveBudgetFraction = 0.75;
+  enum class GlarePresentation { prepared, live };
+  GlarePresentation glare_presentation_ = GlarePresentation::prepared;
   GlareStage glare_;
   PresentationOverlays overlays_;
   bool sequential_;

@@ -1,6 +1,8 @@
 // Glare in a session: the once-per-session log of the glare backend and the eye's inputs, and each
-// trial's stimulus frames after glare, prepared before onset, with their skip and gaze-window events.
+// interval's stimulus frames after glare (runner/session/interval_glare.h), prepared before onset
+// or computed live before each flip, with their skip, gaze-window and gaze-latency events.
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <optional>
 #include <stdexcept>
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "runner/session/session_loop.h"
+#include "core/number_text.h"
 #include "stimuli/position_glare.h"
 
 namespace glarelab {
@@ -26,59 +29,63 @@ std::string describe_glare_window(const GazeWindow& window, const std::optional<
 }  // namespace
 
 // --- glare (stimuli/glare_stage.h) ---
-// The trial's stimulus frames after glare, all prepared before onset: glare on the CPU takes
-// longer than a refresh period (llvmpipe and FFTW), so a window run could not compute it between
-// flips. Frame k is computed for the time it is planned to flip, first_flip + k periods.
-// Control: empty (the composed frame is shown untouched). Static: one frame serves all.
-// Skip decisions are logged once per trial as 'glare_skipped' events.
-// Tracker inputs (when a tracker runs) are those known at preparation, for all the trial's
-// frames: the filtered pupil, the detected blinks (blink_source "tracker") and the latest gaze.
-std::vector<ImageRGBA> SessionLoop::prepare_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
-                                                  int flips_before) {
+// An interval's glare: frame k is computed for the time it is planned to flip, first_flip + k
+// periods, so a frame is the same whether it is prepared before onset or computed live just before
+// its flip (dynamic glare is a function of time and seed). Control: no frames (the composed frame
+// is shown untouched). Static: one frame serves all. Tracker inputs (when a tracker runs): the
+// filtered pupil and detected blinks known at the interval's start; the gaze known then
+// (prepared), or at each frame (live).
+IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
+                                       int flips_before) {
+  IntervalGlare glare;
+  glare.period_s = period_s_;
+  glare.first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
   // A preview (stimulus_preview.h) computes the glare of its own trial's first frame only; other
   // trials' frames are recorded by the dynamic eye, not computed.
   const bool captured = previewed(plan);
   const bool record_only = preview_ != nullptr && !captured;
-  GlareMode mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
+  glare.mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
   // A mode per position (stimuli/position_glare.h): one layer per placement.
   std::vector<GlareMode> position_modes;
   if (plan.position_glare.size() == placements.size())
     for (const std::string& name : plan.position_glare) position_modes.push_back(parse_glare_mode(name));
   if (captured && preview_->glare) {
-    mode = *preview_->glare;
+    glare.mode = *preview_->glare;
     position_modes.clear();
   }
-  const bool first_capture = captured && !preview_frame_;
-  if (first_capture) {
+  if (captured && preview_->time_s) glare.first_flip_s = *preview_->time_s;
+  glare.modes_label = to_string(glare.mode);
+  if (!position_modes.empty()) {
+    glare.modes_label.clear();
+    for (std::size_t p = 0; p < position_modes.size(); ++p)
+      glare.modes_label += (p == 0 ? "" : ", ") + plan.positions.at(p) + " " + to_string(position_modes[p]);
+  }
+  if (captured && !preview_frame_) {
     preview_frame_.emplace();
     preview_frame_->plan = plan;
-    preview_frame_->time_s = preview_->time_s.value_or(clock_.now_s() + (1 + flips_before) * period_s_);
-    preview_frame_->glare_label = to_string(mode);
-    for (std::size_t p = 0; p < position_modes.size(); ++p)
-      preview_frame_->glare_label = (p == 0 ? "" : preview_frame_->glare_label + ", ") + plan.positions.at(p) + " " +
-                                    to_string(position_modes[p]);
+    preview_frame_->time_s = glare.first_flip_s;
+    preview_frame_->glare_label = glare.modes_label;
   }
   const auto is_control = [](GlareMode m) { return m == GlareMode::control; };
-  if (position_modes.empty() ? mode == GlareMode::control
+  if (position_modes.empty() ? glare.mode == GlareMode::control
                              : std::all_of(position_modes.begin(), position_modes.end(), is_control))
-    return {};
+    return glare;
   const auto is_dynamic = [](GlareMode m) { return m == GlareMode::dynamic; };
-  const bool dynamic = position_modes.empty() ? mode == GlareMode::dynamic
-                                              : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic);
+  glare.dynamic = position_modes.empty() ? glare.mode == GlareMode::dynamic
+                                         : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic);
   if (record_only) {
     // The eye sees these frames (its pupil adapts to them) at the times they flip.
-    if (dynamic) {
+    if (glare.dynamic) {
       renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
       const double field_cd_m2 = mean_luminance(renderer_.read_stimulus());
-      const double first_s = clock_.now_s() + (1 + flips_before) * period_s_;
-      for (int k = 0; k < plan.stimulus_frames; ++k) glare_.record_dynamic_frame(first_s + k * period_s_, field_cd_m2);
+      for (int k = 0; k < plan.stimulus_frames; ++k) glare_.record_dynamic_frame(glare.frame_time_s(k), field_cd_m2);
     }
     display_.make_current();
-    return {};
+    return glare;
   }
+  glare.active = true;
+  glare.frames_needed = captured ? 1 : glare.dynamic ? plan.stimulus_frames : 1;
   const GlareSpec& spec = prepared_.experiment.glare;
-  std::optional<GazePoint> gaze;
-  std::optional<TrackerGaze> tracked;
   if (tracker_.active()) {
     const std::optional<double> pupil_mm = tracker_.measured_pupil_mm();
     if (spec.pupil_source == "tracker" && pupil_mm) glare_.record_measured_pupil(clock_.now_s(), *pupil_mm);
@@ -87,98 +94,138 @@ std::vector<ImageRGBA> SessionLoop::prepare_glare(const TrialPlan& plan, const s
       for (const TrackerBlinkInterval& blink : tracker_.detected_blinks()) blinks.push_back({blink.onset_s, blink.offset_s});
       glare_.set_detected_blinks(blinks);
     }
-    // The frames are prepared now and shown from the flip after `flips_before` more: compensation
-    // extrapolates to it.
-    tracked = spec.gaze_latency_compensation
-                  ? tracker_.predicted_gaze(clock_.now_s() + (1 + flips_before) * period_s_)
-                  : tracker_.latest_gaze();
-    if (tracked) gaze = GazePoint{tracked->x, tracked->y};
+    update_glare_gaze(glare, glare.first_flip_s);
   }
-  std::vector<GlareLayer> layers;
-  std::string modes_label = to_string(mode);
-  if (!position_modes.empty()) {
-    modes_label.clear();
-    for (std::size_t p = 0; p < placements.size(); ++p) {
-      renderer_.compose({placements[p]}, 0.0);
-      layers.push_back({renderer_.read_stimulus(), position_modes[p]});
-      modes_label += (p == 0 ? "" : ", ") + plan.positions.at(p) + " " + to_string(position_modes[p]);
-    }
+  for (std::size_t p = 0; p < position_modes.size(); ++p) {
+    renderer_.compose({placements[p]}, 0.0);
+    glare.layers.push_back({renderer_.read_stimulus(), position_modes[p]});
   }
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
-  const ImageRGBA composed = renderer_.read_stimulus();
-  const double first_flip_s = captured && preview_->time_s ? *preview_->time_s
-                                                           : clock_.now_s() + (1 + flips_before) * period_s_;
-  const int count = captured ? 1 : dynamic ? plan.stimulus_frames : 1;
-  std::vector<ImageRGBA> frames;
-  int skipped = 0, gratings_hidden = 0, closed = 0;
-  std::string skip_reason;
-  double smallest_pupil_mm = 1e9;
-  std::optional<GazeWindow> window;
-  int applications = 0;
-  const auto preparation_start = std::chrono::steady_clock::now();
-  for (int k = 0; k < count; ++k) {
+  glare.composed_cd_m2 = renderer_.read_stimulus();
+  display_.make_current();
+  return glare;
+}
+
+// The gaze the window is placed at for a frame flipping at `flip_s`: the latest, or with latency
+// compensation the gaze extrapolated to that flip.
+void SessionLoop::update_glare_gaze(IntervalGlare& glare, double flip_s) {
+  glare.tracked = prepared_.experiment.glare.gaze_latency_compensation ? tracker_.predicted_gaze(flip_s)
+                                                                       : tracker_.latest_gaze();
+  glare.gaze.reset();
+  if (glare.tracked) glare.gaze = GazePoint{glare.tracked->x, glare.tracked->y};
+}
+
+void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
+  if (!glare.active || k >= glare.frames_needed || static_cast<int>(glare.frames.size()) > k) return;
+  const auto start = std::chrono::steady_clock::now();
+  const double time_s = glare.frame_time_s(k);
+  if (glare_presentation_ == GlarePresentation::live && tracker_.active()) {
+    // Live: the gaze of this frame, and how old it is when the frame flips.
+    update_glare_gaze(glare, time_s);
+    if (glare.tracked) glare.gaze_to_flip_s.push_back(time_s - glare.tracked->session_time_s);
+  }
+  std::vector<GlareFrameReport> reports;
+  if (glare.layers.empty()) {
+    GlareFrameReport report;
+    glare.frames.push_back(glare_.apply(glare.composed_cd_m2, glare.mode, time_s, &report, glare.gaze));
+    reports.push_back(report);
+  } else {
+    glare.frames.push_back(apply_layered_glare(glare_, glare.composed_cd_m2, glare.layers, time_s, glare.gaze, &reports));
+  }
+  if (k == 0 && preview_frame_ && preview_frame_->reports.empty()) preview_frame_->reports = reports;
+  for (const GlareFrameReport& report : reports) {
+    ++glare.applications;
+    if (report.window && !glare.window) glare.window = report.window;
+    if (!report.skip_reason.empty()) {
+      ++glare.skipped;
+      if (glare.skip_reason.empty()) glare.skip_reason = report.skip_reason;
+    }
+    if (!report.gratings_in_pupil) ++glare.gratings_hidden;
+    if (report.eye_closed && report.convolved) ++glare.closed;  // held PSF; otherwise counted as skipped
+    glare.smallest_pupil_mm = std::min(glare.smallest_pupil_mm, report.pupil_diameter_mm);
+  }
+  glare.compute_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  display_.make_current();  // a GL glare backend works in a context of its own
+}
+
+void SessionLoop::prepare_glare_frames(IntervalGlare& glare) {
+  for (int k = 0; k < glare.frames_needed; ++k) {
     // Preparing a trial's frames can take many seconds on a CPU: Ctrl-C and SIGTERM are honoured
     // within one frame's work, not after the whole trial's.
     check_interrupt();
-    if (aborted_) return {};
-    const double time_s = first_flip_s + k * period_s_;
-    std::vector<GlareFrameReport> reports;
-    if (layers.empty()) {
-      GlareFrameReport report;
-      frames.push_back(glare_.apply(composed, mode, time_s, &report, gaze));
-      reports.push_back(report);
-    } else {
-      frames.push_back(apply_layered_glare(glare_, composed, layers, time_s, gaze, &reports));
-    }
-    if (first_capture && k == 0) {
-      preview_frame_->time_s = time_s;
-      preview_frame_->reports = reports;
-    }
-    for (const GlareFrameReport& report : reports) {
-      ++applications;
-      if (report.window && !window) window = report.window;
-      if (!report.skip_reason.empty()) {
-        ++skipped;
-        if (skip_reason.empty()) skip_reason = report.skip_reason;
-      }
-      if (!report.gratings_in_pupil) ++gratings_hidden;
-      if (report.eye_closed && report.convolved) ++closed;  // held PSF; otherwise counted as skipped
-      smallest_pupil_mm = std::min(smallest_pupil_mm, report.pupil_diameter_mm);
-    }
+    if (aborted_) return;
+    compute_glare_frame(glare, k);
   }
-  if (!presentation_mode_logged_) {
-    // Which presentation mode glare trials use, and why (measured on the first one).
-    presentation_mode_logged_ = true;
-    const double per_frame_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - preparation_start).count() / count;
-    store_.log_event(session_id_, clock_.now_s(), "presentation_mode",
-                     "glare trials: frames prepared before onset (" + std::to_string(1000.0 * per_frame_s) +
-                         " ms per glare frame on this machine against a refresh period of " +
-                         std::to_string(1000.0 * period_s_) +
-                         " ms; dynamic glare is a function of time and seed, so prepared frames equal live "
-                         "ones); control trials: composed live at every refresh");
-  }
-  const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + modes_label + "): ";
-  const std::string of_frames =
-      " of " + std::to_string(applications) + (layers.empty() ? " glare frame(s)" : " glare layer frame(s)");
-  if (skipped > 0)
-    store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
-                     trial + "convolution skipped on " + std::to_string(skipped) + of_frames + ": " + skip_reason);
-  if (closed > 0)
-    store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
-                     trial + "eye closed by a blink on " + std::to_string(closed) + of_frames +
+}
+
+void SessionLoop::log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare) {
+  if (!glare.active) return;
+  const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + glare.modes_label + "): ";
+  const std::string of_frames = " of " + std::to_string(glare.applications) +
+                                (glare.layers.empty() ? " glare frame(s)" : " glare layer frame(s)");
+  const double now_s = clock_.now_s();
+  if (glare.skipped > 0)
+    store_.log_event(session_id_, now_s, "glare_skipped",
+                     trial + "convolution skipped on " + std::to_string(glare.skipped) + of_frames + ": " +
+                         glare.skip_reason);
+  if (glare.closed > 0)
+    store_.log_event(session_id_, now_s, "glare_skipped",
+                     trial + "eye closed by a blink on " + std::to_string(glare.closed) + of_frames +
                          ": the PSF of the last open frame is held");
-  if (gratings_hidden > 0)
-    store_.log_event(session_id_, clock_.now_s(), "glare_skipped",
-                     trial + "lens fibre gratings left out on " + std::to_string(gratings_hidden) + of_frames +
-                         ": pupil (smallest " + std::to_string(smallest_pupil_mm) +
+  if (glare.gratings_hidden > 0)
+    store_.log_event(session_id_, now_s, "glare_skipped",
+                     trial + "lens fibre gratings left out on " + std::to_string(glare.gratings_hidden) + of_frames +
+                         ": pupil (smallest " + std::to_string(glare.smallest_pupil_mm) +
                          " mm) inside the clear lens centre (cortex annulus from " +
                          std::to_string(2.0 * EyeParameters{}.lens_cortex_inner_radius_mm) + " mm diameter)");
-  if (window)
-    store_.log_event(session_id_, clock_.now_s(), "glare_window",
-                     trial + describe_glare_window(*window, tracked));
-  display_.make_current();  // a GL glare backend works in a context of its own
-  return frames;
+  if (glare.window)
+    store_.log_event(session_id_, now_s, "glare_window", trial + describe_glare_window(*glare.window, glare.tracked));
+  if (!glare.gaze_to_flip_s.empty()) {
+    double sum_s = 0.0, largest_s = 0.0;
+    for (const double latency_s : glare.gaze_to_flip_s) {
+      sum_s += latency_s;
+      largest_s = std::max(largest_s, latency_s);
+    }
+    const double mean_ms = 1000.0 * sum_s / static_cast<double>(glare.gaze_to_flip_s.size());
+    store_.log_event(session_id_, now_s, "gaze_latency",
+                     trial + "gaze to flip mean " + number_text(std::round(mean_ms * 1000.0) / 1000.0) + " ms, max " +
+                         number_text(std::round(1000.0 * largest_s * 1000.0) / 1000.0) + " ms over " +
+                         std::to_string(glare.gaze_to_flip_s.size()) + " live glare frame(s)");
+  }
+}
+
+// How glare trials are presented ([glare] presentation): "prepared" and "live" as asked; "auto"
+// prepares the first glare interval before onset, measuring the cost per frame, and goes live
+// from then on when that cost fits kLiveBudgetFraction of the refresh period (the rest of the
+// period composes, encodes and flips the frame). Logged once as a 'presentation_mode' event.
+void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
+  if (!glare.active || glare.frames.empty() || presentation_mode_logged_) return;
+  presentation_mode_logged_ = true;
+  const double per_frame_s = glare.compute_s / static_cast<double>(glare.frames.size());
+  const std::string cost = number_text(std::round(per_frame_s * 1e6) / 1e3) + " ms per glare frame on this machine (" +
+                           std::to_string(glare.frames.size()) + " frame(s) of trial " +
+                           std::to_string(plan.trial_index) + ") against a refresh period of " +
+                           number_text(std::round(period_s_ * 1e6) / 1e3) + " ms";
+  const std::string& asked = prepared_.experiment.glare.presentation;
+  std::string message;
+  if (asked == "live") {
+    message = "glare trials: live, each frame computed just before its flip ([glare] presentation = \"live\"); " +
+              cost + (per_frame_s > period_s_ ? ": longer than a period, so a real-time display drops frames" : "");
+  } else if (asked == "prepared") {
+    message = "glare trials: frames prepared before onset ([glare] presentation = \"prepared\"); " + cost;
+  } else if (per_frame_s <= kLiveBudgetFraction * period_s_) {
+    glare_presentation_ = GlarePresentation::live;
+    message = "glare trials: live from trial " + std::to_string(plan.trial_index + 1) +
+              ", each frame computed just before its flip with the gaze of that moment; " + cost +
+              " fits " + number_text(kLiveBudgetFraction * 100.0) + " % of it (trial " +
+              std::to_string(plan.trial_index) + " was prepared before onset to measure it)";
+  } else {
+    message = "glare trials: frames prepared before onset; " + cost + " exceeds " +
+              number_text(kLiveBudgetFraction * 100.0) +
+              " % of it, so live glare would drop frames (prepared frames equal live ones: dynamic glare is a "
+              "function of time and seed; only the gaze is the one known at the trial's start)";
+  }
+  store_.log_event(session_id_, clock_.now_s(), "presentation_mode", message + "; control trials: composed live at every refresh");
 }
 
 void SessionLoop::log_glare_setup() {

@@ -34,7 +34,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   // Each interval's placements and glare, prepared before the fixation so the timed sequence
   // runs flip after flip; glare frame k of an interval is computed for the time it will flip.
   std::vector<std::vector<Placement>> placements;
-  std::vector<std::vector<ImageRGBA>> glare_frames;
+  std::vector<IntervalGlare> glare;
   std::vector<PixelRect> stimulus_rects;
   std::vector<TrialPlan> shown_plans;
   for (int interval = 0; interval < schedule.intervals; ++interval) {
@@ -43,7 +43,8 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
     std::size_t first_flip = 0;
     while (schedule.timed[first_flip].interval != interval) ++first_flip;
-    glare_frames.push_back(prepare_glare(shown, placements.back(), static_cast<int>(first_flip)));
+    glare.push_back(begin_glare(shown, placements.back(), static_cast<int>(first_flip)));
+    if (glare_presentation_ == GlarePresentation::prepared) prepare_glare_frames(glare.back());
     if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
   }
   const std::vector<Placement> question = overlays_.question(plan.question, stimulus_rects);
@@ -59,10 +60,10 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     } else if (flip.phase == FlipPhase::fixation) {
       draw({}, nullptr, overlays_.fixation());
     } else if (flip.phase == FlipPhase::interval) {
-      const std::vector<ImageRGBA>& glared = glare_frames[static_cast<std::size_t>(flip.interval)];
-      const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(flip.frame_in_interval),
-                                                  glared.empty() ? 0 : glared.size() - 1);
-      draw(placements[static_cast<std::size_t>(flip.interval)], glared.empty() ? nullptr : &glared[k], question);
+      IntervalGlare& shown_glare = glare[static_cast<std::size_t>(flip.interval)];
+      // Live: this frame's glare now, with the gaze of this moment (nothing when already there).
+      compute_glare_frame(shown_glare, flip.frame_in_interval);
+      draw(placements[static_cast<std::size_t>(flip.interval)], shown_glare.shown(flip.frame_in_interval), question);
       if (flip.frame_in_interval == 0 && capture_first_frame(shown_plans[static_cast<std::size_t>(flip.interval)], flip.interval)) {
         aborted_ = true;
         abort_reason_ = "preview captured";
@@ -98,6 +99,11 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     else
       check_interrupt();
     if (aborted_) return false;
+  }
+
+  for (const IntervalGlare& interval_glare : glare) {
+    log_interval_glare(plan, interval_glare);
+    settle_glare_presentation(plan, interval_glare);
   }
 
   const double window_s = presentation.response_window_s;

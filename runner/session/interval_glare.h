@@ -1,0 +1,48 @@
+#pragma once
+// One interval's glare in a session (runner/session/trial_glare.cpp): what its frames need (the
+// modes, the composed frame, its layers when the sides differ) and what computing them reported,
+// gathered for the trial's events. Frames are computed before onset ("prepared") or each just
+// before its flip ("live": the gaze window follows the gaze frame by frame).
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "runner/tracker/tracker_session.h"
+#include "stimuli/glare_stage.h"
+#include "stimuli/position_glare.h"
+
+namespace glarelab {
+
+struct IntervalGlare {
+  bool active = false;  // false: control everywhere (or a preview passing by): no glare frames
+  GlareMode mode = GlareMode::control;
+  std::vector<GlareLayer> layers;  // one per position when the sides differ; else empty
+  ImageRGBA composed_cd_m2;
+  bool dynamic = false;
+  int frames_needed = 1;      // dynamic: every stimulus frame; static: one serves all
+  double first_flip_s = 0.0;  // session time of the interval's first stimulus flip
+  double period_s = 0.0;
+  std::string modes_label;    // "dynamic", or "left dynamic, right control"
+  std::optional<GazePoint> gaze;
+  std::optional<TrackerGaze> tracked;  // the tracker's gaze the window is placed at
+  std::vector<ImageRGBA> frames;       // computed so far (frame k at index k)
+
+  // Reports, for the trial's glare_skipped / glare_window / gaze_latency events.
+  int applications = 0, skipped = 0, gratings_hidden = 0, closed = 0;
+  std::string skip_reason;
+  double smallest_pupil_mm = 1e9;
+  std::optional<GazeWindow> window;
+  std::vector<double> gaze_to_flip_s;  // live: flip time minus the time of the gaze sample used
+  double compute_s = 0.0;              // wall time spent computing frames
+
+  double frame_time_s(int k) const { return first_flip_s + k * period_s; }
+  // The frame shown at stimulus frame k of the interval: frame k, or the last one computed.
+  const ImageRGBA* shown(int k) const {
+    if (!active || frames.empty()) return nullptr;
+    return &frames[std::min<std::size_t>(static_cast<std::size_t>(k), frames.size() - 1)];
+  }
+};
+
+}  // namespace glarelab

@@ -1,0 +1,96 @@
+// Live glare: each frame computed just before its flip is the frame prepared before onset (on the
+// virtual clock, without a tracker, dynamic glare is a function of time and seed), the session log
+// says which presentation ran and what a glare frame cost, and with a tracker each live frame's
+// gaze age at its flip is logged.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "cli_process.h"
+#include "core/exr_io.h"
+#include "runner/store/result_store.h"
+#include "session_events.h"
+
+namespace glarelab {
+namespace {
+
+struct GlareRun {
+  test::RunOutput output;
+  std::filesystem::path frames;
+  std::filesystem::path db;
+};
+
+// The demo's first `trials` trials with [glare] presentation as given, each trial's first frame
+// saved. Fewer stimulus frames keep it quick.
+GlareRun run_demo(const test::ScratchDir& scratch, const std::string& presentation, int trials,
+                  const std::vector<std::string>& extra = {}) {
+  const auto dir = scratch.path() / presentation;
+  std::filesystem::create_directories(dir);
+  const auto experiment =
+      test::demo_variant(dir, {{"stimulus_frames", "stimulus_frames = 3"},
+                               {"grid_px", "grid_px = 128\npresentation = \"" + presentation + "\""}});
+  GlareRun run{{}, dir / "frames", dir / "session.db"};
+  std::vector<std::string> arguments = {"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
+                                        "--db", run.db.string(), "--save-frames", run.frames.string(), "--stop-after",
+                                        std::to_string(trials)};
+  arguments.insert(arguments.end(), extra.begin(), extra.end());
+  run.output = test::run_glarelab(arguments, dir);
+  return run;
+}
+
+TEST(LiveGlare, LiveFramesEqualPreparedFramesAndTheLogSaysWhichRan) {
+  const test::ScratchDir scratch;
+  const int trials = 6;
+  const GlareRun prepared = run_demo(scratch, "prepared", trials);
+  const GlareRun live = run_demo(scratch, "live", trials);
+  ASSERT_EQ(prepared.output.exit_code, 0) << prepared.output.output;
+  ASSERT_EQ(live.output.exit_code, 0) << live.output.output;
+  for (int trial = 0; trial < trials; ++trial) {
+    char name[32];
+    std::snprintf(name, sizeof name, "trial_%04d.exr", trial);
+    const ImageRGBA a = read_exr((prepared.frames / name).string()).image;
+    const ImageRGBA b = read_exr((live.frames / name).string()).image;
+    EXPECT_EQ(a.rgba, b.rgba) << name;
+  }
+  const auto prepared_mode = test::session_event_messages(prepared.db.string(), "presentation_mode");
+  ASSERT_EQ(prepared_mode.size(), 1u);
+  EXPECT_EQ(prepared_mode[0].rfind("glare trials: frames prepared before onset ([glare] presentation = \"prepared\"); ", 0),
+            0u)
+      << prepared_mode[0];
+  EXPECT_NE(prepared_mode[0].find(" ms per glare frame on this machine"), std::string::npos) << prepared_mode[0];
+  const auto live_mode = test::session_event_messages(live.db.string(), "presentation_mode");
+  ASSERT_EQ(live_mode.size(), 1u);
+  EXPECT_EQ(live_mode[0].rfind("glare trials: live, each frame computed just before its flip", 0), 0u) << live_mode[0];
+  // No tracker, no gaze: nothing to be late.
+  EXPECT_TRUE(test::session_event_messages(live.db.string(), "gaze_latency").empty());
+}
+
+// With a tracker and a gaze window, every live frame takes the gaze of its moment: the trial's
+// gaze_latency event gives its age at the flip, at least one refresh period (the tracker is read
+// after each flip) and, with a 200 Hz simulated tracker, not many periods more.
+TEST(LiveGlare, WithATrackerEachLiveFramesGazeAgeIsLogged) {
+  const test::ScratchDir scratch;
+  const auto dir = scratch.path();
+  const auto experiment = test::demo_variant(
+      dir, {{"stimulus_frames", "stimulus_frames = 3"},
+            {"grid_px", "grid_px = 128\npresentation = \"live\"\ngaze_window_px = 128"}});
+  const auto db = dir / "tracked.db";
+  const auto run = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
+                                       "--db", db.string(), "--tracker", "simulated", "--stop-after", "4"},
+                                      dir);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto latencies = test::session_event_messages(db.string(), "gaze_latency");
+  ASSERT_FALSE(latencies.empty());
+  for (const std::string& message : latencies) {
+    const auto at = message.find("gaze to flip mean ");
+    ASSERT_NE(at, std::string::npos) << message;
+    const double mean_ms = std::stod(message.substr(at + 18));
+    EXPECT_GT(mean_ms, 0.0) << message;
+    EXPECT_LT(mean_ms, 100.0) << message;
+    EXPECT_NE(message.find("live glare frame(s)"), std::string::npos) << message;
+  }
+}
+
+}  // namespace
+}  // namespace glarelab
