@@ -216,7 +216,8 @@ void load_one(const std::string& path, LoadedData& data) {
   }
   if (!frame_columns.empty()) {
     StatementGuard query{db.prepare(
-        "SELECT trial_id, frame_index, scheduled_s, flip_s, dropped FROM frames ORDER BY trial_id, rowid")};
+        "SELECT trial_id, frame_index, scheduled_s, flip_s, dropped, " + column_or_null(frame_columns, "gaze_age_s") +
+        " FROM frames ORDER BY trial_id, rowid")};
     while (db.step(query.stmt)) {
       const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
       if (found == trial_at.end()) continue;
@@ -225,6 +226,7 @@ void load_one(const std::string& path, LoadedData& data) {
       frame.scheduled_s = sqlite3_column_double(query.stmt, 2);
       frame.flip_s = sqlite3_column_double(query.stmt, 3);
       frame.dropped = sqlite3_column_int(query.stmt, 4) != 0;
+      frame.gaze_age_s = optional_real(query.stmt, 5);
       data.sessions[found->second.first].trials[found->second.second].frames.push_back(frame);
     }
   }

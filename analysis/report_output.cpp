@@ -228,10 +228,15 @@ std::string render_html(const AnalysisReport& report) {
   if (report.tracker.sessions.empty()) {
     out << "<p>No tracker samples in these sessions.</p>\n";
   } else {
-    out << "<table><tr><th>session</th><th>samples</th><th>valid</th><th>blinks</th></tr>\n";
+    out << "<table><tr><th>session</th><th>samples</th><th>valid</th><th>blinks</th><th>gaze to flip, live glare "
+           "(median / 95th percentile / max ms, frames)</th></tr>\n";
     for (const SessionTracker& t : report.tracker.sessions) {
+      const std::string latency =
+          t.gaze_latency ? fixed(t.gaze_latency->median_ms, 1) + " / " + fixed(t.gaze_latency->p95_ms, 1) + " / " +
+                               fixed(t.gaze_latency->max_ms, 1) + " (" + std::to_string(t.gaze_latency->frames) + ")"
+                         : "no live glare frames";
       out << "<tr>" << cell(t.label) << cell(std::to_string(t.samples)) << cell(fixed(100.0 * t.valid_fraction(), 1) + "%")
-          << cell(std::to_string(t.blinks)) << "</tr>\n";
+          << cell(std::to_string(t.blinks)) << cell(latency) << "</tr>\n";
     }
     out << "</table>\n";
     html_figures(out, report, "tracker");

@@ -134,7 +134,8 @@ std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::strin
   {
     const std::string path = (dir / "frames.csv").string();
     CsvFile file(path);
-    file.row({"database", "session_id", "trial_id", "trial_index", "frame_index", "scheduled_s", "flip_s", "dropped"});
+    file.row({"database", "session_id", "trial_id", "trial_index", "frame_index", "scheduled_s", "flip_s", "dropped",
+              "gaze_age_s"});
     for (const LoadedSession& session : data.sessions) {
       const std::string session_id = std::to_string(session.record.id);
       for (const LoadedTrial& trial : session.trials) {
@@ -142,7 +143,8 @@ std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::strin
         const std::string trial_index = std::to_string(trial.record.trial_index);
         for (const FrameRecord& frame : trial.frames) {
           file.row({session.database, session_id, trial_id, trial_index, std::to_string(frame.frame_index),
-                    csv_number(frame.scheduled_s), csv_number(frame.flip_s), frame.dropped ? "1" : "0"});
+                    csv_number(frame.scheduled_s), csv_number(frame.flip_s), frame.dropped ? "1" : "0",
+                    optional_number(frame.gaze_age_s)});
         }
       }
     }

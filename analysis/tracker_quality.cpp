@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include "analysis/statistics.h"
+
 namespace glarelab::analysis {
 namespace {
 
@@ -76,6 +78,21 @@ TrackerQuality analyse_tracker(const LoadedData& data) {
       tracker.pupil.time_from_onset_s.push_back(kTraceStart_s + (static_cast<double>(b) + 0.5) * kTraceBin_s);
       tracker.pupil.pupil_diameter_mm.push_back(count[b] > 0 ? std::optional<double>(sum[b] / static_cast<double>(count[b]))
                                                              : std::nullopt);
+    }
+    std::vector<double> ages_ms;
+    for (const LoadedTrial& trial : session.trials)
+      for (const FrameRecord& frame : trial.frames)
+        if (frame.gaze_age_s) ages_ms.push_back(1000.0 * *frame.gaze_age_s);
+    if (!ages_ms.empty()) {
+      std::sort(ages_ms.begin(), ages_ms.end());
+      GazeLatency latency;
+      latency.frames = static_cast<long>(ages_ms.size());
+      latency.median_ms = median(ages_ms);
+      // Nearest rank: the smallest value with at least 95 % of the frames at or below it.
+      const auto rank = static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(ages_ms.size())));
+      latency.p95_ms = ages_ms[std::max<std::size_t>(rank, 1) - 1];
+      latency.max_ms = ages_ms.back();
+      tracker.gaze_latency = latency;
     }
     quality.sessions.push_back(std::move(tracker));
   }

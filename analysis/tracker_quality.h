@@ -17,12 +17,22 @@ struct PupilTrace {
   std::vector<std::optional<double>> pupil_diameter_mm;  // empty bin: no valid sample
 };
 
+// Gaze-to-flip latency of live gaze-contingent glare: the age, at each stimulus frame's flip, of
+// the gaze sample its glare window was placed at (frames.gaze_age_s).
+struct GazeLatency {
+  long frames = 0;
+  double median_ms = 0.0;
+  double p95_ms = 0.0;  // nearest-rank 95th percentile
+  double max_ms = 0.0;
+};
+
 struct SessionTracker {
   std::string label;
   long samples = 0;
   long valid = 0;
   long blinks = 0;
   PupilTrace pupil;
+  std::optional<GazeLatency> gaze_latency;  // empty: no live glare frame used a gaze
   double valid_fraction() const { return samples > 0 ? static_cast<double>(valid) / static_cast<double>(samples) : 0.0; }
 };
 

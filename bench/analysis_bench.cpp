@@ -75,7 +75,7 @@ std::string generate_database() {
       }
       std::vector<glarelab::FrameRecord> frames(kFramesPerTrial);
       for (int f = 0; f < kFramesPerTrial; ++f) {
-        frames[static_cast<std::size_t>(f)] = {f, trial.onset_s + f / 60.0, trial.onset_s + f / 60.0, false};
+        frames[static_cast<std::size_t>(f)] = {f, trial.onset_s + f / 60.0, trial.onset_s + f / 60.0, false, {}};
       }
       store.commit_trial(trial, frames);
     }

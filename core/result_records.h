@@ -9,9 +9,10 @@
 
 namespace glarelab {
 
-// PRAGMA user_version of a current database. 2 added the adjustments table (docs/DATABASE.md
-// "Schema version"); runner/store/result_store.cpp has one migration per version.
-inline constexpr int kResultsSchemaVersion = 2;
+// PRAGMA user_version of a current database. 2 added the adjustments table, 3 the frames'
+// gaze_age_s (docs/DATABASE.md "Schema version"); runner/store/schema_migrations.cpp has one
+// migration per version.
+inline constexpr int kResultsSchemaVersion = 3;
 
 struct SessionRecord {
   std::int64_t id = 0;
@@ -54,6 +55,10 @@ struct FrameRecord {
   double scheduled_s = 0.0;
   double flip_s = 0.0;
   bool dropped = false;
+  // Live glare with a tracker (runner/session/trial_glare.cpp): the age at this flip of the gaze
+  // sample the frame's glare window was placed at (flip_s minus the sample's session time).
+  // Empty for every other flip.
+  std::optional<double> gaze_age_s;
 };
 
 // One setting of a double-adjustment trial (Yoshida 2008): which comparison spot and the

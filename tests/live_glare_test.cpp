@@ -90,6 +90,27 @@ TEST(LiveGlare, WithATrackerEachLiveFramesGazeAgeIsLogged) {
     EXPECT_LT(mean_ms, 100.0) << message;
     EXPECT_NE(message.find("live glare frame(s)"), std::string::npos) << message;
   }
+  // Each live glare frame's row holds its gaze age: the flip minus the gaze sample's time, at least
+  // one refresh period (samples are read after a flip) and positive; no other flip has one.
+  const ResultStore store(db.string());
+  int aged = 0;
+  for (const TrialRecord& trial : store.load_trials(store.load_sessions().at(0).id))
+    for (const FrameRecord& frame : store.load_frames(trial.id)) {
+      if (!frame.gaze_age_s) continue;
+      ++aged;
+      EXPECT_GE(frame.frame_index, 0);
+      EXPECT_GE(*frame.gaze_age_s, 1.0 / 60.0 - 1e-9);
+      EXPECT_LT(*frame.gaze_age_s, 0.1);
+    }
+  EXPECT_GT(aged, 0);
+  // The analysis reports them per session.
+  const auto out = dir / "report";
+  const auto analysis = test::run_glarelab({"analyze", db.string(), "--out", out.string()}, dir);
+  ASSERT_EQ(analysis.exit_code, 0) << analysis.output;
+  const std::string html = test::read_bytes((out / "report.html").string());
+  EXPECT_NE(html.find("gaze to flip, live glare"), std::string::npos);
+  EXPECT_EQ(html.find("no live glare frames"), std::string::npos);
+  EXPECT_NE(test::read_bytes((out / "frames.csv").string()).find(",gaze_age_s"), std::string::npos);
 }
 
 }  // namespace

@@ -131,7 +131,7 @@ TrialRecord sparse_trial(std::int64_t session_id, int index) {
 std::vector<FrameRecord> frames_from(double start_s, int count) {
   std::vector<FrameRecord> frames;
   for (int i = 0; i < count; ++i) {
-    frames.push_back({i, start_s + i / 60.0, start_s + i / 60.0 + 0.0001, i == 2});
+    frames.push_back({i, start_s + i / 60.0, start_s + i / 60.0 + 0.0001, i == 2, {}});
   }
   return frames;
 }
@@ -158,11 +158,11 @@ TEST(Store, SchemaVersionAndContractColumns) {
   const std::string path = dir.file("nested/results/glarelab.db");
   {
     ResultStore store(path);
-    EXPECT_EQ(store.schema_version(), 2);
+    EXPECT_EQ(store.schema_version(), 3);
     EXPECT_EQ(store.path(), path);
   }
   RawDb db(path);
-  EXPECT_EQ(db.value("PRAGMA user_version"), "2");
+  EXPECT_EQ(db.value("PRAGMA user_version"), "3");
   EXPECT_THAT(column_names(db, "adjustments"), ::testing::ElementsAre("trial_id", "spot", "value_cd_m2"));
   EXPECT_THAT(column_names(db, "sessions"),
               ::testing::IsSupersetOf({"id", "experiment", "participant", "seed", "started_utc", "finished_utc",
@@ -323,20 +323,52 @@ TEST(Store, TrialOfUnknownSessionViolatesForeignKey) {
   EXPECT_EQ(store.frame_count(42), 0);
 }
 
+// Version 2 (before gaze_age_s): its frames gain the column, empty, and keep their values; a live
+// glare frame's gaze age written now reads back.
+TEST(Store, VersionTwoDatabaseGainsGazeAgeAndKeepsItsFrames) {
+  test::ScratchDir dir;
+  const std::string path = dir.file("v2.db");
+  std::int64_t session_id = 0;
+  {
+    ResultStore store(path);
+    session_id = store.begin_session(sample_session());
+    store.commit_trial(full_trial(session_id, 0), frames_from(0.0, 2));
+  }
+  {
+    RawDb db(path, true);
+    db.exec("ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 2;");
+  }
+  ResultStore store(path);
+  EXPECT_EQ(store.schema_version(), 3);
+  const auto trials = store.load_trials(session_id);
+  ASSERT_EQ(trials.size(), 1u);
+  const auto old_frames = store.load_frames(trials[0].id);
+  ASSERT_EQ(old_frames.size(), 2u);
+  EXPECT_FALSE(old_frames[0].gaze_age_s.has_value());
+  std::vector<FrameRecord> live = frames_from(1.0, 2);
+  live[1].gaze_age_s = 0.0375;
+  const std::int64_t trial_id = store.commit_trial(full_trial(session_id, 1), live);
+  const auto frames = store.load_frames(trial_id);
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_FALSE(frames[0].gaze_age_s.has_value());
+  ASSERT_TRUE(frames[1].gaze_age_s.has_value());
+  EXPECT_EQ(*frames[1].gaze_age_s, 0.0375);
+}
+
 TEST(Store, NewerSchemaIsRefused) {
   test::ScratchDir dir;
   const std::string path = dir.file("future.db");
   {
     RawDb db(path, true);
-    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 3;");
+    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 4;");
   }
   try {
     ResultStore store(path);
     FAIL() << "a database from a newer glarelab was opened";
   } catch (const StoreError& error) {
-    EXPECT_EQ(std::string(error.what()), path + ": schema version 3 is newer than this glarelab (2)");
+    EXPECT_EQ(std::string(error.what()), path + ": schema version 4 is newer than this glarelab (3)");
   }
-  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "3");
+  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "4");
 }
 
 TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
@@ -349,12 +381,12 @@ TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
     store.commit_trial(full_trial(session_id, 0), frames_from(0.0, 2));
   }
   {
-    // What a glarelab of schema version 1 left behind: no adjustments table.
+    // What a glarelab of schema version 1 left behind: no adjustments table, no gaze_age_s.
     RawDb db(path, true);
-    db.exec("DROP TABLE adjustments; PRAGMA user_version = 1;");
+    db.exec("DROP TABLE adjustments; ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 1;");
   }
   ResultStore store(path);
-  EXPECT_EQ(store.schema_version(), 2);
+  EXPECT_EQ(store.schema_version(), 3);
   ASSERT_EQ(store.load_trials(session_id).size(), 1u);
   TrialRecord adjustment = full_trial(session_id, 1);
   adjustment.procedure = "adjustment";
@@ -425,9 +457,9 @@ TEST(Store, LastFlipAndFrameCount) {
   const auto second = store.begin_session(sample_session());
   EXPECT_EQ(store.last_flip_s(first), 0.0);
   EXPECT_EQ(store.frame_count(first), 0);
-  store.commit_trial(full_trial(first, 0), {{0, 1.0, 1.5, false}, {1, 2.0, 7.25, false}, {2, 3.0, 3.5, true}});
-  store.commit_trial(full_trial(first, 1), {{0, 4.0, 4.5, false}});
-  store.commit_trial(full_trial(second, 0), {{0, 100.0, 100.5, false}});
+  store.commit_trial(full_trial(first, 0), {{0, 1.0, 1.5, false, {}}, {1, 2.0, 7.25, false, {}}, {2, 3.0, 3.5, true, {}}});
+  store.commit_trial(full_trial(first, 1), {{0, 4.0, 4.5, false, {}}});
+  store.commit_trial(full_trial(second, 0), {{0, 100.0, 100.5, false, {}}});
   EXPECT_EQ(store.last_flip_s(first), 7.25);
   EXPECT_EQ(store.frame_count(first), 4);
   EXPECT_EQ(store.last_flip_s(second), 100.5);

@@ -332,7 +332,7 @@ TEST(TrackerLogger, WritesEverySampleWhileTheMainConnectionCommitsTrials) {
         trial.trial_index = frame / 30 - 1;
         trial.procedure = "forced_choice";
         trial.condition = "{}";
-        store.commit_trial(trial, {FrameRecord{0, 0.0, 0.0, false}});
+        store.commit_trial(trial, {FrameRecord{0, 0.0, 0.0, false, {}}});
       }
     }
     logger.finish();

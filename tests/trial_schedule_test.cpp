@@ -157,11 +157,11 @@ TEST(TimingQualityWithPhases, StimulusFramesAloneAreCountedAndFrameZeroIsTheOnse
   data.sessions.emplace_back();
   data.sessions[0].trials.emplace_back();
   // Flip order: fixation -1 -2, stimulus 0 1 (frame 0 scheduled 1 ms early), feedback -3 (late).
-  data.sessions[0].trials[0].frames = {{-1, 0.0, 0.0, false},
-                                       {-2, 0.01, 0.01, false},
-                                       {0, 0.019, 0.02, false},
-                                       {1, 0.03, 0.03, false},
-                                       {-3, 0.06, 0.06, true}};
+  data.sessions[0].trials[0].frames = {{-1, 0.0, 0.0, false, {}},
+                                       {-2, 0.01, 0.01, false, {}},
+                                       {0, 0.019, 0.02, false, {}},
+                                       {1, 0.03, 0.03, false, {}},
+                                       {-3, 0.06, 0.06, true, {}}};
   const analysis::TimingQuality quality = analysis::analyse_timing(data);
   ASSERT_EQ(quality.sessions.size(), 1u);
   const analysis::SessionTiming& timing = quality.sessions[0];

@@ -28,16 +28,22 @@ struct IntervalGlare {
   std::optional<GazePoint> gaze;
   std::optional<TrackerGaze> tracked;  // the tracker's gaze the window is placed at
   std::vector<ImageRGBA> frames;       // computed so far (frame k at index k)
+  // Live with a tracker: the session time of the gaze sample frame k's window was placed at.
+  std::vector<std::optional<double>> gaze_time_s;
 
   // Reports, for the trial's glare_skipped / glare_window / gaze_latency events.
   int applications = 0, skipped = 0, gratings_hidden = 0, closed = 0;
   std::string skip_reason;
   double smallest_pupil_mm = 1e9;
   std::optional<GazeWindow> window;
-  std::vector<double> gaze_to_flip_s;  // live: flip time minus the time of the gaze sample used
+  std::vector<double> gaze_to_flip_s;  // live: each frame's flip time minus its gaze sample's time
   double compute_s = 0.0;              // wall time spent computing frames
 
   double frame_time_s(int k) const { return first_flip_s + k * period_s; }
+  std::optional<double> gaze_time_of(int k) const {
+    if (k < 0 || static_cast<std::size_t>(k) >= gaze_time_s.size()) return std::nullopt;
+    return gaze_time_s[static_cast<std::size_t>(k)];
+  }
   // The frame shown at stimulus frame k of the interval: frame k, or the last one computed.
   const ImageRGBA* shown(int k) const {
     if (!active || frames.empty()) return nullptr;

@@ -100,7 +100,8 @@ class SessionLoop {
     if (!fast_forward_) renderer_.encode_to_display(prepared_.experiment.display);
   }
   // Stimulus flips keep their frame index; every other flip of the trial is numbered -1, -2, ...
-  void record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped);
+  void record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped,
+                   std::optional<double> gaze_age_s = std::nullopt);
   void log_late_flip(const TrialPlan& plan, double flip_s, const std::string& which, double interval_s);
   // `frames` flips of the background (with `overlays`), timed from the first of them.
   bool present_timed_blank(const TrialPlan& plan, TrialRun& run, FlipPhase phase, int frames,

@@ -119,11 +119,13 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
   if (!glare.active || k >= glare.frames_needed || static_cast<int>(glare.frames.size()) > k) return;
   const auto start = std::chrono::steady_clock::now();
   const double time_s = glare.frame_time_s(k);
+  std::optional<double> gaze_time_s;
   if (glare_presentation_ == GlarePresentation::live && tracker_.active()) {
-    // Live: the gaze of this frame, and how old it is when the frame flips.
+    // Live: the gaze of this frame (its age at the flip goes into the frame's row).
     update_glare_gaze(glare, time_s);
-    if (glare.tracked) glare.gaze_to_flip_s.push_back(time_s - glare.tracked->session_time_s);
+    if (glare.tracked) gaze_time_s = glare.tracked->session_time_s;
   }
+  glare.gaze_time_s.push_back(gaze_time_s);
   std::vector<GlareFrameReport> reports;
   if (glare.layers.empty()) {
     GlareFrameReport report;

@@ -45,12 +45,14 @@ TrialPlan SessionLoop::interval_plan(const TrialPlan& plan, int interval) const 
   return one;
 }
 
-void SessionLoop::record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped) {
+void SessionLoop::record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped,
+                              std::optional<double> gaze_age_s) {
   FrameRecord record;
   record.frame_index = phase.stimulus_frame >= 0 ? phase.stimulus_frame : -(++run.other_flips);
   record.scheduled_s = scheduled_s;
   record.flip_s = flip_s;
   record.dropped = dropped;
+  record.gaze_age_s = gaze_age_s;
   run.frames.push_back(record);
   run.phases.push_back(phase);
 }

@@ -83,7 +83,14 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
       const bool dropped = timing_.on_flip(flip_s, plan.trial_index, flip.stimulus_frame);
       if (dropped)
         log_late_flip(plan, flip_s, "frame " + std::to_string(flip.stimulus_frame), timing_.dropped().back().interval_s);
-      record_flip(run, {flip.phase, flip.interval, flip.stimulus_frame}, scheduled_s, flip_s, dropped);
+      // Live glare with a tracker: how old this frame's gaze was when it flipped.
+      std::optional<double> gaze_age_s;
+      IntervalGlare& shown_glare = glare[static_cast<std::size_t>(flip.interval)];
+      if (const std::optional<double> gaze_time_s = shown_glare.gaze_time_of(flip.frame_in_interval)) {
+        gaze_age_s = flip_s - *gaze_time_s;
+        shown_glare.gaze_to_flip_s.push_back(*gaze_age_s);
+      }
+      record_flip(run, {flip.phase, flip.interval, flip.stimulus_frame}, scheduled_s, flip_s, dropped, gaze_age_s);
     } else {
       const std::optional<double> late_s = timing_.on_timed_flip(flip_s);
       if (late_s) log_late_flip(plan, flip_s, std::string(to_string(flip.phase)) + " flip", *late_s);

@@ -351,8 +351,8 @@ std::int64_t ResultStore::commit_trial(const TrialRecord& trial, const std::vect
   const std::int64_t trial_id = sqlite3_last_insert_rowid(db_);
 
   Statement frame_insert(db_, path_,
-                         "INSERT INTO frames (session_id, trial_id, frame_index, scheduled_s, flip_s, dropped) "
-                         "VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                         "INSERT INTO frames (session_id, trial_id, frame_index, scheduled_s, flip_s, dropped, "
+                         "gaze_age_s) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
                          what + " (frames)");
   for (const FrameRecord& frame : frames) {
     frame_insert.reset();
@@ -362,6 +362,7 @@ std::int64_t ResultStore::commit_trial(const TrialRecord& trial, const std::vect
     frame_insert.bind(4, frame.scheduled_s);
     frame_insert.bind(5, frame.flip_s);
     frame_insert.bind(6, frame.dropped ? 1 : 0);
+    frame_insert.bind(7, frame.gaze_age_s);
     frame_insert.step_done();
   }
   if (!adjustments.empty()) {
@@ -463,7 +464,7 @@ std::vector<TrialRecord> ResultStore::load_trials(std::int64_t session_id) const
 
 std::vector<FrameRecord> ResultStore::load_frames(std::int64_t trial_id) const {
   Statement select(db_, path_,
-                   "SELECT frame_index, scheduled_s, flip_s, dropped FROM frames WHERE trial_id = ?1 "
+                   "SELECT frame_index, scheduled_s, flip_s, dropped, gaze_age_s FROM frames WHERE trial_id = ?1 "
                    "ORDER BY rowid",  // flip order: a trial's other flips (frame_index < 0) surround its stimulus
                    "loading the frames of trial " + std::to_string(trial_id));
   select.bind(1, trial_id);
@@ -474,6 +475,7 @@ std::vector<FrameRecord> ResultStore::load_frames(std::int64_t trial_id) const {
     frame.scheduled_s = select.real(1);
     frame.flip_s = select.real(2);
     frame.dropped = select.integer(3) != 0;
+    frame.gaze_age_s = select.optional_real(4);
     frames.push_back(frame);
   }
   return frames;

@@ -86,6 +86,10 @@ CREATE TABLE adjustments (
   PRIMARY KEY (trial_id, spot)
 );
 )sql",
+    // 2 -> 3: how old the gaze was at each live glare frame's flip (gaze-to-flip latency).
+    R"sql(
+ALTER TABLE frames ADD COLUMN gaze_age_s REAL;
+)sql",
 };
 static_assert(std::size(kSchemaMigrations) == kResultsSchemaVersion, "one migration per schema version");
 
