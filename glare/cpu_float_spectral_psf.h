@@ -49,8 +49,10 @@ class CpuFloatSpectralPsf {
   struct Wavelength {
     double rgb_weight[3];     // Jacobian times the CMF weight in linear Rec.709
     double scale = 1.0;       // lambda_ref / lambda
-    std::vector<int> x0;      // per PSF pixel: the bilinear neighbour below the scaled position
-    std::vector<float> fraction;  // and the weight of the one above
+    // Per PSF pixel x: the two bilinear neighbours of the scaled position and their weights, a
+    // neighbour outside the grid clamped onto it with weight 0 (it reads 0 in spectral_psf.cpp).
+    std::vector<int> index0, index1;
+    std::vector<float> weight0, weight1;
     std::vector<Band> bands;  // one per display pixel (row or column, the matrix is square)
     int first_column = 0, last_column = -1;  // reference columns any band reads
   };
@@ -62,8 +64,10 @@ class CpuFloatSpectralPsf {
     std::vector<float> d_t;     // (W_i F W_i^T) transposed: M x M
     std::vector<double> rgb_t;  // 6 x M x M, transposed: R, G, B, then the sums of their magnitudes
   };
-  // R, G, B of the N x N spectral PSF at PSF pixel (x, y), as spectral_psf.cpp computes it.
-  void spectral_at(const float* power, int x, int y, double rgb[3]) const;
+  // R, G, B of the N x N spectral PSF, as spectral_psf.cpp computes them, on the PSF pixels
+  // xs x ys (the PSF pixels of one display pixel): rgb[3 (j |xs| + i) + c] for xs[i], ys[j].
+  void spectral_block(const float* power, const std::vector<PsfOverlap>& xs, const std::vector<PsfOverlap>& ys,
+                      std::vector<double>& rgb) const;
   static constexpr int kGroups = 4;
   CpuFloatSpectralSettings settings_;
   int display_px_ = 0;
