@@ -1,5 +1,7 @@
 #include "glare/cpu_float_psf.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -35,10 +37,19 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, double defocus_dioptres) {
   sampling_warning_ = sampling.aliased ? sampling.warning : std::string();
 
   // A exp(i phi) at pixel centres, as apply_quadratic_phase computes it in double, rounded to float.
+  // Only the rows that can meet the pupil (|row - N/2| <= r / dx + 1/2, aperture_raster.h) are
+  // written; rows the last frame wrote outside them are cleared, the rest of the field stays 0.
   const double dx_m = grid_.pixel_mm() * 1e-3;
+  const int reach = static_cast<int>(std::ceil(0.5 * pupil_diameter_mm / grid_.pixel_mm())) + 1;
+  const int first_row = std::max(0, n / 2 - reach), last_row = std::min(n - 1, n / 2 + reach);
+  for (int j = written_first_row_; j <= written_last_row_; ++j)
+    if (j < first_row || j > last_row)
+      std::fill(&field_[static_cast<std::size_t>(j) * n], &field_[static_cast<std::size_t>(j) * n] + n, std::complex<float>{});
+  written_first_row_ = first_row;
+  written_last_row_ = last_row;
   row_energy_.assign(static_cast<std::size_t>(n), 0.0);  // per row: the sum does not depend on the threads
-  parallel_chunks(n, settings_.threads, [&](int first, int last) {
-    for (int j = first; j < last; ++j) {
+  parallel_chunks(last_row - first_row + 1, settings_.threads, [&](int first, int last) {
+    for (int j = first_row + first; j < first_row + last; ++j) {
       double sum = 0.0;
       const double y_m = (n / 2 - j) * dx_m;
       for (int i = 0; i < n; ++i) {

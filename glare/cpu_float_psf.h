@@ -50,6 +50,7 @@ class CpuFloatPsf {
   FftwFloatPlan fft_;
   std::string sampling_warning_;
   std::vector<double> row_energy_;  // sum |A|^2 per aperture row
+  int written_first_row_ = 0, written_last_row_ = -1;  // field rows the last transform wrote
 };
 
 }  // namespace glarelab
