@@ -1,5 +1,6 @@
 #include "glare/cpu_float_convolution.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -22,9 +23,26 @@ CpuFloatConvolution::CpuFloatConvolution(int width_px, int height_px, int kernel
   result_real_ = FftwFloatBuffer<float>(3 * real_size);
   image_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
   kernel_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
-  image_forward_ = FftwFloatPlan::real_forward(rows_, cols_, 3, image_real_.data(), image_spectrum_.data(), threads_);
-  kernel_forward_ = FftwFloatPlan::real_forward(rows_, cols_, 3, kernel_real_.data(), kernel_spectrum_.data(), threads_);
-  inverse_ = FftwFloatPlan::real_inverse(rows_, cols_, 3, kernel_spectrum_.data(), result_real_.data(), threads_);
+  image_row_pass_ =
+      FftwFloatPlan::real_rows_forward(rows_, cols_, 3, 0, height_px, image_real_.data(), image_spectrum_.data(), threads_);
+  image_column_pass_ = FftwFloatPlan::complex_columns(rows_, cols_, 3, -1, image_spectrum_.data(), image_spectrum_.data(),
+                                                      false, threads_);
+  kernel_row_pass_ =
+      FftwFloatPlan::real_rows_forward(rows_, cols_, 3, 0, kernel_px, kernel_real_.data(), kernel_spectrum_.data(), threads_);
+  kernel_column_pass_ = FftwFloatPlan::complex_columns(rows_, cols_, 3, -1, kernel_spectrum_.data(),
+                                                       kernel_spectrum_.data(), false, threads_);
+  inverse_column_pass_ = FftwFloatPlan::complex_columns(rows_, cols_, 3, +1, kernel_spectrum_.data(),
+                                                        kernel_spectrum_.data(), false, threads_);
+  inverse_row_pass_ = FftwFloatPlan::real_rows_inverse(rows_, cols_, 3, kernel_px / 2, height_px, kernel_spectrum_.data(),
+                                                       result_real_.data(), threads_);
+}
+
+void CpuFloatConvolution::clear_rows(std::complex<float>* spectrum, int first_row) const {
+  const std::size_t spectrum_cols = static_cast<std::size_t>(cols_ / 2 + 1);
+  const std::size_t spectrum_size = static_cast<std::size_t>(rows_) * spectrum_cols;
+  for (int c = 0; c < 3; ++c)
+    std::fill(spectrum + c * spectrum_size + first_row * spectrum_cols, spectrum + (c + 1) * spectrum_size,
+              std::complex<float>{});
 }
 
 void CpuFloatConvolution::set_scene(const ImageRGBA& image) {
@@ -44,7 +62,9 @@ void CpuFloatConvolution::set_scene(const ImageRGBA& image) {
         for (int c = 0; c < 3; ++c) image_real_[c * real_size + static_cast<std::size_t>(y) * cols_ + x] = p[c];
       }
   });
-  image_forward_.execute();
+  image_row_pass_.execute();
+  clear_rows(image_spectrum_.data(), height_);
+  image_column_pass_.execute();
   has_scene_ = true;
 }
 
@@ -60,7 +80,9 @@ void CpuFloatConvolution::convolve(const Psf& psf, ImageRGBA& out) {
       for (int x = 0; x < m; ++x)
         kernel_real_[c * real_size + static_cast<std::size_t>(y) * cols_ + x] = static_cast<float>(psf.at(channel, x, y));
   }
-  kernel_forward_.execute();
+  kernel_row_pass_.execute();
+  clear_rows(kernel_spectrum_.data(), kernel_px_);
+  kernel_column_pass_.execute();
   // The product of the spectra, with the 1 / (rows cols) of the unnormalised inverse folded in.
   const float inverse_size = static_cast<float>(1.0 / (static_cast<double>(rows_) * cols_));
   const int spectrum_rows = 3 * rows_;
@@ -76,7 +98,8 @@ void CpuFloatConvolution::convolve(const Psf& psf, ImageRGBA& out) {
       kernel[k + 1] = a * d + b * c;
     }
   });
-  inverse_.execute();
+  inverse_column_pass_.execute();
+  inverse_row_pass_.execute();
   // full(y, x) = sum img(y', x') psf(y - y', x - x'); the PSF's centre is (M/2, M/2).
   if (out.width_px != width_ || out.height_px != height_ || out.rgba.size() != scene_.rgba.size()) out = scene_;
   parallel_chunks(height_, threads_, [&](int first, int last) {

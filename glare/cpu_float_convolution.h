@@ -4,6 +4,10 @@
 // FFTW plans and buffers made once, the three channels transformed by one plan each way, on
 // kGlareCpuThreads threads. The scene's spectrum is kept: a static scene (the same image frame
 // after frame, a new PSF each frame) costs 3 forward + 3 inverse transforms, a new scene 3 more.
+// Each 2D transform is a row pass and a column pass of 1D FFTW transforms, so that the row pass
+// skips the rows that are zero padding (forward: all rows below the image, below the PSF, which is
+// only M of its rows x cols) or not wanted (inverse: all rows outside the image's); the column pass
+// runs in place (faster than FFTW's out-of-place column transforms that preserve their input).
 // Checked against convolve_image_cpu in float64 (tests/glare_cpu_float_test.cpp).
 #include <complex>
 
@@ -33,7 +37,11 @@ class CpuFloatConvolution {
   ImageRGBA scene_;
   FftwFloatBuffer<float> image_real_, kernel_real_, result_real_;
   FftwFloatBuffer<std::complex<float>> image_spectrum_, kernel_spectrum_;
-  FftwFloatPlan image_forward_, kernel_forward_, inverse_;
+  // Clears rows [first_row, rows) of the three spectra in `spectrum` (the row pass leaves there
+  // what the in-place column pass of the last frame wrote).
+  void clear_rows(std::complex<float>* spectrum, int first_row) const;
+  FftwFloatPlan image_row_pass_, image_column_pass_, kernel_row_pass_, kernel_column_pass_;
+  FftwFloatPlan inverse_column_pass_, inverse_row_pass_;
 };
 
 }  // namespace glarelab

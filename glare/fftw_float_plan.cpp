@@ -92,4 +92,40 @@ FftwFloatPlan FftwFloatPlan::real_inverse(int rows, int cols, int count, std::co
   }));
 }
 
+FftwFloatPlan FftwFloatPlan::real_rows_forward(int rows, int cols, int count, int first_row, int row_count, float* in,
+                                               std::complex<float>* out, int threads) {
+  const int spectrum_cols = cols / 2 + 1;
+  return FftwFloatPlan(plan_with_threads(threads, "float real row FFTs", [&] {
+    const fftwf_iodim length{cols, 1, 1};
+    const fftwf_iodim loops[2] = {{count, rows * cols, rows * spectrum_cols}, {row_count, cols, spectrum_cols}};
+    return fftwf_plan_guru_dft_r2c(1, &length, 2, loops, in + static_cast<std::ptrdiff_t>(first_row) * cols,
+                                   reinterpret_cast<fftwf_complex*>(out + static_cast<std::ptrdiff_t>(first_row) * spectrum_cols),
+                                   FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::real_rows_inverse(int rows, int cols, int count, int first_row, int row_count,
+                                               std::complex<float>* in, float* out, int threads) {
+  const int spectrum_cols = cols / 2 + 1;
+  return FftwFloatPlan(plan_with_threads(threads, "float inverse real row FFTs", [&] {
+    const fftwf_iodim length{cols, 1, 1};
+    const fftwf_iodim loops[2] = {{count, rows * spectrum_cols, rows * cols}, {row_count, spectrum_cols, cols}};
+    return fftwf_plan_guru_dft_c2r(1, &length, 2, loops,
+                                   reinterpret_cast<fftwf_complex*>(in + static_cast<std::ptrdiff_t>(first_row) * spectrum_cols),
+                                   out + static_cast<std::ptrdiff_t>(first_row) * cols, FFTW_ESTIMATE);
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::complex_columns(int rows, int cols, int count, int sign, std::complex<float>* in,
+                                             std::complex<float>* out, bool preserve_input, int threads) {
+  const int spectrum_cols = cols / 2 + 1;
+  return FftwFloatPlan(plan_with_threads(threads, "float column FFTs", [&] {
+    const fftwf_iodim length{rows, spectrum_cols, spectrum_cols};
+    const fftwf_iodim loops[2] = {{count, rows * spectrum_cols, rows * spectrum_cols}, {spectrum_cols, 1, 1}};
+    return fftwf_plan_guru_dft(1, &length, 2, loops, reinterpret_cast<fftwf_complex*>(in),
+                               reinterpret_cast<fftwf_complex*>(out), sign,
+                               FFTW_ESTIMATE | (preserve_input ? FFTW_PRESERVE_INPUT : FFTW_DESTROY_INPUT));
+  }));
+}
+
 }  // namespace glarelab

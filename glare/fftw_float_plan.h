@@ -65,6 +65,20 @@ class FftwFloatPlan {
   // The inverse (complex to real, unnormalised); destroys its input, as every FFTW c2r may.
   static FftwFloatPlan real_inverse(int rows, int cols, int count, std::complex<float>* in, float* out, int threads);
 
+  // The same 2D transforms in two passes of 1D transforms, so that rows known to be zero (input)
+  // or not wanted (output) are skipped; the layouts are those of real_forward / real_inverse
+  // (count arrays of rows x cols reals, of rows x (cols/2 + 1) complex values).
+  // Row pass, real to complex: rows [first_row, first_row + row_count) of each array only.
+  static FftwFloatPlan real_rows_forward(int rows, int cols, int count, int first_row, int row_count, float* in,
+                                         std::complex<float>* out, int threads);
+  // Row pass, complex to real (destroys its input): rows [first_row, first_row + row_count) only.
+  static FftwFloatPlan real_rows_inverse(int rows, int cols, int count, int first_row, int row_count,
+                                         std::complex<float>* in, float* out, int threads);
+  // Column pass over all rows x (cols/2 + 1) complex values, sign FFTW_FORWARD (-1) or
+  // FFTW_BACKWARD (+1), out of place; preserve_input keeps `in` (its zero rows) intact.
+  static FftwFloatPlan complex_columns(int rows, int cols, int count, int sign, std::complex<float>* in,
+                                       std::complex<float>* out, bool preserve_input, int threads);
+
  private:
   explicit FftwFloatPlan(fftwf_plan_s* plan) : plan_(plan) {}
   fftwf_plan_s* plan_ = nullptr;
