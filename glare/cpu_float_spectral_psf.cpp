@@ -96,12 +96,14 @@ void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<P
   rgb.assign(3 * width * height, 0.0);
   // Bilinear per wavelength as spectral_psf.cpp, separably: each reference row the block reads is
   // interpolated along x once (consecutive PSF rows share their neighbour rows), then along y.
-  constexpr std::size_t kMaxWidth = 16;
-  if (width > kMaxWidth) throw std::logic_error("glare/cpu_float_spectral_psf: display pixel wider than 16 PSF pixels");
-  float h0[kMaxWidth], h1[kMaxWidth];
+  // Scratch for the block's columns: a display pixel spans at most display/PSF pixel ratio + 2.
+  thread_local std::vector<float> scratch;
+  thread_local std::vector<int> indices;
+  scratch.resize(4 * width);
+  indices.resize(2 * width);
+  float *h0 = scratch.data(), *h1 = h0 + width, *weight0 = h1 + width, *weight1 = weight0 + width;
+  int *index0 = indices.data(), *index1 = index0 + width;
   for (const Wavelength& wavelength : wavelengths_) {
-    int index0[kMaxWidth], index1[kMaxWidth];
-    float weight0[kMaxWidth], weight1[kMaxWidth];
     for (std::size_t i = 0; i < width; ++i) {
       const auto x = static_cast<std::size_t>(xs[i].input);
       index0[i] = wavelength.index0[x];

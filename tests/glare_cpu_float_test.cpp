@@ -168,6 +168,28 @@ TEST(GlareCpuFloat, WholeFrameWithin1e6OfTheDoublePathAtNewEyeTimes) {
   }
 }
 
+TEST(GlareCpuFloat, SpectralPsfAtCoarseDisplayPixels) {
+  // Display pixels 20 PSF pixels wide (a fine grid on a coarse display).
+  const ApertureGeometry geometry = eye_at(1.2);
+  MonochromaticPsfOptions mono;
+  mono.raster.grid_px = 256;
+  mono.raster.aperture_width_mm = kWidthMm;
+  const Psf reference_mono = compute_monochromatic_psf(geometry, mono).psf;
+  const double display = 20.0 * reference_mono.degrees_per_pixel;
+  const Psf reference =
+      resample_psf_to_display(spectral_psf_from_reference(reference_mono, SpectralPsfOptions{}).psf, display);
+  CpuFloatSpectralSettings settings;
+  settings.grid_px = 256;
+  settings.psf_degrees_per_pixel = reference_mono.degrees_per_pixel;
+  settings.display_degrees_per_pixel = display;
+  settings.aperture_width_mm = kWidthMm;
+  CpuFloatSpectralPsf spectral(settings);
+  const std::vector<float> power(reference_mono.values.begin(), reference_mono.values.end());
+  const Psf kernel = spectral.compute(power.data(), geometry.pupil_diameter_mm);
+  ASSERT_EQ(kernel.size_px, reference.size_px);
+  EXPECT_LT(relative_l2(kernel.values, reference.values), 1e-6);
+}
+
 TEST(GlareCpuFloat, NewSceneReplacesTheKeptSpectrumAndBadImagesAreRefused) {
   ImageRGBA first = hdr_frame(64), second = hdr_frame(64);
   for (float& v : second.rgba) v *= 2.0f;
