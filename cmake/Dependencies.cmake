@@ -12,6 +12,9 @@ pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
 # FFTW3 double (reference) and float (speed) FFTs, with their thread libraries (libfftw3-dev).
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
 pkg_check_modules(FFTW3F REQUIRED IMPORTED_TARGET fftw3f)
+# The planned float path runs its transforms on FFTW's threads (glare/fftw_float_plan.h); pkg-config
+# does not name the thread library, which the same package installs beside libfftw3f.
+find_library(FFTW3F_THREADS_LIBRARY fftw3f_threads HINTS ${FFTW3F_LIBRARY_DIRS} REQUIRED)
 # Analysis: Boost.Math distributions (header-only), NLopt for maximum-likelihood fits,
 # nlohmann JSON for the trials.condition column.
 find_package(Boost 1.74 REQUIRED)
@@ -31,7 +34,7 @@ add_library(glarelab_deps_core INTERFACE)
 target_link_libraries(glarelab_deps_core INTERFACE OpenEXR::OpenEXR PkgConfig::PNG Threads::Threads ${CMAKE_DL_LIBS})
 # glare: the CPU FFTs.
 add_library(glarelab_deps_glare INTERFACE)
-target_link_libraries(glarelab_deps_glare INTERFACE PkgConfig::FFTW3 PkgConfig::FFTW3F)
+target_link_libraries(glarelab_deps_glare INTERFACE ${FFTW3F_THREADS_LIBRARY} PkgConfig::FFTW3 PkgConfig::FFTW3F Threads::Threads)
 # protocols: experiment files.
 add_library(glarelab_deps_protocols INTERFACE)
 if(TARGET tomlplusplus::tomlplusplus)

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "glare/parallel_rows.h"
+
 namespace glarelab {
 namespace {
 
@@ -18,18 +20,16 @@ double distance_squared_to_segment(double px, double py, const ApertureLine& lin
   return ex * ex + ey * ey;
 }
 
-bool inside_polygon_even_odd(double px, double py, const std::vector<double>& vertices) {
+// The x of every edge of the polygon that crosses the horizontal line at py (the edges
+// the even-odd rule counts), in edge order.
+void edge_crossings(double py, const std::vector<double>& vertices, std::vector<double>& crossings) {
+  crossings.clear();
   const std::size_t count = vertices.size() / 2;
-  bool inside = false;
   for (std::size_t k = 0, previous = count - 1; k < count; previous = k++) {
     const double xk = vertices[2 * k], yk = vertices[2 * k + 1];
     const double xp = vertices[2 * previous], yp = vertices[2 * previous + 1];
-    if ((yk > py) != (yp > py)) {
-      const double x_cross = xk + (py - yk) * (xp - xk) / (yp - yk);
-      if (px < x_cross) inside = !inside;
-    }
+    if ((yk > py) != (yp > py)) crossings.push_back(xk + (py - yk) * (xp - xk) / (yp - yk));
   }
-  return inside;
 }
 
 // Axis-aligned bounds of a primitive, millimetres.
@@ -40,6 +40,12 @@ struct Bounds {
 }  // namespace
 
 ApertureGrid rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOptions& options) {
+  ApertureGrid grid;
+  rasterise_aperture(geometry, options, grid);
+  return grid;
+}
+
+void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOptions& options, ApertureGrid& grid) {
   const int n = options.grid_px;
   const int s = options.supersampling;
   if (n < 2 || n % 2 != 0) throw std::invalid_argument("glare/aperture_raster: grid size must be even and >= 2");
@@ -50,7 +56,6 @@ ApertureGrid rasterise_aperture(const ApertureGeometry& geometry, const Aperture
       throw std::invalid_argument("glare/aperture_raster: a polygon needs at least 3 (x, y) vertices");
   }
 
-  ApertureGrid grid;
   grid.grid_px = n;
   grid.aperture_width_mm = options.aperture_width_mm;
   grid.transmittance.assign(static_cast<std::size_t>(n) * n, 0.0);
@@ -89,54 +94,78 @@ ApertureGrid rasterise_aperture(const ApertureGeometry& geometry, const Aperture
     polygon_bounds.push_back(b);
   }
 
+  // Only the sub-samples inside the pupil's bounding square can be non-zero: everywhere else the
+  // pupil test gives 0 and every primitive multiplies that 0 by a transmittance in [0, 1], so those
+  // rows and columns are skipped (the grid stays 0 there, the same values the full loop would give).
+  // The range is widened by one sub-sample; the exact pupil test decides inside it.
+  const double pupil_r = std::sqrt(pupil_r2);
+  const auto [pupil_first_column, pupil_last_column] = column_range(-pupil_r, pupil_r);
+  // sub_y is sub_x mirrored: row r lies at y = -sub_x(r), so the row range is the column range of [-r, r].
+  const int pupil_first_row = pupil_first_column, pupil_last_row = pupil_last_column;
+  const int first_pixel_row = pupil_first_row / s, last_pixel_row = pupil_last_row / s;
+
   // One row of sub-samples at a time: pupil test, then each primitive whose bounds meet the row
-  // multiplies its transmittance into the sub-samples it contains.
-  std::vector<double> row_values(static_cast<std::size_t>(sub_n));
+  // multiplies its transmittance into the sub-samples it contains. Pixel rows are independent and
+  // shared among threads.
   const double inverse_samples = 1.0 / (s * s);
-  for (int sub_row = 0; sub_row < sub_n; ++sub_row) {
-    const double y = sub_y(sub_row);
-    for (int column = 0; column < sub_n; ++column) {
-      const double x = sub_x(column);
-      row_values[static_cast<std::size_t>(column)] = (x * x + y * y <= pupil_r2) ? 1.0 : 0.0;
-    }
-    for (std::size_t k = 0; k < geometry.discs.size(); ++k) {
-      const Bounds& b = disc_bounds[k];
-      if (y < b.y_min || y > b.y_max) continue;
-      const auto& disc = geometry.discs[k];
-      const auto [first, last] = column_range(b.x_min, b.x_max);
-      const double ey = y - disc.centre_y_mm;
-      for (int column = first; column <= last; ++column) {
-        const double ex = sub_x(column) - disc.centre_x_mm;
-        if (ex * ex + ey * ey <= disc.radius_mm * disc.radius_mm)
-          row_values[static_cast<std::size_t>(column)] *= disc.transmittance;
+  const auto rasterise_pixel_rows = [&](int first, int last) {
+    std::vector<double> row_values(static_cast<std::size_t>(sub_n), 0.0);
+    std::vector<double> crossings;
+    const auto clip = [&](std::pair<int, int> range) {
+      return std::pair<int, int>{std::max(range.first, pupil_first_column), std::min(range.second, pupil_last_column)};
+    };
+    for (int sub_row = (first_pixel_row + first) * s; sub_row < (first_pixel_row + last) * s; ++sub_row) {
+      const double y = sub_y(sub_row);
+      for (int column = pupil_first_column; column <= pupil_last_column; ++column) {
+        const double x = sub_x(column);
+        row_values[static_cast<std::size_t>(column)] = (x * x + y * y <= pupil_r2) ? 1.0 : 0.0;
       }
-    }
-    for (std::size_t k = 0; k < geometry.lines.size(); ++k) {
-      const Bounds& b = line_bounds[k];
-      if (y < b.y_min || y > b.y_max) continue;
-      const auto& line = geometry.lines[k];
-      const double w2 = 0.25 * line.width_mm * line.width_mm;
-      const auto [first, last] = column_range(b.x_min, b.x_max);
-      for (int column = first; column <= last; ++column) {
-        if (distance_squared_to_segment(sub_x(column), y, line) <= w2)
-          row_values[static_cast<std::size_t>(column)] *= line.transmittance;
+      for (std::size_t k = 0; k < geometry.discs.size(); ++k) {
+        const Bounds& b = disc_bounds[k];
+        if (y < b.y_min || y > b.y_max) continue;
+        const auto& disc = geometry.discs[k];
+        const auto [first_column, last_column] = clip(column_range(b.x_min, b.x_max));
+        const double ey = y - disc.centre_y_mm;
+        for (int column = first_column; column <= last_column; ++column) {
+          const double ex = sub_x(column) - disc.centre_x_mm;
+          if (ex * ex + ey * ey <= disc.radius_mm * disc.radius_mm)
+            row_values[static_cast<std::size_t>(column)] *= disc.transmittance;
+        }
       }
-    }
-    for (std::size_t k = 0; k < geometry.polygons.size(); ++k) {
-      const Bounds& b = polygon_bounds[k];
-      if (y < b.y_min || y > b.y_max) continue;
-      const auto& polygon = geometry.polygons[k];
-      const auto [first, last] = column_range(b.x_min, b.x_max);
-      for (int column = first; column <= last; ++column) {
-        if (inside_polygon_even_odd(sub_x(column), y, polygon.vertices_mm))
-          row_values[static_cast<std::size_t>(column)] *= polygon.transmittance;
+      for (std::size_t k = 0; k < geometry.lines.size(); ++k) {
+        const Bounds& b = line_bounds[k];
+        if (y < b.y_min || y > b.y_max) continue;
+        const auto& line = geometry.lines[k];
+        const double w2 = 0.25 * line.width_mm * line.width_mm;
+        const auto [first_column, last_column] = clip(column_range(b.x_min, b.x_max));
+        for (int column = first_column; column <= last_column; ++column) {
+          if (distance_squared_to_segment(sub_x(column), y, line) <= w2)
+            row_values[static_cast<std::size_t>(column)] *= line.transmittance;
+        }
       }
+      for (std::size_t k = 0; k < geometry.polygons.size(); ++k) {
+        const Bounds& b = polygon_bounds[k];
+        if (y < b.y_min || y > b.y_max) continue;
+        const auto& polygon = geometry.polygons[k];
+        // The even-odd test per sub-sample, with the edge crossings of this row found once: the same
+        // x_cross values and comparisons as a per-point ray test, in a scanline.
+        edge_crossings(y, polygon.vertices_mm, crossings);
+        const auto [first_column, last_column] = clip(column_range(b.x_min, b.x_max));
+        for (int column = first_column; column <= last_column; ++column) {
+          const double x = sub_x(column);
+          bool inside = false;
+          for (double x_cross : crossings)
+            if (x < x_cross) inside = !inside;
+          if (inside) row_values[static_cast<std::size_t>(column)] *= polygon.transmittance;
+        }
+      }
+      double* pixel_row = &grid.transmittance[static_cast<std::size_t>(sub_row / s) * n];
+      for (int column = pupil_first_column; column <= pupil_last_column; ++column)
+        pixel_row[column / s] += row_values[static_cast<std::size_t>(column)] * inverse_samples;
     }
-    double* pixel_row = &grid.transmittance[static_cast<std::size_t>(sub_row / s) * n];
-    for (int column = 0; column < sub_n; ++column)
-      pixel_row[column / s] += row_values[static_cast<std::size_t>(column)] * inverse_samples;
-  }
-  return grid;
+  };
+  if (pupil_first_column <= pupil_last_column)
+    parallel_chunks(last_pixel_row - first_pixel_row + 1, options.threads, rasterise_pixel_rows);
 }
 
 std::vector<std::complex<double>> apply_quadratic_phase(const ApertureGrid& grid, double coefficient_per_m2) {

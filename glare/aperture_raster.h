@@ -26,6 +26,9 @@ struct ApertureRasterOptions {
   int grid_px = 512;                // N (any even size; the FFT prefers powers of two)
   double aperture_width_mm = 10.0;  // side of the square the grid covers
   int supersampling = 2;            // s, at least 2
+  // Threads sharing the pixel rows. Each pixel row is computed exactly as by one thread, so the
+  // grid is the same, bit for bit, whatever the count.
+  int threads = 1;
 };
 
 struct ApertureGrid {
@@ -37,6 +40,8 @@ struct ApertureGrid {
 
 // Throws std::invalid_argument (naming "glare/aperture_raster") for N < 2 or odd, width <= 0, s < 2.
 ApertureGrid rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOptions& options);
+// The same into `grid`, reusing its storage (no allocation when it already holds N x N values).
+void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOptions& options, ApertureGrid& grid);
 
 // The complex aperture A(x, y) * exp(i phi(r)) the FFT takes, with phi = pi c r^2 evaluated at pixel
 // centres (fresnel.h gives c). c = 0 leaves a real aperture.

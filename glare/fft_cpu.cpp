@@ -2,6 +2,8 @@
 
 #include <fftw3.h>
 
+#include "glare/fftw_float_plan.h"
+
 #include <algorithm>
 #include <mutex>
 #include <stdexcept>
@@ -9,10 +11,8 @@
 namespace glarelab {
 namespace {
 
-std::mutex& planner_mutex() {
-  static std::mutex mutex;
-  return mutex;
-}
+// One planner lock for every FFTW plan of the program (fftw_float_plan.h owns it).
+std::mutex& planner_mutex() { return fftw_planner_mutex(); }
 
 void check_size(std::size_t size, int rows, int cols, const char* what) {
   if (rows <= 0 || cols <= 0 || size != static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols))

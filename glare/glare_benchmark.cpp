@@ -10,7 +10,11 @@
 
 #include "glare/aperture_raster.h"
 #include "glare/convolution_cpu.h"
+#include "glare/cpu_float_convolution.h"
+#include "glare/cpu_float_psf.h"
+#include "glare/cpu_float_spectral_psf.h"
 #include "glare/eye_model.h"
+#include "glare/fftw_floor.h"
 #include "glare/gl/gl_aperture.h"
 #include "glare/gl/gl_convolution.h"
 #include "glare/gl/gl_fft.h"
@@ -126,6 +130,106 @@ CpuRun run_cpu(const ApertureGeometry& geometry, int n, FftPrecision precision, 
   return run;
 }
 
+// The planned float32 path (cpu_float_*.h), stage by stage; its spectral PSF is computed at the
+// display scale, so its spectral column includes the resampling the other rows leave out.
+struct PlannedRun {
+  GlareBenchmarkRow row;
+  Psf mono, spectral;  // spectral: at the display scale
+  ImageRGBA frame;
+};
+
+// The planned float32 path's three parts for grid n and the benchmark frame, plans made here.
+struct PlannedPath {
+  CpuFloatPsf psf;
+  CpuFloatSpectralPsf spectral;
+  CpuFloatConvolution convolution;
+  ImageRGBA scene;
+
+  PlannedPath(int n, const GlareBenchmarkOptions& options)
+      : psf(psf_settings(n)),
+        spectral(spectral_settings(n, psf.degrees_per_pixel(), options.wavelength_samples)),
+        convolution(n, n * 3 / 4, spectral.display_size_px()),
+        scene(benchmark_frame(n)) {}
+
+  static CpuFloatPsfSettings psf_settings(int n) {
+    CpuFloatPsfSettings settings;
+    settings.raster.grid_px = n;
+    settings.raster.aperture_width_mm = kApertureWidthMm;
+    settings.wavelength_nm = kWavelengthNm;
+    return settings;
+  }
+  static CpuFloatSpectralSettings spectral_settings(int n, double psf_degrees_per_pixel, int wavelength_samples) {
+    CpuFloatSpectralSettings settings;
+    settings.grid_px = n;
+    settings.psf_degrees_per_pixel = psf_degrees_per_pixel;
+    settings.display_degrees_per_pixel = 4.0 * psf_degrees_per_pixel;  // as at_display_scale
+    settings.wavelength_samples = wavelength_samples;
+    settings.reference_wavelength_nm = kWavelengthNm;
+    settings.aperture_width_mm = kApertureWidthMm;
+    settings.threads = kGlareCpuThreads;
+    return settings;
+  }
+  // One whole frame for the eye's geometry; a new scene transforms the image too.
+  void frame(const ApertureGeometry& geometry, bool new_scene, ImageRGBA& out) {
+    psf.rasterise(geometry);
+    psf.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres);
+    const Psf kernel = spectral.compute(psf.power(), geometry.pupil_diameter_mm);
+    if (new_scene) convolution.set_scene(scene);
+    convolution.convolve(kernel, out);
+  }
+};
+
+PlannedRun run_cpu_planned(const ApertureGeometry& geometry, int n, const GlareBenchmarkOptions& options) {
+  PlannedRun run;
+  run.row.grid_px = n;
+  run.row.backend = "cpu float32 planned";
+  PlannedPath path(n, options);
+  path.frame(geometry, true, run.frame);  // warm-up
+  run.row.aperture_s = fastest(options.repeats, [&] { path.psf.rasterise(geometry); });
+  run.row.psf_s =
+      fastest(options.repeats, [&] { path.psf.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres); });
+  run.mono = path.psf.monochromatic_psf();
+  run.row.spectral_s = fastest(options.repeats, [&] { run.spectral = path.spectral.compute(path.psf.power(), geometry.pupil_diameter_mm); });
+  run.row.convolution_s = fastest(options.repeats, [&] {
+    path.convolution.set_scene(path.scene);
+    path.convolution.convolve(run.spectral, run.frame);
+  });
+  return run;
+}
+
+// Eye geometries 1/60 s apart from time_s on, blinks skipped: one per timed frame.
+std::vector<ApertureGeometry> frame_geometries(const EyeModel& eye, double time_s, int count) {
+  std::vector<ApertureGeometry> geometries;
+  for (double t = time_s; static_cast<int>(geometries.size()) < count && t < time_s + 600.0; t += 1.0 / 60.0)
+    if (eye.state_at(t).blink_closure == 0.0) geometries.push_back(eye.geometry_at(t));
+  return geometries;
+}
+
+// Whole frames (new scene, static scene) and the FFTW floor, interleaved so that a change of the
+// machine's load falls on all three alike; the fastest of each is kept.
+GlareFrameRow time_frames(const EyeModel& eye, double time_s, int n, const GlareBenchmarkOptions& options) {
+  GlareFrameRow row;
+  row.grid_px = n;
+  row.threads = kGlareCpuThreads;
+  row.frames = std::max(1, options.frames);
+  PlannedPath path(n, options);
+  row.fft_rows = path.convolution.fft_rows();
+  row.fft_cols = path.convolution.fft_cols();
+  FftwFloatFloor floor(n, row.fft_rows, row.fft_cols, kGlareCpuThreads);
+  const std::vector<ApertureGeometry> geometries = frame_geometries(eye, time_s, 2 * row.frames + 1);
+  ImageRGBA out;
+  path.frame(geometries.front(), true, out);  // warm-up: first touch of every buffer
+  floor.run();
+  row.floor_s = row.new_scene_s = row.static_scene_s = 1e300;
+  for (int k = 0; k < row.frames && 2 * k + 2 < static_cast<int>(geometries.size()); ++k) {
+    row.floor_s = std::min(row.floor_s, fastest(1, [&] { floor.run(); }));
+    row.new_scene_s = std::min(row.new_scene_s, fastest(1, [&] { path.frame(geometries[2 * k + 1], true, out); }));
+    // The scene's spectrum is the one the new-scene frame just made.
+    row.static_scene_s = std::min(row.static_scene_s, fastest(1, [&] { path.frame(geometries[2 * k + 2], false, out); }));
+  }
+  return row;
+}
+
 struct GlRun {
   GlareBenchmarkRow row;
   Psf mono, spectral;
@@ -237,6 +341,20 @@ GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options) {
     single.row.discretisation_error = relative_l2(single.mono.values, reference_2n);
     result.rows.push_back(single.row);
 
+    progress("bench: N = " + std::to_string(n) + ": cpu float32 planned");
+    PlannedRun planned = run_cpu_planned(geometry, n, options);
+    planned.row.psf_error = relative_l2(planned.mono.values, reference.mono.values);
+    planned.row.spectral_error = relative_l2(planned.spectral.values, at_display_scale(reference.spectral).values);
+    planned.row.frame_error = relative_l2(rgb_of(planned.frame), reference_frame);
+    planned.row.discretisation_error = relative_l2(planned.mono.values, reference_2n);
+    result.rows.push_back(planned.row);
+
+    progress("bench: N = " + std::to_string(n) + ": whole frames against the FFTW floor");
+    GlareFrameRow frames = time_frames(eye, time_s, n, options);
+    frames.frame_error = planned.row.frame_error;
+    frames.discretisation_error = planned.row.discretisation_error;
+    result.frames.push_back(frames);
+
     if (options.gl_context) {
       progress("bench: N = " + std::to_string(n) + ": gl on " + result.renderer);
       GlRun gpu = run_gl(geometry, n, options);
@@ -263,6 +381,24 @@ std::string format_glare_benchmark_table(const GlareBenchmarkResult& result) {
           << " | " << milliseconds(row.total_s()) << " | " << scientific(row.psf_error) << " | "
           << scientific(row.spectral_error) << " | " << scientific(row.frame_error) << " | "
           << scientific(row.discretisation_error) << " |\n";
+  return table.str();
+}
+
+std::string format_glare_frame_table(const GlareBenchmarkResult& result) {
+  std::ostringstream table;
+  table << "| N | FFT size (conv.) | threads | FFTW floor ms | new-scene frame ms | ratio | static-scene frame ms "
+           "| ratio | frame error vs CPU double | PSF error vs 2N reference |\n";
+  table << "|---|---|---|---|---|---|---|---|---|---|\n";
+  const auto ratio = [](double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2fx", value);
+    return std::string(text);
+  };
+  for (const GlareFrameRow& row : result.frames)
+    table << "| " << row.grid_px << " | " << row.fft_rows << " x " << row.fft_cols << " | " << row.threads << " | "
+          << milliseconds(row.floor_s) << " | " << milliseconds(row.new_scene_s) << " | " << ratio(row.new_scene_ratio())
+          << " | " << milliseconds(row.static_scene_s) << " | " << ratio(row.static_scene_ratio()) << " | "
+          << scientific(row.frame_error) << " | " << scientific(row.discretisation_error) << " |\n";
   return table.str();
 }
 

@@ -8,6 +8,14 @@
 //     grid over the same aperture width (same degrees per pixel, twice the field), cropped to the
 //     central N x N: what the N grid loses to aperture sampling and to the periodic wrap.
 // The aperture is the eye model's (EyeModel, default parameters) at a fixed time and seed.
+//
+// Beside the stages, the whole dynamic frame of the planned float32 CPU path (cpu_float_*.h:
+// aperture, PSF, spectral PSF at the display scale, RGB convolution) against the FFTW floor
+// (fftw_floor.h: one N x N complex FFT and nine padded real transforms, FFTW float, plans made once,
+// the same threads), measured in the same run (issue 12). Every timed frame takes the eye at a new
+// time (1/60 s apart, blinks skipped), so nothing computed for one frame's PSF can serve the next.
+// Two frames: a new scene (the image's R, G, B transformed too) and a static scene (its spectrum
+// kept from the trial's first frame).
 #include <functional>
 #include <string>
 #include <vector>
@@ -22,6 +30,7 @@ struct GlareBenchmarkOptions {
   GlContextFactory gl_context;
   int wavelength_samples = 32;
   int repeats = 1;  // each stage timed this many times; the fastest is kept
+  int frames = 5;   // whole frames timed per N and scene kind (each at a new eye time), fastest kept
   double time_s = 1.0;
   unsigned long long seed = 1;
   std::function<void(const std::string&)> progress;  // one line per step (the command prints it on stderr)
@@ -41,8 +50,24 @@ struct GlareBenchmarkRow {
   double total_s() const { return aperture_s + psf_s + spectral_s + convolution_s; }
 };
 
+// The whole dynamic frame of the planned float32 CPU path against the FFTW floor, one per N.
+struct GlareFrameRow {
+  int grid_px = 0;
+  int fft_rows = 0, fft_cols = 0;  // the padded convolution size (N x 3N/4 frame, N/4 PSF)
+  int threads = 0;
+  int frames = 0;                  // timed frames, each at a new eye time; the fastest is kept
+  double floor_s = 0.0;            // FFTW float: 1 N x N complex + 9 padded real transforms
+  double new_scene_s = 0.0;        // aperture, PSF, spectral, 3 + 3 forward and 3 inverse transforms
+  double static_scene_s = 0.0;     // the same with the scene's spectrum kept (3 forward fewer)
+  double frame_error = 0.0;        // vs the CPU double pipeline, same N and eye time
+  double discretisation_error = 0.0;  // its monochromatic PSF vs CPU double at 2N
+  double new_scene_ratio() const { return floor_s > 0.0 ? new_scene_s / floor_s : 0.0; }
+  double static_scene_ratio() const { return floor_s > 0.0 ? static_scene_s / floor_s : 0.0; }
+};
+
 struct GlareBenchmarkResult {
   std::vector<GlareBenchmarkRow> rows;
+  std::vector<GlareFrameRow> frames;  // one per N
   std::string aperture;  // what was diffracted: pupil, primitive counts
   std::string renderer;  // GL_RENDERER, empty without GL
 };
@@ -52,5 +77,8 @@ GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options);
 
 // A Markdown table, one row per grid and backend, times in ms, errors in scientific notation.
 std::string format_glare_benchmark_table(const GlareBenchmarkResult& result);
+
+// A Markdown table of the whole frames against the FFTW floor, one row per N: times in ms, ratios.
+std::string format_glare_frame_table(const GlareBenchmarkResult& result);
 
 }  // namespace glarelab

@@ -5,17 +5,11 @@
 #include <sstream>
 
 namespace glarelab {
-namespace {
 
-// Sparse 1D overlap weights: weight[m] lists (k, fraction of input pixel k inside output pixel m).
-struct Overlap {
-  int input;
-  double fraction;
-};
-
-std::vector<std::vector<Overlap>> overlap_weights(int input_px, double input_size, int output_px, double output_size) {
+std::vector<std::vector<PsfOverlap>> psf_overlap_weights(int input_px, double input_size, int output_px,
+                                                         double output_size) {
   // Input pixel k spans [(k - N/2 - 1/2) a, (k - N/2 + 1/2) a]; output pixel m likewise with M, b.
-  std::vector<std::vector<Overlap>> weights(static_cast<std::size_t>(output_px));
+  std::vector<std::vector<PsfOverlap>> weights(static_cast<std::size_t>(output_px));
   for (int k = 0; k < input_px; ++k) {
     const double lo = (k - input_px / 2 - 0.5) * input_size, hi = lo + input_size;
     const int m_first = std::max(0, static_cast<int>(std::floor(lo / output_size + output_px / 2 + 0.5)));
@@ -28,8 +22,6 @@ std::vector<std::vector<Overlap>> overlap_weights(int input_px, double input_siz
   }
   return weights;
 }
-
-}  // namespace
 
 void check_psf_fits_display(int psf_size_px, double psf_degrees_per_pixel, double display_degrees_per_pixel) {
   const double a = psf_degrees_per_pixel, b = display_degrees_per_pixel;
@@ -50,15 +42,20 @@ void check_psf_fits_display(int psf_size_px, double psf_degrees_per_pixel, doubl
   }
 }
 
-Psf resample_psf_to_display(const Psf& psf, double display_degrees_per_pixel) {
-  check_psf_fits_display(psf.size_px, psf.degrees_per_pixel, display_degrees_per_pixel);
-  const double a = psf.degrees_per_pixel, b = display_degrees_per_pixel;
-  const double extent_display_px = psf.size_px * a / b;
+int display_psf_size_px(int psf_size_px, double psf_degrees_per_pixel, double display_degrees_per_pixel) {
+  const double extent_display_px = psf_size_px * psf_degrees_per_pixel / display_degrees_per_pixel;
   // Even output size covering the whole PSF extent, plus one pixel each side for the half-pixel
   // offsets between the two grids.
   int output_px = static_cast<int>(std::ceil(extent_display_px)) + 2;
   if (output_px % 2 != 0) ++output_px;
-  const auto weights = overlap_weights(psf.size_px, a, output_px, b);
+  return output_px;
+}
+
+Psf resample_psf_to_display(const Psf& psf, double display_degrees_per_pixel) {
+  check_psf_fits_display(psf.size_px, psf.degrees_per_pixel, display_degrees_per_pixel);
+  const double a = psf.degrees_per_pixel, b = display_degrees_per_pixel;
+  const int output_px = display_psf_size_px(psf.size_px, a, b);
+  const auto weights = psf_overlap_weights(psf.size_px, a, output_px, b);
 
   Psf out;
   out.size_px = output_px;
@@ -71,13 +68,13 @@ Psf resample_psf_to_display(const Psf& psf, double display_degrees_per_pixel) {
     for (int y = 0; y < n; ++y)
       for (int m = 0; m < output_px; ++m) {
         double sum = 0.0;
-        for (const Overlap& w : weights[static_cast<std::size_t>(m)]) sum += w.fraction * psf.at(c, w.input, y);
+        for (const PsfOverlap& w : weights[static_cast<std::size_t>(m)]) sum += w.fraction * psf.at(c, w.input, y);
         rows_resampled[static_cast<std::size_t>(y) * output_px + m] = sum;
       }
     for (int my = 0; my < output_px; ++my)
       for (int mx = 0; mx < output_px; ++mx) {
         double sum = 0.0;
-        for (const Overlap& w : weights[static_cast<std::size_t>(my)])
+        for (const PsfOverlap& w : weights[static_cast<std::size_t>(my)])
           sum += w.fraction * rows_resampled[static_cast<std::size_t>(w.input) * output_px + mx];
         out.at(c, mx, my) = sum;
       }

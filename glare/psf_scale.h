@@ -4,6 +4,7 @@
 // overlap (box integration of the piecewise-constant PSF over each display pixel, separable in x
 // and y): a pre-filter, so the finer PSF is averaged, never point-sampled, onto the display grid.
 #include <stdexcept>
+#include <vector>
 
 #include "glare/psf.h"
 
@@ -27,5 +28,18 @@ Psf resample_psf_to_display(const Psf& psf, double display_degrees_per_pixel);
 // without a PSF: so a session can find, before it writes anything, that its glare cannot be shown
 // at its display's scale. Throws PsfScaleError.
 void check_psf_fits_display(int psf_size_px, double psf_degrees_per_pixel, double display_degrees_per_pixel);
+
+// The size (even) of resample_psf_to_display's output for a PSF of psf_size_px pixels.
+int display_psf_size_px(int psf_size_px, double psf_degrees_per_pixel, double display_degrees_per_pixel);
+
+// The 1D box-overlap weights resample_psf_to_display applies along x and then y: weights[m] lists
+// (input pixel k, fraction of input pixel k inside output pixel m), both grids centred on size/2.
+// cpu_float_spectral_psf.h folds them into its wavelength scaling.
+struct PsfOverlap {
+  int input;
+  double fraction;
+};
+std::vector<std::vector<PsfOverlap>> psf_overlap_weights(int input_px, double input_size, int output_px,
+                                                         double output_size);
 
 }  // namespace glarelab

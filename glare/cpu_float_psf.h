@@ -1,0 +1,56 @@
+#pragma once
+// The monochromatic PSF of psf_cpu.h (Ritschel et al. 2009, Eq. 3: PSF = K |FFT(A E)|^2, shifted so
+// the DC term sits at (N/2, N/2)) in float32 for a stream of frames: the FFTW plan and every buffer
+// made once for one grid size, the aperture rasterised and the power spectrum taken on
+// kGlareCpuThreads threads. Checked against the float64 path of psf_cpu.h (tests/glare_cpu_float_test.cpp).
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "glare/aperture_geometry.h"
+#include "glare/aperture_raster.h"
+#include "glare/fftw_float_plan.h"
+#include "glare/fresnel.h"
+#include "glare/psf.h"
+
+namespace glarelab {
+
+struct CpuFloatPsfSettings {
+  ApertureRasterOptions raster;  // grid, aperture width, supersampling (threads: taken from below)
+  double wavelength_nm = 575.0;
+  PhaseForm phase = PhaseForm::defocus;
+  int threads = kGlareCpuThreads;
+};
+
+class CpuFloatPsf {
+ public:
+  explicit CpuFloatPsf(const CpuFloatPsfSettings& settings);
+  int grid_px() const { return settings_.raster.grid_px; }
+  double degrees_per_pixel() const;
+
+  // Stage 1: the aperture of `geometry` (aperture_raster.h, the same grid bit for bit).
+  void rasterise(const ApertureGeometry& geometry);
+  // Stage 2: defocus phase, the N x N FFT, |F|^2 shifted into power(). Throws ClosedApertureError
+  // for an aperture that transmits nothing; an aliased phase leaves sampling_warning() non-empty.
+  void transform(double pupil_diameter_mm, double defocus_dioptres);
+
+  // |FFT|^2 shifted, unnormalised (K is left to whoever normalises: the spectral PSF normalises its
+  // channels itself), N x N row-major.
+  const float* power() const { return power_.data(); }
+  const std::string& sampling_warning() const { return sampling_warning_; }
+  const ApertureGrid& aperture() const { return grid_; }
+  // power() normalised to sum 1 as a one-channel Psf (psf_cpu.h's result); allocates, for checks.
+  Psf monochromatic_psf() const;
+
+ private:
+  CpuFloatPsfSettings settings_;
+  ApertureGrid grid_;
+  FftwFloatBuffer<std::complex<float>> field_, spectrum_;
+  FftwFloatBuffer<float> power_;
+  FftwFloatPlan fft_;
+  std::string sampling_warning_;
+  std::vector<double> row_energy_;  // sum |A|^2 per aperture row
+  int written_first_row_ = 0, written_last_row_ = -1;  // field rows the last transform wrote
+};
+
+}  // namespace glarelab

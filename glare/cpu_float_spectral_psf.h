@@ -1,0 +1,82 @@
+#pragma once
+// The spectral PSF of spectral_psf.h (Ritschel et al. 2009, section 5: n wavelengths, each the
+// reference PSF scaled by lambda_ref / lambda with bilinear interpolation and the Jacobian, weighted
+// by the CIE CMFs in linear Rec.709), computed straight at the display's pixel scale in float32 for
+// the convolution, instead of on the N x N grid and then box-resampled (psf_scale.h).
+//
+// Why it is the same operator: the bilinear scaling B_i and the box resampling R are both separable
+// and linear, so R (B_i F B_i^T) R^T = W_i F W_i^T with W_i = R B_i, an M x N band matrix (M display
+// pixels) precomputed once per wavelength; F is read once per wavelength band, and only M x M
+// values are accumulated per wavelength instead of N x N. The one non-linear step, clamping
+// negative Rec.709 values (spectral colours outside the gamut) to 0 on PSF pixels, is redone on the
+// PSF pixels of the display pixels where a channel may change sign (compute()); elsewhere the box
+// mean is clamped. `glarelab bench` reports the frame error against the float64 path.
+#include <vector>
+
+#include "glare/psf.h"
+#include "glare/psf_scale.h"
+
+namespace glarelab {
+
+struct CpuFloatSpectralSettings {
+  int grid_px = 512;                    // N of the reference PSF
+  double psf_degrees_per_pixel = 0.0;   // of the reference PSF
+  double display_degrees_per_pixel = 0.0;
+  int wavelength_samples = 32;
+  double reference_wavelength_nm = 575.0;
+  double aperture_width_mm = 10.0;     // of the pupil-plane grid the reference PSF came from
+  int threads = 2;
+};
+
+class CpuFloatSpectralPsf {
+ public:
+  // Throws PsfScaleError when the PSF cannot be shown at the display's scale (psf_scale.h).
+  explicit CpuFloatSpectralPsf(const CpuFloatSpectralSettings& settings);
+  int display_size_px() const { return display_px_; }
+  // `power`: the N x N reference PSF (any positive scale; each channel is normalised to sum 1).
+  // Returns R, G, B at the display scale, as resample_psf_to_display(spectral_psf_from_reference()).
+  // pupil_diameter_mm: the aperture's pupil, for the size of the PSF's core (compute()).
+  Psf compute(const float* power, double pupil_diameter_mm);
+  // Display pixels of the last compute() whose clamp was done on PSF pixels (see compute()).
+  int refined_pixels() const { return refined_pixels_; }
+
+ private:
+  struct Band {
+    int first = 0;   // first reference pixel
+    int count = 0;   // weights
+    int offset = 0;  // into weights_
+  };
+  struct Wavelength {
+    double rgb_weight[3];     // Jacobian times the CMF weight in linear Rec.709
+    double scale = 1.0;       // lambda_ref / lambda
+    // Per PSF pixel x: the two bilinear neighbours of the scaled position and their weights, a
+    // neighbour outside the grid clamped onto it with weight 0 (it reads 0 in spectral_psf.cpp).
+    std::vector<int> index0, index1;
+    std::vector<float> weight0, weight1;
+    std::vector<Band> bands;  // one per display pixel (row or column, the matrix is square)
+    int first_column = 0, last_column = -1;  // reference columns any band reads
+  };
+  // Accumulator per wavelength group: a fixed number of groups, whatever the threads, so the sums
+  // (and the result) do not depend on the thread count.
+  struct Group {
+    std::vector<float> rows_t;  // W_i F transposed: N x M
+    std::vector<float> row;     // one row of W_i F: N
+    std::vector<float> d_t;     // (W_i F W_i^T) transposed: M x M
+    std::vector<double> rgb_t;  // 6 x M x M, transposed: R, G, B, then the sums of their magnitudes
+  };
+  // R, G, B of the N x N spectral PSF, as spectral_psf.cpp computes them, on the PSF pixels
+  // xs x ys (the PSF pixels of one display pixel): rgb[3 (j |xs| + i) + c] for xs[i], ys[j].
+  void spectral_block(const float* power, const std::vector<PsfOverlap>& xs, const std::vector<PsfOverlap>& ys,
+                      std::vector<double>& rgb) const;
+  static constexpr int kGroups = 4;
+  CpuFloatSpectralSettings settings_;
+  int display_px_ = 0;
+  std::vector<Wavelength> wavelengths_;
+  std::vector<float> weights_;
+  std::vector<Group> groups_;
+  std::vector<std::vector<PsfOverlap>> box_;  // psf_scale.h's weights, PSF to display
+  std::vector<unsigned char> straddles_;      // per display pixel: refined on PSF pixels
+  int refined_pixels_ = 0;
+};
+
+}  // namespace glarelab

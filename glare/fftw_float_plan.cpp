@@ -1,0 +1,131 @@
+#include "glare/fftw_float_plan.h"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <new>
+#include <stdexcept>
+#include <string>
+
+namespace glarelab {
+namespace {
+
+// Plans with `threads` FFTW threads, then puts the planner back to one thread: the plans of
+// fft_cpu.cpp (made per call) stay single-threaded, as they were.
+template <typename MakePlan>
+fftwf_plan_s* plan_with_threads(int threads, const char* what, MakePlan&& make_plan) {
+  std::lock_guard lock(fftw_planner_mutex());
+  static const int initialised = fftwf_init_threads();
+  if (initialised == 0) throw std::runtime_error("glare/fftw_float_plan: fftwf_init_threads failed");
+  fftwf_plan_with_nthreads(std::max(1, threads));
+  fftwf_plan plan = make_plan();
+  fftwf_plan_with_nthreads(1);
+  if (plan == nullptr) throw std::runtime_error(std::string("glare/fftw_float_plan: FFTW could not plan ") + what);
+  return plan;
+}
+
+}  // namespace
+
+std::mutex& fftw_planner_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+template <typename T>
+FftwFloatBuffer<T>::FftwFloatBuffer(std::size_t count)
+    : data_(static_cast<T*>(fftwf_malloc(std::max<std::size_t>(1, count * sizeof(T))))), size_(count) {
+  if (!data_) throw std::bad_alloc();
+  for (std::size_t k = 0; k < count; ++k) data_[k] = T{};
+}
+
+template <typename T>
+void FftwFloatBuffer<T>::Free::operator()(T* pointer) const {
+  fftwf_free(pointer);
+}
+
+template class FftwFloatBuffer<float>;
+template class FftwFloatBuffer<std::complex<float>>;
+
+FftwFloatPlan::FftwFloatPlan(FftwFloatPlan&& other) noexcept : plan_(other.plan_) { other.plan_ = nullptr; }
+
+FftwFloatPlan& FftwFloatPlan::operator=(FftwFloatPlan&& other) noexcept {
+  if (this != &other) {
+    FftwFloatPlan old(std::move(*this));
+    plan_ = other.plan_;
+    other.plan_ = nullptr;
+  }
+  return *this;
+}
+
+FftwFloatPlan::~FftwFloatPlan() {
+  if (plan_ == nullptr) return;
+  std::lock_guard lock(fftw_planner_mutex());
+  fftwf_destroy_plan(plan_);
+}
+
+void FftwFloatPlan::execute() const {
+  if (plan_ == nullptr) throw std::logic_error("glare/fftw_float_plan: executing an empty plan");
+  fftwf_execute(plan_);
+}
+
+FftwFloatPlan FftwFloatPlan::complex_forward(int rows, int cols, std::complex<float>* in, std::complex<float>* out,
+                                             int threads) {
+  return FftwFloatPlan(plan_with_threads(threads, "a float complex 2D FFT", [&] {
+    return fftwf_plan_dft_2d(rows, cols, reinterpret_cast<fftwf_complex*>(in), reinterpret_cast<fftwf_complex*>(out),
+                             FFTW_FORWARD, FFTW_ESTIMATE);
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::real_forward(int rows, int cols, int count, float* in, std::complex<float>* out, int threads) {
+  return FftwFloatPlan(plan_with_threads(threads, "float real 2D FFTs", [&] {
+    const int size[2] = {rows, cols};
+    return fftwf_plan_many_dft_r2c(2, size, count, in, nullptr, 1, rows * cols, reinterpret_cast<fftwf_complex*>(out),
+                                   nullptr, 1, rows * (cols / 2 + 1), FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::real_inverse(int rows, int cols, int count, std::complex<float>* in, float* out, int threads) {
+  return FftwFloatPlan(plan_with_threads(threads, "float inverse real 2D FFTs", [&] {
+    const int size[2] = {rows, cols};
+    return fftwf_plan_many_dft_c2r(2, size, count, reinterpret_cast<fftwf_complex*>(in), nullptr, 1,
+                                   rows * (cols / 2 + 1), out, nullptr, 1, rows * cols, FFTW_ESTIMATE);
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::real_rows_forward(int rows, int cols, int count, int first_row, int row_count, float* in,
+                                               std::complex<float>* out, int threads) {
+  const int spectrum_cols = cols / 2 + 1;
+  return FftwFloatPlan(plan_with_threads(threads, "float real row FFTs", [&] {
+    const fftwf_iodim length{cols, 1, 1};
+    const fftwf_iodim loops[2] = {{count, rows * cols, rows * spectrum_cols}, {row_count, cols, spectrum_cols}};
+    return fftwf_plan_guru_dft_r2c(1, &length, 2, loops, in + static_cast<std::ptrdiff_t>(first_row) * cols,
+                                   reinterpret_cast<fftwf_complex*>(out + static_cast<std::ptrdiff_t>(first_row) * spectrum_cols),
+                                   FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::real_rows_inverse(int rows, int cols, int count, int first_row, int row_count,
+                                               std::complex<float>* in, float* out, int threads) {
+  const int spectrum_cols = cols / 2 + 1;
+  return FftwFloatPlan(plan_with_threads(threads, "float inverse real row FFTs", [&] {
+    const fftwf_iodim length{cols, 1, 1};
+    const fftwf_iodim loops[2] = {{count, rows * spectrum_cols, rows * cols}, {row_count, spectrum_cols, cols}};
+    return fftwf_plan_guru_dft_c2r(1, &length, 2, loops,
+                                   reinterpret_cast<fftwf_complex*>(in + static_cast<std::ptrdiff_t>(first_row) * spectrum_cols),
+                                   out + static_cast<std::ptrdiff_t>(first_row) * cols, FFTW_ESTIMATE);
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::complex_columns(int rows, int cols, int count, int sign, std::complex<float>* in,
+                                             std::complex<float>* out, bool preserve_input, int threads) {
+  const int spectrum_cols = cols / 2 + 1;
+  return FftwFloatPlan(plan_with_threads(threads, "float column FFTs", [&] {
+    const fftwf_iodim length{rows, spectrum_cols, spectrum_cols};
+    const fftwf_iodim loops[2] = {{count, rows * spectrum_cols, rows * spectrum_cols}, {spectrum_cols, 1, 1}};
+    return fftwf_plan_guru_dft(1, &length, 2, loops, reinterpret_cast<fftwf_complex*>(in),
+                               reinterpret_cast<fftwf_complex*>(out), sign,
+                               FFTW_ESTIMATE | (preserve_input ? FFTW_PRESERVE_INPUT : FFTW_DESTROY_INPUT));
+  }));
+}
+
+}  // namespace glarelab

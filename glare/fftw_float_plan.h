@@ -1,0 +1,87 @@
+#pragma once
+// FFTW float plans made once and executed every frame, for the planned float32 glare path
+// (cpu_float_glare.h) and the FFTW floor it is measured against (fftw_floor.h).
+//
+// Planning: FFTW_ESTIMATE with FFTW's own threads (libfftw3f_threads). ESTIMATE picks the plan from
+// the sizes, strides, alignment and thread count alone, never from timings, so the same input gives
+// the same output on every run; FFTW_MEASURE would time candidate plans and could pick another one
+// (with other rounding) from run to run. The thread count is part of the plan, so it is fixed
+// (kGlareCpuThreads) rather than read from the machine: a session's frames do not depend on the
+// number of cores of the computer it runs on.
+//
+// FFTW's planner is not thread-safe: planning and destroying plans take fftw_planner_mutex() (the
+// same mutex fft_cpu.cpp takes); executing a plan does not.
+#include <complex>
+#include <cstddef>
+#include <memory>
+#include <mutex>
+
+struct fftwf_plan_s;
+
+namespace glarelab {
+
+// Threads of the planned float32 CPU path: its FFTW plans, the aperture rows, the power spectrum
+// and the spectral PSF. Two: the cores of the machines this runs on in the lab.
+inline constexpr int kGlareCpuThreads = 2;
+
+std::mutex& fftw_planner_mutex();
+
+// Memory from fftwf_malloc (aligned for FFTW's SIMD codelets), count elements of T, zeroed.
+template <typename T>
+class FftwFloatBuffer {
+ public:
+  FftwFloatBuffer() = default;
+  explicit FftwFloatBuffer(std::size_t count);
+  T* data() { return data_.get(); }
+  const T* data() const { return data_.get(); }
+  std::size_t size() const { return size_; }
+  T& operator[](std::size_t k) { return data_[k]; }
+  const T& operator[](std::size_t k) const { return data_[k]; }
+
+ private:
+  struct Free {
+    void operator()(T* pointer) const;
+  };
+  std::unique_ptr<T[], Free> data_;
+  std::size_t size_ = 0;
+};
+
+// A plan that owns its fftwf_plan; move-only.
+class FftwFloatPlan {
+ public:
+  FftwFloatPlan() = default;
+  FftwFloatPlan(FftwFloatPlan&& other) noexcept;
+  FftwFloatPlan& operator=(FftwFloatPlan&& other) noexcept;
+  FftwFloatPlan(const FftwFloatPlan&) = delete;
+  FftwFloatPlan& operator=(const FftwFloatPlan&) = delete;
+  ~FftwFloatPlan();
+  void execute() const;  // on the arrays it was planned with
+
+  // Forward complex rows x cols DFT (exponent sign -1, unnormalised), out of place.
+  static FftwFloatPlan complex_forward(int rows, int cols, std::complex<float>* in, std::complex<float>* out, int threads);
+  // `count` real rows x cols arrays, `rows * cols` apart, to `count` spectra of rows x (cols/2 + 1),
+  // `rows * (cols/2 + 1)` apart (one plan for the three colour channels). Preserves its input.
+  static FftwFloatPlan real_forward(int rows, int cols, int count, float* in, std::complex<float>* out, int threads);
+  // The inverse (complex to real, unnormalised); destroys its input, as every FFTW c2r may.
+  static FftwFloatPlan real_inverse(int rows, int cols, int count, std::complex<float>* in, float* out, int threads);
+
+  // The same 2D transforms in two passes of 1D transforms, so that rows known to be zero (input)
+  // or not wanted (output) are skipped; the layouts are those of real_forward / real_inverse
+  // (count arrays of rows x cols reals, of rows x (cols/2 + 1) complex values).
+  // Row pass, real to complex: rows [first_row, first_row + row_count) of each array only.
+  static FftwFloatPlan real_rows_forward(int rows, int cols, int count, int first_row, int row_count, float* in,
+                                         std::complex<float>* out, int threads);
+  // Row pass, complex to real (destroys its input): rows [first_row, first_row + row_count) only.
+  static FftwFloatPlan real_rows_inverse(int rows, int cols, int count, int first_row, int row_count,
+                                         std::complex<float>* in, float* out, int threads);
+  // Column pass over all rows x (cols/2 + 1) complex values, sign FFTW_FORWARD (-1) or
+  // FFTW_BACKWARD (+1), out of place; preserve_input keeps `in` (its zero rows) intact.
+  static FftwFloatPlan complex_columns(int rows, int cols, int count, int sign, std::complex<float>* in,
+                                       std::complex<float>* out, bool preserve_input, int threads);
+
+ private:
+  explicit FftwFloatPlan(fftwf_plan_s* plan) : plan_(plan) {}
+  fftwf_plan_s* plan_ = nullptr;
+};
+
+}  // namespace glarelab

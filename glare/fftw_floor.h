@@ -1,0 +1,30 @@
+#pragma once
+// The FFTW floor of one dynamic glare frame (issue 12): the transforms no CPU frame can do without,
+// in FFTW float with plans made once and the threads of the planned float path:
+//   - one N x N complex FFT (the aperture to the PSF, Ritschel et al. 2009, Eq. 3);
+//   - nine padded real transforms for the RGB convolution: 3 forward (image), 3 forward (PSF),
+//     3 inverse, each rows x cols.
+// `glarelab bench` times a whole frame against it in the same run; the ratio is the frame's
+// overhead over pure FFT work.
+#include <complex>
+
+#include "glare/fftw_float_plan.h"
+
+namespace glarelab {
+
+class FftwFloatFloor {
+ public:
+  // psf_grid_px: N; rows x cols: the padded convolution size (convolution_cpu.h).
+  FftwFloatFloor(int psf_grid_px, int rows, int cols, int threads = kGlareCpuThreads);
+  void run();  // the ten transforms, one after the other
+
+ private:
+  FftwFloatBuffer<std::complex<float>> field_, field_spectrum_;
+  FftwFloatBuffer<float> real_in_, real_out_;
+  FftwFloatBuffer<std::complex<float>> image_spectrum_, psf_spectrum_;
+  FftwFloatPlan psf_fft_;
+  FftwFloatPlan forward_[6];
+  FftwFloatPlan inverse_[3];
+};
+
+}  // namespace glarelab

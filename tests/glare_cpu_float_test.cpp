@@ -1,0 +1,239 @@
+// The planned float32 CPU path (glare/cpu_float_*.h) against the float64 reference path: the
+// aperture bit for bit, the PSF, the spectral PSF at the display scale, the convolution and the
+// whole frame to the 1e-6 (relative L2), on the eye model's apertures. No timing here.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "glare/aperture_raster.h"
+#include "glare/convolution_cpu.h"
+#include "glare/cpu_float_convolution.h"
+#include "glare/cpu_float_psf.h"
+#include "glare/cpu_float_spectral_psf.h"
+#include "glare/eye_model.h"
+#include "glare/fftw_floor.h"
+#include "glare/psf_cpu.h"
+#include "glare/psf_scale.h"
+#include "glare/spectral_psf.h"
+
+namespace glarelab {
+namespace {
+
+constexpr double kWidthMm = 10.0;
+
+template <typename A, typename B>
+double relative_l2(const A& test, const B& reference) {
+  double difference = 0.0, norm = 0.0;
+  for (std::size_t k = 0; k < reference.size(); ++k) {
+    const double d = static_cast<double>(test[k]) - static_cast<double>(reference[k]);
+    difference += d * d;
+    norm += static_cast<double>(reference[k]) * static_cast<double>(reference[k]);
+  }
+  return std::sqrt(difference / norm);
+}
+
+ApertureGeometry eye_at(double time_s) {
+  const EyeModel eye(EyeParameters{}, 1);
+  while (eye.state_at(time_s).blink_closure > 0.0) time_s += 0.1;
+  return eye.geometry_at(time_s);
+}
+
+// The rule of aperture_raster.h, one sub-sample at a time over the whole grid, without the
+// rasteriser's shortcuts (pupil bounding square, scanline polygon crossings, threads).
+std::vector<double> rasterise_by_the_rule(const ApertureGeometry& geometry, int n, double width_mm, int s) {
+  std::vector<double> grid(static_cast<std::size_t>(n) * n, 0.0);
+  const double dx = width_mm / n, r2 = 0.25 * geometry.pupil_diameter_mm * geometry.pupil_diameter_mm;
+  for (int row = 0; row < n * s; ++row)
+    for (int column = 0; column < n * s; ++column) {
+      const double x = (column + 0.5) * (dx / s) - (n / 2 + 0.5) * dx;
+      const double y = (n / 2 + 0.5) * dx - (row + 0.5) * (dx / s);
+      double value = (x * x + y * y <= r2) ? 1.0 : 0.0;
+      for (const auto& d : geometry.discs)
+        if ((x - d.centre_x_mm) * (x - d.centre_x_mm) + (y - d.centre_y_mm) * (y - d.centre_y_mm) <= d.radius_mm * d.radius_mm)
+          value *= d.transmittance;
+      for (const auto& l : geometry.lines) {
+        const double lx = l.x1_mm - l.x0_mm, ly = l.y1_mm - l.y0_mm, length2 = lx * lx + ly * ly;
+        const double t = length2 > 0.0 ? std::clamp(((x - l.x0_mm) * lx + (y - l.y0_mm) * ly) / length2, 0.0, 1.0) : 0.0;
+        const double ex = l.x0_mm + t * lx - x, ey = l.y0_mm + t * ly - y;
+        if (ex * ex + ey * ey <= 0.25 * l.width_mm * l.width_mm) value *= l.transmittance;
+      }
+      for (const auto& p : geometry.polygons) {
+        const auto& v = p.vertices_mm;
+        const std::size_t count = v.size() / 2;
+        bool inside = false;
+        for (std::size_t k = 0, previous = count - 1; k < count; previous = k++)
+          if ((v[2 * k + 1] > y) != (v[2 * previous + 1] > y) &&
+              x < v[2 * k] + (y - v[2 * k + 1]) * (v[2 * previous] - v[2 * k]) / (v[2 * previous + 1] - v[2 * k + 1]))
+            inside = !inside;
+        if (inside) value *= p.transmittance;
+      }
+      grid[static_cast<std::size_t>(row / s) * n + column / s] += value / (s * s);
+    }
+  return grid;
+}
+
+TEST(GlareCpuFloat, RasteriserShortcutsAndThreadsGiveTheRuleBitForBit) {
+  for (double time_s : {1.2, 7.5}) {
+    ApertureGeometry geometry = eye_at(time_s);
+    for (double pupil_mm : {geometry.pupil_diameter_mm, 12.0}) {  // 12 mm: wider than the grid
+      geometry.pupil_diameter_mm = pupil_mm;
+      const std::vector<double> rule = rasterise_by_the_rule(geometry, 64, kWidthMm, 2);
+      for (int threads : {1, 2, 3}) {
+        ApertureRasterOptions options;
+        options.grid_px = 64;
+        options.aperture_width_mm = kWidthMm;
+        options.threads = threads;
+        const ApertureGrid grid = rasterise_aperture(geometry, options);
+        ASSERT_EQ(grid.transmittance.size(), rule.size());
+        for (std::size_t k = 0; k < rule.size(); ++k)
+          ASSERT_EQ(grid.transmittance[k], rule[k]) << "pixel " << k << ", pupil " << pupil_mm << " mm, " << threads << " threads";
+      }
+    }
+  }
+}
+
+struct DoubleFrame {
+  Psf mono, display_spectral;
+  ImageRGBA frame;
+};
+
+ImageRGBA hdr_frame(int n) {
+  ImageRGBA image(n, n * 3 / 4, 0.0f);
+  for (int y = 0; y < image.height_px; ++y)
+    for (int x = 0; x < image.width_px; ++x) {
+      float* p = image.pixel(x, y);
+      p[0] = 1.0f + static_cast<float>(x) / static_cast<float>(n);
+      p[1] = 1.5f;
+      p[2] = 1.0f + static_cast<float>(y) / static_cast<float>(n);
+      p[3] = 0.25f;
+    }
+  for (int y = n / 4; y < n / 4 + 2; ++y)
+    for (int x = n / 2; x < n / 2 + 2; ++x) image.pixel(x, y)[0] = image.pixel(x, y)[1] = image.pixel(x, y)[2] = 1e5f;
+  return image;
+}
+
+DoubleFrame double_frame(const ApertureGeometry& geometry, int n, const ImageRGBA& image) {
+  DoubleFrame reference;
+  MonochromaticPsfOptions mono;
+  mono.raster.grid_px = n;
+  mono.raster.aperture_width_mm = kWidthMm;
+  reference.mono = compute_monochromatic_psf(geometry, mono).psf;
+  const Psf spectral = spectral_psf_from_reference(reference.mono, SpectralPsfOptions{}).psf;
+  reference.display_spectral = resample_psf_to_display(spectral, 4.0 * reference.mono.degrees_per_pixel);
+  reference.frame = convolve_image_cpu(image, reference.display_spectral, ConvolutionOptions{});
+  return reference;
+}
+
+std::vector<float> rgb_of(const ImageRGBA& image) {
+  std::vector<float> values;
+  for (std::size_t k = 0; k < image.rgba.size(); ++k)
+    if (k % 4 != 3) values.push_back(image.rgba[k]);
+  return values;
+}
+
+TEST(GlareCpuFloat, WholeFrameWithin1e6OfTheDoublePathAtNewEyeTimes) {
+  for (int n : {256, 512}) {
+    CpuFloatPsfSettings psf_settings;
+    psf_settings.raster.grid_px = n;
+    psf_settings.raster.aperture_width_mm = kWidthMm;
+    CpuFloatPsf psf(psf_settings);
+    CpuFloatSpectralSettings spectral_settings;
+    spectral_settings.grid_px = n;
+    spectral_settings.psf_degrees_per_pixel = psf.degrees_per_pixel();
+    spectral_settings.display_degrees_per_pixel = 4.0 * psf.degrees_per_pixel();
+    spectral_settings.aperture_width_mm = kWidthMm;
+    CpuFloatSpectralPsf spectral(spectral_settings);
+    const ImageRGBA image = hdr_frame(n);
+    CpuFloatConvolution convolution(image.width_px, image.height_px, spectral.display_size_px());
+    convolution.set_scene(image);  // a static scene: its spectrum serves every frame below
+    ImageRGBA out;
+    for (double time_s : {1.2, 3.4, 9.9}) {
+      const ApertureGeometry geometry = eye_at(time_s);
+      const DoubleFrame reference = double_frame(geometry, n, image);
+      psf.rasterise(geometry);
+      psf.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres);
+      const Psf mono = psf.monochromatic_psf();
+      EXPECT_LT(relative_l2(mono.values, reference.mono.values), 1e-6) << n << " at " << time_s << " s";
+      EXPECT_DOUBLE_EQ(mono.degrees_per_pixel, reference.mono.degrees_per_pixel);
+      const Psf kernel = spectral.compute(psf.power(), geometry.pupil_diameter_mm);
+      ASSERT_EQ(kernel.size_px, reference.display_spectral.size_px);
+      EXPECT_LT(relative_l2(kernel.values, reference.display_spectral.values), 2e-6) << n << " at " << time_s << " s";
+      convolution.convolve(kernel, out);
+      EXPECT_LT(relative_l2(rgb_of(out), rgb_of(reference.frame)), 1e-6) << n << " at " << time_s << " s";
+      EXPECT_EQ(out.pixel(3, 5)[3], 0.25f);  // alpha passes through
+    }
+  }
+}
+
+TEST(GlareCpuFloat, SpectralPsfAtCoarseDisplayPixels) {
+  // Display pixels 20 PSF pixels wide (a fine grid on a coarse display).
+  const ApertureGeometry geometry = eye_at(1.2);
+  MonochromaticPsfOptions mono;
+  mono.raster.grid_px = 256;
+  mono.raster.aperture_width_mm = kWidthMm;
+  const Psf reference_mono = compute_monochromatic_psf(geometry, mono).psf;
+  const double display = 20.0 * reference_mono.degrees_per_pixel;
+  const Psf reference =
+      resample_psf_to_display(spectral_psf_from_reference(reference_mono, SpectralPsfOptions{}).psf, display);
+  CpuFloatSpectralSettings settings;
+  settings.grid_px = 256;
+  settings.psf_degrees_per_pixel = reference_mono.degrees_per_pixel;
+  settings.display_degrees_per_pixel = display;
+  settings.aperture_width_mm = kWidthMm;
+  CpuFloatSpectralPsf spectral(settings);
+  const std::vector<float> power(reference_mono.values.begin(), reference_mono.values.end());
+  const Psf kernel = spectral.compute(power.data(), geometry.pupil_diameter_mm);
+  ASSERT_EQ(kernel.size_px, reference.size_px);
+  EXPECT_LT(relative_l2(kernel.values, reference.values), 1e-6);
+}
+
+TEST(GlareCpuFloat, NewSceneReplacesTheKeptSpectrumAndBadImagesAreRefused) {
+  ImageRGBA first = hdr_frame(64), second = hdr_frame(64);
+  for (float& v : second.rgba) v *= 2.0f;
+  Psf psf;
+  psf.size_px = 8;
+  psf.channels = 1;
+  psf.values.assign(64, 1.0 / 64.0);
+  CpuFloatConvolution convolution(64, 48, 8);
+  EXPECT_THROW(convolution.convolve(psf, first), std::logic_error);
+  convolution.set_scene(first);
+  ImageRGBA out_first, out_second;
+  convolution.convolve(psf, out_first);
+  convolution.set_scene(second);
+  convolution.convolve(psf, out_second);
+  const ImageRGBA expected = convolve_image_cpu(second, psf, ConvolutionOptions{});
+  EXPECT_LT(relative_l2(rgb_of(out_second), rgb_of(expected)), 1e-6);
+  EXPECT_NEAR(out_second.pixel(10, 10)[1], 2.0f * out_first.pixel(10, 10)[1], 1e-4f);
+  second.pixel(1, 1)[0] = -1.0f;
+  EXPECT_THROW(convolution.set_scene(second), std::invalid_argument);
+  EXPECT_THROW(convolution.set_scene(hdr_frame(32)), std::invalid_argument);
+}
+
+TEST(GlareCpuFloat, ClosedApertureAndDisplayTooFineAreRefused) {
+  CpuFloatPsfSettings settings;
+  settings.raster.grid_px = 32;
+  CpuFloatPsf psf(settings);
+  ApertureGeometry closed;
+  closed.pupil_diameter_mm = 4.0;
+  closed.discs.push_back({0.0, 0.0, 3.0, 0.0});
+  psf.rasterise(closed);
+  EXPECT_THROW(psf.transform(closed.pupil_diameter_mm, 0.0), ClosedApertureError);
+  CpuFloatSpectralSettings spectral;
+  spectral.grid_px = 32;
+  spectral.psf_degrees_per_pixel = psf.degrees_per_pixel();
+  spectral.display_degrees_per_pixel = 0.5 * psf.degrees_per_pixel();
+  EXPECT_THROW(CpuFloatSpectralPsf{spectral}, PsfScaleError);
+}
+
+TEST(GlareCpuFloat, FftwFloorRunsItsTenTransforms) {
+  FftwFloatFloor floor(32, 40, 48, 2);
+  floor.run();
+  floor.run();
+  EXPECT_THROW(FftwFloatFloor(1, 40, 48), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace glarelab
