@@ -140,6 +140,25 @@ void FrameRenderer::replace_stimulus(const ImageRGBA& image) {
   gl::check_gl_error("replacing the stimulus frame");
 }
 
+void FrameRenderer::replace_stimulus_region(const ImageRGBA& region, int x0_px, int y0_px) {
+  if (region.width_px == 0 || region.height_px == 0) return;
+  if (x0_px < 0 || y0_px < 0 || x0_px + region.width_px > width_px_ || y0_px + region.height_px > height_px_)
+    throw DisplayError("frame renderer: a " + std::to_string(region.width_px) + "x" + std::to_string(region.height_px) +
+                       " region at (" + std::to_string(x0_px) + ", " + std::to_string(y0_px) + ") outside the " +
+                       std::to_string(width_px_) + "x" + std::to_string(height_px_) + " stimulus");
+  // GL rows start at the bottom; glarelab images start at the top.
+  const std::size_t row_floats = static_cast<std::size_t>(region.width_px) * 4;
+  std::vector<float> bottom_up(region.rgba.size());
+  for (int y = 0; y < region.height_px; ++y)
+    std::copy_n(region.rgba.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * row_floats), row_floats,
+                bottom_up.begin() +
+                    static_cast<std::ptrdiff_t>(static_cast<std::size_t>(region.height_px - 1 - y) * row_floats));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(stimulus_texture_.get(), 0, x0_px, height_px_ - y0_px - region.height_px, region.width_px,
+                      region.height_px, GL_RGBA, GL_FLOAT, bottom_up.data());
+  gl::check_gl_error("replacing a region of the stimulus frame");
+}
+
 ImageRGBA FrameRenderer::read_display() const { return read_framebuffer(0, width_px_, height_px_); }
 
 }  // namespace glarelab

@@ -46,6 +46,9 @@ class FrameRenderer {
   // Overwrites the stimulus framebuffer with an image of the same size (row 0 at the top, cd/m2):
   // how a frame processed on the CPU (stimuli/glare_stage.h) returns for encoding.
   void replace_stimulus(const ImageRGBA& image);
+  // Overwrites only the rectangle of the stimulus framebuffer at (x0_px, y0_px) from the top left
+  // with `region` (cd/m2): a glared frame that differs from the composed one only there.
+  void replace_stimulus_region(const ImageRGBA& region, int x0_px, int y0_px);
 
   int width_px() const { return width_px_; }
   int height_px() const { return height_px_; }

@@ -26,6 +26,7 @@
 
 #include "core/display_spec.h"
 #include "core/gl/gl_context.h"
+#include "glare/cpu_float_glare.h"
 #include "glare/eye_model.h"
 #include "glare/gaze_window_convolution.h"
 #include "glare/glare_backend.h"
@@ -120,12 +121,15 @@ class GlareStage {
   EyeModel& eye_for(GlareMode mode, double field_luminance_cd_m2);
   ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf);
   ImageRGBA convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window);
+  ImageRGBA convolve_with_backend(const ImageRGBA& image, const Psf& display_psf);
 
   GlareSpec spec_;
   DisplaySpec display_;
   std::uint64_t seed_;
   GlContextFactory gl_context_;
   std::unique_ptr<GlareBackend> backend_;
+  // "auto" on the CPU: the planned float32 path does the frames' PSF and convolution.
+  std::unique_ptr<CpuFloatGlare> planned_;
   std::string backend_reason_;
   // Dynamic: one eye for the whole session, starting adapted to the first frame it sees, recording
   // every frame's mean luminance (its pupil follows the field luminance).

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
+#include <utility>
 #include <cstdio>
 
 #include "glare/aperture_raster.h"
@@ -232,6 +234,33 @@ TEST(GlareStage, CpuBackendGivesTheDirectCpuComputationBitForBit) {
   const ImageRGBA out = stage.apply(frame, GlareMode::static_eye, 0.0, &report);
   ASSERT_TRUE(report.convolved);
   EXPECT_EQ(out.rgba, direct_cpu_glare(spec, small_display(), 4, frame, 0.0).rgba);
+}
+
+// "auto" without a GL context takes the CPU and its planned float32 path for the frames
+// (glare/cpu_float_glare.h): within 1e-6 relative L2 of the float64 reference ("cpu") on static and
+// dynamic frames, and a second frame of the same scene reuses its spectrum with the same result.
+TEST(GlareStage, AutoOnTheCpuTakesThePlannedFloatPathWithinOneMillionthOfTheReference) {
+  GlareSpec reference_spec = small_spec();
+  reference_spec.grid_px = 256;
+  reference_spec.wavelength_samples = 32;
+  reference_spec.skip_invisible = false;
+  GlareSpec planned_spec = reference_spec;
+  planned_spec.backend = "auto";
+  GlareStage reference(reference_spec, small_display(), 4);
+  GlareStage planned(planned_spec, small_display(), 4);  // no GL context factory: the CPU
+  EXPECT_EQ(planned.backend_reason().rfind("glare backend auto picked cpu float32 planned: ", 0), 0u)
+      << planned.backend_reason();
+  const ImageRGBA frame = lamp_frame(0.5f, 3000.0f);
+  for (const auto& [mode, time_s] : {std::pair{GlareMode::static_eye, 0.0}, std::pair{GlareMode::dynamic, 2.0},
+                                     std::pair{GlareMode::dynamic, 2.0 + 1.0 / 60.0}}) {
+    GlareFrameReport report;
+    const ImageRGBA expected = reference.apply(frame, mode, time_s);
+    const ImageRGBA got = planned.apply(frame, mode, time_s, &report);
+    ASSERT_TRUE(report.convolved) << report.skip_reason;
+    const double error = relative_l2(got, expected);
+    EXPECT_LT(error, 1e-6) << to_string(mode) << " at " << time_s << " s";
+    std::cout << to_string(mode) << " at " << time_s << " s: relative L2 " << error << "\n";
+  }
 }
 
 TEST(GlareStage, GlBackendAgreesWithTheCpuBackendOnASessionFrame) {

@@ -15,6 +15,18 @@
 
 namespace glarelab {
 
+// A glared frame kept as the rectangle where it differs from the composed frame (bit for bit),
+// the rest being the composed frame itself: glare on a stimulus on a dark background changes the
+// stimulus and the PSF's reach around it, so a trial's prepared frames take a fraction of the
+// memory of whole frames (30 whole 1920 x 1080 frames are 1 GB).
+struct GlaredRegion {
+  int x0_px = 0, y0_px = 0;
+  ImageRGBA pixels;  // empty: the glared frame equals the composed one
+};
+
+// The rectangle of `glared` that differs from `composed` (same size).
+GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared);
+
 struct IntervalGlare {
   bool active = false;  // false: control everywhere (or a preview passing by): no glare frames
   GlareMode mode = GlareMode::control;
@@ -27,7 +39,7 @@ struct IntervalGlare {
   std::string modes_label;    // "dynamic", or "left dynamic, right control"
   std::optional<GazePoint> gaze;
   std::optional<TrackerGaze> tracked;  // the tracker's gaze the window is placed at
-  std::vector<ImageRGBA> frames;       // computed so far (frame k at index k)
+  std::vector<GlaredRegion> frames;    // computed so far (frame k at index k)
   // Live with a tracker: the session time of the gaze sample frame k's window was placed at.
   std::vector<std::optional<double>> gaze_time_s;
 
@@ -37,7 +49,7 @@ struct IntervalGlare {
   double smallest_pupil_mm = 1e9;
   std::optional<GazeWindow> window;
   std::vector<double> gaze_to_flip_s;  // live: each frame's flip time minus its gaze sample's time
-  double compute_s = 0.0;              // wall time spent computing frames
+  std::vector<double> frame_compute_s;  // wall time spent computing each frame
 
   double frame_time_s(int k) const { return first_flip_s + k * period_s; }
   std::optional<double> gaze_time_of(int k) const {
@@ -45,7 +57,7 @@ struct IntervalGlare {
     return gaze_time_s[static_cast<std::size_t>(k)];
   }
   // The frame shown at stimulus frame k of the interval: frame k, or the last one computed.
-  const ImageRGBA* shown(int k) const {
+  const GlaredRegion* shown(int k) const {
     if (!active || frames.empty()) return nullptr;
     return &frames[std::min<std::size_t>(static_cast<std::size_t>(k), frames.size() - 1)];
   }

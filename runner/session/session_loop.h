@@ -84,9 +84,9 @@ class SessionLoop {
  private:
   // runner/session/trial_presentation.cpp: drawing and presenting the flips of a trial.
   std::vector<Placement> layout(const TrialPlan& plan) const;
-  // `glared`: the composed frame after glare (prepare_glare), drawn in its place. `overlays` (text,
+  // `glared`: where the frame after glare differs from the composed one (interval_glare.h), drawn over it. `overlays` (text,
   // fixation cross) are drawn after glare: they are on the display, not seen through the eye.
-  void draw(const std::vector<Placement>& placements, const ImageRGBA* glared = nullptr,
+  void draw(const std::vector<Placement>& placements, const GlaredRegion* glared = nullptr,
             const std::vector<Placement>& overlays = {});
   // What interval `interval` shows: the whole plan side by side, or in a sequential trial the plan
   // narrowed to its position `interval` (its scene alone, centred, with that position's glare).

@@ -3,6 +3,7 @@
 // or computed live before each flip, with their skip, gaze-window and gaze-latency events.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <chrono>
 #include <optional>
 #include <stdexcept>
@@ -27,6 +28,27 @@ std::string describe_glare_window(const GazeWindow& window, const std::optional<
 }
 
 }  // namespace
+
+GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared) {
+  const auto pixel_bytes = 4 * sizeof(float);
+  int x0 = glared.width_px, y0 = glared.height_px, x1 = -1, y1 = -1;
+  for (int y = 0; y < glared.height_px; ++y) {
+    const float* a = composed.pixel(0, y);
+    const float* b = glared.pixel(0, y);
+    if (std::memcmp(a, b, pixel_bytes * static_cast<std::size_t>(glared.width_px)) == 0) continue;
+    int first = 0, last = glared.width_px - 1;
+    while (std::memcmp(a + 4 * first, b + 4 * first, pixel_bytes) == 0) ++first;
+    while (std::memcmp(a + 4 * last, b + 4 * last, pixel_bytes) == 0) --last;
+    x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
+  }
+  GlaredRegion region;
+  if (x1 < 0) return region;
+  region.x0_px = x0;
+  region.y0_px = y0;
+  region.pixels = ImageRGBA(x1 - x0 + 1, y1 - y0 + 1);
+  for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(x0, y), 4 * region.pixels.width_px, region.pixels.pixel(0, y - y0));
+  return region;
+}
 
 // --- glare (stimuli/glare_stage.h) ---
 // An interval's glare: frame k is computed for the time it is planned to flip, first_flip + k
@@ -129,10 +151,12 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
   std::vector<GlareFrameReport> reports;
   if (glare.layers.empty()) {
     GlareFrameReport report;
-    glare.frames.push_back(glare_.apply(glare.composed_cd_m2, glare.mode, time_s, &report, glare.gaze));
+    glare.frames.push_back(
+        changed_region(glare.composed_cd_m2, glare_.apply(glare.composed_cd_m2, glare.mode, time_s, &report, glare.gaze)));
     reports.push_back(report);
   } else {
-    glare.frames.push_back(apply_layered_glare(glare_, glare.composed_cd_m2, glare.layers, time_s, glare.gaze, &reports));
+    glare.frames.push_back(changed_region(
+        glare.composed_cd_m2, apply_layered_glare(glare_, glare.composed_cd_m2, glare.layers, time_s, glare.gaze, &reports)));
   }
   if (k == 0 && preview_frame_ && preview_frame_->reports.empty()) preview_frame_->reports = reports;
   for (const GlareFrameReport& report : reports) {
@@ -146,7 +170,7 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
     if (report.eye_closed && report.convolved) ++glare.closed;  // held PSF; otherwise counted as skipped
     glare.smallest_pupil_mm = std::min(glare.smallest_pupil_mm, report.pupil_diameter_mm);
   }
-  glare.compute_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  glare.frame_compute_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   display_.make_current();  // a GL glare backend works in a context of its own
 }
 
@@ -201,14 +225,22 @@ void SessionLoop::log_interval_glare(const TrialPlan& plan, const IntervalGlare&
 // from then on when that cost fits kLiveBudgetFraction of the refresh period (the rest of the
 // period composes, encodes and flips the frame). Logged once as a 'presentation_mode' event.
 void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
-  if (!glare.active || glare.frames.empty() || presentation_mode_logged_) return;
-  presentation_mode_logged_ = true;
-  const double per_frame_s = glare.compute_s / static_cast<double>(glare.frames.size());
-  const std::string cost = number_text(std::round(per_frame_s * 1e6) / 1e3) + " ms per glare frame on this machine (" +
-                           std::to_string(glare.frames.size()) + " frame(s) of trial " +
-                           std::to_string(plan.trial_index) + ") against a refresh period of " +
-                           number_text(std::round(period_s_ * 1e6) / 1e3) + " ms";
+  if (!glare.active || glare.frame_compute_s.empty() || presentation_mode_logged_) return;
   const std::string& asked = prepared_.experiment.glare.presentation;
+  // The first frame of a session also makes the FFTW plans and buffers: the steady cost is the
+  // median of the frames after it, so "auto" waits for an interval of two frames or more (a dynamic
+  // one; a static interval computes one frame).
+  const std::size_t measured = glare.frame_compute_s.size();
+  if (asked == "auto" && measured < 2) return;
+  presentation_mode_logged_ = true;
+  std::vector<double> steady(glare.frame_compute_s.begin() + (measured > 1 ? 1 : 0), glare.frame_compute_s.end());
+  std::sort(steady.begin(), steady.end());
+  const double per_frame_s = steady[steady.size() / 2];
+  const std::string cost = number_text(std::round(per_frame_s * 1e6) / 1e3) +
+                           " ms per glare frame on this machine (median of " + std::to_string(steady.size()) +
+                           " frame(s) of trial " + std::to_string(plan.trial_index) +
+                           (measured > 1 ? ", its first frame left out" : "") + ") against a refresh period of " +
+                           number_text(std::round(period_s_ * 1e6) / 1e3) + " ms";
   std::string message;
   if (asked == "live") {
     message = "glare trials: live, each frame computed just before its flip ([glare] presentation = \"live\"); " +

@@ -24,11 +24,11 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
   return placements;
 }
 
-void SessionLoop::draw(const std::vector<Placement>& placements, const ImageRGBA* glared,
+void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredRegion* glared,
                        const std::vector<Placement>& overlays) {
   if (fast_forward_) return;
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
-  if (glared != nullptr) renderer_.replace_stimulus(*glared);
+  if (glared != nullptr) renderer_.replace_stimulus_region(glared->pixels, glared->x0_px, glared->y0_px);
   if (!overlays.empty()) renderer_.compose_overlay(overlays);
   renderer_.encode_to_display(prepared_.experiment.display);
 }

@@ -1,0 +1,61 @@
+#include "glare/cpu_float_glare.h"
+
+#include "glare/fftw_float_plan.h"
+
+namespace glarelab {
+namespace {
+
+CpuFloatPsfSettings psf_settings(const CpuFloatGlareSettings& settings) {
+  CpuFloatPsfSettings psf;
+  psf.raster.grid_px = settings.grid_px;
+  psf.raster.aperture_width_mm = settings.aperture_width_mm;
+  psf.raster.supersampling = settings.supersampling;
+  psf.wavelength_nm = settings.reference_wavelength_nm;
+  psf.phase = PhaseForm::defocus;
+  return psf;
+}
+
+CpuFloatSpectralSettings spectral_settings(const CpuFloatGlareSettings& settings, double psf_degrees_per_pixel) {
+  CpuFloatSpectralSettings spectral;
+  spectral.grid_px = settings.grid_px;
+  spectral.psf_degrees_per_pixel = psf_degrees_per_pixel;
+  spectral.display_degrees_per_pixel = settings.display_degrees_per_pixel;
+  spectral.wavelength_samples = settings.wavelength_samples;
+  spectral.reference_wavelength_nm = settings.reference_wavelength_nm;
+  spectral.aperture_width_mm = settings.aperture_width_mm;
+  spectral.threads = kGlareCpuThreads;
+  return spectral;
+}
+
+}  // namespace
+
+CpuFloatGlare::CpuFloatGlare(const CpuFloatGlareSettings& settings)
+    : psf_(psf_settings(settings)), spectral_(spectral_settings(settings, psf_.degrees_per_pixel())) {}
+
+Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry) {
+  psf_.rasterise(geometry);
+  psf_.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres);
+  return spectral_.compute(psf_.power(), geometry.pupil_diameter_mm);
+}
+
+ImageRGBA CpuFloatGlare::convolve(const ImageRGBA& image, const Psf& display_psf) {
+  if (!convolution_ || convolution_width_px_ != image.width_px || convolution_height_px_ != image.height_px ||
+      convolution_kernel_px_ != display_psf.size_px) {
+    convolution_ = std::make_unique<CpuFloatConvolution>(image.width_px, image.height_px, display_psf.size_px);
+    convolution_width_px_ = image.width_px;
+    convolution_height_px_ = image.height_px;
+    convolution_kernel_px_ = display_psf.size_px;
+    scene_ = ImageRGBA();
+  }
+  reused_scene_ = scene_.width_px == image.width_px && scene_.height_px == image.height_px && scene_.rgba == image.rgba &&
+                  scene_.depth == image.depth;
+  if (!reused_scene_) {
+    convolution_->set_scene(image);
+    scene_ = image;
+  }
+  ImageRGBA out;
+  convolution_->convolve(display_psf, out);
+  return out;
+}
+
+}  // namespace glarelab
