@@ -32,6 +32,7 @@ struct IntervalGlare {
   GlareMode mode = GlareMode::control;
   std::vector<GlareLayer> layers;  // one per position when the sides differ; else empty
   ImageRGBA composed_cd_m2;
+  double field_cd_m2 = 0.0;  // its mean luminance, what the eye adapts to (once, not per frame)
   bool dynamic = false;
   int frames_needed = 1;      // dynamic: every stimulus frame; static: one serves all
   double first_flip_s = 0.0;  // session time of the interval's first stimulus flip

@@ -124,6 +124,7 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   }
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   glare.composed_cd_m2 = renderer_.read_stimulus();
+  glare.field_cd_m2 = mean_luminance(glare.composed_cd_m2);
   display_.make_current();
   return glare;
 }
@@ -152,7 +153,7 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
   if (glare.layers.empty()) {
     GlareFrameReport report;
     glare.frames.push_back(
-        changed_region(glare.composed_cd_m2, glare_.apply(glare.composed_cd_m2, glare.mode, time_s, &report, glare.gaze)));
+        changed_region(glare.composed_cd_m2, glare_.apply(glare.composed_cd_m2, glare.mode, time_s, &report, glare.gaze, glare.field_cd_m2)));
     reports.push_back(report);
   } else {
     glare.frames.push_back(changed_region(
