@@ -42,6 +42,13 @@ double cell_number(const ConditionRow& row, const std::string& column) {
   return value;
 }
 
+// The shortest text that reads back to exactly `value` (posterior summaries are logged in full).
+std::string exact_text(double value) {
+  char buffer[64];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, end.ptr);
+}
+
 }  // namespace
 
 double quest_plus_luminance_cd_m2(const std::string& intensity_unit, double intensity) {
@@ -253,13 +260,13 @@ TrialPlan AdaptiveProcedure::next_trial() {
     const QuestPlus& q = *track.quest_plus;
     json.add("method", experiment_.procedure);
     json.add("intensity_unit", track.intensity_unit);
-    json.add("intensity", number_text(q.next_stimulus().front()));
+    json.add("intensity", exact_text(q.next_stimulus().front()));
     json.add("track_trials_done", number_text(q.trial_count()));
-    json.add("expected_entropy_nats", number_text(q.next_expected_entropy()));
+    json.add("expected_entropy_nats", exact_text(q.next_expected_entropy()));
     for (const ParameterSummary& p : q.summary()) {
-      json.add("posterior_" + p.name + "_mode", number_text(p.mode));
-      json.add("posterior_" + p.name + "_mean", number_text(p.mean));
-      json.add("posterior_" + p.name + "_sd", number_text(p.sd));
+      json.add("posterior_" + p.name + "_mode", exact_text(p.mode));
+      json.add("posterior_" + p.name + "_mean", exact_text(p.mean));
+      json.add("posterior_" + p.name + "_sd", exact_text(p.sd));
     }
   }
   plan.condition_json = json.str();

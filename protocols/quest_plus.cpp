@@ -352,6 +352,10 @@ std::vector<ParameterSummary> QuestPlus::summary() const {
   std::vector<ParameterSummary> out;
   for (std::size_t a = 0; a < spec_.parameters.size(); ++a) {
     const std::vector<double>& values = spec_.parameters[a].values;
+    if (values.size() == 1) {  // a fixed value: exactly itself, SD 0 (no rounding residue)
+      out.push_back({spec_.parameters[a].name, values[0], values[0], 0.0});
+      continue;
+    }
     const std::vector<double> m = marginal(a);
     double mean = 0.0;
     for (std::size_t i = 0; i < values.size(); ++i) mean += m[i] * values[i];

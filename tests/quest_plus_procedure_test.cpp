@@ -14,7 +14,6 @@
 
 #include "cli_process.h"
 #include "experiment_error.h"
-#include "core/number_text.h"
 #include "protocols/adaptive_procedure.h"
 #include "protocols/experiment.h"
 #include "runner/store/result_store.h"
@@ -132,12 +131,14 @@ TEST(QuestPlusProcedure, TrialsFollowTheQuestPlusClassAndRecordThePosterior) {
     EXPECT_EQ(plan.condition_name, e.conditions[row].name());
     rows_shown.insert(plan.condition_name);
     EXPECT_EQ(json_member(plan.condition_json, "method"), "quest_plus");
-    EXPECT_EQ(json_member(plan.condition_json, "intensity"), number_text(q.next_stimulus()[0]));
-    EXPECT_EQ(json_member(plan.condition_json, "track_trials_done"), number_text(q.trial_count()));
+    // Logged in full: each number reads back to exactly the value.
+    EXPECT_EQ(std::stod(json_member(plan.condition_json, "intensity")), q.next_stimulus()[0]);
+    EXPECT_EQ(json_member(plan.condition_json, "track_trials_done"), std::to_string(q.trial_count()));
+    EXPECT_EQ(std::stod(json_member(plan.condition_json, "expected_entropy_nats")), q.next_expected_entropy());
     for (const ParameterSummary& s : q.summary()) {
-      EXPECT_EQ(json_member(plan.condition_json, "posterior_" + s.name + "_mode"), number_text(s.mode));
-      EXPECT_EQ(json_member(plan.condition_json, "posterior_" + s.name + "_mean"), number_text(s.mean));
-      EXPECT_EQ(json_member(plan.condition_json, "posterior_" + s.name + "_sd"), number_text(s.sd));
+      EXPECT_EQ(std::stod(json_member(plan.condition_json, "posterior_" + s.name + "_mode")), s.mode);
+      EXPECT_EQ(std::stod(json_member(plan.condition_json, "posterior_" + s.name + "_mean")), s.mean);
+      EXPECT_EQ(std::stod(json_member(plan.condition_json, "posterior_" + s.name + "_sd")), s.sd);
     }
     const bool correct = answer_correct(trial);
     const TrialOutcome outcome = procedure.record_response(plan, {answer(plan, correct), 0.5});
@@ -304,7 +305,9 @@ TEST(QuestPlusProcedure, StopAndResumeRunsTheSameTrialsEndToEnd) {
                                       {"max_trials", "max_trials = 8"}}));
   const std::string db = scratch.file("runs.db");
   const std::vector<std::string> base = {"run", file, "--display", "offscreen", "--observer", "simulated", "--db", db};
-  for (const auto& extra : std::vector<std::vector<std::string>>{{}, {"--stop-after", "5"}, {"--resume", "2"}}) {
+  // Both sessions as participant 1, so that they are the same design.
+  for (const auto& extra : std::vector<std::vector<std::string>>{
+           {"--participant-number", "1"}, {"--participant-number", "1", "--stop-after", "5"}, {"--resume", "2"}}) {
     std::vector<std::string> arguments = base;
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     const auto result = run_glarelab(arguments, scratch.path());
