@@ -1,6 +1,6 @@
 #pragma once
-// The [procedure] keys of adaptive procedures (type = "staircase" or "quest") and their
-// interleaved tracks ([[procedure.staircases]]). See docs/EXPERIMENT_FILES.md.
+// The [procedure] keys of adaptive procedures (type = "staircase", "quest", "quest_plus" or "psi")
+// and their interleaved tracks ([[procedure.staircases]]). See docs/EXPERIMENT_FILES.md.
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 

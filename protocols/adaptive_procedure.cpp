@@ -1,9 +1,11 @@
 #include "protocols/adaptive_procedure.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <stdexcept>
 
+#include "core/number_text.h"
 #include "protocols/forced_choice.h"
 #include "protocols/json_text.h"
 #include "core/random.h"
@@ -26,11 +28,106 @@ double peak_of(const std::map<std::string, double>& peaks, const std::string& sc
   return found->second;
 }
 
+// A condition cell as a number (the whole text, as from_chars reads it).
+double cell_number(const ConditionRow& row, const std::string& column) {
+  const std::string* text = row.find(column);
+  if (text == nullptr)
+    throw std::invalid_argument("condition '" + row.name() + "' has no column '" + column + "'");
+  double value = 0.0;
+  const char* end = text->data() + text->size();
+  const auto [ptr, ec] = std::from_chars(text->data(), end, value);
+  if (ec != std::errc() || ptr != end || !std::isfinite(value))
+    throw std::invalid_argument("condition '" + row.name() + "' column '" + column + "': '" + *text +
+                                "' is not a number");
+  return value;
+}
+
+// The shortest text that reads back to exactly `value` (posterior summaries are logged in full).
+std::string exact_text(double value) {
+  char buffer[64];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, end.ptr);
+}
+
 }  // namespace
 
+double quest_plus_luminance_cd_m2(const std::string& intensity_unit, double intensity) {
+  if (intensity_unit == "db_cd_m2") return std::pow(10.0, intensity / 20.0);
+  if (intensity_unit == "log10_cd_m2") return std::pow(10.0, intensity);
+  throw std::invalid_argument("unknown intensity unit '" + intensity_unit + "'");
+}
+
+QuestPlusTrackGrid quest_plus_track_grid(const Experiment& experiment, const AdaptiveTrackSpec& track) {
+  const QuestPlusTrackSpec& qp = track.quest_plus;
+  QuestPlusTrackGrid grid;
+  grid.spec = qp.spec;
+  std::vector<std::size_t> rows;
+  if (qp.conditions.empty()) {
+    rows.push_back(row_named(experiment, track.condition));
+  } else {
+    for (const std::string& name : qp.conditions) rows.push_back(row_named(experiment, name));
+  }
+  const std::size_t columns = qp.stimulus_columns.size();
+  if (columns == 0) {
+    grid.rows = {rows.front()};
+    return grid;
+  }
+  // Each column's grid: its distinct values over the rows, in row order.
+  std::vector<std::vector<double>> row_values(rows.size());
+  for (std::size_t c = 0; c < columns; ++c) {
+    std::vector<double>& values = grid.spec.stimulus.at(c + 1).values;
+    values.clear();
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      const double v = cell_number(experiment.conditions[rows[r]], qp.stimulus_columns[c]);
+      row_values[r].push_back(v);
+      if (std::find(values.begin(), values.end(), v) == values.end()) values.push_back(v);
+    }
+  }
+  std::size_t points = 1;
+  for (std::size_t c = 0; c < columns; ++c) points *= grid.spec.stimulus[c + 1].values.size();
+  constexpr std::size_t kUnset = static_cast<std::size_t>(-1);
+  grid.rows.assign(points, kUnset);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    std::size_t point = 0;
+    for (std::size_t c = 0; c < columns; ++c) {
+      const std::vector<double>& values = grid.spec.stimulus[c + 1].values;
+      point = point * values.size() +
+              static_cast<std::size_t>(std::find(values.begin(), values.end(), row_values[r][c]) - values.begin());
+    }
+    if (grid.rows[point] != kUnset)
+      throw std::invalid_argument("conditions '" + experiment.conditions[grid.rows[point]].name() + "' and '" +
+                                  experiment.conditions[rows[r]].name() + "' have the same stimulus_columns values");
+    grid.rows[point] = rows[r];
+  }
+  for (std::size_t point = 0; point < points; ++point) {
+    if (grid.rows[point] != kUnset) continue;
+    std::string missing;
+    std::size_t rest = point;
+    std::vector<std::string> parts(columns);
+    for (std::size_t c = columns; c-- > 0;) {
+      const std::vector<double>& values = grid.spec.stimulus[c + 1].values;
+      parts[c] = qp.stimulus_columns[c] + " = " + number_text(values[rest % values.size()]);
+      rest /= values.size();
+    }
+    for (const std::string& part : parts) missing += (missing.empty() ? "" : ", ") + part;
+    throw std::invalid_argument("the rows of conditions must hold every combination of stimulus_columns values; none has " +
+                                missing);
+  }
+  validate_quest_plus_spec(grid.spec);
+  return grid;
+}
+
 double AdaptiveProcedure::Track::next_luminance_cd_m2() const {
-  // QUEST's scale is log10 cd/m2 (Watson & Pelli 1983 work on log intensity).
-  return staircase ? staircase->next_intensity() : std::pow(10.0, quest->next_intensity());
+  // QUEST's scale is log10 cd/m2 (Watson & Pelli 1983 work on log intensity); QUEST+'s intensity
+  // is the first stimulus dimension, in its track's unit.
+  if (staircase) return staircase->next_intensity();
+  if (quest) return std::pow(10.0, quest->next_intensity());
+  return quest_plus_luminance_cd_m2(intensity_unit, quest_plus->next_stimulus().front());
+}
+
+std::size_t AdaptiveProcedure::Track::next_row() const {
+  if (!quest_plus || quest_plus_rows.size() == 1) return row;
+  return quest_plus_rows[quest_plus->next_stimulus_index() % quest_plus_rows.size()];
 }
 
 AdaptiveProcedure::AdaptiveProcedure(const Experiment& experiment, const std::map<std::string, double>& source_peak_cd_m2)
@@ -39,19 +136,30 @@ AdaptiveProcedure::AdaptiveProcedure(const Experiment& experiment, const std::ma
   for (const AdaptiveTrackSpec& spec : experiment.adaptive.tracks) {
     Track track;
     track.row = row_named(experiment, spec.condition);
-    const ConditionRow& row = experiment.conditions[track.row];
     if (experiment.procedure == "staircase") {
       track.name = spec.staircase.name;
       track.staircase.emplace(spec.staircase);
-    } else {
+    } else if (experiment.procedure == "quest") {
       track.name = spec.quest.name;
       track.quest.emplace(spec.quest);
+    } else {
+      track.name = spec.quest_plus.spec.name;
+      QuestPlusTrackGrid grid = quest_plus_track_grid(experiment, spec);
+      track.quest_plus.emplace(std::move(grid.spec));
+      track.quest_plus_rows = std::move(grid.rows);
+      track.row = track.quest_plus_rows.front();
+      track.intensity_unit = spec.quest_plus.intensity_unit;
     }
-    for (const char* column : {"reference", "comparison"}) {
-      const std::string* scene = row.find(column);
-      if (scene == nullptr)
-        throw std::invalid_argument("adaptive procedure: condition '" + row.name() + "' lacks " + column);
-      peak_of(peak_cd_m2_, *scene);
+    std::vector<std::size_t> rows = track.quest_plus_rows;
+    if (rows.empty()) rows.push_back(track.row);
+    for (std::size_t shown : rows) {
+      const ConditionRow& shown_row = experiment.conditions[shown];
+      for (const char* column : {"reference", "comparison"}) {
+        const std::string* scene = shown_row.find(column);
+        if (scene == nullptr)
+          throw std::invalid_argument("adaptive procedure: condition '" + shown_row.name() + "' lacks " + column);
+        peak_of(peak_cd_m2_, *scene);
+      }
     }
     tracks_.push_back(std::move(track));
   }
@@ -63,7 +171,12 @@ bool AdaptiveProcedure::finished() const {
 
 int AdaptiveProcedure::planned_trials() const {
   int total = 0;
-  for (const Track& t : tracks_) total += t.staircase ? t.staircase->spec().n_trials : t.quest->spec().n_trials;
+  for (const Track& t : tracks_) {
+    if (t.staircase) total += t.staircase->spec().n_trials;
+    else if (t.quest) total += t.quest->spec().n_trials;
+    // QUEST+ stops at max_trials, or (with stop_sd) possibly after min_trials.
+    else total += t.quest_plus->spec().stop_sd ? t.quest_plus->spec().min_trials : t.quest_plus->spec().max_trials;
+  }
   return total;
 }
 
@@ -72,6 +185,9 @@ const Staircase* AdaptiveProcedure::staircase(std::size_t track) const {
 }
 const Quest* AdaptiveProcedure::quest(std::size_t track) const {
   return tracks_.at(track).quest ? &*tracks_.at(track).quest : nullptr;
+}
+const QuestPlus* AdaptiveProcedure::quest_plus(std::size_t track) const {
+  return tracks_.at(track).quest_plus ? &*tracks_.at(track).quest_plus : nullptr;
 }
 
 // The same pass scheme as InterleavedStaircases::next (MultiStairHandler._startNewPass).
@@ -93,7 +209,7 @@ std::size_t AdaptiveProcedure::choose_track() {
 TrialPlan AdaptiveProcedure::next_trial() {
   if (!current_) current_ = choose_track();
   const Track& track = tracks_[*current_];
-  const ConditionRow& row = experiment_.conditions[track.row];
+  const ConditionRow& row = experiment_.conditions[track.next_row()];
   const std::string& reference = *row.find("reference");
   const std::string& comparison = *row.find("comparison");
   const double intensity_cd_m2 = track.next_luminance_cd_m2();
@@ -102,7 +218,9 @@ TrialPlan AdaptiveProcedure::next_trial() {
 
   TrialPlan plan;
   plan.trial_index = trials_done_;
-  plan.procedure = experiment_.procedure;
+  // QUEST+ and Psi trials are stored as procedure "quest" (the trials table's CHECK list); the
+  // condition record names the method.
+  plan.procedure = track.quest_plus ? "quest" : experiment_.procedure;
   plan.condition_name = row.name();
   plan.staircase = track.name;
   plan.positions = positions;
@@ -136,6 +254,21 @@ TrialPlan AdaptiveProcedure::next_trial() {
   for (const auto& [column, value] : row.fields) json.add(column, value);
   json.add(positions[0], plan.scenes[0]).add(positions[1], plan.scenes[1]);
   json.add("staircase", track.name);
+  if (track.quest_plus) {
+    // The posterior the stimulus was chosen from (after the track's earlier trials): per
+    // parameter its value at the joint mode, marginal mean and SD; thresholds in intensity_unit.
+    const QuestPlus& q = *track.quest_plus;
+    json.add("method", experiment_.procedure);
+    json.add("intensity_unit", track.intensity_unit);
+    json.add("intensity", exact_text(q.next_stimulus().front()));
+    json.add("track_trials_done", number_text(q.trial_count()));
+    json.add("expected_entropy_nats", exact_text(q.next_expected_entropy()));
+    for (const ParameterSummary& p : q.summary()) {
+      json.add("posterior_" + p.name + "_mode", exact_text(p.mode));
+      json.add("posterior_" + p.name + "_mean", exact_text(p.mean));
+      json.add("posterior_" + p.name + "_sd", exact_text(p.sd));
+    }
+  }
   plan.condition_json = json.str();
   return plan;
 }
@@ -160,6 +293,9 @@ TrialOutcome AdaptiveProcedure::record_response(const TrialPlan& plan, const Res
   Track& track = tracks_[*current_];
   if (track.staircase) {
     outcome.reversal = track.staircase->add_response(correct) ? 1 : 0;
+  } else if (track.quest_plus) {
+    track.quest_plus->add_response(correct);
+    outcome.reversal = 0;  // no reversals
   } else {
     track.quest->add_response(correct);
     outcome.reversal = 0;  // QUEST has no reversals

@@ -1,6 +1,6 @@
 #pragma once
-// Staircases (PsychoPy StairHandler semantics, protocols/staircase.h) and QUEST (Watson & Pelli
-// 1983, protocols/quest.h) as a Procedure. Each trial is a forced choice between the condition
+// Staircases (PsychoPy StairHandler semantics, protocols/staircase.h), QUEST (Watson & Pelli
+// 1983, protocols/quest.h) and QUEST+ / Psi (Watson 2017, protocols/quest_plus.h) as a Procedure. Each trial is a forced choice between the condition
 // row's "reference" scene and its "comparison" scene, side by side, the comparison scaled so that
 // its peak luminance is the trial's intensity (cd/m2; QUEST works on log10 cd/m2). The response is
 // correct when it names the brighter source; with equal sources "neither" (3-way, Spencer 1995)
@@ -15,9 +15,24 @@
 
 #include "protocols/procedure.h"
 #include "protocols/quest.h"
+#include "protocols/quest_plus.h"
 #include "protocols/staircase.h"
 
 namespace glarelab {
+
+// A QUEST+ track's full stimulus grid: the intensity grid and, for each stimulus column, the
+// distinct values of that column over the track's rows (in row order), and the condition row of
+// every point of those further dimensions (C order). std::invalid_argument when a row is missing,
+// a value is not a number, or a combination is missing or repeated.
+struct QuestPlusTrackGrid {
+  QuestPlusSpec spec;
+  std::vector<std::size_t> rows;  // one per point of stimulus dimensions 1.. (one entry without them)
+};
+QuestPlusTrackGrid quest_plus_track_grid(const Experiment& experiment, const AdaptiveTrackSpec& track);
+
+// The luminance (cd/m2) of a QUEST+ intensity in its unit ("db_cd_m2": 10^(x / 20);
+// "log10_cd_m2": 10^x).
+double quest_plus_luminance_cd_m2(const std::string& intensity_unit, double intensity);
 
 class AdaptiveProcedure : public Procedure {
  public:
@@ -31,6 +46,7 @@ class AdaptiveProcedure : public Procedure {
   std::size_t track_count() const { return tracks_.size(); }
   const Staircase* staircase(std::size_t track) const;  // null for QUEST tracks
   const Quest* quest(std::size_t track) const;          // null for staircase tracks
+  const QuestPlus* quest_plus(std::size_t track) const;  // null unless QUEST+ / Psi
 
  private:
   struct Track {
@@ -38,7 +54,14 @@ class AdaptiveProcedure : public Procedure {
     std::size_t row = 0;  // index into experiment_.conditions
     std::optional<Staircase> staircase;
     std::optional<Quest> quest;
-    bool finished() const { return staircase ? staircase->finished() : quest->finished(); }
+    std::optional<QuestPlus> quest_plus;
+    std::string intensity_unit;              // QUEST+: unit of its intensity grid
+    std::vector<std::size_t> quest_plus_rows;  // QUEST+: the row of each point of dimensions 1..
+    bool finished() const {
+      return staircase ? staircase->finished() : quest ? quest->finished() : quest_plus->finished();
+    }
+    // The condition row the next trial shows.
+    std::size_t next_row() const;
     // The luminance (cd/m2) the comparison shows on the track's next trial.
     double next_luminance_cd_m2() const;
   };

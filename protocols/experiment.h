@@ -16,6 +16,7 @@
 #include "protocols/presentation_config.h"
 #include "protocols/observer_preferences.h"
 #include "protocols/quest.h"
+#include "protocols/quest_plus.h"
 #include "protocols/staircase.h"
 
 namespace glarelab {
@@ -45,10 +46,26 @@ struct ForcedChoiceSpec {
 // One adaptive track (a staircase or a QUEST) and the condition row whose scenes it shows: the
 // row's "reference" scene at its own luminance, the "comparison" scene scaled so its peak is the
 // track's intensity in cd/m2 (QUEST: 10^intensity, its scale being log10 cd/m2).
+// A QUEST+ or Psi track (protocols/quest_plus.h, docs/PROCEDURES.md). The first stimulus
+// dimension is the comparison's peak luminance in `intensity_unit`: "db_cd_m2" (20 log10 of
+// cd/m2, Watson 2017's dB) or "log10_cd_m2"; thresholds and threshold floors are in the same unit.
+// Further stimulus dimensions are numeric columns of the condition table (`stimulus_columns`):
+// the track shows the rows named in `conditions`, which must hold every combination of those
+// columns' values exactly once, and QUEST+ picks the row with the intensity. Their grids
+// (spec.stimulus[1..]) are filled from the rows when the procedure is built
+// (quest_plus_track_grid in protocols/adaptive_procedure.h).
+struct QuestPlusTrackSpec {
+  QuestPlusSpec spec;
+  std::string intensity_unit = "db_cd_m2";
+  std::vector<std::string> stimulus_columns;
+  std::vector<std::string> conditions;  // empty: the track's `condition` (or the first row)
+};
+
 struct AdaptiveTrackSpec {
   std::string condition;  // name of the condition row; empty: the first row
   StaircaseSpec staircase;  // used when procedure == "staircase"
   QuestSpec quest;          // used when procedure == "quest"
+  QuestPlusTrackSpec quest_plus;  // used when procedure == "quest_plus" or "psi"
   SourceLocation where;
 };
 

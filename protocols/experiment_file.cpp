@@ -27,7 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kSupportedProcedures = {"forced_choice", "staircase", "quest", "rating",
+const std::vector<std::string> kSupportedProcedures = {"forced_choice", "staircase", "quest", "quest_plus", "psi", "rating",
                                                       "adjustment"};
 
 std::string join_quoted(const std::vector<std::string>& items) {
@@ -484,7 +484,9 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
                         "a glare mode per side (glare_a, glare_b) is for forced choice only");
     experiment.conditions.push_back(std::move(located.row));
   }
-  if (experiment.procedure == "staircase" || experiment.procedure == "quest") check_adaptive_conditions(experiment);
+  if (experiment.procedure == "staircase" || experiment.procedure == "quest" || experiment.procedure == "quest_plus" ||
+      experiment.procedure == "psi")
+    check_adaptive_conditions(experiment);
   check_blocks(experiment);
   check_preferences(experiment);
   return experiment;

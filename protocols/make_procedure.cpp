@@ -16,7 +16,8 @@ std::unique_ptr<Procedure> make_procedure(const Experiment& experiment,
     return std::make_unique<FixedDesignProcedure>(build_forced_choice_trials(experiment, source_peak_cd_m2),
                                                   score_forced_choice);
   }
-  if (experiment.procedure == "staircase" || experiment.procedure == "quest") {
+  if (experiment.procedure == "staircase" || experiment.procedure == "quest" || experiment.procedure == "quest_plus" ||
+      experiment.procedure == "psi") {
     return std::make_unique<AdaptiveProcedure>(experiment, source_peak_cd_m2);
   }
   if (experiment.procedure == "rating") return make_rating_procedure(experiment);

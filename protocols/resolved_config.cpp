@@ -21,8 +21,56 @@ void print_section(std::ostringstream& out, const std::string& name, toml::table
   out << root << "\n\n";
 }
 
+toml::array number_array(const std::vector<double>& values) {
+  toml::array array;
+  for (double v : values) array.push_back(v);
+  return array;
+}
+
+// A QUEST+ / Psi track with every grid written out (defaults included), so the stored design
+// rebuilds the same grids whatever the defaults of a later version.
+toml::table quest_plus_track_table(const AdaptiveTrackSpec& track) {
+  const QuestPlusTrackSpec& qp = track.quest_plus;
+  const QuestPlusSpec& spec = qp.spec;
+  toml::table table{{"name", spec.name},
+                    {"function", to_string(spec.shape)},
+                    {"intensity_unit", qp.intensity_unit},
+                    {"intensities", number_array(spec.stimulus.front().values)},
+                    {"guess_equals_lapse", spec.guess_equals_lapse},
+                    {"max_trials", spec.max_trials}};
+  toml::table coefficients, prior;
+  for (const ParameterAxis& axis : spec.parameters) {
+    if (axis.role == ParameterRole::threshold_coefficient) {
+      coefficients.insert(qp.stimulus_columns.at(axis.stimulus_dimension - 1), number_array(axis.values));
+    } else {
+      table.insert(axis.name, number_array(axis.values));
+    }
+    if (!axis.prior.empty()) prior.insert(axis.name, number_array(axis.prior));
+  }
+  if (!qp.stimulus_columns.empty()) {
+    toml::array columns;
+    for (const std::string& column : qp.stimulus_columns) columns.push_back(column);
+    table.insert("stimulus_columns", std::move(columns));
+    table.insert("threshold_coefficients", std::move(coefficients));
+  }
+  if (!prior.empty()) table.insert("prior", std::move(prior));
+  if (spec.stop_sd) {
+    table.insert("stop_sd", *spec.stop_sd);
+    table.insert("stop_sd_parameter", spec.stop_sd_parameter);
+    table.insert("min_trials", spec.min_trials);
+  }
+  if (!qp.conditions.empty()) {
+    toml::array conditions;
+    for (const std::string& name : qp.conditions) conditions.push_back(name);
+    table.insert("conditions", std::move(conditions));
+  }
+  if (!track.condition.empty()) table.insert("condition", track.condition);
+  return table;
+}
+
 // Every parameter of one adaptive track, explicit.
 toml::table adaptive_track_table(const Experiment& experiment, const AdaptiveTrackSpec& track) {
+  if (experiment.procedure == "quest_plus" || experiment.procedure == "psi") return quest_plus_track_table(track);
   toml::table table;
   if (experiment.procedure == "staircase") {
     const StaircaseSpec& s = track.staircase;
@@ -123,8 +171,10 @@ std::string resolved_config_toml(const Experiment& experiment) {
   if (experiment.procedure == "forced_choice") {
     procedure.insert("repetitions", spec.repetitions);
     procedure.insert("counterbalance_sides", spec.counterbalance_sides);
-  } else if (experiment.procedure == "staircase" || experiment.procedure == "quest") {
-    procedure.insert("threshold_reversals", experiment.adaptive.threshold_reversals);
+  } else if (experiment.procedure == "staircase" || experiment.procedure == "quest" ||
+             experiment.procedure == "quest_plus" || experiment.procedure == "psi") {
+    if (experiment.procedure == "staircase" || experiment.procedure == "quest")
+      procedure.insert("threshold_reversals", experiment.adaptive.threshold_reversals);
     toml::array tracks;
     for (const AdaptiveTrackSpec& track : experiment.adaptive.tracks) tracks.push_back(adaptive_track_table(experiment, track));
     procedure.insert("staircases", std::move(tracks));
