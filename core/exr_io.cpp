@@ -80,6 +80,14 @@ ExrReadResult read_exr_file(const std::string& path) {
   if (width <= 0 || height <= 0 || width > INT_MAX || height > INT_MAX) {
     throw ImageError(path + ": invalid data window");
   }
+  // Checked before any pixel is allocated: a header of a few bytes can declare a data window of
+  // billions of pixels (found by the exr fuzz target: 5.2e9 pixels, an 83 GB allocation), and the
+  // image is held as float RGBA (16 bytes a pixel) plus a depth channel.
+  if (width * height > kMaxExrPixels) {
+    throw ImageError(path + ": data window of " + std::to_string(width) + " x " + std::to_string(height) +
+                     " px; glarelab reads at most " + std::to_string(kMaxExrPixels) +
+                     " pixels (2 GiB as float RGBA, 16 times a 4K display)");
+  }
 
   const Imf::ChannelList& channels = header.channels();
   const Imf::Channel* r = channels.findChannel("R");

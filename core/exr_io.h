@@ -1,6 +1,7 @@
 #pragma once
 // OpenEXR reading and writing (OpenEXR 3): half or float channels, RGB or RGBA, optional Z,
 // and Y-only (luminance) images, which read as grey RGB. Errors name the file and what is wrong.
+#include <cstdint>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -34,8 +35,12 @@ struct ExrReadResult {
   bool was_half = false;
 };
 
+// The largest image read_exr takes, in pixels: 2^27, 2 GiB as float RGBA (a stimulus is at most a
+// display's size; an 8K display is a quarter of it).
+inline constexpr std::int64_t kMaxExrPixels = std::int64_t{1} << 27;
+
 // Throws ImageError "FILE: what is wrong" for missing, unreadable, truncated or corrupt files,
-// and files without R,G,B or Y channels.
+// files without R,G,B or Y channels, and data windows larger than kMaxExrPixels.
 ExrReadResult read_exr(const std::string& path);
 void write_exr(const std::string& path, const ImageRGBA& image, const ExrWriteOptions& options = {});
 

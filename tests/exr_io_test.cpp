@@ -241,6 +241,25 @@ TEST(Exr, NoColourChannelsIsAnError) {
   }
 }
 
+// A 312-byte file whose header declares a data window of 5.2e9 pixels (found by the exr fuzz
+// target: the reader allocated 83 GB for it before reading a pixel) is refused from its header.
+TEST(Exr, ADataWindowLargerThanAnyStimulusIsRefusedBeforeAllocating) {
+  const std::string path = std::string(GLARELAB_SOURCE_DIR) + "/fuzz/corpus/exr/huge_data_window.exr";
+  try {
+    read_exr(path);
+    FAIL() << "read a header declaring billions of pixels";
+  } catch (const ImageError& error) {
+    EXPECT_THAT(error.what(), HasSubstr(path + ": data window of "));
+    EXPECT_THAT(error.what(), HasSubstr(" px; glarelab reads at most 134217728 pixels"));
+  }
+  // The largest accepted image reads: 2^27 pixels as one row would not fit a GL texture, but the
+  // bound is the reader's, a stimulus's size is checked by the scene library.
+  test::ScratchDir dir;
+  const std::string wide = dir.file("wide.exr");
+  write_exr(wide, ImageRGBA(16385, 2));
+  EXPECT_EQ(read_exr(wide).image.width_px, 16385);
+}
+
 TEST(Exr, MissingFileIsNotFound) {
   test::ScratchDir dir;
   const std::string path = dir.file("does-not-exist.exr");
