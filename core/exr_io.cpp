@@ -86,7 +86,7 @@ ExrReadResult read_exr_file(const std::string& path) {
   if (width * height > kMaxExrPixels) {
     throw ImageError(path + ": data window of " + std::to_string(width) + " x " + std::to_string(height) +
                      " px; glarelab reads at most " + std::to_string(kMaxExrPixels) +
-                     " pixels (2 GiB as float RGBA, 16 times a 4K display)");
+                     " pixels (1 GiB as float RGBA, 8 times a 4K display)");
   }
 
   const Imf::ChannelList& channels = header.channels();

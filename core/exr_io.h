@@ -35,9 +35,9 @@ struct ExrReadResult {
   bool was_half = false;
 };
 
-// The largest image read_exr takes, in pixels: 2^27, 2 GiB as float RGBA (a stimulus is at most a
-// display's size; an 8K display is a quarter of it).
-inline constexpr std::int64_t kMaxExrPixels = std::int64_t{1} << 27;
+// The largest image read_exr takes, in pixels: 2^26, 1 GiB as float RGBA (a stimulus is at most a
+// display's size; an 8K display is half of it).
+inline constexpr std::int64_t kMaxExrPixels = std::int64_t{1} << 26;
 
 // Throws ImageError "FILE: what is wrong" for missing, unreadable, truncated or corrupt files,
 // files without R,G,B or Y channels, and data windows larger than kMaxExrPixels.

@@ -1,5 +1,7 @@
 #include "protocols/csv_table.h"
 
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -170,7 +172,48 @@ class CsvParser {
 
 }  // namespace
 
+// The byte offset of the first byte that does not belong to well-formed UTF-8 (RFC 3629: no
+// overlong forms, no surrogates, at most U+10FFFF), or npos. Condition values and column names are
+// written into the stored TOML configuration, which must be UTF-8 (the experiment_file fuzz target
+// found a column name with a stray byte that the stored configuration could not read back).
+static std::size_t first_invalid_utf8(const std::string& text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if (byte < 0x80) {
+      ++i;
+      continue;
+    }
+    int length = 0;
+    std::uint32_t code = 0, minimum = 0;
+    if ((byte & 0xE0) == 0xC0) length = 2, code = byte & 0x1F, minimum = 0x80;
+    else if ((byte & 0xF0) == 0xE0) length = 3, code = byte & 0x0F, minimum = 0x800;
+    else if ((byte & 0xF8) == 0xF0) length = 4, code = byte & 0x07, minimum = 0x10000;
+    else return i;
+    if (i + static_cast<std::size_t>(length) > text.size()) return i;
+    for (int k = 1; k < length; ++k) {
+      const auto next = static_cast<unsigned char>(text[i + static_cast<std::size_t>(k)]);
+      if ((next & 0xC0) != 0x80) return i;
+      code = (code << 6) | (next & 0x3F);
+    }
+    if (code < minimum || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return i;
+    i += static_cast<std::size_t>(length);
+  }
+  return std::string::npos;
+}
+
 CsvTable parse_csv_text(const std::string& text, const std::string& file_name) {
+  if (const std::size_t bad = first_invalid_utf8(text); bad != std::string::npos) {
+    int line = 1, column = 1;
+    for (std::size_t i = 0; i < bad; ++i) {
+      if (text[i] == '\n') ++line, column = 1;
+      else if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) ++column;
+    }
+    char byte_text[8];
+    std::snprintf(byte_text, sizeof byte_text, "0x%02X", static_cast<unsigned char>(text[bad]));
+    throw ConfigError(SourceLocation{file_name, line, column}, "",
+                      std::string("not UTF-8: byte ") + byte_text + " (save the table as UTF-8)");
+  }
   CsvTable table;
   table.file = file_name;
   std::vector<std::vector<CsvCell>> records = CsvParser(text, file_name).records();

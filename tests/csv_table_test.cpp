@@ -1,5 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <string>
+
+#include <vector>
+
+#include <utility>
+
 #include "protocols/csv_table.h"
 #include "scratch_dir.h"
 
@@ -13,6 +19,26 @@ std::string error_of(const std::string& text) {
     return error.what();
   }
   return "no error";
+}
+
+// A table that is not UTF-8 is refused at the first bad byte (its values go into the stored TOML
+// configuration, which must be UTF-8); well-formed multibyte text is kept as it is.
+TEST(CsvTable, TextThatIsNotUtf8IsRefusedAtItsByteAndUtf8IsKept) {
+  const CsvTable table = parse_csv_text("name,note\nr\xC3\xA9sum\xC3\xA9,\xE2\x82\xAC \xF0\x9F\x92\xA1\n", "t.csv");
+  EXPECT_EQ(table.rows.at(0).at(0).text, "r\xC3\xA9sum\xC3\xA9");
+  for (const auto& [text, where] : std::vector<std::pair<std::string, std::string>>{
+           {"name,g\xFF\na,b\n", "t.csv:1:7"},          // a byte no UTF-8 sequence starts with
+           {"name,x\nab,\xC3\n", "t.csv:2:4"},           // a sequence cut off
+           {"name,x\nab,\xC0\xAF\n", "t.csv:2:4"},       // overlong '/'
+           {"name,x\nab,\xED\xA0\x80\n", "t.csv:2:4"}}) {  // a UTF-16 surrogate
+    try {
+      parse_csv_text(text, "t.csv");
+      FAIL() << "accepted " << where;
+    } catch (const ConfigError& error) {
+      EXPECT_EQ(std::string(error.what()).rfind(where + ": ", 0), 0u) << error.what();
+      EXPECT_NE(std::string(error.what()).find("not UTF-8: byte 0x"), std::string::npos) << error.what();
+    }
+  }
 }
 
 TEST(CsvTable, QuotesDoubledQuotesCommasAndNewlines) {
