@@ -2,6 +2,7 @@
 // Read through TableReader, so a misspelt key stops the run (protocols/toml_table_reader.h).
 #include "protocols/presentation_config.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "core/display_spec.h"
@@ -32,9 +33,12 @@ void insert_duration(toml::table& table, const char* frames_key, const char* sec
 
 PresentationSpec read_presentation_section(TableReader& top, const Experiment& experiment) {
   PresentationSpec spec;
+  // Without a [presentation] table the defaults still meet the checks below (text that fits the
+  // display, no brighter than its white): the stored configuration writes them out, and it must
+  // read back (the experiment_file fuzz target found a display too small for the default text).
+  static const toml::table kNoTable;
   const toml::table* table = top.table("presentation");
-  if (table == nullptr) return spec;
-  TableReader reader(*table, "presentation", top.file());
+  TableReader reader(table != nullptr ? *table : kNoTable, "presentation", top.file());
   const double refresh_hz = experiment.display.refresh_hz;
 
   spec.instructions = read_text(reader, "instructions", spec.instructions, true);
@@ -87,8 +91,12 @@ PresentationSpec read_presentation_section(TableReader& top, const Experiment& e
   if (spec.text_height_deg > display_height_deg)
     reader.fail("text_height_deg", "must fit the display: at most " + number_text(display_height_deg) +
                                        " deg (its height at viewing_distance_mm), found " +
-                                       number_text(spec.text_height_deg));
+                                       number_text(spec.text_height_deg) +
+                                       (table != nullptr && table->contains("text_height_deg") ? "" : " (the default; set it in [presentation])"));
   spec.text_cd_m2 = reader.positive_number("text_cd_m2", spec.text_cd_m2);
+  // The default text luminance on a display dimmer than it: the display's white.
+  if (!(table != nullptr && table->contains("text_cd_m2")))
+    spec.text_cd_m2 = std::min(spec.text_cd_m2, experiment.display.peak_luminance_cd_m2);
   // Text is drawn on the display, not through the simulated eye: brighter than white would clip.
   if (spec.text_cd_m2 > experiment.display.peak_luminance_cd_m2)
     reader.fail("text_cd_m2", "must not exceed the display's peak_luminance_cd_m2 (" +

@@ -81,6 +81,21 @@ TEST(PrewriteChecks, EglThatCannotStartExitsThreeAndOffscreenFallsBackSayingWhy)
       << fallback.output;
 }
 
+// Without a [presentation] table the default text (0.6 deg) must fit the display too: the stored
+// configuration writes the default out and must read back (the experiment_file fuzz replay found
+// a display 16 px high that loaded but whose stored configuration did not).
+TEST(PrewriteChecks, DefaultTextTallerThanTheDisplayIsRefusedSayingItIsTheDefault) {
+  const test::ScratchDir scratch;
+  const auto experiment = test::demo_variant(scratch.path(), {{"height_px", "height_px = 16"}});
+  const auto run = test::run_glarelab({"validate", experiment.string()}, scratch.path());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  // 16 px of 0.25 mm at 600 mm: 2 atan(2 / 600) = 0.38197 deg.
+  EXPECT_NE(run.output.find("key 'presentation.text_height_deg': must fit the display: at most 0.38197 deg (its "
+                            "height at viewing_distance_mm), found 0.6 (the default; set it in [presentation])"),
+            std::string::npos)
+      << run.output;
+}
+
 TEST(PrewriteChecks, TextTallerThanTheDisplayIsRefusedAtItsKey) {
   const test::ScratchDir scratch;
   const auto experiment = test::demo_variant(scratch.path(), {});
