@@ -39,7 +39,7 @@ struct InputEvent {
 // A display is also the GL context it draws with (core/gl/gl_context.h: gl_info, make_current).
 class DisplayBackend : public GlContext {
  public:
-  virtual std::string kind() const = 0;  // "window" | "offscreen" (EGL and OSMesa both; gl_info().platform says which)
+  virtual std::string kind() const = 0;  // "window" | "offscreen" (EGL and OSMesa both, headless_display.h; gl_info().platform says which)
   virtual int width_px() const = 0;   // size of the default framebuffer
   virtual int height_px() const = 0;
   // The refresh rate frames are scheduled at (monitor's for a window, the requested for offscreen).

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <vector>
 
+#include "runner/display/headless_display.h"
+
 namespace glarelab {
 namespace {
 
@@ -119,11 +121,10 @@ std::shared_ptr<EglConnection> connect(std::string& tried) {
   return connection;
 }
 
-class EglDisplay final : public DisplayBackend {
+class EglDisplay final : public HeadlessDisplay {
  public:
   explicit EglDisplay(const DisplayRequest& request)
-      : width_px_(request.width_px), height_px_(request.height_px), refresh_hz_(request.refresh_hz) {
-    if (width_px_ < 1 || height_px_ < 1) throw DisplayError("EGL: framebuffer size must be at least 1x1");
+      : HeadlessDisplay(request, "EGL") {
     std::string tried;
     connection_ = connect(tried);
     if (!connection_) throw DisplayError("EGL: no display could be opened: " + tried);
@@ -181,16 +182,6 @@ class EglDisplay final : public DisplayBackend {
     eglDestroyContext(display, context_);
   }
 
-  std::string kind() const override { return "offscreen"; }
-  const GlInfo& gl_info() const override { return info_; }
-  int width_px() const override { return width_px_; }
-  int height_px() const override { return height_px_; }
-  double refresh_hz() const override { return refresh_hz_; }
-  bool real_time() const override { return false; }
-  void present() override { glFinish(); }
-  std::vector<InputEvent> poll_input() override { return {}; }
-  bool close_requested() const override { return false; }
-
   void make_current() override {
     if (eglMakeCurrent(connection_->display, surface_, surface_, context_) != EGL_TRUE)
       throw DisplayError("EGL: eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")");
@@ -200,14 +191,10 @@ class EglDisplay final : public DisplayBackend {
   }
 
  private:
-  int width_px_;
-  int height_px_;
-  double refresh_hz_;
   std::shared_ptr<EglConnection> connection_;
   EGLContext context_ = EGL_NO_CONTEXT;
   EGLSurface surface_ = EGL_NO_SURFACE;
   std::string pixel_format_ = "RGBA16F";
-  GlInfo info_;
 };
 
 }  // namespace

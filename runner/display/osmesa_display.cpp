@@ -7,16 +7,17 @@
 #include <sstream>
 #include <vector>
 
+#include "runner/display/headless_display.h"
+
 namespace glarelab {
 namespace {
 
 void* osmesa_proc(const char* name) { return reinterpret_cast<void*>(OSMesaGetProcAddress(name)); }
 
-class OsMesaDisplay final : public DisplayBackend {
+class OsMesaDisplay final : public HeadlessDisplay {
  public:
   OsMesaDisplay(const DisplayRequest& request, const std::string& why_not_egl)
-      : width_px_(request.width_px), height_px_(request.height_px), refresh_hz_(request.refresh_hz) {
-    if (width_px_ < 1 || height_px_ < 1) throw DisplayError("OSMesa: framebuffer size must be at least 1x1");
+      : HeadlessDisplay(request, "OSMesa") {
     const int attributes[] = {OSMESA_FORMAT,
                               OSMESA_RGBA,
                               OSMESA_DEPTH_BITS,
@@ -52,16 +53,6 @@ class OsMesaDisplay final : public DisplayBackend {
     if (context_ != nullptr) OSMesaDestroyContext(context_);
   }
 
-  std::string kind() const override { return "offscreen"; }
-  const GlInfo& gl_info() const override { return info_; }
-  int width_px() const override { return width_px_; }
-  int height_px() const override { return height_px_; }
-  double refresh_hz() const override { return refresh_hz_; }
-  bool real_time() const override { return false; }
-  void present() override { glFinish(); }
-  std::vector<InputEvent> poll_input() override { return {}; }
-  bool close_requested() const override { return false; }
-
   void make_current() override {
     if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_FLOAT, width_px_, height_px_)) {
       throw DisplayError("OSMesa: OSMesaMakeCurrent failed for a float buffer of " + std::to_string(width_px_) + "x" +
@@ -87,12 +78,8 @@ class OsMesaDisplay final : public DisplayBackend {
     return found;
   }
 
-  int width_px_;
-  int height_px_;
-  double refresh_hz_;
   OSMesaContext context_ = nullptr;
   std::vector<float> buffer_;
-  GlInfo info_;
   bool loaded_ = false;  // entry points loaded once by load_and_check_gl
 };
 
