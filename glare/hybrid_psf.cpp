@@ -40,9 +40,12 @@ double handover_weight(double r_px, const HandoverPixels& handover) {
 
 DisplayKernel hybrid_far_kernel(const DisplayKernel& analytic, const HandoverPixels& handover) {
   DisplayKernel far = analytic;
+  // w > 0 only inside the outer radius: the rest of the kernel is the analytic one unchanged.
+  const int reach_x = std::min(static_cast<int>(std::ceil(handover.outer_px)), far.half_width_px);
+  const int reach_y = std::min(static_cast<int>(std::ceil(handover.outer_px)), far.half_height_px);
   for (int c = 0; c < far.channels; ++c)
-    for (int dy = -far.half_height_px; dy <= far.half_height_px; ++dy)
-      for (int dx = -far.half_width_px; dx <= far.half_width_px; ++dx) {
+    for (int dy = -reach_y; dy <= reach_y; ++dy)
+      for (int dx = -reach_x; dx <= reach_x; ++dx) {
         const double w = handover_weight(std::hypot(static_cast<double>(dx), static_cast<double>(dy)), handover);
         if (w > 0.0) far.at(c, dx, dy) *= 1.0 - w;
       }
