@@ -77,6 +77,8 @@ DisplayKernel hybrid_far_kernel(const DisplayKernel& analytic, const HandoverPix
 std::array<double, 3> analytic_energy_inside(const DisplayKernel& analytic, const HandoverPixels& handover);
 // s w P_wave: the wave PSF (display scale, 1 or 3 channels, unit sum) weighted and scaled so each
 // channel holds analytic_inside[c]; 3 channels. `scale_out` (optional) receives s per channel.
+// HandoverError when the outer radius passes the grid's half less one pixel (the weight must reach
+// 0 where the wave PSF is known) or the weighted wave PSF holds no light.
 Psf hybrid_near_psf(const Psf& wave_display_psf, const std::array<double, 3>& analytic_inside,
                     const HandoverPixels& handover, std::array<double, 3>* scale_out = nullptr);
 
