@@ -1,5 +1,6 @@
 #include "glare/hybrid_psf.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -61,19 +62,25 @@ double handover_weight(double r_px, const HandoverPixels& handover) {
 }
 
 DisplayKernel hybrid_far_kernel(const DisplayKernel& analytic, const HandoverPixels& handover) {
+  // Only offsets inside the outer radius change (beyond it 1 - w is exactly 1): a whole frame's
+  // kernel is millions of pixels, the annulus a few thousand.
   DisplayKernel far = analytic;
+  const int reach_x = std::min(static_cast<int>(std::ceil(handover.outer_px)), far.half_width_px);
+  const int reach_y = std::min(static_cast<int>(std::ceil(handover.outer_px)), far.half_height_px);
   for (int c = 0; c < far.channels; ++c)
-    for (int dy = -far.half_height_px; dy <= far.half_height_px; ++dy)
-      for (int dx = -far.half_width_px; dx <= far.half_width_px; ++dx)
+    for (int dy = -reach_y; dy <= reach_y; ++dy)
+      for (int dx = -reach_x; dx <= reach_x; ++dx)
         far.at(c, dx, dy) *= 1.0 - handover_weight(radius_px(dx, dy), handover);
   return far;
 }
 
 std::array<double, 3> analytic_energy_inside(const DisplayKernel& analytic, const HandoverPixels& handover) {
   std::array<double, 3> inside{0.0, 0.0, 0.0};
+  const int reach_x = std::min(static_cast<int>(std::ceil(handover.outer_px)), analytic.half_width_px);
+  const int reach_y = std::min(static_cast<int>(std::ceil(handover.outer_px)), analytic.half_height_px);
   for (int c = 0; c < analytic.channels; ++c)
-    for (int dy = -analytic.half_height_px; dy <= analytic.half_height_px; ++dy)
-      for (int dx = -analytic.half_width_px; dx <= analytic.half_width_px; ++dx)
+    for (int dy = -reach_y; dy <= reach_y; ++dy)
+      for (int dx = -reach_x; dx <= reach_x; ++dx)
         inside[static_cast<std::size_t>(c)] += handover_weight(radius_px(dx, dy), handover) * analytic.at(c, dx, dy);
   if (analytic.channels == 1) inside[1] = inside[2] = inside[0];
   return inside;
