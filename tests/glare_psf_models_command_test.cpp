@@ -114,6 +114,20 @@ TEST(GlarePsfModelsCommand, CieProfileIsTheGlareSpreadFunction) {
         << row.angle_deg;
 }
 
+TEST(GlarePsfModelsCommand, ProfileAloneNeedsNoImageAndNothingToWriteIsRefused) {
+  test::ScratchDir dir;
+  const auto csv = dir.path() / "only.csv";
+  const auto run = test::run_glarelab({"psf", "--model", "cie", "--profile-csv", csv.string()}, dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::vector<Row> rows = read_profile(csv);
+  expect_profile_angles(rows);
+  EXPECT_NEAR(rows.front().per_sr, cie_per_sr(0.01, 25.0, 0.5), 1e-12 * cie_per_sr(0.01, 25.0, 0.5));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator{}), 1);
+  const auto nothing = test::run_glarelab({"psf", "--model", "spencer"}, dir.path());
+  EXPECT_EQ(nothing.exit_code, 2) << nothing.output;
+  EXPECT_NE(nothing.output.find("--profile-csv"), std::string::npos) << nothing.output;
+}
+
 // The image: unit sum, its angle per pixel, and pixels in the ratio of P(theta) dOmega, with theta
 // = atan(r tan(dpp)) and dOmega = tan^2(dpp) / (1 + r^2 tan^2(dpp))^(3/2) on the flat display.
 TEST(GlarePsfModelsCommand, AnalyticImagesAreTheDensityOverThePixelsSolidAngles) {

@@ -280,8 +280,7 @@ Action add_psf_command(CLI::App& app) {
   // EXR only: the PSF is linear data summing to 1, which an 8-bit PNG would round to nothing.
   command->add_option("--out", args->out,
                       "Output EXR file (unit sum per channel; for spencer, cie and hybrid the sum counts only the "
-                      "light within the image)")
-      ->required()
+                      "light within the image). --out, --profile-csv or both.")
       ->check(file_extension_in({".exr"}, "the PSF file"));
   std::vector<const CLI::Option*> wave_options;
   for (const char* name : {"--pupil-diameter-mm", "--wavelength-nm", "--spectral", "--wavelength-samples",
@@ -290,6 +289,8 @@ Action add_psf_command(CLI::App& app) {
     wave_options.push_back(command->get_option(name));
   return [=]() {
     return report_errors([&]() {
+      if (args->out.empty() && args->profile_csv.empty())
+        throw ConfigError({"--out", 0, 0}, "out", "nothing to write: give --out FILE.exr, --profile-csv FILE.csv or both");
       const GlareModel model = parse_glare_model(args->model);
       const bool analytic = model == GlareModel::spencer || model == GlareModel::cie;
       const GlareModel far_model = model == GlareModel::hybrid ? parse_glare_model(args->far_field) : model;
@@ -306,12 +307,14 @@ Action add_psf_command(CLI::App& app) {
       if (analytic) {
         // --grid must be even already; the image is the analytic kernel on a flat display.
         const AnalyticPsf psf = analytic_model(model, *args);
-        const Psf image = analytic_psf_image(psf, args->degrees_per_pixel, args->grid_px);
-        write_psf_exr(args->out, image);
-        std::cout << "psf: wrote " << args->out << ": " << args->model << " (age " << args->age_years << " years"
-                  << (model == GlareModel::spencer ? ", " + args->regime : ", pigmentation " + text(args->pigmentation))
-                  << "), " << image.size_px << "x" << image.size_px << " px, " << (image.channels == 1 ? "Y" : "R,G,B")
-                  << ", " << image.degrees_per_pixel << " deg/px at the centre, unit sum within the image\n";
+        if (!args->out.empty()) {
+          const Psf image = analytic_psf_image(psf, args->degrees_per_pixel, args->grid_px);
+          write_psf_exr(args->out, image);
+          std::cout << "psf: wrote " << args->out << ": " << args->model << " (age " << args->age_years << " years"
+                    << (model == GlareModel::spencer ? ", " + args->regime : ", pigmentation " + text(args->pigmentation))
+                    << "), " << image.size_px << "x" << image.size_px << " px, " << (image.channels == 1 ? "Y" : "R,G,B")
+                    << ", " << image.degrees_per_pixel << " deg/px at the centre, unit sum within the image\n";
+        }
         write_profile(args->profile_csv, analytic_profile(psf));
         return 0;
       }
@@ -401,8 +404,8 @@ Action add_psf_command(CLI::App& app) {
           throw ConfigError(kWhere, "--handover-deg", error.what());
         }
         const Psf image = hybrid_psf_image(near, hybrid_far_kernel(kernel, handover_px), args->degrees_per_pixel, args->grid_px);
-        write_psf_exr(args->out, image);
-        std::cout << "psf: wrote " << args->out << ": hybrid, the wave-optics eye to " << handover.inner_deg
+        if (!args->out.empty()) write_psf_exr(args->out, image);
+        if (!args->out.empty()) std::cout << "psf: wrote " << args->out << ": hybrid, the wave-optics eye to " << handover.inner_deg
                   << " deg, blended into " << args->far_field << " (age " << args->age_years << " years) by "
                   << handover.outer_deg << " deg; " << image.size_px << "x" << image.size_px << " px, R,G,B, "
                   << image.degrees_per_pixel << " deg/px at the centre, unit sum within the image\n";
@@ -411,8 +414,8 @@ Action add_psf_command(CLI::App& app) {
                       image_profile_per_sr(image, PixelLayout::flat_display, profile_angles_deg(), kProfileLastAngleDeg));
         return 0;
       }
-      write_psf_exr(args->out, psf);
-      std::cout << "psf: wrote " << args->out << ": " << psf.size_px << "x" << psf.size_px << " px, "
+      if (!args->out.empty()) write_psf_exr(args->out, psf);
+      if (!args->out.empty()) std::cout << "psf: wrote " << args->out << ": " << psf.size_px << "x" << psf.size_px << " px, "
                 << (psf.channels == 1 ? "Y" : "R,G,B") << ", " << psf.degrees_per_pixel << " deg/px, pupil "
                 << geometry.pupil_diameter_mm << " mm, fresnel " << args->fresnel << ", backend " << choice.backend->name() << "\n";
       write_profile(args->profile_csv, image_profile_per_sr(psf, PixelLayout::uniform_angle, profile_angles_deg(), reach_deg));
