@@ -15,6 +15,7 @@
 
 #include "cli_process.h"
 #include "glare/psf_exr.h"
+#include "glare/psf_scale.h"
 #include "glare_psf_test_support.h"
 #include "scratch_dir.h"
 
@@ -255,6 +256,26 @@ TEST(GlarePsfModelsCommand, HybridIsTheWaveEyeNearAndTheAnalyticFarField) {
     ++checked;
   }
   EXPECT_GE(checked, 10);
+  // Inside the inner radius (0.156 deg: 7.8 px) the image is the scaled wave-optics PSF: the same
+  // eye written by --model ritschel, mapped to 0.02 degree pixels here, in one ratio everywhere.
+  const auto wave_out = (dir.path() / "wave.exr").string();
+  ASSERT_EQ(test::run_glarelab({"psf", "--mode", "dynamic", "--seed", "3", "--grid", "256", "--aperture-width-mm", "8",
+                                "--spectral", "--wavelength-samples", "8", "--out", wave_out},
+                               dir.path()).exit_code, 0);
+  const Psf wave = resample_psf_to_display(read_psf_exr(wave_out), 0.02);
+  int inside = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double ratio = psf.at(c, 128, 128) / wave.at(c, wave.size_px / 2, wave.size_px / 2);
+    for (int dy = -7; dy <= 7; ++dy)
+      for (int dx = -7; dx <= 7; ++dx) {
+        if (std::hypot(dx, dy) > 7.0) continue;
+        const double wave_value = wave.at(c, wave.size_px / 2 + dx, wave.size_px / 2 + dy);
+        EXPECT_NEAR(psf.at(c, 128 + dx, 128 + dy), ratio * wave_value, 1e-5 * ratio * wave_value + 1e-12)
+            << "channel " << c << " at " << dx << ", " << dy;
+        ++inside;
+      }
+  }
+  EXPECT_EQ(inside, 3 * 149);
   // The image reaches half its side less one pixel: 127 x 0.02 = 2.54 degrees.
   EXPECT_LE(rows.back().angle_deg, std::atan(127.0 * std::tan(0.02 * kRad)) / kRad);
   EXPECT_EQ(rows.front().angle_deg, 0.01);
