@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -274,6 +275,40 @@ TEST(ExampleStudies, EveryExampleRunsOffscreen) {
     EXPECT_FALSE(run.trials.empty()) << name;
   }
   for (const std::string& name : tested_elsewhere) EXPECT_TRUE(found.count(name)) << name << " is gone from examples/";
+}
+
+// Ritschel's pairs with the hybrid eye (wave optics near each lamp, Spencer's far field): the per-side
+// glare of the pair design takes the model, the session logs the far kernel it integrated.
+TEST(ExampleStudies, RitschelPairsRunWithTheHybridEye) {
+  const ScratchDir scratch;
+  std::string text = test::read_bytes(std::string(GLARELAB_SOURCE_DIR) + "/examples/ritschel_2afc.toml");
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+  };
+  replace("[glare]\n", "[glare]\nmodel = \"hybrid\"\n");
+  replace("file = \"scenes/", "file = \"" + std::string(GLARELAB_SOURCE_DIR) + "/examples/scenes/");
+  replace("glare_scenes = [\"lamp_130\", \"lamp_200\"]", "glare_scenes = [\"lamp_200\"]");
+  const auto file = scratch.path() / "hybrid_pairs.toml";
+  std::ofstream(file) << text;
+  const auto db = scratch.path() / "hybrid.db";
+  const auto result = run_glarelab({"run", file.string(), "--display", "offscreen", "--observer", "simulated", "--db", db.string()},
+                                   scratch.path());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const ResultStore store(db.string());
+  const auto sessions = store.load_sessions();
+  ASSERT_EQ(sessions.size(), 1u);
+  EXPECT_EQ(sessions[0].status, "completed");
+  EXPECT_NE(sessions[0].config.find("model = 'hybrid'"), std::string::npos) << sessions[0].config;
+  sqlite3_stmt* statement = nullptr;
+  sqlite3_prepare_v2(store.handle(), "SELECT message FROM session_events WHERE kind = 'glare_model'", -1, &statement, nullptr);
+  std::vector<std::string> models;
+  while (sqlite3_step(statement) == SQLITE_ROW) models.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)));
+  sqlite3_finalize(statement);
+  ASSERT_EQ(models.size(), 1u);
+  EXPECT_NE(models[0].find("hybrid (far field spencer"), std::string::npos) << models[0];
+  // Every pair of modes both ways round, for 3 instructions: 3 pairs x 2 orders x 3 blocks.
+  EXPECT_EQ(store.load_trials(sessions[0].id).size(), 18u);
 }
 
 TEST(ExampleStudies, LuidoltRatingsRateEverySceneOnEveryCategory) {
