@@ -41,6 +41,10 @@ int fill_kernel(double sigma_px, double* weights) {
 std::vector<double> blur_pass(const std::vector<double>& plane, const std::vector<double>& sigma_px, int width,
                               int height, bool horizontal) {
   std::vector<double> out(plane.size());
+  // Neighbouring pixels often share a sigma (0, or the cap): their kernel is made once.
+  double kernel[kMaxKernelSize];
+  double kernel_sigma = -1.0;
+  int radius = 0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const std::size_t i = at(x, y, width);
@@ -48,8 +52,10 @@ std::vector<double> blur_pass(const std::vector<double>& plane, const std::vecto
         out[i] = plane[i];
         continue;
       }
-      double kernel[kMaxKernelSize];
-      const int radius = fill_kernel(sigma_px[i], kernel);
+      if (sigma_px[i] != kernel_sigma) {
+        radius = fill_kernel(sigma_px[i], kernel);
+        kernel_sigma = sigma_px[i];
+      }
       double sum = 0.0;
       for (int k = -radius; k <= radius; ++k) {
         const int sx = horizontal ? std::clamp(x + k, 0, width - 1) : x;
@@ -169,13 +175,19 @@ std::vector<double> blur_lightness_2d(const std::vector<double>& lightness, int 
                                       const AcuitySettings& settings, double pixels_per_degree) {
   check_inputs(lightness, width_px, height_px, settings, pixels_per_degree);
   std::vector<double> out(lightness.size());
+  double kernel[kMaxKernelSize];
+  double kernel_sigma = -1.0;
+  int radius = 0;
   for (int y = 0; y < height_px; ++y)
     for (int x = 0; x < width_px; ++x) {
       const std::size_t i = at(x, y, width_px);
       // The 2D Gaussian of this pixel's sigma, normalised: the outer product of the normalised 1D
       // kernels (both sum to 1, so their product does).
-      double kernel[kMaxKernelSize];
-      const int radius = fill_kernel(acuity_sigma_px(lightness[i], settings, pixels_per_degree), kernel);
+      const double sigma = acuity_sigma_px(lightness[i], settings, pixels_per_degree);
+      if (sigma != kernel_sigma) {
+        radius = fill_kernel(sigma, kernel);
+        kernel_sigma = sigma;
+      }
       double sum = 0.0;
       for (int ky = -radius; ky <= radius; ++ky)
         for (int kx = -radius; kx <= radius; ++kx) {
