@@ -23,7 +23,7 @@ TEST(PerceptionToneMapping, AcesCurveMatchesThePublishedFormula) {
   EXPECT_NEAR(aces_narkowicz_curve(0.18), 0.086724 / 0.324932, 1e-12);
   // f(0.5) = 0.5 * 1.285 / (0.5 * 1.805 + 0.14) = 0.6425 / 1.0425.
   EXPECT_NEAR(aces_narkowicz_curve(0.5), 0.6425 / 1.0425, 1e-12);
-  // f(10) = 251.3 / 249.04 > 1: clamped (the curve overshoots 1 above x = 8.6 on its way to 2.51/2.43).
+  // f(10) = 251.3 / 249.04 > 1: clamped (the curve overshoots 1 above x = 7.24 on its way to 2.51/2.43).
   EXPECT_EQ(aces_narkowicz_curve(10.0), 1.0);
 }
 
