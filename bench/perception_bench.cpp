@@ -113,9 +113,12 @@ BENCHMARK(BM_PerceptionAcuitySeparableError)->Unit(benchmark::kMillisecond)->Ite
 
 void BM_PerceptionToneMapping(benchmark::State& state) {
   const ImageRGBA& frame = night_frame();
-  for (auto _ : state) benchmark::DoNotOptimize(tone_map(frame, 0.05, ToneMappingSettings{}, 250.0));
+  ToneMappingSettings settings;
+  settings.curve = state.range(0) == 0 ? ToneCurve::aces_narkowicz : ToneCurve::aces_hill;
+  for (auto _ : state) benchmark::DoNotOptimize(tone_map(frame, 0.05, settings, 250.0));
+  state.SetLabel(settings.curve == ToneCurve::aces_narkowicz ? "aces_narkowicz" : "aces_hill");
 }
-BENCHMARK(BM_PerceptionToneMapping)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PerceptionToneMapping)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_PerceptionScotopic(benchmark::State& state) {
   const ImageRGBA& frame = night_frame();

@@ -149,6 +149,7 @@ TEST(PerceptionStages, ValidationNamesTheFieldAndTheRange) {
 TEST(PerceptionStages, ParsersNameTheFieldAndTheAcceptedValues) {
   EXPECT_EQ(parse_tone_curve("aces_narkowicz"), ToneCurve::aces_narkowicz);
   EXPECT_EQ(parse_tone_curve("none"), ToneCurve::none);
+  EXPECT_EQ(parse_tone_curve("aces_hill"), ToneCurve::aces_hill);
   EXPECT_EQ(parse_scotopic_form("spencer_desaturation"), ScotopicForm::spencer_desaturation);
   EXPECT_EQ(parse_acuity_sigma_form("luidolt_linear"), AcuitySigmaForm::luidolt_linear);
   EXPECT_EQ(parse_second_pass_sigma("original_lightness"), SecondPassSigma::original_lightness);
@@ -157,7 +158,8 @@ TEST(PerceptionStages, ParsersNameTheFieldAndTheAcceptedValues) {
     FAIL() << "'aces' was accepted";
   } catch (const std::invalid_argument& error) {
     const std::string message = error.what();
-    EXPECT_NE(message.find("tone_curve must be one of \"aces_narkowicz\", \"none\" (got 'aces')"), std::string::npos)
+    EXPECT_NE(message.find("tone_curve must be one of \"aces_narkowicz\", \"aces_hill\", \"none\" (got 'aces')"),
+              std::string::npos)
         << message;
   }
   EXPECT_THROW(parse_scotopic_form("purkinje"), std::invalid_argument);

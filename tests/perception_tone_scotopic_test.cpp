@@ -27,15 +27,43 @@ TEST(PerceptionToneMapping, AcesCurveMatchesThePublishedFormula) {
   EXPECT_EQ(aces_narkowicz_curve(10.0), 1.0);
 }
 
+TEST(PerceptionToneMapping, HillFitMatchesThePublishedFormula) {
+  // Hill's RRTAndODTFit(v) = (v (v + 0.0245786) - 0.000090537) / (v (0.983729 v + 0.4329510) + 0.238081).
+  EXPECT_NEAR(aces_hill_rrt_odt_fit(0.18), (0.18 * 0.2045786 - 0.000090537) / (0.18 * (0.983729 * 0.18 + 0.4329510) + 0.238081),
+              1e-15);
+  EXPECT_NEAR(aces_hill_rrt_odt_fit(0.18), 0.10559, 1e-5);  // ACES: 18 % grey near 10 % of the display
+  // A grey stays grey (both matrices' rows sum to 1 within 1e-5).
+  const double grey[3] = {0.5, 0.5, 0.5};
+  double out[3];
+  aces_hill_transform(grey, out);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], aces_hill_rrt_odt_fit(0.5), 2e-5) << c;
+  // A colour, by hand: (0.8, 0.2, 0.05) through ACESInputMat is (0.5510795, 0.243251, 0.0913745); the fit
+  // gives (0.4089956, 0.1619982, 0.0367481); ACESOutputMat gives (0.5675945, 0.1375424, 0.0264172).
+  const double colour[3] = {0.8, 0.2, 0.05};
+  aces_hill_transform(colour, out);
+  EXPECT_NEAR(out[0], 0.5675945, 1e-6);
+  EXPECT_NEAR(out[1], 0.1375424, 1e-6);
+  EXPECT_NEAR(out[2], 0.0264172, 1e-6);
+  // Key rule without Narkowicz's 0.6: the adapted luminance goes in as 0.18.
+  ToneMappingSettings hill;
+  hill.curve = ToneCurve::aces_hill;
+  EXPECT_NEAR(tone_map_channel_cd_m2(2.0, 2.0, hill, 100.0), 100.0 * 0.10559124722893, 2e-3);
+  // Black stays black (the fit's -0.000090537 is clamped away).
+  EXPECT_EQ(tone_map_channel_cd_m2(0.0, 2.0, hill, 100.0), 0.0);
+}
+
 TEST(PerceptionToneMapping, MonotonicInSceneLuminance) {
-  const ToneMappingSettings settings;
-  double previous = -1.0;
-  for (double log_cd = -4.0; log_cd <= 6.0; log_cd += 0.01) {
-    const double out = tone_map_channel_cd_m2(std::pow(10.0, log_cd), 1.0, settings, 250.0);
-    ASSERT_GE(out, previous) << log_cd;
-    ASSERT_GE(out, 0.0);
-    ASSERT_LE(out, 250.0);
-    previous = out;
+  for (ToneCurve curve : {ToneCurve::aces_narkowicz, ToneCurve::aces_hill}) {
+    ToneMappingSettings settings;
+    settings.curve = curve;
+    double previous = -1.0;
+    for (double log_cd = -4.0; log_cd <= 6.0; log_cd += 0.01) {
+      const double out = tone_map_channel_cd_m2(std::pow(10.0, log_cd), 1.0, settings, 250.0);
+      ASSERT_GE(out, previous) << log_cd;
+      ASSERT_GE(out, 0.0);
+      ASSERT_LE(out, 250.0);
+      previous = out;
+    }
   }
   double previous_x = -1.0;
   for (double x = 0.0; x <= 50.0; x += 1e-3) {

@@ -58,8 +58,9 @@ void validate_perception_settings(const PerceptionSettings& settings) {
 
 ToneCurve parse_tone_curve(const std::string& text) {
   if (text == "aces_narkowicz") return ToneCurve::aces_narkowicz;
+  if (text == "aces_hill") return ToneCurve::aces_hill;
   if (text == "none") return ToneCurve::none;
-  refuse("tone_curve", text, "\"aces_narkowicz\", \"none\"");
+  refuse("tone_curve", text, "\"aces_narkowicz\", \"aces_hill\", \"none\"");
 }
 
 ScotopicForm parse_scotopic_form(const std::string& text) {

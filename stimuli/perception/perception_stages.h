@@ -35,7 +35,7 @@ struct PerceptionSettings {
   AdaptationWeighting adaptation_weighting;
   AdaptationTimeConstants adaptation_time_constants;
   AcuitySettings acuity_settings;
-  ToneMappingSettings tone_mapping_settings;  // .curve: aces_narkowicz or none
+  ToneMappingSettings tone_mapping_settings;  // .curve: aces_narkowicz, aces_hill or none
   ScotopicSettings scotopic_settings;         // .form: luidolt_tint or spencer_desaturation
 };
 
@@ -44,7 +44,7 @@ void validate_perception_settings(const PerceptionSettings& settings);
 
 // Experiment-file spellings; a wrong one throws std::invalid_argument naming the field and the
 // accepted values.
-ToneCurve parse_tone_curve(const std::string& text);               // "aces_narkowicz", "none"
+ToneCurve parse_tone_curve(const std::string& text);               // "aces_narkowicz", "aces_hill", "none"
 ScotopicForm parse_scotopic_form(const std::string& text);         // "luidolt_tint", "spencer_desaturation"
 AcuitySigmaForm parse_acuity_sigma_form(const std::string& text);  // "resolvable_frequency", "luidolt_linear"
 SecondPassSigma parse_second_pass_sigma(const std::string& text);  // "filtered_lightness", "original_lightness"
