@@ -12,6 +12,21 @@ double moon_spencer_pupil_diameter_mm(double field_luminance_cd_m2) {
   return 4.9 - 3.0 * std::tanh(0.4 * (std::log10(field_luminance_cd_m2) + 1.0));
 }
 
+double rod_sensitivity(double luminance_cd_m2, double half_sensitivity_cd_m2) {
+  return half_sensitivity_cd_m2 / (half_sensitivity_cd_m2 + luminance_cd_m2);  // Luidolt Eq. 5.4
+}
+
+double adaptation_time_constant_s(double luminance_cd_m2, double tau_rod_s, double tau_cone_s,
+                                  double half_sensitivity_cd_m2) {
+  const double sigma = rod_sensitivity(luminance_cd_m2, half_sensitivity_cd_m2);
+  return sigma * tau_rod_s + (1.0 - sigma) * tau_cone_s;  // Luidolt Eq. 5.3
+}
+
+double adapted_luminance_after_cd_m2(double start_cd_m2, double luminance_cd_m2, double elapsed_s, double tau_s) {
+  // Luidolt Eq. 5.2, L_i = L_{i-1} + (Y - L_{i-1}) (1 - exp(-ft / tau)), written around Y.
+  return luminance_cd_m2 + (start_cd_m2 - luminance_cd_m2) * std::exp(-elapsed_s / tau_s);
+}
+
 FieldLuminanceHistory::FieldLuminanceHistory(const EyeParameters& parameters)
     : initial_cd_m2_(parameters.initial_field_luminance_cd_m2),
       tau_rod_s_(parameters.field_luminance_rod_time_constant_s),
@@ -19,8 +34,7 @@ FieldLuminanceHistory::FieldLuminanceHistory(const EyeParameters& parameters)
       half_sensitivity_cd_m2_(parameters.field_luminance_rod_half_sensitivity_cd_m2) {}
 
 double FieldLuminanceHistory::time_constant_s(double luminance_cd_m2) const {
-  const double sigma = half_sensitivity_cd_m2_ / (half_sensitivity_cd_m2_ + luminance_cd_m2);  // Luidolt Eq. 5.4
-  return sigma * tau_rod_s_ + (1.0 - sigma) * tau_cone_s_;                                     // Luidolt Eq. 5.3
+  return adaptation_time_constant_s(luminance_cd_m2, tau_rod_s_, tau_cone_s_, half_sensitivity_cd_m2_);
 }
 
 void FieldLuminanceHistory::record_frame(double time_s, double mean_luminance_cd_m2) {
@@ -40,8 +54,8 @@ double FieldLuminanceHistory::field_luminance_cd_m2(double time_s) const {
                                       [](double t, const Frame& frame) { return t < frame.time_s; });
   if (after == frames_.begin()) return initial_cd_m2_;
   const Frame& frame = *(after - 1);
-  const double decay = std::exp(-(time_s - frame.time_s) / time_constant_s(frame.mean_cd_m2));
-  return frame.mean_cd_m2 + (frame.field_at_start_cd_m2 - frame.mean_cd_m2) * decay;
+  return adapted_luminance_after_cd_m2(frame.field_at_start_cd_m2, frame.mean_cd_m2, time_s - frame.time_s,
+                                       time_constant_s(frame.mean_cd_m2));
 }
 
 PupilModel::PupilModel(const EyeParameters& parameters, std::uint64_t seed)

@@ -15,6 +15,18 @@ namespace glarelab {
 // Eq. 2, unclamped: 7.9 mm in the dark, 1.9 mm in very bright light. Requires L > 0.
 double moon_spencer_pupil_diameter_mm(double field_luminance_cd_m2);
 
+// The first-order adaptation of Luidolt 2020 section 5.1 (after Krawczyk et al. 2005), the one
+// definition used by the field luminance below and by the perception stages (stimuli/perception/).
+// Eq. 5.4: the rod sensitivity sigma(Y) = Y_half / (Y_half + Y), 1 in the dark, 1/2 at Y_half.
+double rod_sensitivity(double luminance_cd_m2, double half_sensitivity_cd_m2);
+// Eq. 5.3: tau(Y) = sigma(Y) tau_rod + (1 - sigma(Y)) tau_cone.
+double adaptation_time_constant_s(double luminance_cd_m2, double tau_rod_s, double tau_cone_s,
+                                  double half_sensitivity_cd_m2);
+// Eq. 5.2 for a luminance Y held for elapsed_s: L = Y + (L_start - Y) exp(-elapsed_s / tau). This is
+// the exact solution of dL/dt = (Y - L) / tau over the interval, so steps compose: two steps of
+// dt / 2 give one step of dt (to rounding) and the result does not depend on the frame rate.
+double adapted_luminance_after_cd_m2(double start_cd_m2, double luminance_cd_m2, double elapsed_s, double tau_s);
+
 // Field luminance L(t) from the mean luminances Y_i of the frames shown at times t_i:
 //   dL/dt = (Y(t) - L) / tau(Y(t)),  tau(Y) = sigma(Y) tau_rod + (1 - sigma(Y)) tau_cone,
 //   sigma(Y) = Y_half / (Y_half + Y)                 (Luidolt 2020 Eqs. 5.3, 5.4)

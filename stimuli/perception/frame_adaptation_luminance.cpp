@@ -1,0 +1,139 @@
+#include "stimuli/perception/frame_adaptation_luminance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace glarelab {
+namespace {
+
+// One output sample's input pixels and their overlap (in input pixels) along one axis.
+struct AxisTap {
+  int index;
+  double weight;
+};
+
+// Area resampling along one axis: output pixel o covers [o * n_in / n_out, (o + 1) * n_in / n_out)
+// in input pixels; every input pixel contributes the length it shares with that span, divided by
+// the span's length. Rows of weights sum to 1.
+std::vector<std::vector<AxisTap>> area_taps(int n_in, int n_out) {
+  std::vector<std::vector<AxisTap>> taps(static_cast<std::size_t>(n_out));
+  const double scale = static_cast<double>(n_in) / n_out;
+  for (int o = 0; o < n_out; ++o) {
+    const double begin = o * scale, end = (o + 1) * scale;
+    const int first = static_cast<int>(std::floor(begin));
+    const int last = std::min(n_in - 1, static_cast<int>(std::ceil(end)) - 1);
+    for (int i = first; i <= last; ++i) {
+      const double overlap = std::min(end, i + 1.0) - std::max(begin, static_cast<double>(i));
+      if (overlap > 0.0) taps[static_cast<std::size_t>(o)].push_back({i, overlap / scale});
+    }
+  }
+  return taps;
+}
+
+// Two planes (w Y and w) resampled together to size x size.
+std::vector<double> resample_plane(const std::vector<double>& plane, int width, int height, int size) {
+  const auto x_taps = area_taps(width, size), y_taps = area_taps(height, size);
+  std::vector<double> rows(static_cast<std::size_t>(height) * size, 0.0);
+  for (int y = 0; y < height; ++y)
+    for (int o = 0; o < size; ++o) {
+      double sum = 0.0;
+      for (const AxisTap& tap : x_taps[static_cast<std::size_t>(o)])
+        sum += tap.weight * plane[static_cast<std::size_t>(y) * width + tap.index];
+      rows[static_cast<std::size_t>(y) * size + o] = sum;
+    }
+  std::vector<double> out(static_cast<std::size_t>(size) * size, 0.0);
+  for (int o = 0; o < size; ++o)
+    for (const AxisTap& tap : y_taps[static_cast<std::size_t>(o)])
+      for (int x = 0; x < size; ++x)
+        out[static_cast<std::size_t>(o) * size + x] += tap.weight * rows[static_cast<std::size_t>(tap.index) * size + x];
+  return out;
+}
+
+// One pyramid step: the 5-tap binomial filter [1 4 6 4 1] / 16 in x and y (edges clamped), then
+// every second sample.
+std::vector<double> pyramid_reduce(const std::vector<double>& plane, int size) {
+  static constexpr double kBinomial[5] = {1.0 / 16, 4.0 / 16, 6.0 / 16, 4.0 / 16, 1.0 / 16};
+  const int half = size / 2;
+  auto at = [size](int i) { return std::clamp(i, 0, size - 1); };
+  std::vector<double> rows(static_cast<std::size_t>(size) * half, 0.0);
+  for (int y = 0; y < size; ++y)
+    for (int o = 0; o < half; ++o) {
+      double sum = 0.0;
+      for (int k = -2; k <= 2; ++k) sum += kBinomial[k + 2] * plane[static_cast<std::size_t>(y) * size + at(2 * o + k)];
+      rows[static_cast<std::size_t>(y) * half + o] = sum;
+    }
+  std::vector<double> out(static_cast<std::size_t>(half) * half, 0.0);
+  for (int o = 0; o < half; ++o)
+    for (int x = 0; x < half; ++x) {
+      double sum = 0.0;
+      for (int k = -2; k <= 2; ++k) sum += kBinomial[k + 2] * rows[static_cast<std::size_t>(at(2 * o + k)) * half + x];
+      out[static_cast<std::size_t>(o) * half + x] = sum;
+    }
+  return out;
+}
+
+double reduce_to_mean(std::vector<double> plane, int width, int height, const AdaptationWeighting& weighting) {
+  const int size = weighting.resampled_size_px;
+  plane = resample_plane(plane, width, height, size);
+  int level = size;
+  while (level > weighting.top_level_size_px) {
+    plane = pyramid_reduce(plane, level);
+    level /= 2;
+  }
+  double sum = 0.0;
+  for (double v : plane) sum += v;
+  return sum / static_cast<double>(plane.size());
+}
+
+}  // namespace
+
+double gaze_adaptation_weight(int x, int y, int width_px, int height_px, double gaze_x, double gaze_y,
+                              double sigma_frame_widths) {
+  // Distances in frame widths in both directions, so the Gaussian is circular on the screen.
+  const double dx = ((x + 0.5) / width_px - gaze_x);
+  const double dy = ((y + 0.5) / height_px - gaze_y) * static_cast<double>(height_px) / width_px;
+  return std::exp(-(dx * dx + dy * dy) / (2.0 * sigma_frame_widths * sigma_frame_widths));
+}
+
+double frame_adaptation_luminance_cd_m2(const ImageRGBA& frame, double gaze_x, double gaze_y,
+                                        const AdaptationWeighting& weighting) {
+  if (frame.empty()) throw std::invalid_argument("perception adaptation: the frame is empty");
+  if (!std::isfinite(gaze_x) || !std::isfinite(gaze_y))
+    throw std::invalid_argument("perception adaptation: gaze must be finite (got " + std::to_string(gaze_x) + ", " +
+                                std::to_string(gaze_y) + ")");
+  if (!std::isfinite(weighting.gaze_sigma_frame_widths) || weighting.gaze_sigma_frame_widths <= 0.0)
+    throw std::invalid_argument("perception adaptation: gaze_sigma_frame_widths must be finite and > 0 (got " +
+                                std::to_string(weighting.gaze_sigma_frame_widths) + ")");
+  const int size = weighting.resampled_size_px, top = weighting.top_level_size_px;
+  if (top < 1 || size < top || size % top != 0 || ((size / top) & (size / top - 1)) != 0)
+    throw std::invalid_argument("perception adaptation: resampled_size_px / top_level_size_px must be a power of two");
+
+  const int width = frame.width_px, height = frame.height_px;
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  std::vector<double> weighted(n), weights(n);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const float* p = frame.pixel(x, y);
+      const double w = gaze_adaptation_weight(x, y, width, height, gaze_x, gaze_y, weighting.gaze_sigma_frame_widths);
+      const std::size_t i = static_cast<std::size_t>(y) * width + x;
+      weights[i] = w;
+      weighted[i] = w * luidolt_luminance_cd_m2(p[0], p[1], p[2]);
+    }
+  const double mean_weight = reduce_to_mean(std::move(weights), width, height, weighting);
+  const double mean_weighted = reduce_to_mean(std::move(weighted), width, height, weighting);
+  // A gaze far outside the frame can underflow every weight; the frame then has no centre of
+  // attention and its plain mean is the best estimate.
+  if (!(mean_weight > 0.0)) {
+    AdaptationWeighting uniform = weighting;
+    uniform.gaze_sigma_frame_widths = 1e300;
+    return frame_adaptation_luminance_cd_m2(frame, 0.5, 0.5, uniform);
+  }
+  return mean_weighted / mean_weight;
+}
+
+}  // namespace glarelab
