@@ -42,6 +42,13 @@ struct TrialPlan {
   std::vector<double> adjustment_start_cd_m2;
   std::vector<std::string> allowed_responses;
   std::string correct_response;  // empty when no answer is right (equal sources)
+  // A PSE staircase's trial (response_rule = "pse"): the answer is which side looks brighter, with
+  // no right answer; correct_response is empty.
+  bool appearance_judgement = false;
+  // The glare gain each position is shown with (PSE trials): the reference's row glare_gain (1
+  // without the column, 0 when its glare is control), the comparison's 0 with glare_on =
+  // "reference". The simulated observer's perceived brightening of glare follows it.
+  std::vector<double> position_glare_gain;
   std::optional<double> intensity;
   std::string question;
   int stimulus_frames = 1;

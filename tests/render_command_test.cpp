@@ -144,11 +144,12 @@ float column_peak(const ImageRGBA& image, int x0, int x1) {
 
 std::string example(const std::string& file) { return std::string(GLARELAB_SOURCE_DIR) + "/examples/" + file; }
 
-// A staircase trial at a chosen intensity: the comparison lamp (lamp_100 scaled) peaks at it, the
-// reference keeps its own 100 cd/m2; without --intensity the track's start (from_near: 130).
+// A staircase trial at a chosen intensity: the comparison disc peaks at it, the reference (the
+// light source) keeps its own 150 cd/m2 (75 % of the 200 cd/m2 peak); without --intensity the
+// track's start (100 cd/m2).
 TEST_F(RenderCommand, StaircaseAtAGivenIntensityScalesTheComparisonOnly) {
   const auto peaks = [&](const std::vector<std::string>& extra, const std::string& out) {
-    std::vector<std::string> arguments = {"--condition", "lamp", "--glare", "control"};
+    std::vector<std::string> arguments = {"--condition", "alone_01", "--glare", "control"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     std::vector<std::string> full = {"render", example("spencer_staircase.toml"), "--out", (dir.path() / out).string()};
     full.insert(full.end(), arguments.begin(), arguments.end());
@@ -160,10 +161,10 @@ TEST_F(RenderCommand, StaircaseAtAGivenIntensityScalesTheComparisonOnly) {
     std::sort(sides.begin(), sides.end());
     return sides;
   };
-  EXPECT_EQ(peaks({}, "start.exr"), (std::vector<float>{100.0f, 130.0f}));
+  EXPECT_EQ(peaks({}, "start.exr"), (std::vector<float>{100.0f, 150.0f}));
   const std::vector<float> chosen = peaks({"--intensity", "180"}, "chosen.exr");
   ASSERT_EQ(chosen.size(), 2u);
-  EXPECT_EQ(chosen[0], 100.0f);
+  EXPECT_EQ(chosen[0], 150.0f);
   EXPECT_NEAR(chosen[1], 180.0f, 180.0f * 1e-6f);
 }
 
