@@ -114,6 +114,28 @@ TEST(PseAnalysis, SimulatedSessionRecoversTheKnownPsePerGlareStrength) {
   ASSERT_EQ(analyse.exit_code, 0) << analyse.output;
   EXPECT_NE(analyse.output.find("pse "), std::string::npos) << analyse.output;
   EXPECT_NE(test::read_bytes(scratch.file("out") + "/report.html").find("Points of subjective equality"), std::string::npos);
+
+  // A second participant (another seed): each point is the mean of the two PSEs with the
+  // t interval, mean +- t(0.975, 1) SE, t = 12.7062 (Student's table).
+  const auto second = run_glarelab(
+      {"run", experiment, "--display", "offscreen", "--observer", "simulated", "--db", db, "--seed", "12"}, scratch.path());
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const analysis::PseAnalysis both = analysis::analyse(analysis::load_databases({db}), options).pse;
+  ASSERT_EQ(both.tracks.size(), 2 * kGains.size());
+  ASSERT_EQ(both.points.size(), kGains.size());
+  for (const analysis::PsePoint& point : both.points) {
+    std::vector<double> values;
+    for (const analysis::PseTrack& track : both.tracks)
+      if (track.glare_gain == point.glare_gain) values.push_back(*track.pse_fraction);
+    ASSERT_EQ(values.size(), 2u);
+    EXPECT_EQ(point.participants, 2);
+    const double mean = 0.5 * (values[0] + values[1]);
+    const double se = std::abs(values[0] - values[1]) / 2.0;  // sd / sqrt(2) with sd = |a - b| / sqrt(2)
+    EXPECT_NEAR(point.mean_pse_fraction, mean, 1e-12);
+    ASSERT_TRUE(point.interval.has_value());
+    EXPECT_NEAR(point.interval->high - mean, 12.7062047 * se, 1e-6);
+    EXPECT_NEAR(mean - point.interval->low, 12.7062047 * se, 1e-6);
+  }
 }
 
 // Cut off and resumed, a session of PSE staircases in counterbalanced blocks runs exactly the
