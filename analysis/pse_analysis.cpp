@@ -23,11 +23,10 @@ std::optional<double> number_of(const LoadedTrial& trial, const std::string& key
   return value;
 }
 
-// The glare gain the reference was shown with: its row's glare_gain (1 without the column), 0 when
-// the row's glare is control.
+// The glare gain the reference was shown with, as the procedure recorded it (its row's glare_gain,
+// 1 without the column, 0 when its glare is control); the row's column for records without it.
 double glare_gain_of(const LoadedTrial& trial) {
-  const std::string* mode = trial.condition_value("glare");
-  if (mode != nullptr && *mode == "control") return 0.0;
+  if (const std::optional<double> recorded = number_of(trial, "reference_glare_gain")) return *recorded;
   return number_of(trial, "glare_gain").value_or(1.0);
 }
 

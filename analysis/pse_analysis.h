@@ -27,7 +27,7 @@ struct PseTrack {
   std::string participant_label;
   std::string name;   // the track (staircase) name
   std::string group;  // its block's name; empty without blocks
-  double glare_gain = 1.0;  // the row's glare_gain (1 without the column; 0 for control glare)
+  double glare_gain = 1.0;  // the reference's glare gain (the row's glare_gain, 1 without it; 0 for control glare)
   double reference_fraction = 0.0;  // the reference's peak / the display's peak
   int trials = 0;           // answered trials
   int neither = 0;          // of which "neither"

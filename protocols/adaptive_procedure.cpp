@@ -191,9 +191,10 @@ AdaptiveProcedure::AdaptiveProcedure(const Experiment& experiment, const std::ma
       if (std::find(rows.begin(), rows.end(), tracks_[i].row) != rows.end()) group.tracks.push_back(i);
     group.seed = block_trial_seed(design, experiment.seed, index);
     group.shuffled = block.trial_order == TrialOrder::random;
-    group.placement = BlockPlacement{position++, block.name, block.instructions, block.question};
     // A block without tracks has nothing to show (its rows have no track): it is passed over.
-    if (!group.tracks.empty()) groups_.push_back(std::move(group));
+    if (group.tracks.empty()) continue;
+    group.placement = BlockPlacement{position++, block.name, block.instructions, block.question};
+    groups_.push_back(std::move(group));
   }
 }
 
@@ -291,10 +292,10 @@ TrialPlan AdaptiveProcedure::next_trial() {
   const std::size_t comparison_position = comparison_left ? 0 : 1;
   plan.comparison_positions = {static_cast<int>(comparison_position)};
   const bool pse = adaptive.response_rule == AdaptiveResponseRule::pse;
+  const double reference_gain = pse && glare != GlareMode::control ? glare_gain_of(row) : 0.0;
   if (pse) {
     // No answer is right: the observer says which looks brighter.
     plan.appearance_judgement = true;
-    const double reference_gain = glare == GlareMode::control ? 0.0 : glare_gain_of(row);
     const double comparison_gain = adaptive.glare_reference_only ? 0.0 : reference_gain;
     plan.position_glare_gain = comparison_left ? std::vector<double>{comparison_gain, reference_gain}
                                                : std::vector<double>{reference_gain, comparison_gain};
@@ -329,6 +330,7 @@ TrialPlan AdaptiveProcedure::next_trial() {
     json.add("comparison_response", spec.responses[comparison_position]);
     json.add("reference_response", spec.responses[1 - comparison_position]);
     json.add("reference_cd_m2", exact_text(reference_cd_m2));
+    json.add("reference_glare_gain", exact_text(reference_gain));
     json.add("display_peak_cd_m2", exact_text(experiment_.display.peak_luminance_cd_m2));
   }
   if (track.quest_plus) {

@@ -187,6 +187,32 @@ TEST(PseStaircase, GlareGoesToTheReferenceSideWhicheverSideItIsDrawn) {
   EXPECT_EQ(comparison_sides.size(), 2u) << "the disc must appear on both sides";
 }
 
+// The glare gain a trial shows the reference with: the row's glare_gain, 0 when its glare is
+// control (no glare to brighten it), 1 without the column.
+TEST(PseStaircase, TheReferencesGlareGainFollowsItsRow) {
+  std::string text = pse_text();
+  const auto cut = text.find("[[conditions.rows]]");
+  text = text.substr(0, cut) +
+         "[[conditions.rows]]\nname = \"off\"\nreference = \"source\"\ncomparison = \"disc\"\nglare = \"control\"\n"
+         "glare_gain = \"3\"\n"
+         "[[conditions.rows]]\nname = \"plain\"\nreference = \"source\"\ncomparison = \"disc\"\nglare = \"static\"\n";
+  const Experiment e = parse_experiment_text(text, "gain.toml", ".");
+  AdaptiveProcedure procedure(e, kPeaks);
+  std::map<std::string, double> gain_of;
+  for (int i = 0; i < 6; ++i) {
+    const TrialPlan plan = procedure.next_trial();
+    const auto reference = static_cast<std::size_t>(1 - plan.comparison_positions.at(0));
+    gain_of[plan.staircase] = plan.position_glare_gain.at(reference);
+    EXPECT_NE(plan.condition_json.find("\"reference_glare_gain\":\"" +
+                                       std::string(plan.staircase == "off" ? "0" : "1") + "\""),
+              std::string::npos)
+        << plan.condition_json;
+    procedure.record_response(plan, {"neither", 0.5});
+  }
+  EXPECT_EQ(gain_of.at("off"), 0.0);
+  EXPECT_EQ(gain_of.at("plain"), 1.0);
+}
+
 TEST(PseStaircase, BlocksRunInTheParticipantsOrderEachUntilItsTracksFinish) {
   for (const int participant : {1, 2}) {
     const Experiment e = pse_experiment("block_order = \"counterbalanced\"\nparticipant_number = " +
