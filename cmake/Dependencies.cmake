@@ -18,6 +18,7 @@ find_library(FFTW3F_THREADS_LIBRARY fftw3f_threads HINTS ${FFTW3F_LIBRARY_DIRS} 
 # Analysis: Boost.Math distributions (header-only), NLopt for maximum-likelihood fits,
 # nlohmann JSON for the trials.condition column.
 find_package(Boost 1.74 REQUIRED)
+find_package(glm CONFIG REQUIRED)
 find_package(nlohmann_json 3 CONFIG REQUIRED)
 find_package(NLopt CONFIG REQUIRED)
 
@@ -32,9 +33,10 @@ endif()
 # core: images and their files, random numbers, GL owners.
 add_library(glarelab_deps_core INTERFACE)
 target_link_libraries(glarelab_deps_core INTERFACE OpenEXR::OpenEXR PkgConfig::PNG Threads::Threads ${CMAKE_DL_LIBS})
-# glare: the CPU FFTs.
+# glare: the CPU FFTs, GLM geometry, Boost.Math quadrature.
 add_library(glarelab_deps_glare INTERFACE)
-target_link_libraries(glarelab_deps_glare INTERFACE ${FFTW3F_THREADS_LIBRARY} PkgConfig::FFTW3 PkgConfig::FFTW3F Threads::Threads)
+target_link_libraries(glarelab_deps_glare INTERFACE ${FFTW3F_THREADS_LIBRARY} PkgConfig::FFTW3 PkgConfig::FFTW3F Threads::Threads
+                      glm::glm Boost::headers)
 # protocols: experiment files.
 add_library(glarelab_deps_protocols INTERFACE)
 if(TARGET tomlplusplus::tomlplusplus)

@@ -4,7 +4,9 @@
 // into this struct by protocols/glare_config.h; nothing here knows about experiment files.
 #include <string>
 
+#include "glare/analytic_psf.h"
 #include "glare/eye_parameters.h"
+#include "glare/spencer_psf.h"
 
 namespace glarelab {
 
@@ -45,6 +47,30 @@ struct GlareSpec {
   // first glare trial (prepared before onset) and computes every later frame live, just before its
   // flip, when that fits the refresh period; "live" always; "prepared" never.
   std::string presentation = "auto";
+
+  // Which glare model makes the glare of conditions without a "glare_model" column value
+  // (glare/analytic_psf.h): "ritschel" (the wave-optics eye, the default), "spencer", "cie" or
+  // "hybrid" (the wave-optics eye near the source, the analytic far field beyond: hybrid_psf.h).
+  GlareModel model = GlareModel::ritschel;
+  // Spencer's mixture: photopic, mesopic, scotopic, or adaptive (default: by the frame's adaptation
+  // luminance, blended smoothly across the band edges at 0.01 and 3 cd/m2).
+  SpencerRegime spencer_regime = SpencerRegime::adaptive;
+  // The analytic far field of the hybrid eye: spencer or cie.
+  GlareModel hybrid_far_field = GlareModel::spencer;
+  // The hybrid's hand-over annulus in degrees from the source; 0: the default for the wave PSF's
+  // reach (hybrid_psf.h, default_handover). The outer radius must lie within the reach.
+  double hybrid_handover_inner_deg = 0.0;
+  double hybrid_handover_outer_deg = 0.0;
+  // What light the glare spreads (Spencer 1995, section 3.2 end): "all" of the frame, or only the
+  // "excess" above the display's peak (the viewer's own eye already scatters what the display
+  // shows), added to the frame clipped at the peak.
+  std::string source = "all";
+  // Spencer's flare lines (section 3.2): random radial lines modulating the corona and the halo,
+  // drawn from the session's seed. Off by default.
+  bool flare_lines = false;
+  // The observer's eye for the analytic models (Spencer Eq. 10, CIE 146): `[observer]` age_years
+  // and pigmentation in the experiment file.
+  ObserverEye observer_eye;
 };
 
 }  // namespace glarelab

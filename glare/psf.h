@@ -8,6 +8,9 @@
 
 namespace glarelab {
 
+// The wavelength of the wave-optics PSF grid: Ritschel et al. 2009's reference wavelength (section 5).
+inline constexpr double kReferenceWavelengthNm = 575.0;
+
 struct Psf {
   int size_px = 0;                 // width = height
   double degrees_per_pixel = 0.0;  // visual angle of one PSF pixel

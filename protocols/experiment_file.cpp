@@ -490,6 +490,8 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   else check_scene_columns(conditions.rows, experiment, conditions.csv, {"reference", "comparison"});
   for (LocatedRow& located : conditions.rows) {
     glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here
+    glare_model_for(experiment.glare, located.row);  // so do an unknown 'glare_model' and a bad 'glare_gain'
+    glare_gain_for(located.row);
     if (position_glare_modes(located.row) && experiment.procedure != "forced_choice")
       throw ConfigError(located.row.where, "condition '" + located.row.name() + "' glare_a",
                         "a glare mode per side (glare_a, glare_b) is for forced choice only");

@@ -3,6 +3,7 @@
 #include "protocols/glare_config.h"
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
@@ -11,6 +12,8 @@
 
 #include "core/number_text.h"
 #include "glare/eye_parameters.h"
+#include "glare/hybrid_psf.h"
+#include "glare/psf_cpu.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -86,13 +89,35 @@ GlareSpec read_glare_section(TableReader& top) {
   spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source, {"tracker", "model"});
   spec.blink_source = read_choice(reader, "blink_source", spec.blink_source, {"model", "tracker"});
   spec.presentation = read_choice(reader, "presentation", spec.presentation, {"auto", "live", "prepared"});
+  spec.model = parse_glare_model(read_choice(reader, "model", to_string(spec.model), {"ritschel", "spencer", "cie", "hybrid"}));
+  spec.spencer_regime = parse_spencer_regime(
+      read_choice(reader, "regime", to_string(spec.spencer_regime), {"adaptive", "photopic", "mesopic", "scotopic"}));
+  spec.hybrid_far_field =
+      parse_glare_model(read_choice(reader, "hybrid_far_field", to_string(spec.hybrid_far_field), {"spencer", "cie"}));
+  spec.source = read_choice(reader, "source", spec.source, {"all", "excess"});
+  // The hand-over annulus: both or neither (0: the default for the grid's reach).
+  const bool inner_given = reader.node("hybrid_handover_inner_deg") != nullptr,
+             outer_given = reader.node("hybrid_handover_outer_deg") != nullptr;
+  spec.hybrid_handover_inner_deg = reader.positive_number("hybrid_handover_inner_deg", 0.0);
+  spec.hybrid_handover_outer_deg = reader.positive_number("hybrid_handover_outer_deg", 0.0);
+  if (inner_given != outer_given)
+    reader.fail(inner_given ? "hybrid_handover_inner_deg" : "hybrid_handover_outer_deg",
+                "the hand-over annulus needs both hybrid_handover_inner_deg and hybrid_handover_outer_deg");
+  if (outer_given) {
+    const double reach = wave_psf_reach_deg(spec.grid_px, psf_degrees_per_pixel(kReferenceWavelengthNm, spec.aperture_width_mm));
+    try {
+      check_handover(HybridHandover{spec.hybrid_handover_inner_deg, spec.hybrid_handover_outer_deg}, reach);
+    } catch (const HandoverError& error) {
+      reader.fail("hybrid_handover_outer_deg", error.what());
+    }
+  }
   reader.report_unused();
   return spec;
 }
 
 toml::table glare_section_toml(const GlareSpec& spec) {
   const char* mode = spec.mode == GlareMode::dynamic ? "dynamic" : spec.mode == GlareMode::static_eye ? "static" : "control";
-  return toml::table{{"mode", mode},
+  toml::table table{{"mode", mode},
                      {"static_time_s", spec.static_time_s},
                      {"grid_px", spec.grid_px},
                      {"aperture_width_mm", spec.aperture_width_mm},
@@ -106,7 +131,16 @@ toml::table glare_section_toml(const GlareSpec& spec) {
                      {"gaze_latency_compensation", spec.gaze_latency_compensation},
                      {"pupil_source", spec.pupil_source},
                      {"blink_source", spec.blink_source},
-                     {"presentation", spec.presentation}};
+                     {"presentation", spec.presentation},
+                     {"model", to_string(spec.model)},
+                     {"regime", to_string(spec.spencer_regime)},
+                     {"hybrid_far_field", to_string(spec.hybrid_far_field)},
+                     {"source", spec.source}};
+  if (spec.hybrid_handover_outer_deg > 0.0) {
+    table.insert("hybrid_handover_inner_deg", spec.hybrid_handover_inner_deg);
+    table.insert("hybrid_handover_outer_deg", spec.hybrid_handover_outer_deg);
+  }
+  return table;
 }
 
 std::optional<std::pair<GlareMode, GlareMode>> position_glare_modes(const ConditionRow& row) {
@@ -122,6 +156,28 @@ std::optional<std::pair<GlareMode, GlareMode>> position_glare_modes(const Condit
                       "a row with glare_a and glare_b has a mode per side; a 'glare' column for the whole frame "
                       "contradicts them");
   return std::pair{parse_mode_at(*a, row.where, at + "glare_a"), parse_mode_at(*b, row.where, at + "glare_b")};
+}
+
+GlareModel glare_model_for(const GlareSpec& spec, const ConditionRow& row) {
+  const std::string* value = row.find("glare_model");
+  if (value == nullptr || value->empty()) return spec.model;
+  try {
+    return parse_glare_model(*value);
+  } catch (const std::invalid_argument& error) {
+    throw ConfigError(row.where, "condition '" + row.name() + "' glare_model", error.what());
+  }
+}
+
+double glare_gain_for(const ConditionRow& row) {
+  const std::string* value = row.find("glare_gain");
+  if (value == nullptr || value->empty()) return 1.0;
+  const std::string key = "condition '" + row.name() + "' glare_gain";
+  double gain = 0.0;
+  std::istringstream in(*value);
+  if (!(in >> gain) || !(in >> std::ws).eof() || !std::isfinite(gain) || gain < 0.0 || gain > kMaxGlareGain)
+    throw ConfigError(row.where, key,
+                      "must be a number from 0 to " + number_text(kMaxGlareGain) + " (a gain on the glare), found '" + *value + "'");
+  return gain;
 }
 
 GlareMode glare_mode_for(const GlareSpec& spec, const ConditionRow& row) {

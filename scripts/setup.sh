@@ -15,6 +15,7 @@ PACKAGES=(
   libsqlite3-dev sqlite3                           # results store (sqlite3: the shell, for inspecting results)
   libtomlplusplus-dev libcli11-dev librandom123-dev # experiment files, command line, counter-based random numbers
   libfftw3-dev                                     # FFTs for the glare engine's CPU path (double and float)
+  libglm-dev                                       # GLM: vectors and matrices of the display and eye geometry
   libgtest-dev libgmock-dev libbenchmark-dev       # tests and benchmarks
   libboost-dev libnlopt-cxx-dev nlohmann-json3-dev  # analysis: Boost.Math distributions, NLopt fits, JSON conditions
   python3-scipy chromium                           # analysis tests: SciPy cross-check, report rendering

@@ -53,7 +53,35 @@ void check_glare_fits_display(const GlareSpec& spec, const DisplaySpec& display)
 
 GlareStage::GlareStage(const GlareSpec& spec, const DisplaySpec& display, std::uint64_t seed,
                        GlContextFactory gl_context)
-    : spec_(spec), display_(display), seed_(seed), gl_context_(std::move(gl_context)) {}
+    : spec_(spec), display_(display), seed_(seed), gl_context_(std::move(gl_context)), condition_model_(spec.model) {}
+
+void GlareStage::set_condition(GlareModel model, double gain) {
+  condition_model_ = model;
+  condition_gain_ = gain;
+}
+
+HandoverPixels GlareStage::hybrid_handover() const {
+  HybridHandover handover{spec_.hybrid_handover_inner_deg, spec_.hybrid_handover_outer_deg};
+  const double reach = wave_psf_reach_deg(spec_.grid_px, psf_degrees_per_pixel(kReferenceWavelengthNm, spec_.aperture_width_mm));
+  if (handover.outer_deg <= 0.0) handover = default_handover(reach);
+  check_handover(handover, reach);
+  return handover_pixels(handover, DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm});
+}
+
+AnalyticGlare& GlareStage::analytic_for(GlareModel model, int width_px, int height_px) {
+  const auto key = std::tuple{static_cast<int>(model), width_px, height_px};
+  auto found = analytic_.find(key);
+  if (found != analytic_.end()) return *found->second;
+  AnalyticGlareOptions options;
+  options.model = model == GlareModel::hybrid ? spec_.hybrid_far_field : model;
+  options.regime = spec_.spencer_regime;
+  options.eye = spec_.observer_eye;
+  options.geometry = DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm};
+  options.width_px = width_px;
+  options.height_px = height_px;
+  if (model == GlareModel::hybrid) options.handover = hybrid_handover();
+  return *analytic_.emplace(key, std::make_unique<AnalyticGlare>(options)).first->second;
+}
 
 GlareStage::~GlareStage() = default;
 
@@ -227,15 +255,31 @@ ImageRGBA GlareStage::convolve_gaze_window(const ImageRGBA& frame, const Psf& di
   return out;
 }
 
-ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
-                            const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2) {
-  GlareFrameReport local;
-  GlareFrameReport& r = report != nullptr ? *report : local;
-  r = GlareFrameReport{};
-  r.mode = mode;
-  if (mode == GlareMode::control) return frame_cd_m2;
+ImageRGBA GlareStage::glare_source(const ImageRGBA& frame) const {
+  if (spec_.source != "excess") return frame;
+  // Spencer 1995, section 3.2 end: the viewer's eye already scatters what the display shows, so
+  // only the light the display cannot show (above its peak) is spread.
+  ImageRGBA excess = frame;
+  const float peak = static_cast<float>(display_.peak_luminance_cd_m2);
+  for (std::size_t i = 0; i < excess.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) excess.rgba[i + c] = std::max(frame.rgba[i + c] - peak, 0.0f);
+  return excess;
+}
 
-  const double mean_cd_m2 = field_luminance_cd_m2.value_or(mean_luminance(frame_cd_m2));
+ImageRGBA GlareStage::with_gain(const ImageRGBA& frame, const ImageRGBA& source, const ImageRGBA& glared) const {
+  // gain 1 and the whole frame as source: the glared frame itself, not frame + (glared - frame)
+  // rounded in float.
+  if (condition_gain_ == 1.0 && spec_.source != "excess") return glared;
+  ImageRGBA out = frame;
+  for (std::size_t i = 0; i < out.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) {
+      const double change = static_cast<double>(glared.rgba[i + c]) - source.rgba[i + c];
+      out.rgba[i + c] = static_cast<float>(std::max(0.0, frame.rgba[i + c] + condition_gain_ * change));
+    }
+  return out;
+}
+
+std::optional<Psf> GlareStage::wave_psf(GlareMode mode, double time_s, double mean_cd_m2, GlareFrameReport& r) {
   // Static: the frozen eye and the frame determine the PSF; computed once per field luminance.
   std::optional<Psf> psf;
   EyeState state;
@@ -253,26 +297,98 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   if (!psf) {
     r.eye_closed = true;
     psf = mode == GlareMode::dynamic ? last_open_dynamic_psf_ : std::nullopt;
-    if (!psf) {
-      r.skip_reason = "eye closed (blink): no light reaches the retina and no open frame came before";
-      return frame_cd_m2;
-    }
+    if (!psf) r.skip_reason = "eye closed (blink): no light reaches the retina and no open frame came before";
   }
+  return psf;
+}
+
+namespace {
+
+bool all_black(const ImageRGBA& image) {
+  for (std::size_t i = 0; i < image.rgba.size(); i += 4)
+    if (image.rgba[i] != 0.0f || image.rgba[i + 1] != 0.0f || image.rgba[i + 2] != 0.0f) return false;
+  return true;
+}
+
+}  // namespace
+
+ImageRGBA GlareStage::apply_analytic(const ImageRGBA& frame, const ImageRGBA& source, double mean_cd_m2,
+                                     GlareFrameReport& r) {
+  AnalyticGlare& analytic = analytic_for(condition_model_, frame.width_px, frame.height_px);
+  // The adaptation luminance picks Spencer's mixture (adaptive regime): the field luminance the
+  // eye sees, as for the wave-optics eye's pupil.
+  analytic.adapt(mean_cd_m2);
+  if (condition_model_ == GlareModel::spencer) r.spencer_mixture = analytic.mixture();
+  ImageRGBA glared;
+  analytic.convolve(source, glared);
+  r.convolved = true;
+  return with_gain(frame, source, glared);
+}
+
+ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
+                                   double mean_cd_m2, GlareFrameReport& r) {
+  const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
+  if (!wave) return frame;
+  AnalyticGlare& far = analytic_for(GlareModel::hybrid, frame.width_px, frame.height_px);
+  far.adapt(mean_cd_m2);
+  if (spec_.hybrid_far_field == GlareModel::spencer) r.spencer_mixture = far.mixture();
+  // The near part, s w P_wave, convolved as the wave-optics PSF is (cropped to where light reaches);
+  // the far part by the analytic engine; their sum is the hybrid kernel's convolution.
+  const Psf near = hybrid_near_psf(*wave, far.energy_inside_handover(), hybrid_handover());
+  ImageRGBA glared = convolve_frame(source, near);
+  ImageRGBA far_glare;
+  far.convolve(source, far_glare);
+  for (std::size_t i = 0; i < glared.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) glared.rgba[i + c] += far_glare.rgba[i + c];
+  r.convolved = true;
+  return with_gain(frame, source, glared);
+}
+
+ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
+                            const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2) {
+  GlareFrameReport local;
+  GlareFrameReport& r = report != nullptr ? *report : local;
+  r = GlareFrameReport{};
+  r.mode = mode;
+  r.model = condition_model_;
+  r.gain = condition_gain_;
+  if (mode == GlareMode::control) return frame_cd_m2;
+
+  const double mean_cd_m2 = field_luminance_cd_m2.value_or(mean_luminance(frame_cd_m2));
+  const ImageRGBA source = glare_source(frame_cd_m2);
+  if (spec_.source == "excess" && all_black(source)) {
+    // Nothing above the display's peak: the frame is shown as it is, bit for bit.
+    if (mode == GlareMode::dynamic) record_dynamic_frame(time_s, mean_cd_m2);
+    r.skip_reason = "nothing above the display's peak of " + std::to_string(display_.peak_luminance_cd_m2) +
+                    " cd/m2 (source = \"excess\")";
+    return frame_cd_m2;
+  }
+  if (condition_gain_ == 0.0) {
+    if (mode == GlareMode::dynamic) record_dynamic_frame(time_s, mean_cd_m2);
+    r.skip_reason = "glare_gain 0";
+    return frame_cd_m2;
+  }
+  if (condition_model_ == GlareModel::spencer || condition_model_ == GlareModel::cie)
+    return apply_analytic(frame_cd_m2, source, mean_cd_m2, r);
+  if (condition_model_ == GlareModel::hybrid) return apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
+
+  std::optional<Psf> psf = wave_psf(mode, time_s, mean_cd_m2, r);
+  if (!psf) return frame_cd_m2;
   r.wing_fraction = psf_wing_fraction(*psf);
-  r.visibility_bound =
-      visibility_bound(max_luminance(frame_cd_m2), min_luminance(frame_cd_m2), r.wing_fraction, spec_.visibility_floor_cd_m2);
+  r.visibility_bound = condition_gain_ * visibility_bound(max_luminance(source), min_luminance(frame_cd_m2), r.wing_fraction,
+                                                          spec_.visibility_floor_cd_m2);
   if (spec_.skip_invisible && r.visibility_bound < spec_.visibility_weber_fraction) {
     r.skip_reason = "invisible: glare changes no pixel by more than " + std::to_string(r.visibility_bound) +
                     " (relative; threshold " + std::to_string(spec_.visibility_weber_fraction) + ")";
     return frame_cd_m2;
   }
   r.convolved = true;
-  if (spec_.gaze_window_px == 0) return convolve_frame(frame_cd_m2, *psf);
+  if (spec_.gaze_window_px == 0) return with_gain(frame_cd_m2, source, convolve_frame(source, *psf));
   GazeWindowOptions options;
   options.window_px = spec_.gaze_window_px;
   const GazePoint at = gaze.value_or(GazePoint{});
-  r.window = place_gaze_window(frame_cd_m2.width_px, frame_cd_m2.height_px, at.x, at.y, psf->size_px, options);
-  return convolve_gaze_window(frame_cd_m2, *psf, *r.window);
+  r.window = place_gaze_window(source.width_px, source.height_px, at.x, at.y, psf->size_px, options);
+  return with_gain(frame_cd_m2, source, convolve_gaze_window(source, *psf, *r.window));
 }
 
 }  // namespace glarelab

@@ -21,11 +21,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "core/display_spec.h"
 #include "core/gl/gl_context.h"
+#include "glare/analytic_glare.h"
 #include "glare/cpu_float_glare.h"
 #include "glare/eye_model.h"
 #include "glare/gaze_window_convolution.h"
@@ -46,6 +48,10 @@ struct GlareFrameReport {
   // PSF of the last frame it saw open (a closed eye's PSF is undefined, and dropping the glare for
   // the ~0.1 s of closure would flash the frame); with no such frame the glare is skipped.
   bool eye_closed = false;
+  GlareModel model = GlareModel::ritschel;
+  double gain = 1.0;
+  // Spencer's mixture used (spencer, and the hybrid's Spencer far field).
+  std::optional<spencer::Mixture> spencer_mixture;
   // Upper bound of max_x |glare(x) - frame(x)| / max(frame(x), floor) (see visibility_bound()).
   double visibility_bound = 0.0;
   double wing_fraction = 0.0;      // PSF energy outside the central display pixel (largest channel)
@@ -73,8 +79,6 @@ double psf_wing_fraction(const Psf& display_psf);
 // max(L(x), floor) >= max(L_min, floor) this gives L_peak * wing / max(L_min, floor).
 double visibility_bound(double peak_cd_m2, double min_cd_m2, double wing_fraction, double floor_cd_m2);
 
-// The wavelength of the PSF grid: Ritschel et al. 2009's reference wavelength (section 5).
-inline constexpr double kReferenceWavelengthNm = 575.0;
 
 // Throws PsfScaleError (glare/psf_scale.h) when this glare cannot be shown at this display's pixel
 // scale (a PSF narrower than two display pixels, or coarser than one): found before a session
@@ -97,6 +101,15 @@ class GlareStage {
   ImageRGBA apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report = nullptr,
                   const std::optional<GazePoint>& gaze = std::nullopt,
                   std::optional<double> field_luminance_cd_m2 = std::nullopt);
+
+  // The glare model and gain of the frames to come (a trial's condition: the "glare_model" and
+  // "glare_gain" columns); until called, GlareSpec::model and 1.
+  void set_condition(GlareModel model, double gain);
+
+  // The analytic engine (Spencer or CIE, or the hybrid's far field) for frames of this size, made
+  // on first use: its kernel is integrated over the display's pixels once (seconds for a full
+  // screen), so a session makes it before its first trial.
+  AnalyticGlare& analytic_for(GlareModel model, int width_px, int height_px);
 
   // The spectral PSF at the display's pixel scale for a mode and time (not for control), with the
   // eye adapted to `field_luminance_cd_m2`; nothing when the lids close the pupil completely.
@@ -122,6 +135,17 @@ class GlareStage {
   ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf);
   ImageRGBA convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window);
   ImageRGBA convolve_with_backend(const ImageRGBA& image, const Psf& display_psf);
+  // The wave-optics PSF of a frame (Ritschel, and the hybrid's near part), with blinks held; nothing
+  // when the eye is closed and no open frame came before (r.skip_reason says so).
+  std::optional<Psf> wave_psf(GlareMode mode, double time_s, double mean_cd_m2, GlareFrameReport& r);
+  // The light the glare spreads (GlareSpec::source): the frame, or its excess over the display peak.
+  ImageRGBA glare_source(const ImageRGBA& frame) const;
+  // frame + gain (glared - source), clipped at 0.
+  ImageRGBA with_gain(const ImageRGBA& frame, const ImageRGBA& source, const ImageRGBA& glared) const;
+  ImageRGBA apply_analytic(const ImageRGBA& frame, const ImageRGBA& source, double mean_cd_m2, GlareFrameReport& r);
+  ImageRGBA apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
+                         double mean_cd_m2, GlareFrameReport& r);
+  HandoverPixels hybrid_handover() const;
 
   GlareSpec spec_;
   DisplaySpec display_;
@@ -143,6 +167,9 @@ class GlareStage {
   std::map<double, std::unique_ptr<EyeModel>> static_eyes_;
   std::map<double, std::optional<Psf>> static_psfs_;
   std::optional<Psf> last_open_dynamic_psf_;
+  GlareModel condition_model_;
+  double condition_gain_ = 1.0;
+  std::map<std::tuple<int, int, int>, std::unique_ptr<AnalyticGlare>> analytic_;
 };
 
 }  // namespace glarelab

@@ -113,5 +113,60 @@ TEST(GlareConfig, BadBackendWindowAndSourcesNameTheirKey) {
   EXPECT_NE(message("[glare]\nblink_source = \"eeg\"").find("glare.blink_source"), std::string::npos);
 }
 
+TEST(GlareConfig, ModelsRegimeSourceAndHandOverAreReadStrictlyAndRoundTrip) {
+  const Experiment e = parse_experiment_text(
+      experiment_with("[glare]\nmode = \"static\"\nmodel = \"hybrid\"\nregime = \"scotopic\"\nhybrid_far_field = \"cie\"\n"
+                      "source = \"excess\"\nhybrid_handover_inner_deg = 0.05\nhybrid_handover_outer_deg = 0.1",
+                      "glare_model = \"spencer\"\nglare_gain = \"2.5\""),
+      "g.toml", "/tmp");
+  EXPECT_EQ(e.glare.model, GlareModel::hybrid);
+  EXPECT_EQ(e.glare.spencer_regime, SpencerRegime::scotopic);
+  EXPECT_EQ(e.glare.hybrid_far_field, GlareModel::cie);
+  EXPECT_EQ(e.glare.source, "excess");
+  EXPECT_EQ(glare_model_for(e.glare, e.conditions[0]), GlareModel::hybrid);
+  EXPECT_EQ(glare_model_for(e.glare, e.conditions[1]), GlareModel::spencer);
+  EXPECT_EQ(glare_gain_for(e.conditions[0]), 1.0);
+  EXPECT_EQ(glare_gain_for(e.conditions[1]), 2.5);
+  const std::string resolved = resolved_config_toml(e);
+  const Experiment reread = parse_experiment_text(resolved, "<stored config>", "/");
+  EXPECT_EQ(resolved_config_toml(reread), resolved);
+  EXPECT_EQ(reread.glare.model, GlareModel::hybrid);
+  EXPECT_EQ(reread.glare.hybrid_handover_outer_deg, 0.1);
+  EXPECT_EQ(glare_gain_for(reread.conditions[1]), 2.5);
+  // Defaults: the wave-optics eye, the adaptive regime, all light.
+  const Experiment plain = parse_experiment_text(experiment_with("", ""), "g.toml", "/tmp");
+  EXPECT_EQ(plain.glare.model, GlareModel::ritschel);
+  EXPECT_EQ(plain.glare.spencer_regime, SpencerRegime::adaptive);
+  EXPECT_EQ(plain.glare.source, "all");
+}
+
+TEST(GlareConfig, BadModelsGainsAndHandOversNameTheirKeyAndLine) {
+  auto message = [](const std::string& text) {
+    try {
+      parse_experiment_text(text, "g.toml", "/tmp");
+    } catch (const ConfigError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  const std::string model = message(experiment_with("[glare]\nmodel = \"vos\"", ""));
+  EXPECT_NE(model.find("g.toml:8:9"), std::string::npos) << model;
+  EXPECT_NE(model.find("glare.model"), std::string::npos) << model;
+  EXPECT_NE(message(experiment_with("[glare]\nregime = \"twilight\"", "")).find("glare.regime"), std::string::npos);
+  EXPECT_NE(message(experiment_with("[glare]\nsource = \"bright\"", "")).find("glare.source"), std::string::npos);
+  // 256 px over 10 mm reaches 0.42 degrees, and 380 nm's copy of the PSF only 0.28.
+  const std::string far = message(experiment_with(
+      "[glare]\nmodel = \"hybrid\"\nhybrid_handover_inner_deg = 0.2\nhybrid_handover_outer_deg = 0.4", ""));
+  EXPECT_NE(far.find("glare.hybrid_handover_outer_deg"), std::string::npos) << far;
+  EXPECT_NE(far.find("beyond"), std::string::npos) << far;
+  EXPECT_NE(message(experiment_with("[glare]\nhybrid_handover_outer_deg = 0.2", "")).find("both"), std::string::npos);
+  const std::string row_model = message(experiment_with("", "glare_model = \"vos\""));
+  EXPECT_NE(row_model.find("condition 'two' glare_model"), std::string::npos) << row_model;
+  for (const char* gain : {"\"-1\"", "\"lots\"", "\"nan\"", "\"1e9\""}) {
+    const std::string row_gain = message(experiment_with("", std::string("glare_gain = ") + gain));
+    EXPECT_NE(row_gain.find("condition 'two' glare_gain"), std::string::npos) << row_gain;
+  }
+}
+
 }  // namespace
 }  // namespace glarelab

@@ -40,14 +40,16 @@ std::unique_ptr<Observer> make_observer(const std::string& spec, const Experimen
                     "unknown observer '" + spec + "' (choose keyboard, simulated or script:FILE)");
 }
 
-// True when any condition shows static or dynamic glare, on the whole frame or on one side.
-bool uses_glare(const Experiment& experiment) {
+// True when a condition with glare uses the wave-optics eye (Ritschel or the hybrid's near part):
+// only that PSF has to fit the display's pixel scale; the analytic models integrate over any pixel.
+bool uses_wave_optics_glare(const Experiment& experiment) {
   for (const ConditionRow& row : experiment.conditions) {
-    if (const auto sides = position_glare_modes(row)) {
-      if (sides->first != GlareMode::control || sides->second != GlareMode::control) return true;
-    } else if (glare_mode_for(experiment.glare, row) != GlareMode::control) {
+    const GlareModel model = glare_model_for(experiment.glare, row);
+    if (model != GlareModel::ritschel && model != GlareModel::hybrid) continue;
+    const auto sides = position_glare_modes(row);
+    if (sides ? (sides->first != GlareMode::control || sides->second != GlareMode::control)
+              : glare_mode_for(experiment.glare, row) != GlareMode::control)
       return true;
-    }
   }
   return false;
 }
@@ -180,7 +182,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   refuse_rows_the_display_cannot_tell_apart(prepared.experiment, *prepared.scenes);
   if (!options.save_frames_dir.empty()) prepare_frame_directory(options.save_frames_dir);
   if (options.observer.starts_with("script:")) dry_run_script(prepared.experiment, *prepared.scenes, *prepared.observer);
-  if (uses_glare(prepared.experiment)) {
+  if (uses_wave_optics_glare(prepared.experiment)) {
     try {
       check_glare_fits_display(prepared.experiment.glare, prepared.experiment.display);
     } catch (const PsfScaleError& error) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <chrono>
+#include <set>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -67,6 +68,9 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   const bool captured = previewed(plan);
   const bool record_only = preview_ != nullptr && !captured;
   glare.mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
+  const GlareModel model = glare_model_for(prepared_.experiment.glare, condition_row(plan));
+  const double gain = glare_gain_for(condition_row(plan));
+  glare_.set_condition(model, gain);
   // A mode per position (stimuli/position_glare.h): one layer per placement.
   std::vector<GlareMode> position_modes;
   if (plan.position_glare.size() == placements.size())
@@ -82,6 +86,8 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
     for (std::size_t p = 0; p < position_modes.size(); ++p)
       glare.modes_label += (p == 0 ? "" : ", ") + plan.positions.at(p) + " " + to_string(position_modes[p]);
   }
+  if (model != GlareModel::ritschel) glare.modes_label += ", " + to_string(model) + " model";
+  if (gain != 1.0) glare.modes_label += ", gain " + number_text(gain);
   if (captured && !preview_frame_) {
     preview_frame_.emplace();
     preview_frame_->plan = plan;
@@ -93,8 +99,11 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
                              : std::all_of(position_modes.begin(), position_modes.end(), is_control))
     return glare;
   const auto is_dynamic = [](GlareMode m) { return m == GlareMode::dynamic; };
-  glare.dynamic = position_modes.empty() ? glare.mode == GlareMode::dynamic
-                                         : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic);
+  // The analytic models have no moving eye: a dynamic condition's frames are all alike, so one
+  // serves the interval (the adaptation luminance of a trial's frames is the same).
+  const bool moving_eye = model == GlareModel::ritschel || model == GlareModel::hybrid;
+  glare.dynamic = moving_eye && (position_modes.empty() ? glare.mode == GlareMode::dynamic
+                                                        : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic));
   if (record_only) {
     // The eye sees these frames (its pupil adapts to them) at the times they flip.
     if (glare.dynamic) {
@@ -167,7 +176,7 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
       ++glare.skipped;
       if (glare.skip_reason.empty()) glare.skip_reason = report.skip_reason;
     }
-    if (!report.gratings_in_pupil) ++glare.gratings_hidden;
+    if (!report.gratings_in_pupil && report.pupil_diameter_mm > 0.0) ++glare.gratings_hidden;  // a wave-optics eye
     if (report.eye_closed && report.convolved) ++glare.closed;  // held PSF; otherwise counted as skipped
     glare.smallest_pupil_mm = std::min(glare.smallest_pupil_mm, report.pupil_diameter_mm);
   }
@@ -277,6 +286,18 @@ void SessionLoop::log_glare_setup() {
   }
   store_.log_event(session_id_, clock_.now_s(), "glare_backend", glare_.backend_reason());
   display_.make_current();  // making a GL backend (or asking GL for auto) changed the current context
+  // The analytic models' kernels are integrated over the display's pixels now, before the first
+  // trial (seconds for a full screen), not at the first glare trial's onset.
+  std::set<GlareModel> analytic_models;
+  for (const ConditionRow& row : prepared_.experiment.conditions)
+    if (const GlareModel model = glare_model_for(spec, row); model != GlareModel::ritschel) analytic_models.insert(model);
+  for (const GlareModel model : analytic_models) {
+    const AnalyticGlare& analytic =
+        glare_.analytic_for(model, prepared_.experiment.display.width_px, prepared_.experiment.display.height_px);
+    store_.log_event(session_id_, clock_.now_s(), "glare_model",
+                     to_string(model) + (model == GlareModel::hybrid ? " (far field " + analytic.describe() + ")"
+                                                                    : ": " + analytic.describe()));
+  }
   const bool tracked = tracker_.active();
   std::string inputs = std::string("pupil: ") +
                        (tracked && spec.pupil_source == "tracker" ? "the tracker's filtered pupil (model's until its first sample)"
