@@ -438,6 +438,11 @@ void read_track_layout_keys(TableReader& procedure, Experiment& experiment) {
     else if (*glare_on != "frame")
       procedure.fail("glare_on", "unsupported value '" + *glare_on + "' (supported: 'frame', 'reference')");
   }
+  if (const std::optional<bool> keep = procedure.boolean("glare_keeps_peak")) {
+    if (*keep && !adaptive.glare_reference_only)
+      procedure.fail("glare_keeps_peak", "keeps the glared reference's peak: needs glare_on = \"reference\"");
+    adaptive.glare_keeps_peak = *keep;
+  }
   const bool one_row_per_track = experiment.procedure == "staircase" || experiment.procedure == "quest";
   if (const std::optional<std::string> rule = procedure.string("response_rule")) {
     if (*rule == "pse") {

@@ -283,6 +283,7 @@ TrialPlan AdaptiveProcedure::next_trial() {
     // reference to whichever side it was drawn.
     plan.position_glare = comparison_left ? std::vector<std::string>{"control", to_string(glare)}
                                           : std::vector<std::string>{to_string(glare), "control"};
+    plan.glare_keeps_peak = adaptive.glare_keeps_peak;
   }
   plan.scene_scale = comparison_left ? std::vector<double>{comparison_scale, 1.0}
                                      : std::vector<double>{1.0, comparison_scale};
@@ -322,6 +323,7 @@ TrialPlan AdaptiveProcedure::next_trial() {
   json.add("staircase", track.name);
   if (!group.placement.block_name.empty()) json.add("block_name", group.placement.block_name);
   for (std::size_t p = 0; p < plan.position_glare.size(); ++p) json.add(positions[p] + "_glare", plan.position_glare[p]);
+  if (plan.glare_keeps_peak) json.add("glare_keeps_peak", "true");
   if (pse) {
     // What the PSE analysis needs (analysis/pse_analysis.h): which side the comparison was on,
     // the reference's luminance and the display's peak (PSEs are reported as fractions of it).

@@ -89,6 +89,10 @@ struct AdaptiveSpec {
   // and the comparison is shown without glare (Spencer 1995: the glare image against a plain
   // disc); "frame" (default): to the whole frame.
   bool glare_reference_only = false;
+  // [procedure] glare_keeps_peak = true (with glare_on = "reference"): the glared reference is
+  // scaled so that its brightest pixel is the reference scene's peak (stimuli/position_glare.h,
+  // GlareLayer::keep_peak): Spencer's glare image peaks at 75 % of the display whatever its glare.
+  bool glare_keeps_peak = false;
   // [procedure] tracks_per_condition = true: every track ([procedure] or each
   // [[procedure.staircases]] entry) runs once per condition row (expand_tracks_per_condition in
   // protocols/adaptive_config.h); false once expanded.

@@ -216,6 +216,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
     if (experiment.adaptive.response_rule != AdaptiveResponseRule::correct)
       procedure.insert("response_rule", to_string(experiment.adaptive.response_rule));
     if (experiment.adaptive.glare_reference_only) procedure.insert("glare_on", "reference");
+    if (experiment.adaptive.glare_keeps_peak) procedure.insert("glare_keeps_peak", true);
     toml::array tracks;
     for (const AdaptiveTrackSpec& track : experiment.adaptive.tracks) tracks.push_back(adaptive_track_table(experiment, track));
     procedure.insert("staircases", std::move(tracks));

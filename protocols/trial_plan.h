@@ -25,6 +25,9 @@ struct TrialPlan {
   // The glare mode shown at each position ("dynamic", "static", "control") when the row gives one
   // per side (glare_a / glare_b); empty: the row's glare applies to the whole frame.
   std::vector<std::string> position_glare;
+  // With position_glare: each glared position keeps its pre-glare peak (stimuli/position_glare.h,
+  // GlareLayer::keep_peak; [procedure] glare_keeps_peak).
+  bool glare_keeps_peak = false;
   // Peak luminance (cd/m2) of the source at each position: what a simulated observer compares.
   std::vector<double> source_luminance_cd_m2;
   // Factor on each position's scene (empty: all 1). Adaptive procedures scale the comparison
