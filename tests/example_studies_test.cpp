@@ -116,6 +116,7 @@ TEST(ExampleStudies, SpencerStaircaseFindsAPsePerGlareStrengthInBothGroups) {
     EXPECT_EQ(json_member(trial.condition, side + "_glare"), "control") << "the disc is shown without glare";
     EXPECT_EQ(json_member(trial.condition, other + "_glare"), "static");
     EXPECT_EQ(json_member(trial.condition, side), "disc");
+    EXPECT_EQ(json_member(trial.condition, "glare_keeps_peak"), "true");
     block_of_trial.push_back(json_member(trial.condition, "block_name"));
     auto found = tracks.try_emplace(trial.staircase, base).first;
     Staircase& staircase = found->second;

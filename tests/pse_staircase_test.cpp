@@ -182,6 +182,7 @@ TEST(PseStaircase, GlareGoesToTheReferenceSideWhicheverSideItIsDrawn) {
     EXPECT_EQ(plan.position_glare[static_cast<std::size_t>(1 - cmp)], "static");
     EXPECT_EQ(plan.scenes[static_cast<std::size_t>(cmp)], "disc");
     EXPECT_EQ(plan.position_glare_gain[static_cast<std::size_t>(cmp)], 0.0);
+    EXPECT_FALSE(plan.glare_keeps_peak);  // not asked for in this file
     procedure.record_response(plan, {"neither", 0.4});
   }
   EXPECT_EQ(comparison_sides.size(), 2u) << "the disc must appear on both sides";
@@ -284,6 +285,9 @@ TEST(PseStaircase, BadKeysAreRefusedAtFileLineColumnAndKey) {
   EXPECT_NE(e.find("pse.toml:14:17: key 'procedure.response_rule'"), std::string::npos) << e;
   e = pse_error("glare_on = \"reference\"", "glare_on = \"disc\"");
   EXPECT_NE(e.find("pse.toml:15:12: key 'procedure.glare_on'"), std::string::npos) << e;
+  e = pse_error("glare_on = \"reference\"", "glare_on = \"frame\"\nglare_keeps_peak = true");
+  EXPECT_NE(e.find("pse.toml:16:20: key 'procedure.glare_keeps_peak'"), std::string::npos) << e;
+  EXPECT_NE(e.find("needs glare_on = \"reference\""), std::string::npos) << e;
   e = pse_error("tracks_per_condition = true", "tracks_per_condition = 1");
   EXPECT_NE(e.find("pse.toml:16:24: key 'procedure.tracks_per_condition'"), std::string::npos) << e;
   e = pse_error("start_intensity = 100.0", "start_intensity = 300.0");
