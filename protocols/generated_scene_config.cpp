@@ -5,9 +5,10 @@
 namespace glarelab {
 namespace {
 
-// Bounds: an image no larger than the texture every OpenGL 4.5 driver takes; angles that a screen
-// in front of an observer can subtend.
-constexpr std::int64_t kMaxGeneratedScenePx = 16384;
+// Bounds: 4096 px a side is 2^24 pixels (256 MiB of RGBA floats), drawn when the scenes load: larger
+// than any stimulus window, small enough that a typo cannot exhaust memory; angles that a screen in
+// front of an observer can subtend.
+constexpr std::int64_t kMaxGeneratedScenePx = 4096;
 constexpr double kMinDiameterDeg = 1e-4, kMaxDiameterDeg = 120.0;
 
 }  // namespace

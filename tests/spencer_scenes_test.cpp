@@ -195,6 +195,11 @@ TEST(SpencerScenes, BadKeysAndValuesAreRefusedAtFileLineColumnAndKey) {
   EXPECT_NE(annulus_on_source.find("annulus_diameter_deg"), std::string::npos) << annulus_on_source;
   EXPECT_NE(annulus_on_source.find("unknown key"), std::string::npos) << annulus_on_source;
 
+  const std::string huge = scene_error(
+      R"(s = { generator = "light_source", size_px = 100000, disc_diameter_deg = 0.5, disc_fraction_of_peak = 0.75 })");
+  EXPECT_NE(huge.find("bad.toml:4:"), std::string::npos) << huge;
+  EXPECT_NE(huge.find("scenes.s.size_px"), std::string::npos) << huge;
+
   const std::string missing = scene_error(R"(s = { generator = "light_source", disc_diameter_deg = 0.5 })");
   EXPECT_NE(missing.find("scenes.s.disc_fraction_of_peak"), std::string::npos) << missing;
   EXPECT_NE(missing.find("missing required key"), std::string::npos) << missing;
