@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "analysis/session_observer_eye.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
 #include "core/errors.h"
@@ -108,13 +109,14 @@ std::string render_html(const AnalysisReport& report) {
   }
 
   out << "<h2>Sessions</h2>\n<table><tr><th>session</th><th>experiment</th><th>participant</th><th>status</th>"
-         "<th>trials</th><th>started (UTC)</th><th>display</th><th>observer</th><th>software</th><th>database</th></tr>\n";
+         "<th>trials</th><th>started (UTC)</th><th>display</th><th>observer</th><th>observer's eye</th><th>software</th>"
+         "<th>database</th></tr>\n";
   std::vector<std::string> session_notes;
   for (const LoadedSession& s : report.data.sessions) {
     out << "<tr>" << cell(std::to_string(s.record.id)) << cell(s.record.experiment) << cell(s.record.participant)
         << cell(s.record.status) << cell(std::to_string(s.trials.size())) << cell(s.record.started_utc)
         << cell(s.record.display_backend + " " + s.record.renderer) << cell(s.record.observer)
-        << cell(s.record.software_version) << cell(s.database) << "</tr>\n";
+        << cell(observer_eye_text(s.record.config)) << cell(s.record.software_version) << cell(s.database) << "</tr>\n";
     if (s.record.status == "aborted") {
       session_notes.push_back("session " + s.label + " was aborted after " + std::to_string(s.trials.size()) +
                               " trial(s): its answered trials are included");

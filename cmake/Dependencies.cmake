@@ -46,6 +46,10 @@ endif()
 add_library(glarelab_deps_analysis INTERFACE)
 target_link_libraries(glarelab_deps_analysis INTERFACE
   PkgConfig::SQLITE3 Boost::headers nlohmann_json::nlohmann_json NLopt::nlopt)
+# The stored configuration (TOML) is read for the observer's eye (analysis/session_observer_eye.h).
+if(TARGET tomlplusplus::tomlplusplus)
+  target_link_libraries(glarelab_deps_analysis INTERFACE tomlplusplus::tomlplusplus)
+endif()
 # runner: displays, command line, the store, trackers and devices (below).
 add_library(glarelab_deps_runner INTERFACE)
 target_link_libraries(glarelab_deps_runner INTERFACE glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::EGL PkgConfig::SQLITE3)

@@ -1,5 +1,6 @@
 #include "glare/analytic_glare.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -35,7 +36,9 @@ AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
   std::vector<DisplayKernel> kernels;
   for (const AnalyticPsf& psf : psfs) {
     DisplayKernel kernel = analytic_display_kernel(psf, options.geometry, options.width_px - 1, options.height_px - 1, threads);
-    std::array<double, 3> inside{0.0, 0.0, 0.0};
+    std::array<double, 3> inside{0.0, 0.0, 0.0}, centre{0.0, 0.0, 0.0};
+    for (int c = 0; c < 3; ++c) centre[c] = kernel.at(kernel.channels == 3 ? c : 0, 0, 0);
+    centre_.push_back(centre);
     if (options.handover) {
       inside = analytic_energy_inside(kernel, *options.handover);
       kernel = hybrid_far_kernel(kernel, *options.handover);
@@ -78,6 +81,17 @@ std::array<double, 3> AnalyticGlare::energy_inside_handover() const {
   for (std::size_t i = 0; i < inside_.size(); ++i)
     for (int c = 0; c < 3; ++c) sum[c] += weights[i] * inside_[i][c];
   return sum;
+}
+
+double AnalyticGlare::wing_fraction() const {
+  const std::vector<double> weights = adaptive_ ? weights_for(mixture_) : std::vector<double>{1.0};
+  double wing = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    double centre = 0.0;
+    for (std::size_t i = 0; i < centre_.size(); ++i) centre += weights[i] * centre_[i][c];
+    wing = std::max(wing, 1.0 - centre);
+  }
+  return wing;
 }
 
 DisplayKernel AnalyticGlare::current_kernel() const {

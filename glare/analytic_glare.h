@@ -39,6 +39,8 @@ class AnalyticGlare {
   void convolve(const ImageRGBA& source, ImageRGBA& out) { convolution_.convolve(source, out); }
   // Hybrid: sum(w K) per channel for the current mixture (the near part's energy).
   std::array<double, 3> energy_inside_handover() const;
+  // Energy of the current kernel outside the source's own pixel, largest over channels.
+  double wing_fraction() const;
   // The current kernel itself (the weighted sum of the components), for tests: kept for frames
   // whose kernels take at most kKeptKernelBytes, else std::logic_error.
   static constexpr std::size_t kKeptKernelBytes = 64u << 20;
@@ -55,6 +57,7 @@ class AnalyticGlare {
   bool adaptive_ = false;
   std::vector<DisplayKernel> components_;  // kept only while small enough; see constructor
   std::vector<std::array<double, 3>> inside_;  // per component, sum(w K) per channel
+  std::vector<std::array<double, 3>> centre_;  // per component, K(0, 0) per channel
   DisplayKernelConvolution convolution_;
   spencer::Mixture mixture_;
   bool adapted_ = false;

@@ -65,9 +65,6 @@ struct GlareSpec {
   // "excess" above the display's peak (the viewer's own eye already scatters what the display
   // shows), added to the frame clipped at the peak.
   std::string source = "all";
-  // Spencer's flare lines (section 3.2): random radial lines modulating the corona and the halo,
-  // drawn from the session's seed. Off by default.
-  bool flare_lines = false;
   // The observer's eye for the analytic models (Spencer Eq. 10, CIE 146): `[observer]` age_years
   // and pigmentation in the experiment file.
   ObserverEye observer_eye;

@@ -6,80 +6,82 @@
 #include <sstream>
 
 namespace glarelab {
+namespace {
 
-double wave_psf_reach_deg(int grid_px, double reference_degrees_per_pixel) {
-  return (grid_px / 2 - 1) * reference_degrees_per_pixel * (380.0 / 575.0);
-}
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
-HybridHandover default_handover(double reach_deg) { return {0.45 * reach_deg, 0.9 * reach_deg}; }
+// The display pixel's distance from the source pixel.
+double radius_px(int dx, int dy) { return std::hypot(static_cast<double>(dx), static_cast<double>(dy)); }
 
-void check_handover(const HybridHandover& handover, double reach_deg) {
-  std::ostringstream out;
-  out.precision(4);
-  if (!(handover.inner_deg > 0.0) || !(handover.outer_deg > handover.inner_deg)) {
-    out << "the hand-over annulus " << handover.inner_deg << "-" << handover.outer_deg
-        << " degrees must have 0 < inner < outer";
-    throw HandoverError(out.str());
-  }
-  if (handover.outer_deg > reach_deg) {
-    out << "the hand-over at " << handover.outer_deg << " degrees lies beyond the " << reach_deg
-        << " degrees the wave-optics PSF's grid reaches in every channel (a larger grid or a smaller aperture width reaches farther)";
-    throw HandoverError(out.str());
-  }
-}
+}  // namespace
 
 HandoverPixels handover_pixels(const HybridHandover& handover, const DisplayGeometry& geometry) {
-  auto px = [&](double deg) { return geometry.viewing_distance_mm * std::tan(deg * std::numbers::pi / 180.0) / geometry.pixel_pitch_mm; };
-  return {px(handover.inner_deg), px(handover.outer_deg)};
+  const double d = geometry.viewing_distance_mm, pitch = geometry.pixel_pitch_mm;
+  return {d * std::tan(handover.inner_deg / kDegPerRad) / pitch, d * std::tan(handover.outer_deg / kDegPerRad) / pitch};
 }
 
 double handover_weight(double r_px, const HandoverPixels& handover) {
-  const double t = std::clamp((r_px - handover.inner_px) / (handover.outer_px - handover.inner_px), 0.0, 1.0);
+  if (r_px <= handover.inner_px) return 1.0;
+  if (r_px >= handover.outer_px) return 0.0;
+  // 1 - smoothstep: value and slope continuous at both radii.
+  const double t = (r_px - handover.inner_px) / (handover.outer_px - handover.inner_px);
   return 1.0 - t * t * (3.0 - 2.0 * t);
 }
 
 DisplayKernel hybrid_far_kernel(const DisplayKernel& analytic, const HandoverPixels& handover) {
+  // Only offsets inside the outer radius change (beyond it 1 - w is exactly 1): a whole frame's
+  // kernel is millions of pixels, the annulus a few thousand.
   DisplayKernel far = analytic;
+  const int reach_x = std::min(static_cast<int>(std::ceil(handover.outer_px)), far.half_width_px);
+  const int reach_y = std::min(static_cast<int>(std::ceil(handover.outer_px)), far.half_height_px);
   for (int c = 0; c < far.channels; ++c)
-    for (int dy = -far.half_height_px; dy <= far.half_height_px; ++dy)
-      for (int dx = -far.half_width_px; dx <= far.half_width_px; ++dx) {
-        const double w = handover_weight(std::hypot(static_cast<double>(dx), static_cast<double>(dy)), handover);
-        if (w > 0.0) far.at(c, dx, dy) *= 1.0 - w;
-      }
+    for (int dy = -reach_y; dy <= reach_y; ++dy)
+      for (int dx = -reach_x; dx <= reach_x; ++dx)
+        far.at(c, dx, dy) *= 1.0 - handover_weight(radius_px(dx, dy), handover);
   return far;
 }
 
 std::array<double, 3> analytic_energy_inside(const DisplayKernel& analytic, const HandoverPixels& handover) {
   std::array<double, 3> inside{0.0, 0.0, 0.0};
-  const int reach = static_cast<int>(std::ceil(handover.outer_px));
+  const int reach_x = std::min(static_cast<int>(std::ceil(handover.outer_px)), analytic.half_width_px);
+  const int reach_y = std::min(static_cast<int>(std::ceil(handover.outer_px)), analytic.half_height_px);
   for (int c = 0; c < analytic.channels; ++c)
-    for (int dy = -std::min(reach, analytic.half_height_px); dy <= std::min(reach, analytic.half_height_px); ++dy)
-      for (int dx = -std::min(reach, analytic.half_width_px); dx <= std::min(reach, analytic.half_width_px); ++dx)
-        inside[c] += handover_weight(std::hypot(static_cast<double>(dx), static_cast<double>(dy)), handover) *
-                     analytic.at(c, dx, dy);
+    for (int dy = -reach_y; dy <= reach_y; ++dy)
+      for (int dx = -reach_x; dx <= reach_x; ++dx)
+        inside[static_cast<std::size_t>(c)] += handover_weight(radius_px(dx, dy), handover) * analytic.at(c, dx, dy);
   if (analytic.channels == 1) inside[1] = inside[2] = inside[0];
   return inside;
 }
 
-Psf hybrid_near_psf(const Psf& wave, const std::array<double, 3>& analytic_inside, const HandoverPixels& handover,
-                    std::array<double, 3>* scale_out) {
-  Psf near = wave;
+Psf hybrid_near_psf(const Psf& wave_display_psf, const std::array<double, 3>& analytic_inside,
+                    const HandoverPixels& handover, std::array<double, 3>* scale_out) {
+  const int n = wave_display_psf.size_px, centre = n / 2;
+  // The weight must fall to 0 inside the grid: past its edge the wave PSF is unknown.
+  if (handover.outer_px > centre - 1)
+    throw HandoverError("the hand-over ends " + std::to_string(handover.outer_px) +
+                        " display pixels from the source, beyond the wave-optics PSF's " + std::to_string(n) +
+                        " px grid on the display");
+  Psf near;
+  near.size_px = n;
+  near.degrees_per_pixel = wave_display_psf.degrees_per_pixel;
   near.channels = 3;
-  const std::size_t plane = static_cast<std::size_t>(wave.size_px) * wave.size_px;
-  near.values.assign(3 * plane, 0.0);
-  const int centre = wave.size_px / 2;
+  near.values.assign(3 * static_cast<std::size_t>(n) * n, 0.0);
   for (int c = 0; c < 3; ++c) {
-    const int wc = wave.channels == 3 ? c : 0;
-    double weighted = 0.0;
-    for (int y = 0; y < wave.size_px; ++y)
-      for (int x = 0; x < wave.size_px; ++x) {
-        const double w = handover_weight(std::hypot(static_cast<double>(x - centre), static_cast<double>(y - centre)), handover);
-        near.at(c, x, y) = w * wave.at(wc, x, y);
-        weighted += near.at(c, x, y);
+    const int from = wave_display_psf.channels == 1 ? 0 : c;
+    double weighted_sum = 0.0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double weighted = handover_weight(radius_px(x - centre, y - centre), handover) * wave_display_psf.at(from, x, y);
+        near.at(c, x, y) = weighted;
+        weighted_sum += weighted;
       }
-    const double s = weighted > 0.0 ? analytic_inside[c] / weighted : 0.0;
-    for (std::size_t i = 0; i < plane; ++i) near.values[c * plane + i] *= s;
-    if (scale_out) (*scale_out)[c] = s;
+    if (!(weighted_sum > 0.0))
+      throw HandoverError("the wave-optics PSF holds no light inside the hand-over's outer radius (" +
+                          std::to_string(handover.outer_px) + " display pixels)");
+    const double scale = analytic_inside[static_cast<std::size_t>(c)] / weighted_sum;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) near.at(c, x, y) *= scale;
+    if (scale_out) (*scale_out)[static_cast<std::size_t>(c)] = scale;
   }
   return near;
 }

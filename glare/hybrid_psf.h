@@ -14,37 +14,27 @@
 // the display the total is 1. Inside r0, H = s P_wave (the wave optics decides the shape); beyond
 // r1, H = K_analytic exactly; the wave optics cannot reach farther than its grid, so r1 must lie
 // inside the wave PSF's reach (wave_psf_reach_deg), else the hand-over is refused.
+//
+// Continuity across the hand-over (tests/glare_hybrid_psf_test.cpp, docs/GLARE_OPTICS.md): take
+// the azimuthal mean of each kernel on 1-pixel rings (ring k: pixels whose distance rounds to k)
+// for H, A = s P_wave and K = K_analytic, over the rings from floor(r0) to ceil(r1). The largest
+// step |ln H_k+1 - ln H_k| between adjacent rings is at most
+//   max(largest step of A, largest step of K) + c(rho) / (r1 - r0),
+// rho the largest ratio A_k / K_k or K_k / A_k over those rings and
+//   c(rho) = max over t in [0, 1] of 6 t (1 - t) (rho - 1) / (1 + (rho - 1) (3 t^2 - 2 t^3)),
+// the steepest slope of ln(1 - S + S rho) in t for the smoothstep S: the log slope the blend of two
+// profiles rho apart adds to theirs (d ln H / dr = (w A' + (1 - w) K' + w' (A - K)) / H, whose
+// first part is bounded by the two models' own log slopes). For rho near 1, c(rho) is about
+// 1.5 ln(rho): the blend spreads the models' level difference over the annulus. A hard switch from
+// A to K instead jumps by the whole ln(rho) in one ring.
 #include <array>
 #include <stdexcept>
 
 #include "glare/display_glare_kernel.h"
+#include "glare/hybrid_handover.h"
 #include "glare/psf.h"
 
 namespace glarelab {
-
-struct HybridHandover {
-  double inner_deg = 0.0;  // r0: the wave-optics PSF alone inside
-  double outer_deg = 0.0;  // r1: the analytic model alone outside
-};
-
-class HandoverError : public std::invalid_argument {
- public:
-  using std::invalid_argument::invalid_argument;
-};
-
-// The angle to which a spectral wave-optics PSF of grid_px pixels at reference_degrees_per_pixel
-// (lambda_ref / aperture width) is defined in every channel: half the grid less one pixel, shrunk
-// by the shortest wavelength of the chromatic blur (380 nm: its copy of the reference PSF is
-// 575 / 380 times wider in angle, so the grid's edge comes in by that factor).
-double wave_psf_reach_deg(int grid_px, double reference_degrees_per_pixel);
-
-// The default hand-over for a reach: the annulus from half of 0.9 reach to 0.9 reach (an octave,
-// so the blend is gradual), ending short of the grid's edge where the wave PSF's chromatic copies
-// are cut off.
-HybridHandover default_handover(double reach_deg);
-
-// HandoverError naming both angles when outer > reach, inner >= outer or inner <= 0.
-void check_handover(const HybridHandover& handover, double reach_deg);
 
 // The hand-over radii in display pixels (r = d tan(angle) / pitch).
 struct HandoverPixels {
@@ -64,6 +54,8 @@ DisplayKernel hybrid_far_kernel(const DisplayKernel& analytic, const HandoverPix
 std::array<double, 3> analytic_energy_inside(const DisplayKernel& analytic, const HandoverPixels& handover);
 // s w P_wave: the wave PSF (display scale, 1 or 3 channels, unit sum) weighted and scaled so each
 // channel holds analytic_inside[c]; 3 channels. `scale_out` (optional) receives s per channel.
+// HandoverError when the outer radius passes the grid's half less one pixel (the weight must reach
+// 0 where the wave PSF is known) or the weighted wave PSF holds no light.
 Psf hybrid_near_psf(const Psf& wave_display_psf, const std::array<double, 3>& analytic_inside,
                     const HandoverPixels& handover, std::array<double, 3>* scale_out = nullptr);
 

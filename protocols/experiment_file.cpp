@@ -63,6 +63,8 @@ constexpr std::int64_t kMaxMonitorIndex = 63;
 // Pixel values times scale_cd_m2 are luminances: a scale outside this range turns any float image
 // into zeros or overflows (1e-300 made every scene black).
 constexpr double kMinSceneScale = 1e-9, kMaxSceneScale = 1e9;
+// The ages the analytic glare models are given for (glare/analytic_psf.h, check_observer_eye).
+constexpr double kMinObserverAgeYears = 1.0, kMaxObserverAgeYears = 100.0;
 
 // The experiment name names the default database (results/NAME.db) and the analysis folders, so it
 // must be a safe file name: "../../../tmp/escaped" once wrote outside results/, and a NUL made
@@ -242,13 +244,18 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
   return generated;
 }
 
-void read_observer_section(TableReader& top, Experiment& experiment) {
+// [observer]: the observer's eye as the analytic glare models see it (age: Spencer 1995 Eq. 10 and
+// CIE 146:2002; pigmentation: CIE 146:2002), and the simulated observer's subtable.
+ObserverEye read_observer_section(TableReader& top, Experiment& experiment) {
+  ObserverEye eye;
   const toml::table* observers = top.table("observer");
-  if (observers == nullptr) return;
+  if (observers == nullptr) return eye;
   TableReader group(*observers, "observer", top.file());
+  eye.age_years = group.number_in_range("age_years", eye.age_years, kMinObserverAgeYears, kMaxObserverAgeYears, "years");
+  eye.pigmentation = group.number_in_range("pigmentation", eye.pigmentation, 0.0, 1.0);
   const toml::table* simulated = group.table("simulated");
   group.report_unused();
-  if (simulated == nullptr) return;
+  if (simulated == nullptr) return eye;
   TableReader reader(*simulated, "observer.simulated", top.file());
   SimulatedObserverSpec& spec = experiment.simulated_observer;
   spec.threshold_log10 = reader.positive_number("threshold_log10", spec.threshold_log10);
@@ -266,6 +273,7 @@ void read_observer_section(TableReader& top, Experiment& experiment) {
   spec.appearance_sd_log10 = reader.number_in_range("appearance_sd_log10", spec.appearance_sd_log10, 1e-6, 10.0);
   spec.neither_band_log10 = reader.number_in_range("neither_band_log10", spec.neither_band_log10, 0.0, 10.0);
   reader.report_unused();
+  return eye;
 }
 
 // A condition row together with where each of its values was written, for error messages.
@@ -479,8 +487,9 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   const std::optional<GeneratedDesign> generated = read_procedure_section(top, experiment);
   ConditionSource conditions = generated ? generated_conditions(top, *generated, experiment) : read_conditions_section(top, base);
   if (!generated) read_blocks_section(top, experiment);
-  read_observer_section(top, experiment);
+  const ObserverEye observer_eye = read_observer_section(top, experiment);
   experiment.glare = read_glare_section(top);
+  experiment.glare.observer_eye = observer_eye;
   experiment.presentation = read_presentation_section(top, experiment);
 
   if (experiment.procedure == "forced_choice") check_forced_choice_rows(conditions.rows, experiment, conditions.csv);

@@ -12,8 +12,7 @@
 
 #include "core/number_text.h"
 #include "glare/eye_parameters.h"
-#include "glare/hybrid_psf.h"
-#include "glare/psf_cpu.h"
+#include "glare/hybrid_handover.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -104,7 +103,7 @@ GlareSpec read_glare_section(TableReader& top) {
     reader.fail(inner_given ? "hybrid_handover_inner_deg" : "hybrid_handover_outer_deg",
                 "the hand-over annulus needs both hybrid_handover_inner_deg and hybrid_handover_outer_deg");
   if (outer_given) {
-    const double reach = wave_psf_reach_deg(spec.grid_px, psf_degrees_per_pixel(kReferenceWavelengthNm, spec.aperture_width_mm));
+    const double reach = wave_psf_reach_for_aperture_deg(spec.grid_px, spec.aperture_width_mm);
     try {
       check_handover(HybridHandover{spec.hybrid_handover_inner_deg, spec.hybrid_handover_outer_deg}, reach);
     } catch (const HandoverError& error) {

@@ -235,7 +235,9 @@ std::string resolved_config_toml(const Experiment& experiment) {
                         {"appearance_sd_log10", observer.appearance_sd_log10},
                         {"neither_band_log10", observer.neither_band_log10}};
   if (!observer.preferences.empty()) simulated.insert("preferences", preferences_toml(observer.preferences));
-  print_section(out, "observer", toml::table{{"simulated", std::move(simulated)}});
+  const ObserverEye& eye = experiment.glare.observer_eye;
+  print_section(out, "observer",
+                toml::table{{"age_years", eye.age_years}, {"pigmentation", eye.pigmentation}, {"simulated", std::move(simulated)}});
   print_section(out, "glare", glare_section_toml(experiment.glare));
   print_section(out, "presentation", presentation_section_toml(experiment.presentation));
 

@@ -319,6 +319,7 @@ ImageRGBA GlareStage::apply_analytic(const ImageRGBA& frame, const ImageRGBA& so
   // eye sees, as for the wave-optics eye's pupil.
   analytic.adapt(mean_cd_m2);
   if (condition_model_ == GlareModel::spencer) r.spencer_mixture = analytic.mixture();
+  r.wing_fraction = analytic.wing_fraction();
   ImageRGBA glared;
   analytic.convolve(source, glared);
   r.convolved = true;
@@ -329,6 +330,7 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
                                    double mean_cd_m2, GlareFrameReport& r) {
   const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
   if (!wave) return frame;
+  r.wing_fraction = psf_wing_fraction(*wave);
   AnalyticGlare& far = analytic_for(GlareModel::hybrid, frame.width_px, frame.height_px);
   far.adapt(mean_cd_m2);
   if (spec_.hybrid_far_field == GlareModel::spencer) r.spencer_mixture = far.mixture();

@@ -61,6 +61,20 @@ TEST(BadInput, WrongTypeNamesExpectedAndFound) {
   EXPECT_FALSE(bad.database_written);
 }
 
+TEST(BadInput, ObserverAgeOutOfRangeNamesFileLineColumnAndKey) {
+  const ScratchDir scratch;
+  const auto& dir = scratch.path();
+  const auto conditions = std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples/demo_conditions.csv";
+  const auto experiment =
+      demo_variant(dir, {{"file", "file = \"" + conditions.string() + "\"\n\n[observer]\nage_years = 120"}});
+  const auto bad = run_and_validate(dir, experiment.string());
+  EXPECT_EQ(bad.exit_code, 2);
+  const std::string where = experiment.string() + ":" + std::to_string(line_of(experiment, "age_years ")) + ":13: ";
+  EXPECT_NE(bad.output.find(where + "key 'observer.age_years': must be from 1 to 100 years, found 120"), std::string::npos)
+      << bad.output;
+  EXPECT_FALSE(bad.database_written);
+}
+
 TEST(BadInput, MissingExperimentFile) {
   const ScratchDir scratch;
   const auto& dir = scratch.path();

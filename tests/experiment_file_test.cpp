@@ -130,6 +130,48 @@ TEST(ExperimentFile, ResolvedConfigReadsBackEqual) {
   EXPECT_EQ(reread.source_file, "<stored config>");
 }
 
+// [observer] age_years and pigmentation: the observer's eye of the analytic glare models, in the
+// glare spec (where the glare stage reads it), 25 years and 0.5 when absent, stored and read back.
+TEST(ExperimentFile, ObserverEyeIsReadIntoTheGlareSpecAndStored) {
+  test::ScratchDir dir;
+  dir.write("conditions.csv", kCsv);
+  const Experiment defaults = load_experiment(dir.write("plain.toml", experiment_text("", "file = \"conditions.csv\"\n")));
+  EXPECT_EQ(defaults.glare.observer_eye.age_years, 25.0);
+  EXPECT_EQ(defaults.glare.observer_eye.pigmentation, 0.5);
+
+  const std::string path = dir.write("exp.toml", experiment_text("", "file = \"conditions.csv\"\n") +
+                                                     "[observer]\nage_years = 71.5\npigmentation = 0.9\n"
+                                                     "[observer.simulated]\nslope = 2\n");
+  const Experiment original = load_experiment(path);
+  EXPECT_EQ(original.glare.observer_eye.age_years, 71.5);
+  EXPECT_EQ(original.glare.observer_eye.pigmentation, 0.9);
+  EXPECT_EQ(original.simulated_observer.slope, 2.0);
+  const std::string resolved = resolved_config_toml(original);
+  EXPECT_NE(resolved.find("age_years = 71.5"), std::string::npos) << resolved;
+  const Experiment reread = parse_experiment_text(resolved, "<stored config>", "/");
+  EXPECT_EQ(reread.glare.observer_eye.age_years, 71.5);
+  EXPECT_EQ(reread.glare.observer_eye.pigmentation, 0.9);
+  EXPECT_EQ(resolved_config_toml(reread), resolved);
+  // The defaults are written too, so a later version's defaults cannot change a stored session.
+  EXPECT_NE(resolved_config_toml(defaults).find("age_years = 25"), std::string::npos);
+}
+
+TEST(ExperimentFile, ObserverEyeOutOfRangeNamesFileLineColumnAndKey) {
+  test::ScratchDir dir;
+  dir.write("conditions.csv", kCsv);
+  const std::string base = experiment_text("", "file = \"conditions.csv\"\n");  // [observer] goes on line 16
+  const std::string young = dir.write("young.toml", base + "[observer]\nage_years = 0.5\n");
+  EXPECT_EQ(error_of(young), young + ":17:13: key 'observer.age_years': must be from 1 to 100 years, found 0.5");
+  const std::string old = dir.write("old.toml", base + "[observer]\nage_years = 101\n");
+  EXPECT_EQ(error_of(old), old + ":17:13: key 'observer.age_years': must be from 1 to 100 years, found 101");
+  const std::string pigment = dir.write("pigment.toml", base + "[observer]\nage_years = 30\npigmentation = 1.5\n");
+  EXPECT_EQ(error_of(pigment), pigment + ":18:16: key 'observer.pigmentation': must be from 0 to 1, found 1.5");
+  const std::string text = dir.write("text.toml", base + "[observer]\npigmentation = \"blue\"\n");
+  EXPECT_NE(error_of(text).find(text + ":17:16: key 'observer.pigmentation'"), std::string::npos) << error_of(text);
+  const std::string typo = dir.write("typo.toml", base + "[observer]\nage = 30\n");
+  EXPECT_NE(error_of(typo).find(typo + ":17:1: key 'observer.age'"), std::string::npos) << error_of(typo);
+}
+
 // Column names that are not bare TOML keys (a single quote, a tab, a double quote) are written
 // quoted in the stored config and read back to the same fields (the experiment_file fuzz target
 // found a column named g'are that the stored config wrote bare, so a session could not resume).

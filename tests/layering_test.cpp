@@ -38,7 +38,7 @@ const std::map<std::string, std::set<std::string>>& allowed_layers() {
 
 // What protocols may read of glare: the plain parameter types its experiment files fill in.
 const std::set<std::string>& glare_parameter_headers() {
-  static const std::set<std::string> headers = {"glare/eye_parameters.h", "glare/glare_spec.h"};
+  static const std::set<std::string> headers = {"glare/eye_parameters.h", "glare/glare_spec.h", "glare/hybrid_handover.h"};
   return headers;
 }
 

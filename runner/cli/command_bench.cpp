@@ -3,9 +3,13 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "glare/glare_backend.h"
 #include "glare/glare_benchmark.h"
+#include "core/errors.h"
+#include "stimuli/glare_model_benchmark.h"
 #include "runner/cli/commands.h"
 #include "runner/display/compute_context.h"
 
@@ -17,7 +21,24 @@ struct BenchArguments {
   bool no_gl = false;
   int repeats = 0;  // 0: 1 with --quick, else 3
   int frames = 0;   // 0: 5 with --quick, else 10
+  bool analytic_only = false;
+  bool no_analytic = false;
+  std::vector<int> analytic_size = {1920, 1080};
 };
+
+// The analytic models over the whole display and the hybrid against Ritschel
+// (stimuli/glare_model_benchmark.h).
+void print_analytic_rows(const BenchArguments& args) {
+  AnalyticBenchmarkOptions options;
+  options.width_px = args.analytic_size[0];
+  options.height_px = args.analytic_size[1];
+  options.frames = args.frames > 0 ? args.frames : (args.quick ? 3 : 5);
+  options.progress = [](const std::string& line) { std::cerr << line << std::endl; };
+  std::cout << format_analytic_benchmark(run_analytic_benchmark(options));
+  std::ifstream loadavg("/proc/loadavg");
+  if (std::string one, five, fifteen; loadavg >> one >> five >> fifteen)
+    std::cout << "Load average (1, 5, 15 min) at the end of the analytic rows: " << one << ", " << five << ", " << fifteen << ".\n";
+}
 
 }  // namespace
 
@@ -33,8 +54,20 @@ Action add_bench_command(CLI::App& app) {
                       "Whole frames timed per grid and scene kind against the FFTW floor, each at a new eye time, the "
                       "fastest kept (default 5 with --quick, else 10)")
       ->check(CLI::Range(1, 1000));
+  command->add_flag("--analytic-only", args->analytic_only,
+                    "Only the analytic models (Spencer, CIE) over the whole display and the hybrid against Ritschel");
+  command->add_flag("--no-analytic", args->no_analytic, "Only the wave-optics (Ritschel) stages");
+  command->add_option("--analytic-size", args->analytic_size, "Display of the analytic rows, WIDTH HEIGHT in pixels (default 1920 1080)")
+      ->expected(2)
+      ->check(CLI::Range(16, 8192));
   return [=]() {
     return report_errors([&]() {
+      if (args->analytic_only && args->no_analytic)
+        throw ConfigError({"--analytic-only", 0, 0}, "analytic-only", "--analytic-only and --no-analytic exclude each other");
+      if (args->analytic_only) {
+        print_analytic_rows(*args);
+        return 0;
+      }
       GlareBenchmarkOptions options;
       options.grid_sizes = args->quick ? std::vector<int>{256, 512, 1024} : std::vector<int>{256, 512, 1024, 2048};
       options.repeats = args->repeats > 0 ? args->repeats : (args->quick ? 1 : 3);
@@ -63,6 +96,10 @@ Action add_bench_command(CLI::App& app) {
                    "spectrum; a new scene transforms its R, G, B again.\n\n"
                 << format_glare_frame_table(result);
       if (!args->no_gl) std::cout << "\n" << create_glare_backend("auto", {.gl_context = gl::compute_context_factory()}).reason << "\n";
+      if (!args->no_analytic) {
+        std::cout << "\n";
+        print_analytic_rows(*args);
+      }
       return 0;
     });
   };

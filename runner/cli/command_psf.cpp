@@ -4,12 +4,17 @@
 #include <memory>
 #include <sstream>
 
+#include "glare/analytic_psf.h"
 #include "glare/aperture_components.h"
+#include "glare/display_psf_image.h"
 #include "glare/eye_model.h"
 #include "glare/fibre_gratings.h"
 #include "glare/glare_backend.h"
+#include "glare/hybrid_psf.h"
 #include "glare/psf_cpu.h"
 #include "glare/psf_exr.h"
+#include "glare/psf_profile.h"
+#include "glare/psf_scale.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
@@ -34,8 +39,20 @@ struct PsfArguments {
   double time_s = 0.0;
   std::uint64_t seed = 1;
   std::string components = "all";
+  std::string model = "ritschel";
+  std::string regime = "photopic";
+  double age_years = 25.0;
+  double pigmentation = 0.5;
+  std::string far_field = "spencer";
+  std::vector<double> handover_deg;  // inner, outer; empty: the default for the wave PSF's reach
+  // A desktop display at about 60 cm (0.25 mm pixels): 512 px span 12.8 degrees.
+  double degrees_per_pixel = 0.025;
+  std::string profile_csv;
   std::string out;
 };
+
+// The chromatic blur's reference wavelength that wave_psf_reach_deg takes its 380 / 575 from.
+constexpr double kBlurReferenceNm = 575.0;
 
 // The control condition has no glare: its PSF is the identity of convolution, a unit pixel at the
 // centre, on the grid and angular scale the glare PSF would have.
@@ -104,6 +121,54 @@ void check_grid(const ApertureGeometry& geometry, const PsfOptions& options, con
   }
 }
 
+
+const SourceLocation kWhere{"psf", 0, 0};
+
+// The angle the wave-optics PSF image holds in every channel: the chromatic blur's reach
+// (hybrid_psf.h, its 380 nm copy on the grid) for a spectral PSF, else half the grid less one pixel.
+double wave_reach_deg(const PsfOptions& options) {
+  const double dpp = psf_degrees_per_pixel(options.wavelength_nm, options.aperture_width_mm);
+  if (!options.spectral) return (0.5 * options.grid_px - 1.0) * dpp;
+  // wave_psf_reach_deg scales by 380 / 575: give it the degrees per pixel at 575 nm, so the reach
+  // is (N/2 - 1) 380 nm / width whatever --wavelength-nm names as the reference.
+  return wave_psf_reach_deg(options.grid_px, dpp * kBlurReferenceNm / options.wavelength_nm);
+}
+
+AnalyticPsf analytic_model(GlareModel model, const PsfArguments& args) {
+  const ObserverEye eye{args.age_years, args.pigmentation};
+  // The adaptation luminance only picks the mixture of the adaptive regime, which psf does not offer.
+  if (model == GlareModel::spencer) return AnalyticPsf::spencer(parse_spencer_regime(args.regime), 1.0, eye);
+  return AnalyticPsf::cie(eye);
+}
+
+// An option the chosen model does not use is refused rather than ignored: a --pigmentation given
+// to Spencer's PSF (which has none) would otherwise look like it made a difference.
+struct ModelOption {
+  const CLI::Option* option;
+  bool applies;
+  const char* to;
+};
+void refuse_unused_options(const std::vector<ModelOption>& options, const std::string& model) {
+  for (const ModelOption& entry : options)
+    if (entry.option->count() > 0 && !entry.applies)
+      throw ConfigError(kWhere, entry.option->get_name(), std::string("applies to ") + entry.to + ", not to --model " + model);
+}
+
+void write_profile(const std::string& path, const std::vector<ProfilePoint>& points) {
+  if (path.empty()) return;
+  write_profile_csv(path, points);
+  std::cout << "psf: wrote " << path << ": " << points.size() << " angles from "
+            << (points.empty() ? 0.0 : points.front().angle_deg) << " to " << (points.empty() ? 0.0 : points.back().angle_deg)
+            << " deg\n";
+}
+
+// The analytic profile at every angle of the CSV, exactly (AnalyticPsf::profile_per_sr).
+std::vector<ProfilePoint> analytic_profile(const AnalyticPsf& psf) {
+  std::vector<ProfilePoint> points;
+  for (double angle : profile_angles_deg()) points.push_back({angle, psf.profile_per_sr(angle)});
+  return points;
+}
+
 }  // namespace
 
 Action add_psf_command(CLI::App& app) {
@@ -116,7 +181,9 @@ Action add_psf_command(CLI::App& app) {
   command->add_flag("--spectral", args->spectral, "Spectral PSF in linear Rec.709 R,G,B (chromatic blur, CIE 1931 weights)");
   command->add_option("--wavelength-samples", args->wavelength_samples, "Wavelength samples over 380-770 nm for --spectral")
       ->check(CLI::Range(1, 1024))->capture_default_str();
-  command->add_option("--grid", args->grid_px, "Aperture and PSF grid size N (even)")
+  command->add_option("--grid", args->grid_px,
+                      "Aperture and PSF grid size N (even); for spencer, cie and hybrid also the side of the image "
+                      "written, at --degrees-per-pixel")
       ->check(CLI::Range(16, 8192))
       ->check(CLI::Validator([](const std::string& text) {
                                // The grid's centre pixel N/2 is the optical axis and the PSF's DC.
@@ -168,10 +235,89 @@ Action add_psf_command(CLI::App& app) {
           },
           "COMPONENTS"))
       ->capture_default_str();
+  command->add_option("--model", args->model,
+                          "Glare model: ritschel (the wave-optics eye above), spencer (Spencer et al. 1995), cie (CIE "
+                          "146:2002), hybrid (the wave-optics eye near the source, an analytic far field beyond)")
+          ->check(CLI::IsMember({"ritschel", "spencer", "cie", "hybrid"}))
+          ->capture_default_str();
+  CLI::Option* regime_option =
+      command->add_option("--regime", args->regime, "Spencer's mixture: photopic (Eq. 5), mesopic (Eq. 8), scotopic (Eq. 9)")
+          ->check(CLI::IsMember({"photopic", "mesopic", "scotopic"}))
+          ->capture_default_str();
+  CLI::Option* age_option =
+      command->add_option("--age-years", args->age_years, "Observer's age (years): Spencer Eq. 10, CIE 146")
+          ->check(finite_number_in(1.0, 100.0, "years"))
+          ->capture_default_str();
+  CLI::Option* pigmentation_option =
+      command->add_option("--pigmentation", args->pigmentation,
+                          "CIE 146 eye pigmentation: 0 very dark eyes, 0.5 brown, 1 blue-green")
+          ->check(finite_number_in(0.0, 1.0, ""))
+          ->capture_default_str();
+  CLI::Option* far_field_option =
+      command->add_option("--far-field", args->far_field, "The hybrid's analytic far field: spencer or cie")
+          ->check(CLI::IsMember({"spencer", "cie"}))
+          ->capture_default_str();
+  CLI::Option* handover_option =
+      command->add_option("--handover-deg", args->handover_deg,
+                          "The hybrid's hand-over annulus INNER,OUTER (degrees from the source; default: from half of 0.9 "
+                          "to 0.9 of the wave PSF's reach, which the outer angle must not pass)")
+          ->delimiter(',')
+          ->expected(2)
+          ->check(finite_positive_number("deg"));
+  CLI::Option* dpp_option =
+      command->add_option("--degrees-per-pixel", args->degrees_per_pixel,
+                          "Angle of the image's centre pixel for spencer, cie and hybrid (a flat display whose pixel "
+                          "subtends it at the line of sight)")
+          ->check(finite_number_in(1e-4, 2.0, "deg"))
+          ->capture_default_str();
+  command->add_option("--profile-csv", args->profile_csv,
+                      "Also write the radial profile (angle_deg,psf_per_sr) at log-spaced angles from 0.01 to 90 deg, "
+                      "20 or more per decade. spencer: the whole P of Eq. 5/8/9 with the halo at 568 nm; cie: the CIE "
+                      "formula (the scattered light); ritschel, hybrid: the azimuthal mean of the image's pixel "
+                      "densities (value / solid angle; R,G,B by Rec.709 luminance weights) on 1-pixel rings, at the "
+                      "angles the image reaches")
+      ->check(file_extension_in({".csv"}, "the profile file"));
   // EXR only: the PSF is linear data summing to 1, which an 8-bit PNG would round to nothing.
-  command->add_option("--out", args->out, "Output EXR file")->required()->check(file_extension_in({".exr"}, "the PSF file"));
+  command->add_option("--out", args->out,
+                      "Output EXR file (unit sum per channel; for spencer, cie and hybrid the sum counts only the "
+                      "light within the image). --out, --profile-csv or both.")
+      ->check(file_extension_in({".exr"}, "the PSF file"));
+  std::vector<const CLI::Option*> wave_options;
+  for (const char* name : {"--pupil-diameter-mm", "--wavelength-nm", "--spectral", "--wavelength-samples",
+                           "--aperture-width-mm", "--supersampling", "--fresnel", "--defocus-dioptres", "--backend",
+                           "--gratings", "--mode", "--time-s", "--seed", "--components"})
+    wave_options.push_back(command->get_option(name));
   return [=]() {
     return report_errors([&]() {
+      if (args->out.empty() && args->profile_csv.empty())
+        throw ConfigError({"--out", 0, 0}, "out", "nothing to write: give --out FILE.exr, --profile-csv FILE.csv or both");
+      const GlareModel model = parse_glare_model(args->model);
+      const bool analytic = model == GlareModel::spencer || model == GlareModel::cie;
+      const GlareModel far_model = model == GlareModel::hybrid ? parse_glare_model(args->far_field) : model;
+      std::vector<ModelOption> checks = {
+          {regime_option, far_model == GlareModel::spencer, "Spencer's PSF (--model spencer, or hybrid with --far-field spencer)"},
+          {age_option, model != GlareModel::ritschel, "the analytic models (--model spencer, cie or hybrid)"},
+          {pigmentation_option, far_model == GlareModel::cie, "the CIE PSF (--model cie, or hybrid with --far-field cie)"},
+          {far_field_option, model == GlareModel::hybrid, "--model hybrid"},
+          {handover_option, model == GlareModel::hybrid, "--model hybrid"},
+          {dpp_option, model != GlareModel::ritschel, "the images of --model spencer, cie and hybrid"}};
+      for (const CLI::Option* option : wave_options)
+        checks.push_back({option, !analytic, "the wave-optics eye (--model ritschel or hybrid)"});
+      refuse_unused_options(checks, args->model);
+      if (analytic) {
+        // --grid must be even already; the image is the analytic kernel on a flat display.
+        const AnalyticPsf psf = analytic_model(model, *args);
+        if (!args->out.empty()) {
+          const Psf image = analytic_psf_image(psf, args->degrees_per_pixel, args->grid_px);
+          write_psf_exr(args->out, image);
+          std::cout << "psf: wrote " << args->out << ": " << args->model << " (age " << args->age_years << " years"
+                    << (model == GlareModel::spencer ? ", " + args->regime : ", pigmentation " + text(args->pigmentation))
+                    << "), " << image.size_px << "x" << image.size_px << " px, " << (image.channels == 1 ? "Y" : "R,G,B")
+                    << ", " << image.degrees_per_pixel << " deg/px at the centre, unit sum within the image\n";
+        }
+        write_profile(args->profile_csv, analytic_profile(psf));
+        return 0;
+      }
       ApertureGeometry geometry;
       geometry.pupil_diameter_mm = args->pupil_diameter_mm;
       geometry.defocus_dioptres = args->defocus_dioptres;
@@ -208,6 +354,26 @@ Action add_psf_command(CLI::App& app) {
       options.phase = parse_phase_form(args->fresnel);
       check_grid(geometry, options,
                  args->mode.empty() || pupil_option->count() > 0 ? "--pupil-diameter-mm" : "the eye model at --time-s");
+      const double reach_deg = wave_reach_deg(options);
+      HybridHandover handover;
+      if (model == GlareModel::hybrid) {
+        // Everything the hybrid can refuse is refused here, before any PSF is computed.
+        try {
+          check_psf_fits_display(options.grid_px, psf_degrees_per_pixel(options.wavelength_nm, options.aperture_width_mm),
+                                 args->degrees_per_pixel);
+        } catch (const PsfScaleError& error) {
+          throw ConfigError(kWhere, "--degrees-per-pixel", error.what());
+        }
+        handover = args->handover_deg.empty() ? default_handover(reach_deg)
+                                              : HybridHandover{args->handover_deg[0], args->handover_deg[1]};
+        try {
+          check_handover(handover, reach_deg);
+        } catch (const HandoverError& error) {
+          throw ConfigError(kWhere, "--handover-deg", std::string(error.what()) + " (--grid " +
+                                                          std::to_string(options.grid_px) + ", --aperture-width-mm " +
+                                                          text(options.aperture_width_mm) + ")");
+        }
+      }
       GlareBackendChoice choice = create_glare_backend(args->backend, {.gl_context = gl::compute_context_factory()});
       std::cout << "psf: " << choice.reason << "\n";
       Psf psf;
@@ -224,10 +390,35 @@ Action add_psf_command(CLI::App& app) {
         }
         if (!choice.backend->last_warning().empty()) std::cerr << "warning: " << choice.backend->last_warning() << "\n";
       }
-      write_psf_exr(args->out, psf);
-      std::cout << "psf: wrote " << args->out << ": " << psf.size_px << "x" << psf.size_px << " px, "
+      if (model == GlareModel::hybrid) {
+        const Psf wave_display = resample_psf_to_display(psf, args->degrees_per_pixel);
+        const DisplayGeometry display = flat_display_geometry(args->degrees_per_pixel);
+        const AnalyticPsf far_psf = analytic_model(far_model, *args);
+        const int half = args->grid_px / 2;
+        const DisplayKernel kernel = analytic_display_kernel(far_psf, display, half, half, 2);
+        const HandoverPixels handover_px = handover_pixels(handover, display);
+        Psf near;
+        try {
+          near = hybrid_near_psf(wave_display, analytic_energy_inside(kernel, handover_px), handover_px);
+        } catch (const HandoverError& error) {
+          throw ConfigError(kWhere, "--handover-deg", error.what());
+        }
+        const Psf image = hybrid_psf_image(near, hybrid_far_kernel(kernel, handover_px), args->degrees_per_pixel, args->grid_px);
+        if (!args->out.empty()) write_psf_exr(args->out, image);
+        if (!args->out.empty()) std::cout << "psf: wrote " << args->out << ": hybrid, the wave-optics eye to " << handover.inner_deg
+                  << " deg, blended into " << args->far_field << " (age " << args->age_years << " years) by "
+                  << handover.outer_deg << " deg; " << image.size_px << "x" << image.size_px << " px, R,G,B, "
+                  << image.degrees_per_pixel << " deg/px at the centre, unit sum within the image\n";
+        // The image holds near + far out to its edge: its reach is the image's (half its side less a pixel).
+        write_profile(args->profile_csv,
+                      image_profile_per_sr(image, PixelLayout::flat_display, profile_angles_deg(), kProfileLastAngleDeg));
+        return 0;
+      }
+      if (!args->out.empty()) write_psf_exr(args->out, psf);
+      if (!args->out.empty()) std::cout << "psf: wrote " << args->out << ": " << psf.size_px << "x" << psf.size_px << " px, "
                 << (psf.channels == 1 ? "Y" : "R,G,B") << ", " << psf.degrees_per_pixel << " deg/px, pupil "
                 << geometry.pupil_diameter_mm << " mm, fresnel " << args->fresnel << ", backend " << choice.backend->name() << "\n";
+      write_profile(args->profile_csv, image_profile_per_sr(psf, PixelLayout::uniform_angle, profile_angles_deg(), reach_deg));
       return 0;
     });
   };

@@ -1,0 +1,50 @@
+#pragma once
+// Speed against error of the analytic glare (`glarelab bench`, issue of Spencer 1995's model): a
+// full-screen HDR frame (default 1920 x 1080, a dim room with lamps) convolved with the analytic
+// PSF over the whole display on the planned float32 path, beside
+//   - the FFTW floor of the same size in the same run: the 3 forward and 3 inverse real 2D
+//     transforms of the padded frame (plans made once, the same threads), which any FFT
+//     convolution of an RGB frame must do;
+//   - its error against the float64 convolution with the same kernel (max over pixels of
+//     |float32 - float64| / the frame's largest glared value, and relative L2);
+//   - the one-off cost of integrating the kernel over the display's pixels, and the memory of the
+//     kept spectra;
+// and the hybrid eye's frame against the plain Ritschel frame on the same display (dynamic eye,
+// each frame at a new time), through the glare stage a session uses.
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace glarelab {
+
+struct AnalyticBenchmarkOptions {
+  int width_px = 1920, height_px = 1080;
+  double viewing_distance_mm = 600.0, pixel_pitch_mm = 0.25;
+  int frames = 5;              // timed frames, the fastest kept
+  int ritschel_grid_px = 256;  // the wave-optics grid of the hybrid comparison
+  std::function<void(const std::string&)> progress;
+};
+
+struct AnalyticBenchmarkRow {
+  std::string model;         // "spencer mesopic", "spencer adaptive", "cie"
+  double kernel_build_s = 0.0;
+  double frame_s = 0.0;      // fastest frame
+  double floor_s = 0.0;      // FFTW floor, same size and threads
+  double max_error = 0.0;    // max |f32 - f64| / max(f64)
+  double l2_error = 0.0;     // relative L2
+  double memory_mib = 0.0;   // spectra kept
+  int fft_cols = 0, fft_rows = 0;
+};
+
+struct AnalyticBenchmarkResult {
+  int width_px = 0, height_px = 0, threads = 0;
+  std::vector<AnalyticBenchmarkRow> rows;
+  double ritschel_frame_s = 0.0;  // plain Ritschel dynamic frame through the glare stage
+  double hybrid_frame_s = 0.0;    // hybrid (Spencer far field) dynamic frame
+  double hybrid_setup_s = 0.0;    // the hybrid's far kernel, once per session
+};
+
+AnalyticBenchmarkResult run_analytic_benchmark(const AnalyticBenchmarkOptions& options);
+std::string format_analytic_benchmark(const AnalyticBenchmarkResult& result);
+
+}  // namespace glarelab
