@@ -30,6 +30,17 @@ double glare_gain_of(const LoadedTrial& trial) {
   return number_of(trial, "glare_gain").value_or(1.0);
 }
 
+// The fit's messages speak of correct and incorrect answers; in a PSE fit the "correct" answer is
+// "comparison brighter" and the other "reference brighter".
+std::string in_pse_words(std::string text) {
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"incorrect", "'reference brighter'"},
+                                 std::pair<std::string, std::string>{" correct", " 'comparison brighter'"}}) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
 }  // namespace
 
 bool is_pse_trial(const LoadedTrial& trial) {
@@ -112,7 +123,7 @@ PseAnalysis analyse_pse(const LoadedData& data, const PseOptions& options) {
       track.pse_fraction = track.fit.threshold;
       track.pse_interval = track.fit.threshold_ci;
     } else {
-      track.note = "no fit (" + track.fit.unavailable + ")";
+      track.note = "no fit (" + in_pse_words(track.fit.unavailable) + ")";
       if (track.reversal_mean_fraction) {
         track.pse_fraction = track.reversal_mean_fraction;
         track.pse_from_reversals = true;
