@@ -8,6 +8,7 @@
 #include "analysis/adjustment_analysis.h"
 #include "analysis/forced_choice_analysis.h"
 #include "analysis/loaded_database.h"
+#include "analysis/pse_analysis.h"
 #include "analysis/rating_analysis.h"
 #include "analysis/staircase_analysis.h"
 #include "analysis/timing_quality.h"
@@ -34,6 +35,7 @@ struct AnalysisReport {
   AnalysisOptions options;
   ForcedChoiceAnalysis forced_choice;
   std::vector<StaircaseResult> staircases;
+  PseAnalysis pse;  // PSE staircases (response_rule = "pse")
   AdjustmentAnalysis adjustments;
   RatingAnalysis ratings;
   TimingQuality timing;

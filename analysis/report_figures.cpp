@@ -212,6 +212,56 @@ Figure pupil_figure(const SessionTracker& s, std::size_t index) {
 
 }  // namespace
 
+// Spencer et al. 1995, Figs. 12-13: perceived intensity (the PSE, % of the display's peak) against
+// glare strength, one line per group (with and without context), and the reference's level dashed:
+// where the line would lie if glare had no effect.
+Figure pse_figure(const PseAnalysis& pse) {
+  SvgPlot plot("Perceived intensity against glare strength (95% intervals)", "glare strength (glare_gain)",
+               "perceived intensity (% of display peak)", 620, 360);
+  double x_low = kInf, x_high = -kInf, y_low = kInf, y_high = -kInf;
+  for (const PsePoint& p : pse.points) {
+    x_low = std::min(x_low, p.glare_gain), x_high = std::max(x_high, p.glare_gain);
+    y_low = std::min(y_low, 100.0 * (p.interval ? p.interval->low : p.mean_pse_fraction));
+    y_high = std::max(y_high, 100.0 * (p.interval ? p.interval->high : p.mean_pse_fraction));
+  }
+  if (pse.reference_fraction) {
+    y_low = std::min(y_low, 100.0 * *pse.reference_fraction);
+    y_high = std::max(y_high, 100.0 * *pse.reference_fraction);
+  }
+  if (pse.points.empty()) {
+    plot.note("no PSE could be fitted");
+    return {"pse", "pse", "Perceived intensity against glare strength.", plot.svg()};
+  }
+  const double x_pad = 0.05 * std::max(x_high - x_low, 1.0);
+  plot.set_x_range(x_low - x_pad, x_high + x_pad);
+  plot.set_y_range(std::max(0.0, y_low - 5.0), std::min(100.0, y_high + 5.0) + 1e-9);
+  if (pse.reference_fraction) {
+    plot.line({x_low - x_pad, x_high + x_pad}, {100.0 * *pse.reference_fraction, 100.0 * *pse.reference_fraction}, "#888",
+              1.5, true);
+    plot.legend("no glare effect (the glare image's maximum)", "#888");
+  }
+  std::vector<std::string> groups;
+  for (const PsePoint& p : pse.points)
+    if (std::find(groups.begin(), groups.end(), p.group) == groups.end()) groups.push_back(p.group);
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    std::vector<double> x, y;
+    for (const PsePoint& p : pse.points) {
+      if (p.group != groups[g]) continue;
+      x.push_back(p.glare_gain);
+      y.push_back(100.0 * p.mean_pse_fraction);
+      if (p.interval) plot.error_bar(p.glare_gain, 100.0 * p.interval->low, 100.0 * p.interval->high, series_colour(g));
+    }
+    plot.line(x, y, series_colour(g));
+    plot.markers(x, y, series_colour(g));
+    plot.legend(groups[g].empty() ? "all trials" : groups[g], series_colour(g));
+  }
+  return {"pse", "pse",
+          "Point of subjective equality (comparison disc as bright as the glare image) against glare strength, per group; "
+          "dashed: the glare image's maximum, where the points would lie if glare had no effect (Spencer et al. 1995, "
+          "Figs. 12-13).",
+          plot.svg()};
+}
+
 std::vector<Figure> draw_figures(const AnalysisReport& report) {
   std::vector<Figure> figures;
   if (!report.forced_choice.empty()) figures.push_back(forced_choice_figure(report.forced_choice));
@@ -219,6 +269,7 @@ std::vector<Figure> draw_figures(const AnalysisReport& report) {
     figures.push_back(staircase_track_figure(report.staircases[i], i + 1));
     figures.push_back(psychometric_figure(report.staircases[i], i + 1));
   }
+  if (!report.pse.tracks.empty()) figures.push_back(pse_figure(report.pse));
   if (!report.adjustments.empty()) figures.push_back(adjustment_figure(report.adjustments));
   for (std::size_t i = 0; i < report.ratings.conditions.size(); ++i) {
     figures.push_back(rating_figure(report.ratings.conditions[i], i + 1));

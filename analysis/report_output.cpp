@@ -169,6 +169,37 @@ std::string render_html(const AnalysisReport& report) {
     html_figures(out, report, "staircase");
   }
 
+  if (!report.pse.tracks.empty()) {
+    out << "<h2>Points of subjective equality</h2>\n<p>PSE: the comparison luminance (fraction of the display's peak) "
+           "at which a maximum-likelihood cumulative normal fitted to P(comparison brighter) over the answers naming a "
+           "side crosses 1/2 (no guess or lapse rate; 'neither' answers left out), with its 95% parametric bootstrap "
+           "interval (" << report.options.bootstrap_samples << " samples); beside it the mean at the last "
+        << report.options.last_reversals << " reversals, which stands in for the PSE when the fit is not identifiable "
+           "(a short track whose answers separate perfectly). Per group and glare strength: the mean over participants (one "
+           "participant: the bootstrap interval; several: mean &plusmn; t SE).</p>\n";
+    out << "<table><tr><th>participant</th><th>track</th><th>group</th><th>glare gain</th><th>reference</th><th>trials</th>"
+           "<th>neither</th><th>PSE</th><th>95% interval</th><th>reversal mean</th></tr>\n";
+    for (const PseTrack& t : report.pse.tracks) {
+      out << "<tr>" << cell(t.participant_label) << cell(t.name) << cell(t.group) << cell(general(t.glare_gain))
+          << cell(general(t.reference_fraction)) << cell(std::to_string(t.trials)) << cell(std::to_string(t.neither))
+          << cell(t.pse_fraction ? general(*t.pse_fraction) + (t.note.empty() ? "" : "; " + t.note) : t.note)
+          << cell(t.pse_interval ? general(t.pse_interval->low) + " to " + general(t.pse_interval->high) : "-")
+          << cell(t.reversal_mean_fraction ? general(*t.reversal_mean_fraction) + " (last " +
+                                                 std::to_string(t.reversals_used) + ")"
+                                           : "-")
+          << "</tr>\n";
+    }
+    out << "</table>\n<table><tr><th>group</th><th>glare gain</th><th>participants</th><th>mean PSE</th>"
+           "<th>95% interval</th></tr>\n";
+    for (const PsePoint& p : report.pse.points) {
+      out << "<tr>" << cell(p.group) << cell(general(p.glare_gain)) << cell(std::to_string(p.participants))
+          << cell(general(p.mean_pse_fraction))
+          << cell(p.interval ? general(p.interval->low) + " to " + general(p.interval->high) : "-") << "</tr>\n";
+    }
+    out << "</table>\n";
+    html_figures(out, report, "pse");
+  }
+
   if (!report.adjustments.empty()) {
     const AdjustmentAnalysis& a = report.adjustments;
     out << "<h2>Double adjustment</h2>\n<p>Perceived luminance (mean of the adjusted spots), mean and standard error over "
@@ -268,6 +299,16 @@ std::string render_terminal_summary(const AnalysisReport& report) {
       out << s.threshold_note;
     }
     if (!s.fits.empty()) out << "; " << fit_sentence(s.fits.front());
+    out << "\n";
+  }
+  for (const PseTrack& t : report.pse.tracks) {
+    out << "  pse " << t.participant_label << " " << t.name << " (glare gain " << general(t.glare_gain) << "): ";
+    if (t.pse_fraction) {
+      out << "PSE " << general(*t.pse_fraction) << " of peak";
+      if (t.pse_interval) out << " [" << general(t.pse_interval->low) << ", " << general(t.pse_interval->high) << "]";
+    }
+    if (!t.note.empty()) out << (t.pse_fraction ? " (" + t.note + ")" : t.note);
+    if (t.reversal_mean_fraction && !t.pse_from_reversals) out << "; reversal mean " << general(*t.reversal_mean_fraction);
     out << "\n";
   }
   for (const AdjustmentAnova& anova : report.adjustments.anovas) {

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "analysis/parallel_jobs.h"
+#include "analysis/pse_analysis.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -43,6 +44,7 @@ std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const St
     for (const LoadedTrial& trial : session.trials) {
       const TrialRecord& r = trial.record;
       if (r.procedure != "staircase" && r.procedure != "quest") continue;
+      if (is_pse_trial(trial)) continue;  // unscored appearance judgements: analysis/pse_analysis.h
       std::string name = r.staircase;
       if (name.empty()) {
         const std::string* condition_name = trial.condition_value("name");

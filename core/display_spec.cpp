@@ -10,4 +10,9 @@ double centred_span_deg(const DisplaySpec& display, double pixels) {
   return 2.0 * std::atan(half_extent_mm / display.viewing_distance_mm) * (180.0 / std::numbers::pi);
 }
 
+double centred_span_px(const DisplaySpec& display, double degrees) {
+  return 2.0 * display.viewing_distance_mm * std::tan(0.5 * degrees * (std::numbers::pi / 180.0)) /
+         display.pixel_pitch_mm;
+}
+
 }  // namespace glarelab

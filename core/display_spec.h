@@ -25,5 +25,8 @@ struct DisplaySpec {
 // Visual angle (degrees) of a span of `pixels` centred on the line of sight:
 // 2 atan(pixels * pitch / 2d).
 double centred_span_deg(const DisplaySpec& display, double pixels);
+// The inverse: pixels of a span centred on the line of sight that subtends `degrees`,
+// 2 d tan(degrees / 2) / pitch (not rounded).
+double centred_span_px(const DisplaySpec& display, double degrees);
 
 }  // namespace glarelab

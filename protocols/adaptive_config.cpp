@@ -429,10 +429,64 @@ void read_track(TableReader& reader, TableReader* defaults, const std::string& p
   }
 }
 
+// glare_on, response_rule and tracks_per_condition: how the tracks show their rows and read the
+// answers.
+void read_track_layout_keys(TableReader& procedure, Experiment& experiment) {
+  AdaptiveSpec& adaptive = experiment.adaptive;
+  if (const std::optional<std::string> glare_on = procedure.string("glare_on")) {
+    if (*glare_on == "reference") adaptive.glare_reference_only = true;
+    else if (*glare_on != "frame")
+      procedure.fail("glare_on", "unsupported value '" + *glare_on + "' (supported: 'frame', 'reference')");
+  }
+  if (const std::optional<bool> keep = procedure.boolean("glare_keeps_peak")) {
+    if (*keep && !adaptive.glare_reference_only)
+      procedure.fail("glare_keeps_peak", "keeps the glared reference's peak: needs glare_on = \"reference\"");
+    adaptive.glare_keeps_peak = *keep;
+  }
+  const bool one_row_per_track = experiment.procedure == "staircase" || experiment.procedure == "quest";
+  if (const std::optional<std::string> rule = procedure.string("response_rule")) {
+    if (*rule == "pse") {
+      if (experiment.procedure != "staircase")
+        procedure.fail("response_rule", "response_rule = \"pse\" is a staircase's rule (type = \"staircase\")");
+      adaptive.response_rule = AdaptiveResponseRule::pse;
+    } else if (*rule != "correct") {
+      procedure.fail("response_rule", "unsupported rule '" + *rule + "' (supported: 'correct', 'pse')");
+    }
+  }
+  if (const std::optional<bool> per_condition = procedure.boolean("tracks_per_condition")) {
+    if (*per_condition && !one_row_per_track)
+      procedure.fail("tracks_per_condition", "for staircase and quest; QUEST+ tracks choose their rows themselves");
+    adaptive.tracks_per_condition = *per_condition;
+    adaptive.tracks_per_condition_where = procedure.value_location("tracks_per_condition");
+  }
+}
+
+// The PSE rule turns the track at "neither" and steps on every answer: only 1-up/1-down
+// converges on equality (n-down > 1 would converge on the point where the comparison is called
+// brighter on 70.7 % of the answers naming a side). The track's range must be bounded: the first
+// "neither" steps toward the middle of [min_value, max_value].
+void check_pse_track(TableReader& reader, TableReader* defaults, const StaircaseSpec& spec) {
+  const auto fail = [&](std::string_view key, const std::string& message) {
+    if (reader.node(key) != nullptr) reader.fail(key, message);
+    if (defaults != nullptr && defaults->node(key) != nullptr) defaults->fail(key, message);
+    reader.fail(key, message);
+  };
+  if (spec.n_up != 1) fail("n_up", "response_rule = \"pse\" needs n_up = 1 (1-up/1-down converges on equality)");
+  if (spec.n_down != 1) fail("n_down", "response_rule = \"pse\" needs n_down = 1 (1-up/1-down converges on equality)");
+  if (!spec.min_value) fail("min_value", "response_rule = \"pse\" needs min_value (the comparison's range, e.g. 0 cd/m2)");
+  if (!spec.max_value)
+    fail("max_value", "response_rule = \"pse\" needs max_value (the comparison's range, e.g. the display's peak)");
+  if (spec.start_value < *spec.min_value || spec.start_value > *spec.max_value)
+    fail("start_intensity", "must lie in [min_value, max_value]");
+}
+
 }  // namespace
+
+std::string to_string(AdaptiveResponseRule rule) { return rule == AdaptiveResponseRule::pse ? "pse" : "correct"; }
 
 void read_adaptive_procedure(TableReader& procedure, Experiment& experiment) {
   AdaptiveSpec& adaptive = experiment.adaptive;
+  read_track_layout_keys(procedure, experiment);
   if (experiment.procedure == "quest_plus" || experiment.procedure == "psi") {
     read_quest_plus_tracks(procedure, experiment);
     return;
@@ -455,6 +509,9 @@ void read_adaptive_procedure(TableReader& procedure, Experiment& experiment) {
   if (tracks == nullptr) {
     AdaptiveTrackSpec track = defaults;
     read_track(procedure, nullptr, experiment.procedure, track, reversals_given);
+    if (adaptive.response_rule == AdaptiveResponseRule::pse) check_pse_track(procedure, nullptr, track.staircase);
+    if (adaptive.tracks_per_condition && !track.condition.empty())
+      procedure.fail("condition", "tracks_per_condition runs the track for every condition row; remove condition");
     adaptive.tracks.push_back(std::move(track));
     return;
   }
@@ -473,9 +530,36 @@ void read_adaptive_procedure(TableReader& procedure, Experiment& experiment) {
       if (other.staircase.name == *name) reader.fail("name", "duplicate staircase name '" + *name + "'");
     track.staircase.name = track.quest.name = *name;
     read_track(reader, &procedure, experiment.procedure, track, reversals_given);
+    if (adaptive.response_rule == AdaptiveResponseRule::pse) check_pse_track(reader, &procedure, track.staircase);
+    if (adaptive.tracks_per_condition && !track.condition.empty()) {
+      if (reader.node("condition") != nullptr)
+        reader.fail("condition", "tracks_per_condition runs every track for every condition row; remove condition");
+      procedure.fail("condition", "tracks_per_condition runs every track for every condition row; remove condition");
+    }
     reader.report_unused();
     adaptive.tracks.push_back(std::move(track));
   }
+}
+
+void expand_tracks_per_condition(Experiment& experiment) {
+  AdaptiveSpec& adaptive = experiment.adaptive;
+  if (!adaptive.tracks_per_condition) return;
+  std::vector<AdaptiveTrackSpec> expanded;
+  const bool several = adaptive.tracks.size() > 1;
+  for (const ConditionRow& row : experiment.conditions) {
+    for (const AdaptiveTrackSpec& track : adaptive.tracks) {
+      AdaptiveTrackSpec copy = track;
+      copy.condition = row.name();
+      const std::string name = several ? row.name() + "/" + track.staircase.name : row.name();
+      copy.staircase.name = copy.quest.name = name;
+      for (const AdaptiveTrackSpec& other : expanded)
+        if (other.staircase.name == name)
+          throw ConfigError(row.where, "name", "tracks_per_condition: two tracks would be named '" + name + "'");
+      expanded.push_back(std::move(copy));
+    }
+  }
+  adaptive.tracks = std::move(expanded);
+  adaptive.tracks_per_condition = false;
 }
 
 void check_adaptive_conditions(const Experiment& experiment) {

@@ -11,6 +11,11 @@ namespace glarelab {
 // cannot use (e.g. fewer reversals than step sizes) are ConfigErrors at the offending key.
 void read_adaptive_procedure(TableReader& procedure, Experiment& experiment);
 
+// With tracks_per_condition: replaces each track by one per condition row, in table order, named
+// after the row ("ROW", or "ROW/TRACK" with several [[procedure.staircases]] entries), and clears
+// the flag (the stored configuration lists the expanded tracks). Called once conditions are read.
+void expand_tracks_per_condition(Experiment& experiment);
+
 // Checks that every track names an existing condition row (called once conditions are read).
 void check_adaptive_conditions(const Experiment& experiment);
 

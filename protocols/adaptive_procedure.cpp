@@ -6,7 +6,9 @@
 #include <stdexcept>
 
 #include "core/number_text.h"
+#include "protocols/block_design.h"
 #include "protocols/forced_choice.h"
+#include "protocols/glare_config.h"
 #include "protocols/json_text.h"
 #include "core/random.h"
 
@@ -40,6 +42,14 @@ double cell_number(const ConditionRow& row, const std::string& column) {
     throw std::invalid_argument("condition '" + row.name() + "' column '" + column + "': '" + *text +
                                 "' is not a number");
   return value;
+}
+
+// The glare gain of a row: its glare_gain column (a number >= 0), 1 without it.
+double glare_gain_of(const ConditionRow& row) {
+  if (row.find("glare_gain") == nullptr) return 1.0;
+  const double gain = cell_number(row, "glare_gain");
+  if (gain < 0.0) throw std::invalid_argument("condition '" + row.name() + "' column 'glare_gain' must be >= 0");
+  return gain;
 }
 
 // The shortest text that reads back to exactly `value` (posterior summaries are logged in full).
@@ -163,6 +173,29 @@ AdaptiveProcedure::AdaptiveProcedure(const Experiment& experiment, const std::ma
     }
     tracks_.push_back(std::move(track));
   }
+  const DesignSpec& design = experiment.design;
+  if (design.blocks.empty()) {
+    // One group of every track: the order the procedure always had.
+    TrackGroup all;
+    for (std::size_t i = 0; i < tracks_.size(); ++i) all.tracks.push_back(i);
+    all.seed = experiment.seed;
+    groups_.push_back(std::move(all));
+    return;
+  }
+  int position = 0;
+  for (const int index : block_sequence(design, experiment.seed)) {
+    const BlockSpec& block = design.blocks[static_cast<std::size_t>(index)];
+    TrackGroup group;
+    const std::vector<std::size_t> rows = block_rows(experiment, block);
+    for (std::size_t i = 0; i < tracks_.size(); ++i)
+      if (std::find(rows.begin(), rows.end(), tracks_[i].row) != rows.end()) group.tracks.push_back(i);
+    group.seed = block_trial_seed(design, experiment.seed, index);
+    group.shuffled = block.trial_order == TrialOrder::random;
+    // A block without tracks has nothing to show (its rows have no track): it is passed over.
+    if (group.tracks.empty()) continue;
+    group.placement = BlockPlacement{position++, block.name, block.instructions, block.question};
+    groups_.push_back(std::move(group));
+  }
 }
 
 bool AdaptiveProcedure::finished() const {
@@ -190,17 +223,28 @@ const QuestPlus* AdaptiveProcedure::quest_plus(std::size_t track) const {
   return tracks_.at(track).quest_plus ? &*tracks_.at(track).quest_plus : nullptr;
 }
 
-// The same pass scheme as InterleavedStaircases::next (MultiStairHandler._startNewPass).
+bool AdaptiveProcedure::group_finished(const TrackGroup& group) const {
+  return std::all_of(group.tracks.begin(), group.tracks.end(), [&](std::size_t t) { return tracks_[t].finished(); });
+}
+
+// The same pass scheme as InterleavedStaircases::next (MultiStairHandler._startNewPass), within
+// the group (block) running now; the next group starts when all of its tracks are finished.
 std::size_t AdaptiveProcedure::choose_track() {
-  while (!finished()) {
-    if (pass_remaining_.empty()) {
-      for (std::size_t i = 0; i < tracks_.size(); ++i) pass_remaining_.push_back(i);
-      shuffle_in_place(pass_remaining_, CounterRandom(experiment_.seed, RandomStream::staircase),
-                       pass_ * tracks_.size());
-      ++pass_;
+  while (group_ < groups_.size()) {
+    TrackGroup& group = groups_[group_];
+    if (group_finished(group)) {
+      ++group_;
+      continue;
     }
-    const std::size_t candidate = pass_remaining_.front();
-    pass_remaining_.erase(pass_remaining_.begin());
+    if (group.pass_remaining.empty()) {
+      group.pass_remaining = group.tracks;
+      if (group.shuffled)
+        shuffle_in_place(group.pass_remaining, CounterRandom(group.seed, RandomStream::staircase),
+                         group.pass * group.tracks.size());
+      ++group.pass;
+    }
+    const std::size_t candidate = group.pass_remaining.front();
+    group.pass_remaining.erase(group.pass_remaining.begin());
     if (!tracks_[candidate].finished()) return candidate;
   }
   throw std::logic_error("adaptive procedure: all staircases are finished");
@@ -232,6 +276,15 @@ TrialPlan AdaptiveProcedure::next_trial() {
   const double comparison_scale = intensity_cd_m2 / peak_of(peak_cd_m2_, comparison);
   plan.scenes = comparison_left ? std::vector<std::string>{comparison, reference}
                                 : std::vector<std::string>{reference, comparison};
+  const AdaptiveSpec& adaptive = experiment_.adaptive;
+  const GlareMode glare = glare_mode_for(experiment_.glare, row);
+  if (adaptive.glare_reference_only) {
+    // Spencer 1995, section 4: the glare image against a plain disc; the glare follows the
+    // reference to whichever side it was drawn.
+    plan.position_glare = comparison_left ? std::vector<std::string>{"control", to_string(glare)}
+                                          : std::vector<std::string>{to_string(glare), "control"};
+    plan.glare_keeps_peak = adaptive.glare_keeps_peak;
+  }
   plan.scene_scale = comparison_left ? std::vector<double>{comparison_scale, 1.0}
                                      : std::vector<double>{1.0, comparison_scale};
   plan.source_luminance_cd_m2 = comparison_left ? std::vector<double>{intensity_cd_m2, reference_cd_m2}
@@ -239,8 +292,16 @@ TrialPlan AdaptiveProcedure::next_trial() {
   plan.allowed_responses = spec.responses;
   const std::size_t comparison_position = comparison_left ? 0 : 1;
   plan.comparison_positions = {static_cast<int>(comparison_position)};
-  // Relative 1e-9: the same luminance reached by different step paths is still equal.
-  if (std::abs(intensity_cd_m2 - reference_cd_m2) <= 1e-9 * std::max(intensity_cd_m2, reference_cd_m2)) {
+  const bool pse = adaptive.response_rule == AdaptiveResponseRule::pse;
+  const double reference_gain = pse && glare != GlareMode::control ? glare_gain_of(row) : 0.0;
+  if (pse) {
+    // No answer is right: the observer says which looks brighter.
+    plan.appearance_judgement = true;
+    const double comparison_gain = adaptive.glare_reference_only ? 0.0 : reference_gain;
+    plan.position_glare_gain = comparison_left ? std::vector<double>{comparison_gain, reference_gain}
+                                               : std::vector<double>{reference_gain, comparison_gain};
+  } else if (std::abs(intensity_cd_m2 - reference_cd_m2) <= 1e-9 * std::max(intensity_cd_m2, reference_cd_m2)) {
+    // Relative 1e-9: the same luminance reached by different step paths is still equal.
     plan.correct_response = spec.responses.size() == 3 ? spec.responses[2] : spec.responses[comparison_position];
   } else {
     plan.correct_response = spec.responses[intensity_cd_m2 > reference_cd_m2 ? comparison_position
@@ -249,11 +310,31 @@ TrialPlan AdaptiveProcedure::next_trial() {
   plan.intensity = intensity_cd_m2;
   plan.question = spec.question;
   plan.stimulus_frames = spec.stimulus_frames;
+  const TrackGroup& group = groups_[group_];
+  if (!group.placement.block_name.empty()) {
+    BlockPlacement placement = group.placement;
+    if (group.trials_done > 0) placement.screen_text.clear();  // the block's instructions: before its first trial
+    apply_block_placement(placement, false, plan);
+  }
 
   JsonObjectWriter json;
   for (const auto& [column, value] : row.fields) json.add(column, value);
   json.add(positions[0], plan.scenes[0]).add(positions[1], plan.scenes[1]);
   json.add("staircase", track.name);
+  if (!group.placement.block_name.empty()) json.add("block_name", group.placement.block_name);
+  for (std::size_t p = 0; p < plan.position_glare.size(); ++p) json.add(positions[p] + "_glare", plan.position_glare[p]);
+  if (plan.glare_keeps_peak) json.add("glare_keeps_peak", "true");
+  if (pse) {
+    // What the PSE analysis needs (analysis/pse_analysis.h): which side the comparison was on,
+    // the reference's luminance and the display's peak (PSEs are reported as fractions of it).
+    json.add("response_rule", "pse");
+    json.add("comparison_position", positions[comparison_position]);
+    json.add("comparison_response", spec.responses[comparison_position]);
+    json.add("reference_response", spec.responses[1 - comparison_position]);
+    json.add("reference_cd_m2", exact_text(reference_cd_m2));
+    json.add("reference_glare_gain", exact_text(reference_gain));
+    json.add("display_peak_cd_m2", exact_text(experiment_.display.peak_luminance_cd_m2));
+  }
   if (track.quest_plus) {
     // The posterior the stimulus was chosen from (after the track's earlier trials): per
     // parameter its value at the joint mode, marginal mean and SD; thresholds in intensity_unit.
@@ -284,13 +365,37 @@ TrialOutcome AdaptiveProcedure::record_response(const TrialPlan& plan, const Res
   // move; the same track shows the same intensity again on the next trial.
   if (response.value == kTimeoutResponse) {
     ++trials_done_;
+    ++groups_[group_].trials_done;
     return outcome;
   }
   const auto& allowed = plan.allowed_responses;
   if (std::find(allowed.begin(), allowed.end(), response.value) == allowed.end()) return outcome;  // not an answer
+  Track& track = tracks_[*current_];
+  if (plan.appearance_judgement) {
+    // PSE rule: the step follows what looked brighter; no answer is scored.
+    const std::vector<std::string>& responses = experiment_.forced_choice.responses;
+    const auto comparison_position = static_cast<std::size_t>(plan.comparison_positions.at(0));
+    bool step_down = false;
+    if (response.value == responses[comparison_position]) {
+      step_down = true;
+    } else if (response.value == responses[1 - comparison_position]) {
+      step_down = false;
+    } else if (track.last_pse_step_down) {
+      // "Neither": the track has crossed into the band the observer cannot tell apart; turn back.
+      step_down = !*track.last_pse_step_down;
+    } else {
+      const StaircaseSpec& s = track.staircase->spec();
+      step_down = track.staircase->next_intensity() > 0.5 * (*s.min_value + *s.max_value);
+    }
+    track.last_pse_step_down = step_down;
+    outcome.reversal = track.staircase->add_response(step_down) ? 1 : 0;
+    current_.reset();
+    ++trials_done_;
+    ++groups_[group_].trials_done;
+    return outcome;
+  }
   const bool correct = response.value == plan.correct_response;
   outcome.correct = correct ? 1 : 0;
-  Track& track = tracks_[*current_];
   if (track.staircase) {
     outcome.reversal = track.staircase->add_response(correct) ? 1 : 0;
   } else if (track.quest_plus) {
@@ -302,6 +407,7 @@ TrialOutcome AdaptiveProcedure::record_response(const TrialPlan& plan, const Res
   }
   current_.reset();
   ++trials_done_;
+  ++groups_[group_].trials_done;
   return outcome;
 }
 

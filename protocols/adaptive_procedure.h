@@ -7,12 +7,23 @@
 // is correct, and in 2-AFC the comparison's side counts as correct so the track can move on.
 // Several tracks interleave like PsychoPy's MultiStairHandler: passes over the unfinished tracks,
 // each pass in an order shuffled with (seed, RandomStream::staircase).
+// With [[blocks]] (staircase and QUEST) the blocks run one after the other in the participant's
+// block order (protocols/block_design.h), each interleaving the tracks of its own rows until they
+// all finish, its passes shuffled with the block's seed (block_trial_seed) or kept in track order
+// (trial_order = "as_listed").
+// With response_rule = "pse" (Spencer et al. 1995, section 4) a staircase track finds the point of
+// subjective equality: "comparison brighter" steps the comparison down, "reference brighter" up,
+// and "neither" reverses the track's last step (the first "neither" of a track steps toward the
+// middle of [min_value, max_value]); trials are unscored. With glare_on = "reference" the row's
+// glare is applied to the reference's side only (the sides are drawn per trial, so the glare
+// image and the disc swap sides at random).
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "protocols/blocked_design.h"
 #include "protocols/procedure.h"
 #include "protocols/quest.h"
 #include "protocols/quest_plus.h"
@@ -57,6 +68,7 @@ class AdaptiveProcedure : public Procedure {
     std::optional<QuestPlus> quest_plus;
     std::string intensity_unit;              // QUEST+: unit of its intensity grid
     std::vector<std::size_t> quest_plus_rows;  // QUEST+: the row of each point of dimensions 1..
+    std::optional<bool> last_pse_step_down;  // PSE rule: the direction of the track's last step
     bool finished() const {
       return staircase ? staircase->finished() : quest ? quest->finished() : quest_plus->finished();
     }
@@ -65,13 +77,24 @@ class AdaptiveProcedure : public Procedure {
     // The luminance (cd/m2) the comparison shows on the track's next trial.
     double next_luminance_cd_m2() const;
   };
+  // The tracks that run together: every track (no blocks) or one block's.
+  struct TrackGroup {
+    std::vector<std::size_t> tracks;
+    std::uint64_t seed = 0;  // of the shuffle of each pass (RandomStream::staircase)
+    bool shuffled = true;
+    BlockPlacement placement;  // empty without blocks
+    std::uint64_t pass = 0;
+    std::vector<std::size_t> pass_remaining;
+    int trials_done = 0;
+  };
   std::size_t choose_track();
+  bool group_finished(const TrackGroup& group) const;
 
   Experiment experiment_;  // a copy: the procedure may outlive the caller's experiment
   std::map<std::string, double> peak_cd_m2_;
   std::vector<Track> tracks_;
-  std::uint64_t pass_ = 0;
-  std::vector<std::size_t> pass_remaining_;
+  std::vector<TrackGroup> groups_;  // in the order they run
+  std::size_t group_ = 0;           // the group running now
   std::optional<std::size_t> current_;  // the track of the trial planned and not yet answered
   int trials_done_ = 0;
 };

@@ -8,7 +8,35 @@
 namespace glarelab {
 namespace {
 
-const std::vector<std::string> kBlockProcedures = {"forced_choice", "rating", "adjustment"};
+const std::vector<std::string> kBlockProcedures = {"forced_choice", "rating", "adjustment", "staircase", "quest"};
+
+// Staircase and QUEST blocks (protocols/adaptive_procedure.h): a block runs the tracks of its rows
+// interleaved until they finish. A track whose row is in no block would never run, and one whose
+// row is in two would have to be two tracks; repetitions have no meaning for a track that ends
+// when it converges.
+void check_adaptive_blocks(const Experiment& experiment) {
+  const DesignSpec& design = experiment.design;
+  for (const BlockSpec& block : design.blocks)
+    if (block.repetitions)
+      throw ConfigError(block.where, "blocks.repetitions",
+                        "block '" + block.name + "': a " + experiment.procedure +
+                            " block runs its tracks until they finish; repetitions apply to fixed designs");
+  for (const AdaptiveTrackSpec& track : experiment.adaptive.tracks) {
+    const std::string row = track.condition.empty() ? experiment.conditions.front().name() : track.condition;
+    std::vector<std::string> holders;
+    for (const BlockSpec& block : design.blocks)
+      if (block.conditions.empty() || std::find(block.conditions.begin(), block.conditions.end(), row) != block.conditions.end())
+        holders.push_back(block.name);
+    const std::string name = experiment.procedure == "quest" ? track.quest.name : track.staircase.name;
+    if (holders.empty())
+      throw ConfigError(track.where, "condition",
+                        "track '" + name + "' shows condition '" + row + "', which no block lists: it would never run");
+    if (holders.size() > 1)
+      throw ConfigError(track.where, "condition",
+                        "track '" + name + "' shows condition '" + row + "', which blocks '" + holders[0] + "' and '" +
+                            holders[1] + "' both list: a track runs in one block");
+  }
+}
 
 }  // namespace
 
@@ -94,11 +122,10 @@ void check_blocks(const Experiment& experiment) {
     return;
   }
   if (std::find(kBlockProcedures.begin(), kBlockProcedures.end(), experiment.procedure) == kBlockProcedures.end()) {
-    // Adaptive tracks end when they converge, not after a planned number of trials: they are
-    // interleaved within one run ([[procedure.staircases]]), not split into blocks.
+    // QUEST+ tracks choose among several rows themselves: a block could not split them.
     throw ConfigError(design.blocks.front().where, "blocks",
-                      "[[blocks]] apply to forced_choice, rating and adjustment; a " + experiment.procedure +
-                          " interleaves its tracks with [[procedure.staircases]] instead");
+                      "[[blocks]] apply to forced_choice, rating, adjustment, staircase and quest; a " +
+                          experiment.procedure + " interleaves its tracks with [[procedure.staircases]] instead");
   }
   if (design.block_order == BlockOrder::counterbalanced &&
       design.blocks.size() > static_cast<std::size_t>(kMaxCounterbalancedBlocks))
@@ -120,6 +147,7 @@ void check_blocks(const Experiment& experiment) {
                             "block '" + block.name + "' names condition '" + name + "' twice (use repetitions)");
     }
   }
+  if (experiment.procedure == "staircase" || experiment.procedure == "quest") check_adaptive_blocks(experiment);
 }
 
 void insert_block_keys(const DesignSpec& design, toml::table& procedure) {

@@ -69,9 +69,35 @@ struct AdaptiveTrackSpec {
   SourceLocation where;
 };
 
+// How an answer moves a staircase ([procedure] response_rule; docs/PROCEDURES.md, "PSE
+// staircases"):
+// - correct: the answer is scored against the brighter source and the track converges on a
+//   threshold of seeing the difference (n-up/m-down);
+// - pse: the answer is an appearance judgement without a right answer (Spencer et al. 1995,
+//   section 4: "Image A Brighter", "Image B Brighter", "Neither"): "comparison brighter" steps the
+//   comparison down, "reference brighter" steps it up, "neither" turns the track around (it has
+//   crossed into the band the observer cannot tell apart), so a 1-up/1-down track oscillates
+//   around the point of subjective equality (PSE).
+enum class AdaptiveResponseRule { correct, pse };
+std::string to_string(AdaptiveResponseRule rule);
+
 struct AdaptiveSpec {
   std::vector<AdaptiveTrackSpec> tracks;  // interleaved when more than one
   int threshold_reversals = 6;  // staircase threshold: mean of the last k reversal intensities
+  AdaptiveResponseRule response_rule = AdaptiveResponseRule::correct;
+  // [procedure] glare_on = "reference": the condition's glare is applied to the reference side only
+  // and the comparison is shown without glare (Spencer 1995: the glare image against a plain
+  // disc); "frame" (default): to the whole frame.
+  bool glare_reference_only = false;
+  // [procedure] glare_keeps_peak = true (with glare_on = "reference"): the glared reference is
+  // scaled so that its brightest pixel is the reference scene's peak (stimuli/position_glare.h,
+  // GlareLayer::keep_peak): Spencer's glare image peaks at 75 % of the display whatever its glare.
+  bool glare_keeps_peak = false;
+  // [procedure] tracks_per_condition = true: every track ([procedure] or each
+  // [[procedure.staircases]] entry) runs once per condition row (expand_tracks_per_condition in
+  // protocols/adaptive_config.h); false once expanded.
+  bool tracks_per_condition = false;
+  SourceLocation tracks_per_condition_where;
 };
 
 // Likert ratings (Luidolt 2020, section 7.2): every condition row's scene rated on every named
@@ -107,6 +133,14 @@ struct SimulatedObserverSpec {
   double match_sd_log10 = 0.05;
   // Choices between two conditions without a right answer (protocols/observer_preferences.h).
   std::vector<ConditionPreference> preferences;
+  // Appearance judgements of a PSE staircase (Spencer et al. 1995, section 4): a source shown
+  // with glare gain g looks (1 + glare_brightening_per_gain g) times its luminance; the observer
+  // compares the perceived log10 luminances of the two sides with Gaussian noise of SD
+  // appearance_sd_log10 and answers "neither" when the noisy difference is within
+  // +-neither_band_log10. The PSE of a source at L is then L (1 + k g) exactly.
+  double glare_brightening_per_gain = 0.0;
+  double appearance_sd_log10 = 0.03;
+  double neither_band_log10 = 0.02;
 };
 
 struct Experiment {

@@ -16,6 +16,7 @@
 #include "protocols/block_config.h"
 #include "protocols/csv_table.h"
 #include "protocols/forced_choice.h"
+#include "protocols/generated_scene_config.h"
 #include "protocols/pair_design.h"
 #include "protocols/rating_procedure.h"
 #include "protocols/stimulus_duration.h"
@@ -151,7 +152,7 @@ void read_scenes_section(TableReader& top, Experiment& experiment, const std::st
   for (const auto& [key, node] : table) {
     const std::string name(key.str());
     if (!node.is_table()) {
-      scenes.fail(name, "expected a table such as { file = \"scene.exr\", scale_cd_m2 = 1.0 }, found " +
+      scenes.fail(name, "expected a table such as { file = \"scene.exr\", scale_cd_m2 = 1.0 } or { generator = ... }, found " +
                             describe_toml_type(node));
     }
     if (name.empty()) scenes.fail_at_key(name, "scene names must not be empty");
@@ -159,6 +160,12 @@ void read_scenes_section(TableReader& top, Experiment& experiment, const std::st
     SceneSpec scene;
     scene.name = name;
     scene.where = to_location(key.source(), top.file());
+    if (reader.node("generator") != nullptr) {
+      scene.generated = read_generated_scene(reader, experiment.display);
+      reader.report_unused();
+      experiment.scenes.emplace(name, std::move(scene));
+      continue;
+    }
     const std::optional<std::string> file = reader.string("file");
     if (!file) reader.fail("file", "missing required key (the OpenEXR image of scene '" + name + "')");
     if (file->empty()) reader.fail("file", "must not be empty");
@@ -261,6 +268,10 @@ ObserverEye read_observer_section(TableReader& top, Experiment& experiment) {
   spec.rating_sd = reader.non_negative_number("rating_sd", spec.rating_sd);
   spec.match_sd_log10 = reader.non_negative_number("match_sd_log10", spec.match_sd_log10);
   spec.preferences = read_preferences(reader);
+  spec.glare_brightening_per_gain =
+      reader.number_in_range("glare_brightening_per_gain", spec.glare_brightening_per_gain, 0.0, 100.0);
+  spec.appearance_sd_log10 = reader.number_in_range("appearance_sd_log10", spec.appearance_sd_log10, 1e-6, 10.0);
+  spec.neither_band_log10 = reader.number_in_range("neither_band_log10", spec.neither_band_log10, 0.0, 10.0);
   reader.report_unused();
   return eye;
 }
@@ -496,8 +507,10 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
     experiment.conditions.push_back(std::move(located.row));
   }
   if (experiment.procedure == "staircase" || experiment.procedure == "quest" || experiment.procedure == "quest_plus" ||
-      experiment.procedure == "psi")
+      experiment.procedure == "psi") {
+    expand_tracks_per_condition(experiment);
     check_adaptive_conditions(experiment);
+  }
   check_blocks(experiment);
   check_preferences(experiment);
   return experiment;

@@ -12,6 +12,7 @@
 
 #include "protocols/block_config.h"
 #include "protocols/experiment.h"
+#include "protocols/generated_scene_config.h"
 
 namespace glarelab {
 namespace {
@@ -166,7 +167,8 @@ std::string resolved_config_toml(const Experiment& experiment) {
 
   out << "[scenes]\n";
   for (const auto& [name, scene] : experiment.scenes) {
-    toml::table entry{{"file", scene.file}, {"scale_cd_m2", scene.scale_cd_m2}};
+    toml::table entry = scene.generated ? generated_scene_toml(*scene.generated)
+                                        : toml::table{{"file", scene.file}, {"scale_cd_m2", scene.scale_cd_m2}};
     entry.is_inline(true);
     out << toml_key(name) << " = " << entry << "\n";
   }
@@ -210,6 +212,11 @@ std::string resolved_config_toml(const Experiment& experiment) {
              experiment.procedure == "quest_plus" || experiment.procedure == "psi") {
     if (experiment.procedure == "staircase" || experiment.procedure == "quest")
       procedure.insert("threshold_reversals", experiment.adaptive.threshold_reversals);
+    // Written only when not the default, so configurations stored before these keys read the same.
+    if (experiment.adaptive.response_rule != AdaptiveResponseRule::correct)
+      procedure.insert("response_rule", to_string(experiment.adaptive.response_rule));
+    if (experiment.adaptive.glare_reference_only) procedure.insert("glare_on", "reference");
+    if (experiment.adaptive.glare_keeps_peak) procedure.insert("glare_keeps_peak", true);
     toml::array tracks;
     for (const AdaptiveTrackSpec& track : experiment.adaptive.tracks) tracks.push_back(adaptive_track_table(experiment, track));
     procedure.insert("staircases", std::move(tracks));
@@ -223,7 +230,10 @@ std::string resolved_config_toml(const Experiment& experiment) {
                         {"lapse", observer.lapse},
                         {"response_time_median_s", observer.response_time_median_s},
                         {"rating_sd", observer.rating_sd},
-                        {"match_sd_log10", observer.match_sd_log10}};
+                        {"match_sd_log10", observer.match_sd_log10},
+                        {"glare_brightening_per_gain", observer.glare_brightening_per_gain},
+                        {"appearance_sd_log10", observer.appearance_sd_log10},
+                        {"neither_band_log10", observer.neither_band_log10}};
   if (!observer.preferences.empty()) simulated.insert("preferences", preferences_toml(observer.preferences));
   const ObserverEye& eye = experiment.glare.observer_eye;
   print_section(out, "observer",

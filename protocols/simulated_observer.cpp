@@ -46,6 +46,8 @@ class SimulatedObserver : public Observer {
       const double rating = std::round(*plan.simulated_rating_mean + spec_.rating_sd * choice_random_.normal(index));
       const double top = static_cast<double>(plan.allowed_responses.size());
       response.value = plan.allowed_responses[static_cast<std::size_t>(std::clamp(rating, 1.0, top)) - 1];
+    } else if (plan.appearance_judgement) {
+      response.value = appearance_response(plan, index);
     } else if (const std::optional<double> prefer_first = preference_for(plan); prefer_first && plan.correct_response.empty()) {
       // No right answer, two conditions with a stated preference: the first position's condition
       // is chosen with its preference probability (same uniform draw, so still one per trial).
@@ -82,6 +84,28 @@ class SimulatedObserver : public Observer {
   }
 
  private:
+  // A PSE trial (Spencer et al. 1995, section 4): which side looks brighter. Perceived luminance
+  // of a side: L (1 + k g), g its glare gain; the difference of perceived log10 luminances, with
+  // Gaussian noise (the draw normal(index), independent of the choice's uniform draw), names the
+  // brighter side beyond +-neither_band_log10 and is "neither" within it. A black side is
+  // infinitely darker. P(position 0 named) = Phi((d - band) / sd) for true difference d, so the
+  // answers are symmetric about d = 0: the point of subjective equality is L_ref (1 + k g_ref).
+  std::string appearance_response(const TrialPlan& plan, std::uint64_t index) const {
+    const auto perceived = [&](std::size_t p) {
+      const double gain = p < plan.position_glare_gain.size() ? plan.position_glare_gain[p] : 0.0;
+      return plan.source_luminance_cd_m2.at(p) * (1.0 + spec_.glare_brightening_per_gain * gain);
+    };
+    const double a = perceived(0), b = perceived(1);
+    double d = 0.0;
+    if (a > 0.0 && b > 0.0) d = std::log10(a / b);
+    else if (a != b) d = a > b ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
+    const double seen = d + spec_.appearance_sd_log10 * choice_random_.normal(index);
+    if (seen > spec_.neither_band_log10) return plan.allowed_responses[0];
+    if (seen < -spec_.neither_band_log10) return plan.allowed_responses[1];
+    if (plan.allowed_responses.size() >= 3) return plan.allowed_responses[2];
+    return plan.allowed_responses[seen >= 0.0 ? 0 : 1];  // two answers: the sign decides
+  }
+
   // Probability of choosing position 0 over position 1 from the preferences between the two
   // conditions shown; nothing when the plan names no conditions or the pair has no preference.
   std::optional<double> preference_for(const TrialPlan& plan) const {

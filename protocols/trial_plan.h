@@ -25,6 +25,9 @@ struct TrialPlan {
   // The glare mode shown at each position ("dynamic", "static", "control") when the row gives one
   // per side (glare_a / glare_b); empty: the row's glare applies to the whole frame.
   std::vector<std::string> position_glare;
+  // With position_glare: each glared position keeps its pre-glare peak (stimuli/position_glare.h,
+  // GlareLayer::keep_peak; [procedure] glare_keeps_peak).
+  bool glare_keeps_peak = false;
   // Peak luminance (cd/m2) of the source at each position: what a simulated observer compares.
   std::vector<double> source_luminance_cd_m2;
   // Factor on each position's scene (empty: all 1). Adaptive procedures scale the comparison
@@ -42,6 +45,13 @@ struct TrialPlan {
   std::vector<double> adjustment_start_cd_m2;
   std::vector<std::string> allowed_responses;
   std::string correct_response;  // empty when no answer is right (equal sources)
+  // A PSE staircase's trial (response_rule = "pse"): the answer is which side looks brighter, with
+  // no right answer; correct_response is empty.
+  bool appearance_judgement = false;
+  // The glare gain each position is shown with (PSE trials): the reference's row glare_gain (1
+  // without the column, 0 when its glare is control), the comparison's 0 with glare_on =
+  // "reference". The simulated observer's perceived brightening of glare follows it.
+  std::vector<double> position_glare_gain;
   std::optional<double> intensity;
   std::string question;
   int stimulus_frames = 1;

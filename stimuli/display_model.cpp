@@ -6,10 +6,6 @@
 
 namespace glarelab {
 
-namespace {
-constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
-}
-
 double srgb_encode(double linear) {
   return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
@@ -17,7 +13,7 @@ double srgb_encode(double linear) {
 double DisplayModel::degrees_for_centred_span(double pixels) const { return centred_span_deg(spec_, pixels); }
 
 double DisplayModel::pixels_for_centred_span(double degrees) const {
-  return 2.0 * spec_.viewing_distance_mm * std::tan(0.5 * degrees / kDegreesPerRadian) / spec_.pixel_pitch_mm;
+  return centred_span_px(spec_, degrees);
 }
 
 double DisplayModel::degrees_per_pixel_at_centre() const { return degrees_for_centred_span(1.0); }

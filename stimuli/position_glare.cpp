@@ -22,9 +22,17 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
   }
   for (const GlareLayer& layer : layers) {
     GlareFrameReport report;
-    const ImageRGBA glared = layer.mode == GlareMode::control
-                                 ? layer.image_cd_m2
-                                 : stage.apply(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2);
+    ImageRGBA glared = layer.mode == GlareMode::control
+                           ? layer.image_cd_m2
+                           : stage.apply(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2);
+    if (layer.keep_peak && layer.mode != GlareMode::control) {
+      const double before = max_luminance(layer.image_cd_m2), after = max_luminance(glared);
+      if (before > 0.0 && after > 0.0) {
+        const auto scale = static_cast<float>(before / after);
+        for (std::size_t i = 0; i < glared.rgba.size(); ++i)
+          if (i % 4 != 3) glared.rgba[i] *= scale;
+      }
+    }
     if (layer.mode != GlareMode::control && reports != nullptr) reports->push_back(report);
     for (std::size_t i = 0; i < result.rgba.size(); ++i)
       if (i % 4 != 3) result.rgba[i] += glared.rgba[i];

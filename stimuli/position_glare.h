@@ -19,6 +19,14 @@ namespace glarelab {
 struct GlareLayer {
   ImageRGBA image_cd_m2;  // the position's placement alone on zero, frame-sized
   GlareMode mode = GlareMode::control;
+  // Keep the layer's brightest pixel where it was before glare: the glared layer is scaled by
+  // (peak before) / (peak after). Glare (frame + gain (glared - frame), clipped at 0) is
+  // homogeneous in the frame, so this is the glare of the layer drawn that much brighter: Spencer
+  // et al. 1995, section 4, "the maximum intensity of the source with the corona flare was 75% of
+  // the maximum value displayable" -- the source is as bright as it must be for its glared image
+  // to peak at the drawn peak. (A point-spread function moves some of a source's light into its
+  // halo, the more the higher the glare gain, so the unscaled core would dim as the glare grows.)
+  bool keep_peak = false;
 };
 
 // One glared frame at `time_s`. `reports` receives one report per layer that is not control.

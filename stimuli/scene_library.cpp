@@ -3,12 +3,22 @@
 #include <stdexcept>
 
 #include "core/exr_io.h"
+#include "stimuli/spencer_scenes.h"
 
 namespace glarelab {
 
-SceneLibrary::SceneLibrary(const std::map<std::string, SceneSpec>& scenes) {
+SceneLibrary::SceneLibrary(const std::map<std::string, SceneSpec>& scenes, const DisplaySpec& display) {
   for (const auto& [name, spec] : scenes) {
-    ExrReadResult read = read_exr(spec.file);
+    ExrReadResult read;
+    if (spec.generated) {
+      try {
+        read.image = draw_generated_scene(*spec.generated, display);
+      } catch (const std::invalid_argument& error) {
+        throw ImageError("scene '" + name + "': " + error.what());
+      }
+    } else {
+      read = read_exr(spec.file);
+    }
     if (read.image.width_px > kMaxSceneTexturePx || read.image.height_px > kMaxSceneTexturePx)
       throw ImageError(spec.file + ": scene '" + name + "' is " + std::to_string(read.image.width_px) + " x " +
                        std::to_string(read.image.height_px) + " px; at most " + std::to_string(kMaxSceneTexturePx) +

@@ -1,8 +1,10 @@
 #pragma once
-// The scenes an experiment shows, read from OpenEXR once and kept in cd/m2.
+// The scenes an experiment shows, read from OpenEXR (or drawn by their generator,
+// stimuli/spencer_scenes.h) once and kept in cd/m2.
 #include <map>
 #include <string>
 
+#include "core/display_spec.h"
 #include "core/image.h"
 #include "core/scene_spec.h"
 
@@ -23,8 +25,9 @@ class SceneLibrary {
  public:
   // Reads every scene (an experiment's scenes, by name). Throws ImageError naming the file for missing or corrupt
   // files, and for NaN, Inf or negative pixels (with their counts): a luminance cannot be any of
-  // those, and a glare model fed one would spread it over the whole frame.
-  explicit SceneLibrary(const std::map<std::string, SceneSpec>& scenes);
+  // those, and a glare model fed one would spread it over the whole frame. Generated scenes are
+  // drawn for `display` (their sizes are degrees, their luminances fractions of its peak).
+  SceneLibrary(const std::map<std::string, SceneSpec>& scenes, const DisplaySpec& display);
 
   const LoadedScene& get(const std::string& name) const;
   const std::map<std::string, LoadedScene>& scenes() const { return scenes_; }

@@ -83,48 +83,76 @@ std::string json_member(const std::string& json, const std::string& key) {
   return json.substr(start + needle.size(), end - start - needle.size());
 }
 
-TEST(ExampleStudies, SpencerStaircaseRecordsIntensitiesAndReversals) {
+// Spencer et al. 1995, section 4: a PSE staircase per glare strength (12) and group (2 blocks),
+// the three answers stepping the disc, the glare image and the disc swapping sides, the glare on
+// the glare image's side only, and the analysis's PSE per track.
+TEST(ExampleStudies, SpencerStaircaseFindsAPsePerGlareStrengthInBothGroups) {
   const ScratchDir scratch;
   const StudyRun run = run_example("spencer_staircase.toml", scratch);
-  // The analysis finds both staircases, their thresholds and fits.
-  EXPECT_NE(run.report_html.find("<h2>Staircases and QUEST</h2>"), std::string::npos);
-  for (const std::string track : {"from_above", "from_near"})
-    EXPECT_NE(run.analysis_summary.find(track + ": threshold"), std::string::npos) << run.analysis_summary;
-  ASSERT_GE(run.trials.size(), 40u);  // two staircases of at least 20 trials
-  // Replay each staircase's recorded answers through the Staircase class: it must ask for the
-  // intensities that were recorded and reverse where the database says.
+  EXPECT_NE(run.report_html.find("<h2>Points of subjective equality</h2>"), std::string::npos);
+  // Replay each track's recorded answers through the Staircase class with the PSE rule worked out
+  // here: comparison brighter steps down, reference brighter up, neither reverses the last step
+  // (the first one steps toward the middle of [0, 200]).
   StaircaseSpec base;
-  base.step_sizes = {4.0, 2.0, 1.0};
-  base.step_type = StepType::db;
+  base.step_sizes = {40.0, 20.0, 10.0};
+  base.step_type = StepType::lin;
   base.n_up = 1;
-  base.n_down = 2;
-  base.n_reversals = 8;
-  base.n_trials = 20;
-  base.min_value = 101.0;
-  base.max_value = 250.0;
-  std::map<std::string, Staircase> reference;
-  base.start_value = 200.0;
-  reference.emplace("from_above", Staircase(base));
-  base.start_value = 130.0;
-  reference.emplace("from_near", Staircase(base));
-  std::set<std::string> responses;
+  base.n_down = 1;
+  base.n_reversals = 3;
+  base.n_trials = 8;
+  base.min_value = 0.0;
+  base.max_value = 200.0;
+  base.start_value = 100.0;
+  std::map<std::string, Staircase> tracks;
+  std::map<std::string, bool> last_down;
+  std::set<std::string> comparison_sides, responses;
+  std::vector<std::string> block_of_trial;
   for (const TrialRecord& trial : run.trials) {
     EXPECT_EQ(trial.procedure, "staircase");
-    ASSERT_TRUE(reference.count(trial.staircase)) << trial.staircase;
-    Staircase& staircase = reference.at(trial.staircase);
+    EXPECT_EQ(json_member(trial.condition, "response_rule"), "pse");
+    EXPECT_FALSE(trial.correct.has_value()) << "PSE trials are unscored";
+    const std::string side = json_member(trial.condition, "comparison_position");
+    comparison_sides.insert(side);
+    const std::string other = side == "left" ? "right" : "left";
+    EXPECT_EQ(json_member(trial.condition, side + "_glare"), "control") << "the disc is shown without glare";
+    EXPECT_EQ(json_member(trial.condition, other + "_glare"), "static");
+    EXPECT_EQ(json_member(trial.condition, side), "disc");
+    EXPECT_EQ(json_member(trial.condition, "glare_keeps_peak"), "true");
+    block_of_trial.push_back(json_member(trial.condition, "block_name"));
+    auto found = tracks.try_emplace(trial.staircase, base).first;
+    Staircase& staircase = found->second;
     ASSERT_TRUE(trial.intensity.has_value());
     EXPECT_NEAR(*trial.intensity, staircase.next_intensity(), 1e-9) << "trial " << trial.trial_index;
-    ASSERT_TRUE(trial.correct.has_value());
+    bool down = false;
+    if (trial.response == side) down = true;
+    else if (trial.response == other) down = false;
+    else if (last_down.count(trial.staircase)) down = !last_down[trial.staircase];
+    else down = staircase.next_intensity() > 100.0;
+    last_down[trial.staircase] = down;
     ASSERT_TRUE(trial.reversal.has_value());
-    EXPECT_EQ(*trial.reversal, staircase.add_response(*trial.correct == 1) ? 1 : 0);
-    EXPECT_EQ(json_member(trial.condition, "staircase"), trial.staircase);
+    EXPECT_EQ(*trial.reversal, staircase.add_response(down) ? 1 : 0) << "trial " << trial.trial_index;
     responses.insert(trial.response);
   }
-  for (const auto& [name, staircase] : reference) EXPECT_TRUE(staircase.finished()) << name;
-  EXPECT_TRUE(responses.count("neither")) << "the 3-way observer never answered 'neither'";
+  EXPECT_EQ(tracks.size(), 24u) << "12 glare strengths in 2 groups";
+  for (const auto& [name, staircase] : tracks) EXPECT_TRUE(staircase.finished()) << name;
+  EXPECT_EQ(comparison_sides, (std::set<std::string>{"left", "right"}));
+  EXPECT_EQ(responses, (std::set<std::string>{"left", "right", "neither"}));
+  // Participant 1 (the first session in the database) runs the group without context first, all
+  // of it, then the group with context.
+  ASSERT_FALSE(block_of_trial.empty());
+  EXPECT_EQ(block_of_trial.front(), "without_context");
+  EXPECT_EQ(block_of_trial.back(), "with_context");
+  EXPECT_TRUE(std::is_partitioned(block_of_trial.begin(), block_of_trial.end(),
+                                  [](const std::string& b) { return b == "without_context"; }));
+  // The analysis has a PSE line per track.
+  std::size_t pse_lines = 0;
+  for (std::size_t at = run.analysis_summary.find("  pse "); at != std::string::npos;
+       at = run.analysis_summary.find("  pse ", at + 1))
+    ++pse_lines;
+  EXPECT_EQ(pse_lines, 24u) << run.analysis_summary;
   bool rounding_logged = false;
   for (const std::string& event : run.events)
-    rounding_logged = rounding_logged || event.find("duration_rounding: stimulus_duration_s 0.25 s -> 15 frames") == 0;
+    rounding_logged = rounding_logged || event.find("duration_rounding: stimulus_duration_s 0.4 s -> 24 frames") == 0;
   EXPECT_TRUE(rounding_logged);
 }
 

@@ -108,6 +108,50 @@ TEST(PositionGlare, TheEyeAdaptsToTheWholeFrameNotToOneLayer) {
   EXPECT_GT(left_alone_report.pupil_diameter_mm, whole_report.pupil_diameter_mm + 0.1);  // darker field: wider pupil
 }
 
+// keep_peak (Spencer 1995, section 4: the glare image peaks at 75 % of the display whatever its
+// glare): the glared layer is the glare of the layer drawn brighter by (peak before) / (peak
+// after), so its brightest pixel stays where it was, while the unscaled one dims as the gain
+// spreads more of the core into the halo.
+TEST(PositionGlare, AKeptPeakIsTheGlareOfABrighterSource) {
+  const TwoLamps lamps(150.0f, 100.0f);
+  GlareSpec spec = small_spec();
+  spec.model = GlareModel::spencer;
+  spec.spencer_regime = SpencerRegime::photopic;
+  // The layers are glared with the eye adapted to the whole frame: so are the references here.
+  const double field_cd_m2 = mean_luminance(lamps.composed);
+  double previous_centre = 150.0;
+  for (const double gain : {0.5, 1.0, 2.0}) {
+    GlareStage stage(spec, small_display(), 3);
+    stage.set_condition(GlareModel::spencer, gain);
+    const ImageRGBA kept = apply_layered_glare(
+        stage, lamps.composed, {{lamps.left, GlareMode::static_eye, true}, {lamps.right, GlareMode::control}}, 0.0,
+        std::nullopt);
+    GlareStage plain_stage(spec, small_display(), 3);
+    plain_stage.set_condition(GlareModel::spencer, gain);
+    const ImageRGBA plain = plain_stage.apply(lamps.left, GlareMode::static_eye, 0.0, nullptr, std::nullopt, field_cd_m2);
+    const double unscaled_peak = max_luminance(plain);
+    EXPECT_LT(plain.pixel(27, 31)[1], previous_centre) << "gain " << gain << ": more glare, a dimmer centre";
+    previous_centre = plain.pixel(27, 31)[1];
+    // The left half: the glared left lamp, peaking at its drawn 150 cd/m2.
+    double kept_peak = 0.0;
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) kept_peak = std::max(kept_peak, luminance_rec709(kept.pixel(x, y)[0], kept.pixel(x, y)[1], kept.pixel(x, y)[2]));
+    EXPECT_NEAR(kept_peak, 150.0, 150.0 * 1e-5) << "gain " << gain;
+    // ... and it is the glare of the lamp drawn brighter: the same glare, scaled.
+    const double scale = 150.0 / unscaled_peak;
+    GlareStage bright_stage(spec, small_display(), 3);
+    bright_stage.set_condition(GlareModel::spencer, gain);
+    ImageRGBA brighter = lamps.left;
+    for (std::size_t i = 0; i < brighter.rgba.size(); ++i)
+      if (i % 4 != 3) brighter.rgba[i] = static_cast<float>(brighter.rgba[i] * scale);
+    const ImageRGBA bright = bright_stage.apply(brighter, GlareMode::static_eye, 0.0, nullptr, std::nullopt, field_cd_m2);
+    EXPECT_NEAR(kept.pixel(27, 31)[1], bright.pixel(27, 31)[1], 1e-3 * 150.0) << "gain " << gain;
+    EXPECT_NEAR(kept.pixel(40, 31)[1], bright.pixel(40, 31)[1], 1e-3 * 150.0) << "gain " << gain;
+    // The control side is untouched.
+    EXPECT_NEAR(kept.pixel(99, 31)[1], 100.0f, 2.0f);  // but for the left lamp's spill, 64 px away
+  }
+}
+
 TEST(PositionGlare, ALayerOfAnotherSizeIsRefused) {
   const TwoLamps lamps(100.0f, 100.0f);
   GlareStage stage(small_spec(), small_display(), 1);

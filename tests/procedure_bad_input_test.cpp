@@ -24,8 +24,10 @@ std::pair<std::filesystem::path, int> staircase_variant(const std::filesystem::p
       line = replacement;
       replaced = number;
     }
-    const auto pos = line.find("\"scenes/");
-    if (pos != std::string::npos) line.replace(pos, 1, "\"" + examples.string() + "/");
+    for (const std::string relative : {"\"scenes/", "\"spencer_conditions.csv"}) {
+      const auto pos = line.find(relative);
+      if (pos != std::string::npos) line.replace(pos, 1, "\"" + examples.string() + "/");
+    }
     out << line << "\n";
   }
   const auto path = dir / "staircase.toml";
@@ -52,7 +54,7 @@ TEST(ProcedureBadInput, UnknownProcedure) {
 }
 
 TEST(ProcedureBadInput, UnknownParameter) {
-  expect_refused("n_down", "n_downs = 2", "n_downs");
+  expect_refused("n_trials", "n_trial = 8", "n_trial");
 }
 
 TEST(ProcedureBadInput, StepListLongerThanReversalCount) {

@@ -235,14 +235,18 @@ TEST(ProcedureBlocks, ConfigErrorsNameTheLineAndKey) {
   EXPECT_NE(std::string(e.what()).find("--participant-number"), std::string::npos) << e.what();
 }
 
-TEST(ProcedureBlocks, AdaptiveProceduresRefuseBlocks) {
-  const std::string staircase =
-      "[experiment]\nname = \"s\"\n[scenes]\na = { file = \"/a.exr\" }\n[procedure]\ntype = \"staircase\"\n"
+// QUEST+ and Psi tracks choose among their rows themselves: blocks could not split them.
+// (Staircase and QUEST blocks: tests/pse_staircase_test.cpp.)
+TEST(ProcedureBlocks, QuestPlusRefusesBlocks) {
+  const std::string psi =
+      "[experiment]\nname = \"s\"\n[scenes]\na = { file = \"/a.exr\" }\n[procedure]\ntype = \"psi\"\n"
+      "intensities = { from = 0.0, to = 2.0, step = 0.5 }\n"
       "[[conditions.rows]]\nname = \"lamp\"\nreference = \"a\"\ncomparison = \"a\"\n"
       "[[blocks]]\nname = \"context\"\n";
-  const ConfigError e = error_of(staircase);
-  EXPECT_EQ(e.where().line, 11);
-  EXPECT_NE(std::string(e.what()).find("[[blocks]] apply to forced_choice, rating and adjustment"), std::string::npos)
+  const ConfigError e = error_of(psi);
+  EXPECT_EQ(e.where().line, 12);
+  EXPECT_NE(std::string(e.what()).find("[[blocks]] apply to forced_choice, rating, adjustment, staircase and quest"),
+            std::string::npos)
       << e.what();
 }
 

@@ -30,30 +30,36 @@ comparison = "lamp"
 )";
 }
 
-TEST(ProcedureFile, SpencerStaircasesTakeDefaultsFromTheProcedureTable) {
+// Spencer et al. 1995, section 4: one PSE staircase per row of spencer_conditions.csv (12 glare
+// strengths x 2 groups), each taking the [procedure] keys, in two counterbalanced blocks.
+TEST(ProcedureFile, SpencerPseTracksTakeDefaultsFromTheProcedureTable) {
   const Experiment e = load_experiment(kExamples + "spencer_staircase.toml");
   EXPECT_EQ(e.procedure, "staircase");
   EXPECT_EQ(e.forced_choice.alternatives, 3);
   EXPECT_EQ(e.forced_choice.responses, (std::vector<std::string>{"left", "right", "neither"}));
-  ASSERT_EQ(e.adaptive.tracks.size(), 2u);
-  EXPECT_EQ(e.adaptive.tracks[0].staircase.name, "from_above");
-  EXPECT_EQ(e.adaptive.tracks[0].staircase.start_value, 200.0);
-  EXPECT_EQ(e.adaptive.tracks[1].staircase.name, "from_near");
-  EXPECT_EQ(e.adaptive.tracks[1].staircase.start_value, 130.0);
+  EXPECT_EQ(e.adaptive.response_rule, AdaptiveResponseRule::pse);
+  EXPECT_TRUE(e.adaptive.glare_reference_only);
+  ASSERT_EQ(e.adaptive.tracks.size(), 24u);
+  EXPECT_EQ(e.adaptive.tracks[0].staircase.name, "alone_01");
+  EXPECT_EQ(e.adaptive.tracks[23].staircase.name, "context_12");
+  EXPECT_EQ(e.adaptive.tracks[23].condition, "context_12");
   for (const AdaptiveTrackSpec& track : e.adaptive.tracks) {
-    EXPECT_EQ(track.staircase.step_sizes, (std::vector<double>{4.0, 2.0, 1.0}));
-    EXPECT_EQ(track.staircase.step_type, StepType::db);
+    EXPECT_EQ(track.staircase.start_value, 100.0);
+    EXPECT_EQ(track.staircase.step_sizes, (std::vector<double>{40.0, 20.0, 10.0}));
+    EXPECT_EQ(track.staircase.step_type, StepType::lin);
     EXPECT_EQ(track.staircase.n_up, 1);
-    EXPECT_EQ(track.staircase.n_down, 2);
-    EXPECT_EQ(track.staircase.n_reversals, 8);
-    EXPECT_EQ(track.staircase.n_trials, 20);
-    EXPECT_EQ(track.staircase.min_value, 101.0);
-    EXPECT_EQ(track.staircase.max_value, 250.0);
+    EXPECT_EQ(track.staircase.n_down, 1);
+    EXPECT_EQ(track.staircase.n_reversals, 3);
+    EXPECT_EQ(track.staircase.n_trials, 8);
+    EXPECT_EQ(track.staircase.min_value, 0.0);
+    EXPECT_EQ(track.staircase.max_value, 200.0);
   }
-  EXPECT_EQ(e.adaptive.threshold_reversals, 6);
-  // 0.25 s at 60 Hz is exactly 15 frames.
-  EXPECT_EQ(e.forced_choice.stimulus_frames, 15);
-  EXPECT_EQ(e.forced_choice.stimulus_duration_s, 0.25);
+  ASSERT_EQ(e.design.blocks.size(), 2u);
+  EXPECT_EQ(e.design.block_order, BlockOrder::counterbalanced);
+  EXPECT_EQ(e.scenes.at("disc").generated->generator, SceneGenerator::disc_annulus);
+  // 0.4 s at 60 Hz is exactly 24 frames.
+  EXPECT_EQ(e.forced_choice.stimulus_frames, 24);
+  EXPECT_EQ(e.forced_choice.stimulus_duration_s, 0.4);
 }
 
 TEST(ProcedureFile, QuestKeysAndGuessRateFromAlternatives) {

@@ -144,11 +144,12 @@ float column_peak(const ImageRGBA& image, int x0, int x1) {
 
 std::string example(const std::string& file) { return std::string(GLARELAB_SOURCE_DIR) + "/examples/" + file; }
 
-// A staircase trial at a chosen intensity: the comparison lamp (lamp_100 scaled) peaks at it, the
-// reference keeps its own 100 cd/m2; without --intensity the track's start (from_near: 130).
+// A staircase trial at a chosen intensity: the comparison disc peaks at it, the reference (the
+// light source) keeps its own 150 cd/m2 (75 % of the 200 cd/m2 peak); without --intensity the
+// track's start (100 cd/m2).
 TEST_F(RenderCommand, StaircaseAtAGivenIntensityScalesTheComparisonOnly) {
   const auto peaks = [&](const std::vector<std::string>& extra, const std::string& out) {
-    std::vector<std::string> arguments = {"--condition", "lamp", "--glare", "control"};
+    std::vector<std::string> arguments = {"--condition", "alone_01", "--glare", "control"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     std::vector<std::string> full = {"render", example("spencer_staircase.toml"), "--out", (dir.path() / out).string()};
     full.insert(full.end(), arguments.begin(), arguments.end());
@@ -160,11 +161,33 @@ TEST_F(RenderCommand, StaircaseAtAGivenIntensityScalesTheComparisonOnly) {
     std::sort(sides.begin(), sides.end());
     return sides;
   };
-  EXPECT_EQ(peaks({}, "start.exr"), (std::vector<float>{100.0f, 130.0f}));
+  EXPECT_EQ(peaks({}, "start.exr"), (std::vector<float>{100.0f, 150.0f}));
   const std::vector<float> chosen = peaks({"--intensity", "180"}, "chosen.exr");
   ASSERT_EQ(chosen.size(), 2u);
-  EXPECT_EQ(chosen[0], 100.0f);
+  EXPECT_EQ(chosen[0], 150.0f);
   EXPECT_NEAR(chosen[1], 180.0f, 180.0f * 1e-6f);
+}
+
+// Spencer's glare image with its glare (gain 2.5, Spencer's photopic filter, glare_keeps_peak):
+// its brightest pixel stays at the source's 75 % of the 200 cd/m2 peak while its halo spreads;
+// the disc on the other side is drawn without glare.
+TEST_F(RenderCommand, SpencerGlareImageKeepsItsPeakAtThreeQuartersOfTheDisplay) {
+  const std::string out = (dir.path() / "glare_image.exr").string();
+  const test::RunOutput result = test::run_glarelab(
+      {"render", example("spencer_staircase.toml"), "--condition", "alone_12", "--intensity", "100", "--out", out},
+      dir.path());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("gain 2.5, glared peak kept"), std::string::npos) << result.output;
+  const ImageRGBA frame = read_exr(out).image;
+  std::vector<float> sides = {column_peak(frame, 0, frame.width_px / 2), column_peak(frame, frame.width_px / 2, frame.width_px)};
+  std::sort(sides.begin(), sides.end());
+  EXPECT_NEAR(sides[0], 100.0f, 0.05f);  // the disc at the chosen intensity, but for the glare image's far spill
+  EXPECT_NEAR(sides[1], 150.0f, 150.0f * 1e-5f);  // the glare image's maximum
+  // The halo: 20 px (about half a degree) beside the source, light where the drawn scene is black.
+  const int glare_side = frame.pixel(frame.width_px / 4, frame.height_px / 2)[0] > 120.0f ? 0 : 1;
+  const int cx = frame.width_px / 4 + glare_side * frame.width_px / 2, cy = frame.height_px / 2;
+  EXPECT_GT(frame.pixel(cx + 20, cy)[0], 0.5f);
+  EXPECT_GT(frame.pixel(cx, cy)[0], 140.0f);  // the centre is the source's brightest part
 }
 
 // An adjustment trial at given settings: the left and right spots at them, the target (lamp_130)

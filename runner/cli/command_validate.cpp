@@ -14,7 +14,7 @@ Action add_validate_command(CLI::App& app) {
   return [=]() {
     return report_errors([&]() {
       const Experiment experiment = load_experiment(*path);
-      const SceneLibrary scenes(experiment.scenes);
+      const SceneLibrary scenes(experiment.scenes, experiment.display);
       const auto procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
       std::cout << *path << ": ok: experiment '" << experiment.name << "', " << experiment.scenes.size()
                 << " scene(s), " << experiment.conditions.size() << " condition row(s), " << procedure->planned_trials() << " "

@@ -88,6 +88,7 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   }
   if (model != GlareModel::ritschel) glare.modes_label += ", " + to_string(model) + " model";
   if (gain != 1.0) glare.modes_label += ", gain " + number_text(gain);
+  if (!position_modes.empty() && plan.glare_keeps_peak) glare.modes_label += ", glared peak kept";
   if (captured && !preview_frame_) {
     preview_frame_.emplace();
     preview_frame_->plan = plan;
@@ -129,7 +130,7 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   }
   for (std::size_t p = 0; p < position_modes.size(); ++p) {
     renderer_.compose({placements[p]}, 0.0);
-    glare.layers.push_back({renderer_.read_stimulus(), position_modes[p]});
+    glare.layers.push_back({renderer_.read_stimulus(), position_modes[p], plan.glare_keeps_peak});
   }
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   glare.composed_cd_m2 = renderer_.read_stimulus();
