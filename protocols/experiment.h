@@ -13,6 +13,7 @@
 #include "core/errors.h"
 #include "core/scene_spec.h"
 #include "protocols/glare_config.h"
+#include "protocols/perception_config.h"
 #include "protocols/presentation_config.h"
 #include "protocols/observer_preferences.h"
 #include "protocols/quest.h"
@@ -158,6 +159,9 @@ struct Experiment {
   std::vector<ConditionRow> conditions;
   SimulatedObserverSpec simulated_observer;
   GlareSpec glare;  // [glare] and the default glare mode of conditions
+  // [perception]: the perception stages around the glare (every stage off by default) and the
+  // default switches of conditions (column "perception").
+  PerceptionSettings perception = perception_defaults();
   PresentationSpec presentation;  // [presentation]: screens, fixation, intervals, response window, feedback
   DesignSpec design;  // [[blocks]], their order and the participant number (protocols/block_design.h)
 };

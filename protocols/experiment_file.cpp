@@ -475,7 +475,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   // Declare the top-level tables before reading any, so a misspelt [procedur] is reported as
   // such rather than as a missing [procedure].
   for (const char* section :
-       {"experiment", "display", "scenes", "procedure", "conditions", "observer", "glare", "presentation"}) {
+       {"experiment", "display", "scenes", "procedure", "conditions", "observer", "glare", "perception", "presentation"}) {
     top.node(section);
   }
   top.node("blocks");  // [[blocks]] (protocols/block_config.h)
@@ -490,6 +490,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   const ObserverEye observer_eye = read_observer_section(top, experiment);
   experiment.glare = read_glare_section(top);
   experiment.glare.observer_eye = observer_eye;
+  experiment.perception = read_perception_section(top);
   experiment.presentation = read_presentation_section(top, experiment);
 
   if (experiment.procedure == "forced_choice") check_forced_choice_rows(conditions.rows, experiment, conditions.csv);
@@ -501,6 +502,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
     glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here
     glare_model_for(experiment.glare, located.row);  // so do an unknown 'glare_model' and a bad 'glare_gain'
     glare_gain_for(located.row);
+    perception_for(experiment.perception, located.row);  // and an unknown stage in 'perception'
     if (position_glare_modes(located.row) && experiment.procedure != "forced_choice")
       throw ConfigError(located.row.where, "condition '" + located.row.name() + "' glare_a",
                         "a glare mode per side (glare_a, glare_b) is for forced choice only");

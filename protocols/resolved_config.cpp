@@ -239,6 +239,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
   print_section(out, "observer",
                 toml::table{{"age_years", eye.age_years}, {"pigmentation", eye.pigmentation}, {"simulated", std::move(simulated)}});
   print_section(out, "glare", glare_section_toml(experiment.glare));
+  print_section(out, "perception", perception_section_toml(experiment.perception));
   print_section(out, "presentation", presentation_section_toml(experiment.presentation));
 
   if (!experiment.design.blocks.empty()) {

@@ -6,8 +6,8 @@ namespace glarelab {
 
 ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers,
                               double time_s, const std::optional<GazePoint>& gaze,
-                              std::vector<GlareFrameReport>* reports) {
-  const double field_luminance_cd_m2 = mean_luminance(composed_cd_m2);
+                              std::vector<GlareFrameReport>* reports, std::optional<double> field_luminance) {
+  const double field_luminance_cd_m2 = field_luminance ? *field_luminance : mean_luminance(composed_cd_m2);
   // Background part: what no layer holds (exactly zero inside a placement, which replaces the
   // background there; the background luminance elsewhere).
   ImageRGBA result = composed_cd_m2;

@@ -30,9 +30,12 @@ struct GlareLayer {
 };
 
 // One glared frame at `time_s`. `reports` receives one report per layer that is not control.
-// Throws std::invalid_argument when a layer's size differs from the composed frame's.
+// `field_luminance_cd_m2`: what the eye adapts to (the perception stages' adapted luminance);
+// nothing: the whole frame's mean luminance. Throws std::invalid_argument when a layer's size
+// differs from the composed frame's.
 ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers,
                               double time_s, const std::optional<GazePoint>& gaze,
-                              std::vector<GlareFrameReport>* reports = nullptr);
+                              std::vector<GlareFrameReport>* reports = nullptr,
+                              std::optional<double> field_luminance_cd_m2 = std::nullopt);
 
 }  // namespace glarelab

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/perception_settings.h"
 #include "runner/tracker/tracker_session.h"
 #include "stimuli/glare_stage.h"
 #include "stimuli/position_glare.h"
@@ -28,13 +29,21 @@ struct GlaredRegion {
 GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared);
 
 struct IntervalGlare {
-  bool active = false;  // false: control everywhere (or a preview passing by): no glare frames
+  // false: control everywhere and no perception stage (or a preview passing by): no frames, the
+  // composed frame is shown as it is.
+  bool active = false;
+  // The condition's perception stages (stimuli/session_perception.h); `perceived` when any is on:
+  // every frame then goes through them, the glare between adaptation and acuity.
+  PerceptionSettings perception;
+  bool perceived = false;
+  bool glared = false;  // some position's glare mode is not control
   GlareMode mode = GlareMode::control;
   std::vector<GlareLayer> layers;  // one per position when the sides differ; else empty
   ImageRGBA composed_cd_m2;
   double field_cd_m2 = 0.0;  // its mean luminance, what the eye adapts to (once, not per frame)
   bool dynamic = false;
-  int frames_needed = 1;      // dynamic: every stimulus frame; static: one serves all
+  int frames_needed = 1;      // dynamic (or adapting): every stimulus frame; static: one serves all
+  int stimulus_frames = 1;    // the interval's stimulus frames
   double first_flip_s = 0.0;  // session time of the interval's first stimulus flip
   double period_s = 0.0;
   std::string modes_label;    // "dynamic", or "left dynamic, right control"
@@ -51,6 +60,7 @@ struct IntervalGlare {
   std::optional<GazeWindow> window;
   std::vector<double> gaze_to_flip_s;  // live: each frame's flip time minus its gaze sample's time
   std::vector<double> frame_compute_s;  // wall time spent computing each frame
+  std::vector<double> adapted_cd_m2;    // perception: each frame's adapted luminance (Eq. 5.2)
 
   double frame_time_s(int k) const { return first_flip_s + k * period_s; }
   std::optional<double> gaze_time_of(int k) const {

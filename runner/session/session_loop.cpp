@@ -20,11 +20,14 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       timing_(display.refresh_hz()),
       glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed,
              gl::compute_context_factory()),
+      perception_(prepared.experiment.perception.adaptation_time_constants, prepared.experiment.display),
       overlays_(renderer_, prepared.experiment),
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
   if (prepared.experiment.glare.presentation == "live") glare_presentation_ = GlarePresentation::live;
   log_glare_setup();
+  for (const ConditionRow& row : prepared_.experiment.conditions)
+    adapts_ = adapts_ || perception_for(prepared_.experiment.perception, row).adaptation;
   for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
 }
 

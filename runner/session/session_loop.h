@@ -24,6 +24,7 @@
 #include "runner/tracker/tracker_session.h"
 #include "stimuli/frame_renderer.h"
 #include "stimuli/glare_stage.h"
+#include "stimuli/session_perception.h"
 
 namespace glarelab {
 
@@ -148,6 +149,10 @@ class SessionLoop {
   // stimulus frame (fixation, interval 1).
   IntervalGlare begin_glare(const TrialPlan& plan, const std::vector<Placement>& placements, int flips_before = 0);
   void update_glare_gaze(IntervalGlare& glare, double flip_s);
+  // Section 5.1's adaptation luminance of an interval's composed frame at its gaze (the display
+  // centre without one), and the session's eye seeing the interval's frames shown without stages.
+  double adaptation_luminance(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2) const;
+  void see_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2);
   // Frame k of the interval, computed for its flip time if it is needed and not yet there.
   void compute_glare_frame(IntervalGlare& glare, int k);
   // Every frame of the interval before onset (prepared presentation); stops on an interrupt.
@@ -158,6 +163,9 @@ class SessionLoop {
   void settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare);
   // Once per session: the glare backend (what and why) and where the eye's inputs come from.
   void log_glare_setup();
+  // Once, after the first interval with perception stages: a 'perception_stages' event with the
+  // settings and the measured cost per frame.
+  void log_perception_stages(const TrialPlan& plan, const IntervalGlare& glare);
   const ConditionRow& condition_row(const TrialPlan& plan) const;
   bool previewed(const TrialPlan& plan) const { return preview_ != nullptr && plan.condition_name == preview_->condition; }
   // --- end glare ---
@@ -188,6 +196,11 @@ class SessionLoop {
   enum class GlarePresentation { prepared, live };
   GlarePresentation glare_presentation_ = GlarePresentation::prepared;
   GlareStage glare_;
+  // The perception stages' eye over the session (stimuli/session_perception.h); `adapts_`: some
+  // condition has adaptation on, so every interval's frames are shown to the eye.
+  SessionPerception perception_;
+  bool adapts_ = false;
+  bool perception_logged_ = false;
   PresentationOverlays overlays_;
   bool sequential_;
   bool aborted_ = false;

@@ -14,6 +14,7 @@
 
 #include "runner/session/session_loop.h"
 #include "core/number_text.h"
+#include "stimuli/perception/frame_adaptation_luminance.h"
 #include "stimuli/position_glare.h"
 
 namespace glarelab {
@@ -89,6 +90,10 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   if (model != GlareModel::ritschel) glare.modes_label += ", " + to_string(model) + " model";
   if (gain != 1.0) glare.modes_label += ", gain " + number_text(gain);
   if (!position_modes.empty() && plan.glare_keeps_peak) glare.modes_label += ", glared peak kept";
+  glare.perception = perception_for(prepared_.experiment.perception, condition_row(plan));
+  glare.perceived = any_perception_stage(glare.perception);
+  glare.stimulus_frames = plan.stimulus_frames;
+  if (glare.perceived) glare.modes_label += ", perception " + perception_stages_label(glare.perception);
   if (captured && !preview_frame_) {
     preview_frame_.emplace();
     preview_frame_->plan = plan;
@@ -96,27 +101,50 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
     preview_frame_->glare_label = glare.modes_label;
   }
   const auto is_control = [](GlareMode m) { return m == GlareMode::control; };
-  if (position_modes.empty() ? glare.mode == GlareMode::control
-                             : std::all_of(position_modes.begin(), position_modes.end(), is_control))
+  glare.glared = !(position_modes.empty() ? glare.mode == GlareMode::control
+                                          : std::all_of(position_modes.begin(), position_modes.end(), is_control));
+  if (!glare.glared && !glare.perceived) {
+    // Composed live at every refresh; the session's adapting eye still sees it.
+    if (adapts_) {
+      if (tracker_.active()) update_glare_gaze(glare, glare.first_flip_s);
+      renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
+      see_interval(glare, renderer_.read_stimulus());
+      display_.make_current();
+    }
     return glare;
+  }
   const auto is_dynamic = [](GlareMode m) { return m == GlareMode::dynamic; };
   // The analytic models have no moving eye: a dynamic condition's frames are all alike, so one
   // serves the interval (the adaptation luminance of a trial's frames is the same).
   const bool moving_eye = model == GlareModel::ritschel || model == GlareModel::hybrid;
-  glare.dynamic = moving_eye && (position_modes.empty() ? glare.mode == GlareMode::dynamic
-                                                        : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic));
+  glare.dynamic = glare.glared && moving_eye &&
+                  (position_modes.empty() ? glare.mode == GlareMode::dynamic
+                                          : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic));
   if (record_only) {
-    // The eye sees these frames (its pupil adapts to them) at the times they flip.
-    if (glare.dynamic) {
+    // The eye sees these frames (its pupil adapts to them, and the perception stages' eye) at the
+    // times they flip, as computing them would have made it.
+    if (glare.dynamic || adapts_) {
+      if (tracker_.active()) update_glare_gaze(glare, glare.first_flip_s);
       renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
-      const double field_cd_m2 = mean_luminance(renderer_.read_stimulus());
-      for (int k = 0; k < plan.stimulus_frames; ++k) glare_.record_dynamic_frame(glare.frame_time_s(k), field_cd_m2);
+      const ImageRGBA composed = renderer_.read_stimulus();
+      const double mean_cd_m2 = mean_luminance(composed);
+      const double adaptation_cd_m2 = adapts_ ? adaptation_luminance(glare, composed) : 0.0;
+      for (int k = 0; k < plan.stimulus_frames; ++k) {
+        if (adapts_) perception_.see(adaptation_cd_m2, glare.first_flip_s, period_s_, k, k + 1);
+        const bool adapted = glare.perceived && glare.perception.adaptation;
+        if (glare.dynamic)
+          glare_.record_dynamic_frame(glare.frame_time_s(k),
+                                      adapted ? *perception_.adapted_luminance_cd_m2() : mean_cd_m2);
+      }
     }
     display_.make_current();
     return glare;
   }
   glare.active = true;
-  glare.frames_needed = captured ? 1 : glare.dynamic ? plan.stimulus_frames : 1;
+  // Adaptation changes every frame (Eq. 5.2), so each is computed; otherwise a static eye's frame
+  // serves the whole interval.
+  const bool every_frame = glare.dynamic || (glare.perceived && glare.perception.adaptation);
+  glare.frames_needed = captured ? 1 : every_frame ? plan.stimulus_frames : 1;
   const GlareSpec& spec = prepared_.experiment.glare;
   if (tracker_.active()) {
     const std::optional<double> pupil_mm = tracker_.measured_pupil_mm();
@@ -135,8 +163,21 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   glare.composed_cd_m2 = renderer_.read_stimulus();
   glare.field_cd_m2 = mean_luminance(glare.composed_cd_m2);
+  // Glare alone: the frames are the eye's all the same (the perception stages' frames advance it
+  // as they are computed).
+  if (adapts_ && !glare.perceived) see_interval(glare, glare.composed_cd_m2);
   display_.make_current();
   return glare;
+}
+
+double SessionLoop::adaptation_luminance(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2) const {
+  const GazePoint gaze = glare.gaze.value_or(GazePoint{});
+  return frame_adaptation_luminance_cd_m2(composed_cd_m2, gaze.x, gaze.y,
+                                          prepared_.experiment.perception.adaptation_weighting);
+}
+
+void SessionLoop::see_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2) {
+  perception_.see(adaptation_luminance(glare, composed_cd_m2), glare.first_flip_s, period_s_, 0, glare.stimulus_frames);
 }
 
 // The gaze the window is placed at for a frame flipping at `flip_s`: the latest, or with latency
@@ -160,14 +201,31 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
   }
   glare.gaze_time_s.push_back(gaze_time_s);
   std::vector<GlareFrameReport> reports;
-  if (glare.layers.empty()) {
+  // The glare of this frame, on the eye adapted to `field` (nothing: the frame's mean luminance).
+  const auto glare_of = [&](const ImageRGBA& scene_cd_m2, std::optional<double> field_cd_m2) {
+    if (!glare.layers.empty())
+      return apply_layered_glare(glare_, scene_cd_m2, glare.layers, time_s, glare.gaze, &reports, field_cd_m2);
     GlareFrameReport report;
-    glare.frames.push_back(
-        changed_region(glare.composed_cd_m2, glare_.apply(glare.composed_cd_m2, glare.mode, time_s, &report, glare.gaze, glare.field_cd_m2)));
+    ImageRGBA glared = glare_.apply(scene_cd_m2, glare.mode, time_s, &report, glare.gaze,
+                                    field_cd_m2.value_or(glare.field_cd_m2));
     reports.push_back(report);
+    return glared;
+  };
+  if (glare.perceived) {
+    // Fig. 6.1: adaptation -> glare -> acuity -> tone mapping -> scotopic colour, the gaze the
+    // tracker's when one runs, else the display centre.
+    const GazePoint gaze = glare.gaze.value_or(GazePoint{});
+    const PerceptionResult result =
+        perception_.process(glare.composed_cd_m2, glare.perception, time_s, period_s_, gaze.x, gaze.y,
+                            glare.glared ? FieldGlare(glare_of) : FieldGlare());
+    glare.adapted_cd_m2.push_back(result.adapted_luminance_cd_m2);
+    glare.frames.push_back(changed_region(glare.composed_cd_m2, result.image));
+    // One frame serving the interval: the eye still sees the rest of it.
+    if (k + 1 == glare.frames_needed)
+      perception_.see(result.frame_luminance_cd_m2, glare.first_flip_s, period_s_, glare.frames_needed,
+                      glare.stimulus_frames);
   } else {
-    glare.frames.push_back(changed_region(
-        glare.composed_cd_m2, apply_layered_glare(glare_, glare.composed_cd_m2, glare.layers, time_s, glare.gaze, &reports)));
+    glare.frames.push_back(changed_region(glare.composed_cd_m2, glare_of(glare.composed_cd_m2, std::nullopt)));
   }
   if (k == 0 && preview_frame_ && preview_frame_->reports.empty()) preview_frame_->reports = reports;
   for (const GlareFrameReport& report : reports) {
@@ -236,7 +294,8 @@ void SessionLoop::log_interval_glare(const TrialPlan& plan, const IntervalGlare&
 // from then on when that cost fits kLiveBudgetFraction of the refresh period (the rest of the
 // period composes, encodes and flips the frame). Logged once as a 'presentation_mode' event.
 void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
-  if (!glare.active || glare.frame_compute_s.empty() || presentation_mode_logged_) return;
+  // Perception intervals are always prepared: their cost is the perception_stages event's.
+  if (!glare.active || glare.perceived || glare.frame_compute_s.empty() || presentation_mode_logged_) return;
   const std::string& asked = prepared_.experiment.glare.presentation;
   // The first frame of a session also makes the FFTW plans and buffers: the steady cost is the
   // median of the frames after it, so "auto" waits for an interval of two frames or more (a dynamic
@@ -314,6 +373,36 @@ void SessionLoop::log_glare_setup() {
                                          : "the tracker's latest gaze (no latency compensation)")
                        : "the display centre: no tracker, no gaze");
   store_.log_event(session_id_, clock_.now_s(), "glare_inputs", inputs);
+}
+
+void SessionLoop::log_perception_stages(const TrialPlan& plan, const IntervalGlare& glare) {
+  if (!glare.active || !glare.perceived || glare.frame_compute_s.empty() || perception_logged_) return;
+  perception_logged_ = true;
+  // As for the glare: the first frame of a session also makes buffers and plans, so the steady
+  // cost is the median of the frames after it when there are any.
+  const std::size_t measured = glare.frame_compute_s.size();
+  std::vector<double> steady(glare.frame_compute_s.begin() + (measured > 1 ? 1 : 0), glare.frame_compute_s.end());
+  std::sort(steady.begin(), steady.end());
+  const double per_frame_s = steady[steady.size() / 2];
+  const PerceptionSettings& s = prepared_.experiment.perception;
+  const PerceptionSettings& shown = glare.perception;
+  std::string text = "Fig. 6.1 order on the CPU (double precision), frames prepared before onset; [perception] " +
+                     perception_stages_label(s) + "; trial " + std::to_string(plan.trial_index) + " ran " +
+                     perception_stages_label(shown) + (glare.glared ? " with its glare after adaptation" : "") + ": " +
+                     number_text(std::round(per_frame_s * 1e6) / 1e3) + " ms per frame (median of " +
+                     std::to_string(steady.size()) + " frame(s)" + (measured > 1 ? ", the first left out" : "") +
+                     ") against a refresh period of " + number_text(std::round(period_s_ * 1e6) / 1e3) + " ms";
+  text += "; adaptation: gaze sigma " + number_text(s.adaptation_weighting.gaze_sigma_frame_widths) +
+          " frame widths (gaze: " + (tracker_.active() ? "the tracker's" : "the display centre") + "), tau_rod " +
+          number_text(s.adaptation_time_constants.rod_time_constant_s) + " s, tau_cone " +
+          number_text(s.adaptation_time_constants.cone_time_constant_s) + " s" +
+          (adapts_ ? "; the adapted luminance is the glare's field luminance" : "");
+  text += "; acuity: " + to_string(s.acuity_settings.sigma_form) + ", max sigma " +
+          number_text(s.acuity_settings.max_sigma_px) + " px; tone mapping: " + to_string(s.tone_mapping_settings.curve) +
+          "; scotopic: " + to_string(s.scotopic_settings.form);
+  if (!glare.adapted_cd_m2.empty())
+    text += "; adapted luminance of its first frame " + number_text(glare.adapted_cd_m2.front()) + " cd/m2";
+  store_.log_event(session_id_, clock_.now_s(), "perception_stages", text);
 }
 
 const ConditionRow& SessionLoop::condition_row(const TrialPlan& plan) const {

@@ -44,7 +44,9 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     std::size_t first_flip = 0;
     while (schedule.timed[first_flip].interval != interval) ++first_flip;
     glare.push_back(begin_glare(shown, placements.back(), static_cast<int>(first_flip)));
-    if (glare_presentation_ == GlarePresentation::prepared) prepare_glare_frames(glare.back());
+    // Perception stages are prepared before onset whatever the glare's presentation: the session's
+    // eye then sees its frames in the order they flip.
+    if (glare_presentation_ == GlarePresentation::prepared || glare.back().perceived) prepare_glare_frames(glare.back());
     if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
   }
   const std::vector<Placement> question = overlays_.question(plan.question, stimulus_rects);
@@ -111,6 +113,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   for (const IntervalGlare& interval_glare : glare) {
     log_interval_glare(plan, interval_glare);
     settle_glare_presentation(plan, interval_glare);
+    log_perception_stages(plan, interval_glare);
   }
 
   const double window_s = presentation.response_window_s;

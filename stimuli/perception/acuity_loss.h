@@ -38,25 +38,9 @@
 
 #include "core/display_spec.h"
 #include "core/image.h"
+#include "core/perception_settings.h"
 
 namespace glarelab {
-
-enum class AcuitySigmaForm {
-  resolvable_frequency,  // Eq. 5.15 with the display's pixels per degree, only where L* < 1
-  luidolt_linear,        // Eq. 5.16, sigma = max(1 - L*, 0) pixels
-};
-
-enum class SecondPassSigma {
-  filtered_lightness,  // section 5.3.1, step 3: sigma from the horizontally blurred lightness
-  original_lightness,  // Fig. 5.9: sigma from the lightness before either pass
-};
-
-struct AcuitySettings {
-  AcuitySigmaForm sigma_form = AcuitySigmaForm::resolvable_frequency;
-  SecondPassSigma second_pass = SecondPassSigma::filtered_lightness;
-  double reference_white_cd_m2 = 100.0;  // Y_n of L*a*b* (lab_colour.h)
-  double max_sigma_px = 1.0;             // kernel bound: s = 2 floor(3 sigma) + 1 <= 7
-};
 
 // Throws std::invalid_argument naming the field and its accepted range.
 void validate_acuity_settings(const AcuitySettings& settings);

@@ -22,6 +22,7 @@
 // The Gaussian is circular on the screen: distances are measured in units of the frame width in
 // both directions.
 #include "core/image.h"
+#include "core/perception_settings.h"
 
 namespace glarelab {
 
@@ -29,13 +30,6 @@ namespace glarelab {
 inline double luidolt_luminance_cd_m2(double r, double g, double b) {
   return 0.2125 * r + 0.7154 * g + 0.0721 * b;
 }
-
-struct AdaptationWeighting {
-  // Standard deviation of the gaze Gaussian in units of the frame width (see above).
-  double gaze_sigma_frame_widths = 0.125;
-  int resampled_size_px = 128;  // section 5.1: "downsample our scene to a size of 128 x 128"
-  int top_level_size_px = 16;   // "a Gaussian pyramid until 16 x 16 pixels"
-};
 
 // The adapted-to luminance of one frame in cd/m2. Gaze in normalised display coordinates (0..1,
 // origin at the top left, y down: docs/TRACKERS.md); a gaze outside the frame is allowed (the

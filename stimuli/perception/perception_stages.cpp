@@ -20,11 +20,6 @@ void validate_group(const char* group, Check check) {
   }
 }
 
-[[noreturn]] void refuse(const char* field, const std::string& text, const char* accepted) {
-  throw std::invalid_argument(std::string("perception settings: ") + field + " must be one of " + accepted +
-                              " (got '" + text + "')");
-}
-
 }  // namespace
 
 const char* perception_stage_name(PerceptionStage stage) {
@@ -54,31 +49,6 @@ void validate_perception_settings(const PerceptionSettings& settings) {
   validate_group("acuity", [&] { validate_acuity_settings(settings.acuity_settings); });
   validate_group("tone_mapping", [&] { validate_tone_mapping_settings(settings.tone_mapping_settings); });
   validate_group("scotopic", [&] { validate_scotopic_settings(settings.scotopic_settings); });
-}
-
-ToneCurve parse_tone_curve(const std::string& text) {
-  if (text == "aces_narkowicz") return ToneCurve::aces_narkowicz;
-  if (text == "aces_hill") return ToneCurve::aces_hill;
-  if (text == "none") return ToneCurve::none;
-  refuse("tone_curve", text, "\"aces_narkowicz\", \"aces_hill\", \"none\"");
-}
-
-ScotopicForm parse_scotopic_form(const std::string& text) {
-  if (text == "luidolt_tint") return ScotopicForm::luidolt_tint;
-  if (text == "spencer_desaturation") return ScotopicForm::spencer_desaturation;
-  refuse("scotopic_form", text, "\"luidolt_tint\", \"spencer_desaturation\"");
-}
-
-AcuitySigmaForm parse_acuity_sigma_form(const std::string& text) {
-  if (text == "resolvable_frequency") return AcuitySigmaForm::resolvable_frequency;
-  if (text == "luidolt_linear") return AcuitySigmaForm::luidolt_linear;
-  refuse("acuity_sigma", text, "\"resolvable_frequency\", \"luidolt_linear\"");
-}
-
-SecondPassSigma parse_second_pass_sigma(const std::string& text) {
-  if (text == "filtered_lightness") return SecondPassSigma::filtered_lightness;
-  if (text == "original_lightness") return SecondPassSigma::original_lightness;
-  refuse("acuity_second_pass", text, "\"filtered_lightness\", \"original_lightness\"");
 }
 
 PerceptionResult run_perception_stages(const ImageRGBA& scene, const PerceptionFrameInput& input,

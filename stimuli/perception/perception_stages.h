@@ -7,14 +7,15 @@
 // comes after tone mapping and reads the adapted luminance from before it (5.4, 6.5).
 // Every stage can be switched off. With adaptation off the eye adapts instantly: the adapted
 // luminance is the frame's own adaptation luminance and the eye's state is left as it was.
-// `PerceptionSettings` is the shape the experiment file's table maps onto: the parse_* functions
-// turn its strings into the enums and name the field and the accepted values when one is wrong.
+// `PerceptionSettings` (core/perception_settings.h) is the shape the experiment file's [perception]
+// table maps onto (protocols/perception_config.h).
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "core/display_spec.h"
 #include "core/image.h"
+#include "core/perception_settings.h"
 #include "stimuli/perception/acuity_loss.h"
 #include "stimuli/perception/frame_adaptation_luminance.h"
 #include "stimuli/perception/scotopic_colour.h"
@@ -26,28 +27,8 @@ namespace glarelab {
 enum class PerceptionStage { adaptation, glare, acuity, tone_mapping, scotopic };
 const char* perception_stage_name(PerceptionStage stage);
 
-struct PerceptionSettings {
-  bool adaptation = true;
-  bool glare = true;
-  bool acuity = true;
-  bool tone_mapping = true;
-  bool scotopic = true;
-  AdaptationWeighting adaptation_weighting;
-  AdaptationTimeConstants adaptation_time_constants;
-  AcuitySettings acuity_settings;
-  ToneMappingSettings tone_mapping_settings;  // .curve: aces_narkowicz, aces_hill or none
-  ScotopicSettings scotopic_settings;         // .form: luidolt_tint or spencer_desaturation
-};
-
 // Throws std::invalid_argument naming the field (e.g. "acuity.max_sigma_px") and its accepted range.
 void validate_perception_settings(const PerceptionSettings& settings);
-
-// Experiment-file spellings; a wrong one throws std::invalid_argument naming the field and the
-// accepted values.
-ToneCurve parse_tone_curve(const std::string& text);               // "aces_narkowicz", "aces_hill", "none"
-ScotopicForm parse_scotopic_form(const std::string& text);         // "luidolt_tint", "spencer_desaturation"
-AcuitySigmaForm parse_acuity_sigma_form(const std::string& text);  // "resolvable_frequency", "luidolt_linear"
-SecondPassSigma parse_second_pass_sigma(const std::string& text);  // "filtered_lightness", "original_lightness"
 
 // Glare on the adapted scene (cd/m2 in, cd/m2 out), e.g. stimuli/glare_stage.h's; empty: skipped.
 using PerceptionGlare = std::function<ImageRGBA(const ImageRGBA&)>;

@@ -14,18 +14,9 @@
 // so it is 70 % in full rod vision and vanishes in daylight. Hue and value (the largest channel)
 // are kept: with V and H fixed every channel is V - (V - c) S' / S.
 #include "core/image.h"
+#include "core/perception_settings.h"
 
 namespace glarelab {
-
-enum class ScotopicForm {
-  luidolt_tint,          // Eq. 5.18
-  spencer_desaturation,  // Spencer 1995, HSV saturation reduced by 70 % under full rod vision
-};
-
-struct ScotopicSettings {
-  ScotopicForm form = ScotopicForm::luidolt_tint;
-  double spencer_saturation_reduction = 0.7;  // Spencer 1995 section 5, at full rod sensitivity
-};
 
 // Throws std::invalid_argument naming the field and its accepted range.
 void validate_scotopic_settings(const ScotopicSettings& settings);

@@ -8,13 +8,9 @@
 // of dL/dt = (Y - L) / tau(Y) for a luminance held for ft, so the adapted luminance after a stretch
 // of constant input is the same at 60, 90 or 144 Hz, or for irregular frame times. The formulas are
 // glare/pupil_model.h's (the pupil's field luminance is the same filter), called, not repeated.
-namespace glarelab {
+#include "core/perception_settings.h"
 
-struct AdaptationTimeConstants {
-  double rod_time_constant_s = 0.4;            // tau_rod, Eq. 5.3
-  double cone_time_constant_s = 0.1;           // tau_cone, Eq. 5.3
-  double rod_half_sensitivity_cd_m2 = 0.04;    // Y_half of Eq. 5.4
-};
+namespace glarelab {
 
 // Throws std::invalid_argument naming the field when a constant is not finite and > 0.
 void validate_adaptation_time_constants(const AdaptationTimeConstants& constants);

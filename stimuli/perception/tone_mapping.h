@@ -21,22 +21,9 @@
 // Both matrices' rows sum to 1 (to 1e-5), so a grey stays grey.
 // `none` is the display's present behaviour: each channel clipped to [0, peak].
 #include "core/image.h"
+#include "core/perception_settings.h"
 
 namespace glarelab {
-
-enum class ToneCurve {
-  aces_narkowicz,  // Narkowicz's luminance-only fit (the thesis' curve as published in closed form)
-  aces_hill,       // Hill's fit with the RRT and ODT colour matrices
-  none,            // linear, clipped at the display peak
-};
-
-struct ToneMappingSettings {
-  ToneCurve curve = ToneCurve::aces_narkowicz;
-  double middle_grey = 0.18;                           // the scene-linear value L_a maps to (ACES)
-  double aces_pre_exposure = 0.6;                      // Narkowicz: input x 0.6 for the original ACES curve
-                                                       // (aces_narkowicz only)
-  double minimum_adapted_luminance_cd_m2 = 1e-6;       // floor of L_a
-};
 
 // Throws std::invalid_argument naming the field and its accepted range.
 void validate_tone_mapping_settings(const ToneMappingSettings& settings);

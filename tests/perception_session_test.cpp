@@ -1,0 +1,202 @@
+// The perception stages in a session, run as a user runs it (glarelab run --save-frames): a
+// condition's saved frame equals run_perception_stages applied to the composed frame, a condition
+// with perception = "none" is the composed frame bit for bit, and the session's eye adapts over
+// its frames in time (Luidolt 2020, Eqs. 5.2-5.4) with the background between them.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cli_process.h"
+#include "core/exr_io.h"
+#include "protocols/experiment.h"
+#include "session_events.h"
+#include "stimuli/perception/perception_stages.h"
+
+namespace glarelab {
+namespace {
+
+// Every trial shows lamp_100 beside lamp_130 (sides fixed), so all composed frames are the same.
+// `perception_table`: the [perception] table's lines; `rows`: name,perception pairs, each shown
+// `repetitions` times.
+std::filesystem::path perception_demo(const std::filesystem::path& dir, const std::string& perception_table,
+                                      const std::vector<std::pair<std::string, std::string>>& rows,
+                                      int repetitions = 1) {
+  std::filesystem::create_directories(dir);
+  std::string csv = "name,scene_a,scene_b,perception\n";
+  for (const auto& [name, perception] : rows) csv += name + ",lamp_100,lamp_130," + perception + "\n";
+  test::write_bytes((dir / "conditions.csv").string(), csv);
+  return test::demo_variant(dir, {{"file", "file = \"" + (dir / "conditions.csv").string() + "\""},
+                                  {"width_px", "width_px = 512"},
+                                  {"height_px", "height_px = 256"},
+                                  {"stimulus_frames", "stimulus_frames = 2"},
+                                  {"repetitions", "repetitions = " + std::to_string(repetitions)},
+                                  {"counterbalance_sides", "counterbalance_sides = false"},
+                                  {"question", "question = \"\""},
+                                  {"wavelength_samples", "wavelength_samples = 16\n" + perception_table}});
+}
+
+struct PerceptionRun {
+  test::RunOutput output;
+  std::filesystem::path frames, db;
+  Experiment experiment;
+};
+
+PerceptionRun run_session(const std::filesystem::path& dir, const std::filesystem::path& experiment, int trials) {
+  PerceptionRun run{{}, dir / "frames", dir / "session.db", load_experiment(experiment.string())};
+  run.output = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated", "--db",
+                                   run.db.string(), "--save-frames", run.frames.string(), "--stop-after",
+                                   std::to_string(trials)},
+                                  dir);
+  return run;
+}
+
+ImageRGBA saved_frame(const PerceptionRun& run, int trial) {
+  char name[32];
+  std::snprintf(name, sizeof name, "trial_%04d.exr", trial);
+  return read_exr((run.frames / name).string()).image;
+}
+
+// Each trial's condition name and the flip time of its stimulus frame 0, by trial index.
+struct TrialRow {
+  std::string condition;
+  double first_flip_s = 0.0;
+};
+std::vector<TrialRow> trial_rows(const std::filesystem::path& db) {
+  std::vector<TrialRow> rows;
+  sqlite3* handle = nullptr;
+  if (sqlite3_open_v2(db.c_str(), &handle, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) return rows;
+  sqlite3_stmt* statement = nullptr;
+  sqlite3_prepare_v2(handle,
+                     "SELECT t.condition, f.flip_s FROM trials t JOIN frames f ON f.trial_id = t.id AND f.frame_index = 0 "
+                     "ORDER BY t.trial_index",
+                     -1, &statement, nullptr);
+  while (sqlite3_step(statement) == SQLITE_ROW) {
+    const std::string json = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
+    const std::size_t at = json.find("\"name\":\"") + 8;
+    rows.push_back({json.substr(at, json.find('"', at) - at), sqlite3_column_double(statement, 1)});
+  }
+  sqlite3_finalize(statement);
+  sqlite3_close(handle);
+  return rows;
+}
+
+const ConditionRow& row_named(const Experiment& experiment, const std::string& name) {
+  for (const ConditionRow& row : experiment.conditions)
+    if (row.name() == name) return row;
+  throw std::runtime_error("no condition " + name);
+}
+
+// Equal within float rounding: the stages run in double on the float frame, and the frame shown
+// is float again.
+void expect_frames_equal(const ImageRGBA& shown, const ImageRGBA& expected, const std::string& what) {
+  ASSERT_EQ(shown.width_px, expected.width_px) << what;
+  ASSERT_EQ(shown.height_px, expected.height_px) << what;
+  std::size_t mismatches = 0;
+  double largest = 0.0;
+  for (std::size_t i = 0; i < shown.rgba.size(); ++i) {
+    if (i % 4 == 3) continue;
+    const double a = shown.rgba[i], b = expected.rgba[i];
+    const double error = std::abs(a - b) / std::max(std::abs(b), 1e-3);
+    largest = std::max(largest, error);
+    if (error > 1e-5) ++mismatches;
+  }
+  EXPECT_EQ(mismatches, 0u) << what << ": largest relative difference " << largest;
+}
+
+double mean_difference(const ImageRGBA& a, const ImageRGBA& b) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.rgba.size(); ++i) sum += std::abs(static_cast<double>(a.rgba[i]) - b.rgba[i]);
+  return sum / static_cast<double>(a.rgba.size());
+}
+
+constexpr const char* kTable =
+    "\n[perception]\ntone_curve = \"aces_hill\"\nmax_sigma_px = 2\nscotopic_form = \"luidolt_tint\"\n";
+
+TEST(PerceptionSession, SavedFramesAreTheStagesOnTheComposedFrameAndNoneIsUnchanged) {
+  const test::ScratchDir scratch;
+  // Today's session: no [perception] table, no column.
+  const auto plain_dir = scratch.path() / "plain";
+  const PerceptionRun plain = run_session(plain_dir, perception_demo(plain_dir, "", {{"only", ""}}), 1);
+  ASSERT_EQ(plain.output.exit_code, 0) << plain.output.output;
+  const ImageRGBA composed = saved_frame(plain, 0);
+
+  const auto dir = scratch.path() / "stages";
+  const PerceptionRun run = run_session(
+      dir, perception_demo(dir, kTable, {{"none", "none"}, {"three", "acuity+tone_mapping+scotopic"}, {"scotopic", "scotopic"}}),
+      3);
+  ASSERT_EQ(run.output.exit_code, 0) << run.output.output;
+  const std::vector<TrialRow> rows = trial_rows(run.db);
+  ASSERT_EQ(rows.size(), 3u);
+  const double period_s = 1.0 / run.experiment.display.refresh_hz;
+  for (std::size_t t = 0; t < rows.size(); ++t) {
+    const ImageRGBA shown = saved_frame(run, static_cast<int>(t));
+    if (rows[t].condition == "none") {
+      EXPECT_EQ(shown.rgba, composed.rgba) << "perception = \"none\" changed the frame";
+      continue;
+    }
+    const PerceptionSettings settings =
+        perception_for(run.experiment.perception, row_named(run.experiment, rows[t].condition));
+    ASSERT_FALSE(settings.adaptation);
+    TemporalAdaptation eye(1.0, settings.adaptation_time_constants);
+    const PerceptionResult expected =
+        run_perception_stages(composed, {0.5, 0.5, period_s}, eye, settings, run.experiment.display);
+    expect_frames_equal(shown, expected.image, rows[t].condition);
+    EXPECT_GT(mean_difference(shown, composed), 0.0) << rows[t].condition << " left the frame as it was";
+  }
+  const auto events = test::session_event_messages(run.db.string(), "perception_stages");
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NE(events[0].find("ms per frame"), std::string::npos) << events[0];
+  EXPECT_NE(events[0].find("tone mapping: aces_hill"), std::string::npos) << events[0];
+  // A session without the table logs nothing about perception.
+  EXPECT_TRUE(test::session_event_messages(plain.db.string(), "perception_stages").empty());
+}
+
+// With adaptation the session's eye starts adapted to the first frame it sees, adapts frame by
+// frame (Eq. 5.2 with the frame time), and sees the display's background (0 cd/m2 here) between
+// trials (a fixation of 30 frames): the second trial is tone mapped for an eye that has adapted
+// down in the meantime.
+TEST(PerceptionSession, AdaptationFollowsTheSessionsFramesInTime) {
+  const test::ScratchDir scratch;
+  const auto plain_dir = scratch.path() / "plain";
+  const PerceptionRun plain = run_session(plain_dir, perception_demo(plain_dir, "", {{"only", ""}}), 1);
+  ASSERT_EQ(plain.output.exit_code, 0) << plain.output.output;
+  const ImageRGBA composed = saved_frame(plain, 0);
+
+  const auto dir = scratch.path() / "adapting";
+  const PerceptionRun run =
+      run_session(dir, perception_demo(dir, std::string(kTable) + "adaptation = true\ntone_mapping = true\n"
+                                                    "\n[presentation]\nfixation_frames = 30\n",
+                                      {{"all", ""}}, 2),
+                  2);
+  ASSERT_EQ(run.output.exit_code, 0) << run.output.output;
+  const std::vector<TrialRow> rows = trial_rows(run.db);
+  ASSERT_EQ(rows.size(), 2u);
+  const PerceptionSettings& settings = run.experiment.perception;
+  const double period_s = 1.0 / run.experiment.display.refresh_hz;
+  const double frame_cd_m2 = frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, settings.adaptation_weighting);
+  TemporalAdaptation eye(frame_cd_m2, settings.adaptation_time_constants);
+  const PerceptionResult first = run_perception_stages(composed, {0.5, 0.5, period_s}, eye, settings, run.experiment.display);
+  expect_frames_equal(saved_frame(run, 0), first.image, "trial 0");
+  eye.advance(frame_cd_m2, period_s);  // trial 0's second frame
+  const double gap_s = rows[1].first_flip_s - (rows[0].first_flip_s + 2 * period_s);
+  ASSERT_GT(gap_s, 0.0);
+  eye.advance(run.experiment.display.background_cd_m2, gap_s);
+  const double adapted_before_cd_m2 = eye.adapted_luminance_cd_m2();
+  EXPECT_LT(adapted_before_cd_m2, 0.5 * frame_cd_m2) << "the eye should have adapted down over " << gap_s << " s";
+  const PerceptionResult second = run_perception_stages(composed, {0.5, 0.5, period_s}, eye, settings, run.experiment.display);
+  expect_frames_equal(saved_frame(run, 1), second.image, "trial 1");
+  EXPECT_GT(mean_difference(saved_frame(run, 1), saved_frame(run, 0)), 0.0);
+  const auto events = test::session_event_messages(run.db.string(), "perception_stages");
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NE(events[0].find("adaptation+tone_mapping"), std::string::npos) << events[0];
+}
+
+}  // namespace
+}  // namespace glarelab
