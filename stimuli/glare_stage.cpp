@@ -154,6 +154,7 @@ EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
   parameters.mode = GlareMode::static_eye;
   parameters.static_time_s = spec_.static_time_s;
   auto found = static_eyes_.find(parameters.initial_field_luminance_cd_m2);
+  if (found == static_eyes_.end() && static_eyes_.size() >= kStaticCacheEntries) static_eyes_.clear();
   if (found == static_eyes_.end())
     found = static_eyes_.emplace(parameters.initial_field_luminance_cd_m2, std::make_unique<EyeModel>(parameters, seed_)).first;
   return *found->second;
@@ -285,6 +286,7 @@ std::optional<Psf> GlareStage::wave_psf(GlareMode mode, double time_s, double me
   EyeState state;
   if (mode == GlareMode::static_eye) {
     auto cached = static_psfs_.find(mean_cd_m2);
+    if (cached == static_psfs_.end() && static_psfs_.size() >= kStaticCacheEntries) static_psfs_.clear();
     if (cached == static_psfs_.end()) cached = static_psfs_.emplace(mean_cd_m2, display_psf(mode, time_s, mean_cd_m2)).first;
     psf = cached->second;
     state = eye_for(mode, mean_cd_m2).state_at(time_s);

@@ -166,6 +166,10 @@ class GlareStage {
   // glare at every time.
   std::map<double, std::unique_ptr<EyeModel>> static_eyes_;
   std::map<double, std::optional<Psf>> static_psfs_;
+  // A static eye on a field adapting in time (the perception stages' adapted luminance, new every
+  // frame) would keep an eye and a PSF per frame for the whole session: past this many field
+  // luminances the caches start again (a recomputed PSF is the same; only its time is lost).
+  static constexpr std::size_t kStaticCacheEntries = 32;
   std::optional<Psf> last_open_dynamic_psf_;
   GlareModel condition_model_;
   double condition_gain_ = 1.0;
