@@ -17,6 +17,7 @@
 #include "core/exr_io.h"
 #include "protocols/experiment.h"
 #include "session_events.h"
+#include "stimuli/glare_stage.h"
 #include "stimuli/perception/perception_stages.h"
 
 namespace glarelab {
@@ -24,10 +25,10 @@ namespace {
 
 // Every trial shows lamp_100 beside lamp_130 (sides fixed), so all composed frames are the same.
 // `perception_table`: the [perception] table's lines; `rows`: name,perception pairs, each shown
-// `repetitions` times.
+// `repetitions` times, under the [glare] mode `glare_mode`.
 std::filesystem::path perception_demo(const std::filesystem::path& dir, const std::string& perception_table,
                                       const std::vector<std::pair<std::string, std::string>>& rows,
-                                      int repetitions = 1) {
+                                      int repetitions = 1, const std::string& glare_mode = "control") {
   std::filesystem::create_directories(dir);
   std::string csv = "name,scene_a,scene_b,perception\n";
   for (const auto& [name, perception] : rows) csv += name + ",lamp_100,lamp_130," + perception + "\n";
@@ -39,6 +40,7 @@ std::filesystem::path perception_demo(const std::filesystem::path& dir, const st
                                   {"repetitions", "repetitions = " + std::to_string(repetitions)},
                                   {"counterbalance_sides", "counterbalance_sides = false"},
                                   {"question", "question = \"\""},
+                                  {"mode", "mode = \"" + glare_mode + "\""},
                                   {"wavelength_samples", "wavelength_samples = 16\n" + perception_table}});
 }
 
@@ -93,21 +95,25 @@ const ConditionRow& row_named(const Experiment& experiment, const std::string& n
   throw std::runtime_error("no condition " + name);
 }
 
-// Equal within float rounding: the stages run in double on the float frame, and the frame shown
-// is float again.
-void expect_frames_equal(const ImageRGBA& shown, const ImageRGBA& expected, const std::string& what) {
-  ASSERT_EQ(shown.width_px, expected.width_px) << what;
-  ASSERT_EQ(shown.height_px, expected.height_px) << what;
+// Colour values of `shown` differing from `expected` by more than float rounding (1e-5 relative):
+// the stages run in double on the float frame, and the frame shown is float again.
+std::size_t differing_values(const ImageRGBA& shown, const ImageRGBA& expected, double* largest = nullptr) {
   std::size_t mismatches = 0;
-  double largest = 0.0;
   for (std::size_t i = 0; i < shown.rgba.size(); ++i) {
     if (i % 4 == 3) continue;
     const double a = shown.rgba[i], b = expected.rgba[i];
     const double error = std::abs(a - b) / std::max(std::abs(b), 1e-3);
-    largest = std::max(largest, error);
+    if (largest != nullptr) *largest = std::max(*largest, error);
     if (error > 1e-5) ++mismatches;
   }
-  EXPECT_EQ(mismatches, 0u) << what << ": largest relative difference " << largest;
+  return mismatches;
+}
+
+void expect_frames_equal(const ImageRGBA& shown, const ImageRGBA& expected, const std::string& what) {
+  ASSERT_EQ(shown.width_px, expected.width_px) << what;
+  ASSERT_EQ(shown.height_px, expected.height_px) << what;
+  double largest = 0.0;
+  EXPECT_EQ(differing_values(shown, expected, &largest), 0u) << what << ": largest relative difference " << largest;
 }
 
 double mean_difference(const ImageRGBA& a, const ImageRGBA& b) {
@@ -196,6 +202,33 @@ TEST(PerceptionSession, AdaptationFollowsTheSessionsFramesInTime) {
   const auto events = test::session_event_messages(run.db.string(), "perception_stages");
   ASSERT_EQ(events.size(), 1u);
   EXPECT_NE(events[0].find("adaptation+tone_mapping"), std::string::npos) << events[0];
+}
+
+// With adaptation on, the glare of a static eye is computed for the eye's adapted luminance (the
+// first frame's gaze-weighted adaptation luminance, 5.1), not the frame's mean: the saved frame
+// equals the glare stage's frame for that field luminance and differs from the mean's.
+TEST(PerceptionSession, AdaptationSetsTheGlaresFieldLuminance) {
+  const test::ScratchDir scratch;
+  const auto plain_dir = scratch.path() / "plain";
+  const PerceptionRun plain = run_session(plain_dir, perception_demo(plain_dir, "", {{"only", ""}}), 1);
+  ASSERT_EQ(plain.output.exit_code, 0) << plain.output.output;
+  const ImageRGBA composed = saved_frame(plain, 0);
+
+  const auto dir = scratch.path() / "glare";
+  const PerceptionRun run =
+      run_session(dir, perception_demo(dir, "\n[perception]\nadaptation = true\n", {{"only", ""}}, 1, "static"), 1);
+  ASSERT_EQ(run.output.exit_code, 0) << run.output.output;
+  const ImageRGBA shown = saved_frame(run, 0);
+  const double field_cd_m2 =
+      frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, run.experiment.perception.adaptation_weighting);
+  const double mean_cd_m2 = mean_luminance(composed);
+  ASSERT_GT(std::abs(field_cd_m2 - mean_cd_m2), 0.05 * mean_cd_m2) << "the test needs a gaze-weighted luminance far from the mean";
+  GlareStage glare(run.experiment.glare, run.experiment.display, run.experiment.seed);
+  const ImageRGBA adapted = glare.apply(composed, GlareMode::static_eye, 0.0, nullptr, std::nullopt, field_cd_m2);
+  const ImageRGBA by_mean = glare.apply(composed, GlareMode::static_eye, 0.0, nullptr, std::nullopt, mean_cd_m2);
+  expect_frames_equal(shown, adapted, "static glare on the adapted eye");
+  // The two field luminances give frames apart by more than the tolerance above.
+  EXPECT_GT(differing_values(adapted, by_mean), 100u);
 }
 
 }  // namespace
