@@ -99,7 +99,10 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
   // rows and columns are skipped (the grid stays 0 there, the same values the full loop would give).
   // The range is widened by one sub-sample; the exact pupil test decides inside it.
   const double pupil_r = std::sqrt(pupil_r2);
-  const auto [pupil_first_column, pupil_last_column] = column_range(-pupil_r, pupil_r);
+  // Plain ints, not a structured binding: the lambdas below use them, and capturing a structured
+  // binding is C++20 that clang accepts only from version 16 (the fuzz build uses clang).
+  const std::pair<int, int> pupil_columns = column_range(-pupil_r, pupil_r);
+  const int pupil_first_column = pupil_columns.first, pupil_last_column = pupil_columns.second;
   // sub_y is sub_x mirrored: row r lies at y = -sub_x(r), so the row range is the column range of [-r, r].
   const int pupil_first_row = pupil_first_column, pupil_last_row = pupil_last_column;
   const int first_pixel_row = pupil_first_row / s, last_pixel_row = pupil_last_row / s;

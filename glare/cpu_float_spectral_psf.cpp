@@ -132,7 +132,7 @@ void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<P
         row1 = next1;
       }
       const float wy0 = wavelength.weight0[y], wy1 = wavelength.weight1[y];
-      double* out = &rgb[3 * j * width];
+      double* out = rgb.data() + 3 * j * width;  // data(): an empty block (width 0) has no element 0 to take the address of
       for (std::size_t i = 0; i < width; ++i) {
         const double v = wy0 * h0[i] + wy1 * h1[i];
         for (int c = 0; c < 3; ++c) out[3 * i + c] += wavelength.rgb_weight[c] * v;

@@ -297,7 +297,11 @@ QuestPlusTrackSpec assemble_quest_plus(const QuestPlusKeys& keys, const Experime
     add("guess", ParameterRole::guess, keys.guess.value_or(std::vector<double>{1.0 / experiment.forced_choice.alternatives}));
   add("lapse", ParameterRole::lapse, keys.lapse.value_or(std::vector<double>{0.02}));
   if (keys.prior) {
-    for (const auto& [axis_name, weights] : *keys.prior) {
+    for (const auto& prior_entry : *keys.prior) {
+      // Named references, not a structured binding: the lambda uses the name, and capturing a
+      // structured binding is C++20 that clang accepts only from version 16 (the fuzz build).
+      const std::string& axis_name = prior_entry.first;
+      const auto& weights = prior_entry.second;
       auto at = std::find_if(spec.parameters.begin(), spec.parameters.end(),
                              [&](const ParameterAxis& a) { return a.name == axis_name; });
       if (at == spec.parameters.end()) {

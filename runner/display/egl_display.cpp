@@ -1,5 +1,7 @@
 #include "runner/display/egl_display.h"
 
+#include "runner/display/gl_driver_pin.h"
+
 // glad first: it blocks GL/gl.h, which the EGL headers would otherwise pull in.
 #include <glad/gl.h>
 #include <EGL/egl.h>
@@ -171,6 +173,7 @@ class EglDisplay final : public HeadlessDisplay {
                          std::to_string(height_px_) + " pbuffer (" + error + ")");
     }
     make_current();
+    keep_gl_driver_loaded();  // the vendor library and driver EGL loaded stay mapped (gl_driver_pin.h)
     info_ = load_and_check_gl("EGL", egl_proc, request);
     info_.platform = connection_->platform + ", " + pixel_format_ + " pbuffer";
   }

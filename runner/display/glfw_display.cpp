@@ -1,12 +1,11 @@
 #include "runner/display/glfw_display.h"
 
+#include "runner/display/gl_driver_pin.h"
+
 #include <glad/gl.h>
 // GLFW after glad: glad provides the GL declarations, GLFW must not include system GL headers.
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
-
-#include <dlfcn.h>
-#include <link.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -17,22 +16,6 @@
 namespace glarelab {
 namespace {
 
-// The OpenGL driver a window loads (glvnd's libGLX and libGLX_mesa, Mesa's DRI driver) stays
-// mapped until the process exits. GLFW and glvnd dlclose it at glfwTerminate, while the driver's
-// allocations are still referenced from its own globals: once the module is unmapped those
-// allocations look unreachable, and LeakSanitizer reported them at exit as 240 bytes leaked from
-// "<unknown module>" in every windowed run (docs/HARDENING.md). Kept loaded, nothing leaks; the
-// process frees it all at exit either way.
-int pin_gl_module(struct dl_phdr_info* info, std::size_t, void*) {
-  const std::string path = info->dlpi_name != nullptr ? info->dlpi_name : "";
-  const std::string file = path.substr(path.find_last_of('/') + 1);
-  if (path.find("/dri/") != std::string::npos || file.rfind("libGLX", 0) == 0 || file.rfind("libGL.", 0) == 0 ||
-      file.rfind("libGLdispatch", 0) == 0)
-    dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);  // never closed: kept until exit
-  return 0;
-}
-
-void keep_gl_driver_loaded() { dl_iterate_phdr(pin_gl_module, nullptr); }
 
 // GLFW reports errors through a callback; keep the last one so exceptions can quote it.
 std::string& last_glfw_error() {
