@@ -86,6 +86,7 @@ std::shared_ptr<EglConnection> connect(std::string& tried) {
       tried += (tried.empty() ? "" : "; ") + name + ": eglInitialize failed (" + egl_error_name(eglGetError()) + ")";
       return nullptr;
     }
+    keep_gl_driver_loaded();  // the vendor library and driver eglInitialize loaded stay mapped (gl_driver_pin.h)
     auto connection = std::make_shared<EglConnection>();
     connection->display = display;
     connection->platform = name;
@@ -173,7 +174,6 @@ class EglDisplay final : public HeadlessDisplay {
                          std::to_string(height_px_) + " pbuffer (" + error + ")");
     }
     make_current();
-    keep_gl_driver_loaded();  // the vendor library and driver EGL loaded stay mapped (gl_driver_pin.h)
     info_ = load_and_check_gl("EGL", egl_proc, request);
     info_.platform = connection_->platform + ", " + pixel_format_ + " pbuffer";
   }
