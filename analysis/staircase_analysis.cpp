@@ -2,15 +2,19 @@
 
 #include <cstdlib>
 #include <map>
+#include <optional>
+#include <string>
 
 #include "analysis/parallel_jobs.h"
 #include "analysis/pse_analysis.h"
+#include "analysis/stored_procedure.h"
 
 namespace glarelab::analysis {
 namespace {
 
-// Guess rate fixed by the task: condition "guess_rate", else 1 / "alternatives", else 2AFC.
-double guess_rate_of(const LoadedTrial& trial, std::string& note) {
+// Guess rate fixed by the task: condition "guess_rate", else 1 / the condition's "alternatives",
+// else 1 / the procedure's stored `alternatives` (a 3-way task with "neither" guesses 1/3), else 2AFC.
+double guess_rate_of(const LoadedTrial& trial, const std::string& config_toml, std::string& note) {
   if (const std::string* value = trial.condition_value("guess_rate")) {
     char* end = nullptr;
     const double rate = std::strtod(value->c_str(), &end);
@@ -20,7 +24,13 @@ double guess_rate_of(const LoadedTrial& trial, std::string& note) {
     const long alternatives = std::strtol(value->c_str(), nullptr, 10);
     if (alternatives >= 2) return 1.0 / static_cast<double>(alternatives);
   }
-  note = "guess rate 0.5 assumed (two-alternative task; the condition names no guess_rate or alternatives)";
+  if (const std::optional<int> alternatives = stored_alternatives(config_toml)) {
+    note = "guess rate 1/" + std::to_string(*alternatives) + " from the procedure's alternatives = " +
+           std::to_string(*alternatives);
+    return 1.0 / static_cast<double>(*alternatives);
+  }
+  note = "guess rate 0.5 assumed (two-alternative task; neither the condition nor the stored procedure names a "
+         "guess_rate or alternatives)";
   return 0.5;
 }
 
@@ -56,7 +66,7 @@ std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const St
         result.participant_label = session.label;
         result.name = name;
         result.procedure = r.procedure;
-        result.guess_rate = guess_rate_of(trial, result.guess_note);
+        result.guess_rate = guess_rate_of(trial, session.record.config, result.guess_note);
         results.push_back(std::move(result));
       }
       StaircaseResult& result = results[found->second];
