@@ -61,6 +61,10 @@ AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
 
 std::vector<double> AnalyticGlare::weights_for(const spencer::Mixture& m) const { return {m.f0, m.f1, m.f2, m.f3}; }
 
+std::vector<double> AnalyticGlare::current_weights() const {
+  return adaptive_ ? weights_for(mixture_) : std::vector<double>{1.0};
+}
+
 void AnalyticGlare::adapt(double adaptation_cd_m2) {
   if (!adaptive_) return;
   const spencer::Mixture m =
@@ -77,14 +81,14 @@ void AnalyticGlare::adapt(double adaptation_cd_m2) {
 
 std::array<double, 3> AnalyticGlare::energy_inside_handover() const {
   std::array<double, 3> sum{0.0, 0.0, 0.0};
-  const std::vector<double> weights = adaptive_ ? weights_for(mixture_) : std::vector<double>{1.0};
+  const std::vector<double> weights = current_weights();
   for (std::size_t i = 0; i < inside_.size(); ++i)
     for (int c = 0; c < 3; ++c) sum[c] += weights[i] * inside_[i][c];
   return sum;
 }
 
 double AnalyticGlare::wing_fraction() const {
-  const std::vector<double> weights = adaptive_ ? weights_for(mixture_) : std::vector<double>{1.0};
+  const std::vector<double> weights = current_weights();
   double wing = 0.0;
   for (int c = 0; c < 3; ++c) {
     double centre = 0.0;
@@ -96,7 +100,7 @@ double AnalyticGlare::wing_fraction() const {
 
 DisplayKernel AnalyticGlare::current_kernel() const {
   if (components_.empty()) throw std::logic_error("glare/analytic_glare: the kernels of a frame this large are not kept");
-  const std::vector<double> weights = adaptive_ ? weights_for(mixture_) : std::vector<double>{1.0};
+  const std::vector<double> weights = current_weights();
   DisplayKernel sum;
   sum.half_width_px = components_.front().half_width_px;
   sum.half_height_px = components_.front().half_height_px;

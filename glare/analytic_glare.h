@@ -49,9 +49,13 @@ class AnalyticGlare {
   std::string describe() const;
   double kernel_build_s() const { return build_s_; }
   std::size_t memory_bytes() const { return convolution_.spectrum_bytes(); }
+  int fft_rows() const { return convolution_.fft_rows(); }
+  int fft_cols() const { return convolution_.fft_cols(); }
 
  private:
   std::vector<double> weights_for(const spencer::Mixture& mixture) const;
+  // The components' weights now: the mixture's (adaptive), or the one kernel's 1.
+  std::vector<double> current_weights() const;
 
   AnalyticGlareOptions options_;
   bool adaptive_ = false;

@@ -115,9 +115,8 @@ AnalyticBenchmarkResult run_analytic_benchmark(const AnalyticBenchmarkOptions& o
       glare.convolve(frame, fast);
       row.frame_s = std::min(row.frame_s, seconds_since(start));
     }
-    DisplayKernelConvolution sizes(options.width_px, options.height_px, options.width_px - 1, options.height_px - 1);
-    row.fft_cols = sizes.fft_cols();
-    row.fft_rows = sizes.fft_rows();
+    row.fft_cols = glare.fft_cols();
+    row.fft_rows = glare.fft_rows();
     row.floor_s = fftw_floor_s(row.fft_rows, row.fft_cols, options.frames);
     say("analytic glare: " + c.label + ", float64 reference");
     // The reference kernel is integrated again (the engine keeps only spectra at this size); the
