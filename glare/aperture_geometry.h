@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "glare/dioptric_power.h"
+
 namespace glarelab {
 
 // The part of the eye a primitive stands for (Ritschel et al. 2009, Table 1), so a PSF can be
@@ -47,6 +49,15 @@ struct ApertureGeometry {
   // Defocus of the eye (accommodation error), in dioptres; gives the quadratic phase
   // phi(r) = pi * defocus_dioptres * r^2 / lambda of a thin-lens focus error.
   double defocus_dioptres = 0.0;
+  // The observer's residual sphero-cylindrical error (the refraction left after accommodation and
+  // any spectacles; glare/dioptric_power.h), added to defocus_dioptres: the pupil phase is that of
+  // E = defocus_dioptres I + refraction_error (glare/astigmatic_phase.h). Zero for an emmetrope.
+  DioptricPower refraction_error;
+  DioptricPower total_power_error() const { return DioptricPower::spherical(defocus_dioptres) + refraction_error; }
+  // True when the phase does not reduce to fresnel.h's rotationally symmetric pi D r^2 / lambda.
+  bool astigmatic() const {
+    return refraction_error.xy() != 0.0 || refraction_error.xx() != refraction_error.yy();
+  }
   // False for the "control" condition (no glare): the consumer passes the image through unchanged
   // and ignores everything else here (the eye model then sends the pupil only, no scatterers).
   bool glare_enabled = true;
