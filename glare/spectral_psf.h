@@ -8,6 +8,7 @@
 // converted to linear Rec.709. Negative Rec.709 values (spectral colours outside the Rec.709 gamut)
 // are clamped to 0 before each channel is normalised to sum 1; the clamped fraction is reported.
 #include "glare/psf.h"
+#include "glare/spectral_accumulation.h"
 
 namespace glarelab {
 
@@ -16,11 +17,7 @@ struct SpectralPsfOptions {
   double reference_wavelength_nm = 575.0;
 };
 
-struct SpectralPsfResult {
-  Psf psf;  // 3 channels R, G, B, each sums to 1, same grid and degrees_per_pixel as the reference
-  // Per channel: sum of the clamped negative values / sum of the positive values.
-  double clamped_negative_fraction[3] = {0.0, 0.0, 0.0};
-};
+// SpectralPsfResult: glare/spectral_accumulation.h.
 
 // `reference` is a one-channel PSF computed at options.reference_wavelength_nm.
 SpectralPsfResult spectral_psf_from_reference(const Psf& reference, const SpectralPsfOptions& options);
