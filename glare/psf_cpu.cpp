@@ -4,6 +4,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "glare/astigmatic_phase.h"
+
 namespace glarelab {
 
 double psf_degrees_per_pixel(double wavelength_nm, double aperture_width_mm) {
@@ -47,28 +49,22 @@ std::vector<double> shifted_power_spectrum(std::vector<std::complex<double>> fie
   return power;
 }
 
-MonochromaticPsfResult compute_monochromatic_psf(const ApertureGeometry& geometry, const MonochromaticPsfOptions& options) {
-  return compute_monochromatic_psf(rasterise_aperture(geometry, options.raster), geometry.pupil_diameter_mm,
-                                   geometry.defocus_dioptres, options);
+namespace {
+
+bool spherical(const DioptricPower& power) { return power.xy() == 0.0 && power.xx() == power.yy(); }
+
+void record_sampling(const PhaseSamplingReport& sampling, const MonochromaticPsfOptions& options,
+                     MonochromaticPsfResult& result) {
+  if (!sampling.aliased) return;
+  if (options.strict_sampling) throw std::runtime_error(sampling.warning);
+  result.sampling_warning = sampling.warning;
 }
 
-MonochromaticPsfResult compute_monochromatic_psf(const ApertureGrid& grid, double pupil_diameter_mm,
-                                                 double defocus_dioptres, const MonochromaticPsfOptions& options) {
-  if (!(options.wavelength_nm > 0.0)) throw std::invalid_argument("glare/psf_cpu: wavelength must be > 0 nm");
-  MonochromaticPsfResult result;
-  const double coefficient = phase_coefficient_per_m2(options.phase, options.wavelength_nm, defocus_dioptres);
-  const PhaseSamplingReport sampling =
-      check_phase_sampling(coefficient, 0.5 * pupil_diameter_mm, grid.pixel_mm(), grid.aperture_width_mm);
-  if (sampling.aliased) {
-    if (options.strict_sampling) throw std::runtime_error(sampling.warning);
-    result.sampling_warning = sampling.warning;
-  }
-  for (double a : grid.transmittance) result.aperture_energy += a * a;
-  if (!(result.aperture_energy > 0.0))
-    throw ClosedApertureError("glare/psf_cpu: the aperture transmits no light (pupil outside the grid or fully blocked)");
-
+// |FFT(field)|^2 normalised to sum 1 (Ritschel et al. 2009, Eq. 3), on the grid's angular pixels.
+void finish_psf(const ApertureGrid& grid, std::vector<std::complex<double>> field, const MonochromaticPsfOptions& options,
+                MonochromaticPsfResult& result) {
   const int n = grid.grid_px;
-  std::vector<double> power = shifted_power_spectrum(apply_quadratic_phase(grid, coefficient), n, options.precision);
+  std::vector<double> power = shifted_power_spectrum(std::move(field), n, options.precision);
   for (double p : power) result.unnormalised_sum += p;
   // K: Ritschel's 1 / (lambda d)^2 makes the retinal irradiance physical; for a PSF the constant
   // that matters is the one that makes it sum to 1.
@@ -79,6 +75,49 @@ MonochromaticPsfResult compute_monochromatic_psf(const ApertureGrid& grid, doubl
   result.psf.channels = 1;
   result.psf.degrees_per_pixel = psf_degrees_per_pixel(options.wavelength_nm, grid.aperture_width_mm);
   result.psf.values = std::move(power);
+}
+
+void measure_aperture(const ApertureGrid& grid, MonochromaticPsfResult& result) {
+  for (double a : grid.transmittance) result.aperture_energy += a * a;
+  if (!(result.aperture_energy > 0.0))
+    throw ClosedApertureError("glare/psf_cpu: the aperture transmits no light (pupil outside the grid or fully blocked)");
+}
+
+}  // namespace
+
+MonochromaticPsfResult compute_monochromatic_psf(const ApertureGeometry& geometry, const MonochromaticPsfOptions& options) {
+  const ApertureGrid grid = rasterise_aperture(geometry, options.raster);
+  const DioptricPower& refraction = geometry.refraction_error;
+  if (refraction.xx() == 0.0 && refraction.yy() == 0.0 && refraction.xy() == 0.0)
+    return compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, geometry.defocus_dioptres, options);
+  return compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, geometry.total_power_error(), options);
+}
+
+MonochromaticPsfResult compute_monochromatic_psf(const ApertureGrid& grid, double pupil_diameter_mm,
+                                                 double defocus_dioptres, const MonochromaticPsfOptions& options) {
+  if (!(options.wavelength_nm > 0.0)) throw std::invalid_argument("glare/psf_cpu: wavelength must be > 0 nm");
+  MonochromaticPsfResult result;
+  const double coefficient = phase_coefficient_per_m2(options.phase, options.wavelength_nm, defocus_dioptres);
+  record_sampling(check_phase_sampling(coefficient, 0.5 * pupil_diameter_mm, grid.pixel_mm(), grid.aperture_width_mm),
+                  options, result);
+  measure_aperture(grid, result);
+  finish_psf(grid, apply_quadratic_phase(grid, coefficient), options, result);
+  return result;
+}
+
+MonochromaticPsfResult compute_monochromatic_psf(const ApertureGrid& grid, double pupil_diameter_mm,
+                                                 const DioptricPower& power_error, const MonochromaticPsfOptions& options) {
+  if (options.phase != PhaseForm::defocus)
+    throw std::invalid_argument(std::string("glare/psf_cpu: a sphero-cylindrical power error needs the defocus phase, not '") +
+                                phase_form_name(options.phase) + "'");
+  if (spherical(power_error)) return compute_monochromatic_psf(grid, pupil_diameter_mm, power_error.xx(), options);
+  if (!(options.wavelength_nm > 0.0)) throw std::invalid_argument("glare/psf_cpu: wavelength must be > 0 nm");
+  MonochromaticPsfResult result;
+  record_sampling(check_power_error_sampling(power_error, options.wavelength_nm, 0.5 * pupil_diameter_mm, grid.pixel_mm(),
+                                             grid.aperture_width_mm),
+                  options, result);
+  measure_aperture(grid, result);
+  finish_psf(grid, apply_power_error_phase(grid, power_error, options.wavelength_nm), options, result);
   return result;
 }
 

@@ -6,6 +6,7 @@
 
 #include "glare/aperture_geometry.h"
 #include "glare/aperture_raster.h"
+#include "glare/dioptric_power.h"
 #include "glare/fft_cpu.h"
 #include "glare/fresnel.h"
 #include "glare/psf.h"
@@ -40,9 +41,18 @@ double airy_core_diameter_px(double pupil_diameter_mm, double aperture_width_mm)
 // |FFT(field)|^2 of an N x N complex field, fftshifted (DC to (N/2, N/2)), unnormalised.
 std::vector<double> shifted_power_spectrum(std::vector<std::complex<double>> field, int grid_px, FftPrecision precision);
 
+// The phase is that of geometry.total_power_error() (the defocus plus the observer's refraction error):
+// when geometry.astigmatic(), the astigmatic phase of glare/astigmatic_phase.h, checked for aliasing
+// along its strongest meridian; otherwise fresnel.h's quadratic phase of the spherical error, which
+// for a zero refraction error is exactly the defocus_dioptres overload below. A refraction error needs
+// PhaseForm::defocus (std::invalid_argument otherwise): "paper" and "none" have no place for it.
 MonochromaticPsfResult compute_monochromatic_psf(const ApertureGeometry& geometry, const MonochromaticPsfOptions& options);
 // The same from an already rasterised aperture (the rasteriser does not depend on wavelength).
 MonochromaticPsfResult compute_monochromatic_psf(const ApertureGrid& grid, double pupil_diameter_mm,
                                                  double defocus_dioptres, const MonochromaticPsfOptions& options);
+// The same with a sphero-cylindrical power error E (dioptres, observer frame; glare/dioptric_power.h):
+// a spherical E gives the defocus overload's PSF with E's power; any other, the astigmatic phase.
+MonochromaticPsfResult compute_monochromatic_psf(const ApertureGrid& grid, double pupil_diameter_mm,
+                                                 const DioptricPower& power_error, const MonochromaticPsfOptions& options);
 
 }  // namespace glarelab
