@@ -1,5 +1,6 @@
 #include "glare/chromatic_psf.h"
 
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -43,7 +44,9 @@ ChromaticPsfResult compute_chromatic_psf(const ApertureGeometry& geometry, const
                                   .max_phase_step_rad;
       if (step_rad > worst_step_rad) {
         worst_step_rad = step_rad;
-        result.sampling_warning = psf.sampling_warning + " (at " + std::to_string(sample.wavelength_nm) + " nm)";
+        std::ostringstream where;
+        where << " (at " << sample.wavelength_nm << " nm)";
+        result.sampling_warning = psf.sampling_warning + where.str();
       }
     }
     // PSF_lambda has pixels of lambda / W: reference pixel x lies at its pixel x lambda_ref / lambda.

@@ -1,13 +1,21 @@
 #include <cmath>
 #include <cstdint>
 #include <iostream>
+#include <limits>
 #include <memory>
+#include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "glare/analytic_psf.h"
 #include "glare/aperture_components.h"
+#include "glare/astigmatic_phase.h"
+#include "glare/chromatic_eye.h"
+#include "glare/chromatic_psf.h"
+#include "glare/cie_cmf.h"
 #include "glare/display_psf_image.h"
 #include "glare/eye_model.h"
+#include "glare/eye_refraction.h"
 #include "glare/fibre_gratings.h"
 #include "glare/glare_backend.h"
 #include "glare/hybrid_psf.h"
@@ -49,6 +57,15 @@ struct PsfArguments {
   double degrees_per_pixel = 0.025;
   std::string profile_csv;
   std::string out;
+  // The observer's refraction (docs/REFRACTION.md): the eye's error as its correcting prescription,
+  // the spectacles worn, the fixation distance and the accommodation amplitude.
+  double sphere_dioptres = 0.0;
+  double cylinder_dioptres = 0.0;
+  double axis_deg = 0.0;
+  std::string spectacles;
+  double viewing_distance_m = std::numeric_limits<double>::infinity();
+  double accommodation_amplitude_dioptres = kSchematicAccommodationAmplitudeDioptres;
+  double vertex_distance_mm = 1e3 * kDefaultVertexDistance_m;
 };
 
 // The chromatic blur's reference wavelength that wave_psf_reach_deg takes its 380 / 575 from.
@@ -121,8 +138,94 @@ void check_grid(const ApertureGeometry& geometry, const PsfOptions& options, con
   }
 }
 
-
 const SourceLocation kWhere{"psf", 0, 0};
+
+// The observer's refraction set on the command line: the options that make it and what it gives.
+struct ObserverRefraction {
+  bool active = false;
+  std::string flags;  // the refraction options given, for messages ("--sphere-dioptres, --axis-deg")
+  FixationRefraction fixation;
+  DioptricPower ocular_refraction;
+  std::string summary;  // printed once every refusal is past
+};
+
+// The wavelengths whose phase the PSF computes, and each one's power error: one for a monochromatic
+// PSF; with --spectral, Ritschel's samples with the eye's LCA (glare/chromatic_psf.h).
+std::vector<std::pair<double, DioptricPower>> errors_by_wavelength(const ApertureGeometry& geometry,
+                                                                   const PsfOptions& options) {
+  if (!options.spectral) return {{options.wavelength_nm, geometry.total_power_error()}};
+  ChromaticPsfOptions chromatic;
+  chromatic.reference_wavelength_nm = options.wavelength_nm;
+  std::vector<std::pair<double, DioptricPower>> errors;
+  for (const SpectralSample& sample : spectral_samples(options.wavelength_samples))
+    errors.push_back({sample.wavelength_nm, chromatic_power_error(geometry.total_power_error(), sample.wavelength_nm, chromatic)});
+  return errors;
+}
+
+// check_grid's defocus refusal for the refraction's sphero-cylindrical phase: the phase of its
+// strongest meridian (glare/astigmatic_phase.h) at every wavelength computed must be sampled by the
+// largest grid, else no grid the program has can take it.
+void check_refraction_sampling(const ApertureGeometry& geometry, const PsfOptions& options, const std::string& flags) {
+  const double radius_mm = 0.5 * geometry.pupil_diameter_mm, width_mm = options.aperture_width_mm;
+  for (const auto& [wavelength_nm, error] : errors_by_wavelength(geometry, options)) {
+    const PhaseSamplingReport largest = check_power_error_sampling(error, wavelength_nm, radius_mm, width_mm / kLargestGridPx, width_mm);
+    if (!largest.aliased) continue;
+    const PrincipalPowers principal = principal_powers(error);
+    const PhaseSamplingReport chosen =
+        check_power_error_sampling(error, wavelength_nm, radius_mm, width_mm / options.grid_px, width_mm);
+    throw ConfigError(kWhere, flags,
+                      "the residual refraction error at the retina, principal powers " + text(principal.p1_dioptres) +
+                          " and " + text(principal.p2_dioptres) + " D at " + text(wavelength_nm) +
+                          " nm, needs a grid of " + text(chosen.required_grid_px_exact) + " px over " + text(width_mm) +
+                          " mm to sample its phase at the edge of the " + text(geometry.pupil_diameter_mm) +
+                          " mm pupil (less than pi per pixel); the largest grid, " + std::to_string(kLargestGridPx) +
+                          ", samples at most " +
+                          text(max_sampled_defocus_dioptres(wavelength_nm, radius_mm, width_mm / kLargestGridPx)) +
+                          " D there, and --grid " + std::to_string(options.grid_px) + " at most " +
+                          text(max_sampled_defocus_dioptres(wavelength_nm, radius_mm, width_mm / options.grid_px)) + " D");
+  }
+}
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+BlurEllipse geometry_blur(const ApertureGeometry& geometry) {
+  return geometric_blur_ellipse(geometry.total_power_error(), 0.5e-3 * geometry.pupil_diameter_mm);
+}
+
+// The PSF of an eye with a refraction on the CPU in double: the astigmatic phase (psf_cpu.h); with
+// --spectral, one FFT per wavelength with the eye's LCA (chromatic_psf.h) instead of the scaled
+// reference PSF, which only holds for a phase that does not depend on wavelength.
+Psf refraction_psf(const ApertureGeometry& geometry, const PsfOptions& options, std::string& warning) {
+  ApertureRasterOptions raster;
+  raster.grid_px = options.grid_px;
+  raster.aperture_width_mm = options.aperture_width_mm;
+  raster.supersampling = options.supersampling;
+  if (!options.spectral) {
+    MonochromaticPsfOptions mono;
+    mono.raster = raster;
+    mono.wavelength_nm = options.wavelength_nm;
+    mono.phase = options.phase;
+    MonochromaticPsfResult result = compute_monochromatic_psf(geometry, mono);
+    warning = result.sampling_warning;
+    return std::move(result.psf);
+  }
+  ChromaticPsfOptions chromatic;
+  chromatic.raster = raster;
+  chromatic.reference_wavelength_nm = options.wavelength_nm;
+  chromatic.wavelength_samples = options.wavelength_samples;
+  ChromaticPsfResult result = compute_chromatic_psf(geometry, chromatic);
+  if (!result.sampling_warning.empty())
+    warning = result.sampling_warning + "; " + std::to_string(result.aliased_wavelengths) + " of " +
+              std::to_string(options.wavelength_samples) + " wavelengths aliased";
+  std::cout << "psf: longitudinal chromatic aberration (Thibos et al. 1992) relative to " << text(options.wavelength_nm)
+            << " nm: " << text(chromatic_power_excess_dioptres(380.0, options.wavelength_nm)) << " D at 380 nm, "
+            << text(chromatic_power_excess_dioptres(770.0, options.wavelength_nm)) << " D at 770 nm\n";
+  return std::move(result.spectral.psf);
+}
+
+std::string prescription_text(const SpheroCylinder& rx) {
+  return text(rx.sphere_dioptres) + " / " + text(rx.cylinder_dioptres) + " x " + text(rx.axis_deg);
+}
 
 // The angle the wave-optics PSF image holds in every channel: the chromatic blur's reach
 // (hybrid_psf.h, its 380 nm copy on the grid) for a spectral PSF, else half the grid less one pixel.
@@ -282,11 +385,49 @@ Action add_psf_command(CLI::App& app) {
                       "Output EXR file (unit sum per channel; for spencer, cie and hybrid the sum counts only the "
                       "light within the image). --out, --profile-csv or both.")
       ->check(file_extension_in({".exr"}, "the PSF file"));
+  // The observer's refraction (glare/eye_refraction.h, docs/REFRACTION.md).
+  CLI::Option* sphere_option =
+      command->add_option("--sphere-dioptres", args->sphere_dioptres,
+                          "The eye's refractive error as its correcting prescription: sphere (dioptres, at "
+                          "--vertex-distance-mm)")
+          ->check(finite_number_in(-kMaxSphereDioptres, kMaxSphereDioptres, "D"));
+  CLI::Option* cylinder_option =
+      command->add_option("--cylinder-dioptres", args->cylinder_dioptres,
+                          "The correcting prescription's cylinder (dioptres; minus-cylinder form, a plus cylinder is "
+                          "transposed and said so)")
+          ->check(finite_number_in(-kMaxCylinderDioptres, kMaxCylinderDioptres, "D"));
+  CLI::Option* axis_option =
+      command->add_option("--axis-deg", args->axis_deg, "The correcting prescription's cylinder axis (TABO degrees, 0-180)")
+          ->check(finite_number_in(0.0, kMaxAxisDeg, "deg"))
+          ->needs(cylinder_option);
+  CLI::Option* spectacles_option =
+      command->add_option("--spectacles", args->spectacles,
+                          "Spectacle lenses worn, SPHERE,CYLINDER,AXIS (dioptres, dioptres, TABO degrees) at "
+                          "--vertex-distance-mm")
+          ->check(sphero_cylinder_check());
+  CLI::Option* viewing_option =
+      command->add_option("--viewing-distance-m", args->viewing_distance_m,
+                          "Distance of the fixated point source from the cornea (m; default: infinity)")
+          ->check(finite_positive_number("m"));
+  CLI::Option* amplitude_option =
+      command->add_option("--accommodation-amplitude-dioptres", args->accommodation_amplitude_dioptres,
+                          "Amplitude of accommodation (dioptres; default: Table 2's 11.93, or from --age-years by "
+                          "Hofstetter 1950)")
+          ->check(finite_number_in(0.0, 20.0, "D"))
+          ->excludes(age_option);
+  CLI::Option* vertex_option =
+      command->add_option("--vertex-distance-mm", args->vertex_distance_mm,
+                          "Vertex distance of the prescription and of --spectacles (mm)")
+          ->check(finite_number_in(0.0, 40.0, "mm"))
+          ->capture_default_str();
+  const std::vector<CLI::Option*> refraction_options = {sphere_option,   cylinder_option, axis_option,   spectacles_option,
+                                                        viewing_option, amplitude_option, vertex_option};
   std::vector<const CLI::Option*> wave_options;
   for (const char* name : {"--pupil-diameter-mm", "--wavelength-nm", "--spectral", "--wavelength-samples",
                            "--aperture-width-mm", "--supersampling", "--fresnel", "--defocus-dioptres", "--backend",
                            "--gratings", "--mode", "--time-s", "--seed", "--components"})
     wave_options.push_back(command->get_option(name));
+  for (const CLI::Option* option : refraction_options) wave_options.push_back(option);
   return [=]() {
     return report_errors([&]() {
       if (args->out.empty() && args->profile_csv.empty())
@@ -294,9 +435,18 @@ Action add_psf_command(CLI::App& app) {
       const GlareModel model = parse_glare_model(args->model);
       const bool analytic = model == GlareModel::spencer || model == GlareModel::cie;
       const GlareModel far_model = model == GlareModel::hybrid ? parse_glare_model(args->far_field) : model;
+      ObserverRefraction refraction;
+      for (const CLI::Option* option : refraction_options)
+        if (option->count() > 0) {
+          refraction.active = true;
+          refraction.flags += (refraction.flags.empty() ? "" : ", ") + option->get_name();
+        }
       std::vector<ModelOption> checks = {
+          {age_option, model != GlareModel::ritschel || refraction.active,
+           "the analytic models (--model spencer, cie or hybrid) and the observer's refraction (--sphere-dioptres, "
+           "--cylinder-dioptres, --spectacles, --viewing-distance-m, ...)"},
           {regime_option, far_model == GlareModel::spencer, "Spencer's PSF (--model spencer, or hybrid with --far-field spencer)"},
-          {age_option, model != GlareModel::ritschel, "the analytic models (--model spencer, cie or hybrid)"},
+          // --age-years also sets the refraction's accommodation amplitude, so it applies to every model.
           {pigmentation_option, far_model == GlareModel::cie, "the CIE PSF (--model cie, or hybrid with --far-field cie)"},
           {far_field_option, model == GlareModel::hybrid, "--model hybrid"},
           {handover_option, model == GlareModel::hybrid, "--model hybrid"},
@@ -344,6 +494,69 @@ Action add_psf_command(CLI::App& app) {
                     << pixel_um << " um aperture pixels (need < " << 0.5 * gratings.period_um
                     << " um: e.g. --grid 2048 --aperture-width-mm 5.6)\n";
       }
+      if (refraction.active) {
+        // The eye's error, the lenses worn and the fixation distance give the residual error E at the
+        // retina (glare/eye_refraction.h), the pupil phase's sphero-cylindrical part.
+        if (cylinder_option->count() > 0 && args->cylinder_dioptres != 0.0 && axis_option->count() == 0)
+          throw ConfigError(kWhere, "--axis-deg", "a cylinder needs its axis (TABO degrees, 0 to 180)");
+        if (args->fresnel != "defocus")
+          throw ConfigError(kWhere, "--fresnel",
+                            "the observer's refraction (" + refraction.flags + ") is a defocus phase; it needs --fresnel defocus");
+        if (args->backend == "gl")
+          throw ConfigError(kWhere, "--backend",
+                            "the observer's refraction (" + refraction.flags +
+                                ": an astigmatic phase and, with --spectral, one FFT per wavelength) is computed on the "
+                                "CPU; use --backend cpu or auto");
+        const SpheroCylinder written{args->sphere_dioptres, args->cylinder_dioptres, args->axis_deg};
+        const double vertex_m = 1e-3 * args->vertex_distance_mm;
+        EyeRefraction eye_refraction;
+        eye_refraction.correcting_prescription = minus_cylinder_form(written);
+        eye_refraction.prescription_vertex_distance_m = vertex_m;
+        if (args->cylinder_dioptres > 0.0)
+          std::cerr << "psf: the prescription " << prescription_text(written)
+                    << " has a plus cylinder; taken as its minus-cylinder transposition "
+                    << prescription_text(eye_refraction.correcting_prescription) << "\n";
+        eye_refraction.accommodation_amplitude_dioptres =
+            amplitude_option->count() > 0 ? args->accommodation_amplitude_dioptres
+            : age_option->count() > 0     ? hofstetter_amplitude_dioptres(args->age_years)
+                                          : kSchematicAccommodationAmplitudeDioptres;
+        ViewingCondition viewing;
+        viewing.fixation_distance_m = args->viewing_distance_m;
+        if (!args->spectacles.empty()) {
+          const SpheroCylinder lens = parse_sphero_cylinder(args->spectacles);
+          viewing.spectacles = SpectacleLens{minus_cylinder_form(lens), vertex_m};
+          if (lens.cylinder_dioptres > 0.0)
+            std::cerr << "psf: --spectacles " << prescription_text(lens)
+                      << " has a plus cylinder; taken as its minus-cylinder transposition "
+                      << prescription_text(viewing.spectacles->prescription) << "\n";
+          if (!(viewing.fixation_distance_m > vertex_m))
+            throw ConfigError(kWhere, "--viewing-distance-m",
+                              "the fixated point (" + text(viewing.fixation_distance_m) +
+                                  " m from the cornea) must lie beyond the spectacles (" + text(args->vertex_distance_mm) +
+                                  " mm)");
+        }
+        try {
+          const RefractiveEye eye(eye_refraction);
+          refraction.ocular_refraction = eye.ocular_refraction();
+          refraction.fixation = refraction_at_fixation(eye, viewing);
+        } catch (const std::invalid_argument& error) {
+          throw ConfigError(kWhere, refraction.flags, error.what());
+        }
+        geometry.refraction_error = refraction.fixation.residual;
+        const BlurEllipse blur = geometry_blur(geometry);
+        std::ostringstream summary;
+        summary << "psf: refraction: ocular refraction at the cornea "
+                  << prescription_text(refraction.ocular_refraction.prescription()) << " D, amplitude "
+                  << text(eye_refraction.accommodation_amplitude_dioptres) << " D, accommodation "
+                  << text(refraction.fixation.accommodation_dioptres) << " D for the point at "
+                  << (std::isinf(viewing.fixation_distance_m) ? std::string("infinity") : text(viewing.fixation_distance_m) + " m")
+                  << "; residual at the retina "
+                  << prescription_text(refraction.fixation.residual.prescription())
+                  << " D (positive: too much power); geometric blur " << text(2.0 * blur.semi_major_rad * kDegPerRad)
+                  << " x " << text(2.0 * blur.semi_minor_rad * kDegPerRad) << " deg, major axis at "
+                  << text(blur.major_axis_angle_deg) << " deg from the observer's right, counterclockwise\n";
+        refraction.summary = summary.str();
+      }
       PsfOptions options;
       options.grid_px = args->grid_px;
       options.aperture_width_mm = args->aperture_width_mm;
@@ -354,6 +567,7 @@ Action add_psf_command(CLI::App& app) {
       options.phase = parse_phase_form(args->fresnel);
       check_grid(geometry, options,
                  args->mode.empty() || pupil_option->count() > 0 ? "--pupil-diameter-mm" : "the eye model at --time-s");
+      if (refraction.active) check_refraction_sampling(geometry, options, refraction.flags);
       const double reach_deg = wave_reach_deg(options);
       HybridHandover handover;
       if (model == GlareModel::hybrid) {
@@ -374,21 +588,38 @@ Action add_psf_command(CLI::App& app) {
                                                           text(options.aperture_width_mm) + ")");
         }
       }
-      GlareBackendChoice choice = create_glare_backend(args->backend, {.gl_context = gl::compute_context_factory()});
-      std::cout << "psf: " << choice.reason << "\n";
+      std::cout << refraction.summary;
+      std::unique_ptr<GlareBackend> backend;
+      std::string backend_name = "cpu float64";
+      if (refraction.active) {
+        std::cout << "psf: cpu float64: the observer's refraction is computed on the CPU (its astigmatic phase"
+                  << (options.spectral ? ", and one FFT per wavelength with the eye's longitudinal chromatic aberration)\n"
+                                       : ")\n");
+      } else {
+        GlareBackendChoice choice = create_glare_backend(args->backend, {.gl_context = gl::compute_context_factory()});
+        std::cout << "psf: " << choice.reason << "\n";
+        backend = std::move(choice.backend);
+        backend_name = backend->name();
+      }
       Psf psf;
       if (!geometry.glare_enabled) {
         psf = delta_psf(options);
         std::cout << "psf: control condition: no glare, a delta PSF (the image passes through unchanged)\n";
       } else {
+        std::string warning;
         try {
-          psf = choice.backend->psf(geometry, options);
+          if (backend) {
+            psf = backend->psf(geometry, options);
+            warning = backend->last_warning();
+          } else {
+            psf = refraction_psf(geometry, options, warning);
+          }
         } catch (const ClosedApertureError& error) {
           // A closed eye (a blink at --time-s, or only lids kept) lets no light through: no PSF exists.
           throw ConfigError({"psf", 0, 0}, args->mode.empty() ? "--pupil-diameter-mm" : "--time-s",
                             std::string("no light passes the aperture, so there is no PSF (") + error.what() + ")");
         }
-        if (!choice.backend->last_warning().empty()) std::cerr << "warning: " << choice.backend->last_warning() << "\n";
+        if (!warning.empty()) std::cerr << "warning: " << warning << "\n";
       }
       if (model == GlareModel::hybrid) {
         const Psf wave_display = resample_psf_to_display(psf, args->degrees_per_pixel);
@@ -417,7 +648,7 @@ Action add_psf_command(CLI::App& app) {
       if (!args->out.empty()) write_psf_exr(args->out, psf);
       if (!args->out.empty()) std::cout << "psf: wrote " << args->out << ": " << psf.size_px << "x" << psf.size_px << " px, "
                 << (psf.channels == 1 ? "Y" : "R,G,B") << ", " << psf.degrees_per_pixel << " deg/px, pupil "
-                << geometry.pupil_diameter_mm << " mm, fresnel " << args->fresnel << ", backend " << choice.backend->name() << "\n";
+                << geometry.pupil_diameter_mm << " mm, fresnel " << args->fresnel << ", backend " << backend_name << "\n";
       write_profile(args->profile_csv, image_profile_per_sr(psf, PixelLayout::uniform_angle, profile_angles_deg(), reach_deg));
       return 0;
     });

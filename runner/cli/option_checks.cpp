@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <vector>
 
 #include "core/number_text.h"
@@ -114,5 +115,53 @@ CLI::Validator whole_number_check(std::int64_t minimum, std::int64_t maximum) {
 }
 
 CLI::Validator seed_check() { return whole_number_check(0, kMaxSeed); }
+
+SpheroCylinder minus_cylinder_form(const SpheroCylinder& prescription) {
+  if (!(prescription.cylinder_dioptres > 0.0)) return prescription;
+  SpheroCylinder transposed;
+  transposed.sphere_dioptres = prescription.sphere_dioptres + prescription.cylinder_dioptres;
+  transposed.cylinder_dioptres = -prescription.cylinder_dioptres;
+  transposed.axis_deg = std::fmod(prescription.axis_deg + 90.0, 180.0);
+  return transposed;
+}
+
+SpheroCylinder parse_sphero_cylinder(const std::string& input) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = input.find(',', start);
+    fields.push_back(input.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (fields.size() != 3)
+    throw std::invalid_argument("must be SPHERE,CYLINDER,AXIS (dioptres, dioptres, TABO degrees), found '" + input + "'");
+  const char* names[3] = {"sphere", "cylinder", "axis"};
+  const double bounds[3][2] = {{-kMaxSphereDioptres, kMaxSphereDioptres},
+                               {-kMaxCylinderDioptres, kMaxCylinderDioptres},
+                               {0.0, kMaxAxisDeg}};
+  double values[3] = {0.0, 0.0, 0.0};
+  for (int k = 0; k < 3; ++k) {
+    std::string error;
+    if (!parse(fields[k], values[k], error)) throw std::invalid_argument(std::string("its ") + names[k] + " " + error);
+    if (values[k] < bounds[k][0] || values[k] > bounds[k][1])
+      throw std::invalid_argument(std::string("its ") + names[k] + " must be from " + text(bounds[k][0]) + " to " +
+                                  text(bounds[k][1]) + ", found " + fields[k]);
+  }
+  return {values[0], values[1], values[2]};
+}
+
+CLI::Validator sphero_cylinder_check() {
+  return CLI::Validator(
+      [](std::string& input) {
+        try {
+          parse_sphero_cylinder(input);
+          return std::string();
+        } catch (const std::invalid_argument& error) {
+          return std::string(error.what());
+        }
+      },
+      "S,C,A");
+}
 
 }  // namespace glarelab::cli

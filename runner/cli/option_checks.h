@@ -9,6 +9,8 @@
 #include <initializer_list>
 #include <string>
 
+#include "glare/dioptric_power.h"
+
 namespace glarelab::cli {
 
 // A finite number (no nan, no inf).
@@ -21,6 +23,23 @@ CLI::Validator finite_positive_number(const std::string& unit);
 CLI::Validator eye_model_time_s();
 // A file name ending in one of `extensions` (".exr", ".png"; compared without case).
 CLI::Validator file_extension_in(std::initializer_list<const char*> extensions, const std::string& what);
+
+// Sphero-cylinders on the command line (prescriptions, spectacle lenses): sphere and cylinder in
+// dioptres, axis in TABO degrees. The bounds take every prescription a clinic writes.
+inline constexpr double kMaxSphereDioptres = 30.0;    // |sphere|
+inline constexpr double kMaxCylinderDioptres = 15.0;  // |cylinder|
+inline constexpr double kMaxAxisDeg = 180.0;          // axes from 0 to 180 (180 is 0)
+
+// A plus-cylinder prescription (C > 0) transposed to the minus-cylinder form glarelab computes with:
+// (S + C, -C, A + 90 wrapped into [0, 180)), the same lens. Minus cylinders pass unchanged.
+SpheroCylinder minus_cylinder_form(const SpheroCylinder& prescription);
+
+// "S,C,A" (sphere, cylinder, axis): three finite numbers within the bounds above, as written (a
+// positive cylinder is kept; minus_cylinder_form transposes it). Throws std::invalid_argument with
+// the reason, which does not name the option (CLI11 prefixes it).
+SpheroCylinder parse_sphero_cylinder(const std::string& text);
+// The validator of a "S,C,A" option.
+CLI::Validator sphero_cylinder_check();
 
 // Seeds are stored in the experiment record (TOML) and the sessions table (SQLite), both signed
 // 64-bit integers: a seed is a whole number from 0 to 2^63 - 1. Checked on the text, so "-1" never
