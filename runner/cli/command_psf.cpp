@@ -348,7 +348,8 @@ Action add_psf_command(CLI::App& app) {
           ->check(CLI::IsMember({"photopic", "mesopic", "scotopic"}))
           ->capture_default_str();
   CLI::Option* age_option =
-      command->add_option("--age-years", args->age_years, "Observer's age (years): Spencer Eq. 10, CIE 146")
+      command->add_option("--age-years", args->age_years, "Observer's age (years): Spencer Eq. 10, CIE 146, and with a refraction flag the accommodation "
+                          "amplitude (Hofstetter 1950: 18.5 - 0.3 age D)")
           ->check(finite_number_in(1.0, 100.0, "years"))
           ->capture_default_str();
   CLI::Option* pigmentation_option =
