@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "glare/astigmatic_phase.h"
@@ -244,6 +245,14 @@ TEST_F(GlAstigmaticTest, SphericalErrorsAreTheDefocusPathBitForBit) {
   ApertureGeometry astigmatic = defocus_only;
   astigmatic.refraction_error = DioptricPower::from_prescription({0.0, -0.5, 45.0});
   EXPECT_FALSE(gl_psf.monochromatic(astigmatic, 575.0).values == b.values);
+}
+
+TEST_F(GlAstigmaticTest, RefusesWavelengthsThatAreNotPositive) {
+  gl::GlPsf gl_psf(64, 8.0, 2);
+  const ApertureGeometry geometry = busy_eye(4.0, {0.0, -1.0, 30.0});
+  EXPECT_THROW(gl_psf.load_field(geometry, 0.0), std::invalid_argument);
+  EXPECT_THROW(gl_psf.load_field(geometry, std::nan("")), std::invalid_argument);
+  EXPECT_THROW(gl_psf.apply_phase(geometry.total_power_error(), -575.0), std::invalid_argument);
 }
 
 TEST_F(GlAstigmaticTest, BackendUsesTheWholeErrorAndChecksItsSampling) {

@@ -23,6 +23,11 @@ constexpr GLuint kNormaliseGroup = 256;
 // strides over the rest (from N = 1024 on, so the tests at 1024 and 4096 run the loop).
 constexpr GLuint kMaxNormaliseGroups = 2048;
 
+void check_wavelength(double wavelength_nm) {
+  if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
+    throw std::invalid_argument("GL PSF: wavelength " + std::to_string(wavelength_nm) + " nm is not positive");
+}
+
 GLuint tiles(int extent) { return (static_cast<GLuint>(extent) + kTile - 1) / kTile; }
 
 Buffer storage(std::size_t bytes) {
@@ -108,13 +113,13 @@ void GlPsf::normalise(GLuint values, int channels) {
 }
 
 void GlPsf::load_field(const ApertureGeometry& geometry, double wavelength_nm) {
-  if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
-    throw std::invalid_argument("GL PSF: wavelength " + std::to_string(wavelength_nm) + " nm is not positive");
+  check_wavelength(wavelength_nm);  // before anything is drawn
   aperture_.draw(geometry);
   apply_phase(geometry.total_power_error(), wavelength_nm);
 }
 
 void GlPsf::apply_phase(const DioptricPower& error, double wavelength_nm) {
+  check_wavelength(wavelength_nm);
   // The x^2 and y^2 terms of phi = (pi / lambda)(E_xx x^2 + 2 E_xy x y + E_yy y^2), with E in 1/m,
   // lengths in m and lambda in m, written for x in mm and lambda in nm: pi E x_mm^2 1e3 / lambda_nm.
   // Per axis: exp(i a x^2) (see psf_load_aperture.comp). For a spherical error both factors are

@@ -7,9 +7,8 @@
 // The spectral PSF resamples the reference-wavelength PSF in angle for n wavelengths over
 // 380-770 nm and weights them by the CIE 1931 CMFs in linear Rec.709 (glare/cie_cmf.h).
 // Requires a current OpenGL 4.5 context; not thread-safe.
-#include <vector>
-
 #include <complex>
+#include <vector>
 
 #include "glare/aperture_geometry.h"
 #include "glare/dioptric_power.h"
@@ -31,7 +30,7 @@ class GlPsf {
   // a per-column and a per-row factor; one with an xy term by psf_load_aperture_astigmatic.comp,
   // which adds the cross term. Throws std::invalid_argument for a wavelength that is not positive.
   void load_field(const ApertureGeometry& geometry, double wavelength_nm);
-  // The same phase on the aperture last drawn (for timing the phase alone).
+  // The same phase on the aperture last drawn (for timing the phase alone); the same refusal.
   void apply_phase(const DioptricPower& error, double wavelength_nm);
   // The FFT's buffer, N x N row-major, row 0 at the top: the pupil function after load_field().
   std::vector<std::complex<float>> read_field() const;
