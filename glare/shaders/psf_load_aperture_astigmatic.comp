@@ -4,7 +4,8 @@
 // The x^2 and y^2 terms separate, as in psf_load_aperture.comp: exp(i pi E_xx x_i^2 / lambda) per
 // column and exp(i pi E_yy y_j^2 / lambda) per row, computed on the CPU in double. The cross term
 // exp(i 2 pi E_xy x y / lambda) does not separate and is made here, exactly reduced:
-//   x_i y_j = (i - N/2)(N/2 - j) dx^2 = k dx^2, k an exact integer (|k| <= N^2 / 4 = 2^22),
+//   x_i y_j = (i - N/2)(N/2 - j) dx^2 = k dx^2, k an exact integer (|k| <= N^2 / 4,
+// 2^22 at N = 4096),
 // so the phase in turns is b k with b = E_xy dx^2 / lambda. The CPU hands frac(b) as a 64-bit
 // fixed-point fraction (uCrossTurns: high word, low word; glare/gl/cross_phase_turns.h); |k| times
 // it modulo 2^64 (32 x 64-bit multiply by umulExtended, wrapping) is frac(b |k|) to 2^-43 turns
