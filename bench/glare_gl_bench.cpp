@@ -1,4 +1,5 @@
-// Speed of the GL glare stages (FFT, PSF, spectral PSF, convolution) at 256/512/1024, each with its
+// Speed of the GL glare stages (FFT, PSF, spectral PSF, convolution, the pupil function with and
+// without the astigmatic cross term) at 256/512/1024, each with its
 // error against FFTW in double as a counter (relative L2), so speed is read beside accuracy.
 // Times include glFinish: the work is done, not only queued. On llvmpipe (software) the figures
 // are CPU figures; `glarelab bench` prints the user-facing table across backends.
@@ -124,6 +125,23 @@ void BM_GlPsf(benchmark::State& state) {
   state.counters["rel_l2_vs_fftw_double"] = error;
 }
 
+// The pupil-function pass alone on a drawn aperture (GlPsf::apply_phase): argument 1 = 0 for a
+// spherical error (separable, psf_load_aperture.comp), 1 for an oblique cylinder (the cross term,
+// psf_load_aperture_astigmatic.comp). The difference is what the cross term costs.
+void BM_GlPupilFunction(benchmark::State& state) {
+  context();
+  const int n = static_cast<int>(state.range(0));
+  const bool oblique = state.range(1) != 0;
+  gl::GlPsf psf(n, kApertureWidthMm, 2);
+  psf.load_field(bench_geometry(), 575.0);
+  const DioptricPower error =
+      oblique ? DioptricPower::from_prescription({0.5, -1.0, 30.0}) : DioptricPower::spherical(0.5);
+  for (auto _ : state) {
+    psf.apply_phase(error, 575.0);
+    glFinish();
+  }
+}
+
 void BM_GlSpectralPsf(benchmark::State& state) {
   context();
   const int n = static_cast<int>(state.range(0));
@@ -214,6 +232,13 @@ void BM_GlConvolution(benchmark::State& state) {
 BENCHMARK(BM_GlFft)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlAperture)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlPsf)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GlPupilFunction)
+    ->Args({512, 0})
+    ->Args({512, 1})
+    ->Args({1024, 0})
+    ->Args({1024, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_GlSpectralPsf)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlConvolution)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -34,7 +34,9 @@ CpuFloatGlare::CpuFloatGlare(const CpuFloatGlareSettings& settings)
 
 Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry) {
   psf_.rasterise(geometry);
-  psf_.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres);
+  // The whole power error: defocus plus the observer's refraction error (spherical: the defocus
+  // phase as before, bit for bit; astigmatic: glare/astigmatic_phase.h's phase).
+  psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
   return spectral_.compute(psf_.power(), geometry.pupil_diameter_mm);
 }
 

@@ -7,6 +7,7 @@
 // of 9). Its frame error against the float64 reference is below 1e-6 relative L2 (glarelab bench;
 // tests/glare_cpu_float_glare_test.cpp checks it through this class).
 #include <memory>
+#include <string>
 
 #include "core/image.h"
 #include "glare/aperture_geometry.h"
@@ -36,6 +37,9 @@ class CpuFloatGlare {
   // Linear convolution of R, G, B with a display-scale PSF (display_psf's size); alpha passes
   // through. Refuses NaN, Inf and negative pixels (std::invalid_argument), as convolve_image_cpu.
   ImageRGBA convolve(const ImageRGBA& image, const Psf& display_psf);
+  // The phase sampling check of the last display_psf() (the eye's whole power error, defocus plus
+  // refraction; cpu_float_psf.h): the aliasing warning, or empty.
+  const std::string& sampling_warning() const { return psf_.sampling_warning(); }
   // Whether the last convolve() reused the kept frame spectrum.
   bool reused_scene() const { return reused_scene_; }
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "glare/astigmatic_phase.h"
 #include "glare/parallel_rows.h"
 #include "glare/psf_cpu.h"
 
@@ -29,14 +30,24 @@ double CpuFloatPsf::degrees_per_pixel() const {
 void CpuFloatPsf::rasterise(const ApertureGeometry& geometry) { rasterise_aperture(geometry, settings_.raster, grid_); }
 
 void CpuFloatPsf::transform(double pupil_diameter_mm, double defocus_dioptres) {
+  transform(pupil_diameter_mm, DioptricPower::spherical(defocus_dioptres));
+}
+
+void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error) {
   const int n = settings_.raster.grid_px;
   if (grid_.grid_px != n) throw std::logic_error("glare/cpu_float_psf: transform before rasterise");
-  const double coefficient = phase_coefficient_per_m2(settings_.phase, settings_.wavelength_nm, defocus_dioptres);
+  // A spherical error is fresnel.h's quadratic phase pi c r^2 of its one power, computed as it was
+  // before errors had a cylinder; only an astigmatic one takes the general form.
+  const bool astigmatic = settings_.phase == PhaseForm::defocus && (error.xy() != 0.0 || error.xx() != error.yy());
+  const double coefficient = phase_coefficient_per_m2(settings_.phase, settings_.wavelength_nm, error.xx());
   const PhaseSamplingReport sampling =
-      check_phase_sampling(coefficient, 0.5 * pupil_diameter_mm, grid_.pixel_mm(), grid_.aperture_width_mm);
+      astigmatic ? check_power_error_sampling(error, settings_.wavelength_nm, 0.5 * pupil_diameter_mm, grid_.pixel_mm(),
+                                              grid_.aperture_width_mm)
+                 : check_phase_sampling(coefficient, 0.5 * pupil_diameter_mm, grid_.pixel_mm(), grid_.aperture_width_mm);
   sampling_warning_ = sampling.aliased ? sampling.warning : std::string();
 
-  // A exp(i phi) at pixel centres, as apply_quadratic_phase computes it in double, rounded to float.
+  // A exp(i phi) at pixel centres, as apply_quadratic_phase (spherical) or apply_power_error_phase
+  // (astigmatic) computes it in double, rounded to float.
   // Only the rows that can meet the pupil (|row - N/2| <= r / dx + 1/2, aperture_raster.h) are
   // written; rows the last frame wrote outside them are cleared, the rest of the field stays 0.
   const double dx_m = grid_.pixel_mm() * 1e-3;
@@ -56,7 +67,10 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, double defocus_dioptres) {
         const std::size_t index = static_cast<std::size_t>(j) * n + i;
         const double a = grid_.transmittance[index];
         std::complex<double> value{a, 0.0};
-        if (coefficient != 0.0 && a != 0.0) {
+        if (astigmatic && a != 0.0) {
+          const double x_m = (i - n / 2) * dx_m;
+          value = std::polar(a, power_error_phase_rad(error, settings_.wavelength_nm, x_m, y_m));
+        } else if (coefficient != 0.0 && a != 0.0) {
           const double x_m = (i - n / 2) * dx_m;
           value = std::polar(a, quadratic_phase_rad(coefficient, x_m * x_m + y_m * y_m));
         }

@@ -9,6 +9,7 @@
 
 #include "glare/aperture_geometry.h"
 #include "glare/aperture_raster.h"
+#include "glare/dioptric_power.h"
 #include "glare/fftw_float_plan.h"
 #include "glare/fresnel.h"
 #include "glare/psf.h"
@@ -30,15 +31,25 @@ class CpuFloatPsf {
 
   // Stage 1: the aperture of `geometry` (aperture_raster.h, the same grid bit for bit).
   void rasterise(const ApertureGeometry& geometry);
-  // Stage 2: defocus phase, the N x N FFT, |F|^2 shifted into power(). Throws ClosedApertureError
+  // Stage 2: the pupil phase, the N x N FFT, |F|^2 shifted into power(). Throws ClosedApertureError
   // for an aperture that transmits nothing; an aliased phase leaves sampling_warning() non-empty.
+  // A spherical defocus (fresnel.h's phase of settings.phase):
   void transform(double pupil_diameter_mm, double defocus_dioptres);
+  // The eye's power error E (ApertureGeometry::total_power_error()). With the defocus form and an
+  // astigmatic E (an xy term, or E_xx != E_yy) the phase is astigmatic_phase.h's
+  // (pi / lambda)(E_xx x^2 + 2 E_xy x y + E_yy y^2), checked by check_power_error_sampling;
+  // otherwise it is transform(pupil_diameter_mm, E_xx), bit for bit (the forms none and paper take
+  // no error, as they take no defocus).
+  void transform(double pupil_diameter_mm, const DioptricPower& error);
 
   // |FFT|^2 shifted, unnormalised (K is left to whoever normalises: the spectral PSF normalises its
   // channels itself), N x N row-major.
   const float* power() const { return power_.data(); }
   const std::string& sampling_warning() const { return sampling_warning_; }
   const ApertureGrid& aperture() const { return grid_; }
+  // The pupil function the last transform() handed the FFT, N x N row-major, row 0 at the top
+  // (the rows that cannot meet the pupil are 0).
+  const std::complex<float>* field() const { return field_.data(); }
   // power() normalised to sum 1 as a one-channel Psf (psf_cpu.h's result); allocates, for checks.
   Psf monochromatic_psf() const;
 

@@ -3,6 +3,8 @@
 #include <stdexcept>
 
 #include "core/errors.h"
+#include "glare/astigmatic_phase.h"
+#include "glare/fresnel.h"
 
 namespace glarelab::gl {
 
@@ -31,7 +33,21 @@ Psf GlGlareBackend::psf(const ApertureGeometry& geometry, const PsfOptions& opti
     psf_layout_ = options;
   }
   ApertureGeometry drawn = geometry;
-  if (options.phase == PhaseForm::none) drawn.defocus_dioptres = 0.0;  // Fraunhofer: no phase
+  if (options.phase == PhaseForm::none) {  // Fraunhofer: no phase, neither defocus nor refraction
+    drawn.defocus_dioptres = 0.0;
+    drawn.refraction_error = DioptricPower{};
+  }
+  // The phase GlPsf loads is that of the whole power error; the check is the one the CPU makes
+  // for the same error (psf_cpu.h for a spherical one, the strongest meridian for an astigmatic one).
+  const DioptricPower error = drawn.total_power_error();
+  const double pupil_radius_mm = 0.5 * drawn.pupil_diameter_mm;
+  const double pixel_mm = options.aperture_width_mm / options.grid_px;
+  const PhaseSamplingReport sampling =
+      drawn.astigmatic()
+          ? check_power_error_sampling(error, options.wavelength_nm, pupil_radius_mm, pixel_mm, options.aperture_width_mm)
+          : check_phase_sampling(phase_coefficient_per_m2(PhaseForm::defocus, options.wavelength_nm, error.xx()),
+                                 pupil_radius_mm, pixel_mm, options.aperture_width_mm);
+  last_warning_ = sampling.aliased ? sampling.warning : std::string();
   return options.spectral ? psf_->spectral(drawn, options.wavelength_samples, options.wavelength_nm)
                           : psf_->monochromatic(drawn, options.wavelength_nm);
 }

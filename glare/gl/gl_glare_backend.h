@@ -2,7 +2,9 @@
 // The GL glare backend: gl_psf.h (aperture, FFT, spectral weights) and gl_convolution.h on an
 // OpenGL 4.5 context it is handed and owns (core/gl/gl_context.h). The
 // GlPsf is kept while the grid, aperture width and supersampling stay the same. Phase forms: none
-// and defocus (the paper's Eq. 3 phase cannot be sampled on any GL grid; docs/GLARE_OPTICS.md).
+// and defocus (the paper's Eq. 3 phase cannot be sampled on any GL grid; docs/GLARE_OPTICS.md);
+// defocus is the eye's whole power error, ApertureGeometry::total_power_error() (defocus plus the
+// observer's sphero-cylindrical refraction error), none drops both.
 #include <memory>
 
 #include "glare/gl/gl_convolution.h"
@@ -21,12 +23,16 @@ class GlGlareBackend : public GlareBackend {
   Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) override;
   ImageRGBA convolve(const ImageRGBA& image, const Psf& psf) override;
   const GlInfo& gl_info() const { return context_->gl_info(); }
+  // The sampling check of the last psf() (fresnel.h, or astigmatic_phase.h's strongest meridian
+  // for an astigmatic error): the warning when the phase aliases on the grid, else empty.
+  std::string last_warning() const override { return last_warning_; }
 
  private:
   std::unique_ptr<GlContext> context_;
   std::unique_ptr<GlPsf> psf_;
   PsfOptions psf_layout_;  // grid, width and supersampling psf_ was made for
   std::unique_ptr<GlConvolution> convolution_;
+  std::string last_warning_;
 };
 
 }  // namespace glarelab::gl

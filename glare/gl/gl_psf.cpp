@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "glare/cie_cmf.h"
+#include "glare/gl/cross_phase_turns.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
@@ -21,6 +22,11 @@ constexpr GLuint kNormaliseGroup = 256;
 // guarantees only 65535 per dimension, and a 4096^2 channel would need 65536; psf_normalise.comp
 // strides over the rest (from N = 1024 on, so the tests at 1024 and 4096 run the loop).
 constexpr GLuint kMaxNormaliseGroups = 2048;
+
+void check_wavelength(double wavelength_nm) {
+  if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
+    throw std::invalid_argument("GL PSF: wavelength " + std::to_string(wavelength_nm) + " nm is not positive");
+}
 
 GLuint tiles(int extent) { return (static_cast<GLuint>(extent) + kTile - 1) / kTile; }
 
@@ -41,6 +47,7 @@ GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
                 aperture_width_mm, supersampling),
       fft_(size_px, size_px) {
   load_program_ = build_program({"glare/shaders/psf_load_aperture.comp"});
+  astigmatic_load_program_ = build_program({"glare/shaders/psf_load_aperture_astigmatic.comp"});
   power_program_ = build_program({"glare/shaders/psf_power_shift.comp"});
   reduce_program_ = build_program({"glare/shaders/sum_reduce.comp"});
   normalise_program_ = build_program({"glare/shaders/psf_normalise.comp"});
@@ -48,6 +55,9 @@ GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
   const std::size_t count = static_cast<std::size_t>(size_px) * size_px;
   phase_x_ = storage(static_cast<std::size_t>(size_px) * 2 * sizeof(float));
   phase_y_ = storage(static_cast<std::size_t>(size_px) * 2 * sizeof(float));
+  const std::vector<glm::vec2> table = cross_phase_table();
+  cross_table_ = storage(table.size() * sizeof(table[0]));
+  glNamedBufferSubData(cross_table_.get(), 0, static_cast<GLsizeiptr>(table.size() * sizeof(table[0])), table.data());
   power_ = storage(count * sizeof(float));
   spectral_ = storage(3 * count * sizeof(float));
   const std::size_t partials = 3 * ((count + kReduceSpan - 1) / kReduceSpan);
@@ -102,36 +112,57 @@ void GlPsf::normalise(GLuint values, int channels) {
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
-void GlPsf::run_monochromatic(const ApertureGeometry& geometry, double wavelength_nm) {
-  if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
-    throw std::invalid_argument("GL PSF: wavelength " + std::to_string(wavelength_nm) + " nm is not positive");
+void GlPsf::load_field(const ApertureGeometry& geometry, double wavelength_nm) {
+  check_wavelength(wavelength_nm);  // before anything is drawn
   aperture_.draw(geometry);
+  apply_phase(geometry.total_power_error(), wavelength_nm);
+}
 
-  // Defocus phase pi D r^2 / lambda with D in 1/m, r in m, lambda in m, written for r in mm and
-  // lambda in nm: pi D r_mm^2 1e3 / lambda_nm. Per axis: exp(i a x^2) (see psf_load_aperture.comp).
-  const double a_per_mm2 = std::numbers::pi * geometry.defocus_dioptres * 1e3 / wavelength_nm;
+void GlPsf::apply_phase(const DioptricPower& error, double wavelength_nm) {
+  check_wavelength(wavelength_nm);
+  // The x^2 and y^2 terms of phi = (pi / lambda)(E_xx x^2 + 2 E_xy x y + E_yy y^2), with E in 1/m,
+  // lengths in m and lambda in m, written for x in mm and lambda in nm: pi E x_mm^2 1e3 / lambda_nm.
+  // Per axis: exp(i a x^2) (see psf_load_aperture.comp). For a spherical error both factors are
+  // fresnel.h's defocus phase of E_xx = E_yy, computed as before the error had a cylinder.
+  const double a_x_per_mm2 = std::numbers::pi * error.xx() * 1e3 / wavelength_nm;
+  const double a_y_per_mm2 = std::numbers::pi * error.yy() * 1e3 / wavelength_nm;
   std::vector<std::complex<float>> phase_x(static_cast<std::size_t>(size_px_)), phase_y(phase_x.size());
   const double dx_mm = aperture_.pixel_size_mm();
   for (int i = 0; i < size_px_; ++i) {
     // Pixel centres as in aperture_raster.h: column i at x = (i - N/2) dx, row j at y = (N/2 - j) dx,
     // whose square is the same function of the index.
     const double x_mm = (i - size_px_ / 2) * dx_mm;
-    const std::complex<double> phase = std::polar(1.0, a_per_mm2 * x_mm * x_mm);
-    phase_x[static_cast<std::size_t>(i)] = std::complex<float>(phase);
-    phase_y[static_cast<std::size_t>(i)] = std::complex<float>(phase);
+    phase_x[static_cast<std::size_t>(i)] = std::complex<float>(std::polar(1.0, a_x_per_mm2 * x_mm * x_mm));
+    phase_y[static_cast<std::size_t>(i)] = std::complex<float>(std::polar(1.0, a_y_per_mm2 * x_mm * x_mm));
   }
   glNamedBufferSubData(phase_x_.get(), 0, static_cast<GLsizeiptr>(phase_x.size() * sizeof(phase_x[0])), phase_x.data());
   glNamedBufferSubData(phase_y_.get(), 0, static_cast<GLsizeiptr>(phase_y.size() * sizeof(phase_y[0])), phase_y.data());
 
-  const GLuint load = load_program_.get();
+  // The cross term 2 pi E_xy x y / lambda only where there is one (an oblique cylinder): without it
+  // the field is the separable product alone, from the same shader as a spherical defocus.
+  const bool cross = error.xy() != 0.0;
+  const GLuint load = cross ? astigmatic_load_program_.get() : load_program_.get();
   glUseProgram(load);
   glUniform1i(glGetUniformLocation(load, "uSize"), size_px_);
+  if (cross) {
+    const FixedPointTurns turns = fixed_point_fraction(cross_phase_turns_per_index(error.xy(), dx_mm, wavelength_nm));
+    glUniform2ui(glGetUniformLocation(load, "uCrossTurns"), turns.high, turns.low);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, cross_table_.get());
+  }
   glBindImageTexture(0, aperture_.texture(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, fft_.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, phase_x_.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, phase_y_.get());
   glDispatchCompute(tiles(size_px_), tiles(size_px_), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glUseProgram(0);
+  check_gl_error("GL PSF: loading the pupil function");
+}
+
+std::vector<std::complex<float>> GlPsf::read_field() const { return fft_.download(); }
+
+void GlPsf::run_monochromatic(const ApertureGeometry& geometry, double wavelength_nm) {
+  load_field(geometry, wavelength_nm);
 
   fft_.transform(FftDirection::forward);
 

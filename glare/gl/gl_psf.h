@@ -1,14 +1,17 @@
 #pragma once
 // The GPU point-spread function (Ritschel et al. 2009, sections 4-5) from an ApertureGeometry:
-// aperture (glare/gl/gl_aperture.h) times the defocus phase, GL FFT (glare/gl/gl_fft.h),
+// aperture (glare/gl/gl_aperture.h) times the pupil phase of the eye's power error (defocus and,
+// for an astigmatic error, the sphero-cylindrical phase of glare/astigmatic_phase.h), GL FFT (glare/gl/gl_fft.h),
 // |F|^2 with the zero frequency at pixel (N/2, N/2), each channel normalised to sum 1 by a pairwise
 // reduction on the GPU. Angular pixel size in the Fraunhofer limit: lambda / (N dx) radians.
 // The spectral PSF resamples the reference-wavelength PSF in angle for n wavelengths over
 // 380-770 nm and weights them by the CIE 1931 CMFs in linear Rec.709 (glare/cie_cmf.h).
 // Requires a current OpenGL 4.5 context; not thread-safe.
+#include <complex>
 #include <vector>
 
 #include "glare/aperture_geometry.h"
+#include "glare/dioptric_power.h"
 #include "glare/gl/gl_aperture.h"
 #include "glare/gl/gl_fft.h"
 #include "glare/psf.h"
@@ -20,6 +23,17 @@ class GlPsf {
   // size_px: a power of two 16..4096 (is_supported_fft_length); aperture_width_mm: the side of the
   // pupil-plane grid. Throws std::invalid_argument("GL PSF: ...") / ("GL aperture: ...").
   GlPsf(int size_px, double aperture_width_mm, int supersampling = 2);
+
+  // The pupil function the FFT takes: the aperture of `geometry` times exp(i phi), phi that of
+  // geometry.total_power_error() (glare/astigmatic_phase.h), in the FFT's buffer. A power error
+  // without an xy term (spherical, or cylinder at 0 or 90) is loaded by psf_load_aperture.comp from
+  // a per-column and a per-row factor; one with an xy term by psf_load_aperture_astigmatic.comp,
+  // which adds the cross term. Throws std::invalid_argument for a wavelength that is not positive.
+  void load_field(const ApertureGeometry& geometry, double wavelength_nm);
+  // The same phase on the aperture last drawn (for timing the phase alone); the same refusal.
+  void apply_phase(const DioptricPower& error, double wavelength_nm);
+  // The FFT's buffer, N x N row-major, row 0 at the top: the pupil function after load_field().
+  std::vector<std::complex<float>> read_field() const;
 
   // Y PSF at one wavelength (channels = 1).
   Psf monochromatic(const ApertureGeometry& geometry, double wavelength_nm);
@@ -41,8 +55,8 @@ class GlPsf {
   int size_px_;
   GlAperture aperture_;
   GlFft fft_;
-  Program load_program_, power_program_, reduce_program_, normalise_program_, spectral_program_;
-  Buffer phase_x_, phase_y_, power_, spectral_, weights_, partial_a_, partial_b_;
+  Program load_program_, astigmatic_load_program_, power_program_, reduce_program_, normalise_program_, spectral_program_;
+  Buffer phase_x_, phase_y_, cross_table_, power_, spectral_, weights_, partial_a_, partial_b_;
 };
 
 }  // namespace glarelab::gl
