@@ -1,0 +1,246 @@
+// Spectacle lenses traced as real thick lenses (glare/spectacle_lens.h, glare/spectacle_power.h)
+// against the thick-lens formulas, Prentice's rule, the Abbe number's definition and hand-worked
+// values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <utility>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "glare/spectacle_lens.h"
+#include "glare/spectacle_power.h"
+
+namespace glarelab {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+SpectacleLensSpec lens_spec(SpheroCylinder prescription) {
+  SpectacleLensSpec spec;
+  spec.prescription = prescription;
+  return spec;
+}
+
+TEST(SpectacleLens, BackSurfaceFollowsTheThickLensFormulaHandWorked) {
+  // +4.00 DS in CR-39 (n_d 1.498), 4.0 mm thick; Vogel: base 4 + 6 = 10 D.
+  // F1 / (1 - (t / n) F1) = 10 / (1 - 0.004 / 1.498 * 10) = 10.274348 D, so F2 = 4 - 10.274348.
+  SpectacleLensSpec spec = lens_spec({4.0, 0.0, 0.0});
+  spec.centre_thickness_mm = 4.0;
+  const SpectacleLens lens(spec);
+  EXPECT_DOUBLE_EQ(lens.front_power_dioptres(), 10.0);
+  EXPECT_NEAR(lens.back_surface_power().xx(), -6.274348422, 1e-8);
+  EXPECT_NEAR(lens.back_surface_power().yy(), -6.274348422, 1e-8);
+  // Front radius (n - 1) / F1 = 49.8 mm: curvature 1 / 0.0498 m.
+  EXPECT_NEAR(lens.front_sphere().sweep_curvature_per_m, 10.0 / 0.498, 1e-9);
+  // Vogel for minus lenses: -6 / 2 + 6 = 3 D; with a cylinder, on the spherical equivalent -3.
+  EXPECT_DOUBLE_EQ(SpectacleLens(lens_spec({-6.0, 0.0, 0.0})).front_power_dioptres(), 3.0);
+  EXPECT_DOUBLE_EQ(SpectacleLens(lens_spec({-2.0, -2.0, 90.0})).front_power_dioptres(), 4.5);
+}
+
+TEST(SpectacleLens, DefaultThicknessLeavesTwoMillimetresAtTheCentreOrOneAtTheEdge) {
+  const SpectacleLens minus(lens_spec({-6.0, 0.0, 0.0}));
+  EXPECT_NEAR(minus.centre_thickness_m(), 2.0e-3, 1e-12);
+  EXPECT_NEAR(minus.minimum_thickness_m(), 2.0e-3, 1e-12);  // a minus lens is thinnest at its centre
+  const glm::dvec2 rim(0.025, 0.0);
+  EXPECT_GT(minus.centre_thickness_m() - minus.front_sag(rim).sag_m + minus.back_sag(rim).sag_m, 5e-3);
+  const SpectacleLens plus(lens_spec({4.0, 0.0, 0.0}));
+  EXPECT_NEAR(plus.minimum_thickness_m(), 1.0e-3, 1e-6);
+  // Hand-worked at the 25 mm rim: front R1 = 0.498 / 10 m = 49.8 mm, sag 49.8 - sqrt(49.8^2 - 25^2)
+  // = 6.730 mm; with t = 3.70 mm, F1 / (1 - (t / n) F1) = 10.2533 D, F2 = -6.2533 D, R2 = 0.498 /
+  // 6.2533 m = 79.64 mm, sag 79.64 - sqrt(79.64^2 - 25^2) = 4.025 mm; t = 1 + 6.730 - 4.025 = 3.705 mm.
+  EXPECT_NEAR(plus.centre_thickness_m(), 3.705e-3, 0.01e-3);
+}
+
+TEST(SpectacleLens, CauchyDispersionMatchesTheAbbeNumber) {
+  const SpectacleLens lens(lens_spec({-2.0, 0.0, 0.0}));
+  EXPECT_NEAR(lens.refractive_index(kFraunhoferD_nm), 1.498, 1e-12);
+  EXPECT_NEAR(lens.refractive_index(kFraunhoferF_nm) - lens.refractive_index(kFraunhoferC_nm), 0.498 / 58.0, 1e-12);
+  // Hand-worked Cauchy coefficients: B = (0.498 / 58) / (1 / 0.48613^2 - 1 / 0.65627^2) = 0.0044962 um^2,
+  // A = 1.498 - B / 0.58756^2 = 1.484976.
+  EXPECT_NEAR(lens.refractive_index(1e6), 1.484976, 1e-6);
+  EXPECT_GT(lens.refractive_index(450.0), lens.refractive_index(650.0));
+}
+
+// The thin-lens limit: on the primary line of sight the traced pencil's vergence at the back vertex
+// is the prescription in every meridian, however the cylinder axis turns (Harris' F = S I + C n n^T).
+TEST(SpectacleLens, PrimaryGazePowerIsThePrescriptionInEveryMeridian) {
+  const SpheroCylinder prescriptions[] = {
+      {4.0, 0.0, 0.0}, {-6.0, 0.0, 0.0}, {-2.0, -1.5, 30.0}, {1.25, -2.0, 135.0}, {0.0, -3.0, 90.0}, {-4.5, -0.75, 5.0}, {3.0, -1.0, 180.0}};
+  for (const SpheroCylinder& prescription : prescriptions) {
+    for (double thickness_mm : {0.0, 6.0}) {  // 0: the default rule
+      SpectacleLensSpec spec = lens_spec(prescription);
+      if (thickness_mm > 0.0) spec.centre_thickness_mm = thickness_mm;
+      const SpectacleLens lens(spec);
+      const GazePower power = lens_power_at_gaze(lens, glm::dvec3(0.0, 0.0, 1.0), kFraunhoferD_nm);
+      ASSERT_TRUE(power.through);
+      const DioptricPower expected = DioptricPower::from_prescription(prescription);
+      for (double meridian = 0.0; meridian < 180.0; meridian += 15.0)
+        EXPECT_NEAR(power.vertex_sphere.meridian_dioptres(meridian), expected.meridian_dioptres(meridian), 1e-4)
+            << prescription.sphere_dioptres << " / " << prescription.cylinder_dioptres << " x " << prescription.axis_deg
+            << ", t " << thickness_mm << " mm, meridian " << meridian;
+      // At the cornea: F (I - d F)^-1 with d the vertex distance; for +4 D, 4 / (1 - 0.012 * 4).
+      const DioptricPower cornea = effective_power_at_distance(expected, 0.012);
+      EXPECT_NEAR(power.at_cornea.xx(), cornea.xx(), 1e-4);
+      EXPECT_NEAR(power.at_cornea.xy(), cornea.xy(), 1e-4);
+      EXPECT_NEAR(power.at_cornea.yy(), cornea.yy(), 1e-4);
+    }
+  }
+}
+
+TEST(SpectacleLens, ThinLensLimitSurfacePowersAddToThePrescription) {
+  // As t -> 0 the shape factor vanishes and F1 + F2 = F_v in every meridian (thin-lens addition).
+  for (const SpheroCylinder& prescription : {SpheroCylinder{2.0, -1.0, 60.0}, SpheroCylinder{-5.0, -2.0, 160.0}}) {
+    SpectacleLensSpec spec = lens_spec(prescription);
+    spec.diameter_mm = 4.0;
+    spec.centre_thickness_mm = 0.05;
+    const SpectacleLens lens(spec);
+    const DioptricPower sum = lens.back_surface_power() + DioptricPower::spherical(lens.front_power_dioptres());
+    const DioptricPower expected = DioptricPower::from_prescription(prescription);
+    // The residual is the shape factor's (t / n) F1^2 ~ 0.05e-3 / 1.5 * 36 = 0.0012 D.
+    EXPECT_NEAR(sum.xx(), expected.xx(), 2e-3);
+    EXPECT_NEAR(sum.xy(), expected.xy(), 2e-3);
+    EXPECT_NEAR(sum.yy(), expected.yy(), 2e-3);
+    const GazePower power = lens_power_at_gaze(lens, glm::dvec3(0.0, 0.0, 1.0), kFraunhoferD_nm);
+    EXPECT_NEAR(power.vertex_sphere.xx(), expected.xx(), 1e-4);
+    EXPECT_NEAR(power.vertex_sphere.xy(), expected.xy(), 1e-4);
+    EXPECT_NEAR(power.vertex_sphere.yy(), expected.yy(), 1e-4);
+  }
+}
+
+// Spectacle magnification for the turning eye, from the ray trace's slope at the centre:
+// SM = [1 / (1 - h F_v)] [1 / (1 - (t / n) F1)], h from the back vertex to the centre of rotation.
+TEST(SpectacleLens, CentralAngularMagnificationIsTheSpectacleMagnification) {
+  for (const auto& [power, thickness_mm] : {std::pair{4.0, 4.0}, std::pair{-6.0, 2.0}}) {
+    SpectacleLensSpec spec = lens_spec({power, 0.0, 0.0});
+    spec.centre_thickness_mm = thickness_mm;
+    const SpectacleLens lens(spec);
+    const double h_m = (spec.vertex_distance_mm + spec.centre_of_rotation_mm) * 1e-3;
+    const double expected = 1.0 / (1.0 - h_m * power) / (1.0 - thickness_mm * 1e-3 / 1.498 * lens.front_power_dioptres());
+    const double tangent = 1e-4;
+    const LensRay ray = lens.trace_from_eye(glm::dvec3(tangent, 0.0, 1.0), kFraunhoferD_nm);
+    ASSERT_TRUE(ray.through());
+    EXPECT_NEAR(tangent / (ray.direction.x / ray.direction.z), expected, 1e-5) << power;
+  }
+}
+
+// Prentice's rule: decentred by c, the primary line of sight passes the lens c from its optical
+// centre and is deviated by c F. For the thick lens the ray is parallel to the axis inside the eye's
+// space, so its paraxial deviation is c times the equivalent power F_e = F_v (1 - (t / n) F1).
+TEST(SpectacleLens, DecentrationGivesPrenticePrism) {
+  for (const double power : {4.0, -6.0}) {
+    SpectacleLensSpec spec = lens_spec({power, 0.0, 0.0});
+    spec.centre_thickness_mm = power > 0 ? 4.0 : 2.0;
+    spec.decentration_mm = glm::dvec2(3.0, -2.0);  // optical centre 3 mm right, 2 mm down
+    const SpectacleLens lens(spec);
+    const double equivalent = power * (1.0 - *spec.centre_thickness_mm * 1e-3 / 1.498 * lens.front_power_dioptres());
+    const LensRay ray = lens.trace_from_eye(glm::dvec3(0.0, 0.0, 1.0), kFraunhoferD_nm);
+    ASSERT_TRUE(ray.through());
+    // Prism dioptres: 100 tan(deviation). A plus lens sends the eye's ray toward its optical centre.
+    const double prism_x = 100.0 * ray.direction.x / ray.direction.z, prism_y = 100.0 * ray.direction.y / ray.direction.z;
+    EXPECT_NEAR(prism_x, 0.3 * equivalent, 0.01 * std::abs(0.3 * equivalent)) << power;
+    EXPECT_NEAR(prism_y, -0.2 * equivalent, 0.01 * std::abs(0.2 * equivalent)) << power;
+  }
+}
+
+TEST(SpectacleLens, ListingFrameTurnsTheObserverFrameToTheGaze) {
+  const EyeFrame primary = listing_eye_frame(glm::dvec3(0.0, 0.0, 2.0));
+  EXPECT_DOUBLE_EQ(primary.right.x, 1.0);
+  EXPECT_DOUBLE_EQ(primary.up.y, 1.0);
+  const EyeFrame down = listing_eye_frame(glm::dvec3(0.0, -std::sin(0.5), std::cos(0.5)));
+  EXPECT_NEAR(down.right.x, 1.0, 1e-15);  // a vertical turn keeps the horizontal axis
+  EXPECT_NEAR(down.up.y, std::cos(0.5), 1e-15);
+  EXPECT_NEAR(down.up.z, std::sin(0.5), 1e-15);
+  const EyeFrame oblique = listing_eye_frame(glm::dvec3(0.3, 0.4, 1.0));
+  EXPECT_NEAR(glm::dot(oblique.right, oblique.up), 0.0, 1e-15);
+  EXPECT_NEAR(glm::dot(oblique.right, oblique.gaze), 0.0, 1e-15);
+  EXPECT_NEAR(glm::dot(oblique.up, oblique.gaze), 0.0, 1e-15);
+}
+
+// Progressive: at the fitting cross the distance power; through the near zone, distance + add.
+TEST(SpectacleLens, ProgressiveNearZoneAddsTheAddToTheDistancePower) {
+  for (const double distance_power : {0.0, 2.0, -3.0}) {
+    SpectacleLensSpec spec = lens_spec({distance_power, 0.0, 0.0});
+    spec.near_add_dioptres = 2.0;
+    spec.corridor_length_mm = 14.0;
+    const SpectacleLens lens(spec);
+    const GazePower distance = lens_power_at_gaze(lens, glm::dvec3(0.0, 0.0, 1.0), kFraunhoferD_nm);
+    ASSERT_TRUE(distance.through);
+    EXPECT_NEAR(distance.vertex_sphere.xx(), distance_power, 1e-4);
+    EXPECT_NEAR(distance.vertex_sphere.yy(), distance_power, 1e-4);
+    // The line of sight through the front surface s mm below the fitting cross: at the near
+    // reference point (s = 14, where the design puts distance + add on the vertex sphere) and 1 mm
+    // above and below it, where nothing was fitted (ISO 8980-2's add tolerance, 0.12 D, as the
+    // bound; further down, obliquity lowers the mean power: docs/SPECTACLES.md).
+    for (const double below_mm : {14.0, 13.0, 15.0}) {
+      double tangent = 0.0;
+      for (int iteration = 0; iteration < 40; ++iteration) {
+        const LensRay ray = lens.trace_from_eye(glm::dvec3(0.0, -tangent, 1.0), kFraunhoferD_nm);
+        tangent += (below_mm * 1e-3 + ray.origin_m.y) / ray.origin_m.z;
+      }
+      const GazePower near = lens_power_at_gaze(lens, glm::dvec3(0.0, -tangent, 1.0), kFraunhoferD_nm);
+      ASSERT_TRUE(near.through);
+      const PrincipalPowers principal = principal_powers(near.vertex_sphere);
+      std::printf("distance %+.2f D, add 2.00 D, %2.0f mm below the cross (gaze %.1f deg down): mean %.4f D, cylinder %.4f D\n",
+                  distance_power, below_mm, std::atan(tangent) * kDegPerRad, near.vertex_sphere.mean_dioptres(),
+                  principal.p2_dioptres - principal.p1_dioptres);
+      EXPECT_NEAR(near.vertex_sphere.mean_dioptres(), distance_power + 2.0, below_mm == 14.0 ? 1e-4 : 0.12);
+    }
+  }
+}
+
+void expect_refused(SpectacleLensSpec spec, const std::string& parameter) {
+  try {
+    SpectacleLens lens(spec);
+    ADD_FAILURE() << "accepted a lens with bad " << parameter;
+  } catch (const std::invalid_argument& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("glare/spectacle_lens: "), std::string::npos) << message;
+    EXPECT_NE(message.find(parameter), std::string::npos) << message;
+  }
+}
+
+TEST(SpectacleLens, RefusesBadParametersNamingThem) {
+  const SpectacleLensSpec good = lens_spec({-2.0, -1.0, 90.0});
+  EXPECT_NO_THROW(SpectacleLens{good});
+  for (double index : {1.0, 0.9, std::nan("")}) {
+    SpectacleLensSpec spec = good;
+    spec.refractive_index_d = index;
+    expect_refused(spec, "refractive_index_d");
+  }
+  for (double abbe : {0.0, -30.0}) {
+    SpectacleLensSpec spec = good;
+    spec.abbe_number_d = abbe;
+    expect_refused(spec, "abbe_number_d");
+  }
+  for (double axis : {-1.0, 180.5, 360.0}) {
+    SpectacleLensSpec spec = good;
+    spec.prescription.axis_deg = axis;
+    expect_refused(spec, "axis_deg");
+  }
+  SpectacleLensSpec at_cornea = good;
+  at_cornea.vertex_distance_mm = 0.0;
+  expect_refused(at_cornea, "vertex_distance_mm");
+  // +4 D over 50 mm needs about 2.5 mm more than its rim: 1.5 mm at the centre crosses the surfaces.
+  SpectacleLensSpec thin_plus = lens_spec({4.0, 0.0, 0.0});
+  thin_plus.centre_thickness_mm = 1.5;
+  expect_refused(thin_plus, "centre_thickness_mm");
+  SpectacleLensSpec no_thickness = good;
+  no_thickness.centre_thickness_mm = 0.0;
+  expect_refused(no_thickness, "centre_thickness_mm");
+  // A -30 D lens' back surface (-21 D behind a -9 D Vogel front: radius 24 mm) cannot span 60 mm.
+  SpectacleLensSpec steep = lens_spec({-30.0, 0.0, 0.0});
+  steep.diameter_mm = 60.0;
+  expect_refused(steep, "diameter_mm");
+  // Axis 180 is the same meridian as 0 and is accepted.
+  SpectacleLensSpec axis_180 = good;
+  axis_180.prescription.axis_deg = 180.0;
+  EXPECT_NO_THROW(SpectacleLens{axis_180});
+}
+
+}  // namespace
+}  // namespace glarelab
