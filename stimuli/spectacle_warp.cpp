@@ -1,5 +1,6 @@
 #include "stimuli/spectacle_warp.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <exception>
@@ -8,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -83,6 +86,40 @@ float sample_bilinear(const ImageRGBA& scene, glm::dvec2 at, int channel, float 
   return static_cast<float>((1.0 - fy) * top + fy * bottom);
 }
 
+// Bilinear interpolation of the vertex positions (grid_vertices per side, from the first to the
+// last pixel centre) at a pixel, the row's cell found once per row.
+class GridInterpolation {
+ public:
+  struct Row {
+    int cell = 0;
+    double fraction = 0.0;
+  };
+  GridInterpolation(const SpectacleFrame& frame, std::vector<glm::dvec2> vertex, int grid_vertices)
+      : vertex_(std::move(vertex)),
+        g_(grid_vertices),
+        step_x_((frame.width_px - 1.0) / (grid_vertices - 1)),
+        step_y_((frame.height_px - 1.0) / (grid_vertices - 1)) {}
+  Row row(int y) const { return locate(y, step_y_); }
+  glm::dvec2 at(const Row& row, int x) const {
+    const Row column = locate(x, step_x_);
+    const std::size_t top = static_cast<std::size_t>(row.cell) * g_ + column.cell, bottom = top + g_;
+    const double fx = column.fraction, fy = row.fraction;
+    return (1.0 - fy) * ((1.0 - fx) * vertex_[top] + fx * vertex_[top + 1]) + fy * ((1.0 - fx) * vertex_[bottom] + fx * vertex_[bottom + 1]);
+  }
+
+ private:
+  Row locate(int pixel, double step) const {
+    const double position = step > 0.0 ? pixel / step : 0.0;
+    Row out;
+    out.cell = std::min(static_cast<int>(position), g_ - 2);
+    out.fraction = position - out.cell;
+    return out;
+  }
+  std::vector<glm::dvec2> vertex_;
+  int g_;
+  double step_x_, step_y_;
+};
+
 }  // namespace
 
 glm::dvec3 SpectacleFrame::direction(glm::dvec2 at_px) const {
@@ -115,31 +152,12 @@ std::vector<glm::dvec2> trace_grid_vertices(const SpectacleLens& lens, const Spe
 
 SourceMap grid_source_map(const SpectacleLens& lens, const SpectacleFrame& frame, double wavelength_nm, int grid_vertices,
                           std::optional<double> scene_distance_mm, int threads) {
-  const std::vector<glm::dvec2> vertex = trace_grid_vertices(lens, frame, wavelength_nm, grid_vertices, scene_distance_mm);
-  const int g = grid_vertices;
-  const double step_x = (frame.width_px - 1.0) / (g - 1), step_y = (frame.height_px - 1.0) / (g - 1);
-
+  const GridInterpolation grid(frame, trace_grid_vertices(lens, frame, wavelength_nm, grid_vertices, scene_distance_mm), grid_vertices);
   SourceMap map{frame.width_px, frame.height_px, std::vector<glm::dvec2>(static_cast<std::size_t>(frame.width_px) * frame.height_px)};
-  const auto cell = [&](double at, double step, int& index, double& fraction) {
-    const double position = step > 0.0 ? at / step : 0.0;
-    index = std::min(static_cast<int>(position), g - 2);
-    fraction = position - index;
-  };
   parallel_chunks(frame.height_px, threads, [&](int first, int last) {
     for (int y = first; y < last; ++y) {
-      int j = 0;
-      double fy = 0.0;
-      cell(y, step_y, j, fy);
-      for (int x = 0; x < frame.width_px; ++x) {
-        int i = 0;
-        double fx = 0.0;
-        cell(x, step_x, i, fx);
-        const glm::dvec2& a = vertex[static_cast<std::size_t>(j) * g + i];
-        const glm::dvec2& b = vertex[static_cast<std::size_t>(j) * g + i + 1];
-        const glm::dvec2& c = vertex[static_cast<std::size_t>(j + 1) * g + i];
-        const glm::dvec2& d = vertex[static_cast<std::size_t>(j + 1) * g + i + 1];
-        map.position_px[static_cast<std::size_t>(y) * frame.width_px + x] = (1.0 - fy) * ((1.0 - fx) * a + fx * b) + fy * ((1.0 - fx) * c + fx * d);
-      }
+      const GridInterpolation::Row row = grid.row(y);
+      for (int x = 0; x < frame.width_px; ++x) map.position_px[static_cast<std::size_t>(y) * frame.width_px + x] = grid.at(row, x);
     }
   });
   return map;
@@ -180,19 +198,22 @@ ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& l
     refuse("the scene is " + std::to_string(scene.width_px) + " x " + std::to_string(scene.height_px) + " but the frame " +
            std::to_string(frame.width_px) + " x " + std::to_string(frame.height_px));
   for (double wavelength : options.wavelengths_nm) validate_wavelength(wavelength);
-  std::array<SourceMap, 3> maps;
+  std::vector<GridInterpolation> grids;
   for (int channel = 0; channel < 3; ++channel)
-    maps[channel] = grid_source_map(lens, frame, options.wavelengths_nm[channel], options.grid_vertices, options.scene_distance_mm,
-                                    options.threads);
+    grids.emplace_back(frame,
+                       trace_grid_vertices(lens, frame, options.wavelengths_nm[channel], options.grid_vertices, options.scene_distance_mm),
+                       options.grid_vertices);
   ImageRGBA out(frame.width_px, frame.height_px, 0.0f);
   parallel_chunks(frame.height_px, options.threads, [&](int first, int last) {
-    for (int y = first; y < last; ++y)
+    for (int y = first; y < last; ++y) {
+      const GridInterpolation::Row row = grids[0].row(y);  // the three grids share their vertices' pixels
       for (int x = 0; x < frame.width_px; ++x) {
         float* pixel = out.pixel(x, y);
         for (int channel = 0; channel < 3; ++channel)
-          pixel[channel] = sample_bilinear(scene, maps[channel].at(x, y), channel, options.outside_cd_m2[channel]);
-        pixel[3] = sample_bilinear(scene, maps[1].at(x, y), 3, 1.0f);
+          pixel[channel] = sample_bilinear(scene, grids[channel].at(row, x), channel, options.outside_cd_m2[channel]);
+        pixel[3] = sample_bilinear(scene, grids[1].at(row, x), 3, 1.0f);
       }
+    }
   });
   return out;
 }

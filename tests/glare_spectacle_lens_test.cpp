@@ -161,6 +161,81 @@ TEST(SpectacleLens, ListingFrameTurnsTheObserverFrameToTheGaze) {
   EXPECT_NEAR(glm::dot(oblique.up, oblique.gaze), 0.0, 1e-15);
 }
 
+// A second implementation of the oblique power: Kakimoto et al. 2007's wavefront tracing (section
+// 4.3) along the chief ray of a spherical lens, with the surfaces intersected as spheres. A plane
+// wave from the scene (kappa = 0) is refracted at the front surface by Eq. 4, transferred through the
+// glass by Eq. 1, refracted at the back surface and transferred to the vertex sphere. For a centred
+// spherical lens the chief ray stays in one meridional plane, so u (Eq. 2: N x N_s) is the sagittal
+// direction at both surfaces and the torsion stays 0 (Eqs. 3 and 5 reduce to the identity); Eq. 4
+// is then Coddington's sagittal and tangential equations. Curvatures: positive toward the direction
+// the wave moves (so a surface whose centre lies on the eye's side has kappa_s = c > 0).
+struct SphereHit {
+  glm::dvec3 point;
+  glm::dvec3 normal;
+};
+SphereHit intersect_sphere(glm::dvec3 origin, glm::dvec3 direction, double vertex_z, double curvature) {
+  const glm::dvec3 centre(0.0, 0.0, vertex_z - 1.0 / curvature);
+  const glm::dvec3 offset = origin - centre;
+  const double b = glm::dot(offset, direction), c = glm::dot(offset, offset) - 1.0 / (curvature * curvature);
+  const double root = std::sqrt(b * b - c);
+  const glm::dvec3 first = origin + (-b - root) * direction, second = origin + (-b + root) * direction;
+  const glm::dvec3 point = std::abs(first.z - vertex_z) < std::abs(second.z - vertex_z) ? first : second;
+  return {point, glm::normalize(point - centre)};
+}
+glm::dvec3 snell(glm::dvec3 d, glm::dvec3 normal, double mu) {
+  const glm::dvec3 n = glm::dot(normal, d) > 0.0 ? normal : -normal;
+  const double cos_i = glm::dot(d, n);
+  return glm::normalize(mu * d + (std::sqrt(1.0 - mu * mu * (1.0 - cos_i * cos_i)) - mu * cos_i) * n);
+}
+// Eq. 4 for a spherical surface in the sagittal (u) and tangential (v) directions, torsion 0.
+void refract_wavefront(double& sagittal, double& tangential, double mu, double cos_in, double cos_out, double surface) {
+  const double gamma = cos_out - mu * cos_in;
+  sagittal = mu * sagittal + gamma * surface;
+  tangential = mu * tangential * cos_in * cos_in / (cos_out * cos_out) + gamma * surface / (cos_out * cos_out);
+}
+void transfer_wavefront(double& sagittal, double& tangential, double distance) {  // Eq. 1
+  sagittal = sagittal / (1.0 - distance * sagittal);
+  tangential = tangential / (1.0 - distance * tangential);
+}
+
+TEST(SpectacleLens, ObliquePowerMatchesKakimotoWavefrontTracing) {
+  for (const auto& [power, thickness_mm] : {std::pair{4.0, 4.0}, std::pair{-6.0, 2.0}}) {
+    SpectacleLensSpec spec = lens_spec({power, 0.0, 0.0});
+    spec.centre_thickness_mm = thickness_mm;
+    const SpectacleLens lens(spec);
+    const double n = lens.refractive_index(kFraunhoferD_nm);
+    const double c1 = lens.front_power_dioptres() / (n - 1.0), c2 = lens.back_surface_power().xx() / (1.0 - n);
+    for (const glm::dvec3 gaze : {glm::dvec3(0.0, -0.577, 1.0), glm::dvec3(-0.364, -0.364, 1.0), glm::dvec3(0.7, 0.0, 1.0)}) {
+      const glm::dvec3 g = glm::normalize(gaze);
+      // The chief ray from the centre of rotation outward, then the wave along it inward.
+      const SphereHit back = intersect_sphere(glm::dvec3(0.0), g, lens.back_vertex_z_m(), c2);
+      const glm::dvec3 inside = snell(g, back.normal, 1.0 / n);
+      const SphereHit front = intersect_sphere(back.point, inside, lens.front_vertex_z_m(), c1);
+      const glm::dvec3 scene = snell(inside, front.normal, n);
+      const double cos_front_air = std::abs(glm::dot(scene, front.normal)), cos_front_glass = std::abs(glm::dot(inside, front.normal));
+      const double cos_back_glass = std::abs(glm::dot(inside, back.normal)), cos_back_air = std::abs(glm::dot(g, back.normal));
+      double sagittal = 0.0, tangential = 0.0;  // plane wave from a distant point
+      refract_wavefront(sagittal, tangential, 1.0 / n, cos_front_air, cos_front_glass, c1);
+      transfer_wavefront(sagittal, tangential, glm::length(front.point - back.point));
+      refract_wavefront(sagittal, tangential, n, cos_back_glass, cos_back_air, c2);
+      transfer_wavefront(sagittal, tangential, glm::length(back.point) - lens.vertex_sphere_radius_m());
+      // The sagittal direction is the Listing axis z x g, the same in the eye's frame as in the
+      // observer's (Listing's rotation leaves its own axis fixed).
+      const glm::dvec3 axis = glm::normalize(glm::cross(glm::dvec3(0.0, 0.0, 1.0), g));
+      const double sagittal_deg = std::atan2(axis.y, axis.x) * kDegPerRad;
+      const GazePower traced = lens_power_at_gaze(lens, gaze, kFraunhoferD_nm);
+      ASSERT_TRUE(traced.through);
+      EXPECT_NEAR(traced.scene_direction.x, scene.x, 1e-12);
+      EXPECT_NEAR(traced.scene_direction.y, scene.y, 1e-12);
+      EXPECT_NEAR(traced.vertex_sphere.meridian_dioptres(sagittal_deg), sagittal, 1e-5) << power << " D, gaze " << gaze.x << ", " << gaze.y;
+      EXPECT_NEAR(traced.vertex_sphere.meridian_dioptres(sagittal_deg + 90.0), tangential, 1e-5) << power << " D, gaze " << gaze.x << ", " << gaze.y;
+      std::printf("%+.1f D at %.1f deg from the axis: sagittal %.4f D, tangential %.4f D (wavefront), %.4f / %.4f D (rays)\n", power,
+                  std::acos(g.z) * kDegPerRad, sagittal, tangential, traced.vertex_sphere.meridian_dioptres(sagittal_deg),
+                  traced.vertex_sphere.meridian_dioptres(sagittal_deg + 90.0));
+    }
+  }
+}
+
 // Progressive: at the fitting cross the distance power; through the near zone, distance + add.
 TEST(SpectacleLens, ProgressiveNearZoneAddsTheAddToTheDistancePower) {
   for (const double distance_power : {0.0, 2.0, -3.0}) {
