@@ -3,6 +3,7 @@
 // values.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -11,6 +12,7 @@
 #include <string>
 
 #include <glm/geometric.hpp>
+#include <glm/mat2x2.hpp>
 
 #include "glare/spectacle_lens.h"
 #include "glare/spectacle_power.h"
@@ -266,6 +268,44 @@ TEST(SpectacleLens, ProgressiveNearZoneAddsTheAddToTheDistancePower) {
       EXPECT_NEAR(near.vertex_sphere.mean_dioptres(), distance_power + 2.0, below_mm == 14.0 ? 1e-4 : 0.12);
     }
   }
+}
+
+// Minkwitz's theorem (Minkwitz 1963): beside an umbilic line whose mean curvature changes, the
+// surface astigmatism grows across the line at twice the rate the mean curvature grows along it,
+// dA/dx = 2 |dH/dy|. Measured on the progressive front surface's true normal curvatures (the shape
+// operator I^-1 II of the graph z = S(x, y), second derivatives by central differences of the
+// analytic gradient) at the corridor's steepest point, 7 mm below the cross. The line is umbilic in
+// the sag's second derivatives, so in normal curvatures it keeps a small astigmatism A0 from the
+// slope there (0.7 % of the add); that part lies along the meridians and the twist's across them,
+// so the twist's share is sqrt(A^2 - A0^2).
+TEST(SpectacleLens, ProgressiveSurfaceObeysMinkwitz) {
+  SpectacleLensSpec spec = lens_spec({0.0, 0.0, 0.0});
+  spec.near_add_dioptres = 2.0;
+  const SpectacleLens lens(spec);
+  struct Curvatures {
+    double mean, astigmatism;
+  };
+  const auto curvatures = [&](glm::dvec2 at) {
+    const double step = 1e-5;
+    const glm::dvec2 gradient = lens.front_sag(at).gradient;
+    const glm::dvec2 dx = (lens.front_sag(at + glm::dvec2(step, 0.0)).gradient - lens.front_sag(at - glm::dvec2(step, 0.0)).gradient) / (2.0 * step);
+    const glm::dvec2 dy = (lens.front_sag(at + glm::dvec2(0.0, step)).gradient - lens.front_sag(at - glm::dvec2(0.0, step)).gradient) / (2.0 * step);
+    const double cross = 0.5 * (dx.y + dy.x);
+    const glm::dmat2 second = glm::dmat2(dx.x, cross, cross, dy.y) / std::sqrt(1.0 + glm::dot(gradient, gradient));
+    const glm::dmat2 first(1.0 + gradient.x * gradient.x, gradient.x * gradient.y, gradient.x * gradient.y, 1.0 + gradient.y * gradient.y);
+    const glm::dmat2 shape = glm::inverse(first) * second;
+    const double mean = 0.5 * (shape[0][0] + shape[1][1]);
+    return Curvatures{mean, 2.0 * std::sqrt(std::max(0.0, mean * mean - glm::determinant(shape)))};
+  };
+  const glm::dvec2 corridor(0.0, -7e-3);
+  const double dh_dy = (curvatures(corridor + glm::dvec2(0.0, 1e-4)).mean - curvatures(corridor - glm::dvec2(0.0, 1e-4)).mean) / 2e-4;
+  const double on_line = curvatures(corridor).astigmatism, beside = curvatures(corridor + glm::dvec2(5e-4, 0.0)).astigmatism;
+  const double da_dx = std::sqrt(beside * beside - on_line * on_line) / 5e-4;
+  EXPECT_LT(on_line, 0.01 * lens.progressive().full_add_curvature_per_m);
+  EXPECT_NEAR(da_dx, 2.0 * std::abs(dh_dy), 0.02 * 2.0 * std::abs(dh_dy));
+  // In dioptres per millimetre: (n - 1) times the curvature rates.
+  std::printf("Minkwitz: mean power rises %.4f D/mm along the corridor, astigmatism %.4f D/mm across it (on the line %.4f D)\n",
+              0.498 * std::abs(dh_dy) * 1e-3, 0.498 * da_dx * 1e-3, 0.498 * on_line);
 }
 
 void expect_refused(SpectacleLensSpec spec, const std::string& parameter) {
