@@ -11,6 +11,7 @@ namespace {
 
 constexpr double kPencilOffset_m = 2e-5;  // h above
 constexpr double kPencilStartAhead_m = 5e-3;
+constexpr double kGazeStep_rad = 1e-5;  // neighbouring lines of sight for the angular magnification
 
 // Rodrigues' rotation of v about the unit axis k by the angle with the given cosine and sine.
 glm::dvec3 rotate(glm::dvec3 v, glm::dvec3 k, double cos_angle, double sin_angle) {
@@ -71,6 +72,22 @@ GazePower lens_power_at_gaze(const SpectacleLens& lens, glm::dvec3 gaze, double 
   vergence[0][1] = vergence[1][0] = xy;
   out.vertex_sphere = DioptricPower{vergence};
   out.at_cornea = effective_power_at_distance(out.vertex_sphere, lens.spec().vertex_distance_mm * 1e-3);
+
+  // Neighbouring lines of sight +-kGazeStep_rad along the eye's x' and y', their scene directions as
+  // angles (tangents) across the chief ray's.
+  glm::dvec2 scene_angle[4];
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec2 turn = offsets[i] / kPencilOffset_m * kGazeStep_rad;
+    const LensRay ray = lens.trace_from_eye(eye.gaze + turn.x * eye.right + turn.y * eye.up, wavelength_nm);
+    if (!ray.through()) {
+      out.outcome = ray.outcome;
+      return out;
+    }
+    const double along = glm::dot(ray.direction, scene.gaze);
+    scene_angle[i] = glm::dvec2(glm::dot(ray.direction, scene.right), glm::dot(ray.direction, scene.up)) / along;
+  }
+  out.scene_per_visual_angle = glm::dmat2((scene_angle[0] - scene_angle[1]) / (2.0 * kGazeStep_rad),
+                                          (scene_angle[2] - scene_angle[3]) / (2.0 * kGazeStep_rad));
   out.through = true;
   return out;
 }

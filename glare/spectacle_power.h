@@ -18,6 +18,7 @@
 // Frame: the eye rotated to the gaze by Listing's law (about the axis perpendicular to both the
 // primary line of sight and the gaze), taking the observer frame (x right, y up) with it; for the
 // primary gaze it is the observer frame itself.
+#include <glm/mat2x2.hpp>
 #include <glm/vec3.hpp>
 
 #include "glare/dioptric_power.h"
@@ -35,6 +36,13 @@ struct GazePower {
   // The same pencil's vergence at the corneal vertex of the rotated eye, vertex_distance_mm nearer
   // (effective_power_at_distance): what the eye's own refraction meets.
   DioptricPower at_cornea;
+  // How the scene's angles change with the eye's: d(scene angle) / d(visual angle), the scene angles
+  // across the chief ray's scene direction in its own Listing frame, the visual ones in the eye's
+  // (columns: per visual angle along the eye's x', y'). The inverse of the local spectacle
+  // magnification: (1 - (t / n) F1) (I - h F_v) paraxially on the primary line of sight, h the back
+  // vertex's distance from the centre of rotation. This is the lens' part of Kakimoto et al.'s
+  // scaling factors s_h, s_v (Eq. 9, Fig. 9), there with a thin lens, here from the traced rays.
+  glm::dmat2 scene_per_visual_angle{1.0};
 };
 
 // The eye's frame for a gaze direction (Listing's law), columns x', y', z' = gaze.

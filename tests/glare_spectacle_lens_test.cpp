@@ -130,6 +130,25 @@ TEST(SpectacleLens, CentralAngularMagnificationIsTheSpectacleMagnification) {
   }
 }
 
+// The same from lens_power_at_gaze, as a matrix: for a cylinder the magnification differs by
+// meridian, d(scene angle) / d(visual angle) = (1 - (t / n) F1) (I - h F_v) with F_v the power matrix
+// (the power factor per meridian, the shape factor spherical since the front is).
+TEST(SpectacleLens, AngularMagnificationMatrixFollowsTheCylinder) {
+  for (const SpheroCylinder& prescription : {SpheroCylinder{4.0, 0.0, 0.0}, SpheroCylinder{-2.0, -3.0, 30.0}, SpheroCylinder{1.0, -2.0, 135.0}}) {
+    SpectacleLensSpec spec = lens_spec(prescription);
+    spec.centre_thickness_mm = 5.0;
+    const SpectacleLens lens(spec);
+    const GazePower power = lens_power_at_gaze(lens, glm::dvec3(0.0, 0.0, 1.0), kFraunhoferD_nm);
+    ASSERT_TRUE(power.through);
+    const double shape = 1.0 - 0.005 / 1.498 * lens.front_power_dioptres();
+    const glm::dmat2 expected = shape * (glm::dmat2(1.0) - 0.0255 * DioptricPower::from_prescription(prescription).matrix_dioptres);
+    for (int column = 0; column < 2; ++column)
+      for (int row = 0; row < 2; ++row)
+        EXPECT_NEAR(power.scene_per_visual_angle[column][row], expected[column][row], 1e-6)
+            << prescription.sphere_dioptres << " / " << prescription.cylinder_dioptres << " x " << prescription.axis_deg;
+  }
+}
+
 // Prentice's rule: decentred by c, the primary line of sight passes the lens c from its optical
 // centre and is deviated by c F. For the thick lens the ray is parallel to the axis inside the eye's
 // space, so its paraxial deviation is c times the equivalent power F_e = F_v (1 - (t / n) F1).
