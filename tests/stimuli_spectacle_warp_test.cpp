@@ -216,6 +216,29 @@ TEST(SpectacleWarp, DistantSceneDistanceApproachesTheDistantMapping) {
   }
 }
 
+// A minus lens minifies: the frame's edge looks past the scene's edge (object angle = visual angle x
+// 1 / SM, 1.15 for -6 D), where the scene is outside_cd_m2; the centre keeps the scene's value. The
+// result does not depend on the thread count.
+TEST(SpectacleWarp, MinusLensShowsTheOutsideBeyondTheSceneAndThreadsDoNotMatter) {
+  const SpectacleFrame frame{101, 81, 0.1};
+  const SpectacleLens lens(lens_spec(-6.0, 2.0));
+  ImageRGBA scene(101, 81, 5.0f);
+  SpectacleWarpOptions options;
+  options.outside_cd_m2 = {1.0f, 2.0f, 3.0f};
+  const ImageRGBA seen = warp_through_spectacles(scene, lens, frame, options);
+  for (int channel = 0; channel < 3; ++channel) {
+    EXPECT_EQ(seen.pixel(0, 0)[channel], options.outside_cd_m2[channel]);
+    EXPECT_EQ(seen.pixel(100, 40)[channel], options.outside_cd_m2[channel]);
+    EXPECT_FLOAT_EQ(seen.pixel(50, 40)[channel], 5.0f);
+  }
+  // Where the edge falls: the last pixel whose line of sight stays inside is near 50 + 50 / 1.15.
+  EXPECT_FLOAT_EQ(seen.pixel(88, 40)[1], 5.0f);
+  EXPECT_EQ(seen.pixel(95, 40)[1], 2.0f);
+  options.threads = 3;
+  const ImageRGBA threaded = warp_through_spectacles(scene, lens, frame, options);
+  EXPECT_EQ(threaded.rgba, seen.rgba);
+}
+
 void expect_warp_refused(const std::function<void()>& call, const std::string& words) {
   try {
     call();
