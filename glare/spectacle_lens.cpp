@@ -243,15 +243,19 @@ SpectacleLens::SpectacleLens(const SpectacleLensSpec& spec) : spec_(spec) {
 
   if (spec_.centre_thickness_mm) {
     centre_thickness_m_ = *spec_.centre_thickness_mm / kMmPerM;
+    const auto check_thickness = [&]() {
+      glm::dvec2 where(0.0);
+      minimum_thickness_m_ = centre_thickness_m_ - thickest_sag_difference(&where);
+      if (!(minimum_thickness_m_ > 0.0))
+        refuse("centre_thickness_mm " + number(*spec_.centre_thickness_mm) + " makes the surfaces cross: the lens would be " +
+               number(minimum_thickness_m_ * kMmPerM) + " mm thick at (" + number(where.x * kMmPerM) + ", " +
+               number(where.y * kMmPerM) + ") mm; it needs at least " +
+               number((centre_thickness_m_ - minimum_thickness_m_) * kMmPerM) + " mm");
+    };
     build(centre_thickness_m_);
+    check_thickness();  // before any ray is traced through the lens
     calibrate_near_zone();
-    glm::dvec2 where(0.0);
-    minimum_thickness_m_ = centre_thickness_m_ - thickest_sag_difference(&where);
-    if (!(minimum_thickness_m_ > 0.0))
-      refuse("centre_thickness_mm " + number(*spec_.centre_thickness_mm) + " makes the surfaces cross: the lens would be " +
-             number(minimum_thickness_m_ * kMmPerM) + " mm thick at (" + number(where.x * kMmPerM) + ", " +
-             number(where.y * kMmPerM) + ") mm; it needs at least " +
-             number((centre_thickness_m_ - minimum_thickness_m_) * kMmPerM) + " mm");
+    check_thickness();  // the fitted near zone is a little steeper
   } else {
     // Fixed point: the back surface depends weakly on t through the shape factor.
     centre_thickness_m_ = kDefaultMinimumCentre_m;

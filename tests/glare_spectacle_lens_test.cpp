@@ -370,6 +370,14 @@ TEST(SpectacleLens, RefusesBadParametersNamingThem) {
   SpectacleLensSpec steep = lens_spec({-30.0, 0.0, 0.0});
   steep.diameter_mm = 60.0;
   expect_refused(steep, "diameter_mm");
+  // A corridor reaching past the 25 mm rim: its near reference point cannot be looked through.
+  SpectacleLensSpec long_corridor = good;
+  long_corridor.near_add_dioptres = 2.0;
+  long_corridor.corridor_length_mm = 30.0;
+  expect_refused(long_corridor, "corridor_length_mm");
+  SpectacleLensSpec negative_add = good;
+  negative_add.near_add_dioptres = -1.0;
+  expect_refused(negative_add, "near_add_dioptres");
   // Axis 180 is the same meridian as 0 and is accepted.
   SpectacleLensSpec axis_180 = good;
   axis_180.prescription.axis_deg = 180.0;
