@@ -1,0 +1,221 @@
+#include "stimuli/spectacle_warp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <exception>
+#include <mutex>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "glare/parallel_rows.h"
+
+namespace glarelab {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+[[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument("stimuli/spectacle_warp: " + message); }
+
+std::string number(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+void validate_frame(const SpectacleFrame& frame) {
+  if (frame.width_px <= 0 || frame.height_px <= 0)
+    refuse("the frame has no pixels (" + std::to_string(frame.width_px) + " x " + std::to_string(frame.height_px) + ")");
+  if (!(frame.degrees_per_pixel_at_centre > 0.0 && frame.degrees_per_pixel_at_centre <= 10.0))
+    refuse("degrees_per_pixel_at_centre must lie in (0, 10] (got " + number(frame.degrees_per_pixel_at_centre) + ")");
+}
+
+void validate_scene_distance(const SpectacleLens& lens, const std::optional<double>& scene_distance_mm) {
+  if (!scene_distance_mm) return;
+  const double lens_mm = lens.spec().vertex_distance_mm + lens.centre_thickness_m() * 1000.0;
+  if (!(*scene_distance_mm > lens_mm) || !std::isfinite(*scene_distance_mm))
+    refuse("scene_distance_mm " + number(*scene_distance_mm) + " must lie beyond the lens' front (" + number(lens_mm) +
+           " mm from the cornea)");
+}
+
+double pixel_scale(const SpectacleFrame& frame) {
+  return 2.0 * std::tan(0.5 * frame.degrees_per_pixel_at_centre / kDegPerRad);  // tangent per pixel
+}
+
+// The scene pixel that the line of sight through `pixel` shows; refuses a line of sight the lens
+// does not pass.
+glm::dvec2 trace_pixel(const SpectacleLens& lens, const SpectacleFrame& frame, glm::dvec2 pixel, double wavelength_nm,
+                       const std::optional<double>& scene_distance_mm) {
+  const glm::dvec3 gaze = frame.direction(pixel);
+  const LensRay ray = lens.trace_from_eye(gaze, wavelength_nm);
+  if (!ray.through() || !(ray.direction.z > 0.0)) {
+    const double right_deg = std::atan2(gaze.x, gaze.z) * kDegPerRad, up_deg = std::atan2(gaze.y, gaze.z) * kDegPerRad;
+    refuse("the frame's line of sight at pixel (" + number(pixel.x) + ", " + number(pixel.y) + "), " + number(right_deg) +
+           " deg right and " + number(up_deg) + " deg up, " +
+           (ray.through() ? std::string("leaves the lens away from the scene") : describe(ray.outcome)) + " (diameter_mm " +
+           number(lens.spec().diameter_mm) + "): the lens does not cover this field of view");
+  }
+  if (!scene_distance_mm) return frame.pixel(ray.direction);
+  const double plane_z_m = lens.cornea_z_m() + *scene_distance_mm * 1e-3;
+  const glm::dvec3 point = ray.origin_m + ray.direction * ((plane_z_m - ray.origin_m.z) / ray.direction.z);
+  return frame.pixel(point);
+}
+
+void validate_wavelength(double wavelength_nm) {
+  if (!(wavelength_nm >= 360.0 && wavelength_nm <= 830.0))
+    refuse("wavelength " + number(wavelength_nm) + " nm lies outside 360-830 nm, where the dispersion formula is not extrapolated");
+}
+
+// Bilinear sample of one channel at a continuous pixel position (pixel i's centre at i); outside
+// the outermost pixel centres the scene is `outside`.
+float sample_bilinear(const ImageRGBA& scene, glm::dvec2 at, int channel, float outside) {
+  const double x = at.x, y = at.y;
+  if (!(x >= 0.0 && y >= 0.0 && x <= scene.width_px - 1.0 && y <= scene.height_px - 1.0)) return outside;
+  const int x0 = std::min(static_cast<int>(x), scene.width_px - 2 < 0 ? 0 : scene.width_px - 2);
+  const int y0 = std::min(static_cast<int>(y), scene.height_px - 2 < 0 ? 0 : scene.height_px - 2);
+  const int x1 = std::min(x0 + 1, scene.width_px - 1), y1 = std::min(y0 + 1, scene.height_px - 1);
+  const double fx = x - x0, fy = y - y0;
+  const double top = (1.0 - fx) * scene.pixel(x0, y0)[channel] + fx * scene.pixel(x1, y0)[channel];
+  const double bottom = (1.0 - fx) * scene.pixel(x0, y1)[channel] + fx * scene.pixel(x1, y1)[channel];
+  return static_cast<float>((1.0 - fy) * top + fy * bottom);
+}
+
+// Bilinear interpolation of the vertex positions (grid_vertices per side, from the first to the
+// last pixel centre) at a pixel, the row's cell found once per row.
+class GridInterpolation {
+ public:
+  struct Row {
+    int cell = 0;
+    double fraction = 0.0;
+  };
+  GridInterpolation(const SpectacleFrame& frame, std::vector<glm::dvec2> vertex, int grid_vertices)
+      : vertex_(std::move(vertex)),
+        g_(grid_vertices),
+        step_x_((frame.width_px - 1.0) / (grid_vertices - 1)),
+        step_y_((frame.height_px - 1.0) / (grid_vertices - 1)) {}
+  Row row(int y) const { return locate(y, step_y_); }
+  glm::dvec2 at(const Row& row, int x) const {
+    const Row column = locate(x, step_x_);
+    const std::size_t top = static_cast<std::size_t>(row.cell) * g_ + column.cell, bottom = top + g_;
+    const double fx = column.fraction, fy = row.fraction;
+    return (1.0 - fy) * ((1.0 - fx) * vertex_[top] + fx * vertex_[top + 1]) + fy * ((1.0 - fx) * vertex_[bottom] + fx * vertex_[bottom + 1]);
+  }
+
+ private:
+  Row locate(int pixel, double step) const {
+    const double position = step > 0.0 ? pixel / step : 0.0;
+    Row out;
+    out.cell = std::min(static_cast<int>(position), g_ - 2);
+    out.fraction = position - out.cell;
+    return out;
+  }
+  std::vector<glm::dvec2> vertex_;
+  int g_;
+  double step_x_, step_y_;
+};
+
+}  // namespace
+
+glm::dvec3 SpectacleFrame::direction(glm::dvec2 at_px) const {
+  const double k = pixel_scale(*this);
+  const double u = at_px.x - 0.5 * (width_px - 1), v = 0.5 * (height_px - 1) - at_px.y;
+  return glm::normalize(glm::dvec3(u * k, v * k, 1.0));
+}
+
+glm::dvec2 SpectacleFrame::pixel(glm::dvec3 dir) const {
+  const double k = pixel_scale(*this);
+  return glm::dvec2(0.5 * (width_px - 1) + dir.x / (dir.z * k), 0.5 * (height_px - 1) - dir.y / (dir.z * k));
+}
+
+std::vector<glm::dvec2> trace_grid_vertices(const SpectacleLens& lens, const SpectacleFrame& frame, double wavelength_nm,
+                                            int grid_vertices, std::optional<double> scene_distance_mm) {
+  validate_frame(frame);
+  validate_wavelength(wavelength_nm);
+  validate_scene_distance(lens, scene_distance_mm);
+  if (grid_vertices < 2) refuse("grid_vertices must be at least 2 (got " + std::to_string(grid_vertices) + ")");
+  const int g = grid_vertices;
+  // Vertices from the first to the last pixel centre, so every pixel is interpolated, none extrapolated.
+  const double step_x = (frame.width_px - 1.0) / (g - 1), step_y = (frame.height_px - 1.0) / (g - 1);
+  std::vector<glm::dvec2> vertex(static_cast<std::size_t>(g) * g);
+  for (int j = 0; j < g; ++j)
+    for (int i = 0; i < g; ++i)
+      vertex[static_cast<std::size_t>(j) * g + i] =
+          trace_pixel(lens, frame, glm::dvec2(i * step_x, j * step_y), wavelength_nm, scene_distance_mm);
+  return vertex;
+}
+
+SourceMap grid_source_map(const SpectacleLens& lens, const SpectacleFrame& frame, double wavelength_nm, int grid_vertices,
+                          std::optional<double> scene_distance_mm, int threads) {
+  const GridInterpolation grid(frame, trace_grid_vertices(lens, frame, wavelength_nm, grid_vertices, scene_distance_mm), grid_vertices);
+  SourceMap map{frame.width_px, frame.height_px, std::vector<glm::dvec2>(static_cast<std::size_t>(frame.width_px) * frame.height_px)};
+  parallel_chunks(frame.height_px, threads, [&](int first, int last) {
+    for (int y = first; y < last; ++y) {
+      const GridInterpolation::Row row = grid.row(y);
+      for (int x = 0; x < frame.width_px; ++x) map.position_px[static_cast<std::size_t>(y) * frame.width_px + x] = grid.at(row, x);
+    }
+  });
+  return map;
+}
+
+SourceMap traced_source_map(const SpectacleLens& lens, const SpectacleFrame& frame, double wavelength_nm,
+                            std::optional<double> scene_distance_mm, int threads) {
+  validate_frame(frame);
+  validate_wavelength(wavelength_nm);
+  validate_scene_distance(lens, scene_distance_mm);
+  SourceMap map{frame.width_px, frame.height_px, std::vector<glm::dvec2>(static_cast<std::size_t>(frame.width_px) * frame.height_px)};
+  // Refuse before tracing in parallel, so the message comes from one thread: the corners and edge
+  // midpoints first.
+  for (double fy : {0.0, 0.5, 1.0})
+    for (double fx : {0.0, 0.5, 1.0})
+      trace_pixel(lens, frame, glm::dvec2(fx * (frame.width_px - 1), fy * (frame.height_px - 1)), wavelength_nm, scene_distance_mm);
+  std::mutex failure_mutex;
+  std::exception_ptr failure;
+  parallel_chunks(frame.height_px, threads, [&](int first, int last) {
+    try {
+      for (int y = first; y < last; ++y)
+        for (int x = 0; x < frame.width_px; ++x)
+          map.position_px[static_cast<std::size_t>(y) * frame.width_px + x] =
+              trace_pixel(lens, frame, glm::dvec2(x, y), wavelength_nm, scene_distance_mm);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+    }
+  });
+  if (failure) std::rethrow_exception(failure);
+  return map;
+}
+
+ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                                  const SpectacleWarpOptions& options) {
+  validate_frame(frame);
+  if (scene.width_px != frame.width_px || scene.height_px != frame.height_px)
+    refuse("the scene is " + std::to_string(scene.width_px) + " x " + std::to_string(scene.height_px) + " but the frame " +
+           std::to_string(frame.width_px) + " x " + std::to_string(frame.height_px));
+  for (double wavelength : options.wavelengths_nm) validate_wavelength(wavelength);
+  std::vector<GridInterpolation> grids;
+  for (int channel = 0; channel < 3; ++channel)
+    grids.emplace_back(frame,
+                       trace_grid_vertices(lens, frame, options.wavelengths_nm[channel], options.grid_vertices, options.scene_distance_mm),
+                       options.grid_vertices);
+  ImageRGBA out(frame.width_px, frame.height_px, 0.0f);
+  parallel_chunks(frame.height_px, options.threads, [&](int first, int last) {
+    for (int y = first; y < last; ++y) {
+      const GridInterpolation::Row row = grids[0].row(y);  // the three grids share their vertices' pixels
+      for (int x = 0; x < frame.width_px; ++x) {
+        float* pixel = out.pixel(x, y);
+        for (int channel = 0; channel < 3; ++channel)
+          pixel[channel] = sample_bilinear(scene, grids[channel].at(row, x), channel, options.outside_cd_m2[channel]);
+        pixel[3] = sample_bilinear(scene, grids[1].at(row, x), 3, 1.0f);
+      }
+    }
+  });
+  return out;
+}
+
+}  // namespace glarelab

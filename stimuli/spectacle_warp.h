@@ -1,0 +1,84 @@
+#pragma once
+// A frame as seen through a spectacle lens (glare/spectacle_lens.h; docs/SPECTACLES.md): each
+// output pixel is the visual direction the eye turns to, and shows the scene where the lens sends
+// that line of sight. Per colour channel at its own wavelength, so the lens' transverse chromatic
+// aberration follows from its Abbe number.
+//
+// The frame's geometry: a flat (rectilinear) frame with the primary line of sight through its
+// centre, x to the observer's right, row 0 at the top; the pixel offset (u, v) from the centre
+// (v up) is the direction (u k, v k, 1) from the eye's centre of rotation, k = 2 tan(dpp / 2) with
+// dpp the degrees per pixel at the centre (stimuli/display_model.h: pitch / distance). The scene
+// lies in the same frame: distant by default (an object direction is looked up directly), or a flat
+// frame `scene_distance_mm` in front of the cornea, where the ray leaving the lens is intersected
+// with that plane and the point looked up by its direction from the centre of rotation. The
+// difference is the ray's sideways offset at the lens, about h |tan a - tan a'| (0.6 mm for a +4 D
+// lens at 10 deg, h the lens' distance from the centre of rotation), 1 mrad at 600 mm.
+//
+// Interpolation: the mapping is traced at the vertices of a grid spanning the frame's pixel centres
+// (grid_vertices per side) and interpolated bilinearly in between; the scene is resampled
+// bilinearly (continuous pixel coordinates, pixel i's centre at i), and seen as `outside_cd_m2`
+// where the lens looks past the scene's edge.
+#include <array>
+#include <optional>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/image.h"
+#include "glare/spectacle_lens.h"
+
+namespace glarelab {
+
+struct SpectacleFrame {
+  int width_px = 0;
+  int height_px = 0;
+  double degrees_per_pixel_at_centre = 0.0;
+
+  // The visual direction (unit; from the centre of rotation) of the continuous pixel position.
+  glm::dvec3 direction(glm::dvec2 pixel) const;
+  // The continuous pixel position of a direction (z > 0).
+  glm::dvec2 pixel(glm::dvec3 direction) const;
+};
+
+struct SpectacleWarpOptions {
+  int grid_vertices = 33;
+  // Wavelengths of the R, G, B channels: the Fraunhofer C, d and F lines, so the green channel sees
+  // the lens at n_d (its prescribed power) and red against blue differs by n_F - n_C, the
+  // dispersion the Abbe number measures.
+  std::array<double, 3> wavelengths_nm{kFraunhoferC_nm, kFraunhoferD_nm, kFraunhoferF_nm};
+  std::array<float, 3> outside_cd_m2{0.0f, 0.0f, 0.0f};
+  std::optional<double> scene_distance_mm;  // unset: a distant scene
+  int threads = 1;
+};
+
+// For every output pixel, the continuous scene pixel position it shows (pixel i's centre at i).
+struct SourceMap {
+  int width_px = 0;
+  int height_px = 0;
+  std::vector<glm::dvec2> position_px;  // row-major, row 0 at the top
+  const glm::dvec2& at(int x, int y) const { return position_px[static_cast<std::size_t>(y) * width_px + x]; }
+};
+
+// The mapping traced at the vertices alone: grid_vertices x grid_vertices scene positions, row-major,
+// the vertices running from the first to the last pixel centre in each direction.
+std::vector<glm::dvec2> trace_grid_vertices(const SpectacleLens& lens, const SpectacleFrame& frame, double wavelength_nm,
+                                            int grid_vertices, std::optional<double> scene_distance_mm = {});
+
+// The mapping traced at grid_vertices x grid_vertices vertices and interpolated bilinearly.
+// Throws std::invalid_argument ("stimuli/spectacle_warp: ...") when a vertex's line of sight misses
+// the lens (a field of view the lens does not cover), for grid_vertices < 2, a frame without pixels
+// a degrees_per_pixel_at_centre outside (0, 10] or a scene_distance_mm not beyond the lens.
+SourceMap grid_source_map(const SpectacleLens& lens, const SpectacleFrame& frame, double wavelength_nm, int grid_vertices,
+                          std::optional<double> scene_distance_mm = {}, int threads = 1);
+// The reference: every pixel's line of sight traced.
+SourceMap traced_source_map(const SpectacleLens& lens, const SpectacleFrame& frame, double wavelength_nm,
+                            std::optional<double> scene_distance_mm = {}, int threads = 1);
+
+// The scene (linear RGB, cd/m2, the frame's size) as seen through the lens; alpha follows the green
+// channel's mapping. Throws as grid_source_map does, and for a scene whose size is not the frame's
+// or a wavelength outside 360-830 nm.
+ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                                  const SpectacleWarpOptions& options = {});
+
+}  // namespace glarelab
