@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cli_process.h"
+#include "window_focus.h"
 #include "runner/store/result_store.h"
 #include "session_events.h"
 
@@ -60,7 +61,8 @@ TEST(WindowBackend, AdjustmentWithKeysAndWheelStepsInLogUnits) {
                                 scratch.path() / "out.txt");
   ASSERT_TRUE(process.started());
   // Focus the window and put the pointer over it (wheel clicks go to the window under the pointer).
-  ASSERT_EQ(shell("timeout 20 xdotool search --sync --name 'glarelab: ritschel-2009-adjustment' windowfocus --sync "
+  ASSERT_EQ(shell(test::focus_window_command("glarelab: ritschel-2009-adjustment", 20) +
+                  " && xdotool search --onlyvisible --name 'glarelab: ritschel-2009-adjustment' "
                   "mousemove --window %1 100 100 > /dev/null"),
             0)
       << test::read_bytes((scratch.path() / "out.txt").string());

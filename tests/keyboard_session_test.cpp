@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "cli_process.h"
+#include "window_focus.h"
 #include "runner/store/result_store.h"
 
 namespace glarelab {
@@ -31,7 +32,7 @@ TEST(WindowBackend, KeyboardAnswersThenEscapeAborts) {
                                 scratch.path() / "out.txt");
   ASSERT_TRUE(process.started());
   // Wait for the window, give it the keyboard focus, then answer three trials and press Escape.
-  ASSERT_EQ(shell("timeout 20 xdotool search --sync --name 'glarelab: demo' windowfocus --sync > /dev/null"), 0)
+  ASSERT_EQ(shell(test::focus_window_command("glarelab: demo", 20)), 0)
       << test::read_bytes((scratch.path() / "out.txt").string());
   const std::vector<std::string> keys = {"Right", "Left", "2"};
   for (const auto& key : keys) {
@@ -87,7 +88,7 @@ TEST(WindowBackend, SpaceContinuesTheInstructionsScreen) {
                                  db.string()},
                                 scratch.path() / "out.txt");
   ASSERT_TRUE(process.started());
-  ASSERT_EQ(shell("timeout 20 xdotool search --sync --name 'glarelab: demo' windowfocus --sync > /dev/null"), 0)
+  ASSERT_EQ(shell(test::focus_window_command("glarelab: demo", 20)), 0)
       << test::read_bytes((scratch.path() / "out.txt").string());
   for (const std::string key : {"Left", "space", "Right", "Escape"}) {
     std::this_thread::sleep_for(std::chrono::milliseconds(600));

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli_process.h"
+#include "window_focus.h"
 #include "runner/store/result_store.h"
 #include "scratch_dir.h"
 #include "session_events.h"
@@ -71,8 +72,7 @@ TEST(WindowBackend, ReadmeWindowCommandRunsTheDemoWithGlareAndEndsCleanlyOnEscap
   pid_t pid = -1;
   ASSERT_EQ(posix_spawn(&pid, "/bin/sh", nullptr, nullptr, argv.data(), environ), 0);
 
-  ASSERT_EQ(shell("timeout 30 xdotool search --sync --name 'glarelab: demo-which-light-is-brighter' windowfocus "
-                  "--sync > /dev/null"),
+  ASSERT_EQ(shell(test::focus_window_command("glarelab: demo-which-light-is-brighter", 30)),
             0)
       << test::read_bytes(output.string());
   const auto db = scratch.path() / "results" / "demo-which-light-is-brighter.db";
