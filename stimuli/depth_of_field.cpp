@@ -1,0 +1,184 @@
+#include "stimuli/depth_of_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "glare/parallel_rows.h"
+#include "stimuli/depth_of_field_blur.h"
+#include "stimuli/scene_depth.h"
+
+namespace glarelab {
+namespace {
+
+struct Rectangle {
+  int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max();
+  int x1 = -1, y1 = -1;  // inclusive
+};
+
+// The layer's pixels as premultiplied RGBA on their bounding rectangle: colour and coverage 1 on
+// its own pixels, 0 elsewhere.
+LayerImage layer_image(const ImageRGBA& image, const DepthLayerPlan& plan, std::uint32_t index, const Rectangle& box) {
+  LayerImage layer;
+  layer.x0_px = box.x0;
+  layer.y0_px = box.y0;
+  layer.width_px = box.x1 - box.x0 + 1;
+  layer.height_px = box.y1 - box.y0 + 1;
+  layer.rgba.assign(4 * static_cast<std::size_t>(layer.width_px) * layer.height_px, 0.0f);
+  for (int y = 0; y < layer.height_px; ++y)
+    for (int x = 0; x < layer.width_px; ++x) {
+      const int fx = box.x0 + x, fy = box.y0 + y;
+      if (plan.layer_of_pixel[static_cast<std::size_t>(fy) * image.width_px + fx] != index) continue;
+      const float* source = image.pixel(fx, fy);
+      float* target = layer.pixel(x, y);
+      target[0] = source[0];
+      target[1] = source[1];
+      target[2] = source[2];
+      target[3] = 1.0f;
+    }
+  return layer;
+}
+
+// The rectangle of a layer that lies inside the frame, as [x_first, x_last) x [y_first, y_last).
+struct Clip {
+  int x_first, x_last, y_first, y_last;
+  bool empty() const { return x_first >= x_last || y_first >= y_last; }
+};
+Clip clip_to_frame(const LayerImage& layer, int width_px, int height_px) {
+  return {std::max(0, layer.x0_px), std::min(width_px, layer.x0_px + layer.width_px), std::max(0, layer.y0_px),
+          std::min(height_px, layer.y0_px + layer.height_px)};
+}
+
+// sum += transmission x layer (premultiplied colour and coverage alike) inside the frame.
+void add_transmitted(std::vector<float>& sum, const std::vector<float>& transmission, int width_px, int height_px,
+                     const LayerImage& layer, int threads) {
+  const Clip clip = clip_to_frame(layer, width_px, height_px);
+  if (clip.empty()) return;
+  parallel_chunks(clip.y_last - clip.y_first, threads, [&](int first, int last) {
+    for (int y = clip.y_first + first; y < clip.y_first + last; ++y)
+      for (int x = clip.x_first; x < clip.x_last; ++x) {
+        const std::size_t k = static_cast<std::size_t>(y) * width_px + x;
+        const float t = transmission[k];
+        const float* in = layer.pixel(x - layer.x0_px, y - layer.y0_px);
+        float* out = &sum[4 * k];
+        for (int c = 0; c < 4; ++c) out[c] += t * in[c];
+      }
+  });
+}
+
+// transmission *= 1 - coverage of an occluding layer (alpha only, on the layer's rectangle).
+void occlude(std::vector<float>& transmission, int width_px, int height_px, const LayerImage& coverage, int threads) {
+  const Clip clip = clip_to_frame(coverage, width_px, height_px);
+  if (clip.empty()) return;
+  parallel_chunks(clip.y_last - clip.y_first, threads, [&](int first, int last) {
+    for (int y = clip.y_first + first; y < clip.y_first + last; ++y)
+      for (int x = clip.x_first; x < clip.x_last; ++x)
+        transmission[static_cast<std::size_t>(y) * width_px + x] *= 1.0f - coverage.rgba[static_cast<std::size_t>(y - coverage.y0_px) * coverage.width_px + (x - coverage.x0_px)];
+  });
+}
+
+// A blurred layer's coverage kept until the first layer far enough behind it to be hidden by it.
+struct PendingOccluder {
+  double hides_up_to_vergence_dioptres;  // hides layers at or below this vergence
+  LayerImage coverage;                   // one float a pixel (the blurred alpha)
+};
+
+LayerImage coverage_of(const LayerImage& layer) {
+  LayerImage coverage;
+  coverage.x0_px = layer.x0_px;
+  coverage.y0_px = layer.y0_px;
+  coverage.width_px = layer.width_px;
+  coverage.height_px = layer.height_px;
+  coverage.rgba.resize(static_cast<std::size_t>(layer.width_px) * layer.height_px);
+  for (std::size_t k = 0; k < coverage.rgba.size(); ++k) coverage.rgba[k] = layer.rgba[4 * k + 3];
+  return coverage;
+}
+
+void refuse(const std::string& what) { throw std::invalid_argument("stimuli/depth_of_field: " + what); }
+
+}  // namespace
+
+void check_depth_of_field_inputs(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
+                                 const DepthOfFieldSettings& settings) {
+  if (image_cd_m2.empty()) refuse("the image is empty");
+  if (!(settings.degrees_per_pixel > 0.0) || !std::isfinite(settings.degrees_per_pixel))
+    refuse("degrees per pixel " + std::to_string(settings.degrees_per_pixel) + " must be positive and finite");
+  if (!(settings.pupil_radius_m > 0.0) || !std::isfinite(settings.pupil_radius_m))
+    refuse("the pupil radius " + std::to_string(settings.pupil_radius_m) + " m must be positive and finite");
+  if (!(settings.tolerance_px > 0.0) || !std::isfinite(settings.tolerance_px))
+    refuse("the layer tolerance " + std::to_string(settings.tolerance_px) + " px must be positive and finite");
+  if (settings.threads < 1) refuse("threads " + std::to_string(settings.threads) + " must be at least 1");
+  if (!settings.residual_error) refuse("no eye error function was given");
+  const NonFiniteReport pixels = inspect_pixels(image_cd_m2);
+  if (!pixels.clean()) refuse("the image has " + pixels.describe() + "; luminances must be finite and non-negative");
+  check_scene_depth(depth_m, image_cd_m2.width_px, image_cd_m2.height_px, "the depth map");
+}
+
+ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
+                               const DepthOfFieldSettings& settings, DepthOfFieldReport* report) {
+  check_depth_of_field_inputs(image_cd_m2, depth_m, settings);
+  const int width = image_cd_m2.width_px, height = image_cd_m2.height_px;
+  const BlurGeometry geometry{settings.degrees_per_pixel, settings.pupil_radius_m};
+  const DepthLayerPlan plan =
+      plan_depth_layers(depth_m, geometry, settings.residual_error, settings.tolerance_px, settings.threads);
+
+  std::vector<Rectangle> boxes(plan.layers.size());
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      Rectangle& box = boxes[plan.layer_of_pixel[static_cast<std::size_t>(y) * width + x]];
+      box.x0 = std::min(box.x0, x);
+      box.x1 = std::max(box.x1, x);
+      box.y0 = std::min(box.y0, y);
+      box.y1 = std::max(box.y1, y);
+    }
+
+  DepthOfFieldReport counts;
+  counts.layers = static_cast<int>(plan.layers.size());
+  const double pixels_per_dioptre = geometry.pixels_per_dioptre();
+  std::vector<float> sum(4 * static_cast<std::size_t>(width) * height, 0.0f);  // premultiplied RGB, coverage
+  std::vector<float> transmission(static_cast<std::size_t>(width) * height, 1.0f);
+  std::vector<PendingOccluder> pending;
+  // Near to far (plan.layers ascends in vergence): each layer's light is added through the
+  // transmission of the nearer layers that hide it (see kOcclusionMinimumPx in the header).
+  for (std::size_t index = plan.layers.size(); index-- > 0;) {
+    const DepthLayer& layer = plan.layers[index];
+    counts.max_blur_error_px = std::max(counts.max_blur_error_px, layer.max_blur_error_px);
+    for (auto occluder = pending.begin(); occluder != pending.end();) {
+      if (occluder->hides_up_to_vergence_dioptres >= layer.vergence_dioptres) {
+        occlude(transmission, width, height, occluder->coverage, settings.threads);
+        occluder = pending.erase(occluder);
+      } else {
+        ++occluder;
+      }
+    }
+    LayerImage pixels = layer_image(image_cd_m2, plan, static_cast<std::uint32_t>(index), boxes[index]);
+    if (layer.blurred) {
+      const EllipticalKernel kernel = elliptical_kernel(layer.ellipse);
+      const LayerConvolution method = cheaper_layer_convolution(pixels.width_px, pixels.height_px, kernel);
+      ++counts.blurred_layers;
+      ++(method == LayerConvolution::direct ? counts.direct_layers : counts.fft_layers);
+      pixels = blur_layer(pixels, kernel, method, settings.threads);
+    }
+    add_transmitted(sum, transmission, width, height, pixels, settings.threads);
+    const double occlusion_px = std::max(0.5 * layer.ellipse.semi_major_px, kOcclusionMinimumPx);
+    pending.push_back({layer.vergence_dioptres - occlusion_px / pixels_per_dioptre, coverage_of(pixels)});
+  }
+
+  ImageRGBA result = image_cd_m2;
+  parallel_chunks(height, settings.threads, [&](int first, int last) {
+    for (int y = first; y < last; ++y)
+      for (int x = 0; x < width; ++x) {
+        const float* in = &sum[4 * (static_cast<std::size_t>(y) * width + x)];
+        float* out = result.pixel(x, y);
+        // Every pixel belongs to a layer whose kernel keeps light at its centre, so coverage > 0.
+        const float coverage = in[3] > 0.0f ? in[3] : 1.0f;
+        for (int c = 0; c < 3; ++c) out[c] = std::max(0.0f, in[c] / coverage);
+      }
+  });
+  if (report != nullptr) *report = counts;
+  return result;
+}
+
+}  // namespace glarelab
