@@ -250,6 +250,11 @@ TEST(DepthOfFieldTest, PointSpreadsIntoTheClosedFormEllipse) {
   EXPECT_NEAR(m.xy, -(a * a - b * b) / 8.0, 0.1);
   const double orientation_deg = 0.5 * std::atan2(2.0 * m.xy, m.xx - m.yy) * 180.0 / std::numbers::pi;
   EXPECT_NEAR(orientation_deg, -45.0, 0.5);  // image frame: -45 is up and to the right
+  // Axes: the covariance's eigenvalues, less the rounding variance, are a^2 / 4 and b^2 / 4.
+  const double mean_variance = 0.5 * (m.xx + m.yy) - 1.0 / 12.0;
+  const double spread = std::hypot(0.5 * (m.xx - m.yy), m.xy);
+  EXPECT_NEAR(2.0 * std::sqrt(mean_variance + spread), a, 0.05 * a);
+  EXPECT_NEAR(2.0 * std::sqrt(mean_variance - spread), b, 0.05 * b);
   // Area: a uniform ellipse's covariance has determinant (a b / 4)^2, so pi a b = 4 pi sqrt(det).
   const double det = (m.xx - 1.0 / 12.0) * (m.yy - 1.0 / 12.0) - m.xy * m.xy;
   EXPECT_NEAR(4.0 * std::numbers::pi * std::sqrt(det), std::numbers::pi * a * b, 0.03 * std::numbers::pi * a * b);
