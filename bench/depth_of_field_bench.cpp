@@ -171,6 +171,28 @@ void BM_DepthOfField1024x768(benchmark::State& state) {
 }
 BENCHMARK(BM_DepthOfField1024x768)->Arg(kThreads)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
+// The worst case for the layer rule's bookkeeping: a plane tilted in x and y, so that every pixel
+// has its own depth (vergence 0.2 to 2.2 D, one float step apart or more) and every layer is a
+// diagonal band across the frame. No reference here: the bench scene above measures the error.
+void BM_DepthOfFieldTiltedPlane1024x768(benchmark::State& state) {
+  static const std::vector<float> depth = [] {
+    std::vector<float> d(static_cast<std::size_t>(kWidth) * kHeight);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x)
+        d[static_cast<std::size_t>(y) * kWidth + x] =
+            static_cast<float>(1.0 / (0.2 + 2.0 * (0.6 * x / (kWidth - 1) + 0.4 * y / (kHeight - 1))));
+    return d;
+  }();
+  const DepthOfFieldSettings settings = bench_settings(kThreads);
+  DepthOfFieldReport report;
+  for (auto _ : state) benchmark::DoNotOptimize(apply_depth_of_field(bench_scene().image, depth, settings, &report).rgba.data());
+  state.counters["layers"] = report.layers;
+  state.counters["direct"] = report.direct_layers;
+  state.counters["fft"] = report.fft_layers;
+  state.counters["blur_err_px"] = report.max_blur_error_px;
+}
+BENCHMARK(BM_DepthOfFieldTiltedPlane1024x768)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // One layer of `rows` x 1024 px blurred by a circle of radius state.range(0) px, one way.
 void layer_blur(benchmark::State& state, LayerConvolution method, int rows) {
   LayerImage layer;
@@ -183,7 +205,7 @@ void layer_blur(benchmark::State& state, LayerConvolution method, int rows) {
   for (auto _ : state) benchmark::DoNotOptimize(blur_layer(layer, kernel, method, kThreads).rgba.data());
   state.counters["taps"] = kernel.nonzero_taps();
   state.counters["picks_fft"] =
-      cheaper_layer_convolution(layer.width_px, layer.height_px, kernel) == LayerConvolution::fft ? 1 : 0;
+      cheaper_layer_convolution(layer, kernel) == LayerConvolution::fft ? 1 : 0;
 }
 void BM_DepthLayerBlurDirectFrame(benchmark::State& state) { layer_blur(state, LayerConvolution::direct, kHeight); }
 void BM_DepthLayerBlurFftFrame(benchmark::State& state) { layer_blur(state, LayerConvolution::fft, kHeight); }

@@ -1,6 +1,8 @@
 #include "stimuli/depth_layers.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -14,6 +16,29 @@ namespace {
 
 // 1 / vergence, with vergence 0 at infinity.
 double distance_for_vergence_m(double vergence) { return vergence == 0.0 ? INFINITY : 1.0 / vergence; }
+
+// The distinct depths of the map, ascending. Positive floats (and +inf) order as their 32-bit
+// patterns do, so a least-significant-byte-first radix sort of the patterns sorts them in four
+// linear passes (a comparison sort of a rendered depth map, every pixel its own depth, took most of
+// the stage's bookkeeping time). Runs of equal depth (a plane, a row of a floor) are collapsed first.
+std::vector<float> distinct_depths_m(const std::vector<float>& depth_m) {
+  std::vector<std::uint32_t> keys;
+  for (std::size_t k = 0; k < depth_m.size(); ++k)
+    if (k == 0 || depth_m[k] != depth_m[k - 1]) keys.push_back(std::bit_cast<std::uint32_t>(depth_m[k]));
+  std::vector<std::uint32_t> sorted(keys.size());
+  for (int shift = 0; shift < 32; shift += 8) {
+    std::array<std::size_t, 257> start{};
+    for (std::uint32_t key : keys) ++start[((key >> shift) & 0xffu) + 1];
+    if (std::any_of(start.begin() + 1, start.end(), [&](std::size_t n) { return n == keys.size(); })) continue;
+    for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    for (std::uint32_t key : keys) sorted[start[(key >> shift) & 0xffu]++] = key;
+    keys.swap(sorted);
+  }
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<float> depths(keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) depths[k] = std::bit_cast<float>(keys[k]);
+  return depths;
+}
 
 DioptricPower checked_error(const EyeErrorAtDistance& error, double distance_m) {
   const DioptricPower power = error(distance_m);
@@ -47,13 +72,15 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
                                 " px must be positive and finite");
   if (!error) throw std::invalid_argument("stimuli/depth_layers: no eye error function was given");
 
-  // The distinct vergences of the scene, ascending (far to near). Runs of equal depth (a plane, a
-  // row of a floor) are collapsed before sorting.
-  std::vector<double> vergences;
   for (std::size_t k = 0; k < depth_m.size(); ++k)
-    if (k == 0 || depth_m[k] != depth_m[k - 1]) vergences.push_back(vergence_dioptres(depth_m[k]));
-  std::sort(vergences.begin(), vergences.end());
-  vergences.erase(std::unique(vergences.begin(), vergences.end()), vergences.end());
+    if (!(depth_m[k] > 0.0f))
+      throw std::invalid_argument("stimuli/depth_layers: depth " + std::to_string(depth_m[k]) + " m at index " +
+                                  std::to_string(k) + " is not a positive distance (stimuli/scene_depth.h checks maps)");
+
+  // The distinct vergences of the scene, ascending (far to near): the distinct depths descending.
+  const std::vector<float> depths = distinct_depths_m(depth_m);
+  std::vector<double> vergences(depths.size());
+  for (std::size_t k = 0; k < depths.size(); ++k) vergences[k] = vergence_dioptres(depths[depths.size() - 1 - k]);
 
   std::vector<DioptricPower> errors;
   errors.reserve(vergences.size());

@@ -19,25 +19,32 @@ struct Rectangle {
 };
 
 // The layer's pixels as premultiplied RGBA on their bounding rectangle: colour and coverage 1 on
-// its own pixels, 0 elsewhere.
-LayerImage layer_image(const ImageRGBA& image, const DepthLayerPlan& plan, std::uint32_t index, const Rectangle& box) {
+// its own pixels, 0 elsewhere; `spans` gets each row's span of the layer's pixels.
+LayerImage layer_image(const ImageRGBA& image, const DepthLayerPlan& plan, std::uint32_t index, const Rectangle& box,
+                       std::vector<RowSpan>& spans) {
   LayerImage layer;
   layer.x0_px = box.x0;
   layer.y0_px = box.y0;
   layer.width_px = box.x1 - box.x0 + 1;
   layer.height_px = box.y1 - box.y0 + 1;
   layer.rgba.assign(4 * static_cast<std::size_t>(layer.width_px) * layer.height_px, 0.0f);
-  for (int y = 0; y < layer.height_px; ++y)
+  spans.assign(static_cast<std::size_t>(layer.height_px), RowSpan{});
+  for (int y = 0; y < layer.height_px; ++y) {
+    const std::uint32_t* members = &plan.layer_of_pixel[static_cast<std::size_t>(box.y0 + y) * image.width_px + box.x0];
+    RowSpan span{layer.width_px, 0};
     for (int x = 0; x < layer.width_px; ++x) {
-      const int fx = box.x0 + x, fy = box.y0 + y;
-      if (plan.layer_of_pixel[static_cast<std::size_t>(fy) * image.width_px + fx] != index) continue;
-      const float* source = image.pixel(fx, fy);
+      if (members[x] != index) continue;
+      const float* source = image.pixel(box.x0 + x, box.y0 + y);
       float* target = layer.pixel(x, y);
       target[0] = source[0];
       target[1] = source[1];
       target[2] = source[2];
       target[3] = 1.0f;
+      span.first = std::min(span.first, x);
+      span.last = x + 1;
     }
+    if (span.first < span.last) spans[static_cast<std::size_t>(y)] = span;
+  }
   return layer;
 }
 
@@ -153,13 +160,14 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
         ++occluder;
       }
     }
-    LayerImage pixels = layer_image(image_cd_m2, plan, static_cast<std::uint32_t>(index), boxes[index]);
+    std::vector<RowSpan> spans;
+    LayerImage pixels = layer_image(image_cd_m2, plan, static_cast<std::uint32_t>(index), boxes[index], spans);
     if (layer.blurred) {
       const EllipticalKernel kernel = elliptical_kernel(layer.ellipse);
-      const LayerConvolution method = cheaper_layer_convolution(pixels.width_px, pixels.height_px, kernel);
+      const LayerConvolution method = cheaper_layer_convolution(pixels, spans, kernel);
       ++counts.blurred_layers;
       ++(method == LayerConvolution::direct ? counts.direct_layers : counts.fft_layers);
-      pixels = blur_layer(pixels, kernel, method, settings.threads);
+      pixels = blur_layer(pixels, spans, kernel, method, settings.threads);
     }
     add_transmitted(sum, transmission, width, height, pixels, settings.threads);
     const double occlusion_px = std::max(0.5 * layer.ellipse.semi_major_px, kOcclusionMinimumPx);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <complex>
 #include <cstddef>
+#include <stdexcept>
+#include <string>
 
 #include "glare/fft_cpu.h"
 #include "glare/fftw_float_plan.h"
@@ -56,8 +58,11 @@ LayerImage grown_rectangle(const LayerImage& layer, const EllipticalKernel& kern
 }
 
 // out(o) = sum over taps d of w(d) in(o - d): output row oy gathers input rows oy - ry - dy; each
-// tap adds a scaled copy of a whole input row (4 floats a pixel) at column offset rx + dx.
-LayerImage blur_direct(const LayerImage& layer, const EllipticalKernel& kernel, int threads) {
+// tap adds a scaled copy of the input row's nonzero span (4 floats a pixel) at column offset
+// rx + dx. Skipping the zeros around the span changes no value (adding w x 0 adds nothing), so the
+// cost follows the layer's content, not its bounding rectangle (a diagonal band of a tilted plane).
+LayerImage blur_direct(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
+                       int threads) {
   LayerImage out = grown_rectangle(layer, kernel);
   const std::vector<std::vector<Tap>> rows = taps_by_row(kernel);
   parallel_chunks(out.height_px, threads, [&](int first, int last) {
@@ -66,10 +71,12 @@ LayerImage blur_direct(const LayerImage& layer, const EllipticalKernel& kernel, 
       for (int dy = -kernel.radius_y_px; dy <= kernel.radius_y_px; ++dy) {
         const int sy = oy - kernel.radius_y_px - dy;
         if (sy < 0 || sy >= layer.height_px) continue;
-        const float* in_row = layer.pixel(0, sy);
+        const RowSpan span = spans[static_cast<std::size_t>(sy)];
+        if (span.first >= span.last) continue;
+        const float* in_row = layer.pixel(span.first, sy);
         for (const Tap& tap : rows[static_cast<std::size_t>(dy + kernel.radius_y_px)]) {
-          add_scaled_row(out_row + 4 * static_cast<std::size_t>(kernel.radius_x_px + tap.dx), in_row, tap.weight,
-                         layer.width_px);
+          add_scaled_row(out_row + 4 * static_cast<std::size_t>(kernel.radius_x_px + tap.dx + span.first), in_row,
+                         tap.weight, span.last - span.first);
         }
       }
     }
@@ -128,18 +135,40 @@ LayerImage blur_fft(const LayerImage& layer, const EllipticalKernel& kernel, int
 
 }  // namespace
 
+std::vector<RowSpan> nonzero_row_spans(const LayerImage& layer) {
+  std::vector<RowSpan> spans(static_cast<std::size_t>(layer.height_px));
+  for (int y = 0; y < layer.height_px; ++y) {
+    const auto nonzero = [&](int x) {
+      const float* p = layer.pixel(x, y);
+      return p[0] != 0.0f || p[1] != 0.0f || p[2] != 0.0f || p[3] != 0.0f;
+    };
+    int first = 0, last = layer.width_px;
+    while (first < last && !nonzero(first)) ++first;
+    while (last > first && !nonzero(last - 1)) --last;
+    spans[static_cast<std::size_t>(y)] = {first, last};
+  }
+  return spans;
+}
+
 const char* layer_convolution_name(LayerConvolution method) {
   return method == LayerConvolution::direct ? "direct" : "fft";
 }
 
-LayerImage blur_layer(const LayerImage& layer, const EllipticalKernel& kernel, LayerConvolution method, int threads) {
-  return method == LayerConvolution::direct ? blur_direct(layer, kernel, threads) : blur_fft(layer, kernel, threads);
+LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
+                      LayerConvolution method, int threads) {
+  if (spans.size() != static_cast<std::size_t>(layer.height_px))
+    throw std::invalid_argument("stimuli/depth_of_field_blur: " + std::to_string(spans.size()) + " row spans for a " +
+                                std::to_string(layer.height_px) + "-row layer");
+  return method == LayerConvolution::direct ? blur_direct(layer, spans, kernel, threads) : blur_fft(layer, kernel, threads);
 }
 
-LayerConvolution cheaper_layer_convolution(int width_px, int height_px, const EllipticalKernel& kernel) {
-  const double direct_cost = 4.0 * width_px * height_px * kernel.nonzero_taps();
-  const double rows = good_fft_size(height_px + 2 * kernel.radius_y_px);
-  const double cols = good_fft_size(width_px + 2 * kernel.radius_x_px);
+LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,
+                                           const EllipticalKernel& kernel) {
+  double content_px = 0.0;
+  for (const RowSpan& span : spans) content_px += span.last - span.first;
+  const double direct_cost = 4.0 * content_px * kernel.nonzero_taps();
+  const double rows = good_fft_size(layer.height_px + 2 * kernel.radius_y_px);
+  const double cols = good_fft_size(layer.width_px + 2 * kernel.radius_x_px);
   // Four channels, each a forward and an inverse real transform (half a complex one each).
   const double fft_cost = kFftPointCost * 4.0 * rows * cols * std::log2(rows * cols);
   return direct_cost <= fft_cost ? LayerConvolution::direct : LayerConvolution::fft;

@@ -199,6 +199,31 @@ TEST(DepthOfFieldLayersTest, RampNeedsTheLayersTheRulePredicts) {
   EXPECT_TRUE(plan.layers[6].blurred);
 }
 
+TEST(DepthOfFieldLayersTest, LayersDoNotDependOnWherePixelsLie) {
+  // The same 1200 depths (each its own value, 0.3 to 3 m, some repeated) in row order and scattered
+  // by a permutation: the layers (ranges, blurs, pixel counts) must be the same, and each pixel
+  // must land in the layer whose range holds its vergence.
+  const std::size_t count = 1200;
+  std::vector<float> ordered(count), scattered(count);
+  for (std::size_t k = 0; k < count; ++k) ordered[k] = static_cast<float>(0.3 + 2.7 * static_cast<double>(k % 1000) / 999.0);
+  for (std::size_t k = 0; k < count; ++k) scattered[(k * 7919) % count] = ordered[k];
+  const BlurGeometry geometry{kDegreesPerPixel, kPupilRadiusM};
+  const DepthLayerPlan a = plan_depth_layers(ordered, geometry, emmetrope(0.7));
+  const DepthLayerPlan b = plan_depth_layers(scattered, geometry, emmetrope(0.7), kDefaultLayerTolerancePx, 3);
+  ASSERT_EQ(a.layers.size(), b.layers.size());
+  for (std::size_t k = 0; k < a.layers.size(); ++k) {
+    EXPECT_EQ(a.layers[k].far_vergence_dioptres, b.layers[k].far_vergence_dioptres);
+    EXPECT_EQ(a.layers[k].near_vergence_dioptres, b.layers[k].near_vergence_dioptres);
+    EXPECT_EQ(a.layers[k].pixel_count, b.layers[k].pixel_count);
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    const DepthLayer& layer = b.layers[b.layer_of_pixel[k]];
+    const double v = 1.0 / static_cast<double>(scattered[k]);
+    EXPECT_GE(v, layer.far_vergence_dioptres);
+    EXPECT_LE(v, layer.near_vergence_dioptres);
+  }
+}
+
 TEST(DepthOfFieldLayersTest, InfinityIsTheFarthestVergence) {
   std::vector<float> depth = flat_depth(4, 1, 2.0f);
   depth[2] = std::numeric_limits<float>::infinity();
@@ -398,6 +423,11 @@ TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
   layer.height_px = 23;
   const ImageRGBA image = textured(layer.width_px, layer.height_px);
   layer.rgba = image.rgba;
+  // Zeros around the content in some rows (as a layer's own pixels leave them), which the direct
+  // sum skips.
+  for (int y = 0; y < layer.height_px; y += 3)
+    for (int x = 0; x < layer.width_px; ++x)
+      if (x < y || x > y + 12) std::fill_n(layer.pixel(x, y), 4, 0.0f);
   const EllipticalKernel kernel = elliptical_kernel(PixelBlurEllipse{7.0, 3.0, 110.0});
   const LayerImage direct = blur_layer(layer, kernel, LayerConvolution::direct, 1);
   const LayerImage fft = blur_layer(layer, kernel, LayerConvolution::fft, 1);
@@ -414,13 +444,26 @@ TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
   // (CPU) for a 4 px circle, 48 against 17 ms for an 8 px one; on a 32-row band direct 0.6 against
   // 1.0 ms at 4 px, 2.0 against 0.8 ms at 8 px.
   const auto pick = [](int width, int height, double radius_px) {
-    return cheaper_layer_convolution(width, height, elliptical_kernel(PixelBlurEllipse{radius_px, radius_px, 0.0}));
+    LayerImage layer;
+    layer.width_px = width;
+    layer.height_px = height;
+    layer.rgba.assign(4 * static_cast<std::size_t>(width) * height, 1.0f);
+    return cheaper_layer_convolution(layer, elliptical_kernel(PixelBlurEllipse{radius_px, radius_px, 0.0}));
   };
   EXPECT_EQ(pick(1024, 768, 4.0), LayerConvolution::direct);
   EXPECT_EQ(pick(1024, 768, 8.0), LayerConvolution::fft);
   EXPECT_EQ(pick(1024, 32, 4.0), LayerConvolution::direct);
   EXPECT_EQ(pick(1024, 32, 8.0), LayerConvolution::fft);
   EXPECT_EQ(pick(1024, 768, 0.4), LayerConvolution::direct);  // the identity kernel
+  // A thin diagonal band (a slice of a tilted plane) in a full-frame rectangle: the direct sum only
+  // visits its 8 px a row, so it stays cheaper at 8 px of blur.
+  LayerImage band;
+  band.width_px = 1024;
+  band.height_px = 768;
+  band.rgba.assign(4 * static_cast<std::size_t>(1024) * 768, 0.0f);
+  for (int y = 0; y < 768; ++y)
+    for (int x = y; x < y + 8; ++x) band.pixel(x, y)[3] = 1.0f;
+  EXPECT_EQ(cheaper_layer_convolution(band, elliptical_kernel(PixelBlurEllipse{8.0, 8.0, 0.0})), LayerConvolution::direct);
 }
 
 TEST(DepthOfFieldTest, BadInputIsRefusedBeforeAnythingIsComputed) {
