@@ -55,13 +55,15 @@ const BenchScene& bench_scene() {
         p[2] = static_cast<float>(0.6 * checker);
         if (y > horizon) {  // the floor: vergence linear in the row, 0.25 D at the horizon to 2.22 D
           const double t = static_cast<double>(y - horizon) / (kHeight - 1 - horizon);
-          s.depth_m[static_cast<std::size_t>(y) * kWidth + x] = static_cast<float>(1.0 / (0.25 + t * (1.0 / 0.45 - 0.25)));
+          s.depth_m[static_cast<std::size_t>(y) * kWidth + x] =
+              static_cast<float>(1.0 / (0.25 + t * (1.0 / 0.45 - 0.25)));
         }
       }
     const struct {
       int x0, y0, x1, y1;
       float depth_m, luminance;
-    } boards[] = {{80, 120, 360, 520, 1.5f, 150.0f}, {420, 200, 700, 600, 0.6f, 60.0f}, {650, 420, 980, 740, 0.4f, 200.0f}};
+    } boards[] = {
+        {80, 120, 360, 520, 1.5f, 150.0f}, {420, 200, 700, 600, 0.6f, 60.0f}, {650, 420, 980, 740, 0.4f, 200.0f}};
     for (const auto& board : boards)
       for (int y = board.y0; y < board.y1; ++y)
         for (int x = board.x0; x < board.x1; ++x) {
@@ -185,7 +187,8 @@ void BM_DepthOfFieldTiltedPlane1024x768(benchmark::State& state) {
   }();
   const DepthOfFieldSettings settings = bench_settings(kThreads);
   DepthOfFieldReport report;
-  for (auto _ : state) benchmark::DoNotOptimize(apply_depth_of_field(bench_scene().image, depth, settings, &report).rgba.data());
+  for (auto _ : state)
+    benchmark::DoNotOptimize(apply_depth_of_field(bench_scene().image, depth, settings, &report).rgba.data());
   state.counters["layers"] = report.layers;
   state.counters["direct"] = report.direct_layers;
   state.counters["fft"] = report.fft_layers;
@@ -204,17 +207,44 @@ void layer_blur(benchmark::State& state, LayerConvolution method, int rows) {
   const EllipticalKernel kernel = elliptical_kernel(PixelBlurEllipse{radius, radius, 0.0});
   for (auto _ : state) benchmark::DoNotOptimize(blur_layer(layer, kernel, method, kThreads).rgba.data());
   state.counters["taps"] = kernel.nonzero_taps();
-  state.counters["picks_fft"] =
-      cheaper_layer_convolution(layer, kernel) == LayerConvolution::fft ? 1 : 0;
+  state.counters["picks_fft"] = cheaper_layer_convolution(layer, kernel) == LayerConvolution::fft ? 1 : 0;
 }
 void BM_DepthLayerBlurDirectFrame(benchmark::State& state) { layer_blur(state, LayerConvolution::direct, kHeight); }
 void BM_DepthLayerBlurFftFrame(benchmark::State& state) { layer_blur(state, LayerConvolution::fft, kHeight); }
 void BM_DepthLayerBlurDirectBand(benchmark::State& state) { layer_blur(state, LayerConvolution::direct, 32); }
 void BM_DepthLayerBlurFftBand(benchmark::State& state) { layer_blur(state, LayerConvolution::fft, 32); }
-BENCHMARK(BM_DepthLayerBlurDirectFrame)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_DepthLayerBlurFftFrame)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_DepthLayerBlurDirectBand)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_DepthLayerBlurFftBand)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DepthLayerBlurDirectFrame)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_DepthLayerBlurFftFrame)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_DepthLayerBlurDirectBand)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_DepthLayerBlurFftBand)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace glarelab

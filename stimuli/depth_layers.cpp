@@ -64,9 +64,9 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
                                  const EyeErrorAtDistance& error, double tolerance_px, int threads) {
   if (!(geometry.degrees_per_pixel > 0.0) || !std::isfinite(geometry.degrees_per_pixel) ||
       !(geometry.pupil_radius_m > 0.0) || !std::isfinite(geometry.pupil_radius_m))
-    throw std::invalid_argument("stimuli/depth_layers: degrees per pixel (" + std::to_string(geometry.degrees_per_pixel) +
-                                ") and pupil radius (" + std::to_string(geometry.pupil_radius_m) +
-                                " m) must be positive and finite");
+    throw std::invalid_argument("stimuli/depth_layers: degrees per pixel (" +
+                                std::to_string(geometry.degrees_per_pixel) + ") and pupil radius (" +
+                                std::to_string(geometry.pupil_radius_m) + " m) must be positive and finite");
   if (!(tolerance_px > 0.0) || !std::isfinite(tolerance_px))
     throw std::invalid_argument("stimuli/depth_layers: the layer tolerance " + std::to_string(tolerance_px) +
                                 " px must be positive and finite");
@@ -75,7 +75,8 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
   for (std::size_t k = 0; k < depth_m.size(); ++k)
     if (!(depth_m[k] > 0.0f))
       throw std::invalid_argument("stimuli/depth_layers: depth " + std::to_string(depth_m[k]) + " m at index " +
-                                  std::to_string(k) + " is not a positive distance (stimuli/scene_depth.h checks maps)");
+                                  std::to_string(k) +
+                                  " is not a positive distance (stimuli/scene_depth.h checks maps)");
 
   // The distinct vergences of the scene, ascending (far to near): the distinct depths descending.
   const std::vector<float> depths = distinct_depths_m(depth_m);
@@ -110,8 +111,8 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
   parallel_chunks(static_cast<int>(depth_m.size()), threads, [&](int begin, int stop) {
     for (int k = begin; k < stop; ++k) {
       const double v = vergence_dioptres(depth_m[static_cast<std::size_t>(k)]);
-      plan.layer_of_pixel[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(
-          std::lower_bound(near_bounds.begin(), near_bounds.end(), v) - near_bounds.begin());
+      plan.layer_of_pixel[static_cast<std::size_t>(k)] =
+          static_cast<std::uint32_t>(std::lower_bound(near_bounds.begin(), near_bounds.end(), v) - near_bounds.begin());
     }
   });
   for (std::uint32_t index : plan.layer_of_pixel) ++plan.layers[index].pixel_count;

@@ -54,7 +54,7 @@ struct DepthLayer {
 };
 
 struct DepthLayerPlan {
-  std::vector<DepthLayer> layers;           // far to near (ascending vergence)
+  std::vector<DepthLayer> layers;             // far to near (ascending vergence)
   std::vector<std::uint32_t> layer_of_pixel;  // index into layers, row-major like the depth map
 };
 

@@ -82,7 +82,9 @@ void occlude(std::vector<float>& transmission, int width_px, int height_px, cons
   parallel_chunks(clip.y_last - clip.y_first, threads, [&](int first, int last) {
     for (int y = clip.y_first + first; y < clip.y_first + last; ++y)
       for (int x = clip.x_first; x < clip.x_last; ++x)
-        transmission[static_cast<std::size_t>(y) * width_px + x] *= 1.0f - coverage.rgba[static_cast<std::size_t>(y - coverage.y0_px) * coverage.width_px + (x - coverage.x0_px)];
+        transmission[static_cast<std::size_t>(y) * width_px + x] *=
+            1.0f -
+            coverage.rgba[static_cast<std::size_t>(y - coverage.y0_px) * coverage.width_px + (x - coverage.x0_px)];
   });
 }
 

@@ -48,18 +48,18 @@ namespace glarelab {
 inline constexpr double kOcclusionMinimumPx = 1.0;
 
 struct DepthOfFieldSettings {
-  double degrees_per_pixel = 0.0;  // visual angle of a pixel (display_model.h)
-  double pupil_radius_m = 0.0;     // r_p of Kakimoto Eq. 8
+  double degrees_per_pixel = 0.0;     // visual angle of a pixel (display_model.h)
+  double pupil_radius_m = 0.0;        // r_p of Kakimoto Eq. 8
   EyeErrorAtDistance residual_error;  // the eye's power error for each distance
   double tolerance_px = kDefaultLayerTolerancePx;
   int threads = 1;
 };
 
 struct DepthOfFieldReport {
-  int layers = 0;          // depth layers the scene needed
-  int blurred_layers = 0;  // of them, those blurred (the rest passed through)
-  int direct_layers = 0;   // blurred by direct convolution
-  int fft_layers = 0;      // blurred by FFT
+  int layers = 0;                  // depth layers the scene needed
+  int blurred_layers = 0;          // of them, those blurred (the rest passed through)
+  int direct_layers = 0;           // blurred by direct convolution
+  int fft_layers = 0;              // blurred by FFT
   double max_blur_error_px = 0.0;  // the largest blur error of any pixel's depth (depth_layers.h)
 };
 

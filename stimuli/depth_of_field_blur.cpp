@@ -98,7 +98,8 @@ LayerImage blur_fft(const LayerImage& layer, const EllipticalKernel& kernel, int
   FftwFloatBuffer<std::complex<float>> kernel_spectrum(spectrum_size);
   for (int dy = -kernel.radius_y_px; dy <= kernel.radius_y_px; ++dy)
     for (int dx = -kernel.radius_x_px; dx <= kernel.radius_x_px; ++dx) {
-      const std::size_t r = static_cast<std::size_t>((dy + rows) % rows), c = static_cast<std::size_t>((dx + cols) % cols);
+      const std::size_t r = static_cast<std::size_t>((dy + rows) % rows),
+                        c = static_cast<std::size_t>((dx + cols) % cols);
       kernel_real[r * static_cast<std::size_t>(cols) + c] = static_cast<float>(kernel.at(dx, dy));
     }
   FftwFloatPlan::real_forward(rows, cols, 1, kernel_real.data(), kernel_spectrum.data(), 1).execute();
@@ -159,7 +160,8 @@ LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans
   if (spans.size() != static_cast<std::size_t>(layer.height_px))
     throw std::invalid_argument("stimuli/depth_of_field_blur: " + std::to_string(spans.size()) + " row spans for a " +
                                 std::to_string(layer.height_px) + "-row layer");
-  return method == LayerConvolution::direct ? blur_direct(layer, spans, kernel, threads) : blur_fft(layer, kernel, threads);
+  return method == LayerConvolution::direct ? blur_direct(layer, spans, kernel, threads)
+                                            : blur_fft(layer, kernel, threads);
 }
 
 LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,

@@ -22,8 +22,8 @@ ImageRGBA depth_of_field_reference(const ImageRGBA& image_cd_m2, const std::vect
       if (found == kernels.end()) {
         const DioptricPower error = settings.residual_error(static_cast<double>(depth));
         found = kernels
-                    .emplace(depth, elliptical_kernel(pixel_blur_ellipse(error, settings.pupil_radius_m,
-                                                                         settings.degrees_per_pixel)))
+                    .emplace(depth, elliptical_kernel(
+                                        pixel_blur_ellipse(error, settings.pupil_radius_m, settings.degrees_per_pixel)))
                     .first;
       }
       const EllipticalKernel& kernel = found->second;

@@ -37,7 +37,9 @@ struct EllipticalKernel {
   double covered_area_px2 = 0.0;  // coverage summed before normalising: pi a b for a resolved ellipse
   int width() const { return 2 * radius_x_px + 1; }
   int height() const { return 2 * radius_y_px + 1; }
-  double at(int dx, int dy) const { return weights[static_cast<std::size_t>((dy + radius_y_px) * width() + dx + radius_x_px)]; }
+  double at(int dx, int dy) const {
+    return weights[static_cast<std::size_t>((dy + radius_y_px) * width() + dx + radius_x_px)];
+  }
   int nonzero_taps() const;
 };
 

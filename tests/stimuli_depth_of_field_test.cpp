@@ -31,7 +31,9 @@ constexpr double kPixelsPerDioptre = 2.0;
 
 // An emmetrope accommodated at accommodated_m, plus a constant astigmatism.
 EyeErrorAtDistance emmetrope(double accommodated_m, const DioptricPower& astigmatism = {}) {
-  return [=](double distance_m) { return DioptricPower::spherical(1.0 / accommodated_m - 1.0 / distance_m) + astigmatism; };
+  return [=](double distance_m) {
+    return DioptricPower::spherical(1.0 / accommodated_m - 1.0 / distance_m) + astigmatism;
+  };
 }
 
 DepthOfFieldSettings settings_for(const EyeErrorAtDistance& error, int threads = 1) {
@@ -72,7 +74,8 @@ std::vector<double> convolve_masked(const ImageRGBA& image, const EllipticalKern
           const int sx = x - dx, sy = y - dy;
           if (sx < 0 || sy < 0 || sx >= image.width_px || sy >= image.height_px || !keep(sx, sy)) continue;
           for (int c = 0; c < 3; ++c)
-            out[3 * (static_cast<std::size_t>(y) * image.width_px + x) + c] += kernel.at(dx, dy) * image.pixel(sx, sy)[c];
+            out[3 * (static_cast<std::size_t>(y) * image.width_px + x) + c] +=
+                kernel.at(dx, dy) * image.pixel(sx, sy)[c];
         }
   return out;
 }
@@ -116,8 +119,8 @@ TEST(DepthOfFieldKernelTest, EllipseInPixelsIsGeometricBlurOverTheRadiansOfAPixe
 }
 
 TEST(DepthOfFieldKernelTest, KernelCoversTheClosedFormAreaAndSumsToOne) {
-  for (const PixelBlurEllipse& ellipse : {PixelBlurEllipse{6.0, 2.0, 45.0}, PixelBlurEllipse{9.5, 9.5, 0.0},
-                                          PixelBlurEllipse{7.0, 3.0, 120.0}}) {
+  for (const PixelBlurEllipse& ellipse :
+       {PixelBlurEllipse{6.0, 2.0, 45.0}, PixelBlurEllipse{9.5, 9.5, 0.0}, PixelBlurEllipse{7.0, 3.0, 120.0}}) {
     const EllipticalKernel kernel = elliptical_kernel(ellipse);
     const double area = std::numbers::pi * ellipse.semi_major_px * ellipse.semi_minor_px;
     EXPECT_NEAR(kernel.covered_area_px2, area, 0.01 * area) << ellipse.semi_major_px;
@@ -135,9 +138,9 @@ TEST(DepthOfFieldKernelTest, ObserverUpIsImageRowsUpward) {
   // A line focus along 30 degrees in the observer frame (up and to the right): on the image it
   // runs to the right and to rows ABOVE the centre (dy < 0).
   const EllipticalKernel kernel = elliptical_kernel(PixelBlurEllipse{8.0, 0.0, 30.0});
-  EXPECT_GT(kernel.at(6, -3), 0.0);   // (6.9, 4) * 0.87 along the line, 30 degrees up
-  EXPECT_EQ(kernel.at(6, 3), 0.0);    // its mirror image below is dark
-  EXPECT_GT(kernel.at(-6, 3), 0.0);   // the other half of the line
+  EXPECT_GT(kernel.at(6, -3), 0.0);  // (6.9, 4) * 0.87 along the line, 30 degrees up
+  EXPECT_EQ(kernel.at(6, 3), 0.0);   // its mirror image below is dark
+  EXPECT_GT(kernel.at(-6, 3), 0.0);  // the other half of the line
   EXPECT_EQ(kernel.at(-6, -3), 0.0);
   // The light stays on the line: no tap more than a pixel from it.
   for (int dy = -kernel.radius_y_px; dy <= kernel.radius_y_px; ++dy)
@@ -157,8 +160,8 @@ TEST(DepthOfFieldKernelTest, EllipseInsideItsPixelIsTheIdentity) {
 // ---- Layers ----------------------------------------------------------------------------------
 
 TEST(DepthOfFieldLayersTest, FlatSceneIsOneLayer) {
-  const DepthLayerPlan plan = plan_depth_layers(flat_depth(40, 30, 0.8f), BlurGeometry{kDegreesPerPixel, kPupilRadiusM},
-                                                emmetrope(0.5));
+  const DepthLayerPlan plan =
+      plan_depth_layers(flat_depth(40, 30, 0.8f), BlurGeometry{kDegreesPerPixel, kPupilRadiusM}, emmetrope(0.5));
   ASSERT_EQ(plan.layers.size(), 1u);
   EXPECT_EQ(plan.layers[0].pixel_count, 1200u);
   EXPECT_EQ(plan.layers[0].max_blur_error_px, 0.0);
@@ -175,7 +178,8 @@ TEST(DepthOfFieldLayersTest, RampNeedsTheLayersTheRulePredicts) {
   const double delta = 0.25 / 3.5;
   std::vector<float> depth(static_cast<std::size_t>(width) * height);
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) depth[static_cast<std::size_t>(y) * width + x] = static_cast<float>(1.0 / (1.0 + y * delta));
+    for (int x = 0; x < width; ++x)
+      depth[static_cast<std::size_t>(y) * width + x] = static_cast<float>(1.0 / (1.0 + y * delta));
   const DepthLayerPlan plan = plan_depth_layers(depth, BlurGeometry{kDegreesPerPixel, kPupilRadiusM}, emmetrope(0.4));
   ASSERT_EQ(plan.layers.size(), 8u);
   double largest_error = 0.0;
@@ -205,7 +209,8 @@ TEST(DepthOfFieldLayersTest, LayersDoNotDependOnWherePixelsLie) {
   // must land in the layer whose range holds its vergence.
   const std::size_t count = 1200;
   std::vector<float> ordered(count), scattered(count);
-  for (std::size_t k = 0; k < count; ++k) ordered[k] = static_cast<float>(0.3 + 2.7 * static_cast<double>(k % 1000) / 999.0);
+  for (std::size_t k = 0; k < count; ++k)
+    ordered[k] = static_cast<float>(0.3 + 2.7 * static_cast<double>(k % 1000) / 999.0);
   for (std::size_t k = 0; k < count; ++k) scattered[(k * 7919) % count] = ordered[k];
   const BlurGeometry geometry{kDegreesPerPixel, kPupilRadiusM};
   const DepthLayerPlan a = plan_depth_layers(ordered, geometry, emmetrope(0.7));
@@ -232,7 +237,7 @@ TEST(DepthOfFieldLayersTest, InfinityIsTheFarthestVergence) {
   EXPECT_EQ(plan.layers[0].far_vergence_dioptres, 0.0);
   EXPECT_EQ(plan.layer_of_pixel[2], 0u);
   EXPECT_NEAR(plan.layers[0].ellipse.semi_major_px, 0.5 * kPixelsPerDioptre, 1e-12);  // 1/2 - 0 D
-  EXPECT_FALSE(plan.layers[1].blurred);  // in focus
+  EXPECT_FALSE(plan.layers[1].blurred);                                               // in focus
 }
 
 // ---- The stage -------------------------------------------------------------------------------
@@ -307,15 +312,17 @@ TEST(DepthOfFieldTest, TwoPlanesAreEachBlurredByTheirOwnEllipse) {
   EXPECT_EQ(report.layers, 2);
   EXPECT_EQ(report.blurred_layers, 2);
 
-  const EllipticalKernel near_kernel = elliptical_kernel(pixel_blur_ellipse(error(0.25), kPupilRadiusM, kDegreesPerPixel));
-  const EllipticalKernel far_kernel = elliptical_kernel(pixel_blur_ellipse(error(1.0), kPupilRadiusM, kDegreesPerPixel));
+  const EllipticalKernel near_kernel =
+      elliptical_kernel(pixel_blur_ellipse(error(0.25), kPupilRadiusM, kDegreesPerPixel));
+  const EllipticalKernel far_kernel =
+      elliptical_kernel(pixel_blur_ellipse(error(1.0), kPupilRadiusM, kDegreesPerPixel));
   EXPECT_NEAR(pixel_blur_ellipse(error(0.25), kPupilRadiusM, kDegreesPerPixel).semi_major_px, 6.0, 1e-9);
   EXPECT_NEAR(pixel_blur_ellipse(error(1.0), kPupilRadiusM, kDegreesPerPixel).semi_minor_px, 0.0, 1e-9);
   const std::vector<double> near = convolve_masked(image, near_kernel, [&](int x, int) { return x < half; });
   const std::vector<double> far = convolve_masked(image, far_kernel, [&](int x, int) { return x >= half; });
   const int margin = near_kernel.radius_x_px + far_kernel.radius_x_px + 1;
-  const int border = std::max({near_kernel.radius_x_px, near_kernel.radius_y_px, far_kernel.radius_x_px,
-                               far_kernel.radius_y_px}) + 1;
+  const int border =
+      std::max({near_kernel.radius_x_px, near_kernel.radius_y_px, far_kernel.radius_x_px, far_kernel.radius_y_px}) + 1;
   int checked = 0;
   for (int y = border; y < height - border; ++y)
     for (int x = border; x < width - border; ++x) {
@@ -345,7 +352,7 @@ TEST(DepthOfFieldTest, BlurredNearObjectSpreadsOverTheFarOne) {
       depth[static_cast<std::size_t>(y) * size + x] = 0.25f;
     }
   const ImageRGBA result = apply_depth_of_field(image, depth, settings_for(emmetrope(0.5)));
-  EXPECT_GT(result.pixel(41, 30)[0], 10.0f);  // a pixel of wall, 2 px outside the square
+  EXPECT_GT(result.pixel(41, 30)[0], 10.0f);          // a pixel of wall, 2 px outside the square
   EXPECT_NEAR(result.pixel(10, 30)[0], 1.0f, 1e-5f);  // the wall far from it is untouched
   EXPECT_NEAR(result.pixel(30, 30)[0], 100.0f, 1e-3f);
   // Just inside the edge, the wall is not behind the blurred square (it cannot be seen there):
@@ -363,20 +370,24 @@ TEST(DepthOfFieldTest, LayeredStageAgreesWithThePerPixelReference) {
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) planes[static_cast<std::size_t>(y) * width + x] = x < width / 2 ? 0.3f : 1.5f;
   const DepthOfFieldError plane_error =
-      depth_of_field_error(apply_depth_of_field(image, planes, settings_for(error)), depth_of_field_reference(image, planes, settings_for(error)));
+      depth_of_field_error(apply_depth_of_field(image, planes, settings_for(error)),
+                           depth_of_field_reference(image, planes, settings_for(error)));
   // A ramp from 0.3 m at the top to 3 m at the bottom: no occluding edge, only the blur quantised.
   std::vector<float> ramp(static_cast<std::size_t>(width) * height);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
-      ramp[static_cast<std::size_t>(y) * width + x] = static_cast<float>(1.0 / (1.0 / 0.3 + y * (1.0 / 3.0 - 1.0 / 0.3) / (height - 1)));
+      ramp[static_cast<std::size_t>(y) * width + x] =
+          static_cast<float>(1.0 / (1.0 / 0.3 + y * (1.0 / 3.0 - 1.0 / 0.3) / (height - 1)));
   DepthOfFieldReport report;
   const DepthOfFieldError ramp_error =
-      depth_of_field_error(apply_depth_of_field(image, ramp, settings_for(error), &report), depth_of_field_reference(image, ramp, settings_for(error)));
+      depth_of_field_error(apply_depth_of_field(image, ramp, settings_for(error), &report),
+                           depth_of_field_reference(image, ramp, settings_for(error)));
   EXPECT_GT(report.layers, 5);
   EXPECT_LE(report.max_blur_error_px, kDefaultLayerTolerancePx + 1e-9);
-  std::printf("two planes: mean |error| %.4g (%.3g%%), max %.4g cd/m2; ramp (%d layers): mean %.4g (%.3g%%), max %.4g\n",
-              plane_error.mean_abs_cd_m2, 100 * plane_error.mean_relative, plane_error.max_abs_cd_m2, report.layers,
-              ramp_error.mean_abs_cd_m2, 100 * ramp_error.mean_relative, ramp_error.max_abs_cd_m2);
+  std::printf(
+      "two planes: mean |error| %.4g (%.3g%%), max %.4g cd/m2; ramp (%d layers): mean %.4g (%.3g%%), max %.4g\n",
+      plane_error.mean_abs_cd_m2, 100 * plane_error.mean_relative, plane_error.max_abs_cd_m2, report.layers,
+      ramp_error.mean_abs_cd_m2, 100 * ramp_error.mean_relative, ramp_error.max_abs_cd_m2);
   EXPECT_LT(plane_error.mean_relative, 0.02);
   EXPECT_LT(ramp_error.mean_relative, 0.04);
   EXPECT_LT(ramp_error.max_abs_cd_m2, 10.0);
@@ -392,12 +403,13 @@ TEST(DepthOfFieldTest, OneLayerARowOfARampIsThePerPixelReference) {
   std::vector<float> ramp(static_cast<std::size_t>(width) * height);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
-      ramp[static_cast<std::size_t>(y) * width + x] = static_cast<float>(1.0 / (1.0 / 0.3 + y * (1.0 / 3.0 - 1.0 / 0.3) / (height - 1)));
+      ramp[static_cast<std::size_t>(y) * width + x] =
+          static_cast<float>(1.0 / (1.0 / 0.3 + y * (1.0 / 3.0 - 1.0 / 0.3) / (height - 1)));
   DepthOfFieldSettings settings = settings_for(error);
   settings.tolerance_px = 0.02;
   DepthOfFieldReport report;
-  const DepthOfFieldError difference =
-      depth_of_field_error(apply_depth_of_field(image, ramp, settings, &report), depth_of_field_reference(image, ramp, settings));
+  const DepthOfFieldError difference = depth_of_field_error(apply_depth_of_field(image, ramp, settings, &report),
+                                                            depth_of_field_reference(image, ramp, settings));
   EXPECT_EQ(report.layers, height);
   EXPECT_LT(difference.mean_relative, 1e-6);
   EXPECT_LT(difference.max_abs_cd_m2, 1e-4);
@@ -412,7 +424,8 @@ TEST(DepthOfFieldTest, ResultDoesNotDependOnTheThreadCount) {
       depth[static_cast<std::size_t>(y) * width + x] = x < 30 ? 0.3f : static_cast<float>(0.6 + 0.05 * y);
   const EyeErrorAtDistance error = emmetrope(1.0, DioptricPower::from_prescription({0.0, -0.75, 20.0}));
   const ImageRGBA one = apply_depth_of_field(image, depth, settings_for(error, 1));
-  for (int threads : {2, 3, 5}) EXPECT_EQ(apply_depth_of_field(image, depth, settings_for(error, threads)).rgba, one.rgba) << threads;
+  for (int threads : {2, 3, 5})
+    EXPECT_EQ(apply_depth_of_field(image, depth, settings_for(error, threads)).rgba, one.rgba) << threads;
 }
 
 TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
@@ -434,7 +447,8 @@ TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
   ASSERT_EQ(direct.x0_px, 5 - kernel.radius_x_px);
   ASSERT_EQ(direct.y0_px, -3 - kernel.radius_y_px);
   ASSERT_EQ(fft.rgba.size(), direct.rgba.size());
-  for (std::size_t k = 0; k < direct.rgba.size(); ++k) ASSERT_NEAR(fft.rgba[k], direct.rgba[k], 1e-4 * (1.0 + std::abs(direct.rgba[k]))) << k;
+  for (std::size_t k = 0; k < direct.rgba.size(); ++k)
+    ASSERT_NEAR(fft.rgba[k], direct.rgba[k], 1e-4 * (1.0 + std::abs(direct.rgba[k]))) << k;
   EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2).rgba, direct.rgba);
   EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::fft, 3).rgba, fft.rgba);
 }
@@ -463,13 +477,15 @@ TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
   band.rgba.assign(4 * static_cast<std::size_t>(1024) * 768, 0.0f);
   for (int y = 0; y < 768; ++y)
     for (int x = y; x < y + 8; ++x) band.pixel(x, y)[3] = 1.0f;
-  EXPECT_EQ(cheaper_layer_convolution(band, elliptical_kernel(PixelBlurEllipse{8.0, 8.0, 0.0})), LayerConvolution::direct);
+  EXPECT_EQ(cheaper_layer_convolution(band, elliptical_kernel(PixelBlurEllipse{8.0, 8.0, 0.0})),
+            LayerConvolution::direct);
 }
 
 TEST(DepthOfFieldTest, BadInputIsRefusedBeforeAnythingIsComputed) {
   const ImageRGBA image = textured(8, 6);
   const std::vector<float> depth = flat_depth(8, 6, 1.0f);
-  const auto refusal = [](const ImageRGBA& in, const std::vector<float>& d, const DepthOfFieldSettings& s) -> std::string {
+  const auto refusal = [](const ImageRGBA& in, const std::vector<float>& d,
+                          const DepthOfFieldSettings& s) -> std::string {
     try {
       apply_depth_of_field(in, d, s);
     } catch (const std::exception& error) {
@@ -480,7 +496,8 @@ TEST(DepthOfFieldTest, BadInputIsRefusedBeforeAnythingIsComputed) {
   DepthOfFieldSettings settings = settings_for(emmetrope(0.5));
   std::vector<float> bad_depth = depth;
   bad_depth[2 * 8 + 5] = -1.0f;
-  EXPECT_THAT(refusal(image, bad_depth, settings), HasSubstr("stimuli/scene_depth: the depth map: Z at pixel (5, 2) is negative"));
+  EXPECT_THAT(refusal(image, bad_depth, settings),
+              HasSubstr("stimuli/scene_depth: the depth map: Z at pixel (5, 2) is negative"));
   EXPECT_THAT(refusal(image, flat_depth(8, 5, 1.0f), settings), HasSubstr("40 values for a 8 x 6 px image"));
   ImageRGBA nan_image = image;
   nan_image.pixel(1, 1)[2] = std::nanf("");

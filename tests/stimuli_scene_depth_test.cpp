@@ -21,8 +21,8 @@ ImageRGBA scene_with_depth(int width, int height) {
   ImageRGBA image(width, height, 1.0f);
   image.depth.resize(static_cast<std::size_t>(width) * height);
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) image.depth[static_cast<std::size_t>(y) * width + x] =
-          static_cast<float>(0.5 + 0.25 * x + 0.125 * y);
+    for (int x = 0; x < width; ++x)
+      image.depth[static_cast<std::size_t>(y) * width + x] = static_cast<float>(0.5 + 0.25 * x + 0.125 * y);
   return image;
 }
 
