@@ -173,7 +173,10 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
     }
     add_transmitted(sum, transmission, width, height, pixels, settings.threads);
     const double occlusion_px = std::max(0.5 * layer.ellipse.semi_major_px, kOcclusionMinimumPx);
-    pending.push_back({layer.vergence_dioptres - occlusion_px / pixels_per_dioptre, coverage_of(pixels)});
+    const double hides_up_to = layer.vergence_dioptres - occlusion_px / pixels_per_dioptre;
+    // Kept only if some farther layer is far enough behind to be hidden by it.
+    if (index > 0 && hides_up_to >= plan.layers.front().vergence_dioptres)
+      pending.push_back({hides_up_to, coverage_of(pixels)});
   }
 
   ImageRGBA result = image_cd_m2;

@@ -17,7 +17,9 @@
 #include "stimuli/depth_of_field.h"
 #include "stimuli/depth_of_field_blur.h"
 #include "stimuli/depth_of_field_reference.h"
+#include "stimuli/display_model.h"
 #include "stimuli/elliptical_kernel.h"
+#include "stimuli/scene_depth.h"
 
 namespace glarelab {
 namespace {
@@ -249,6 +251,24 @@ TEST(DepthOfFieldTest, PlaneAtTheAccommodatedDistanceStaysSharp) {
   EXPECT_EQ(report.layers, 1);
   EXPECT_EQ(report.blurred_layers, 0);
   EXPECT_EQ(result.rgba, image.rgba);
+}
+
+TEST(DepthOfFieldTest, SceneWithoutZIsAPictureAtTheViewingDistance) {
+  // A scene file without Z sits on the display, 600 mm away: an eye focused on the display sees it
+  // sharp; one focused at 0.4 m has 1/0.4 - 1/0.6 = 0.83 D of error on all of it: one layer.
+  DisplaySpec display;
+  display.viewing_distance_mm = 600.0;
+  const ImageRGBA image = textured(40, 30);
+  const std::vector<float> depth = scene_depth_m(image, "picture.exr", display);
+  DepthOfFieldSettings settings = settings_for(emmetrope(0.6));
+  settings.degrees_per_pixel = DisplayModel(display).degrees_per_pixel_at_centre();
+  EXPECT_EQ(apply_depth_of_field(image, depth, settings).rgba, image.rgba);
+  settings.residual_error = emmetrope(0.4);
+  DepthOfFieldReport report;
+  const ImageRGBA blurred = apply_depth_of_field(image, depth, settings, &report);
+  EXPECT_EQ(report.layers, 1);
+  EXPECT_EQ(report.blurred_layers, 1);
+  EXPECT_NE(blurred.rgba, image.rgba);
 }
 
 TEST(DepthOfFieldTest, PointSpreadsIntoTheClosedFormEllipse) {
