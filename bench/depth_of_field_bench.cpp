@@ -147,11 +147,13 @@ double mean_relative_error(const ImageRGBA& result, const ImageRGBA& reference, 
 }
 
 // state.range(0) threads: 2 is the lab machines' count (the figure in docs/DEPTH_OF_FIELD.md); 1
-// shows what the threads bring.
+// shows what the threads bring. state.range(1): the layer tolerance in hundredths of a pixel (25,
+// the default; smaller ones trade time for error).
 void BM_DepthOfField1024x768(benchmark::State& state) {
   const BenchScene& scene = bench_scene();
   const int threads = static_cast<int>(state.range(0));
-  const DepthOfFieldSettings settings = bench_settings(threads);
+  DepthOfFieldSettings settings = bench_settings(threads);
+  settings.tolerance_px = static_cast<double>(state.range(1)) / 100.0;
   DepthOfFieldReport report;
   ImageRGBA result;
   for (auto _ : state) {
@@ -171,7 +173,12 @@ void BM_DepthOfField1024x768(benchmark::State& state) {
   state.counters["ref_rel_smooth"] = mean_relative_error(result, bench_reference(), false);
   state.counters["ref_rel_edges"] = mean_relative_error(result, bench_reference(), true);
 }
-BENCHMARK(BM_DepthOfField1024x768)->Arg(kThreads)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_DepthOfField1024x768)
+    ->Args({kThreads, 25})
+    ->Args({1, 25})
+    ->Args({kThreads, 10})
+    ->Args({kThreads, 5})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 // The worst case for the layer rule's bookkeeping: a plane tilted in x and y, so that every pixel
 // has its own depth (vergence 0.2 to 2.2 D, one float step apart or more) and every layer is a
@@ -185,7 +192,8 @@ void BM_DepthOfFieldTiltedPlane1024x768(benchmark::State& state) {
             static_cast<float>(1.0 / (0.2 + 2.0 * (0.6 * x / (kWidth - 1) + 0.4 * y / (kHeight - 1))));
     return d;
   }();
-  const DepthOfFieldSettings settings = bench_settings(kThreads);
+  DepthOfFieldSettings settings = bench_settings(kThreads);
+  settings.tolerance_px = static_cast<double>(state.range(0)) / 100.0;  // hundredths of a pixel
   DepthOfFieldReport report;
   for (auto _ : state)
     benchmark::DoNotOptimize(apply_depth_of_field(bench_scene().image, depth, settings, &report).rgba.data());
@@ -194,7 +202,7 @@ void BM_DepthOfFieldTiltedPlane1024x768(benchmark::State& state) {
   state.counters["fft"] = report.fft_layers;
   state.counters["blur_err_px"] = report.max_blur_error_px;
 }
-BENCHMARK(BM_DepthOfFieldTiltedPlane1024x768)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DepthOfFieldTiltedPlane1024x768)->Arg(25)->Arg(10)->Arg(5)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // One layer of `rows` x 1024 px blurred by a circle of radius state.range(0) px, one way.
 void layer_blur(benchmark::State& state, LayerConvolution method, int rows) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "glare/parallel_rows.h"
 #include "stimuli/depth_of_field_blur.h"
@@ -58,40 +59,34 @@ Clip clip_to_frame(const LayerImage& layer, int width_px, int height_px) {
           std::min(height_px, layer.y0_px + layer.height_px)};
 }
 
-// sum += transmission x layer (premultiplied colour and coverage alike) inside the frame.
+// sum += transmission x layer (premultiplied colour and coverage alike) inside the frame, on the
+// layer's nonzero spans.
 void add_transmitted(std::vector<float>& sum, const std::vector<float>& transmission, int width_px, int height_px,
-                     const LayerImage& layer, int threads) {
+                     const LayerImage& layer, const std::vector<RowSpan>& spans, int threads) {
   const Clip clip = clip_to_frame(layer, width_px, height_px);
   if (clip.empty()) return;
   parallel_chunks(clip.y_last - clip.y_first, threads, [&](int first, int last) {
-    for (int y = clip.y_first + first; y < clip.y_first + last; ++y)
-      for (int x = clip.x_first; x < clip.x_last; ++x) {
+    for (int y = clip.y_first + first; y < clip.y_first + last; ++y) {
+      const RowSpan& span = spans[static_cast<std::size_t>(y - layer.y0_px)];
+      const int x_first = std::max(clip.x_first, layer.x0_px + span.first);
+      const int x_last = std::min(clip.x_last, layer.x0_px + span.last);
+      for (int x = x_first; x < x_last; ++x) {
         const std::size_t k = static_cast<std::size_t>(y) * width_px + x;
         const float t = transmission[k];
         const float* in = layer.pixel(x - layer.x0_px, y - layer.y0_px);
         float* out = &sum[4 * k];
         for (int c = 0; c < 4; ++c) out[c] += t * in[c];
       }
+    }
   });
 }
 
-// transmission *= 1 - coverage of an occluding layer (alpha only, on the layer's rectangle).
-void occlude(std::vector<float>& transmission, int width_px, int height_px, const LayerImage& coverage, int threads) {
-  const Clip clip = clip_to_frame(coverage, width_px, height_px);
-  if (clip.empty()) return;
-  parallel_chunks(clip.y_last - clip.y_first, threads, [&](int first, int last) {
-    for (int y = clip.y_first + first; y < clip.y_first + last; ++y)
-      for (int x = clip.x_first; x < clip.x_last; ++x)
-        transmission[static_cast<std::size_t>(y) * width_px + x] *=
-            1.0f -
-            coverage.rgba[static_cast<std::size_t>(y - coverage.y0_px) * coverage.width_px + (x - coverage.x0_px)];
-  });
-}
-
-// A blurred layer's coverage kept until the first layer far enough behind it to be hidden by it.
+// A blurred layer's coverage (one float a pixel, on its rectangle and spans), kept until the first
+// layer far enough behind it to be hidden by it.
 struct PendingOccluder {
   double hides_up_to_vergence_dioptres;  // hides layers at or below this vergence
-  LayerImage coverage;                   // one float a pixel (the blurred alpha)
+  LayerImage coverage;
+  std::vector<RowSpan> spans;
 };
 
 LayerImage coverage_of(const LayerImage& layer) {
@@ -103,6 +98,24 @@ LayerImage coverage_of(const LayerImage& layer) {
   coverage.rgba.resize(static_cast<std::size_t>(layer.width_px) * layer.height_px);
   for (std::size_t k = 0; k < coverage.rgba.size(); ++k) coverage.rgba[k] = layer.rgba[4 * k + 3];
   return coverage;
+}
+
+// transmission *= 1 - the occluder's coverage.
+void occlude(std::vector<float>& transmission, int width_px, int height_px, const PendingOccluder& occluder,
+             int threads) {
+  const LayerImage& coverage = occluder.coverage;
+  const Clip clip = clip_to_frame(coverage, width_px, height_px);
+  if (clip.empty()) return;
+  parallel_chunks(clip.y_last - clip.y_first, threads, [&](int first, int last) {
+    for (int y = clip.y_first + first; y < clip.y_first + last; ++y) {
+      const RowSpan& span = occluder.spans[static_cast<std::size_t>(y - coverage.y0_px)];
+      const int x_first = std::max(clip.x_first, coverage.x0_px + span.first);
+      const int x_last = std::min(clip.x_last, coverage.x0_px + span.last);
+      const float* row = &coverage.rgba[static_cast<std::size_t>(y - coverage.y0_px) * coverage.width_px];
+      for (int x = x_first; x < x_last; ++x)
+        transmission[static_cast<std::size_t>(y) * width_px + x] *= 1.0f - row[x - coverage.x0_px];
+    }
+  });
 }
 
 void refuse(const std::string& what) { throw std::invalid_argument("stimuli/depth_of_field: " + what); }
@@ -156,7 +169,7 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
     counts.max_blur_error_px = std::max(counts.max_blur_error_px, layer.max_blur_error_px);
     for (auto occluder = pending.begin(); occluder != pending.end();) {
       if (occluder->hides_up_to_vergence_dioptres >= layer.vergence_dioptres) {
-        occlude(transmission, width, height, occluder->coverage, settings.threads);
+        occlude(transmission, width, height, *occluder, settings.threads);
         occluder = pending.erase(occluder);
       } else {
         ++occluder;
@@ -170,13 +183,14 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
       ++counts.blurred_layers;
       ++(method == LayerConvolution::direct ? counts.direct_layers : counts.fft_layers);
       pixels = blur_layer(pixels, spans, kernel, method, settings.threads);
+      spans = blurred_row_spans(spans, kernel);
     }
-    add_transmitted(sum, transmission, width, height, pixels, settings.threads);
+    add_transmitted(sum, transmission, width, height, pixels, spans, settings.threads);
     const double occlusion_px = std::max(0.5 * layer.ellipse.semi_major_px, kOcclusionMinimumPx);
     const double hides_up_to = layer.vergence_dioptres - occlusion_px / pixels_per_dioptre;
     // Kept only if some farther layer is far enough behind to be hidden by it.
     if (index > 0 && hides_up_to >= plan.layers.front().vergence_dioptres)
-      pending.push_back({hides_up_to, coverage_of(pixels)});
+      pending.push_back({hides_up_to, coverage_of(pixels), std::move(spans)});
   }
 
   ImageRGBA result = image_cd_m2;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -149,6 +150,22 @@ std::vector<RowSpan> nonzero_row_spans(const LayerImage& layer) {
     spans[static_cast<std::size_t>(y)] = {first, last};
   }
   return spans;
+}
+
+std::vector<RowSpan> blurred_row_spans(const std::vector<RowSpan>& spans, const EllipticalKernel& kernel) {
+  const int rows = static_cast<int>(spans.size()) + 2 * kernel.radius_y_px;
+  std::vector<RowSpan> grown(static_cast<std::size_t>(rows));
+  for (int oy = 0; oy < rows; ++oy) {
+    RowSpan span{std::numeric_limits<int>::max(), std::numeric_limits<int>::min()};
+    for (int sy = std::max(0, oy - 2 * kernel.radius_y_px); sy <= std::min(oy, static_cast<int>(spans.size()) - 1); ++sy) {
+      const RowSpan& in = spans[static_cast<std::size_t>(sy)];
+      if (in.first >= in.last) continue;
+      span.first = std::min(span.first, in.first);
+      span.last = std::max(span.last, in.last + 2 * kernel.radius_x_px);
+    }
+    if (span.first < span.last) grown[static_cast<std::size_t>(oy)] = span;
+  }
+  return grown;
 }
 
 const char* layer_convolution_name(LayerConvolution method) {

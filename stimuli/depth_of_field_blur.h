@@ -30,6 +30,10 @@ struct RowSpan {
 };
 std::vector<RowSpan> nonzero_row_spans(const LayerImage& layer);
 
+// Spans of the blurred layer (on blur_layer's grown rectangle) outside which it is zero, from the
+// input's spans: output row oy gathers input rows oy - 2 ry .. oy, each reaching 2 rx columns on.
+std::vector<RowSpan> blurred_row_spans(const std::vector<RowSpan>& spans, const EllipticalKernel& kernel);
+
 enum class LayerConvolution { direct, fft };
 const char* layer_convolution_name(LayerConvolution method);
 
