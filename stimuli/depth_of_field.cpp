@@ -22,7 +22,7 @@ struct Rectangle {
 // The layer's pixels as premultiplied RGBA on their bounding rectangle: colour and coverage 1 on
 // its own pixels, 0 elsewhere; `spans` gets each row's span of the layer's pixels.
 LayerImage layer_image(const ImageRGBA& image, const DepthLayerPlan& plan, std::uint32_t index, const Rectangle& box,
-                       std::vector<RowSpan>& spans) {
+                       std::vector<RowSpan>& spans, int threads) {
   LayerImage layer;
   layer.x0_px = box.x0;
   layer.y0_px = box.y0;
@@ -30,22 +30,25 @@ LayerImage layer_image(const ImageRGBA& image, const DepthLayerPlan& plan, std::
   layer.height_px = box.y1 - box.y0 + 1;
   layer.rgba.assign(4 * static_cast<std::size_t>(layer.width_px) * layer.height_px, 0.0f);
   spans.assign(static_cast<std::size_t>(layer.height_px), RowSpan{});
-  for (int y = 0; y < layer.height_px; ++y) {
-    const std::uint32_t* members = &plan.layer_of_pixel[static_cast<std::size_t>(box.y0 + y) * image.width_px + box.x0];
-    RowSpan span{layer.width_px, 0};
-    for (int x = 0; x < layer.width_px; ++x) {
-      if (members[x] != index) continue;
-      const float* source = image.pixel(box.x0 + x, box.y0 + y);
-      float* target = layer.pixel(x, y);
-      target[0] = source[0];
-      target[1] = source[1];
-      target[2] = source[2];
-      target[3] = 1.0f;
-      span.first = std::min(span.first, x);
-      span.last = x + 1;
+  parallel_chunks(layer.height_px, threads, [&](int first_row, int last_row) {
+    for (int y = first_row; y < last_row; ++y) {
+      const std::uint32_t* members =
+          &plan.layer_of_pixel[static_cast<std::size_t>(box.y0 + y) * image.width_px + box.x0];
+      RowSpan span{layer.width_px, 0};
+      for (int x = 0; x < layer.width_px; ++x) {
+        if (members[x] != index) continue;
+        const float* source = image.pixel(box.x0 + x, box.y0 + y);
+        float* target = layer.pixel(x, y);
+        target[0] = source[0];
+        target[1] = source[1];
+        target[2] = source[2];
+        target[3] = 1.0f;
+        span.first = std::min(span.first, x);
+        span.last = x + 1;
+      }
+      if (span.first < span.last) spans[static_cast<std::size_t>(y)] = span;
     }
-    if (span.first < span.last) spans[static_cast<std::size_t>(y)] = span;
-  }
+  });
   return layer;
 }
 
@@ -89,14 +92,18 @@ struct PendingOccluder {
   std::vector<RowSpan> spans;
 };
 
-LayerImage coverage_of(const LayerImage& layer) {
+LayerImage coverage_of(const LayerImage& layer, int threads) {
   LayerImage coverage;
   coverage.x0_px = layer.x0_px;
   coverage.y0_px = layer.y0_px;
   coverage.width_px = layer.width_px;
   coverage.height_px = layer.height_px;
   coverage.rgba.resize(static_cast<std::size_t>(layer.width_px) * layer.height_px);
-  for (std::size_t k = 0; k < coverage.rgba.size(); ++k) coverage.rgba[k] = layer.rgba[4 * k + 3];
+  parallel_chunks(layer.height_px, threads, [&](int first, int last) {
+    for (std::size_t k = static_cast<std::size_t>(first) * layer.width_px;
+         k < static_cast<std::size_t>(last) * layer.width_px; ++k)
+      coverage.rgba[k] = layer.rgba[4 * k + 3];
+  });
   return coverage;
 }
 
@@ -176,7 +183,8 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
       }
     }
     std::vector<RowSpan> spans;
-    LayerImage pixels = layer_image(image_cd_m2, plan, static_cast<std::uint32_t>(index), boxes[index], spans);
+    LayerImage pixels =
+        layer_image(image_cd_m2, plan, static_cast<std::uint32_t>(index), boxes[index], spans, settings.threads);
     if (layer.blurred) {
       const EllipticalKernel kernel = elliptical_kernel(layer.ellipse);
       const LayerConvolution method = cheaper_layer_convolution(pixels, spans, kernel);
@@ -190,7 +198,7 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
     const double hides_up_to = layer.vergence_dioptres - occlusion_px / pixels_per_dioptre;
     // Kept only if some farther layer is far enough behind to be hidden by it.
     if (index > 0 && hides_up_to >= plan.layers.front().vergence_dioptres)
-      pending.push_back({hides_up_to, coverage_of(pixels), std::move(spans)});
+      pending.push_back({hides_up_to, coverage_of(pixels, settings.threads), std::move(spans)});
   }
 
   ImageRGBA result = image_cd_m2;
