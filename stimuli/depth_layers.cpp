@@ -100,6 +100,7 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
     for (std::size_t k = first; k < end; ++k)
       layer.max_blur_error_px = std::max(layer.max_blur_error_px, blur_error_px(errors[k], middle, geometry));
     layer.blurred = layer.ellipse.semi_major_px > tolerance_px;
+    layer.error = middle;
     plan.layers.push_back(layer);
     first = end;
   }
@@ -116,6 +117,28 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
     }
   });
   for (std::uint32_t index : plan.layer_of_pixel) ++plan.layers[index].pixel_count;
+
+  // Blending with the neighbouring layer on the side of the pixel's vergence from its layer's middle.
+  std::vector<bool> blends_with_next(plan.layers.size(), false);
+  for (std::size_t i = 0; i + 1 < plan.layers.size(); ++i)
+    blends_with_next[i] =
+        blur_error_px(plan.layers[i].error, plan.layers[i + 1].error, geometry) <= kBlendSpanTolerances * tolerance_px;
+  plan.blend_layer_of_pixel = plan.layer_of_pixel;
+  plan.blend_weight.assign(depth_m.size(), 0.0f);
+  parallel_chunks(static_cast<int>(depth_m.size()), threads, [&](int begin, int stop) {
+    for (int k = begin; k < stop; ++k) {
+      const std::size_t pixel = static_cast<std::size_t>(k);
+      const std::uint32_t own = plan.layer_of_pixel[pixel];
+      const double v = vergence_dioptres(depth_m[pixel]);
+      const double middle = plan.layers[own].vergence_dioptres;
+      std::uint32_t other = own;
+      if (v > middle && own + 1 < plan.layers.size() && blends_with_next[own]) other = own + 1;
+      if (v < middle && own > 0 && blends_with_next[own - 1]) other = own - 1;
+      if (other == own) continue;
+      plan.blend_layer_of_pixel[pixel] = other;
+      plan.blend_weight[pixel] = static_cast<float>((v - middle) / (plan.layers[other].vergence_dioptres - middle));
+    }
+  });
   return plan;
 }
 

@@ -13,6 +13,15 @@
 // really makes is measured and reported. Only vergences that occur in the scene make layers: empty
 // stretches of depth cost nothing, and a flat scene is one layer.
 //
+// Blending. A pixel between the middles of two neighbouring layers is drawn with the blend of their
+// two kernels, weighted linearly by where its vergence lies between the middles (its light and
+// coverage split between the two layers). The blur of a kernel changes smoothly with its size (the
+// rim's coverage of each pixel it crosses), so the blend's error is second order in the layer
+// spacing where drawing with the nearer layer's kernel alone is first order. Layers blend when
+// their middles' blur error is within 4 tolerance_px (twice the span of one layer: layers that
+// follow each other without an empty stretch of depth); across a larger gap (two planes) a pixel
+// keeps its own layer's kernel.
+//
 // Why 0.25 px: the kernel is drawn on whole pixels; moving a ray's landing point by a quarter pixel
 // moves a blurred edge by at most a quarter pixel and changes a pixel's coverage by at most about a
 // quarter of the ellipse's rim through it, well under the pixel steps the display can show.
@@ -50,13 +59,21 @@ struct DepthLayer {
   PixelBlurEllipse ellipse;             // that blur on the image
   double max_blur_error_px = 0.0;       // largest blur error of a member vergence (see above)
   bool blurred = false;                 // false: semi-major <= tolerance, passed through
-  std::size_t pixel_count = 0;
+  std::size_t pixel_count = 0;          // pixels whose vergence lies in the layer's range
+  DioptricPower error;                  // the eye's error at the middle vergence
 };
 
 struct DepthLayerPlan {
   std::vector<DepthLayer> layers;             // far to near (ascending vergence)
   std::vector<std::uint32_t> layer_of_pixel;  // index into layers, row-major like the depth map
+  // The neighbouring layer each pixel is blended with and the share of its light that goes there
+  // (in [0, 1); 0, with blend_layer_of_pixel == layer_of_pixel, for none).
+  std::vector<std::uint32_t> blend_layer_of_pixel;
+  std::vector<float> blend_weight;
 };
+
+// Middles whose blur error is within this many tolerances blend (see above).
+inline constexpr double kBlendSpanTolerances = 4.0;
 
 // depth_m: one value a pixel, checked (stimuli/scene_depth.h: positive, +inf allowed).
 // Throws std::invalid_argument naming "stimuli/depth_layers" for a geometry that is not positive

@@ -19,8 +19,9 @@ struct Rectangle {
   int x1 = -1, y1 = -1;  // inclusive
 };
 
-// The layer's pixels as premultiplied RGBA on their bounding rectangle: colour and coverage 1 on
-// its own pixels, 0 elsewhere; `spans` gets each row's span of the layer's pixels.
+// The layer's pixels as premultiplied RGBA on their bounding rectangle: on its own pixels colour
+// and coverage times 1 - their blend weight, on the pixels blended into it from a neighbour times
+// their blend weight, 0 elsewhere; `spans` gets each row's span of those pixels.
 LayerImage layer_image(const ImageRGBA& image, const DepthLayerPlan& plan, std::uint32_t index, const Rectangle& box,
                        std::vector<RowSpan>& spans, int threads) {
   LayerImage layer;
@@ -32,17 +33,19 @@ LayerImage layer_image(const ImageRGBA& image, const DepthLayerPlan& plan, std::
   spans.assign(static_cast<std::size_t>(layer.height_px), RowSpan{});
   parallel_chunks(layer.height_px, threads, [&](int first_row, int last_row) {
     for (int y = first_row; y < last_row; ++y) {
-      const std::uint32_t* members =
-          &plan.layer_of_pixel[static_cast<std::size_t>(box.y0 + y) * image.width_px + box.x0];
+      const std::size_t row_start = static_cast<std::size_t>(box.y0 + y) * image.width_px + box.x0;
       RowSpan span{layer.width_px, 0};
       for (int x = 0; x < layer.width_px; ++x) {
-        if (members[x] != index) continue;
+        const std::size_t k = row_start + static_cast<std::size_t>(x);
+        const bool own = plan.layer_of_pixel[k] == index, blended = plan.blend_layer_of_pixel[k] == index;
+        if (!own && !blended) continue;
+        const float weight = own ? 1.0f - plan.blend_weight[k] : plan.blend_weight[k];
         const float* source = image.pixel(box.x0 + x, box.y0 + y);
         float* target = layer.pixel(x, y);
-        target[0] = source[0];
-        target[1] = source[1];
-        target[2] = source[2];
-        target[3] = 1.0f;
+        target[0] = weight * source[0];
+        target[1] = weight * source[1];
+        target[2] = weight * source[2];
+        target[3] = weight;
         span.first = std::min(span.first, x);
         span.last = x + 1;
       }
@@ -87,7 +90,7 @@ void add_transmitted(std::vector<float>& sum, const std::vector<float>& transmis
 // A blurred layer's coverage (one float a pixel, on its rectangle and spans), kept until the first
 // layer far enough behind it to be hidden by it.
 struct PendingOccluder {
-  double hides_up_to_vergence_dioptres;  // hides layers at or below this vergence
+  double hides_up_to_vergence_dioptres;  // hides layers below this vergence
   LayerImage coverage;
   std::vector<RowSpan> spans;
 };
@@ -156,11 +159,14 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
   std::vector<Rectangle> boxes(plan.layers.size());
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      Rectangle& box = boxes[plan.layer_of_pixel[static_cast<std::size_t>(y) * width + x]];
-      box.x0 = std::min(box.x0, x);
-      box.x1 = std::max(box.x1, x);
-      box.y0 = std::min(box.y0, y);
-      box.y1 = std::max(box.y1, y);
+      const std::size_t k = static_cast<std::size_t>(y) * width + x;
+      for (std::uint32_t index : {plan.layer_of_pixel[k], plan.blend_layer_of_pixel[k]}) {
+        Rectangle& box = boxes[index];
+        box.x0 = std::min(box.x0, x);
+        box.x1 = std::max(box.x1, x);
+        box.y0 = std::min(box.y0, y);
+        box.y1 = std::max(box.y1, y);
+      }
     }
 
   DepthOfFieldReport counts;
@@ -175,7 +181,7 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
     const DepthLayer& layer = plan.layers[index];
     counts.max_blur_error_px = std::max(counts.max_blur_error_px, layer.max_blur_error_px);
     for (auto occluder = pending.begin(); occluder != pending.end();) {
-      if (occluder->hides_up_to_vergence_dioptres >= layer.vergence_dioptres) {
+      if (occluder->hides_up_to_vergence_dioptres > layer.vergence_dioptres) {
         occlude(transmission, width, height, *occluder, settings.threads);
         occluder = pending.erase(occluder);
       } else {
@@ -194,10 +200,12 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
       spans = blurred_row_spans(spans, kernel);
     }
     add_transmitted(sum, transmission, width, height, pixels, spans, settings.threads);
-    const double occlusion_px = std::max(0.5 * layer.ellipse.semi_major_px, kOcclusionMinimumPx);
+    // Layers that blend (depth_layers.h) are slices of one surface: they never hide each other.
+    const double occlusion_px = std::max(
+        {0.5 * layer.ellipse.semi_major_px, kOcclusionMinimumPx, kBlendSpanTolerances * settings.tolerance_px});
     const double hides_up_to = layer.vergence_dioptres - occlusion_px / pixels_per_dioptre;
     // Kept only if some farther layer is far enough behind to be hidden by it.
-    if (index > 0 && hides_up_to >= plan.layers.front().vergence_dioptres)
+    if (index > 0 && hides_up_to > plan.layers.front().vergence_dioptres)
       pending.push_back({hides_up_to, coverage_of(pixels, settings.threads), std::move(spans)});
   }
 

@@ -18,9 +18,9 @@
 // blocking: exact when the far layer is in focus (then r = R_n), an overstatement when r is much
 // smaller than R_n: two slices of one receding floor would each hide the other's light along their
 // seam, though neither is in front of the other along any ray that reaches the pupil. So a layer
-// hides the layers behind it only where r >= max(R_n / 2, kOcclusionMinimumPx); closer layers
-// add, as slices of one surface do. The near layer is then composited "over" the far ones: a
-// blurred near object spreads over the far one and hides what it covers.
+// hides the layers behind it only where r > max(R_n / 2, kOcclusionMinimumPx, the blending span
+// of depth_layers.h); closer layers add, as slices of one surface do. The near layer is then composited "over" the far
+// ones: a blurred near object spreads over the far one and hides what it covers.
 //
 // What layering cannot recover: the far surface hidden behind a near object's edge is not in the
 // image, so where the blurred near edge turns semi-transparent there is nothing behind it to show.

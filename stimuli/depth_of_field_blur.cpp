@@ -157,7 +157,8 @@ std::vector<RowSpan> blurred_row_spans(const std::vector<RowSpan>& spans, const 
   std::vector<RowSpan> grown(static_cast<std::size_t>(rows));
   for (int oy = 0; oy < rows; ++oy) {
     RowSpan span{std::numeric_limits<int>::max(), std::numeric_limits<int>::min()};
-    for (int sy = std::max(0, oy - 2 * kernel.radius_y_px); sy <= std::min(oy, static_cast<int>(spans.size()) - 1); ++sy) {
+    for (int sy = std::max(0, oy - 2 * kernel.radius_y_px); sy <= std::min(oy, static_cast<int>(spans.size()) - 1);
+         ++sy) {
       const RowSpan& in = spans[static_cast<std::size_t>(sy)];
       if (in.first >= in.last) continue;
       span.first = std::min(span.first, in.first);
