@@ -4,9 +4,9 @@
 // here per depth layer instead of per vertex.
 //
 // The stage: the scene's vergences are grouped into layers (stimuli/depth_layers.h: a new layer
-// only where the blur changes by more than tolerance_px, 0.25 px by default); each layer, as
-// premultiplied RGBA (colour times its pixels' coverage), is blurred by the uniform elliptical
-// kernel of its middle vergence (stimuli/elliptical_kernel.h), directly or by FFT, whichever the
+// only where the blur changes by more than tolerance_px, 0.25 px by default; a pixel between two
+// neighbouring layers' middles is shared between them); each layer, as premultiplied RGBA (colour
+// times its pixels' coverage), is blurred by the uniform elliptical kernel of its middle vergence (stimuli/elliptical_kernel.h), directly or by FFT, whichever the
 // cost model says is faster (stimuli/depth_of_field_blur.h); the blurred layers are added near to
 // far, each through the transmission (1 - blurred coverage) of the nearer layers that hide it, and
 // the sum is divided by the summed coverage.
