@@ -15,9 +15,10 @@
 //
 // Blending. A pixel between the middles of two neighbouring layers is drawn with the blend of their
 // two kernels, weighted linearly by where its vergence lies between the middles (its light and
-// coverage split between the two layers). The blur of a kernel changes smoothly with its size (the
-// rim's coverage of each pixel it crosses), so the blend's error is second order in the layer
-// spacing where drawing with the nearer layer's kernel alone is first order. Layers blend when
+// coverage split between the two layers). A kernel changes smoothly as it grows (the rim's coverage
+// of each pixel it crosses) except where its rim enters a new pixel, so the blend follows the kernel
+// in between more closely than the nearer layer's kernel alone: about half the error against the
+// per-pixel reference (docs/DEPTH_OF_FIELD.md), for about a tenth more time. Layers blend when
 // their middles' blur error is within 4 tolerance_px (twice the span of one layer: layers that
 // follow each other without an empty stretch of depth); across a larger gap (two planes) a pixel
 // keeps its own layer's kernel.
@@ -57,7 +58,8 @@ struct DepthLayer {
   double near_vergence_dioptres = 0.0;  // largest
   double vergence_dioptres = 0.0;       // the middle, whose blur the layer is drawn with
   PixelBlurEllipse ellipse;             // that blur on the image
-  double max_blur_error_px = 0.0;       // largest blur error of a member vergence (see above)
+  double max_blur_error_px = 0.0;       // largest blur error of a member vergence drawn with the
+                                        // layer's kernel alone (see above); blending lowers it
   bool blurred = false;                 // false: semi-major <= tolerance, passed through
   std::size_t pixel_count = 0;          // pixels whose vergence lies in the layer's range
   DioptricPower error;                  // the eye's error at the middle vergence

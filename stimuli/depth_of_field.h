@@ -43,7 +43,8 @@
 namespace glarelab {
 
 // Layers whose ray cones cross within this many pixels of each other do not hide one another:
-// one pixel, twice the spacing of neighbouring layers (2 x 0.25 px), so neighbouring slices of a
+// one pixel, the largest spacing of layers that blend at the default tolerance (4 x 0.25 px,
+// depth_layers.h; at other tolerances that spacing is the floor), so neighbouring slices of a
 // continuous surface always add.
 inline constexpr double kOcclusionMinimumPx = 1.0;
 
@@ -60,7 +61,8 @@ struct DepthOfFieldReport {
   int blurred_layers = 0;          // of them, those blurred (the rest passed through)
   int direct_layers = 0;           // blurred by direct convolution
   int fft_layers = 0;              // blurred by FFT
-  double max_blur_error_px = 0.0;  // the largest blur error of any pixel's depth (depth_layers.h)
+  double max_blur_error_px = 0.0;  // the largest blur error of any pixel's depth with its layer's
+                                   // kernel alone (depth_layers.h; blending lowers it)
 };
 
 // image_cd_m2: linear RGB (cd/m2), alpha ignored and copied to the output with the depth map;
