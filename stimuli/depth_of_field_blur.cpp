@@ -169,10 +169,6 @@ std::vector<RowSpan> blurred_row_spans(const std::vector<RowSpan>& spans, const 
   return grown;
 }
 
-const char* layer_convolution_name(LayerConvolution method) {
-  return method == LayerConvolution::direct ? "direct" : "fft";
-}
-
 LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
                       LayerConvolution method, int threads) {
   if (spans.size() != static_cast<std::size_t>(layer.height_px))

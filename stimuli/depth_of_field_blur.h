@@ -35,7 +35,6 @@ std::vector<RowSpan> nonzero_row_spans(const LayerImage& layer);
 std::vector<RowSpan> blurred_row_spans(const std::vector<RowSpan>& spans, const EllipticalKernel& kernel);
 
 enum class LayerConvolution { direct, fft };
-const char* layer_convolution_name(LayerConvolution method);
 
 // The layer convolved with the kernel, on the layer's rectangle grown by the kernel's radii (it may
 // reach outside the frame; the caller clips). Rows (direct) or colour channels (FFT) are split over
