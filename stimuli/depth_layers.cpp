@@ -1,0 +1,145 @@
+#include "stimuli/depth_layers.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "glare/parallel_rows.h"
+#include "stimuli/scene_depth.h"
+
+namespace glarelab {
+namespace {
+
+// 1 / vergence, with vergence 0 at infinity.
+double distance_for_vergence_m(double vergence) { return vergence == 0.0 ? INFINITY : 1.0 / vergence; }
+
+// The distinct depths of the map, ascending. Positive floats (and +inf) order as their 32-bit
+// patterns do, so a least-significant-byte-first radix sort of the patterns sorts them in four
+// linear passes (a comparison sort of a rendered depth map, every pixel its own depth, took most of
+// the stage's bookkeeping time). Runs of equal depth (a plane, a row of a floor) are collapsed first.
+std::vector<float> distinct_depths_m(const std::vector<float>& depth_m) {
+  std::vector<std::uint32_t> keys;
+  for (std::size_t k = 0; k < depth_m.size(); ++k)
+    if (k == 0 || depth_m[k] != depth_m[k - 1]) keys.push_back(std::bit_cast<std::uint32_t>(depth_m[k]));
+  std::vector<std::uint32_t> sorted(keys.size());
+  for (int shift = 0; shift < 32; shift += 8) {
+    std::array<std::size_t, 257> start{};
+    for (std::uint32_t key : keys) ++start[((key >> shift) & 0xffu) + 1];
+    if (std::any_of(start.begin() + 1, start.end(), [&](std::size_t n) { return n == keys.size(); })) continue;
+    for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    for (std::uint32_t key : keys) sorted[start[(key >> shift) & 0xffu]++] = key;
+    keys.swap(sorted);
+  }
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<float> depths(keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) depths[k] = std::bit_cast<float>(keys[k]);
+  return depths;
+}
+
+DioptricPower checked_error(const EyeErrorAtDistance& error, double distance_m) {
+  const DioptricPower power = error(distance_m);
+  if (!std::isfinite(power.xx()) || !std::isfinite(power.xy()) || !std::isfinite(power.yy()) ||
+      !std::isfinite(power.matrix_dioptres[0][1]))
+    throw std::invalid_argument("stimuli/depth_layers: the eye's power error for a point at " +
+                                std::to_string(distance_m) + " m is not finite");
+  return power;
+}
+
+}  // namespace
+
+double BlurGeometry::pixels_per_dioptre() const {
+  return pupil_radius_m / (degrees_per_pixel * std::numbers::pi / 180.0);
+}
+
+double blur_error_px(const DioptricPower& first, const DioptricPower& second, const BlurGeometry& geometry) {
+  const PrincipalPowers difference = principal_powers(first - second);
+  return std::max(std::abs(difference.p1_dioptres), std::abs(difference.p2_dioptres)) * geometry.pixels_per_dioptre();
+}
+
+DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry,
+                                 const EyeErrorAtDistance& error, double tolerance_px, int threads) {
+  if (!(geometry.degrees_per_pixel > 0.0) || !std::isfinite(geometry.degrees_per_pixel) ||
+      !(geometry.pupil_radius_m > 0.0) || !std::isfinite(geometry.pupil_radius_m))
+    throw std::invalid_argument("stimuli/depth_layers: degrees per pixel (" +
+                                std::to_string(geometry.degrees_per_pixel) + ") and pupil radius (" +
+                                std::to_string(geometry.pupil_radius_m) + " m) must be positive and finite");
+  if (!(tolerance_px > 0.0) || !std::isfinite(tolerance_px))
+    throw std::invalid_argument("stimuli/depth_layers: the layer tolerance " + std::to_string(tolerance_px) +
+                                " px must be positive and finite");
+  if (!error) throw std::invalid_argument("stimuli/depth_layers: no eye error function was given");
+
+  for (std::size_t k = 0; k < depth_m.size(); ++k)
+    if (!(depth_m[k] > 0.0f))
+      throw std::invalid_argument("stimuli/depth_layers: depth " + std::to_string(depth_m[k]) + " m at index " +
+                                  std::to_string(k) +
+                                  " is not a positive distance (stimuli/scene_depth.h checks maps)");
+
+  // The distinct vergences of the scene, ascending (far to near): the distinct depths descending.
+  const std::vector<float> depths = distinct_depths_m(depth_m);
+  std::vector<double> vergences(depths.size());
+  for (std::size_t k = 0; k < depths.size(); ++k) vergences[k] = vergence_dioptres(depths[depths.size() - 1 - k]);
+
+  std::vector<DioptricPower> errors;
+  errors.reserve(vergences.size());
+  for (double v : vergences) errors.push_back(checked_error(error, distance_for_vergence_m(v)));
+
+  DepthLayerPlan plan;
+  for (std::size_t first = 0; first < vergences.size();) {
+    std::size_t end = first + 1;
+    while (end < vergences.size() && blur_error_px(errors[end], errors[first], geometry) <= 2.0 * tolerance_px) ++end;
+    DepthLayer layer;
+    layer.far_vergence_dioptres = vergences[first];
+    layer.near_vergence_dioptres = vergences[end - 1];
+    layer.vergence_dioptres = 0.5 * (layer.far_vergence_dioptres + layer.near_vergence_dioptres);
+    const DioptricPower middle = checked_error(error, distance_for_vergence_m(layer.vergence_dioptres));
+    layer.ellipse = pixel_blur_ellipse(middle, geometry.pupil_radius_m, geometry.degrees_per_pixel);
+    for (std::size_t k = first; k < end; ++k)
+      layer.max_blur_error_px = std::max(layer.max_blur_error_px, blur_error_px(errors[k], middle, geometry));
+    layer.blurred = layer.ellipse.semi_major_px > tolerance_px;
+    layer.error = middle;
+    plan.layers.push_back(layer);
+    first = end;
+  }
+
+  // Each pixel to the layer whose vergence range holds it.
+  std::vector<double> near_bounds;
+  for (const DepthLayer& layer : plan.layers) near_bounds.push_back(layer.near_vergence_dioptres);
+  plan.layer_of_pixel.assign(depth_m.size(), 0);
+  parallel_chunks(static_cast<int>(depth_m.size()), threads, [&](int begin, int stop) {
+    for (int k = begin; k < stop; ++k) {
+      const double v = vergence_dioptres(depth_m[static_cast<std::size_t>(k)]);
+      plan.layer_of_pixel[static_cast<std::size_t>(k)] =
+          static_cast<std::uint32_t>(std::lower_bound(near_bounds.begin(), near_bounds.end(), v) - near_bounds.begin());
+    }
+  });
+  for (std::uint32_t index : plan.layer_of_pixel) ++plan.layers[index].pixel_count;
+
+  // Blending with the neighbouring layer on the side of the pixel's vergence from its layer's middle.
+  std::vector<bool> blends_with_next(plan.layers.size(), false);
+  for (std::size_t i = 0; i + 1 < plan.layers.size(); ++i)
+    blends_with_next[i] =
+        blur_error_px(plan.layers[i].error, plan.layers[i + 1].error, geometry) <= kBlendSpanTolerances * tolerance_px;
+  plan.blend_layer_of_pixel = plan.layer_of_pixel;
+  plan.blend_weight.assign(depth_m.size(), 0.0f);
+  parallel_chunks(static_cast<int>(depth_m.size()), threads, [&](int begin, int stop) {
+    for (int k = begin; k < stop; ++k) {
+      const std::size_t pixel = static_cast<std::size_t>(k);
+      const std::uint32_t own = plan.layer_of_pixel[pixel];
+      const double v = vergence_dioptres(depth_m[pixel]);
+      const double middle = plan.layers[own].vergence_dioptres;
+      std::uint32_t other = own;
+      if (v > middle && own + 1 < plan.layers.size() && blends_with_next[own]) other = own + 1;
+      if (v < middle && own > 0 && blends_with_next[own - 1]) other = own - 1;
+      if (other == own) continue;
+      plan.blend_layer_of_pixel[pixel] = other;
+      plan.blend_weight[pixel] = static_cast<float>((v - middle) / (plan.layers[other].vergence_dioptres - middle));
+    }
+  });
+  return plan;
+}
+
+}  // namespace glarelab

@@ -1,0 +1,60 @@
+#pragma once
+// One depth layer blurred by its elliptical kernel (stimuli/elliptical_kernel.h): premultiplied
+// RGBA (colour times coverage, coverage in alpha), so that the blurred alpha says how much of each
+// pixel the layer's blurred surface covers (Porter and Duff 1984) and the layers can be composited.
+//
+// Two ways to the same linear convolution: direct (for each kernel tap, a scaled copy of the
+// nonzero span of each of the layer's rows added into the output's: cost ~ the layer's pixels x
+// nonzero taps) and by FFT (FFTW float,
+// zero-padded so nothing wraps: cost ~ padded area x log of it, whatever the kernel). Which is
+// faster depends on the kernel's area against the log of the layer's; docs/DEPTH_OF_FIELD.md has
+// the measured crossover, cheaper_layer_convolution the rule drawn from it.
+#include <vector>
+
+#include "stimuli/elliptical_kernel.h"
+
+namespace glarelab {
+
+// Premultiplied RGBA on the rectangle [x0, x0 + width) x [y0, y0 + height) of the frame.
+struct LayerImage {
+  int x0_px = 0, y0_px = 0;
+  int width_px = 0, height_px = 0;
+  std::vector<float> rgba;  // 4 * width_px * height_px, row-major, row 0 at the top
+  float* pixel(int x, int y) { return &rgba[4 * (static_cast<std::size_t>(y) * width_px + x)]; }
+  const float* pixel(int x, int y) const { return &rgba[4 * (static_cast<std::size_t>(y) * width_px + x)]; }
+};
+
+// The pixels [first, last) of a layer's row outside which every value is zero (first == last: none).
+struct RowSpan {
+  int first = 0, last = 0;
+};
+std::vector<RowSpan> nonzero_row_spans(const LayerImage& layer);
+
+// Spans of the blurred layer (on blur_layer's grown rectangle) outside which it is zero, from the
+// input's spans: output row oy gathers input rows oy - 2 ry .. oy, each reaching 2 rx columns on.
+std::vector<RowSpan> blurred_row_spans(const std::vector<RowSpan>& spans, const EllipticalKernel& kernel);
+
+enum class LayerConvolution { direct, fft };
+
+// The layer convolved with the kernel, on the layer's rectangle grown by the kernel's radii (it may
+// reach outside the frame; the caller clips). Rows (direct) or colour channels (FFT) are split over
+// `threads`; each output value is computed by the same operations in the same order whatever the
+// thread count, so the result does not depend on it.
+// `spans`: nonzero_row_spans(layer), or any spans outside which the layer is zero.
+LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
+                      LayerConvolution method, int threads);
+inline LayerImage blur_layer(const LayerImage& layer, const EllipticalKernel& kernel, LayerConvolution method,
+                             int threads) {
+  return blur_layer(layer, nonzero_row_spans(layer), kernel, method, threads);
+}
+
+// The method expected to be faster for this layer and kernel: direct costs its rows' nonzero spans
+// times the kernel's nonzero taps, the FFT its padded rectangle times the log of its size (the
+// constant between them measured by bench/depth_of_field_bench.cpp).
+LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,
+                                           const EllipticalKernel& kernel);
+inline LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const EllipticalKernel& kernel) {
+  return cheaper_layer_convolution(layer, nonzero_row_spans(layer), kernel);
+}
+
+}  // namespace glarelab
