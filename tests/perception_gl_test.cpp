@@ -93,6 +93,8 @@ TEST_F(PerceptionGlTest, AdaptationLuminanceMatchesTheReference) {
       {0.3, 0.6, {}},                     // on the source
       {0.02, 0.97, {}},                   // a corner
       {1.6, -0.4, {}},                    // outside the frame
+      {4.0, 0.5, {}},                     // far outside: exp(-288) at the nearest pixel, 0 in float
+      {0.5, 3.2, {}},                     // unless taken relative to it (adaptation_resample.comp)
       {0.45, 0.4, {0.05, 128, 16}},       // a narrow Gaussian
       {0.45, 0.4, {0.125, 64, 8}},        // other pyramid sizes
       {0.45, 0.4, {0.125, 512, 16}},      // more cells than pixels across
