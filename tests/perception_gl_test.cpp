@@ -334,6 +334,7 @@ TEST_F(PerceptionGlTest, BadInputIsRefusedAsByTheReference) {
   EXPECT_THROW(adaptation.luminance_cd_m2(buffer, NAN, 0.5), std::invalid_argument);
   EXPECT_THROW(adaptation.luminance_cd_m2(buffer, 0.5, 0.5, {0.125, 96, 16}), std::invalid_argument);
   EXPECT_THROW(gl::GlFrameBuffer(0, 4), std::invalid_argument);
+  EXPECT_THROW(gl::GlFrameBuffer(16384, 16384), std::invalid_argument);  // 4 GiB: above any storage block
   EXPECT_THROW(small.upload(frame()), std::invalid_argument);
   try {
     acuity.apply(buffer, wide, 40.0, small);

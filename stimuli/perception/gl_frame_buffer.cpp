@@ -18,8 +18,16 @@ GlFrameBuffer::GlFrameBuffer(int width_px, int height_px)
   if (width_px < 1 || height_px < 1)
     throw std::invalid_argument("perception GL: a frame must be at least 1 x 1 (got " + std::to_string(width_px) +
                                 " x " + std::to_string(height_px) + ")");
-  glNamedBufferData(buffer_.get(), static_cast<GLsizeiptr>(float_count(width_px, height_px) * sizeof(float)), nullptr,
-                    GL_DYNAMIC_COPY);
+  // A shader storage block is bounded by the implementation (at least 2^27 bytes in OpenGL 4.5, so
+  // 8.4 million pixels, 3840 x 2160, are always accepted); a larger frame would be cut off silently.
+  GLint64 max_block_bytes = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block_bytes);
+  const std::size_t bytes = float_count(width_px, height_px) * sizeof(float);
+  if (bytes > static_cast<std::size_t>(max_block_bytes))
+    throw std::invalid_argument("perception GL: a " + std::to_string(width_px) + " x " + std::to_string(height_px) +
+                                " frame needs " + std::to_string(bytes) + " bytes of storage buffer, above this "
+                                "OpenGL's GL_MAX_SHADER_STORAGE_BLOCK_SIZE of " + std::to_string(max_block_bytes));
+  glNamedBufferData(buffer_.get(), static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_COPY);
 }
 
 GlFrameBuffer::GlFrameBuffer(const ImageRGBA& frame)

@@ -11,7 +11,8 @@ namespace glarelab::gl {
 
 class GlFrameBuffer {
  public:
-  // An uninitialised frame; throws std::invalid_argument("perception GL: ...") for a size < 1.
+  // An uninitialised frame; throws std::invalid_argument("perception GL: ...") for a size < 1 or a
+  // frame above GL_MAX_SHADER_STORAGE_BLOCK_SIZE (at least 3840 x 2160 fits everywhere).
   GlFrameBuffer(int width_px, int height_px);
   // Uploads the frame; throws std::invalid_argument for an empty one.
   explicit GlFrameBuffer(const ImageRGBA& frame);
