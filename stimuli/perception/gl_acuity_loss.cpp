@@ -48,6 +48,7 @@ void GlAcuityLoss::apply(const GlFrameBuffer& input, const AcuitySettings& setti
   glUniform1i(glGetUniformLocation(to_lab, "uHeight"), height);
   glUniform3f(glGetUniformLocation(to_lab, "uInvWhite"), static_cast<float>(1.0 / (kWhiteX * scale)),
               static_cast<float>(1.0 / (kWhiteY * scale)), static_cast<float>(1.0 / (kWhiteZ * scale)));
+  glUniform1d(glGetUniformLocation(to_lab, "uInvWhiteY"), 1.0 / (kWhiteY * scale));
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, input.buffer());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, lab_.get());
   dispatch_per_pixel(width, height);
