@@ -102,12 +102,19 @@ void main() {
   if (radius > 0) {
     const float inv_two_sigma2 = 1.0 / (2.0 * sigma * sigma);
     float weights = 0.0, sum = 0.0;
-    for (int k = -radius; k <= radius; ++k) {
-      const float w = exp(-float(k * k) * inv_two_sigma2);
-      const int x = uPass == 0 ? clamp(p.x + k, 0, uWidth - 1) : p.x;
-      const int y = uPass == 0 ? p.y : clamp(p.y + k, 0, uHeight - 1);
-      weights += w;
-      sum += w * source_at(x, y);
+    // Two loops rather than one with a per-tap choice of buffer, so that each tap loads one value.
+    if (uPass == 0) {
+      for (int k = -radius; k <= radius; ++k) {
+        const float w = exp(-float(k * k) * inv_two_sigma2);
+        weights += w;
+        sum += w * lab[p.y * uWidth + clamp(p.x + k, 0, uWidth - 1)].x;
+      }
+    } else {
+      for (int k = -radius; k <= radius; ++k) {
+        const float w = exp(-float(k * k) * inv_two_sigma2);
+        weights += w;
+        sum += w * lightness[clamp(p.y + k, 0, uHeight - 1) * uWidth + p.x];
+      }
     }
     blurred = sum / weights;
   }
