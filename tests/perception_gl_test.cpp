@@ -336,6 +336,16 @@ TEST_F(PerceptionGlTest, BadInputIsRefusedAsByTheReference) {
   EXPECT_THROW(gl::GlFrameBuffer(0, 4), std::invalid_argument);
   EXPECT_THROW(gl::GlFrameBuffer(16384, 16384), std::invalid_argument);  // 4 GiB: above any storage block
   EXPECT_THROW(small.upload(frame()), std::invalid_argument);
+  // The chain refuses what run_perception_stages refuses: an eye of other time constants, bad settings.
+  gl::GlPerceptionStages stages;
+  AdaptationTimeConstants slow;
+  slow.rod_time_constant_s = 0.8;
+  TemporalAdaptation other_eye(1.0, slow), eye(1.0);
+  EXPECT_THROW(stages.run(frame(), {}, other_eye, PerceptionSettings{}, DisplaySpec{}), std::invalid_argument);
+  PerceptionSettings bad;
+  bad.acuity_settings.max_sigma_px = 20.0;
+  EXPECT_THROW(stages.run(frame(), {}, eye, bad, DisplaySpec{}), std::invalid_argument);
+  EXPECT_EQ(eye.adapted_luminance_cd_m2(), 1.0);  // refused before the eye moved
   try {
     acuity.apply(buffer, wide, 40.0, small);
   } catch (const std::invalid_argument& error) {
@@ -368,6 +378,18 @@ TEST_F(PerceptionGlTest, StageTimingReportsEveryStageWithItsAgreement) {
   PerceptionTimingOptions tiny;
   tiny.width_px = 8;
   EXPECT_THROW(time_perception_stages(tiny), std::invalid_argument);
+  // Without a context: the CPU rows alone, the GL columns empty.
+  PerceptionTimingOptions cpu_only;
+  cpu_only.width_px = 32;
+  cpu_only.height_px = 32;
+  cpu_only.repeats = 1;
+  const PerceptionTimingResult cpu = time_perception_stages(cpu_only);
+  EXPECT_TRUE(cpu.renderer.empty());
+  for (const PerceptionTimingRow& row : cpu.rows) {
+    EXPECT_GT(row.cpu_s, 0.0) << row.stage;
+    EXPECT_EQ(row.gl_s, 0.0) << row.stage;
+  }
+  EXPECT_NE(format_perception_timing(cpu).find("| adaptation | "), std::string::npos);
 }
 
 }  // namespace
