@@ -12,12 +12,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "core/random.h"
+#include "runner/display/compute_context.h"
+#include "stimuli/perception/gl_perception_stages.h"
 #include "stimuli/perception/lab_colour.h"
 #include "stimuli/perception/perception_stages.h"
+#include "stimuli/perception/stage_timing.h"
 
 namespace glarelab {
 namespace {
@@ -139,6 +143,119 @@ void BM_PerceptionAllStages(benchmark::State& state) {
     benchmark::DoNotOptimize(run_perception_stages(frame, {0.45, 0.4, 1.0 / 90.0}, eye, settings, display));
 }
 BENCHMARK(BM_PerceptionAllStages)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace glarelab
+
+// The GL stages (stimuli/perception/gl_*.h) on the same frame, on the compute context's renderer
+// (llvmpipe here, so these are CPU figures too), wall-clock time with glFinish: the work done, not
+// queued. Buffers stay on the GPU between iterations except in BM_PerceptionGlAllStages (one upload
+// and one read-back per frame, as a session would). Counter max_relative_error: GL against the CPU
+// double stage on the same input (per pixel, relative to the pixel's largest channel, floor 1e-6
+// cd/m2 scene-referred, 1e-4 of the peak display-referred; stimuli/perception/stage_timing.h);
+// thesis_gtx1070_ms: Table 7.1 per eye at 1440 x 1600. Each stage runs once before timing (llvmpipe
+// compiles a shader on its first dispatch).
+namespace glarelab {
+namespace {
+
+constexpr double kBenchPeak = 250.0;
+
+DisplayBackend& gl_context() {
+  static const std::unique_ptr<DisplayBackend> backend = gl::create_compute_context();
+  return *backend;
+}
+
+void BM_PerceptionGlAdaptation(benchmark::State& state) {
+  gl_context().make_current();
+  const ImageRGBA& frame = night_frame();
+  gl::GlFrameBuffer buffer(frame);
+  gl::GlFrameAdaptationLuminance stage;
+  TemporalAdaptation eye(1.0);
+  double luminance = stage.luminance_cd_m2(buffer, 0.45, 0.4);  // warm-up: llvmpipe compiles on first use
+  for (auto _ : state) {
+    luminance = stage.luminance_cd_m2(buffer, 0.45, 0.4);  // reads the top level back: synchronous
+    benchmark::DoNotOptimize(eye.advance(luminance, 1.0 / 90.0));
+  }
+  const double cpu = frame_adaptation_luminance_cd_m2(frame, 0.45, 0.4);
+  state.counters["max_relative_error"] = std::abs(luminance - cpu) / cpu;
+  state.counters["thesis_gtx1070_ms"] = 0.18;
+}
+BENCHMARK(BM_PerceptionGlAdaptation)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PerceptionGlAcuity(benchmark::State& state) {
+  gl_context().make_current();
+  const ImageRGBA& frame = night_frame();
+  const double ppd = display_pixels_per_degree(bench_display());
+  gl::GlFrameBuffer input(frame), output(kWidth, kHeight);
+  gl::GlAcuityLoss stage;
+  stage.apply(input, AcuitySettings{}, ppd, output);  // warm-up: llvmpipe compiles on first use
+  glFinish();
+  for (auto _ : state) {
+    stage.apply(input, AcuitySettings{}, ppd, output);
+    glFinish();
+  }
+  state.counters["max_relative_error"] =
+      max_relative_pixel_error(output.download(), apply_acuity_loss(frame, AcuitySettings{}, ppd), 1e-6);
+  state.counters["thesis_gtx1070_ms"] = 0.36;
+}
+BENCHMARK(BM_PerceptionGlAcuity)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PerceptionGlToneMapping(benchmark::State& state) {
+  gl_context().make_current();
+  const ImageRGBA& frame = night_frame();
+  ToneMappingSettings settings;
+  settings.curve = state.range(0) == 0 ? ToneCurve::aces_narkowicz : ToneCurve::aces_hill;
+  gl::GlFrameBuffer input(frame), output(kWidth, kHeight);
+  gl::GlToneMapping stage;
+  stage.apply(input, 0.05, settings, kBenchPeak, output);  // warm-up
+  glFinish();
+  for (auto _ : state) {
+    stage.apply(input, 0.05, settings, kBenchPeak, output);
+    glFinish();
+  }
+  state.counters["max_relative_error"] =
+      max_relative_pixel_error(output.download(), tone_map(frame, 0.05, settings, kBenchPeak), 1e-4 * kBenchPeak);
+  state.SetLabel(to_string(settings.curve));
+}
+BENCHMARK(BM_PerceptionGlToneMapping)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PerceptionGlScotopic(benchmark::State& state) {
+  gl_context().make_current();
+  const ImageRGBA& frame = night_frame();
+  ScotopicSettings settings;
+  settings.form = state.range(0) == 0 ? ScotopicForm::luidolt_tint : ScotopicForm::spencer_desaturation;
+  gl::GlFrameBuffer input(frame), output(kWidth, kHeight);
+  gl::GlScotopicColour stage;
+  stage.apply(input, 0.6, settings, output);  // warm-up
+  glFinish();
+  for (auto _ : state) {
+    stage.apply(input, 0.6, settings, output);
+    glFinish();
+  }
+  state.counters["max_relative_error"] =
+      max_relative_pixel_error(output.download(), apply_scotopic_colour(frame, 0.6, settings), 1e-4 * kBenchPeak);
+  state.counters["thesis_gtx1070_ms"] = 0.14;
+  state.SetLabel(to_string(settings.form));
+}
+BENCHMARK(BM_PerceptionGlScotopic)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PerceptionGlAllStages(benchmark::State& state) {
+  gl_context().make_current();
+  const ImageRGBA& frame = night_frame();
+  const DisplaySpec display = bench_display();
+  const PerceptionSettings settings;
+  gl::GlPerceptionStages stages;
+  TemporalAdaptation eye(1.0), cpu_eye(1.0);
+  PerceptionResult result = stages.run(frame, {0.45, 0.4, 1.0 / 90.0}, eye, settings, display);  // warm-up
+  for (auto _ : state) {
+    eye = TemporalAdaptation(1.0);
+    result = stages.run(frame, {0.45, 0.4, 1.0 / 90.0}, eye, settings, display);  // reads the frame back
+  }
+  const PerceptionResult cpu = run_perception_stages(frame, {0.45, 0.4, 1.0 / 90.0}, cpu_eye, settings, display);
+  state.counters["max_relative_error"] =
+      max_relative_pixel_error(result.image, cpu.image, 1e-4 * display.peak_luminance_cd_m2);
+}
+BENCHMARK(BM_PerceptionGlAllStages)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace glarelab
