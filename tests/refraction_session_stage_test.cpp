@@ -194,6 +194,30 @@ TEST(RefractionSessionStage, NoRefractionIsBitIdentical) {
   }
 }
 
+// The hybrid eye's near field is the wave-optics PSF: it carries the refraction too, and without
+// one the hybrid frame is the same bit for bit.
+TEST(RefractionSessionStage, HybridNearFieldCarriesTheRefraction) {
+  DisplaySpec display;
+  display.width_px = 96;
+  display.height_px = 64;
+  GlareSpec spec;
+  spec.backend = "cpu";
+  spec.grid_px = 128;
+  spec.wavelength_samples = 8;
+  spec.skip_invisible = false;
+  spec.model = GlareModel::hybrid;
+  GlareStage plain(spec, display, 3), toggled(spec, display, 3);
+  const ImageRGBA before = plain.apply(dot_frame(), GlareMode::static_eye, 0.0);
+  toggled.set_refraction(DioptricPower::spherical(-1.0));
+  const ImageRGBA refracted = toggled.apply(dot_frame(), GlareMode::static_eye, 0.0);
+  toggled.set_refraction(std::nullopt);
+  const ImageRGBA after = toggled.apply(dot_frame(), GlareMode::static_eye, 0.0);
+  EXPECT_TRUE(same_bits(before, after));
+  // The dot's centre loses light to the blur: the 1 D disc through the static eye's pupil is
+  // several display pixels wide, the 4 px dot's centre keeps less of its own light.
+  EXPECT_LT(refracted.pixel(48, 32)[1], 0.9f * before.pixel(48, 32)[1]);
+}
+
 // The CPU backend with a refraction: the spectral PSF is compute_chromatic_psf's, bit for bit; a
 // geometry without one keeps the scaled reference (spectral_psf_from_reference).
 TEST(RefractionSessionStage, CpuBackendComputesTheChromaticPsfWithARefraction) {

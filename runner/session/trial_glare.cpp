@@ -355,7 +355,11 @@ void SessionLoop::log_glare_setup() {
   // condition (the trials table's condition column names it) were blurred with.
   for (const ConditionRow& row : prepared_.experiment.conditions)
     if (const auto found = condition_refractions_.find(row.name()); found != condition_refractions_.end())
-      store_.log_event(session_id_, clock_.now_s(), "observer_refraction", describe_condition_refraction(found->second));
+      store_.log_event(session_id_, clock_.now_s(), "observer_refraction",
+                       describe_condition_refraction(found->second) +
+                           (glare_mode_for(spec, row) == GlareMode::control && !position_glare_modes(row)
+                                ? "; a control condition: shown without glare, so not blurred"
+                                : ""));
   if (!any_glare) {
     store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
     return;
