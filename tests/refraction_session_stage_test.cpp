@@ -16,6 +16,7 @@
 #include "glare/eye_model.h"
 #include "glare/spectral_psf.h"
 #include "protocols/experiment.h"
+#include "runner/display/compute_context.h"
 #include "runner/session/condition_refraction.h"
 #include "stimuli/display_model.h"
 #include "stimuli/glare_stage.h"
@@ -216,6 +217,32 @@ TEST(RefractionSessionStage, HybridNearFieldCarriesTheRefraction) {
   // The dot's centre loses light to the blur: the 1 D disc through the static eye's pupil is
   // several display pixels wide, the 4 px dot's centre keeps less of its own light.
   EXPECT_LT(refracted.pixel(48, 32)[1], 0.9f * before.pixel(48, 32)[1]);
+}
+
+// [glare] backend "gl" and "auto" (the planned float32 path here) do not carry the refraction's
+// phase: a PSF with a refraction is the float64 CPU backend's whatever the backend, bit for bit,
+// and the glare_backend record says so.
+TEST(RefractionSessionStage, PsfWithARefractionIsTheCpuFloat64OnesOnEveryBackend) {
+  DisplaySpec display;
+  display.width_px = 96;
+  display.height_px = 64;
+  GlareSpec spec;
+  spec.grid_px = 128;
+  spec.wavelength_samples = 8;
+  const DioptricPower residual = DioptricPower::from_prescription({-0.5, -1.0, 120.0});
+  spec.backend = "cpu";
+  GlareStage reference(spec, display, 5);
+  reference.set_refraction(residual);
+  const Psf expected = *reference.display_psf(GlareMode::static_eye, 0.0, 20.0);
+  for (const std::string backend : {"gl", "auto"}) {
+    spec.backend = backend;
+    GlareStage stage(spec, display, 5, gl::compute_context_factory());
+    stage.set_refraction(residual);
+    EXPECT_EQ(stage.display_psf(GlareMode::static_eye, 0.0, 20.0)->values, expected.values) << backend;
+    EXPECT_NE(stage.refraction_backend_reason().find("does not carry the refraction's phase yet"), std::string::npos)
+        << backend;
+  }
+  EXPECT_EQ(reference.refraction_backend_reason().find("does not carry"), std::string::npos);
 }
 
 // The CPU backend with a refraction: the spectral PSF is compute_chromatic_psf's, bit for bit; a
