@@ -21,13 +21,9 @@
 #include <glm/mat2x2.hpp>
 #include <glm/vec2.hpp>
 
-namespace glarelab {
+#include "core/observer_optics.h"  // SpheroCylinder
 
-struct SpheroCylinder {
-  double sphere_dioptres = 0.0;
-  double cylinder_dioptres = 0.0;  // <= 0 in minus-cylinder form
-  double axis_deg = 0.0;           // TABO, [0, 180)
-};
+namespace glarelab {
 
 // A symmetric dioptric power matrix in the observer frame above (glm is column-major; the matrix is
 // symmetric, so F[0][1] == F[1][0] is the xy term either way).

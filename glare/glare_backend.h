@@ -28,6 +28,11 @@ struct PsfOptions {
   int wavelength_samples = 32;
   // Phase before the FFT. The GL backend has none and defocus; "paper" (Eq. 3, d = 24 mm) is CPU only.
   PhaseForm phase = PhaseForm::defocus;
+  // The observer's refraction is modelled (docs/REFRACTION.md): a spectral PSF takes one FFT per
+  // wavelength with the eye's longitudinal chromatic aberration (glare/chromatic_psf.h) even when
+  // geometry.refraction_error is zero. A non-zero refraction_error alone does the same on the CPU.
+  // Only the CPU backend computes it (a GL or planned path ignoring it is not used for it).
+  bool observer_refraction = false;
 };
 
 class GlareBackend {

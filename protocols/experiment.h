@@ -13,6 +13,7 @@
 #include "core/errors.h"
 #include "core/scene_spec.h"
 #include "protocols/glare_config.h"
+#include "core/observer_optics.h"
 #include "protocols/perception_config.h"
 #include "protocols/presentation_config.h"
 #include "protocols/observer_preferences.h"
@@ -162,6 +163,9 @@ struct Experiment {
   // [perception]: the perception stages around the glare (every stage off by default) and the
   // default switches of conditions (column "perception").
   PerceptionSettings perception = perception_defaults();
+  // [observer.refraction], [spectacles.NAME] and [observer] spectacles: the observer's refraction
+  // and the spectacles worn (default of the column "spectacles").
+  ObserverOptics observer_optics;
   PresentationSpec presentation;  // [presentation]: screens, fixation, intervals, response window, feedback
   DesignSpec design;  // [[blocks]], their order and the participant number (protocols/block_design.h)
 };

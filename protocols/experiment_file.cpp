@@ -17,6 +17,7 @@
 #include "protocols/csv_table.h"
 #include "protocols/forced_choice.h"
 #include "protocols/generated_scene_config.h"
+#include "protocols/observer_optics_config.h"
 #include "protocols/pair_design.h"
 #include "protocols/rating_procedure.h"
 #include "protocols/stimulus_duration.h"
@@ -246,6 +247,8 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
 
 // [observer]: the observer's eye as the analytic glare models see it (age: Spencer 1995 Eq. 10 and
 // CIE 146:2002; pigmentation: CIE 146:2002), and the simulated observer's subtable.
+// [observer.refraction] and [observer] spectacles: the eye's refraction and the spectacles worn by
+// default (protocols/observer_optics_config.h; [spectacles] is read before this).
 ObserverEye read_observer_section(TableReader& top, Experiment& experiment) {
   ObserverEye eye;
   const toml::table* observers = top.table("observer");
@@ -253,6 +256,8 @@ ObserverEye read_observer_section(TableReader& top, Experiment& experiment) {
   TableReader group(*observers, "observer", top.file());
   eye.age_years = group.number_in_range("age_years", eye.age_years, kMinObserverAgeYears, kMaxObserverAgeYears, "years");
   eye.pigmentation = group.number_in_range("pigmentation", eye.pigmentation, 0.0, 1.0);
+  read_observer_refraction(group, experiment.observer_optics);
+  read_spectacles_worn(group, experiment.observer_optics);
   const toml::table* simulated = group.table("simulated");
   group.report_unused();
   if (simulated == nullptr) return eye;
@@ -475,7 +480,8 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   // Declare the top-level tables before reading any, so a misspelt [procedur] is reported as
   // such rather than as a missing [procedure].
   for (const char* section :
-       {"experiment", "display", "scenes", "procedure", "conditions", "observer", "glare", "perception", "presentation"}) {
+       {"experiment", "display", "scenes", "procedure", "conditions", "observer", "spectacles", "glare", "perception",
+        "presentation"}) {
     top.node(section);
   }
   top.node("blocks");  // [[blocks]] (protocols/block_config.h)
@@ -487,6 +493,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   const std::optional<GeneratedDesign> generated = read_procedure_section(top, experiment);
   ConditionSource conditions = generated ? generated_conditions(top, *generated, experiment) : read_conditions_section(top, base);
   if (!generated) read_blocks_section(top, experiment);
+  read_spectacles_section(top, experiment.observer_optics);
   const ObserverEye observer_eye = read_observer_section(top, experiment);
   experiment.glare = read_glare_section(top);
   experiment.glare.observer_eye = observer_eye;
@@ -503,6 +510,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
     glare_model_for(experiment.glare, located.row);  // so do an unknown 'glare_model' and a bad 'glare_gain'
     glare_gain_for(located.row);
     perception_for(experiment.perception, located.row);  // and an unknown stage in 'perception'
+    spectacles_for(experiment.observer_optics, located.row);  // and spectacles no table describes
     if (position_glare_modes(located.row) && experiment.procedure != "forced_choice")
       throw ConfigError(located.row.where, "condition '" + located.row.name() + "' glare_a",
                         "a glare mode per side (glare_a, glare_b) is for forced choice only");

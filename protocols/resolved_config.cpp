@@ -13,6 +13,7 @@
 #include "protocols/block_config.h"
 #include "protocols/experiment.h"
 #include "protocols/generated_scene_config.h"
+#include "protocols/observer_optics_config.h"
 
 namespace glarelab {
 namespace {
@@ -236,8 +237,13 @@ std::string resolved_config_toml(const Experiment& experiment) {
                         {"neither_band_log10", observer.neither_band_log10}};
   if (!observer.preferences.empty()) simulated.insert("preferences", preferences_toml(observer.preferences));
   const ObserverEye& eye = experiment.glare.observer_eye;
-  print_section(out, "observer",
-                toml::table{{"age_years", eye.age_years}, {"pigmentation", eye.pigmentation}, {"simulated", std::move(simulated)}});
+  toml::table observer_table{{"age_years", eye.age_years}, {"pigmentation", eye.pigmentation},
+                             {"spectacles", experiment.observer_optics.spectacles_worn}, {"simulated", std::move(simulated)}};
+  if (experiment.observer_optics.refraction_stated)
+    observer_table.insert("refraction", refraction_toml(experiment.observer_optics.refraction));
+  print_section(out, "observer", std::move(observer_table));
+  if (!experiment.observer_optics.spectacles.empty())
+    print_section(out, "spectacles", spectacles_section_toml(experiment.observer_optics));
   print_section(out, "glare", glare_section_toml(experiment.glare));
   print_section(out, "perception", perception_section_toml(experiment.perception));
   print_section(out, "presentation", presentation_section_toml(experiment.presentation));

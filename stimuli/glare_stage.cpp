@@ -60,6 +60,27 @@ void GlareStage::set_condition(GlareModel model, double gain) {
   condition_gain_ = gain;
 }
 
+void GlareStage::set_refraction(std::optional<DioptricPower> residual_error) { refraction_ = residual_error; }
+
+GlareBackend& GlareStage::refraction_psf_backend() {
+  GlareBackend& chosen = backend();
+  if (!planned_ && chosen.name() == "cpu float64") return chosen;
+  if (!refraction_backend_) refraction_backend_ = std::make_unique<CpuGlareBackend>(FftPrecision::float64);
+  return *refraction_backend_;
+}
+
+std::string GlareStage::refraction_backend_reason() {
+  const std::string chosen = planned_ || backend().name() != "cpu float64" ? std::string(planned_ ? "cpu float32 planned" : backend().name())
+                                                                           : std::string();
+  std::string text =
+      "PSFs with the observer's refraction: cpu float64, one FFT per wavelength (" +
+      std::to_string(spec_.wavelength_samples) + ") with the eye's longitudinal chromatic aberration (Thibos et al. 1992)";
+  if (!chosen.empty())
+    text += "; [glare] backend \"" + spec_.backend + "\" (" + chosen +
+            ") does not carry the refraction's phase yet, so it convolves but does not compute these PSFs";
+  return text;
+}
+
 HandoverPixels GlareStage::hybrid_handover() const {
   HybridHandover handover{spec_.hybrid_handover_inner_deg, spec_.hybrid_handover_outer_deg};
   const double reach = wave_psf_reach_deg(spec_.grid_px, psf_degrees_per_pixel(kReferenceWavelengthNm, spec_.aperture_width_mm));
@@ -182,6 +203,18 @@ std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double
   options.wavelength_samples = spec_.wavelength_samples;
   options.phase = PhaseForm::defocus;
   backend();  // made now, with the planned path when it applies
+  if (refraction_) {
+    ApertureGeometry geometry = eye.geometry_at(time_s);
+    geometry.refraction_error = *refraction_;
+    options.observer_refraction = true;
+    Psf psf;
+    try {
+      psf = refraction_psf_backend().psf(geometry, options);
+    } catch (const ClosedApertureError&) {
+      return std::nullopt;
+    }
+    return resample_psf_to_display(psf, DisplayModel(display_).degrees_per_pixel_at_centre());
+  }
   if (planned_) {
     try {
       return planned_->display_psf(eye.geometry_at(time_s));
@@ -285,9 +318,11 @@ std::optional<Psf> GlareStage::wave_psf(GlareMode mode, double time_s, double me
   std::optional<Psf> psf;
   EyeState state;
   if (mode == GlareMode::static_eye) {
-    auto cached = static_psfs_.find(mean_cd_m2);
+    const StaticPsfKey key{mean_cd_m2, refraction_.has_value(), refraction_ ? refraction_->xx() : 0.0,
+                           refraction_ ? refraction_->xy() : 0.0, refraction_ ? refraction_->yy() : 0.0};
+    auto cached = static_psfs_.find(key);
     if (cached == static_psfs_.end() && static_psfs_.size() >= kStaticCacheEntries) static_psfs_.clear();
-    if (cached == static_psfs_.end()) cached = static_psfs_.emplace(mean_cd_m2, display_psf(mode, time_s, mean_cd_m2)).first;
+    if (cached == static_psfs_.end()) cached = static_psfs_.emplace(key, display_psf(mode, time_s, mean_cd_m2)).first;
     psf = cached->second;
     state = eye_for(mode, mean_cd_m2).state_at(time_s);
   } else {

@@ -28,6 +28,8 @@
 #include "core/display_spec.h"
 #include "core/gl/gl_context.h"
 #include "glare/analytic_glare.h"
+#include "glare/cpu_glare_backend.h"
+#include "glare/dioptric_power.h"
 #include "glare/cpu_float_glare.h"
 #include "glare/eye_model.h"
 #include "glare/gaze_window_convolution.h"
@@ -106,6 +108,17 @@ class GlareStage {
   // "glare_gain" columns); until called, GlareSpec::model and 1.
   void set_condition(GlareModel model, double gain);
 
+  // The observer's residual refraction error of the frames to come (a trial's condition:
+  // runner/session/condition_refraction.h; docs/REFRACTION.md, "In a session"): every wave-optics
+  // PSF (static, dynamic, the hybrid's near field) takes it as geometry.refraction_error, its
+  // spectral PSF with one FFT per wavelength and the eye's LCA (glare/chromatic_psf.h). Nothing (the
+  // default): the observer's optics are not modelled, and every PSF is computed as before.
+  // Until the GL and planned float32 paths carry the refraction, such a PSF is computed on the CPU
+  // in float64 whatever [glare] backend says; the chosen backend still convolves.
+  void set_refraction(std::optional<DioptricPower> residual_error);
+  // One sentence for the record: how PSFs with a refraction are computed, and by what.
+  std::string refraction_backend_reason();
+
   // The analytic engine (Spencer or CIE, or the hybrid's far field) for frames of this size, made
   // on first use: its kernel is integrated over the display's pixels once (seconds for a full
   // screen), so a session makes it before its first trial.
@@ -155,6 +168,11 @@ class GlareStage {
   // "auto" on the CPU: the planned float32 path does the frames' PSF and convolution.
   std::unique_ptr<CpuFloatGlare> planned_;
   std::string backend_reason_;
+  // The PSF of a condition with the observer's refraction (set_refraction): the float64 CPU backend,
+  // the one path that carries the refraction and the LCA today (backend_ itself when it is that).
+  GlareBackend& refraction_psf_backend();
+  std::unique_ptr<CpuGlareBackend> refraction_backend_;
+  std::optional<DioptricPower> refraction_;
   // Dynamic: one eye for the whole session, starting adapted to the first frame it sees, recording
   // every frame's mean luminance (its pupil follows the field luminance).
   std::unique_ptr<EyeModel> dynamic_eye_;
@@ -165,7 +183,10 @@ class GlareStage {
   // Static: one frozen eye per field luminance (adapted to it), so identical frames give identical
   // glare at every time.
   std::map<double, std::unique_ptr<EyeModel>> static_eyes_;
-  std::map<double, std::optional<Psf>> static_psfs_;
+  // Keyed by the field luminance and the refraction (absent, or E's xx, xy, yy): conditions that
+  // differ only in the spectacles alternate within a session and keep their PSFs.
+  using StaticPsfKey = std::tuple<double, bool, double, double, double>;
+  std::map<StaticPsfKey, std::optional<Psf>> static_psfs_;
   // A static eye on a field adapting in time (the perception stages' adapted luminance, new every
   // frame) would keep an eye and a PSF per frame for the whole session: past this many field
   // luminances the caches start again (a recomputed PSF is the same; only its time is lost).

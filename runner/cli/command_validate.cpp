@@ -3,6 +3,7 @@
 #include "protocols/experiment.h"
 #include "protocols/procedure.h"
 #include "runner/cli/commands.h"
+#include "runner/session/condition_refraction.h"
 #include "stimuli/scene_library.h"
 
 namespace glarelab::cli {
@@ -16,6 +17,9 @@ Action add_validate_command(CLI::App& app) {
       const Experiment experiment = load_experiment(*path);
       const SceneLibrary scenes(experiment.scenes, experiment.display);
       const auto procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
+      // The refusals a session makes for the observer's refraction (the [glare] grid must sample
+      // every condition's residual), made here too so a file that validates also runs.
+      check_condition_refractions(experiment);
       std::cout << *path << ": ok: experiment '" << experiment.name << "', " << experiment.scenes.size()
                 << " scene(s), " << experiment.conditions.size() << " condition row(s), " << procedure->planned_trials() << " "
                 << experiment.procedure << " trials, display " << experiment.display.width_px << "x"
@@ -24,6 +28,8 @@ Action add_validate_command(CLI::App& app) {
         std::cout << "  scene " << name << ": " << scene.image_cd_m2.width_px << "x" << scene.image_cd_m2.height_px
                   << " px, peak " << scene.peak_cd_m2 << " cd/m2, mean " << scene.mean_cd_m2 << " cd/m2\n";
       }
+      for (const ConditionRefraction& refraction : condition_refractions(experiment))
+        std::cout << "  refraction: " << describe_condition_refraction(refraction) << "\n";
       return 0;
     });
   };

@@ -25,6 +25,8 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
   if (prepared.experiment.glare.presentation == "live") glare_presentation_ = GlarePresentation::live;
+  for (const ConditionRefraction& refraction : condition_refractions(prepared_.experiment))
+    condition_refractions_.emplace(refraction.condition, refraction);
   log_glare_setup();
   for (const ConditionRow& row : prepared_.experiment.conditions)
     adapts_ = adapts_ || perception_for(prepared_.experiment.perception, row).adaptation;

@@ -12,6 +12,7 @@
 #include "protocols/procedure.h"
 #include "core/clock.h"
 #include "runner/display/display_backend.h"
+#include "runner/session/condition_refraction.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interval_glare.h"
 #include "runner/session/presentation_overlays.h"
@@ -161,7 +162,8 @@ class SessionLoop {
   void log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare);
   // Once, after the first glare interval: prepared or live from then on, with the measured cost.
   void settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare);
-  // Once per session: the glare backend (what and why) and where the eye's inputs come from.
+  // Once per session: the glare backend (what and why), where the eye's inputs come from and, when
+  // the observer's optics are modelled, an 'observer_refraction' event per condition.
   void log_glare_setup();
   // Once, after the first interval with perception stages: a 'perception_stages' event with the
   // settings and the measured cost per frame.
@@ -211,6 +213,9 @@ class SessionLoop {
   const StimulusPreview* preview_ = nullptr;
   bool fast_forward_ = false;
   std::optional<PreviewFrame> preview_frame_;  // filled in by prepare_glare, then captured
+  // Each condition's refraction by condition name (runner/session/condition_refraction.h); empty
+  // when the experiment does not model the observer's optics.
+  std::map<std::string, ConditionRefraction> condition_refractions_;
   std::string save_frames_dir_;
 };
 

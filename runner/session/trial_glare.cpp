@@ -72,6 +72,10 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   const GlareModel model = glare_model_for(prepared_.experiment.glare, condition_row(plan));
   const double gain = glare_gain_for(condition_row(plan));
   glare_.set_condition(model, gain);
+  // The observer's residual refraction at the display in this condition (its spectacles).
+  const auto refraction = condition_refractions_.find(plan.condition_name);
+  glare_.set_refraction(refraction == condition_refractions_.end() ? std::nullopt
+                                                                   : std::optional(refraction->second.fixation.residual));
   // A mode per position (stimuli/position_glare.h): one layer per placement.
   std::vector<GlareMode> position_modes;
   if (plan.position_glare.size() == placements.size())
@@ -89,6 +93,13 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   }
   if (model != GlareModel::ritschel) glare.modes_label += ", " + to_string(model) + " model";
   if (gain != 1.0) glare.modes_label += ", gain " + number_text(gain);
+  if (refraction != condition_refractions_.end()) {
+    const SpheroCylinder residual = refraction->second.fixation.residual.prescription();
+    const auto dioptres = [](double value) { return number_text(std::round(value * 1e3) / 1e3 + 0.0); };
+    glare.modes_label += ", spectacles " + refraction->second.spectacles + " (residual " +
+                         dioptres(residual.sphere_dioptres) + " / " + dioptres(residual.cylinder_dioptres) + " x " +
+                         dioptres(residual.axis_deg) + " D)";
+  }
   if (!position_modes.empty() && plan.glare_keeps_peak) glare.modes_label += ", glared peak kept";
   glare.perception = perception_for(prepared_.experiment.perception, condition_row(plan));
   glare.perceived = any_perception_stage(glare.perception);
@@ -340,11 +351,22 @@ void SessionLoop::log_glare_setup() {
     any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control ||
                 (sides && *sides != std::pair{GlareMode::control, GlareMode::control});
   }
+  // The observer's optics, one event per condition (docs/DATABASE.md): what the trials of that
+  // condition (the trials table's condition column names it) were blurred with.
+  for (const ConditionRow& row : prepared_.experiment.conditions)
+    if (const auto found = condition_refractions_.find(row.name()); found != condition_refractions_.end())
+      store_.log_event(session_id_, clock_.now_s(), "observer_refraction",
+                       describe_condition_refraction(found->second) +
+                           (glare_mode_for(spec, row) == GlareMode::control && !position_glare_modes(row)
+                                ? "; a control condition: shown without glare, so not blurred"
+                                : ""));
   if (!any_glare) {
     store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
     return;
   }
-  store_.log_event(session_id_, clock_.now_s(), "glare_backend", glare_.backend_reason());
+  std::string backend_reason = glare_.backend_reason();
+  if (!condition_refractions_.empty()) backend_reason += " " + glare_.refraction_backend_reason() + ".";
+  store_.log_event(session_id_, clock_.now_s(), "glare_backend", backend_reason);
   display_.make_current();  // making a GL backend (or asking GL for auto) changed the current context
   // The analytic models' kernels are integrated over the display's pixels now, before the first
   // trial (seconds for a full screen), not at the first glare trial's onset.

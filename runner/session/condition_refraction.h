@@ -1,0 +1,59 @@
+#pragma once
+// The observer's refraction in each condition of a session (docs/REFRACTION.md, "In a session"):
+// [observer.refraction] (the eye, its accommodation amplitude from the table or from [observer]
+// age_years by Hofstetter's formula) and the spectacles the condition wears (column "spectacles",
+// else [observer] spectacles) give, through glare/eye_refraction.h (Kakimoto et al. 2007, section
+// 4.4), the residual power error at the display: the observer looks at the display, so the eye
+// accommodates on it (Eq. 13) and what accommodation cannot reach is left as defocus and
+// astigmatism. The glare stage puts that residual into every wave-optics PSF of the condition.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glare/dioptric_power.h"
+#include "glare/eye_refraction.h"
+#include "glare/glare_spec.h"
+#include "protocols/experiment.h"
+
+namespace glarelab {
+
+struct ConditionRefraction {
+  std::string condition;               // the condition's name
+  std::string spectacles = "none";     // the [spectacles.NAME] worn, or "none"
+  std::optional<SpectacleLens> lens;   // the lens at its vertex distance (none: the naked eye)
+  double accommodation_amplitude_dioptres = 0.0;
+  std::string amplitude_source;        // where the amplitude came from, for the record
+  DioptricPower ocular_refraction;     // K: the eye's error at the cornea
+  double viewing_distance_m = 0.0;     // the display, from the cornea
+  FixationRefraction fixation;         // V, Delta P and the residual E at the display
+};
+
+// True when the experiment models the observer's optics: [observer.refraction] is present or some
+// condition wears spectacles. Then every condition's wave-optics PSF carries its residual (zero for
+// an emmetrope whose accommodation reaches the display, but with the eye's LCA all the same); when
+// false every PSF is the one glarelab computed before refraction existed, bit for bit.
+bool models_observer_optics(const Experiment& experiment);
+
+// The refraction of one condition; nothing when the experiment does not model the observer's
+// optics. Throws ConfigError at the row when the display is not beyond the spectacles.
+std::optional<ConditionRefraction> condition_refraction(const Experiment& experiment, const ConditionRow& row);
+
+// Every condition's (empty when the optics are not modelled), in condition order.
+std::vector<ConditionRefraction> condition_refractions(const Experiment& experiment);
+
+// The largest pupil the session's eye can have (mm): the eye model's clamp, which a measured
+// (tracker) pupil is also clamped to. The sampling check is made for it, so no frame aliases.
+double largest_session_pupil_diameter_mm();
+
+// Refusals before anything is written (ConfigError, exit 2), for each condition that shows
+// wave-optics glare (ritschel, or the hybrid's near field) when the optics are modelled: a residual
+// whose pupil phase the [glare] grid_px cannot sample at the largest pupil, at any of the spectral
+// PSF's wavelengths with the eye's LCA (check_power_error_sampling, glare/astigmatic_phase.h);
+// and a glare condition of the analytic models (spencer, cie), which have no pupil to carry it.
+void check_condition_refractions(const Experiment& experiment);
+
+// One line for the record: the condition, spectacles, amplitude, accommodation, the residual as a
+// minus-cylinder prescription (sphere / cylinder x TABO axis, dioptres) and its geometric blur.
+std::string describe_condition_refraction(const ConditionRefraction& refraction);
+
+}  // namespace glarelab
