@@ -73,7 +73,7 @@ DioptricPower RefractiveEye::residual_error(const DioptricPower& vergence_at_cor
   return vergence_at_cornea + power(accommodation_dioptres) - DioptricPower::spherical(emmetropic_power_dioptres());
 }
 
-DioptricPower vergence_at_cornea(double object_distance_m, const std::optional<SpectacleLens>& spectacles) {
+DioptricPower vergence_at_cornea(double object_distance_m, const std::optional<ThinSpectacleLens>& spectacles) {
   require(object_distance_m > 0.0, "the object distance must be > 0 m");
   if (!spectacles) return DioptricPower::spherical(std::isinf(object_distance_m) ? 0.0 : -1.0 / object_distance_m);
   const double vertex_m = spectacles->vertex_distance_m;

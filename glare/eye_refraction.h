@@ -56,8 +56,10 @@ double emmetropic_power_dioptres();
 // non-finite age.
 double hofstetter_amplitude_dioptres(double age_years);
 
-// A sphero-cylindrical lens worn at vertex_distance_m in front of the cornea.
-struct SpectacleLens {
+// A sphero-cylindrical lens worn at vertex_distance_m in front of the cornea, as a thin lens: its
+// power only. The real lens, traced ray by ray (thickness, index, dispersion, prism, progressive
+// add), is glare/spectacle_lens.h.
+struct ThinSpectacleLens {
   SpheroCylinder prescription;
   double vertex_distance_m = kDefaultVertexDistance_m;
 };
@@ -111,12 +113,12 @@ class RefractiveEye {
 // the lens, plus the lens, carried the vertex distance d to the cornea (Eq. 1, as
 // effective_power_at_distance). Throws std::invalid_argument (naming "glare/eye_refraction") for a
 // distance not beyond the lens (or not positive), and when the light focuses at the cornea.
-DioptricPower vergence_at_cornea(double object_distance_m, const std::optional<SpectacleLens>& spectacles);
+DioptricPower vergence_at_cornea(double object_distance_m, const std::optional<ThinSpectacleLens>& spectacles);
 
 // What the observer looks at and through.
 struct ViewingCondition {
   double fixation_distance_m = std::numeric_limits<double>::infinity();  // from the cornea
-  std::optional<SpectacleLens> spectacles;
+  std::optional<ThinSpectacleLens> spectacles;
 };
 
 struct FixationRefraction {

@@ -131,7 +131,7 @@ TEST(GlareRefractionPsf, OwnSpectaclesMakeItSharpAgain) {
     EyeRefraction refraction;
     refraction.correcting_prescription = rx;
     const RefractiveEye eye(refraction);
-    const SpectacleLens lens{rx, refraction.prescription_vertex_distance_m};
+    const ThinSpectacleLens lens{rx, refraction.prescription_vertex_distance_m};
     const Psf blurred = compute_monochromatic_psf(eye_with(refraction_at_fixation(eye, {}).residual), psf_options()).psf;
     const Psf corrected = compute_monochromatic_psf(
         eye_with(refraction_at_fixation(eye, {std::numeric_limits<double>::infinity(), lens}).residual), psf_options()).psf;

@@ -85,7 +85,7 @@ TEST(GlareRefraction, MyopeSpectaclePrescriptionMovesToTheCornea) {
 TEST(GlareRefraction, OwnSpectaclesCorrectAtEveryFixationDistance) {
   const EyeRefraction refraction = prescription(-3.0, -1.5, 30.0);
   const RefractiveEye eye(refraction);
-  const SpectacleLens lens{refraction.correcting_prescription, refraction.prescription_vertex_distance_m};
+  const ThinSpectacleLens lens{refraction.correcting_prescription, refraction.prescription_vertex_distance_m};
   const FixationRefraction far = refraction_at_fixation(eye, {kInfinity, lens});
   EXPECT_EQ(far.accommodation_dioptres, 0.0);
   expect_power(far.residual, 0.0, 0.0, 0.0, 1e-12);
@@ -180,7 +180,7 @@ TEST(GlareRefraction, SturmConoidSectionIsTheGeometricBlurSeenFromTheNodalPoint)
 
 TEST(GlareRefraction, RefusesWhatItCannotModel) {
   EXPECT_THROW(RefractiveEye(prescription(0, 0, 0, -1.0)), std::invalid_argument);
-  EXPECT_THROW(vergence_at_cornea(0.01, SpectacleLens{{-2.0, 0.0, 0.0}, 0.012}), std::invalid_argument);
+  EXPECT_THROW(vergence_at_cornea(0.01, ThinSpectacleLens{{-2.0, 0.0, 0.0}, 0.012}), std::invalid_argument);
   EXPECT_THROW(vergence_at_cornea(0.0, std::nullopt), std::invalid_argument);
   // A +83.3 D lens at 12 mm focuses at the cornea: no finite ocular refraction.
   EyeRefraction focusing = prescription(1.0 / 0.012, 0.0, 0.0);

@@ -525,7 +525,7 @@ Action add_psf_command(CLI::App& app) {
         viewing.fixation_distance_m = args->viewing_distance_m;
         if (!args->spectacles.empty()) {
           const SpheroCylinder lens = parse_sphero_cylinder(args->spectacles);
-          viewing.spectacles = SpectacleLens{minus_cylinder_form(lens), vertex_m};
+          viewing.spectacles = ThinSpectacleLens{minus_cylinder_form(lens), vertex_m};
           if (lens.cylinder_dioptres > 0.0)
             std::cerr << "psf: --spectacles " << prescription_text(lens)
                       << " has a plus cylinder; taken as its minus-cylinder transposition "

@@ -14,6 +14,8 @@
 #include "glare/eye_parameters.h"
 #include "glare/fresnel.h"
 #include "glare/psf.h"
+#include "stimuli/display_model.h"
+#include "stimuli/spectacle_warp.h"
 #include "protocols/glare_config.h"
 #include "protocols/observer_optics_config.h"
 
@@ -68,7 +70,20 @@ std::optional<ConditionRefraction> condition_refraction(const Experiment& experi
   out.accommodation_amplitude_dioptres = eye.accommodation_amplitude_dioptres;
   if (const SpectaclesSettings* pair = spectacles_for(optics, row)) {
     out.spectacles = pair->name;
-    out.lens = SpectacleLens{pair->prescription, 1e-3 * pair->vertex_distance_mm};
+    out.lens = ThinSpectacleLens{pair->prescription, 1e-3 * pair->vertex_distance_mm};
+    SpectacleLensSpec spec;
+    spec.prescription = pair->prescription;
+    spec.refractive_index_d = pair->refractive_index;
+    spec.abbe_number_d = pair->abbe_number;
+    spec.vertex_distance_mm = pair->vertex_distance_mm;
+    spec.decentration_mm = glm::dvec2(pair->decentration_x_mm, pair->decentration_y_mm);
+    spec.near_add_dioptres = pair->near_add_dioptres;
+    try {
+      out.traced_lens = std::make_shared<const SpectacleLens>(spec);
+    } catch (const std::invalid_argument& error) {
+      throw ConfigError(row.where, "condition '" + row.name() + "' spectacles",
+                        "[spectacles." + pair->name + "] cannot be made as a lens: " + error.what());
+    }
   }
   out.viewing_distance_m = 1e-3 * experiment.display.viewing_distance_mm;
   const RefractiveEye refractive_eye(eye);
@@ -84,6 +99,23 @@ std::optional<ConditionRefraction> condition_refraction(const Experiment& experi
                           " cannot be seen through '" + out.spectacles + "': " + error.what());
   }
   return out;
+}
+
+namespace {
+
+SpectacleFrame display_frame(const DisplaySpec& display) {
+  return SpectacleFrame{display.width_px, display.height_px, DisplayModel(display).degrees_per_pixel_at_centre()};
+}
+
+}  // namespace
+
+ImageRGBA frame_through_spectacles(const ConditionRefraction& refraction, const DisplaySpec& display,
+                                   const ImageRGBA& composed_cd_m2, int threads) {
+  if (!refraction.traced_lens) return composed_cd_m2;
+  SpectacleWarpOptions options;
+  options.scene_distance_mm = display.viewing_distance_mm;  // the display is the scene, at its distance
+  options.threads = threads;
+  return warp_through_spectacles(composed_cd_m2, *refraction.traced_lens, display_frame(display), options);
 }
 
 std::vector<ConditionRefraction> condition_refractions(const Experiment& experiment) {
@@ -105,6 +137,17 @@ void check_condition_refractions(const Experiment& experiment) {
   ChromaticPsfOptions chromatic;
   chromatic.reference_wavelength_nm = kReferenceWavelengthNm;
   for (const ConditionRow& row : experiment.conditions) {
+    if (const std::optional<ConditionRefraction> seen = condition_refraction(experiment, row); seen && seen->traced_lens) {
+      // Every line of sight to the display must pass through the lens (the 3 x 3 grid's corners are
+      // the display's corner pixels, the widest angles).
+      try {
+        trace_grid_vertices(*seen->traced_lens, display_frame(experiment.display), kFraunhoferD_nm, 3,
+                            experiment.display.viewing_distance_mm);
+      } catch (const std::invalid_argument& error) {
+        throw ConfigError(row.where, "condition '" + row.name() + "' spectacles",
+                          "the display is not seen through all of [spectacles." + seen->spectacles + "]: " + error.what());
+      }
+    }
     if (!shows_glare(experiment, row)) continue;
     const GlareModel model = glare_model_for(spec, row);
     if (model == GlareModel::spencer || model == GlareModel::cie)

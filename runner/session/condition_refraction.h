@@ -6,12 +6,16 @@
 // 4.4), the residual power error at the display: the observer looks at the display, so the eye
 // accommodates on it (Eq. 13) and what accommodation cannot reach is left as defocus and
 // astigmatism. The glare stage puts that residual into every wave-optics PSF of the condition.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "glare/dioptric_power.h"
 #include "glare/eye_refraction.h"
+#include "core/display_spec.h"
+#include "core/image.h"
+#include "glare/spectacle_lens.h"
 #include "glare/glare_spec.h"
 #include "protocols/experiment.h"
 
@@ -20,7 +24,11 @@ namespace glarelab {
 struct ConditionRefraction {
   std::string condition;               // the condition's name
   std::string spectacles = "none";     // the [spectacles.NAME] worn, or "none"
-  std::optional<SpectacleLens> lens;   // the lens at its vertex distance (none: the naked eye)
+  std::optional<ThinSpectacleLens> lens;   // the lens at its vertex distance (none: the naked eye)
+  // The same lens as a real lens (index, Abbe number, decentration, progressive add; glare/
+  // spectacle_lens.h), through which the frame is warped (stimuli/spectacle_warp.h): magnification,
+  // distortion, prism and transverse chromatic aberration. Shared: the lens is immutable.
+  std::shared_ptr<const SpectacleLens> traced_lens;
   double accommodation_amplitude_dioptres = 0.0;
   std::string amplitude_source;        // where the amplitude came from, for the record
   DioptricPower ocular_refraction;     // K: the eye's error at the cornea
@@ -45,11 +53,19 @@ std::vector<ConditionRefraction> condition_refractions(const Experiment& experim
 // (tracker) pupil is also clamped to. The sampling check is made for it, so no frame aliases.
 double largest_session_pupil_diameter_mm();
 
+// The frame seen through the condition's spectacles (stimuli/spectacle_warp.h): the display as a
+// flat scene at its viewing distance, the primary line of sight through its centre, each channel at
+// its own wavelength. The composed frame itself without spectacles.
+ImageRGBA frame_through_spectacles(const ConditionRefraction& refraction, const DisplaySpec& display,
+                                   const ImageRGBA& composed_cd_m2, int threads);
+
 // Refusals before anything is written (ConfigError, exit 2), for each condition that shows
 // wave-optics glare (ritschel, or the hybrid's near field) when the optics are modelled: a residual
 // whose pupil phase the [glare] grid_px cannot sample at the largest pupil, at any of the spectral
 // PSF's wavelengths with the eye's LCA (check_power_error_sampling, glare/astigmatic_phase.h);
-// and a glare condition of the analytic models (spencer, cie), which have no pupil to carry it.
+// a glare condition of the analytic models (spencer, cie), which have no pupil to carry it; and
+// spectacles whose lens cannot be built (glare/spectacle_lens.h's refusals) or does not cover the
+// display (a line of sight to a corner misses the lens).
 void check_condition_refractions(const Experiment& experiment);
 
 // One line for the record: the condition, spectacles, amplitude, accommodation, the residual as a

@@ -19,6 +19,9 @@
 
 namespace glarelab {
 namespace {
+// Threads of the spectacle warp of a frame (stimuli/spectacle_warp.h; the result does not depend
+// on them): the two cores glarelab is built to run on.
+constexpr int kSpectacleThreads = 2;
 
 std::string describe_glare_window(const GazeWindow& window, const std::optional<TrackerGaze>& tracked) {
   std::string text = "gaze window " + std::to_string(window.width_px) + "x" + std::to_string(window.height_px) +
@@ -167,16 +170,25 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
     }
     update_glare_gaze(glare, glare.first_flip_s);
   }
+  // Through the condition's spectacles, the eye receives the frame warped by the lens (every
+  // layer alike); the glare and the perception stages act on what reaches the eye.
+  const auto seen = [&](const ImageRGBA& composed) {
+    return refraction != condition_refractions_.end() && refraction->second.traced_lens
+               ? frame_through_spectacles(refraction->second, prepared_.experiment.display, composed, kSpectacleThreads)
+               : composed;
+  };
   for (std::size_t p = 0; p < position_modes.size(); ++p) {
     renderer_.compose({placements[p]}, 0.0);
-    glare.layers.push_back({renderer_.read_stimulus(), position_modes[p], plan.glare_keeps_peak});
+    glare.layers.push_back({seen(renderer_.read_stimulus()), position_modes[p], plan.glare_keeps_peak});
   }
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   glare.composed_cd_m2 = renderer_.read_stimulus();
-  glare.field_cd_m2 = mean_luminance(glare.composed_cd_m2);
+  if (refraction != condition_refractions_.end() && refraction->second.traced_lens)
+    glare.through_spectacles = seen(glare.composed_cd_m2);
+  glare.field_cd_m2 = mean_luminance(glare.seen_cd_m2());
   // Glare alone: the frames are the eye's all the same (the perception stages' frames advance it
   // as they are computed).
-  if (adapts_ && !glare.perceived) see_interval(glare, glare.composed_cd_m2);
+  if (adapts_ && !glare.perceived) see_interval(glare, glare.seen_cd_m2());
   display_.make_current();
   return glare;
 }
@@ -227,7 +239,7 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
     // tracker's when one runs, else the display centre.
     const GazePoint gaze = glare.gaze.value_or(GazePoint{});
     const PerceptionResult result =
-        perception_.process(glare.composed_cd_m2, glare.perception, time_s, period_s_, gaze.x, gaze.y,
+        perception_.process(glare.seen_cd_m2(), glare.perception, time_s, period_s_, gaze.x, gaze.y,
                             glare.glared ? FieldGlare(glare_of) : FieldGlare());
     glare.adapted_cd_m2.push_back(result.adapted_luminance_cd_m2);
     glare.frames.push_back(changed_region(glare.composed_cd_m2, result.image));
@@ -236,7 +248,7 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
       perception_.see(result.frame_luminance_cd_m2, glare.first_flip_s, period_s_, glare.frames_needed,
                       glare.stimulus_frames);
   } else {
-    glare.frames.push_back(changed_region(glare.composed_cd_m2, glare_of(glare.composed_cd_m2, std::nullopt)));
+    glare.frames.push_back(changed_region(glare.composed_cd_m2, glare_of(glare.seen_cd_m2(), std::nullopt)));
   }
   if (k == 0 && preview_frame_ && preview_frame_->reports.empty()) preview_frame_->reports = reports;
   for (const GlareFrameReport& report : reports) {
