@@ -6,9 +6,13 @@
 //
 //   E(lambda) = E_ref + [LCA(lambda) - LCA(lambda_ref)] I
 //
-// (glare/chromatic_eye.h, Thibos et al. 1992), each |F|^2 normalised to sum 1 and resampled onto the
-// reference grid and weighted with the CIE 1931 CMFs by glare/spectral_accumulation.h's own functions,
-// so the operator is the reference's and only the FFT's precision differs. The scaled-reference
+// (glare/chromatic_eye.h, Thibos et al. 1992), each |F|^2 normalised to sum 1, resampled onto the
+// reference grid (bilinear about (N/2, N/2), reference pixel x read at source pixel
+// (x - N/2) lambda_ref / lambda + N/2, zero outside, times the Jacobian (lambda_ref / lambda)^2) and
+// added with the CIE 1931 CMF weights into XYZ: glare/spectral_accumulation.h's operator, done here
+// separably (each source row interpolated along x once per output row pair) on `threads` threads
+// over output rows, and only over the output pixels a wavelength's PSF reaches; the XYZ planes go
+// to linear Rec.709 by spectral_accumulation.h's own rec709_psf_from_xyz. The scaled-reference
 // spectral PSF (cpu_float_spectral_psf.h) is exact only for a phase that does not depend on
 // wavelength; this one is the one to use for an eye with a refraction error or when LCA matters.
 // Not thread-safe (buffers are reused from call to call).
@@ -27,6 +31,7 @@ struct CpuFloatChromaticSettings {
   double aperture_width_mm = 10.0;         // of that CpuFloatPsf's pupil-plane grid
   double reference_wavelength_nm = 575.0;  // lambda_ref: E_ref's wavelength and the output grid's
   int wavelength_samples = 32;             // Ritschel's lambda_i = 380 + i (770 - 380) / n nm
+  int threads = kGlareCpuThreads;          // for the resampling (the FFT takes the CpuFloatPsf's)
 };
 
 class CpuFloatChromaticPsf {
@@ -53,10 +58,16 @@ class CpuFloatChromaticPsf {
     double wavelength_nm = 0.0;
     double excess_dioptres = 0.0;  // LCA(lambda) - LCA(lambda_ref), added to E_ref
     Xyz cmf;
+    // Per output pixel x (rows and columns alike): the two bilinear neighbours of the scaled
+    // position, clamped onto the grid, with weight 0 for a neighbour outside it (it reads 0).
+    std::vector<int> index0, index1;
+    std::vector<double> weight0, weight1;
+    int first_px = 0, last_px = -1;  // output pixels with a neighbour inside the grid
   };
+  // Adds one wavelength's power spectrum times `scale` (CMF weight / sum, Jacobian) into xyz_.
+  void accumulate(const Wavelength& wavelength, const float* power, double scale);
   CpuFloatChromaticSettings settings_;
   std::vector<Wavelength> wavelengths_;
-  Psf wavelength_psf_;  // one wavelength's unit-sum PSF, reused
   XyzPlanes xyz_;
   std::string sampling_warning_;
   int aliased_wavelengths_ = 0;
