@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -119,7 +120,9 @@ SpectralPsfResult CpuFloatChromaticPsf::compute(CpuFloatPsf& psf, double pupil_d
                                   .max_phase_step_rad;
       if (step_rad > worst_step_rad) {
         worst_step_rad = step_rad;
-        sampling_warning_ = psf.sampling_warning() + " (at " + std::to_string(wavelength.wavelength_nm) + " nm)";
+        std::ostringstream where;
+        where << " (at " << wavelength.wavelength_nm << " nm)";
+        sampling_warning_ = psf.sampling_warning() + where.str();
       }
     }
     // The unit-sum PSF of psf_cpu.h (K = 1 / sum), as the reference accumulates it, with the

@@ -37,9 +37,9 @@ ApertureGeometry eye_with_prescription(const SpheroCylinder& prescription) {
   return geometry;
 }
 
-ChromaticPsfResult reference(const ApertureGeometry& geometry) {
+ChromaticPsfResult reference(const ApertureGeometry& geometry, int grid_px = kGridPx) {
   ChromaticPsfOptions options;
-  options.raster.grid_px = kGridPx;
+  options.raster.grid_px = grid_px;
   options.raster.aperture_width_mm = kWidthMm;
   options.raster.supersampling = 2;
   options.reference_wavelength_nm = kReferenceNm;
@@ -141,6 +141,25 @@ TEST(GlareCpuFloatChromatic, EmmetropeBlueIsWiderThanRedAsTheReferenceSays) {
   for (int c = 0; c < 3; ++c)
     EXPECT_NEAR(rms_radius_px(result, c) / rms_radius_px(expected, c), 1.0, 1e-5) << "channel " << c;
   EXPECT_GT(rms_radius_px(result, 2) / rms_radius_px(result, 0), 1.5);
+}
+
+TEST(GlareCpuFloatChromatic, ReportsTheAliasedWavelengthsAsTheReferenceDoes) {
+  // At N = 256 over 8 mm the blue end of these two eyes' spectra aliases.
+  CpuFloatPsfSettings settings = psf_settings();
+  settings.raster.grid_px = 256;
+  CpuFloatPsf psf(settings);
+  CpuFloatChromaticSettings chromatic_256 = chromatic_settings();
+  chromatic_256.grid_px = 256;
+  CpuFloatChromaticPsf chromatic(chromatic_256);
+  for (const SpheroCylinder& prescription : {SpheroCylinder{-2.0, 0.0, 0.0}, SpheroCylinder{-1.0, -1.5, 30.0}}) {
+    const ApertureGeometry geometry = eye_with_prescription(prescription);
+    const ChromaticPsfResult expected = reference(geometry, 256);
+    psf.rasterise(geometry);
+    (void)chromatic.compute(psf, kPupilMm, geometry.total_power_error());
+    EXPECT_GT(expected.aliased_wavelengths, 0);
+    EXPECT_EQ(chromatic.aliased_wavelengths(), expected.aliased_wavelengths);
+    EXPECT_EQ(chromatic.sampling_warning(), expected.sampling_warning);
+  }
 }
 
 TEST(GlareCpuFloatChromatic, TransformAtTheSettingsWavelengthIsTheTwoArgumentOne) {

@@ -44,9 +44,9 @@ ApertureGeometry eye_with_prescription(const SpheroCylinder& prescription) {
   return geometry;
 }
 
-ChromaticPsfResult reference(const ApertureGeometry& geometry, int wavelengths = kWavelengths) {
+ChromaticPsfResult reference(const ApertureGeometry& geometry, int wavelengths = kWavelengths, int grid_px = kGridPx) {
   ChromaticPsfOptions options;
-  options.raster.grid_px = kGridPx;
+  options.raster.grid_px = grid_px;
   options.raster.aperture_width_mm = kWidthMm;
   options.raster.supersampling = 2;
   options.reference_wavelength_nm = kReferenceNm;
@@ -98,6 +98,8 @@ TEST_F(GlChromaticTest, MatchesTheFloat64ReferenceForAMyopeAnObliqueAstigmatAndA
     const ChromaticPsfResult expected = reference(geometry);
     ASSERT_EQ(expected.aliased_wavelengths, 0) << eye.name << ": " << expected.sampling_warning;
     const Psf psf = gl_psf.chromatic(geometry, kWavelengths, kReferenceNm);
+    EXPECT_EQ(gl_psf.chromatic_aliased_wavelengths(), 0);
+    EXPECT_TRUE(gl_psf.chromatic_sampling_warning().empty());
     ASSERT_EQ(psf.channels, 3);
     ASSERT_EQ(psf.size_px, kGridPx);
     EXPECT_NEAR(psf.degrees_per_pixel, expected.spectral.psf.degrees_per_pixel, 1e-12);
@@ -138,6 +140,25 @@ TEST_F(GlChromaticTest, LcaAloneBlursBlueMoreThanRedAsTheReferenceSays) {
   EXPECT_GT(expected_ratio, 1.5);
   EXPECT_NEAR(gl_ratio / expected_ratio, 1.0, 1e-4);
   EXPECT_LT(scaled_ratio, 1.0);
+}
+
+TEST_F(GlChromaticTest, ReportsTheAliasedWavelengthsAsTheReferenceDoes) {
+  // At N = 256 over 8 mm the blue end of a -2 D myope's and a -1 / -1.5 x 30 astigmat's spectrum
+  // aliases (the eye's LCA adds up to +2.06 D at 380 nm); the emmetrope's does not.
+  gl::GlPsf gl_psf(256, kWidthMm, 2);
+  for (const SpheroCylinder& prescription : {SpheroCylinder{-2.0, 0.0, 0.0}, SpheroCylinder{-1.0, -1.5, 30.0},
+                                             SpheroCylinder{0.0, 0.0, 0.0}}) {
+    const ApertureGeometry geometry = eye_with_prescription(prescription);
+    const ChromaticPsfResult expected = reference(geometry, kWavelengths, 256);
+    (void)gl_psf.chromatic(geometry, kWavelengths, kReferenceNm);
+    EXPECT_EQ(gl_psf.chromatic_aliased_wavelengths(), expected.aliased_wavelengths);
+    EXPECT_EQ(gl_psf.chromatic_sampling_warning(), expected.sampling_warning);
+    std::printf("N = 256, %+.1f / %+.1f x %.0f: %d aliased wavelengths; %s\n", prescription.sphere_dioptres,
+                prescription.cylinder_dioptres, prescription.axis_deg, gl_psf.chromatic_aliased_wavelengths(),
+                gl_psf.chromatic_sampling_warning().c_str());
+    if (prescription.sphere_dioptres != 0.0) EXPECT_GT(expected.aliased_wavelengths, 0);
+    else EXPECT_EQ(expected.aliased_wavelengths, 0);
+  }
 }
 
 TEST_F(GlChromaticTest, ScaledReferenceSpectralPsfIsUnchangedByTheChromaticPath) {

@@ -4,11 +4,14 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "glare/astigmatic_phase.h"
 #include "glare/chromatic_eye.h"
+#include "glare/fresnel.h"
 #include "glare/cie_cmf.h"
 #include "glare/gl/cross_phase_turns.h"
 #include "core/gl/shader_program.h"
@@ -27,6 +30,16 @@ constexpr GLuint kMaxNormaliseGroups = 2048;
 void check_wavelength(double wavelength_nm) {
   if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
     throw std::invalid_argument("GL PSF: wavelength " + std::to_string(wavelength_nm) + " nm is not positive");
+}
+
+// The sampling check compute_monochromatic_psf (psf_cpu.h) makes for a power error: fresnel.h's for
+// a spherical error, the strongest principal meridian's (astigmatic_phase.h) otherwise.
+PhaseSamplingReport power_error_sampling(const DioptricPower& error, double wavelength_nm, double pupil_radius_mm,
+                                         double pixel_mm, double width_mm) {
+  if (error.xy() != 0.0 || error.xx() != error.yy())
+    return check_power_error_sampling(error, wavelength_nm, pupil_radius_mm, pixel_mm, width_mm);
+  return check_phase_sampling(phase_coefficient_per_m2(PhaseForm::defocus, wavelength_nm, error.xx()), pupil_radius_mm,
+                              pixel_mm, width_mm);
 }
 
 GLuint tiles(int extent) { return (static_cast<GLuint>(extent) + kTile - 1) / kTile; }
@@ -220,10 +233,29 @@ void GlPsf::run_chromatic(const ApertureGeometry& geometry, int wavelength_count
   const GLuint count = static_cast<GLuint>(size_px_) * static_cast<GLuint>(size_px_);
   const float zero = 0.0f;
   glClearNamedBufferData(spectral_.get(), GL_R32F, GL_RED, GL_FLOAT, &zero);
+  chromatic_warning_.clear();
+  chromatic_aliased_ = 0;
+  double worst_step_rad = 0.0;
+  const double pupil_radius_mm = 0.5 * geometry.pupil_diameter_mm, pixel_mm = aperture_.pixel_size_mm();
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const SpectralSample& sample = samples[i];
     // chromatic_psf.cpp's chromatic_power_error: E_ref + [LCA(lambda) - LCA(lambda_ref)] I.
-    apply_phase(reference_error + DioptricPower::spherical(excess_dioptres[i]), sample.wavelength_nm);
+    const DioptricPower error = reference_error + DioptricPower::spherical(excess_dioptres[i]);
+    const PhaseSamplingReport sampling =
+        power_error_sampling(error, sample.wavelength_nm, pupil_radius_mm, pixel_mm, size_px_ * pixel_mm);
+    if (sampling.aliased) {
+      ++chromatic_aliased_;
+      const double step_rad =
+          check_power_error_sampling(error, sample.wavelength_nm, pupil_radius_mm, pixel_mm, size_px_ * pixel_mm)
+              .max_phase_step_rad;
+      if (step_rad > worst_step_rad) {
+        worst_step_rad = step_rad;
+        std::ostringstream where;
+        where << " (at " << sample.wavelength_nm << " nm)";
+        chromatic_warning_ = sampling.warning + where.str();
+      }
+    }
+    apply_phase(error, sample.wavelength_nm);
     fft_.transform(FftDirection::forward);
     const double scale = reference_wavelength_nm / sample.wavelength_nm;
     const double jacobian = scale * scale;

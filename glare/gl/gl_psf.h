@@ -10,6 +10,7 @@
 // (glare/chromatic_psf.h's operator on the GPU).
 // Requires a current OpenGL 4.5 context; not thread-safe.
 #include <complex>
+#include <string>
 #include <vector>
 
 #include "glare/aperture_geometry.h"
@@ -54,6 +55,12 @@ class GlPsf {
   // wavelength that is not positive or that the LCA fit cannot take (<= 214.1 nm), before anything is
   // drawn; ClosedApertureError when no light passes.
   Psf chromatic(const ApertureGeometry& geometry, int wavelength_count = 32, double reference_wavelength_nm = 575.0);
+  // The last chromatic PSF's phase sampling check, as compute_chromatic_psf reports it: the check
+  // the CPU makes for each wavelength's error (fresnel.h's for a spherical one, the strongest
+  // meridian's for an astigmatic one), the warning of the most aliased wavelength with " (at X nm)"
+  // or empty, and how many wavelengths aliased.
+  const std::string& chromatic_sampling_warning() const { return chromatic_warning_; }
+  int chromatic_aliased_wavelengths() const { return chromatic_aliased_; }
 
   // The same work without reading back (for timing): the result stays in result_buffer().
   void run_monochromatic(const ApertureGeometry& geometry, double wavelength_nm);
@@ -73,6 +80,8 @@ class GlPsf {
   GlFft fft_;
   Program load_program_, astigmatic_load_program_, power_program_, reduce_program_, normalise_program_, spectral_program_,
       chromatic_program_, clamp_program_;
+  std::string chromatic_warning_;
+  int chromatic_aliased_ = 0;
   Buffer phase_x_, phase_y_, cross_table_, power_, spectral_, weights_, partial_a_, partial_b_;
 };
 
