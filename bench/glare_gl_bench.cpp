@@ -1,6 +1,10 @@
 // Speed of the GL glare stages (FFT, PSF, spectral PSF, convolution, the pupil function with and
 // without the astigmatic cross term) at 256/512/1024, each with its
 // error against FFTW in double as a counter (relative L2), so speed is read beside accuracy.
+// The spectral PSF with longitudinal chromatic aberration (one FFT per wavelength) on GL and on the
+// float32 CPU path beside the scaled-reference one, at 8, 16 and 32 wavelengths, with its error
+// against the float64 reference and the error of fewer wavelengths against 32
+// (docs/GLARE_OPTICS.md, "Longitudinal chromatic aberration on the fast paths").
 // Times include glFinish: the work is done, not only queued. On llvmpipe (software) the figures
 // are CPU figures; `glarelab bench` prints the user-facing table across backends.
 #include <benchmark/benchmark.h>
@@ -10,13 +14,18 @@
 #include <cmath>
 #include <complex>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "glare/chromatic_psf.h"
 #include "glare/cie_cmf.h"
+#include "glare/cpu_float_glare.h"
 #include "runner/display/compute_context.h"
 #include "glare/gl/gl_convolution.h"
 #include "glare/gl/gl_fft.h"
 #include "glare/gl/gl_psf.h"
+#include "glare/psf_cpu.h"
+#include "glare/psf_scale.h"
 #include "core/random.h"
 
 namespace glarelab {
@@ -229,6 +238,109 @@ void BM_GlConvolution(benchmark::State& state) {
   state.counters["padded_px"] = static_cast<double>(pw) * ph;
 }
 
+// A -2 D myope (residual error +2 D at 575 nm) with a 4 mm pupil alone: the GL aperture is the CPU
+// rasteriser's pixel for pixel for a bare pupil, so the chromatic PSFs compare with the float64
+// reference without an aperture difference. 8 mm across the pupil plane: at N = 512 no wavelength
+// aliases (+4.06 D at 380 nm steps 2.1 rad per pixel at the pupil's edge), at N = 256 the blue end
+// does (4.2 rad); both paths compute the same sampled function either way.
+constexpr double kChromaticWidthMm = 8.0;
+ApertureGeometry chromatic_geometry() {
+  ApertureGeometry geometry;
+  geometry.pupil_diameter_mm = 4.0;
+  geometry.refraction_error = DioptricPower::spherical(2.0);
+  return geometry;
+}
+
+ChromaticPsfResult chromatic_reference(int n, int wavelengths) {
+  ChromaticPsfOptions options;
+  options.raster.grid_px = n;
+  options.raster.aperture_width_mm = kChromaticWidthMm;
+  options.wavelength_samples = wavelengths;
+  return compute_chromatic_psf(chromatic_geometry(), options);
+}
+
+// The largest of the three channels' relative L2 errors.
+double worst_channel_l2(const Psf& test, const Psf& expected) {
+  const std::size_t plane = static_cast<std::size_t>(expected.size_px) * expected.size_px;
+  double worst = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    double error = 0.0, norm = 0.0;
+    for (std::size_t k = c * plane; k < (c + 1) * plane; ++k) {
+      error += (test.values[k] - expected.values[k]) * (test.values[k] - expected.values[k]);
+      norm += expected.values[k] * expected.values[k];
+    }
+    worst = std::max(worst, std::sqrt(error / norm));
+  }
+  return worst;
+}
+
+// GL: the scaled-reference spectral PSF (arg 2 = 0, one FFT) or the one with LCA (1, one FFT per
+// wavelength); args N, wavelengths. Counter: the LCA PSF's worst channel against compute_chromatic_psf.
+void BM_GlChromaticPsf(benchmark::State& state) {
+  context();
+  const int n = static_cast<int>(state.range(0)), wavelengths = static_cast<int>(state.range(1));
+  const bool lca = state.range(2) != 0;
+  const ApertureGeometry geometry = chromatic_geometry();
+  gl::GlPsf psf(n, kChromaticWidthMm, 2);
+  // Warm-up (llvmpipe compiles each shader at its first dispatch) and the error.
+  if (lca) {
+    const Psf result = psf.chromatic(geometry, wavelengths, 575.0);
+    state.counters["rel_l2_vs_float64"] = worst_channel_l2(result, chromatic_reference(n, wavelengths).spectral.psf);
+  } else {
+    psf.run_spectral(geometry, wavelengths, 575.0);
+  }
+  glFinish();
+  for (auto _ : state) {
+    if (lca) psf.run_chromatic(geometry, wavelengths, 575.0);
+    else psf.run_spectral(geometry, wavelengths, 575.0);
+    glFinish();
+  }
+}
+
+// The float32 CPU path's display PSF (CpuFloatGlare::display_psf: aperture, FFT(s), spectral PSF at
+// 4 PSF pixels per display pixel), scaled reference (arg 2 = 0) or LCA (1). Counter: the LCA one's
+// worst channel against compute_chromatic_psf resampled the same way.
+void BM_CpuFloatChromaticPsf(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), wavelengths = static_cast<int>(state.range(1));
+  CpuFloatGlareSettings settings;
+  settings.grid_px = n;
+  settings.aperture_width_mm = kChromaticWidthMm;
+  settings.wavelength_samples = wavelengths;
+  settings.display_degrees_per_pixel = 4.0 * psf_degrees_per_pixel(575.0, kChromaticWidthMm);
+  settings.longitudinal_chromatic_aberration = state.range(2) != 0;
+  CpuFloatGlare glare(settings);
+  const ApertureGeometry geometry = chromatic_geometry();
+  const Psf first = glare.display_psf(geometry);
+  if (settings.longitudinal_chromatic_aberration)
+    state.counters["rel_l2_vs_float64"] = worst_channel_l2(
+        first, resample_psf_to_display(chromatic_reference(n, wavelengths).spectral.psf, settings.display_degrees_per_pixel));
+  for (auto _ : state) benchmark::DoNotOptimize(glare.display_psf(geometry));
+}
+
+// The float64 reference (compute_chromatic_psf) itself, args N, wavelengths; counters: each channel's
+// relative L2 against the 32-wavelength PSF of the same N (what fewer wavelengths cost).
+void BM_CpuDoubleChromaticPsf(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), wavelengths = static_cast<int>(state.range(1));
+  const Psf psf = chromatic_reference(n, wavelengths).spectral.psf;
+  const Psf full = chromatic_reference(n, 32).spectral.psf;
+  const std::size_t plane = static_cast<std::size_t>(n) * n;
+  for (int c = 0; c < 3; ++c) {
+    double error = 0.0, norm = 0.0;
+    for (std::size_t k = c * plane; k < (c + 1) * plane; ++k) {
+      error += (psf.values[k] - full.values[k]) * (psf.values[k] - full.values[k]);
+      norm += full.values[k] * full.values[k];
+    }
+    state.counters[std::string("rel_l2_vs_32_") + "RGB"[c]] = std::sqrt(error / norm);
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(chromatic_reference(n, wavelengths));
+}
+
+void chromatic_arguments(benchmark::internal::Benchmark* benchmark) {
+  for (int n : {256, 512})
+    for (int wavelengths : {8, 16, 32})
+      for (int lca : {0, 1}) benchmark->Args({n, wavelengths, lca});
+}
+
 BENCHMARK(BM_GlFft)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlAperture)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlPsf)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -241,6 +353,16 @@ BENCHMARK(BM_GlPupilFunction)
     ->UseRealTime();
 BENCHMARK(BM_GlSpectralPsf)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlConvolution)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GlChromaticPsf)->Apply(chromatic_arguments)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CpuFloatChromaticPsf)->Apply(chromatic_arguments)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CpuDoubleChromaticPsf)
+    ->Args({256, 8})
+    ->Args({256, 16})
+    ->Args({512, 8})
+    ->Args({512, 16})
+    ->Args({512, 32})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace glarelab

@@ -1,6 +1,7 @@
 #include "glare/cpu_float_glare.h"
 
 #include "glare/fftw_float_plan.h"
+#include "glare/psf_scale.h"
 
 namespace glarelab {
 namespace {
@@ -30,10 +31,27 @@ CpuFloatSpectralSettings spectral_settings(const CpuFloatGlareSettings& settings
 }  // namespace
 
 CpuFloatGlare::CpuFloatGlare(const CpuFloatGlareSettings& settings)
-    : psf_(psf_settings(settings)), spectral_(spectral_settings(settings, psf_.degrees_per_pixel())) {}
+    : psf_(psf_settings(settings)),
+      spectral_(spectral_settings(settings, psf_.degrees_per_pixel())),
+      display_degrees_per_pixel_(settings.display_degrees_per_pixel) {
+  if (settings.longitudinal_chromatic_aberration) {
+    CpuFloatChromaticSettings chromatic;
+    chromatic.grid_px = settings.grid_px;
+    chromatic.aperture_width_mm = settings.aperture_width_mm;
+    chromatic.reference_wavelength_nm = settings.reference_wavelength_nm;
+    chromatic.wavelength_samples = settings.wavelength_samples;
+    chromatic_ = std::make_unique<CpuFloatChromaticPsf>(chromatic);
+  }
+}
 
 Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry) {
   psf_.rasterise(geometry);
+  if (chromatic_) {
+    // One FFT per wavelength on the N x N grid, then the box resampling the float64 path applies to
+    // compute_chromatic_psf's result (psf_scale.h), each channel keeping its unit sum.
+    const SpectralPsfResult spectral = chromatic_->compute(psf_, geometry.pupil_diameter_mm, geometry.total_power_error());
+    return resample_psf_to_display(spectral.psf, display_degrees_per_pixel_);
+  }
   // The whole power error: defocus plus the observer's refraction error (spherical: the defocus
   // phase as before, bit for bit; astigmatic: glare/astigmatic_phase.h's phase).
   psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());

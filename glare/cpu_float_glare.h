@@ -12,6 +12,7 @@
 #include "core/image.h"
 #include "glare/aperture_geometry.h"
 #include "glare/cpu_float_convolution.h"
+#include "glare/cpu_float_chromatic_psf.h"
 #include "glare/cpu_float_psf.h"
 #include "glare/cpu_float_spectral_psf.h"
 #include "glare/psf.h"
@@ -25,6 +26,11 @@ struct CpuFloatGlareSettings {
   double reference_wavelength_nm = 575.0;
   int wavelength_samples = 32;
   double display_degrees_per_pixel = 0.0;  // at the display's centre (psf_scale.h)
+  // false: the scaled-reference spectral PSF (cpu_float_spectral_psf.h), one FFT at the reference
+  // wavelength, bit for bit as before. true: the eye's longitudinal chromatic aberration, one FFT per
+  // wavelength with its own power error (cpu_float_chromatic_psf.h), box-resampled onto the display
+  // (psf_scale.h) as the float64 path resamples compute_chromatic_psf.
+  bool longitudinal_chromatic_aberration = false;
 };
 
 class CpuFloatGlare {
@@ -38,14 +44,19 @@ class CpuFloatGlare {
   // through. Refuses NaN, Inf and negative pixels (std::invalid_argument), as convolve_image_cpu.
   ImageRGBA convolve(const ImageRGBA& image, const Psf& display_psf);
   // The phase sampling check of the last display_psf() (the eye's whole power error, defocus plus
-  // refraction; cpu_float_psf.h): the aliasing warning, or empty.
-  const std::string& sampling_warning() const { return psf_.sampling_warning(); }
+  // refraction; cpu_float_psf.h): the aliasing warning, or empty. With LCA, that of the most aliased
+  // wavelength (cpu_float_chromatic_psf.h).
+  const std::string& sampling_warning() const {
+    return chromatic_ ? chromatic_->sampling_warning() : psf_.sampling_warning();
+  }
   // Whether the last convolve() reused the kept frame spectrum.
   bool reused_scene() const { return reused_scene_; }
 
  private:
   CpuFloatPsf psf_;
   CpuFloatSpectralPsf spectral_;
+  std::unique_ptr<CpuFloatChromaticPsf> chromatic_;  // only with longitudinal_chromatic_aberration
+  double display_degrees_per_pixel_ = 0.0;
   std::unique_ptr<CpuFloatConvolution> convolution_;
   int convolution_width_px_ = 0, convolution_height_px_ = 0, convolution_kernel_px_ = 0;
   ImageRGBA scene_;  // the frame whose spectrum the convolution holds

@@ -34,14 +34,20 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, double defocus_dioptres) {
 }
 
 void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error) {
+  transform(pupil_diameter_mm, error, settings_.wavelength_nm);
+}
+
+void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error, double wavelength_nm) {
+  if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
+    throw std::invalid_argument("glare/cpu_float_psf: wavelength must be > 0 nm");
   const int n = settings_.raster.grid_px;
   if (grid_.grid_px != n) throw std::logic_error("glare/cpu_float_psf: transform before rasterise");
   // A spherical error is fresnel.h's quadratic phase pi c r^2 of its one power, computed as it was
   // before errors had a cylinder; only an astigmatic one takes the general form.
   const bool astigmatic = settings_.phase == PhaseForm::defocus && (error.xy() != 0.0 || error.xx() != error.yy());
-  const double coefficient = phase_coefficient_per_m2(settings_.phase, settings_.wavelength_nm, error.xx());
+  const double coefficient = phase_coefficient_per_m2(settings_.phase, wavelength_nm, error.xx());
   const PhaseSamplingReport sampling =
-      astigmatic ? check_power_error_sampling(error, settings_.wavelength_nm, 0.5 * pupil_diameter_mm, grid_.pixel_mm(),
+      astigmatic ? check_power_error_sampling(error, wavelength_nm, 0.5 * pupil_diameter_mm, grid_.pixel_mm(),
                                               grid_.aperture_width_mm)
                  : check_phase_sampling(coefficient, 0.5 * pupil_diameter_mm, grid_.pixel_mm(), grid_.aperture_width_mm);
   sampling_warning_ = sampling.aliased ? sampling.warning : std::string();
@@ -69,7 +75,7 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error
         std::complex<double> value{a, 0.0};
         if (astigmatic && a != 0.0) {
           const double x_m = (i - n / 2) * dx_m;
-          value = std::polar(a, power_error_phase_rad(error, settings_.wavelength_nm, x_m, y_m));
+          value = std::polar(a, power_error_phase_rad(error, wavelength_nm, x_m, y_m));
         } else if (coefficient != 0.0 && a != 0.0) {
           const double x_m = (i - n / 2) * dx_m;
           value = std::polar(a, quadratic_phase_rad(coefficient, x_m * x_m + y_m * y_m));

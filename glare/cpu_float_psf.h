@@ -41,6 +41,11 @@ class CpuFloatPsf {
   // otherwise it is transform(pupil_diameter_mm, E_xx), bit for bit (the forms none and paper take
   // no error, as they take no defocus).
   void transform(double pupil_diameter_mm, const DioptricPower& error);
+  // The same at another wavelength than settings.wavelength_nm, with the same plan and buffers (the
+  // spectral PSF with longitudinal chromatic aberration transforms once per wavelength:
+  // cpu_float_chromatic_psf.h). The two-argument form is this one at settings.wavelength_nm. Throws
+  // std::invalid_argument for a wavelength that is not positive.
+  void transform(double pupil_diameter_mm, const DioptricPower& error, double wavelength_nm);
 
   // |FFT|^2 shifted, unnormalised (K is left to whoever normalises: the spectral PSF normalises its
   // channels itself), N x N row-major.

@@ -114,9 +114,12 @@ CpuRun run_cpu(const ApertureGeometry& geometry, int n, FftPrecision precision, 
   mono.raster = raster;
   mono.wavelength_nm = kWavelengthNm;
   mono.precision = precision;
-  (void)compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, geometry.defocus_dioptres, mono);  // FFTW plans
+  // The eye's whole power error (defocus plus refraction), as a session's PSF takes it; a spherical
+  // one is the defocus phase bit for bit (psf_cpu.h).
+  const DioptricPower error = geometry.total_power_error();
+  (void)compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, error, mono);  // FFTW plans
   run.row.psf_s = fastest(options.repeats, [&] {
-    run.mono = compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, geometry.defocus_dioptres, mono).psf;
+    run.mono = compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, error, mono).psf;
   });
   SpectralPsfOptions spectral;
   spectral.wavelength_samples = options.wavelength_samples;
@@ -172,7 +175,7 @@ struct PlannedPath {
   // One whole frame for the eye's geometry; a new scene transforms the image too.
   void frame(const ApertureGeometry& geometry, bool new_scene, ImageRGBA& out) {
     psf.rasterise(geometry);
-    psf.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres);
+    psf.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
     const Psf kernel = spectral.compute(psf.power(), geometry.pupil_diameter_mm);
     if (new_scene) convolution.set_scene(scene);
     convolution.convolve(kernel, out);
@@ -187,7 +190,7 @@ PlannedRun run_cpu_planned(const ApertureGeometry& geometry, int n, const GlareB
   path.frame(geometry, true, run.frame);  // warm-up
   run.row.aperture_s = fastest(options.repeats, [&] { path.psf.rasterise(geometry); });
   run.row.psf_s =
-      fastest(options.repeats, [&] { path.psf.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres); });
+      fastest(options.repeats, [&] { path.psf.transform(geometry.pupil_diameter_mm, geometry.total_power_error()); });
   run.mono = path.psf.monochromatic_psf();
   run.row.spectral_s = fastest(options.repeats, [&] { run.spectral = path.spectral.compute(path.psf.power(), geometry.pupil_diameter_mm); });
   run.row.convolution_s = fastest(options.repeats, [&] {
@@ -197,11 +200,19 @@ PlannedRun run_cpu_planned(const ApertureGeometry& geometry, int n, const GlareB
   return run;
 }
 
+// The eye model's geometry at time_s with the benchmark's refraction error.
+ApertureGeometry benchmark_geometry(const EyeModel& eye, double time_s, const GlareBenchmarkOptions& options) {
+  ApertureGeometry geometry = eye.geometry_at(time_s);
+  geometry.refraction_error = geometry.refraction_error + options.refraction_error;
+  return geometry;
+}
+
 // Eye geometries 1/60 s apart from time_s on, blinks skipped: one per timed frame.
-std::vector<ApertureGeometry> frame_geometries(const EyeModel& eye, double time_s, int count) {
+std::vector<ApertureGeometry> frame_geometries(const EyeModel& eye, double time_s, int count,
+                                               const GlareBenchmarkOptions& options) {
   std::vector<ApertureGeometry> geometries;
   for (double t = time_s; static_cast<int>(geometries.size()) < count && t < time_s + 600.0; t += 1.0 / 60.0)
-    if (eye.state_at(t).blink_closure == 0.0) geometries.push_back(eye.geometry_at(t));
+    if (eye.state_at(t).blink_closure == 0.0) geometries.push_back(benchmark_geometry(eye, t, options));
   return geometries;
 }
 
@@ -216,7 +227,7 @@ GlareFrameRow time_frames(const EyeModel& eye, double time_s, int n, const Glare
   row.fft_rows = path.convolution.fft_rows();
   row.fft_cols = path.convolution.fft_cols();
   FftwFloatFloor floor(n, row.fft_rows, row.fft_cols, kGlareCpuThreads);
-  const std::vector<ApertureGeometry> geometries = frame_geometries(eye, time_s, 2 * row.frames + 1);
+  const std::vector<ApertureGeometry> geometries = frame_geometries(eye, time_s, 2 * row.frames + 1, options);
   ImageRGBA out;
   path.frame(geometries.front(), true, out);  // warm-up: first touch of every buffer
   floor.run();
@@ -305,7 +316,7 @@ GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options) {
   const EyeModel eye(EyeParameters{}, options.seed);
   double time_s = options.time_s;
   while (eye.state_at(time_s).blink_closure > 0.0 && time_s < options.time_s + 60.0) time_s += 0.1;
-  const ApertureGeometry geometry = eye.geometry_at(time_s);
+  const ApertureGeometry geometry = benchmark_geometry(eye, time_s, options);
   {
     std::ostringstream text;
     text << "eye model (default parameters) at t = " << time_s << " s (no blink), seed " << options.seed << ": pupil "

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/gl/gl_context.h"
+#include "glare/dioptric_power.h"
 
 namespace glarelab {
 
@@ -33,6 +34,11 @@ struct GlareBenchmarkOptions {
   int frames = 5;   // whole frames timed per N and scene kind (each at a new eye time), fastest kept
   double time_s = 1.0;
   unsigned long long seed = 1;
+  // The observer's residual refraction error (dioptres, observer frame; glare/dioptric_power.h) put
+  // into every eye-model geometry (ApertureGeometry::refraction_error): every path then times and
+  // checks the phase of the whole power error, defocus plus refraction, as a session computes it.
+  // Zero: the eye model's defocus alone.
+  DioptricPower refraction_error;
   std::function<void(const std::string&)> progress;  // one line per step (the command prints it on stderr)
 };
 

@@ -4,10 +4,14 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "glare/astigmatic_phase.h"
+#include "glare/chromatic_eye.h"
+#include "glare/fresnel.h"
 #include "glare/cie_cmf.h"
 #include "glare/gl/cross_phase_turns.h"
 #include "core/gl/shader_program.h"
@@ -26,6 +30,16 @@ constexpr GLuint kMaxNormaliseGroups = 2048;
 void check_wavelength(double wavelength_nm) {
   if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
     throw std::invalid_argument("GL PSF: wavelength " + std::to_string(wavelength_nm) + " nm is not positive");
+}
+
+// The sampling check compute_monochromatic_psf (psf_cpu.h) makes for a power error: fresnel.h's for
+// a spherical error, the strongest principal meridian's (astigmatic_phase.h) otherwise.
+PhaseSamplingReport power_error_sampling(const DioptricPower& error, double wavelength_nm, double pupil_radius_mm,
+                                         double pixel_mm, double width_mm) {
+  if (error.xy() != 0.0 || error.xx() != error.yy())
+    return check_power_error_sampling(error, wavelength_nm, pupil_radius_mm, pixel_mm, width_mm);
+  return check_phase_sampling(phase_coefficient_per_m2(PhaseForm::defocus, wavelength_nm, error.xx()), pupil_radius_mm,
+                              pixel_mm, width_mm);
 }
 
 GLuint tiles(int extent) { return (static_cast<GLuint>(extent) + kTile - 1) / kTile; }
@@ -52,6 +66,8 @@ GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
   reduce_program_ = build_program({"glare/shaders/sum_reduce.comp"});
   normalise_program_ = build_program({"glare/shaders/psf_normalise.comp"});
   spectral_program_ = build_program({"glare/shaders/psf_spectral.comp"});
+  chromatic_program_ = build_program({"glare/shaders/psf_chromatic_accumulate.comp"});
+  clamp_program_ = build_program({"glare/shaders/psf_clamp_negative.comp"});
   const std::size_t count = static_cast<std::size_t>(size_px) * size_px;
   phase_x_ = storage(static_cast<std::size_t>(size_px) * 2 * sizeof(float));
   phase_y_ = storage(static_cast<std::size_t>(size_px) * 2 * sizeof(float));
@@ -203,6 +219,69 @@ void GlPsf::run_spectral(const ApertureGeometry& geometry, int wavelength_count,
   check_gl_error("GL PSF: spectral");
 }
 
+void GlPsf::run_chromatic(const ApertureGeometry& geometry, int wavelength_count, double reference_wavelength_nm) {
+  // Every refusal before anything is drawn: the samples (n >= 1) and the LCA at the reference.
+  check_wavelength(reference_wavelength_nm);
+  const std::vector<SpectralSample> samples = spectral_samples(wavelength_count);
+  std::vector<double> excess_dioptres;
+  for (const SpectralSample& sample : samples)
+    excess_dioptres.push_back(chromatic_power_excess_dioptres(sample.wavelength_nm, reference_wavelength_nm));
+
+  // The aperture does not depend on wavelength: drawn once, each wavelength only re-applies its phase.
+  aperture_.draw(geometry);
+  const DioptricPower reference_error = geometry.total_power_error();
+  const GLuint count = static_cast<GLuint>(size_px_) * static_cast<GLuint>(size_px_);
+  const float zero = 0.0f;
+  glClearNamedBufferData(spectral_.get(), GL_R32F, GL_RED, GL_FLOAT, &zero);
+  chromatic_warning_.clear();
+  chromatic_aliased_ = 0;
+  double worst_step_rad = 0.0;
+  const double pupil_radius_mm = 0.5 * geometry.pupil_diameter_mm, pixel_mm = aperture_.pixel_size_mm();
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const SpectralSample& sample = samples[i];
+    // chromatic_psf.cpp's chromatic_power_error: E_ref + [LCA(lambda) - LCA(lambda_ref)] I.
+    const DioptricPower error = reference_error + DioptricPower::spherical(excess_dioptres[i]);
+    const PhaseSamplingReport sampling =
+        power_error_sampling(error, sample.wavelength_nm, pupil_radius_mm, pixel_mm, size_px_ * pixel_mm);
+    if (sampling.aliased) {
+      ++chromatic_aliased_;
+      const double step_rad =
+          check_power_error_sampling(error, sample.wavelength_nm, pupil_radius_mm, pixel_mm, size_px_ * pixel_mm)
+              .max_phase_step_rad;
+      if (step_rad > worst_step_rad) {
+        worst_step_rad = step_rad;
+        std::ostringstream where;
+        where << " (at " << sample.wavelength_nm << " nm)";
+        chromatic_warning_ = sampling.warning + where.str();
+      }
+    }
+    apply_phase(error, sample.wavelength_nm);
+    fft_.transform(FftDirection::forward);
+    const double scale = reference_wavelength_nm / sample.wavelength_nm;
+    const double jacobian = scale * scale;
+    const GLuint accumulate = chromatic_program_.get();
+    glUseProgram(accumulate);
+    glUniform1i(glGetUniformLocation(accumulate, "uSize"), size_px_);
+    glUniform1f(glGetUniformLocation(accumulate, "uScale"), static_cast<float>(scale));
+    glUniform3f(glGetUniformLocation(accumulate, "uWeight"), static_cast<float>(jacobian * sample.weight.r),
+                static_cast<float>(jacobian * sample.weight.g), static_cast<float>(jacobian * sample.weight.b));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, fft_.data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, spectral_.get());
+    glDispatchCompute(tiles(size_px_), tiles(size_px_), 1);
+    // The next wavelength's load writes the FFT buffer this pass reads.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  const GLuint clamp = clamp_program_.get();
+  glUseProgram(clamp);
+  glUniform1ui(glGetUniformLocation(clamp, "uCount"), 3 * count);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, spectral_.get());
+  glDispatchCompute(std::min((3 * count + kNormaliseGroup - 1) / kNormaliseGroup, kMaxNormaliseGroups), 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  normalise(spectral_.get(), 3);
+  glUseProgram(0);
+  check_gl_error("GL PSF: chromatic");
+}
+
 Psf GlPsf::read(int channels, double wavelength_nm) const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   const std::size_t count = static_cast<std::size_t>(channels) * size_px_ * size_px_;
@@ -224,6 +303,11 @@ Psf GlPsf::monochromatic(const ApertureGeometry& geometry, double wavelength_nm)
 
 Psf GlPsf::spectral(const ApertureGeometry& geometry, int wavelength_count, double reference_wavelength_nm) {
   run_spectral(geometry, wavelength_count, reference_wavelength_nm);
+  return read(3, reference_wavelength_nm);
+}
+
+Psf GlPsf::chromatic(const ApertureGeometry& geometry, int wavelength_count, double reference_wavelength_nm) {
+  run_chromatic(geometry, wavelength_count, reference_wavelength_nm);
   return read(3, reference_wavelength_nm);
 }
 
