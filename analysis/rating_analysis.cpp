@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <set>
+#include <toml++/toml.h>
 
 #include "analysis/statistics.h"
 
@@ -15,42 +17,172 @@ std::optional<double> as_number(const std::string& text) {
   return value;
 }
 
+struct Answer {
+  std::string participant;
+  std::string condition;
+  std::string category;
+  std::string value;
+};
+
+template <typename T>
+void remember(std::vector<T>& order, const T& item) {
+  if (std::find(order.begin(), order.end(), item) == order.end()) order.push_back(item);
+}
+
+// Answer values in scale order: numeric order when every value is a number, else text order.
+void sort_scale(std::vector<std::string>& values, bool numeric) {
+  if (numeric) {
+    std::stable_sort(values.begin(), values.end(),
+                     [](const std::string& a, const std::string& b) { return *as_number(a) < *as_number(b); });
+  } else {
+    std::sort(values.begin(), values.end());
+  }
+}
+
+RatingDistribution distribution_of(const std::string& condition, const std::string& category,
+                                   const std::vector<std::string>& values, const std::vector<std::string>& scale,
+                                   bool numeric) {
+  RatingDistribution distribution;
+  distribution.condition = condition;
+  distribution.category = category;
+  distribution.answers = static_cast<long>(values.size());
+  for (const std::string& point : scale) {
+    distribution.categories.emplace_back(point, static_cast<long>(std::count(values.begin(), values.end(), point)));
+  }
+  if (numeric && !values.empty()) {
+    std::vector<double> numbers;
+    for (const std::string& value : values) numbers.push_back(*as_number(value));
+    distribution.mean = mean_and_standard_error(numbers).mean;
+    distribution.median = median(numbers);
+  }
+  return distribution;
+}
+
+RatingComparison compare_category(const std::string& category, const std::vector<Answer>& answers) {
+  RatingComparison comparison;
+  comparison.category = category;
+  std::vector<std::string> participants;
+  // (participant, condition) -> the participant's ratings of that condition on this category.
+  std::map<std::pair<std::string, std::string>, std::vector<double>> ratings;
+  for (const Answer& answer : answers) {
+    if (answer.category != category) continue;
+    remember(comparison.conditions, answer.condition);
+    remember(participants, answer.participant);
+    ratings[{answer.participant, answer.condition}].push_back(*as_number(answer.value));
+  }
+  for (const std::string& participant : participants) {
+    std::vector<double> row;
+    for (const std::string& condition : comparison.conditions) {
+      const auto found = ratings.find({participant, condition});
+      if (found == ratings.end()) break;
+      row.push_back(mean_and_standard_error(found->second).mean);
+    }
+    if (row.size() == comparison.conditions.size()) {
+      comparison.participants.push_back(participant);
+      comparison.scores.push_back(std::move(row));
+    } else {
+      comparison.left_out.push_back(participant);
+    }
+  }
+  const std::size_t k = comparison.conditions.size();
+  if (k < 2) {
+    comparison.unavailable = "only one condition was rated on this category: nothing to compare";
+  } else if (comparison.participants.empty()) {
+    comparison.unavailable = "no participant rated every condition of this category";
+  } else if (k == 2) {
+    std::vector<double> first, second;
+    for (const auto& row : comparison.scores) {
+      first.push_back(row[0]);
+      second.push_back(row[1]);
+    }
+    comparison.wilcoxon = wilcoxon_signed_rank(first, second);
+  } else {
+    comparison.friedman = friedman_test(comparison.scores);
+  }
+  return comparison;
+}
+
 }  // namespace
+
+std::optional<int> stored_scale_points(const std::string& config_toml) {
+  toml::table root;
+  try {
+    root = toml::parse(config_toml);
+  } catch (const toml::parse_error&) {
+    return std::nullopt;
+  }
+  const std::optional<std::int64_t> points = root["procedure"]["scale_points"].value<std::int64_t>();
+  if (!points || *points < 2) return std::nullopt;
+  return static_cast<int>(*points);
+}
 
 RatingAnalysis analyse_ratings(const LoadedData& data) {
   RatingAnalysis analysis;
-  std::vector<std::string> order;
-  std::map<std::string, std::vector<std::string>> answers;
+  std::vector<Answer> answers;
+  std::vector<std::string> condition_order;
+  std::vector<std::pair<std::string, std::string>> cell_order;  // (category, condition)
+  int scale_points = 0;
   for (const LoadedSession& session : data.sessions) {
+    bool rated = false;
     for (const LoadedTrial& trial : session.trials) {
       if (trial.record.procedure != "rating") continue;
       ++analysis.trials;
+      rated = true;
       if (trial.record.response.empty() || trial.record.response == "abort") continue;
       const std::string* name = trial.condition_value("name");
-      const std::string condition = name != nullptr ? *name : trial.record.condition;
-      if (answers.find(condition) == answers.end()) order.push_back(condition);
-      answers[condition].push_back(trial.record.response);
+      const std::string* category = trial.condition_value("category");
+      Answer answer{session.record.participant, name != nullptr ? *name : trial.record.condition,
+                    category != nullptr ? *category : "", trial.record.response};
+      remember(condition_order, answer.condition);
+      remember(analysis.category_order, answer.category);
+      remember(cell_order, {answer.category, answer.condition});
+      answers.push_back(std::move(answer));
+    }
+    if (rated) scale_points = std::max(scale_points, stored_scale_points(session.record.config).value_or(0));
+  }
+  bool numeric = !answers.empty();
+  std::vector<std::string> observed;
+  for (const Answer& answer : answers) {
+    numeric = numeric && as_number(answer.value).has_value();
+    remember(observed, answer.value);
+  }
+  // Every point of the stored scale appears in the per-category distributions (Figs. 7.2-7.7
+  // show the unchosen points too).
+  analysis.scale = observed;
+  if (numeric) {
+    for (int point = 1; point <= scale_points; ++point) {
+      const std::string text = std::to_string(point);
+      const bool present = std::any_of(analysis.scale.begin(), analysis.scale.end(),
+                                       [&](const std::string& value) { return *as_number(value) == point; });
+      if (!present) analysis.scale.push_back(text);
     }
   }
-  for (const std::string& condition : order) {
-    const auto& list = answers[condition];
-    RatingDistribution distribution;
-    distribution.condition = condition;
-    distribution.answers = static_cast<long>(list.size());
-    std::map<std::string, long> counts;
-    std::vector<double> numbers;
-    for (const std::string& answer : list) {
-      ++counts[answer];
-      if (auto number = as_number(answer)) numbers.push_back(*number);
+  sort_scale(analysis.scale, numeric);
+  sort_scale(observed, numeric);
+
+  for (const std::string& condition : condition_order) {
+    std::vector<std::string> values;
+    for (const Answer& answer : answers)
+      if (answer.condition == condition) values.push_back(answer.value);
+    std::vector<std::string> seen;
+    for (const std::string& value : observed)
+      if (std::find(values.begin(), values.end(), value) != values.end()) seen.push_back(value);
+    analysis.conditions.push_back(distribution_of(condition, "", values, seen, numeric));
+  }
+  for (const std::string& category : analysis.category_order) {
+    for (const auto& [cell_category, condition] : cell_order) {
+      if (cell_category != category) continue;
+      std::vector<std::string> values;
+      for (const Answer& answer : answers)
+        if (answer.category == category && answer.condition == condition) values.push_back(answer.value);
+      analysis.cells.push_back(distribution_of(condition, category, values, analysis.scale, numeric));
     }
-    for (const auto& entry : counts) distribution.categories.push_back(entry);
-    if (numbers.size() == list.size()) {
-      std::sort(distribution.categories.begin(), distribution.categories.end(),
-                [](const auto& a, const auto& b) { return *as_number(a.first) < *as_number(b.first); });
-      distribution.mean = mean_and_standard_error(numbers).mean;
-      distribution.median = median(numbers);
-    }
-    analysis.conditions.push_back(std::move(distribution));
+  }
+  if (!numeric && !answers.empty()) {
+    analysis.notes.push_back("not every rating is a number: no means, medians or rank tests");
+  } else {
+    for (const std::string& category : analysis.category_order)
+      analysis.comparisons.push_back(compare_category(category, answers));
   }
   return analysis;
 }
