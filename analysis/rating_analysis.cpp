@@ -29,6 +29,16 @@ void remember(std::vector<T>& order, const T& item) {
   if (std::find(order.begin(), order.end(), item) == order.end()) order.push_back(item);
 }
 
+// Moves the items of `order` that `preferred` names to the front, in `preferred`'s order.
+void put_first(std::vector<std::string>& order, const std::vector<std::string>& preferred) {
+  std::vector<std::string> sorted;
+  for (const std::string& item : preferred)
+    if (std::find(order.begin(), order.end(), item) != order.end()) sorted.push_back(item);
+  for (const std::string& item : order)
+    if (std::find(sorted.begin(), sorted.end(), item) == sorted.end()) sorted.push_back(item);
+  order = std::move(sorted);
+}
+
 // Answer values in scale order: numeric order when every value is a number, else text order.
 void sort_scale(std::vector<std::string>& values, bool numeric) {
   if (numeric) {
@@ -58,7 +68,8 @@ RatingDistribution distribution_of(const std::string& condition, const std::stri
   return distribution;
 }
 
-RatingComparison compare_category(const std::string& category, const std::vector<Answer>& answers) {
+RatingComparison compare_category(const std::string& category, const std::vector<Answer>& answers,
+                                  const std::vector<std::string>& condition_order) {
   RatingComparison comparison;
   comparison.category = category;
   std::vector<std::string> participants;
@@ -66,10 +77,13 @@ RatingComparison compare_category(const std::string& category, const std::vector
   std::map<std::pair<std::string, std::string>, std::vector<double>> ratings;
   for (const Answer& answer : answers) {
     if (answer.category != category) continue;
-    remember(comparison.conditions, answer.condition);
     remember(participants, answer.participant);
     ratings[{answer.participant, answer.condition}].push_back(*as_number(answer.value));
   }
+  for (const std::string& condition : condition_order)
+    if (std::any_of(answers.begin(), answers.end(),
+                    [&](const Answer& a) { return a.category == category && a.condition == condition; }))
+      comparison.conditions.push_back(condition);
   for (const std::string& participant : participants) {
     std::vector<double> row;
     for (const std::string& condition : comparison.conditions) {
@@ -104,16 +118,27 @@ RatingComparison compare_category(const std::string& category, const std::vector
 
 }  // namespace
 
-std::optional<int> stored_scale_points(const std::string& config_toml) {
+StoredRatingDesign stored_rating_design(const std::string& config_toml) {
+  StoredRatingDesign design;
   toml::table root;
   try {
     root = toml::parse(config_toml);
   } catch (const toml::parse_error&) {
-    return std::nullopt;
+    return design;
   }
   const std::optional<std::int64_t> points = root["procedure"]["scale_points"].value<std::int64_t>();
-  if (!points || *points < 2) return std::nullopt;
-  return static_cast<int>(*points);
+  if (points && *points >= 2 && *points <= 99) design.scale_points = static_cast<int>(*points);
+  if (const toml::array* categories = root["procedure"]["categories"].as_array()) {
+    for (const toml::node& category : *categories)
+      if (const auto text = category.value<std::string>()) design.categories.push_back(*text);
+  }
+  if (const toml::array* rows = root["conditions"]["rows"].as_array()) {
+    for (const toml::node& row : *rows) {
+      if (const toml::table* table = row.as_table())
+        if (const auto name = (*table)["name"].value<std::string>()) design.conditions.push_back(*name);
+    }
+  }
+  return design;
 }
 
 RatingAnalysis analyse_ratings(const LoadedData& data) {
@@ -122,6 +147,7 @@ RatingAnalysis analyse_ratings(const LoadedData& data) {
   std::vector<std::string> condition_order;
   std::vector<std::pair<std::string, std::string>> cell_order;  // (category, condition)
   int scale_points = 0;
+  std::vector<std::string> stored_categories, stored_conditions;
   for (const LoadedSession& session : data.sessions) {
     bool rated = false;
     for (const LoadedTrial& trial : session.trials) {
@@ -138,8 +164,15 @@ RatingAnalysis analyse_ratings(const LoadedData& data) {
       remember(cell_order, {answer.category, answer.condition});
       answers.push_back(std::move(answer));
     }
-    if (rated) scale_points = std::max(scale_points, stored_scale_points(session.record.config).value_or(0));
+    if (rated) {
+      const StoredRatingDesign design = stored_rating_design(session.record.config);
+      scale_points = std::max(scale_points, design.scale_points);
+      for (const std::string& category : design.categories) remember(stored_categories, category);
+      for (const std::string& condition : design.conditions) remember(stored_conditions, condition);
+    }
   }
+  put_first(analysis.category_order, stored_categories);
+  put_first(condition_order, stored_conditions);
   bool numeric = !answers.empty();
   std::vector<std::string> observed;
   for (const Answer& answer : answers) {
@@ -170,8 +203,8 @@ RatingAnalysis analyse_ratings(const LoadedData& data) {
     analysis.conditions.push_back(distribution_of(condition, "", values, seen, numeric));
   }
   for (const std::string& category : analysis.category_order) {
-    for (const auto& [cell_category, condition] : cell_order) {
-      if (cell_category != category) continue;
+    for (const std::string& condition : condition_order) {
+      if (std::find(cell_order.begin(), cell_order.end(), std::make_pair(category, condition)) == cell_order.end()) continue;
       std::vector<std::string> values;
       for (const Answer& answer : answers)
         if (answer.category == category && answer.condition == condition) values.push_back(answer.value);
@@ -182,7 +215,7 @@ RatingAnalysis analyse_ratings(const LoadedData& data) {
     analysis.notes.push_back("not every rating is a number: no means, medians or rank tests");
   } else {
     for (const std::string& category : analysis.category_order)
-      analysis.comparisons.push_back(compare_category(category, answers));
+      analysis.comparisons.push_back(compare_category(category, answers, condition_order));
   }
   return analysis;
 }

@@ -30,7 +30,7 @@ struct RatingDistribution {
 // The rank test of one category across its conditions.
 struct RatingComparison {
   std::string category;
-  std::vector<std::string> conditions;  // in first-seen order; the columns of `scores`
+  std::vector<std::string> conditions;  // in the stored design's order; the columns of `scores`
   // Participants (participant code) who rated every condition of the category, and their score
   // per condition: the mean of their ratings of it (one rating per cell without repetitions).
   std::vector<std::string> participants;
@@ -43,8 +43,10 @@ struct RatingComparison {
 
 struct RatingAnalysis {
   std::vector<RatingDistribution> conditions;  // per condition, categories pooled
-  std::vector<RatingDistribution> cells;       // per category x condition, in first-seen order
-  std::vector<std::string> category_order;     // first-seen; "" when trials name no category
+  // Categories and conditions in the order of the stored design (the experiment file's), those it
+  // does not name after them in order of first appearance.
+  std::vector<RatingDistribution> cells;       // per category x condition
+  std::vector<std::string> category_order;     // "" when trials name no category
   std::vector<std::string> scale;              // every answer value, in order (the figures' segments)
   std::vector<RatingComparison> comparisons;   // per category, when every answer is a number
   std::vector<std::string> notes;
@@ -52,8 +54,16 @@ struct RatingAnalysis {
   bool empty() const { return trials == 0; }
 };
 
-// Stored `[procedure] scale_points` of a session configuration (sessions.config), if any.
-std::optional<int> stored_scale_points(const std::string& config_toml);
+// What a session's stored configuration (sessions.config) says of a rating design: the scale's
+// points (`[procedure] scale_points`, 0 when absent), the categories in the order of `[procedure]
+// categories` and the conditions in the order of the `[[conditions.rows]]` names. Empty when the
+// text is not TOML or lacks the keys (the analysis then orders by first appearance).
+struct StoredRatingDesign {
+  int scale_points = 0;
+  std::vector<std::string> categories;
+  std::vector<std::string> conditions;
+};
+StoredRatingDesign stored_rating_design(const std::string& config_toml);
 
 RatingAnalysis analyse_ratings(const LoadedData& data);
 

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "analysis/analysis_report.h"
@@ -214,11 +215,45 @@ Figure rating_figure(const RatingAnalysis& ratings, const std::string& category,
   }
   plot.markers(median_x, median_y, "#000", 4.5);
   for (std::size_t v = points; v-- > 0;) plot.legend("answer " + ratings.scale[v], rating_colour(v, points));
-  if (!median_x.empty()) plot.legend("median: dot at half the answers", "#000");
+  if (!median_x.empty()) plot.legend("median (dot)", "#000");
   if (cells.empty()) plot.note("no answered ratings");
   return {"rating_" + std::to_string(index), "rating",
           "Distribution of the ratings of " + name + " per condition (stacked by answer; dot: the median, also in "
           "brackets), as Luidolt (2020), Figs. 7.2-7.7.",
+          plot.svg()};
+}
+
+// Luidolt 2020, Fig. 7.1: the mean rating of each category, a bar per condition.
+Figure rating_means_figure(const RatingAnalysis& ratings) {
+  constexpr double kSlot_px = 120.0;
+  constexpr double kLegend_px = 170.0;
+  std::vector<std::string> conditions;
+  double top = 1.0;
+  for (const RatingDistribution& cell : ratings.cells) {
+    if (std::find(conditions.begin(), conditions.end(), cell.condition) == conditions.end())
+      conditions.push_back(cell.condition);
+  }
+  for (const std::string& value : ratings.scale) top = std::max(top, std::strtod(value.c_str(), nullptr));
+  std::vector<std::string> labels;
+  for (const std::string& category : ratings.category_order) labels.push_back(category.empty() ? "all trials" : category);
+  SvgPlot plot("Mean rating per category", "category", "mean rating",
+               static_cast<int>(80.0 + kSlot_px * static_cast<double>(labels.size()) + kLegend_px), 320);
+  plot.set_x_categories(labels);
+  plot.set_x_range(-0.5, static_cast<double>(labels.size()) - 0.5 + kLegend_px / kSlot_px);
+  plot.set_y_range(0.0, top);
+  const double width = 0.8 / static_cast<double>(std::max<std::size_t>(conditions.size(), 1));
+  for (std::size_t c = 0; c < conditions.size(); ++c) {
+    for (const RatingDistribution& cell : ratings.cells) {
+      if (cell.condition != conditions[c] || !cell.mean) continue;
+      const auto g = static_cast<double>(
+          std::find(ratings.category_order.begin(), ratings.category_order.end(), cell.category) -
+          ratings.category_order.begin());
+      plot.bar(g - 0.4 + width * (static_cast<double>(c) + 0.5), width * 0.9, *cell.mean, series_colour(c));
+    }
+    plot.legend(conditions[c], series_colour(c));
+  }
+  return {"rating_means", "rating",
+          "Mean rating per category and condition (the scale's top is the axis' top), as Luidolt (2020), Fig. 7.1.",
           plot.svg()};
 }
 
@@ -332,6 +367,7 @@ std::vector<Figure> draw_figures(const AnalysisReport& report) {
   }
   if (!report.pse.tracks.empty()) figures.push_back(pse_figure(report.pse));
   if (!report.adjustments.empty()) figures.push_back(adjustment_figure(report.adjustments));
+  if (!report.ratings.comparisons.empty()) figures.push_back(rating_means_figure(report.ratings));
   for (std::size_t i = 0; i < report.ratings.category_order.size(); ++i) {
     figures.push_back(rating_figure(report.ratings, report.ratings.category_order[i], i + 1));
   }

@@ -11,6 +11,7 @@
 
 #include "analysis/analysis_report.h"
 #include "analysis/report_output.h"
+#include "analysis/svg_plot.h"
 #include "core/png_io.h"
 #include "tests/analysis_synthetic.h"
 #include "tests/scratch_dir.h"
@@ -132,6 +133,32 @@ TEST(AnalysisRatingFigure, StackedBarsHoldTheCountsAndTheMedianIsMarked) {
       ++condition;
     }
   }
+}
+
+// Fig. 7.1: a bar per category and condition whose height is the mean answer, on an axis from 0
+// to the scale's top (9): 232 px of plot height for 9 points.
+TEST(AnalysisRatingFigure, MeanFigureBarsAreTheMeans) {
+  const test::ScratchDir dir;
+  AnalysisOptions options;
+  options.bootstrap_samples = 0;
+  const AnalysisReport report = analyse(load_databases({figure_database(dir)}), options);
+  const std::string svg = figure(report, "rating_means").svg;
+  std::vector<double> means_from_bars;
+  std::vector<double> expected;
+  std::size_t c = 0;
+  for (const std::string condition : {"A", "B", "C"}) {
+    for (const Rect& r : rects(svg))
+      if (r.fill == series_colour(c) && r.width > 10.5) means_from_bars.push_back(9.0 * r.height / 232.0);
+    for (const std::string category : {"appearance", "overall"}) {
+      const std::vector<int>& values = kAnswers.at(category).at(condition);
+      double sum = 0.0;
+      for (int v : values) sum += v;
+      expected.push_back(sum / static_cast<double>(values.size()));
+    }
+    ++c;
+  }
+  ASSERT_EQ(means_from_bars.size(), expected.size()) << svg;
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(means_from_bars[i], expected[i], 1e-3) << i;
 }
 
 TEST(AnalysisRatingFigure, ReportRendersInHeadlessChromium) {
