@@ -107,6 +107,9 @@ std::string comparison_sentence(const RatingComparison& c) {
       text += "Friedman chi2(" + general(f.df) + ") = " + fixed(f.chi_square, 3) + ", " + format_p(f.p_value) +
               ", Kendall's W = " + fixed(f.kendall_w, 3) + "; " + std::to_string(f.subjects) + " participants";
       if (f.tie_correction < 1.0) text += ", tie correction " + fixed(f.tie_correction, 4);
+      // The chi-square approximation of the Friedman statistic is poor for small n (e.g. n = 3,
+      // k = 3: chi2 = 6 has exact p = 0.028, chi-square p = 0.050).
+      if (f.subjects < 10) text += " (fewer than 10 participants: the chi-square p is rough)";
     }
   }
   if (!c.left_out.empty()) text += "; left out (not every condition rated): " + join(c.left_out, ", ");

@@ -11,6 +11,7 @@
 
 #include "analysis/analysis_report.h"
 #include "analysis/rank_tests.h"
+#include "analysis/report_output.h"
 #include "analysis/tidy_csv.h"
 #include "tests/analysis_synthetic.h"
 #include "tests/scratch_dir.h"
@@ -179,6 +180,16 @@ TEST(AnalysisRatingScipy, SignedRankAndFriedmanMatchScipyOnExportedCsv) {
   EXPECT_EQ(ratings.comparisons[1].scores[0], (std::vector<double>{2.5, 2.0}));
   EXPECT_LT(ratings.comparisons[2].friedman->tie_correction, 1.0);
   EXPECT_EQ(ratings.comparisons[2].left_out, (std::vector<std::string>{"P9"}));
+
+  // The terminal summary states each test with its method, zeros and who was left out.
+  const std::string summary = render_terminal_summary(report);
+  for (const char* expected :
+       {"rating test glare, appearance (A vs B): Wilcoxon signed-rank T = ", "normal approximation z = ",
+        "; 9 participants, 2 zero differences discarded", "rating test movement (A vs B): Wilcoxon signed-rank T = ",
+        "), exact p = ", "rating test adaptation (A vs B vs C): Friedman chi2(2) = ", "Kendall's W = ",
+        "; 8 participants, tie correction ", "; left out (not every condition rated): P9"}) {
+    EXPECT_NE(summary.find(expected), std::string::npos) << expected << "\n" << summary;
+  }
 }
 
 }  // namespace
