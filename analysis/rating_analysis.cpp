@@ -1,8 +1,8 @@
 #include "analysis/rating_analysis.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
-#include <set>
 #include <toml++/toml.h>
 
 #include "analysis/statistics.h"
@@ -13,7 +13,8 @@ namespace {
 std::optional<double> as_number(const std::string& text) {
   char* end = nullptr;
   const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size()) return std::nullopt;
+  // "nan" and "inf" parse as numbers but are not ratings.
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value)) return std::nullopt;
   return value;
 }
 
