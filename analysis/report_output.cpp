@@ -82,7 +82,8 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
   return text;
 }
 
-// "glare appearance: Friedman chi2(2) = 6.53, p = 0.0381, Kendall's W = 0.817 (8 participants)".
+// "glare appearance (control vs static vs dynamic): Friedman chi2(2) = 6.533, p = 0.0381,
+// Kendall's W = 0.408; 8 participants, tie correction 0.9375 (fewer than 10 participants: ...)".
 std::string comparison_sentence(const RatingComparison& c) {
   std::string text = (c.category.empty() ? std::string("all trials") : c.category) + " (" + join(c.conditions, " vs ") + "): ";
   if (!c.unavailable.empty()) {
