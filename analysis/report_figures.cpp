@@ -1,6 +1,8 @@
 // Figures of the analysis report (analysis/analysis_report.h), drawn with analysis/svg_plot.h.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "analysis/analysis_report.h"
@@ -10,6 +12,16 @@ namespace glarelab::analysis {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// "4", "3.5": a median or mean of ratings with at most 3 decimals and no trailing zeros.
+std::string rating_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", value);
+  std::string out = text;
+  while (out.back() == '0') out.pop_back();
+  if (out.back() == '.') out.pop_back();
+  return out;
+}
 
 Figure forced_choice_figure(const ForcedChoiceAnalysis& analysis) {
   std::vector<std::string> labels;
@@ -145,20 +157,104 @@ Figure adjustment_figure(const AdjustmentAnalysis& a) {
   return {"adjustment", "adjustment", "Perceived luminance per condition and target intensity.", plot.svg()};
 }
 
-Figure rating_figure(const RatingDistribution& r, std::size_t index) {
-  SvgPlot plot("Ratings: " + r.condition, "category", "answers");
-  std::vector<std::string> names;
-  long most = 0;
-  for (const auto& [name, count] : r.categories) {
-    names.push_back(name);
-    most = std::max(most, count);
+// Colour of answer value `index` of `count` (the scale's order): a diverging ramp from red (1,
+// "completely different" in Luidolt 2020, Sec. 7.2.1) through yellow to blue (the top point,
+// "exactly the same"), piecewise linear between five anchors after ColorBrewer's RdYlBu.
+std::string rating_colour(std::size_t index, std::size_t count) {
+  static const double anchors[5][3] = {{215, 25, 28}, {253, 174, 97}, {230, 216, 107}, {171, 217, 233}, {44, 123, 182}};
+  const double t = count > 1 ? static_cast<double>(index) / static_cast<double>(count - 1) : 1.0;
+  const double position = 4.0 * std::clamp(t, 0.0, 1.0);
+  const auto low = static_cast<std::size_t>(std::min(3.0, std::floor(position)));
+  const double w = position - static_cast<double>(low);
+  char text[8];
+  int rgb[3];
+  for (int c = 0; c < 3; ++c) rgb[c] = static_cast<int>(std::lround((1.0 - w) * anchors[low][c] + w * anchors[low + 1][c]));
+  std::snprintf(text, sizeof text, "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
+  return text;
+}
+
+// Luidolt 2020, Figs. 7.2-7.7, one category: per condition a bar of its answers stacked by
+// answer value (lowest at the bottom), and the median marked by a dot at half the answers: the
+// segment under the dot is the median value (on a boundary when the median falls between two).
+Figure rating_figure(const RatingAnalysis& ratings, const std::string& category, std::size_t index) {
+  constexpr double kSlot_px = 110.0;
+  constexpr double kLegend_px = 170.0;
+  std::vector<const RatingDistribution*> cells;
+  for (const RatingDistribution& cell : ratings.cells)
+    if (cell.category == category) cells.push_back(&cell);
+  const std::string name = category.empty() ? "all trials" : category;
+  SvgPlot plot("Ratings: " + name, "condition (median)", "answers",
+               static_cast<int>(80.0 + kSlot_px * static_cast<double>(cells.size()) + kLegend_px), 340);
+  std::vector<std::string> labels;
+  long most = 1;
+  for (const RatingDistribution* cell : cells) {
+    labels.push_back(cell->median ? cell->condition + " (" + rating_number(*cell->median) + ")" : cell->condition);
+    most = std::max(most, cell->answers);
   }
-  plot.set_x_categories(names);
-  plot.set_y_range(0.0, static_cast<double>(std::max(most, 1L)) * 1.1);
-  for (std::size_t i = 0; i < r.categories.size(); ++i) {
-    plot.bar(static_cast<double>(i), 0.7, static_cast<double>(r.categories[i].second), series_colour(0));
+  plot.set_x_categories(labels);
+  // Room right of the bars for the legend.
+  plot.set_x_range(-0.5, static_cast<double>(cells.size()) - 0.5 + kLegend_px / kSlot_px);
+  plot.set_y_range(0.0, static_cast<double>(most) * 1.1);
+  const std::size_t points = ratings.scale.size();
+  std::vector<double> median_x, median_y;
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const auto& counts = cells[c]->categories;
+    std::vector<long> cumulative(counts.size(), 0);
+    long sum = 0;
+    for (std::size_t v = 0; v < counts.size(); ++v) cumulative[v] = sum += counts[v].second;
+    // Painted top segment first, each lower one over it: each value's colour shows from the
+    // cumulative count below it to its own.
+    for (std::size_t v = counts.size(); v-- > 0;) {
+      if (counts[v].second == 0) continue;
+      plot.bar(static_cast<double>(c), 0.6, static_cast<double>(cumulative[v]), rating_colour(v, points));
+    }
+    if (cells[c]->median) {
+      median_x.push_back(static_cast<double>(c));
+      median_y.push_back(0.5 * static_cast<double>(cells[c]->answers));
+    }
   }
-  return {"rating_" + std::to_string(index), "rating", "Distribution of ratings for " + r.condition, plot.svg()};
+  plot.markers(median_x, median_y, "#000", 4.5);
+  for (std::size_t v = points; v-- > 0;) plot.legend("answer " + ratings.scale[v], rating_colour(v, points));
+  if (!median_x.empty()) plot.legend("median (dot)", "#000");
+  if (cells.empty()) plot.note("no answered ratings");
+  return {"rating_" + std::to_string(index), "rating",
+          "Distribution of the ratings of " + name + " per condition (stacked by answer; dot: the median, also in "
+          "brackets), as Luidolt (2020), Figs. 7.2-7.7.",
+          plot.svg()};
+}
+
+// Luidolt 2020, Fig. 7.1: the mean rating of each category, a bar per condition.
+Figure rating_means_figure(const RatingAnalysis& ratings) {
+  constexpr double kSlot_px = 120.0;
+  constexpr double kLegend_px = 170.0;
+  std::vector<std::string> conditions;
+  double top = 1.0;
+  for (const RatingDistribution& cell : ratings.cells) {
+    if (std::find(conditions.begin(), conditions.end(), cell.condition) == conditions.end())
+      conditions.push_back(cell.condition);
+  }
+  for (const std::string& value : ratings.scale) top = std::max(top, std::strtod(value.c_str(), nullptr));
+  std::vector<std::string> labels;
+  for (const std::string& category : ratings.category_order) labels.push_back(category.empty() ? "all trials" : category);
+  SvgPlot plot("Mean rating per category", "category", "mean rating",
+               static_cast<int>(80.0 + kSlot_px * static_cast<double>(labels.size()) + kLegend_px), 320);
+  plot.set_x_categories(labels);
+  plot.set_x_range(-0.5, static_cast<double>(labels.size()) - 0.5 + kLegend_px / kSlot_px);
+  plot.set_y_range(0.0, top);
+  const double width = 0.8 / static_cast<double>(std::max<std::size_t>(conditions.size(), 1));
+  for (std::size_t c = 0; c < conditions.size(); ++c) {
+    for (const RatingDistribution& cell : ratings.cells) {
+      if (cell.condition != conditions[c] || !cell.mean) continue;
+      const auto g = static_cast<double>(
+          std::find(ratings.category_order.begin(), ratings.category_order.end(), cell.category) -
+          ratings.category_order.begin());
+      plot.bar(g - 0.4 + width * (static_cast<double>(c) + 0.5), width * 0.9, *cell.mean, series_colour(c));
+    }
+    plot.legend(conditions[c], series_colour(c));
+  }
+  return {"rating_means", "rating",
+          "Mean rating per category and condition (the scale's top is the axis' top), as Luidolt (2020), Fig. 7.1.",
+          plot.svg()};
 }
 
 Figure response_time_figure(const TimingQuality& timing) {
@@ -271,8 +367,9 @@ std::vector<Figure> draw_figures(const AnalysisReport& report) {
   }
   if (!report.pse.tracks.empty()) figures.push_back(pse_figure(report.pse));
   if (!report.adjustments.empty()) figures.push_back(adjustment_figure(report.adjustments));
-  for (std::size_t i = 0; i < report.ratings.conditions.size(); ++i) {
-    figures.push_back(rating_figure(report.ratings.conditions[i], i + 1));
+  if (!report.ratings.comparisons.empty()) figures.push_back(rating_means_figure(report.ratings));
+  for (std::size_t i = 0; i < report.ratings.category_order.size(); ++i) {
+    figures.push_back(rating_figure(report.ratings, report.ratings.category_order[i], i + 1));
   }
   if (!report.data.sessions.empty()) figures.push_back(response_time_figure(report.timing));
   for (std::size_t i = 0; i < report.tracker.sessions.size(); ++i) {
