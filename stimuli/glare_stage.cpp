@@ -64,17 +64,21 @@ void GlareStage::set_refraction(std::optional<DioptricPower> residual_error) { r
 
 GlareBackend& GlareStage::refraction_psf_backend() {
   GlareBackend& chosen = backend();
-  if (!planned_ && chosen.name() == "cpu float64") return chosen;
+  // Both carry the refraction's phase and the eye's LCA: the CPU float64 reference and the GL
+  // backend (GlPsf::chromatic). The planned float32 path's display-scale PSF does not.
+  if (!planned_ && (chosen.name() == "cpu float64" || chosen.name() == "gl")) return chosen;
   if (!refraction_backend_) refraction_backend_ = std::make_unique<CpuGlareBackend>(FftPrecision::float64);
   return *refraction_backend_;
 }
 
 std::string GlareStage::refraction_backend_reason() {
-  const std::string chosen = planned_ || backend().name() != "cpu float64" ? std::string(planned_ ? "cpu float32 planned" : backend().name())
-                                                                           : std::string();
-  std::string text =
-      "PSFs with the observer's refraction: cpu float64, one FFT per wavelength (" +
-      std::to_string(spec_.wavelength_samples) + ") with the eye's longitudinal chromatic aberration (Thibos et al. 1992)";
+  const bool gl = !planned_ && backend().name() == "gl";
+  const std::string chosen = planned_ || (backend().name() != "cpu float64" && !gl)
+                                 ? std::string(planned_ ? "cpu float32 planned" : backend().name())
+                                 : std::string();
+  std::string text = std::string("PSFs with the observer's refraction: ") + (gl ? "gl" : "cpu float64") +
+                     ", one FFT per wavelength (" + std::to_string(spec_.wavelength_samples) +
+                     ") with the eye's longitudinal chromatic aberration (Thibos et al. 1992)";
   if (!chosen.empty())
     text += "; [glare] backend \"" + spec_.backend + "\" (" + chosen +
             ") does not carry the refraction's phase yet, so it convolves but does not compute these PSFs";

@@ -48,6 +48,16 @@ Psf GlGlareBackend::psf(const ApertureGeometry& geometry, const PsfOptions& opti
           : check_phase_sampling(phase_coefficient_per_m2(PhaseForm::defocus, options.wavelength_nm, error.xx()),
                                  pupil_radius_mm, pixel_mm, options.aperture_width_mm);
   last_warning_ = sampling.aliased ? sampling.warning : std::string();
+  // The observer's refraction (as CpuGlareBackend decides it): one FFT per wavelength with the
+  // eye's longitudinal chromatic aberration, GlPsf::chromatic (glare/chromatic_psf.h on the GPU),
+  // instead of the scaled reference, which is exact only for a wavelength-independent phase.
+  const DioptricPower& refraction = drawn.refraction_error;
+  if (options.spectral && options.phase != PhaseForm::none &&
+      (options.observer_refraction || refraction.xx() != 0.0 || refraction.xy() != 0.0 || refraction.yy() != 0.0)) {
+    Psf chromatic = psf_->chromatic(drawn, options.wavelength_samples, options.wavelength_nm);
+    last_warning_ = psf_->chromatic_sampling_warning();
+    return chromatic;
+  }
   return options.spectral ? psf_->spectral(drawn, options.wavelength_samples, options.wavelength_nm)
                           : psf_->monochromatic(drawn, options.wavelength_nm);
 }
