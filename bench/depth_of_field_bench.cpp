@@ -25,6 +25,7 @@
 
 #include "core/display_spec.h"
 #include "stimuli/depth_of_field.h"
+#include "stimuli/depth_of_field_benchmark.h"
 #include "stimuli/depth_of_field_blur.h"
 #include "stimuli/depth_of_field_reference.h"
 #include "stimuli/display_model.h"
@@ -36,62 +37,9 @@ constexpr int kWidth = 1024;
 constexpr int kHeight = 768;
 constexpr int kThreads = 2;
 
-struct BenchScene {
-  ImageRGBA image;
-  std::vector<float> depth_m;
-};
-
-const BenchScene& bench_scene() {
-  static const BenchScene scene = [] {
-    BenchScene s;
-    s.image = ImageRGBA(kWidth, kHeight, 1.0f);
-    s.depth_m.assign(static_cast<std::size_t>(kWidth) * kHeight, 4.0f);
-    const int horizon = kHeight / 2;
-    for (int y = 0; y < kHeight; ++y)
-      for (int x = 0; x < kWidth; ++x) {
-        float* p = s.image.pixel(x, y);
-        const double checker = ((x / 16 + y / 16) % 2 == 0) ? 80.0 : 20.0;
-        p[0] = static_cast<float>(checker + 15.0 * std::sin(0.31 * x) * std::cos(0.17 * y));
-        p[1] = static_cast<float>(0.8 * checker + 10.0 * std::sin(0.05 * x + 0.07 * y));
-        p[2] = static_cast<float>(0.6 * checker);
-        if (y > horizon) {  // the floor: vergence linear in the row, 0.25 D at the horizon to 2.22 D
-          const double t = static_cast<double>(y - horizon) / (kHeight - 1 - horizon);
-          s.depth_m[static_cast<std::size_t>(y) * kWidth + x] =
-              static_cast<float>(1.0 / (0.25 + t * (1.0 / 0.45 - 0.25)));
-        }
-      }
-    const struct {
-      int x0, y0, x1, y1;
-      float depth_m, luminance;
-    } boards[] = {
-        {80, 120, 360, 520, 1.5f, 150.0f}, {420, 200, 700, 600, 0.6f, 60.0f}, {650, 420, 980, 740, 0.4f, 200.0f}};
-    for (const auto& board : boards)
-      for (int y = board.y0; y < board.y1; ++y)
-        for (int x = board.x0; x < board.x1; ++x) {
-          float* p = s.image.pixel(x, y);
-          const float stripe = ((x / 6) % 2 == 0) ? 1.0f : 0.3f;
-          p[0] = p[1] = p[2] = board.luminance * stripe;
-          s.depth_m[static_cast<std::size_t>(y) * kWidth + x] = board.depth_m;
-        }
-    return s;
-  }();
-  return scene;
-}
-
-DepthOfFieldSettings bench_settings(int threads) {
-  DisplaySpec display;
-  display.width_px = kWidth;
-  display.height_px = kHeight;
-  DepthOfFieldSettings settings;
-  settings.degrees_per_pixel = DisplayModel(display).degrees_per_pixel_at_centre();
-  settings.pupil_radius_m = 0.002;
-  const DioptricPower cylinder = DioptricPower::from_prescription({0.0, -0.5, 20.0});
-  settings.residual_error = [cylinder](double distance_m) {
-    return DioptricPower::spherical(1.0 / 0.6 - 1.0 / distance_m) + cylinder;
-  };
-  settings.threads = threads;
-  return settings;
-}
+using BenchScene = DepthBenchScene;
+const BenchScene& bench_scene() { return depth_of_field_bench_scene(); }
+DepthOfFieldSettings bench_settings(int threads) { return depth_of_field_bench_settings(threads); }
 
 // The per-pixel reference of the bench scene, computed once (it does not depend on threads).
 const ImageRGBA& bench_reference() {

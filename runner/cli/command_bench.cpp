@@ -9,7 +9,9 @@
 #include "glare/glare_backend.h"
 #include "glare/glare_benchmark.h"
 #include "core/errors.h"
+#include "stimuli/depth_of_field_benchmark.h"
 #include "stimuli/glare_model_benchmark.h"
+#include "stimuli/perception/stage_timing.h"
 #include "runner/cli/commands.h"
 #include "runner/display/compute_context.h"
 
@@ -24,7 +26,41 @@ struct BenchArguments {
   bool analytic_only = false;
   bool no_analytic = false;
   std::vector<int> analytic_size = {1920, 1080};
+  bool perception_only = false;
+  bool depth_of_field_only = false;
 };
+
+void print_load_average(const std::string& where) {
+  std::ifstream loadavg("/proc/loadavg");
+  if (std::string one, five, fifteen; loadavg >> one >> five >> fifteen)
+    std::cout << "Load average (1, 5, 15 min) at the end of " << where << ": " << one << ", " << five << ", " << fifteen << ".\n";
+}
+
+// Luidolt 2020's perception stages at 1920 x 1080, CPU double and GL, with their agreement, beside
+// the thesis' GTX 1070 figures (stimuli/perception/stage_timing.h).
+void print_perception_rows(const BenchArguments& args) {
+  PerceptionTimingOptions options;
+  options.repeats = args.repeats > 0 ? args.repeats : (args.quick ? 1 : 3);
+  if (!args.no_gl) options.gl_context = gl::compute_context_factory();
+  options.progress = [](const std::string& line) { std::cerr << line << std::endl; };
+  std::cout << "Perception stages (Luidolt 2020, Fig. 6.1), one eye, CPU double reference and GL; agreement "
+               "is the largest per-pixel error of GL against the CPU, relative to the CPU pixel.\n\n"
+            << format_perception_timing(time_perception_stages(options));
+  print_load_average("the perception rows");
+}
+
+// Kakimoto 2007's depth of field over a 1024 x 768 frame with Z on 2 threads, beside its error
+// against the per-pixel reference (stimuli/depth_of_field_benchmark.h).
+void print_depth_of_field_rows(const BenchArguments& args) {
+  const int repeats = args.repeats > 0 ? args.repeats : (args.quick ? 3 : 5);
+  std::cerr << "depth of field: 1024 x 768 with Z, " << repeats << " runs and the per-pixel reference" << std::endl;
+  std::cout << "Depth of field from the scene's Z (Kakimoto et al. 2007, Eqs. 8-9; docs/DEPTH_OF_FIELD.md): the "
+               "layered stage on 2 threads, the fastest of " << repeats << " runs, against the per-pixel scatter "
+               "reference. Kakimoto et al. drew ten-sample blur at about 30 fps (33 ms a frame) on a 2007 GPU "
+               "(GeForce 7800 GTX).\n\n"
+            << format_depth_of_field_benchmark(run_depth_of_field_benchmark(2, repeats));
+  print_load_average("the depth-of-field rows");
+}
 
 // The analytic models over the whole display and the hybrid against Ritschel
 // (stimuli/glare_model_benchmark.h).
@@ -35,9 +71,7 @@ void print_analytic_rows(const BenchArguments& args) {
   options.frames = args.frames > 0 ? args.frames : (args.quick ? 3 : 5);
   options.progress = [](const std::string& line) { std::cerr << line << std::endl; };
   std::cout << format_analytic_benchmark(run_analytic_benchmark(options));
-  std::ifstream loadavg("/proc/loadavg");
-  if (std::string one, five, fifteen; loadavg >> one >> five >> fifteen)
-    std::cout << "Load average (1, 5, 15 min) at the end of the analytic rows: " << one << ", " << five << ", " << fifteen << ".\n";
+  print_load_average("the analytic rows");
 }
 
 }  // namespace
@@ -60,12 +94,28 @@ Action add_bench_command(CLI::App& app) {
   command->add_option("--analytic-size", args->analytic_size, "Display of the analytic rows, WIDTH HEIGHT in pixels (default 1920 1080)")
       ->expected(2)
       ->check(CLI::Range(16, 8192));
+  command->add_flag("--perception-only", args->perception_only,
+                    "Only the perception stages (Luidolt 2020) at 1920 x 1080, CPU and GL");
+  command->add_flag("--depth-of-field-only", args->depth_of_field_only,
+                    "Only the depth-of-field stage (Kakimoto 2007) on a 1024 x 768 frame with Z");
   return [=]() {
     return report_errors([&]() {
       if (args->analytic_only && args->no_analytic)
         throw ConfigError({"--analytic-only", 0, 0}, "analytic-only", "--analytic-only and --no-analytic exclude each other");
+      if (static_cast<int>(args->analytic_only) + static_cast<int>(args->perception_only) +
+              static_cast<int>(args->depth_of_field_only) > 1)
+        throw ConfigError({"--analytic-only", 0, 0}, "analytic-only",
+                          "--analytic-only, --perception-only and --depth-of-field-only exclude each other");
       if (args->analytic_only) {
         print_analytic_rows(*args);
+        return 0;
+      }
+      if (args->perception_only) {
+        print_perception_rows(*args);
+        return 0;
+      }
+      if (args->depth_of_field_only) {
+        print_depth_of_field_rows(*args);
         return 0;
       }
       GlareBenchmarkOptions options;
@@ -100,6 +150,10 @@ Action add_bench_command(CLI::App& app) {
         std::cout << "\n";
         print_analytic_rows(*args);
       }
+      std::cout << "\n";
+      print_perception_rows(*args);
+      std::cout << "\n";
+      print_depth_of_field_rows(*args);
       return 0;
     });
   };
