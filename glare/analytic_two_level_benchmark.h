@@ -12,7 +12,8 @@
 //     bright sources (within near_sources_deg of a pixel over 100 cd/m2, where the halo lies) and
 //     away from them, where also max |error| / the local value is given (the dim room's own
 //     glare, which a 10-bit display at the peak's scale would not show anyway).
-// Frames are timed `frames` times, the fastest kept.
+// The floor, the full and the two-level frames are timed in turn, `frames` times, the fastest of
+// each kept.
 #include <functional>
 #include <string>
 #include <vector>
