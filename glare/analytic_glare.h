@@ -13,7 +13,7 @@
 // the smooth far field at a quarter of the resolution): its error on a 1920 x 1080 frame is within
 // 1e-3 of the peak and 1e-4 L2 of the float64 full convolution (docs/PERFORMANCE.md), below what a
 // 10-bit display shows. `automatic` (the default) takes two_level for frames of at least
-// kTwoLevelMinimumPixels and full below, where the full FFT is already a few ms and exact.
+// kTwoLevelMinimumPixels and full below, where the full FFT is at most 1280 x 960 and exact.
 #include <array>
 #include <memory>
 #include <optional>

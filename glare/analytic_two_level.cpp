@@ -66,7 +66,10 @@ DisplayKernel coarse_far_kernel(const DisplayKernel& kernel, const TwoLevelSplit
             for (int ex = -(f - 1); ex <= f - 1; ++ex) {
               const int dx = f * cx + ex;
               if (std::abs(dx) > kernel.half_width_px) continue;
-              const double far = (1.0 - near_weight(split, std::hypot(dx, dy))) * kernel.at(c, dx, dy);
+              // Beyond the outer radius on either axis the near weight is 0: no square root.
+              const bool outside = std::abs(dx) >= split.near_outer_px || std::abs(dy) >= split.near_outer_px;
+              const double w = outside ? 0.0 : near_weight(split, std::hypot(dx, dy));
+              const double far = (1.0 - w) * kernel.at(c, dx, dy);
               sum += tent[static_cast<std::size_t>(ex + f - 1)] * tent[static_cast<std::size_t>(ey + f - 1)] * far;
             }
           }
