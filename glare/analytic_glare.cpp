@@ -18,10 +18,17 @@ std::vector<spencer::Mixture> spencer_components() {
 }  // namespace
 
 AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
-    : options_(options),
-      convolution_(options.width_px, options.height_px, options.width_px - 1, options.height_px - 1, threads) {
+    : options_(options) {
   if (options.model != GlareModel::spencer && options.model != GlareModel::cie)
     throw std::invalid_argument("glare/analytic_glare: the model must be spencer or cie");
+  const bool full = options.convolution == AnalyticConvolution::full ||
+                    (options.convolution == AnalyticConvolution::automatic &&
+                     static_cast<long long>(options.width_px) * options.height_px < kTwoLevelMinimumPixels);
+  if (full)
+    full_ = std::make_unique<DisplayKernelConvolution>(options.width_px, options.height_px, options.width_px - 1,
+                                                       options.height_px - 1, threads);
+  else
+    two_level_ = std::make_unique<TwoLevelConvolution>(options.width_px, options.height_px, options.split, threads);
   const auto start = std::chrono::steady_clock::now();
   std::vector<AnalyticPsf> psfs;
   if (options.model == GlareModel::cie) {
@@ -46,18 +53,42 @@ AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
     inside_.push_back(inside);
     kernels.push_back(std::move(kernel));
   }
-  convolution_.set_components(kernels);
+  if (full_) full_->set_components(kernels);
+  else two_level_->set_components(kernels);
   // The kernels themselves are kept only for small frames (tests, the profile); a full-screen set
   // would hold hundreds of MB in double that the convolution no longer needs.
   std::size_t bytes = 0;
   for (const DisplayKernel& k : kernels) bytes += k.values.size() * sizeof(double);
   if (bytes <= kKeptKernelBytes) components_ = std::move(kernels);
   if (!adaptive_) {
-    convolution_.set_weights({1.0});
+    set_convolution_weights({1.0});
     adapted_ = true;
   }
   build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
+
+std::string to_string(AnalyticConvolution convolution) {
+  switch (convolution) {
+    case AnalyticConvolution::automatic: return "automatic";
+    case AnalyticConvolution::full: return "full";
+    case AnalyticConvolution::two_level: return "two-level";
+  }
+  return "unknown";
+}
+
+void AnalyticGlare::convolve(const ImageRGBA& source, ImageRGBA& out) {
+  if (full_) full_->convolve(source, out);
+  else two_level_->convolve(source, out);
+}
+
+void AnalyticGlare::set_convolution_weights(const std::vector<double>& weights) {
+  if (full_) full_->set_weights(weights);
+  else two_level_->set_weights(weights);
+}
+
+std::size_t AnalyticGlare::memory_bytes() const { return full_ ? full_->spectrum_bytes() : two_level_->spectrum_bytes(); }
+int AnalyticGlare::fft_rows() const { return full_ ? full_->fft_rows() : two_level_->near_fft_rows(); }
+int AnalyticGlare::fft_cols() const { return full_ ? full_->fft_cols() : two_level_->near_fft_cols(); }
 
 std::vector<double> AnalyticGlare::weights_for(const spencer::Mixture& m) const { return {m.f0, m.f1, m.f2, m.f3}; }
 
@@ -75,7 +106,7 @@ void AnalyticGlare::adapt(double adaptation_cd_m2) {
       std::abs(m.f3 - mixture_.f3) < 1e-6)
     return;
   mixture_ = m;
-  convolution_.set_weights(weights_for(m));
+  set_convolution_weights(weights_for(m));
   adapted_ = true;
 }
 
@@ -124,7 +155,11 @@ std::string AnalyticGlare::describe() const {
   out << " (age " << options_.eye.age_years << " years";
   if (options_.model == GlareModel::cie) out << ", pigmentation " << options_.eye.pigmentation;
   out << "), kernel " << 2 * options_.width_px - 1 << " x " << 2 * options_.height_px - 1 << " px integrated in "
-      << build_s_ << " s, FFT " << convolution_.fft_cols() << " x " << convolution_.fft_rows() << ", "
+      << build_s_ << " s, FFT " << fft_cols() << " x " << fft_rows();
+  if (two_level_ && two_level_->has_far_level())
+    out << " near (radius " << options_.split.near_inner_px << "-" << options_.split.near_outer_px << " px) + "
+        << two_level_->far_fft_cols() << " x " << two_level_->far_fft_rows() << " far at 1/" << options_.split.factor;
+  out << ", "
       << static_cast<double>(memory_bytes()) / (1024.0 * 1024.0) << " MiB of spectra";
   return out.str();
 }
