@@ -103,6 +103,9 @@ AnalyticBenchmarkResult run_analytic_benchmark(const AnalyticBenchmarkOptions& o
     glare_options.geometry = DisplayGeometry{options.viewing_distance_mm, options.pixel_pitch_mm};
     glare_options.width_px = options.width_px;
     glare_options.height_px = options.height_px;
+    // These rows time the full-resolution convolution against the FFTW floor of its own transforms;
+    // the two-level path has its own rows (glare/analytic_two_level_benchmark.h).
+    glare_options.convolution = AnalyticConvolution::full;
     AnalyticGlare glare(glare_options);
     glare.adapt(c.adaptation_cd_m2);
     AnalyticBenchmarkRow row;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "glare/glare_backend.h"
+#include "glare/analytic_two_level_benchmark.h"
 #include "glare/glare_benchmark.h"
 #include "core/errors.h"
 #include "stimuli/depth_of_field_benchmark.h"
@@ -72,6 +73,15 @@ void print_analytic_rows(const BenchArguments& args) {
   options.progress = [](const std::string& line) { std::cerr << line << std::endl; };
   std::cout << format_analytic_benchmark(run_analytic_benchmark(options));
   print_load_average("the analytic rows");
+  // The two-level convolution sessions use at this size (exact near kernel, far field at a quarter
+  // of the resolution) beside the full path and its floor, each frame's error against float64.
+  TwoLevelBenchmarkOptions two_level;
+  two_level.width_px = options.width_px;
+  two_level.height_px = options.height_px;
+  two_level.frames = options.frames;
+  two_level.progress = options.progress;
+  std::cout << "\n" << format_two_level_benchmark(run_two_level_benchmark(two_level));
+  print_load_average("the two-level rows");
 }
 
 }  // namespace
