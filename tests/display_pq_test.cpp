@@ -5,8 +5,10 @@
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "runner/display/display_backend.h"
@@ -198,6 +200,39 @@ TEST_F(EncodePass, EightBitDitherOfPq) {
   const double wanted = low + 0.55 * (high - low);
   ASSERT_NEAR(st2084_signal(low), low_code / 255.0, 1e-9);  // pq_decode inverts the closed form
   check_dither_cells(encode(uniform_frame(wanted), spec), wanted, low_code, low, high, luminance_of_code);
+}
+
+}  // namespace
+}  // namespace glarelab
+
+namespace glarelab {
+namespace {
+
+// The window backend asks GLFW for the depth and reads back what it got. Xvfb's 24-bit screen
+// offers 8 bits per channel: 8 opens (and says so in the platform text the session log keeps),
+// 10 is refused naming the depth achieved.
+TEST(WindowBackend, FramebufferDepthIsCheckedAfterCreation) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "WindowBackend tests run under xvfb-run (see tests/CMakeLists.txt)";
+  DisplayRequest request;
+  request.width_px = 32;
+  request.height_px = 16;
+  request.visible = false;
+  request.bits_per_channel = 8;
+  {
+    auto display = create_display("window", request);
+    EXPECT_NE(display->gl_info().platform.find("GLFW window, 8/8/8 bits framebuffer"), std::string::npos)
+        << display->gl_info().platform;
+  }
+  request.bits_per_channel = 10;
+  try {
+    create_display("window", request);
+    FAIL() << "a 10-bit window opened on an 8-bit screen";
+  } catch (const DisplayError& error) {
+    EXPECT_NE(std::string(error.what()).find("GLFW: [display] bits_per_channel = 10 requested, but the window's "
+                                             "framebuffer has 8/8/8 bits per channel"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace
