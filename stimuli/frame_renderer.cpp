@@ -33,9 +33,7 @@ FrameRenderer::FrameRenderer(int width_px, int height_px)
       stimulus_framebuffer_(gl::create_framebuffer()),
       empty_vertex_array_(gl::create_vertex_array()),
       placed_image_program_(gl::build_program({"stimuli/shaders/placed_image.vert", "stimuli/shaders/placed_image.frag"})),
-      encode_program_(gl::build_program({"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode_display.frag"})),
-      encode_table_program_(
-          gl::build_program({"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode_display_table.frag"})) {
+      encode_program_(gl::build_program({"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode_display.frag"})) {
   // 32-bit float: a 1e8 cd/m2 source and a 1e-2 cd/m2 background must both survive exactly.
   glTextureStorage2D(stimulus_texture_.get(), 1, GL_RGBA32F, width_px_, height_px_);
   glTextureParameteri(stimulus_texture_.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -132,6 +130,10 @@ void FrameRenderer::prepare_display_target(int bits_per_channel) {
 }
 
 void FrameRenderer::prepare_calibration_table(const DisplayCalibration& calibration) {
+  // Built on first use: most sessions never encode through a table.
+  if (!encode_table_program_)
+    encode_table_program_ =
+        gl::build_program({"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode_display_table.frag"});
   if (calibration_texture_.get() != 0 && calibration.drive == uploaded_calibration_.drive &&
       calibration.luminance_cd_m2 == uploaded_calibration_.luminance_cd_m2)
     return;

@@ -79,7 +79,7 @@ class FrameRenderer {
   gl::Texture display_target_;           // quantising target of the last encode (bits 8, 10, 16)
   gl::Framebuffer display_framebuffer_;  // its framebuffer
   bool read_from_target_ = false;        // the last encode went through display_target_
-  gl::Program encode_table_program_;     // encoding = "table" (encode_display_table.frag)
+  gl::Program encode_table_program_;     // encoding = "table" (encode_display_table.frag), built on first use
   gl::Texture calibration_texture_;      // rows x 1 RGBA32F: (drive, gain r, gain g, gain b)
   gl::Texture code_gain_texture_;        // 256 x 1 RGBA32F: gains at drive k / 255
   DisplayCalibration uploaded_calibration_;
