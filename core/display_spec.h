@@ -3,10 +3,16 @@
 // photometry. Plain data, read from the experiment file by protocols/ and modelled by
 // stimuli/display_model.h; it sits in the base layer because both need it and neither may include
 // the other (docs/ARCHITECTURE.md).
+#include "core/display_calibration.h"
 
 namespace glarelab {
 
-enum class DisplayEncoding { srgb, gamma };
+// How luminance becomes a drive value (docs/DISPLAY_CALIBRATION.md): relative to the peak through
+// sRGB or a power law; absolute through SMPTE ST 2084 (PQ); or through a measured calibration table.
+enum class DisplayEncoding { srgb, gamma, pq, table };
+// The primaries the drive values address (with encoding pq): the stimulus is linear Rec.709 and
+// is converted to BT.2020 primaries (ITU-R BT.2087 matrix) when the display takes BT.2020.
+enum class DisplayPrimaries { rec709, bt2020 };
 
 struct DisplaySpec {
   int width_px = 1280;
@@ -18,6 +24,11 @@ struct DisplaySpec {
   double background_cd_m2 = 0.0;        // luminance around and between stimuli
   DisplayEncoding encoding = DisplayEncoding::srgb;
   double gamma = 2.2;  // used when encoding == gamma
+  DisplayPrimaries primaries = DisplayPrimaries::rec709;  // used when encoding == pq
+  DisplayCalibration calibration;  // used when encoding == table; its peak is peak_luminance_cd_m2
+  // Depth of the framebuffer the encoded frame is written to: 8 (RGBA8, ordered dithering), 10
+  // (RGB10_A2), 16 (RGBA16F), or 0: the backend's own default framebuffer, unquantised offscreen.
+  int bits_per_channel = 0;
   int monitor = 0;
   bool fullscreen = false;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -10,6 +11,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "core/display_calibration.h"
 #include "protocols/adaptive_config.h"
 #include "core/number_text.h"
 #include "protocols/adjustment_procedure.h"
@@ -112,7 +114,47 @@ void read_experiment_section(TableReader& top, Experiment& experiment) {
   reader.report_unused();
 }
 
-void read_display_section(TableReader& top, Experiment& experiment) {
+// [display] encoding = "pq" | "table" and their keys (docs/DISPLAY_CALIBRATION.md). Read before
+// the peak, because a calibration table fixes the peak.
+void read_display_encoding(TableReader& reader, DisplaySpec& display, const std::string& base_dir) {
+  if (const std::optional<std::string> encoding = reader.string("encoding")) {
+    if (*encoding == "srgb") {
+      display.encoding = DisplayEncoding::srgb;
+    } else if (*encoding == "gamma") {
+      display.encoding = DisplayEncoding::gamma;
+    } else if (*encoding == "pq") {
+      display.encoding = DisplayEncoding::pq;
+    } else if (*encoding == "table") {
+      display.encoding = DisplayEncoding::table;
+    } else {
+      reader.fail("encoding", "unsupported encoding '" + *encoding + "' (supported: 'srgb', 'gamma', 'pq', 'table')");
+    }
+  }
+  if (const std::optional<std::string> primaries = reader.string("primaries")) {
+    if (display.encoding != DisplayEncoding::pq)
+      reader.fail_at_key("primaries", "applies only to encoding = 'pq' (the other encodings address the display's own primaries)");
+    if (*primaries == "rec709") {
+      display.primaries = DisplayPrimaries::rec709;
+    } else if (*primaries == "bt2020") {
+      display.primaries = DisplayPrimaries::bt2020;
+    } else {
+      reader.fail("primaries", "unsupported primaries '" + *primaries + "' (supported: 'rec709', 'bt2020')");
+    }
+  }
+  const std::optional<std::string> calibration = reader.string("calibration");
+  if (display.encoding == DisplayEncoding::table) {
+    if (!calibration)
+      reader.fail("encoding", "encoding = 'table' needs calibration = \"FILE.csv\" (docs/DISPLAY_CALIBRATION.md)");
+    const std::string path = resolve_path(base_dir, *calibration);
+    std::error_code error;
+    if (!fs::is_regular_file(path, error)) reader.fail("calibration", "no calibration file " + path);
+    display.calibration = read_display_calibration(path);
+  } else if (calibration) {
+    reader.fail_at_key("calibration", "applies only to encoding = 'table'");
+  }
+}
+
+void read_display_section(TableReader& top, Experiment& experiment, const std::string& base_dir) {
   const toml::table* table = top.table("display");
   if (table == nullptr) return;
   TableReader reader(*table, "display", top.file());
@@ -124,21 +166,30 @@ void read_display_section(TableReader& top, Experiment& experiment) {
                                                        kMinViewingDistanceMm, kMaxViewingDistanceMm, "mm");
   display.pixel_pitch_mm =
       reader.number_in_range("pixel_pitch_mm", display.pixel_pitch_mm, kMinPixelPitchMm, kMaxPixelPitchMm, "mm");
-  display.peak_luminance_cd_m2 = reader.number_in_range("peak_luminance_cd_m2", display.peak_luminance_cd_m2,
-                                                        kMinPeakLuminanceCdM2, kMaxPeakLuminanceCdM2, "cd/m2");
+  read_display_encoding(reader, display, base_dir);
+  if (display.encoding == DisplayEncoding::table) {
+    // The table measures the peak: a [display] peak may restate it (within 1 %), not contradict it.
+    const double measured = display.calibration.peak_cd_m2();
+    if (const std::optional<double> stated = reader.number("peak_luminance_cd_m2");
+        stated && std::abs(*stated - measured) > 0.01 * measured)
+      reader.fail("peak_luminance_cd_m2", "contradicts the calibration table's peak " + number_text(measured) +
+                                              " cd/m2 (black plus the three channels' full-drive gains); leave it out");
+    display.peak_luminance_cd_m2 = measured;
+  } else {
+    // PQ encodes absolute luminance up to 10000 cd/m2 (SMPTE ST 2084).
+    const double max_peak = display.encoding == DisplayEncoding::pq ? 10000.0 : kMaxPeakLuminanceCdM2;
+    display.peak_luminance_cd_m2 = reader.number_in_range("peak_luminance_cd_m2", display.peak_luminance_cd_m2,
+                                                          kMinPeakLuminanceCdM2, max_peak, "cd/m2");
+  }
   // The background is shown on the display, so it cannot exceed the display's peak.
   display.background_cd_m2 = reader.number_in_range("background_cd_m2", display.background_cd_m2, 0.0,
                                                     display.peak_luminance_cd_m2, "cd/m2 (the display's peak)");
-  if (const std::optional<std::string> encoding = reader.string("encoding")) {
-    if (*encoding == "srgb") {
-      display.encoding = DisplayEncoding::srgb;
-    } else if (*encoding == "gamma") {
-      display.encoding = DisplayEncoding::gamma;
-    } else {
-      reader.fail("encoding", "unsupported encoding '" + *encoding + "' (supported: 'srgb', 'gamma')");
-    }
-  }
   display.gamma = reader.number_in_range("gamma", display.gamma, kMinGamma, kMaxGamma);
+  if (const std::optional<std::int64_t> bits = reader.integer("bits_per_channel")) {
+    if (*bits != 8 && *bits != 10 && *bits != 16)
+      reader.fail("bits_per_channel", "must be 8, 10 or 16 (half float), found " + number_text(*bits));
+    display.bits_per_channel = static_cast<int>(*bits);
+  }
   display.monitor = read_int(reader, "monitor", display.monitor, 0, kMaxMonitorIndex);
   display.fullscreen = reader.boolean("fullscreen").value_or(display.fullscreen);
   reader.report_unused();
@@ -488,7 +539,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   top.report_unused();
 
   read_experiment_section(top, experiment);
-  read_display_section(top, experiment);
+  read_display_section(top, experiment, base);
   read_scenes_section(top, experiment, base);
   const std::optional<GeneratedDesign> generated = read_procedure_section(top, experiment);
   ConditionSource conditions = generated ? generated_conditions(top, *generated, experiment) : read_conditions_section(top, base);

@@ -139,6 +139,18 @@ toml::table adaptive_track_table(const Experiment& experiment, const AdaptiveTra
 
 }  // namespace
 
+namespace {
+const char* display_encoding_name(DisplayEncoding encoding) {
+  switch (encoding) {
+    case DisplayEncoding::srgb: return "srgb";
+    case DisplayEncoding::gamma: return "gamma";
+    case DisplayEncoding::pq: return "pq";
+    case DisplayEncoding::table: return "table";
+  }
+  return "srgb";
+}
+}  // namespace
+
 std::string resolved_config_toml(const Experiment& experiment) {
   if (experiment.seed > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
     // TOML integers are signed 64-bit; a larger seed could not be read back.
@@ -153,18 +165,23 @@ std::string resolved_config_toml(const Experiment& experiment) {
                             {"seed", static_cast<std::int64_t>(experiment.seed)}});
 
   const DisplaySpec& display = experiment.display;
-  print_section(out, "display",
-                toml::table{{"width_px", display.width_px},
+  toml::table display_table{{"width_px", display.width_px},
                             {"height_px", display.height_px},
                             {"refresh_hz", display.refresh_hz},
                             {"viewing_distance_mm", display.viewing_distance_mm},
                             {"pixel_pitch_mm", display.pixel_pitch_mm},
                             {"peak_luminance_cd_m2", display.peak_luminance_cd_m2},
                             {"background_cd_m2", display.background_cd_m2},
-                            {"encoding", display.encoding == DisplayEncoding::srgb ? "srgb" : "gamma"},
+                            {"encoding", display_encoding_name(display.encoding)},
                             {"gamma", display.gamma},
                             {"monitor", display.monitor},
-                            {"fullscreen", display.fullscreen}});
+                            {"fullscreen", display.fullscreen}};
+  // The encoding's own keys only with that encoding: elsewhere they are refused on reading.
+  if (display.encoding == DisplayEncoding::pq)
+    display_table.insert("primaries", display.primaries == DisplayPrimaries::bt2020 ? "bt2020" : "rec709");
+  if (display.encoding == DisplayEncoding::table) display_table.insert("calibration", display.calibration.file);
+  if (display.bits_per_channel != 0) display_table.insert("bits_per_channel", display.bits_per_channel);
+  print_section(out, "display", display_table);
 
   out << "[scenes]\n";
   for (const auto& [name, scene] : experiment.scenes) {

@@ -104,18 +104,120 @@ void FrameRenderer::draw_placements(const std::vector<Placement>& placements, bo
   glDisable(GL_SCISSOR_TEST);
 }
 
+void FrameRenderer::prepare_display_target(int bits_per_channel) {
+  if (bits_per_channel == target_bits_) return;
+  GLenum format = GL_RGBA8;
+  if (bits_per_channel == 10) {
+    format = GL_RGB10_A2;
+  } else if (bits_per_channel == 16) {
+    format = GL_RGBA16F;
+  } else if (bits_per_channel != 8) {
+    throw DisplayError("frame renderer: " + std::to_string(bits_per_channel) +
+                       " bits per channel requested (supported: 8, 10, 16 half float)");
+  }
+  display_target_ = gl::create_texture(GL_TEXTURE_2D);
+  glTextureStorage2D(display_target_.get(), 1, format, width_px_, height_px_);
+  display_framebuffer_ = gl::create_framebuffer();
+  glNamedFramebufferTexture(display_framebuffer_.get(), GL_COLOR_ATTACHMENT0, display_target_.get(), 0);
+  const GLenum status = glCheckNamedFramebufferStatus(display_framebuffer_.get(), GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    target_bits_ = 0;
+    throw DisplayError("OpenGL: the " + std::to_string(bits_per_channel) +
+                       "-bit display framebuffer is incomplete (status " + std::to_string(status) + ")");
+  }
+  gl::check_gl_error("creating the display framebuffer");
+  target_bits_ = bits_per_channel;
+}
+
+void FrameRenderer::prepare_calibration_table(const DisplayCalibration& calibration) {
+  // Built on first use: most sessions never encode through a table.
+  if (!encode_table_program_)
+    encode_table_program_ =
+        gl::build_program({"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode_display_table.frag"});
+  if (calibration_texture_.get() != 0 && calibration.drive == uploaded_calibration_.drive &&
+      calibration.luminance_cd_m2 == uploaded_calibration_.luminance_cd_m2)
+    return;
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  const auto rows = static_cast<GLsizei>(calibration.rows());
+  if (rows < 2 || rows > max_size)
+    throw DisplayError("frame renderer: a calibration table of " + std::to_string(rows) + " rows (2 to " +
+                       std::to_string(max_size) + " fit a texture)");
+  std::vector<float> texels;
+  texels.reserve(static_cast<std::size_t>(rows) * 4);
+  for (std::size_t i = 0; i < calibration.rows(); ++i) {
+    texels.push_back(static_cast<float>(calibration.drive[i]));
+    for (const std::vector<double>& channel : calibration.luminance_cd_m2)
+      texels.push_back(static_cast<float>(channel[i] - channel.front()));
+  }
+  // The table read forward at each 8-bit code: the two gains the dither chooses between.
+  std::vector<float> code_gains;
+  constexpr int kDitherLevels = 255;
+  for (int code = 0; code <= kDitherLevels; ++code) {
+    code_gains.push_back(static_cast<float>(code) / kDitherLevels);
+    for (int c = 0; c < 3; ++c)
+      code_gains.push_back(static_cast<float>(calibration.channel_gain_cd_m2(c, code / static_cast<double>(kDitherLevels))));
+  }
+  const auto upload_row = [](gl::Texture& texture, GLsizei width, const std::vector<float>& data) {
+    texture = gl::create_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(texture.get(), 1, GL_RGBA32F, width, 1);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(texture.get(), 0, 0, 0, width, 1, GL_RGBA, GL_FLOAT, data.data());
+    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  };
+  upload_row(calibration_texture_, rows, texels);
+  upload_row(code_gain_texture_, kDitherLevels + 1, code_gains);
+  gl::check_gl_error("uploading the display calibration table");
+  uploaded_calibration_ = calibration;
+}
+
 void FrameRenderer::encode_to_display(const DisplaySpec& display) {
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  const bool quantise = display.bits_per_channel != 0;
+  if (quantise) prepare_display_target(display.bits_per_channel);
+  const bool table = display.encoding == DisplayEncoding::table;
+  if (table) prepare_calibration_table(display.calibration);
+  const GLuint target = quantise ? display_framebuffer_.get() : 0;
+  glBindFramebuffer(GL_FRAMEBUFFER, target);
   glViewport(0, 0, width_px_, height_px_);
-  glUseProgram(encode_program_.get());
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  // Only an 8-bit target is dithered: 10 bits and half float already hold steps below what an
+  // observer resolves at the luminances of interest (docs/DISPLAY_CALIBRATION.md).
+  const int dither_levels = display.bits_per_channel == 8 ? 255 : 0;
+  const GLuint program = table ? encode_table_program_.get() : encode_program_.get();
+  glUseProgram(program);
   glBindVertexArray(empty_vertex_array_.get());
-  glUniform1f(glGetUniformLocation(encode_program_.get(), "uPeakLuminance"),
-              static_cast<float>(display.peak_luminance_cd_m2));
-  glUniform1i(glGetUniformLocation(encode_program_.get(), "uEncoding"),
-              display.encoding == DisplayEncoding::srgb ? 0 : 1);
-  glUniform1f(glGetUniformLocation(encode_program_.get(), "uGamma"), static_cast<float>(display.gamma));
+  glUniform1i(glGetUniformLocation(program, "uDitherLevels"), dither_levels);
+  if (table) {
+    const DisplayCalibration& calibration = display.calibration;
+    glUniform1f(glGetUniformLocation(program, "uPeakLuminance"), static_cast<float>(calibration.peak_cd_m2()));
+    glUniform1f(glGetUniformLocation(program, "uBlack"), static_cast<float>(calibration.black_cd_m2()));
+    glUniform1i(glGetUniformLocation(program, "uTableRows"), static_cast<GLint>(calibration.rows()));
+    glBindTextureUnit(1, calibration_texture_.get());
+    glBindTextureUnit(2, code_gain_texture_.get());
+  } else {
+    int encoding = 0;
+    if (display.encoding == DisplayEncoding::gamma) encoding = 1;
+    if (display.encoding == DisplayEncoding::pq) encoding = 2;
+    glUniform1f(glGetUniformLocation(program, "uPeakLuminance"), static_cast<float>(display.peak_luminance_cd_m2));
+    glUniform1i(glGetUniformLocation(program, "uEncoding"), encoding);
+    glUniform1f(glGetUniformLocation(program, "uGamma"), static_cast<float>(display.gamma));
+    glUniform1i(glGetUniformLocation(program, "uBt2020"), display.primaries == DisplayPrimaries::bt2020 ? 1 : 0);
+  }
   glBindTextureUnit(0, stimulus_texture_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (table) {
+    glBindTextureUnit(1, 0);
+    glBindTextureUnit(2, 0);
+  }
+  if (quantise) {
+    // The default framebuffer gets the quantised frame (a window's is requested at this depth).
+    glBlitNamedFramebuffer(target, 0, 0, 0, width_px_, height_px_, 0, 0, width_px_, height_px_, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
+  read_from_target_ = quantise;
   gl::check_gl_error("encoding a frame for the display");
 }
 
@@ -159,6 +261,8 @@ void FrameRenderer::replace_stimulus_region(const ImageRGBA& region, int x0_px, 
   gl::check_gl_error("replacing a region of the stimulus frame");
 }
 
-ImageRGBA FrameRenderer::read_display() const { return read_framebuffer(0, width_px_, height_px_); }
+ImageRGBA FrameRenderer::read_display() const {
+  return read_framebuffer(read_from_target_ ? display_framebuffer_.get() : 0, width_px_, height_px_);
+}
 
 }  // namespace glarelab

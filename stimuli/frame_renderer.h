@@ -37,10 +37,17 @@ class FrameRenderer {
   // framebuffer without clearing it: after glare (replace_stimulus), since text on the display is
   // not seen through the simulated eye. Each overlay is clipped to its `clip` rectangle.
   void compose_overlay(const std::vector<Placement>& overlays);
-  // Encodes the stimulus framebuffer into the default framebuffer (clip at peak, sRGB or gamma).
+  // Encodes the stimulus framebuffer into the default framebuffer (clip at peak, then sRGB, gamma,
+  // PQ or the calibration table: stimuli/shaders/encode_display.frag). With
+  // display.bits_per_channel 8, 10 or 16 the frame is first written to a target of that depth
+  // (RGBA8 with 4x4 ordered dithering, RGB10_A2, RGBA16F) and copied (blit) to the default
+  // framebuffer, so the drive values are quantised to that depth whatever the backend's own
+  // framebuffer holds; with 0 it is encoded straight into the default framebuffer.
+  // Throws DisplayError for another depth or a calibration table larger than a texture.
   void encode_to_display(const DisplaySpec& display);
 
-  // Read-backs (row 0 at the top). The stimulus is in cd/m2; the display image holds drive values.
+  // Read-backs (row 0 at the top). The stimulus is in cd/m2; the display image holds drive values
+  // (from the quantising target when the last encode had one, so exactly its code values / max).
   ImageRGBA read_stimulus() const;
   ImageRGBA read_display() const;
   // Overwrites the stimulus framebuffer with an image of the same size (row 0 at the top, cd/m2):
@@ -55,6 +62,11 @@ class FrameRenderer {
 
  private:
   void draw_placements(const std::vector<Placement>& placements, bool overlay);
+  // (Re)creates the quantising target for `bits_per_channel` when it differs from the current one.
+  void prepare_display_target(int bits_per_channel);
+  // Uploads the calibration table (and its gains at each 8-bit code, for dithering) when it
+  // differs from the one on the GPU.
+  void prepare_calibration_table(const DisplayCalibration& calibration);
 
   int width_px_;
   int height_px_;
@@ -63,6 +75,14 @@ class FrameRenderer {
   gl::VertexArray empty_vertex_array_;  // core profile needs a bound VAO even without attributes
   gl::Program placed_image_program_;
   gl::Program encode_program_;
+  int target_bits_ = 0;                  // depth of display_target_; 0: none
+  gl::Texture display_target_;           // quantising target of the last encode (bits 8, 10, 16)
+  gl::Framebuffer display_framebuffer_;  // its framebuffer
+  bool read_from_target_ = false;        // the last encode went through display_target_
+  gl::Program encode_table_program_;     // encoding = "table" (encode_display_table.frag), built on first use
+  gl::Texture calibration_texture_;      // rows x 1 RGBA32F: (drive, gain r, gain g, gain b)
+  gl::Texture code_gain_texture_;        // 256 x 1 RGBA32F: gains at drive k / 255
+  DisplayCalibration uploaded_calibration_;
 };
 
 }  // namespace glarelab

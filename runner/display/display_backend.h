@@ -24,6 +24,12 @@ struct DisplayRequest {
   std::string title = "glarelab";
   int gl_major = 4;
   int gl_minor = 5;
+  // Colour depth of the default framebuffer ([display] bits_per_channel): 8, 10 or 16 (half float);
+  // 0 takes the backend's default. A window asks for it through GLFW hints and refuses to open
+  // (DisplayError) when the achieved depth is lower; offscreen, the default framebuffer is float
+  // (or 16-bit half float) and the depth is made by the frame renderer's quantising target
+  // (stimuli/frame_renderer.h), so it is always met.
+  int bits_per_channel = 0;
   std::vector<std::string> required_extensions;
 };
 

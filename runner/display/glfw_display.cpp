@@ -7,6 +7,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <mutex>
@@ -142,6 +143,16 @@ class GlfwDisplay final : public DisplayBackend {
     // Display encoding is applied by our own shader (sRGB or a configured gamma), so the window's
     // framebuffer must not re-encode.
     glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_FALSE);
+    // The colour depth [display] bits_per_channel asks for (10: a 10-bit panel path, 30-bit
+    // visual; 16: a half-float framebuffer where the platform offers one). Hints are requests:
+    // the depth achieved is checked after creation.
+    if (request.bits_per_channel != 0) {
+      const int alpha_bits = request.bits_per_channel == 10 ? 2 : request.bits_per_channel;
+      glfwWindowHint(GLFW_RED_BITS, request.bits_per_channel);
+      glfwWindowHint(GLFW_GREEN_BITS, request.bits_per_channel);
+      glfwWindowHint(GLFW_BLUE_BITS, request.bits_per_channel);
+      glfwWindowHint(GLFW_ALPHA_BITS, alpha_bits);
+    }
     if (request.fullscreen && mode != nullptr) glfwWindowHint(GLFW_REFRESH_RATE, mode->refreshRate);
 
     last_glfw_error().clear();
@@ -177,6 +188,31 @@ class GlfwDisplay final : public DisplayBackend {
     glfwGetFramebufferSize(window_, &width_px_, &height_px_);
     refresh_hz_ = (mode != nullptr && mode->refreshRate > 0) ? mode->refreshRate : request.refresh_hz;
     info_ = load_and_check_gl("GLFW", glfw_proc, request);
+    check_colour_depth(request);
+  }
+
+  // Reads the depth the default framebuffer got, logs it in the context's platform text (which
+  // every session log records) and refuses a window shallower than requested: a 10-bit
+  // experiment shown on 8 bits would lose the steps it was designed around.
+  void check_colour_depth(const DisplayRequest& request) {
+    GLint bits[3] = {0, 0, 0};
+    GLint component_type = GL_UNSIGNED_NORMALIZED;
+    const GLenum channels[3] = {GL_FRAMEBUFFER_ATTACHMENT_RED_SIZE, GL_FRAMEBUFFER_ATTACHMENT_GREEN_SIZE,
+                                GL_FRAMEBUFFER_ATTACHMENT_BLUE_SIZE};
+    for (int c = 0; c < 3; ++c) glGetNamedFramebufferAttachmentParameteriv(0, GL_BACK_LEFT, channels[c], &bits[c]);
+    glGetNamedFramebufferAttachmentParameteriv(0, GL_BACK_LEFT, GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE, &component_type);
+    const bool is_float = component_type == GL_FLOAT;
+    std::ostringstream depth;
+    depth << bits[0] << "/" << bits[1] << "/" << bits[2] << (is_float ? " float" : "") << " bits";
+    info_.platform = "GLFW window, " + depth.str() + " framebuffer";
+    const int wanted = request.bits_per_channel;
+    if (wanted == 0) return;
+    const int achieved = std::min({bits[0], bits[1], bits[2]});
+    if (achieved < wanted || (wanted == 16 && !is_float))
+      throw DisplayError("GLFW: [display] bits_per_channel = " + std::to_string(wanted) +
+                         (wanted == 16 ? " (half float)" : "") + " requested, but the window's framebuffer has " +
+                         depth.str() + " per channel (the driver, the monitor link or the desktop's colour depth "
+                         "does not offer it)");
   }
 
   // Names the OpenGL version the driver does offer when the requested one was refused.
