@@ -243,9 +243,9 @@ TEST(ExperimentFile, RangeChecksAndUnsupportedProcedure) {
   EXPECT_EQ(error_of(path), path + ":6:8: key 'procedure.type': unsupported procedure 'method_of_limits' (supported: "
                                    "'forced_choice', 'staircase', 'quest', 'quest_plus', 'psi', 'rating', 'adjustment')");
 
-  const std::string display = dir.write("exp.toml", "[experiment]\nname = \"x\"\n[display]\nencoding = \"pq\"\n");
-  EXPECT_EQ(error_of(display),
-            display + ":4:12: key 'display.encoding': unsupported encoding 'pq' (supported: 'srgb', 'gamma')");
+  const std::string display = dir.write("exp.toml", "[experiment]\nname = \"x\"\n[display]\nencoding = \"hlg\"\n");
+  EXPECT_EQ(error_of(display), display + ":4:12: key 'display.encoding': unsupported encoding 'hlg' (supported: 'srgb', "
+                                         "'gamma', 'pq', 'table')");
   const std::string lapse = dir.write("exp.toml", experiment_text("", "file = \"conditions.csv\"\n") +
                                                       "[observer.simulated]\nlapse = 0.5\n");
   EXPECT_EQ(error_of(lapse), lapse + ":17:9: key 'observer.simulated.lapse': must be in [0, 0.5), found 0.5");

@@ -231,6 +231,9 @@ DisplayRequest display_request(const Experiment& experiment) {
   request.monitor = experiment.display.monitor;
   request.fullscreen = experiment.display.fullscreen;
   request.title = "glarelab: " + experiment.name;
+  // The framebuffer depth [display] bits_per_channel asks for (0: the backend's own); the window
+  // refuses to open shallower than asked (docs/DISPLAY_CALIBRATION.md).
+  request.bits_per_channel = experiment.display.bits_per_channel;
   return request;
 }
 
