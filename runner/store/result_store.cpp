@@ -209,21 +209,29 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
     sqlite3_busy_timeout(db_, 5000);
 
     // Reading the header first: a file that is not a database fails here (SQLITE_NOTADB), and
-    // a newer schema is refused before this program changes anything in it.
+    // a newer schema is refused before this program changes anything in it. The version and the
+    // table list are read in one read transaction, so they come from one snapshot: otherwise a
+    // second glarelab creating the same new file could commit its first migration (tables and
+    // version together) between the two reads, and this one would see tables without a version
+    // and take the file for another program's (two sessions started together on one database).
+    exec(db_, path_, "BEGIN", "starting a read transaction for the schema version");
     const int version = read_user_version(db_, path_);
+    bool foreign_tables = false;
+    if (version == 0) {
+      // A new file has no tables. One with tables and no schema version belongs to another
+      // program: adding glarelab's tables to it would mix two programs' data in one file.
+      Statement tables(db_, path_, "SELECT count(*) FROM sqlite_master", "reading the table list");
+      foreign_tables = tables.step() && tables.int64(0) > 0;
+    }
+    exec(db_, path_, "COMMIT", "ending the read transaction for the schema version");
     if (version > kSchemaVersion) {
       throw StoreError(path_ + ": schema version " + std::to_string(version) + " is newer than this glarelab (" +
                        std::to_string(kSchemaVersion) + ")");
     }
     if (version < 0) throw StoreError(path_ + ": invalid schema version " + std::to_string(version));
-    if (version == 0) {
-      // A new file has no tables. One with tables and no schema version belongs to another
-      // program: adding glarelab's tables to it would mix two programs' data in one file.
-      Statement tables(db_, path_, "SELECT count(*) FROM sqlite_master", "reading the table list");
-      if (tables.step() && tables.int64(0) > 0)
-        throw StoreError("SQLite: " + path_ + ": holds tables but no glarelab schema version: another program's "
-                         "database; give glarelab a file of its own");
-    }
+    if (foreign_tables)
+      throw StoreError("SQLite: " + path_ + ": holds tables but no glarelab schema version: another program's "
+                       "database; give glarelab a file of its own");
 
     {
       Statement journal(db_, path_, "PRAGMA journal_mode=WAL", "setting journal_mode=WAL");
