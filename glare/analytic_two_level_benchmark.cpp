@@ -9,7 +9,7 @@
 
 #include "glare/analytic_glare.h"
 #include "glare/display_kernel_convolution.h"
-#include "glare/fftw_float_plan.h"
+#include "glare/fftw_floor.h"
 
 namespace glarelab {
 namespace {
@@ -17,30 +17,6 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
-
-// 3 forward and 3 inverse real 2D transforms of rows x cols, planned once.
-class FftwFloor {
- public:
-  FftwFloor(int rows, int cols)
-      : real_size_(static_cast<std::size_t>(rows) * cols),
-        real_(3 * real_size_),
-        spectrum_(3 * static_cast<std::size_t>(rows) * (cols / 2 + 1)),
-        forward_(FftwFloatPlan::real_forward(rows, cols, 3, real_.data(), spectrum_.data(), kGlareCpuThreads)),
-        inverse_(FftwFloatPlan::real_inverse(rows, cols, 3, spectrum_.data(), real_.data(), kGlareCpuThreads)) {}
-  double run_s() {
-    for (std::size_t i = 0; i < 3 * real_size_; i += 97) real_[i] = 1.0f;
-    const auto start = std::chrono::steady_clock::now();
-    forward_.execute();
-    inverse_.execute();
-    return seconds_since(start);
-  }
-
- private:
-  std::size_t real_size_;
-  FftwFloatBuffer<float> real_;
-  FftwFloatBuffer<std::complex<float>> spectrum_;
-  FftwFloatPlan forward_, inverse_;
-};
 
 double frame_s(AnalyticGlare& glare, const ImageRGBA& frame, ImageRGBA& out) {
   const auto start = std::chrono::steady_clock::now();
@@ -187,7 +163,7 @@ TwoLevelBenchmarkResult run_two_level_benchmark(const TwoLevelBenchmarkOptions& 
     row.near_fft_rows = two_level.two_level()->near_fft_rows();
     row.far_fft_cols = two_level.two_level()->far_fft_cols();
     row.far_fft_rows = two_level.two_level()->far_fft_rows();
-    FftwFloor floor(row.full_fft_rows, row.full_fft_cols);
+    FftwRgbConvolutionFloor floor(row.full_fft_rows, row.full_fft_cols);
     // Interleaved, the fastest of each kept: a load that comes and goes then weighs on all three
     // alike, and the ratios to the floor hold.
     say("analytic glare: " + c.label + ", timing the floor, the full and the two-level frames");

@@ -7,6 +7,7 @@
 // `glarelab bench` times a whole frame against it in the same run; the ratio is the frame's
 // overhead over pure FFT work.
 #include <complex>
+#include <cstddef>
 
 #include "glare/fftw_float_plan.h"
 
@@ -25,6 +26,20 @@ class FftwFloatFloor {
   FftwFloatPlan psf_fft_;
   FftwFloatPlan forward_[6];
   FftwFloatPlan inverse_[3];
+};
+
+// The floor of an RGB convolution over the whole display (the analytic glare, docs/PERFORMANCE.md):
+// 3 forward and 3 inverse real 2D transforms of rows x cols, planned once.
+class FftwRgbConvolutionFloor {
+ public:
+  FftwRgbConvolutionFloor(int rows, int cols, int threads = kGlareCpuThreads);
+  double run_s();  // the six transforms once, seconds
+
+ private:
+  std::size_t real_size_;
+  FftwFloatBuffer<float> real_;
+  FftwFloatBuffer<std::complex<float>> spectrum_;
+  FftwFloatPlan forward_, inverse_;
 };
 
 }  // namespace glarelab

@@ -6,9 +6,10 @@
 #include <sstream>
 
 #include "glare/analytic_glare.h"
+#include "glare/analytic_two_level_benchmark.h"
 #include "glare/dioptric_power.h"
 #include "glare/display_kernel_convolution.h"
-#include "glare/fftw_float_plan.h"
+#include "glare/fftw_floor.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {
@@ -18,45 +19,12 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A dim room (0.5-2 cd/m2 gradient) with five lamps of 2e3-2e4 cd/m2 and a bright window.
-ImageRGBA test_frame(int width, int height) {
-  ImageRGBA frame(width, height);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      float* p = frame.pixel(x, y);
-      const float base = 0.5f + 1.5f * static_cast<float>(x) / static_cast<float>(width);
-      p[0] = base, p[1] = 0.9f * base, p[2] = 0.7f * base, p[3] = 1.0f;
-    }
-  const double lamps[5][3] = {{0.2, 0.3, 2e3}, {0.45, 0.5, 2e4}, {0.7, 0.25, 5e3}, {0.85, 0.7, 1e4}, {0.3, 0.8, 3e3}};
-  for (const auto& lamp : lamps) {
-    const int cx = static_cast<int>(lamp[0] * width), cy = static_cast<int>(lamp[1] * height);
-    for (int y = cy - 3; y <= cy + 3; ++y)
-      for (int x = cx - 3; x <= cx + 3; ++x)
-        if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= 9)
-          for (int c = 0; c < 3; ++c) frame.pixel(x, y)[c] = static_cast<float>(lamp[2]);
-  }
-  for (int y = height / 10; y < height / 5; ++y)
-    for (int x = width / 20; x < width / 8; ++x)
-      for (int c = 0; c < 3; ++c) frame.pixel(x, y)[c] = 400.0f;
-  return frame;
-}
-
-// The FFTW floor of an RGB FFT convolution of this padded size: 3 forward and 3 inverse real 2D
-// transforms, planned once, the same threads; the fastest of `runs`.
+// The FFTW floor of an RGB FFT convolution of this padded size (glare/fftw_floor.h), the fastest
+// of `runs`.
 double fftw_floor_s(int rows, int cols, int runs) {
-  const std::size_t real_size = static_cast<std::size_t>(rows) * cols, spectrum_size = static_cast<std::size_t>(rows) * (cols / 2 + 1);
-  FftwFloatBuffer<float> real(3 * real_size);
-  FftwFloatBuffer<std::complex<float>> spectrum(3 * spectrum_size);
-  const FftwFloatPlan forward = FftwFloatPlan::real_forward(rows, cols, 3, real.data(), spectrum.data(), kGlareCpuThreads);
-  const FftwFloatPlan inverse = FftwFloatPlan::real_inverse(rows, cols, 3, spectrum.data(), real.data(), kGlareCpuThreads);
+  FftwRgbConvolutionFloor floor(rows, cols);
   double best = 1e300;
-  for (int run = 0; run < runs; ++run) {
-    for (std::size_t i = 0; i < 3 * real_size; i += 97) real[i] = 1.0f;
-    const auto start = std::chrono::steady_clock::now();
-    forward.execute();
-    inverse.execute();
-    best = std::min(best, seconds_since(start));
-  }
+  for (int run = 0; run < runs; ++run) best = std::min(best, floor.run_s());
   return best;
 }
 
@@ -84,7 +52,8 @@ AnalyticBenchmarkResult run_analytic_benchmark(const AnalyticBenchmarkOptions& o
   auto say = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };
-  const ImageRGBA frame = test_frame(options.width_px, options.height_px);
+  // A dim room with five lamps and a bright window (glare/analytic_two_level_benchmark.h).
+  const ImageRGBA frame = analytic_benchmark_frame(options.width_px, options.height_px);
   struct Case {
     std::string label;
     GlareModel model;

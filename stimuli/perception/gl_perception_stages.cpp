@@ -11,14 +11,7 @@ namespace glarelab::gl {
 PerceptionResult GlPerceptionStages::run(const ImageRGBA& scene, const PerceptionFrameInput& input,
                                          TemporalAdaptation& eye, const PerceptionSettings& settings,
                                          const DisplaySpec& display, const PerceptionGlare& glare) {
-  validate_perception_settings(settings);
-  const AdaptationTimeConstants& eye_constants = eye.constants();
-  const AdaptationTimeConstants& wanted = settings.adaptation_time_constants;
-  if (eye_constants.rod_time_constant_s != wanted.rod_time_constant_s ||
-      eye_constants.cone_time_constant_s != wanted.cone_time_constant_s ||
-      eye_constants.rod_half_sensitivity_cd_m2 != wanted.rod_half_sensitivity_cd_m2)
-    throw std::invalid_argument("perception settings [adaptation]: the eye was made with other time constants than "
-                                "adaptation_time_constants; make it from the same settings");
+  check_perception_inputs(eye, settings);
   if (scene.empty()) throw std::invalid_argument("perception adaptation: the frame is empty");
   if (!frame_ || frame_->width_px() != scene.width_px || frame_->height_px() != scene.height_px) {
     frame_ = std::make_unique<GlFrameBuffer>(scene.width_px, scene.height_px);

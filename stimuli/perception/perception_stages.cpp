@@ -51,9 +51,7 @@ void validate_perception_settings(const PerceptionSettings& settings) {
   validate_group("scotopic", [&] { validate_scotopic_settings(settings.scotopic_settings); });
 }
 
-PerceptionResult run_perception_stages(const ImageRGBA& scene, const PerceptionFrameInput& input,
-                                       TemporalAdaptation& eye, const PerceptionSettings& settings,
-                                       const DisplaySpec& display, const PerceptionGlare& glare) {
+void check_perception_inputs(const TemporalAdaptation& eye, const PerceptionSettings& settings) {
   validate_perception_settings(settings);
   const AdaptationTimeConstants& eye_constants = eye.constants();
   const AdaptationTimeConstants& wanted = settings.adaptation_time_constants;
@@ -62,6 +60,12 @@ PerceptionResult run_perception_stages(const ImageRGBA& scene, const PerceptionF
       eye_constants.rod_half_sensitivity_cd_m2 != wanted.rod_half_sensitivity_cd_m2)
     throw std::invalid_argument("perception settings [adaptation]: the eye was made with other time constants than "
                                 "adaptation_time_constants; make it from the same settings");
+}
+
+PerceptionResult run_perception_stages(const ImageRGBA& scene, const PerceptionFrameInput& input,
+                                       TemporalAdaptation& eye, const PerceptionSettings& settings,
+                                       const DisplaySpec& display, const PerceptionGlare& glare) {
+  check_perception_inputs(eye, settings);
   PerceptionResult result;
   // Section 5.1: on the scene, before glare.
   result.frame_luminance_cd_m2 =

@@ -29,6 +29,9 @@ const char* perception_stage_name(PerceptionStage stage);
 
 // Throws std::invalid_argument naming the field (e.g. "acuity.max_sigma_px") and its accepted range.
 void validate_perception_settings(const PerceptionSettings& settings);
+// validate_perception_settings, and the eye made from the same adaptation time constants (throws
+// std::invalid_argument otherwise): what both runs of the stages (CPU, GL) check first.
+void check_perception_inputs(const TemporalAdaptation& eye, const PerceptionSettings& settings);
 
 // Glare on the adapted scene (cd/m2 in, cd/m2 out), e.g. stimuli/glare_stage.h's; empty: skipped.
 using PerceptionGlare = std::function<ImageRGBA(const ImageRGBA&)>;
