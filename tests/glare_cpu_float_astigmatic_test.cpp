@@ -21,9 +21,13 @@
 #include "glare/psf_cpu.h"
 #include "glare/psf_scale.h"
 #include "glare/spectral_psf.h"
+#include "psf_agreement.h"
 
 namespace glarelab {
 namespace {
+
+using test::Agreement;
+using test::compare;
 
 constexpr double kWidthMm = 10.0;
 
@@ -69,23 +73,6 @@ Psf reference_psf(const ApertureGeometry& geometry, int n, double wavelength_nm,
   psf.degrees_per_pixel = psf_degrees_per_pixel(wavelength_nm, kWidthMm);
   psf.values = std::move(power);
   return psf;
-}
-
-struct Agreement {
-  double max_over_peak = 0.0;
-  double relative_l2 = 0.0;
-};
-
-Agreement compare(const std::vector<double>& test, const std::vector<double>& reference) {
-  double peak = 0.0, worst = 0.0, error = 0.0, norm = 0.0;
-  for (std::size_t k = 0; k < reference.size(); ++k) {
-    const double d = test[k] - reference[k];
-    peak = std::max(peak, std::abs(reference[k]));
-    worst = std::max(worst, std::abs(d));
-    error += d * d;
-    norm += reference[k] * reference[k];
-  }
-  return {worst / peak, std::sqrt(error / norm)};
 }
 
 struct Moments {

@@ -20,9 +20,14 @@
 #include "glare/psf_cpu.h"
 #include "glare/glare_benchmark.h"
 #include "glare/psf_scale.h"
+#include "psf_agreement.h"
 
 namespace glarelab {
 namespace {
+
+using test::Agreement;
+using test::compare_channel;
+using test::rms_radius_px;
 
 // As tests/glare_gl_chromatic_test.cpp: 512 px over 8 mm, a 4 mm pupil; no wavelength aliases.
 constexpr int kGridPx = 512;
@@ -63,36 +68,6 @@ CpuFloatChromaticSettings chromatic_settings() {
   settings.reference_wavelength_nm = kReferenceNm;
   settings.wavelength_samples = kWavelengths;
   return settings;
-}
-
-struct Agreement {
-  double max_over_peak = 0.0;
-  double relative_l2 = 0.0;
-};
-
-Agreement compare_channel(const Psf& test, const Psf& expected, int channel) {
-  const std::size_t plane = static_cast<std::size_t>(expected.size_px) * expected.size_px;
-  double peak = 0.0, worst = 0.0, error = 0.0, norm = 0.0;
-  for (std::size_t k = channel * plane; k < (channel + 1) * plane; ++k) {
-    const double d = test.values[k] - expected.values[k];
-    peak = std::max(peak, std::abs(expected.values[k]));
-    worst = std::max(worst, std::abs(d));
-    error += d * d;
-    norm += expected.values[k] * expected.values[k];
-  }
-  return {worst / peak, std::sqrt(error / norm)};
-}
-
-double rms_radius_px(const Psf& psf, int channel) {
-  const int n = psf.size_px;
-  double sum = 0.0, moment = 0.0;
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const double w = psf.at(channel, x, y), dx = x - n / 2, dy = y - n / 2;
-      sum += w;
-      moment += w * (dx * dx + dy * dy);
-    }
-  return std::sqrt(moment / sum);
 }
 
 TEST(GlareCpuFloatChromatic, MatchesTheFloat64ReferenceForAMyopeAnObliqueAstigmatAndAnEmmetrope) {

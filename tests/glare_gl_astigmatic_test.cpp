@@ -19,9 +19,13 @@
 #include "glare/gl/gl_psf.h"
 #include "glare/psf_cpu.h"
 #include "runner/display/compute_context.h"
+#include "psf_agreement.h"
 
 namespace glarelab {
 namespace {
+
+using test::Agreement;
+using test::compare;
 
 class GlAstigmaticTest : public ::testing::Test {
  protected:
@@ -62,27 +66,6 @@ std::vector<double> normalised(std::vector<double> power) {
   for (double p : power) sum += p;
   for (double& p : power) p /= sum;
   return power;
-}
-
-struct Agreement {
-  double max_over_peak = 0.0;  // max |test - reference| / max reference
-  double relative_l2 = 0.0;
-};
-
-template <typename T>
-Agreement compare(const std::vector<T>& test, const std::vector<double>& reference) {
-  Agreement agreement;
-  double peak = 0.0, error = 0.0, norm = 0.0, worst = 0.0;
-  for (std::size_t k = 0; k < reference.size(); ++k) {
-    const double d = static_cast<double>(test[k]) - reference[k];
-    peak = std::max(peak, std::abs(reference[k]));
-    worst = std::max(worst, std::abs(d));
-    error += d * d;
-    norm += reference[k] * reference[k];
-  }
-  agreement.max_over_peak = worst / peak;
-  agreement.relative_l2 = std::sqrt(error / norm);
-  return agreement;
 }
 
 double max_field_error(const std::vector<std::complex<float>>& test, const std::vector<std::complex<double>>& reference) {
