@@ -15,6 +15,7 @@
 #include "analysis/tidy_csv.h"
 #include "tests/analysis_synthetic.h"
 #include "tests/scratch_dir.h"
+#include "tests/scipy_support.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -58,27 +59,8 @@ for i, c in enumerate(categories):
         print('%d friedman %d %d %.17g %.17g %.17g' % (i, n, k, res.statistic, res.pvalue, res.statistic / (n * (k - 1))))
 )py";
 
-bool scipy_available(std::string& why) {
-  if (!std::filesystem::exists("/usr/bin/python3")) {
-    why = "/usr/bin/python3 is missing (install python3-scipy; scripts/setup.sh does)";
-    return false;
-  }
-  if (std::system("/usr/bin/python3 -c 'import scipy.stats' >/dev/null 2>&1") != 0) {
-    why = "SciPy is missing for /usr/bin/python3 (install python3-scipy; scripts/setup.sh does)";
-    return false;
-  }
-  return true;
-}
-
-std::string run_python(const std::string& script, const std::string& csv) {
-  std::string output;
-  FILE* pipe = ::popen(("/usr/bin/python3 " + script + " " + csv + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return output;
-  char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  ::pclose(pipe);
-  return output;
-}
+using test::run_python;
+using test::scipy_available;
 
 test::TrialSpec rating(const std::string& condition, const std::string& category, int value) {
   return {"rating", "{\"name\":\"" + condition + "\",\"category\":\"" + category + "\"}", std::to_string(value), {}, {}, "",

@@ -12,6 +12,7 @@
 #include "analysis/tidy_csv.h"
 #include "tests/analysis_synthetic.h"
 #include "tests/scratch_dir.h"
+#include "tests/scipy_support.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -38,27 +39,8 @@ for a, b in [('control', 'static'), ('control', 'dynamic'), ('static', 'dynamic'
     print('t %s %s %.17g %.17g' % (a, b, t.statistic, t.pvalue))
 )py";
 
-bool scipy_available(std::string& why) {
-  if (!std::filesystem::exists("/usr/bin/python3")) {
-    why = "/usr/bin/python3 is missing (install python3-scipy; scripts/setup.sh does)";
-    return false;
-  }
-  if (std::system("/usr/bin/python3 -c 'import scipy.stats' >/dev/null 2>&1") != 0) {
-    why = "SciPy is missing (install python3-scipy; scripts/setup.sh does)";
-    return false;
-  }
-  return true;
-}
-
-std::string run_python(const std::string& script, const std::string& csv) {
-  std::string output;
-  FILE* pipe = ::popen(("/usr/bin/python3 " + script + " " + csv + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return output;
-  char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  ::pclose(pipe);
-  return output;
-}
+using test::run_python;
+using test::scipy_available;
 
 TEST(AnalysisScipy, ChiSquareBinomialAndPairedTMatchScipyOnExportedCsv) {
   std::string why;
