@@ -176,42 +176,21 @@ void layer_blur(benchmark::State& state, LayerConvolution method, int rows) {
   state.counters["taps"] = kernel.nonzero_taps();
   state.counters["picks_fft"] = cheaper_layer_convolution(layer, kernel) == LayerConvolution::fft ? 1 : 0;
 }
+
+// The kernel sizes of the layer-blur rows, and their units.
+void layer_blur_args(benchmark::internal::Benchmark* rows) {
+  for (int arg : {1, 2, 4, 8, 16}) rows->Arg(arg);
+  rows->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
 void BM_DepthLayerBlurDirectFrame(benchmark::State& state) { layer_blur(state, LayerConvolution::direct, kHeight); }
 void BM_DepthLayerBlurFftFrame(benchmark::State& state) { layer_blur(state, LayerConvolution::fft, kHeight); }
 void BM_DepthLayerBlurDirectBand(benchmark::State& state) { layer_blur(state, LayerConvolution::direct, 32); }
 void BM_DepthLayerBlurFftBand(benchmark::State& state) { layer_blur(state, LayerConvolution::fft, 32); }
-BENCHMARK(BM_DepthLayerBlurDirectFrame)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Arg(16)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
-BENCHMARK(BM_DepthLayerBlurFftFrame)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Arg(16)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
-BENCHMARK(BM_DepthLayerBlurDirectBand)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Arg(16)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
-BENCHMARK(BM_DepthLayerBlurFftBand)
-    ->Arg(1)
-    ->Arg(2)
-    ->Arg(4)
-    ->Arg(8)
-    ->Arg(16)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_DepthLayerBlurDirectFrame)->Apply(layer_blur_args);
+BENCHMARK(BM_DepthLayerBlurFftFrame)->Apply(layer_blur_args);
+BENCHMARK(BM_DepthLayerBlurDirectBand)->Apply(layer_blur_args);
+BENCHMARK(BM_DepthLayerBlurFftBand)->Apply(layer_blur_args);
 
 }  // namespace
 }  // namespace glarelab
