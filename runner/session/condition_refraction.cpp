@@ -137,15 +137,17 @@ void check_condition_refractions(const Experiment& experiment) {
   ChromaticPsfOptions chromatic;
   chromatic.reference_wavelength_nm = kReferenceWavelengthNm;
   for (const ConditionRow& row : experiment.conditions) {
-    if (const std::optional<ConditionRefraction> seen = condition_refraction(experiment, row); seen && seen->traced_lens) {
+    // The optics are modelled (checked above), so every condition has its refraction.
+    const ConditionRefraction refraction = *condition_refraction(experiment, row);
+    if (refraction.traced_lens) {
       // Every line of sight to the display must pass through the lens (the 3 x 3 grid's corners are
       // the display's corner pixels, the widest angles).
       try {
-        trace_grid_vertices(*seen->traced_lens, display_frame(experiment.display), kFraunhoferD_nm, 3,
+        trace_grid_vertices(*refraction.traced_lens, display_frame(experiment.display), kFraunhoferD_nm, 3,
                             experiment.display.viewing_distance_mm);
       } catch (const std::invalid_argument& error) {
-        throw ConfigError(row.where, "condition '" + row.name() + "' spectacles",
-                          "the display is not seen through all of [spectacles." + seen->spectacles + "]: " + error.what());
+        throw ConfigError(row.where, "condition '" + row.name() + "' spectacles", "the display is not seen through all of [spectacles." +
+                                                                                      refraction.spectacles + "]: " + error.what());
       }
     }
     if (!shows_glare(experiment, row)) continue;
@@ -156,7 +158,6 @@ void check_condition_refractions(const Experiment& experiment) {
                         "but glare_model '" + to_string(model) +
                             "' has no pupil to carry it: use \"ritschel\" or \"hybrid\" for this condition, or leave "
                             "the refraction and spectacles out of the experiment");
-    const ConditionRefraction refraction = *condition_refraction(experiment, row);
     // Every wavelength of the spectral PSF carries its own error (the LCA, glare/chromatic_psf.h);
     // the message names the one that needs the finest grid.
     std::optional<std::pair<SpectralSample, PhaseSamplingReport>> worst;
