@@ -261,6 +261,25 @@ void FrameRenderer::replace_stimulus_region(const ImageRGBA& region, int x0_px, 
   gl::check_gl_error("replacing a region of the stimulus frame");
 }
 
+void FrameRenderer::replace_stimulus_region_half_rgb(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px,
+                                                     int y0_px, int width_px, int height_px) {
+  if (width_px == 0 || height_px == 0) return;
+  if (x0_px < 0 || y0_px < 0 || width_px < 0 || height_px < 0 || x0_px + width_px > width_px_ ||
+      y0_px + height_px > height_px_)
+    throw DisplayError("frame renderer: a " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+                       " region at (" + std::to_string(x0_px) + ", " + std::to_string(y0_px) + ") outside the " +
+                       std::to_string(width_px_) + "x" + std::to_string(height_px_) + " stimulus");
+  if (rgb_bottom_up.size() != 3 * static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px))
+    throw DisplayError("frame renderer: a half RGB region of " + std::to_string(rgb_bottom_up.size()) +
+                       " values for " + std::to_string(width_px) + "x" + std::to_string(height_px) + " pixels");
+  // Rows of 6 bytes a pixel are 2-byte aligned. GL_RGB into the RGBA32F stimulus sets alpha to 1.
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+  glTextureSubImage2D(stimulus_texture_.get(), 0, x0_px, height_px_ - y0_px - height_px, width_px, height_px, GL_RGB,
+                      GL_HALF_FLOAT, rgb_bottom_up.data());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  gl::check_gl_error("replacing a region of the stimulus frame from half floats");
+}
+
 ImageRGBA FrameRenderer::read_display() const {
   return read_framebuffer(read_from_target_ ? display_framebuffer_.get() : 0, width_px_, height_px_);
 }

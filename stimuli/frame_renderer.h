@@ -2,6 +2,7 @@
 // Composes stimulus frames on the GPU. Frames are rendered into a float framebuffer (RGBA32F)
 // holding luminance-calibrated linear RGB (Y in cd/m2), then encoded for the display into the
 // backend's default framebuffer. Needs the backend's GL context to be current.
+#include <cstdint>
 #include <vector>
 
 #include "core/gl/gl_objects.h"
@@ -56,6 +57,10 @@ class FrameRenderer {
   // Overwrites only the rectangle of the stimulus framebuffer at (x0_px, y0_px) from the top left
   // with `region` (cd/m2): a glared frame that differs from the composed one only there.
   void replace_stimulus_region(const ImageRGBA& region, int x0_px, int y0_px);
+  // The same from binary16 R, G, B (3 x width x height halves, rows bottom-up, as OpenGL takes
+  // them, so nothing is copied): each half is widened to float exactly; alpha becomes 1.
+  void replace_stimulus_region_half_rgb(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px, int y0_px,
+                                        int width_px, int height_px);
 
   int width_px() const { return width_px_; }
   int height_px() const { return height_px_; }
