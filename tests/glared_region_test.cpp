@@ -37,6 +37,7 @@ TEST(GlaredRegion, KeepsTheChangedRectangleExactOrAtHalfPrecision) {
   EXPECT_EQ(exact.width_px, 14);
   EXPECT_EQ(exact.height_px, 8);
   EXPECT_TRUE(exact.half_rgb.empty());
+  EXPECT_EQ(exact.exact_rgba.size(), 14u * 8u * 4u);
   EXPECT_EQ(exact.bytes(), 14u * 8u * 16u);
   const ImageRGBA exact_pixels = region_pixels(exact);
   for (int y = 0; y < 8; ++y)
@@ -46,7 +47,7 @@ TEST(GlaredRegion, KeepsTheChangedRectangleExactOrAtHalfPrecision) {
   const GlaredRegion half = changed_region(composed, glared, RegionPrecision::half_rgb);
   EXPECT_EQ(half.x0_px, 7);
   EXPECT_EQ(half.width_px, 14);
-  EXPECT_TRUE(half.exact.empty());
+  EXPECT_TRUE(half.exact_rgba.empty());
   EXPECT_EQ(half.bytes(), 14u * 8u * 6u);
   // Rows bottom-up: the region's top row (y = 5) is the last in memory.
   EXPECT_EQ(half.half_rgb[3 * 14 * 7 + 0], half_from_float(3.14159f));
@@ -135,6 +136,12 @@ TEST_P(HalfFramesOnTheDisplay, EncodeToTheFloat32FramesCodesOrANeighbour) {
     const GlaredRegion region = changed_region(composed, glared, RegionPrecision::half_rgb);
     ASSERT_FALSE(region.empty());
     ASSERT_GT(region.width_px * region.height_px, 1000) << "glare changes the stimuli and their surround";
+    // Frame 0's exact region over the composed frame is the glared frame, bit for bit.
+    const GlaredRegion exact = changed_region(composed, glared, RegionPrecision::exact);
+    renderer.replace_stimulus(composed);
+    renderer.replace_stimulus_region_bottom_up(exact.exact_rgba, exact.x0_px, exact.y0_px, exact.width_px,
+                                               exact.height_px);
+    EXPECT_EQ(renderer.read_stimulus().rgba, glared.rgba);
     for (const DisplayEncoding encoding : {experiment.display.encoding, DisplayEncoding::pq}) {
       for (const int bits : {8, 10}) {
         SCOPED_TRACE("t " + std::to_string(time_s) + " s, " + (encoding == DisplayEncoding::pq ? "pq" : "file's encoding") +

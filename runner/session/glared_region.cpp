@@ -28,14 +28,15 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
   region.width_px = x1 - x0 + 1;
   region.height_px = y1 - y0 + 1;
   const auto width = static_cast<std::size_t>(region.width_px);
+  // Bottom-up: region row y - y0 from the top is row y1 - y from the bottom.
   if (precision == RegionPrecision::exact) {
-    region.exact = ImageRGBA(region.width_px, region.height_px);
-    for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(x0, y), 4 * width, region.exact.pixel(0, y - y0));
+    region.exact_rgba.resize(4 * width * static_cast<std::size_t>(region.height_px));
+    for (int y = y0; y <= y1; ++y)
+      std::copy_n(glared.pixel(x0, y), 4 * width, region.exact_rgba.data() + 4 * width * static_cast<std::size_t>(y1 - y));
     return region;
   }
   region.half_rgb.resize(3 * width * static_cast<std::size_t>(region.height_px));
   for (int y = y0; y <= y1; ++y) {
-    // Bottom-up: region row y - y0 from the top is row (height - 1 - (y - y0)) from the bottom.
     std::uint16_t* out = region.half_rgb.data() + 3 * width * static_cast<std::size_t>(y1 - y);
     const float* in = glared.pixel(x0, y);
     for (std::size_t x = 0; x < width; ++x)
@@ -45,9 +46,14 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
 }
 
 ImageRGBA region_pixels(const GlaredRegion& region) {
-  if (region.half_rgb.empty()) return region.exact;
   ImageRGBA image(region.width_px, region.height_px, 1.0f);
   const auto width = static_cast<std::size_t>(region.width_px);
+  if (!region.exact_rgba.empty()) {
+    for (int y = 0; y < region.height_px; ++y)
+      std::copy_n(region.exact_rgba.data() + 4 * width * static_cast<std::size_t>(region.height_px - 1 - y), 4 * width,
+                  image.pixel(0, y));
+    return image;
+  }
   for (int y = 0; y < region.height_px; ++y) {
     const std::uint16_t* in = region.half_rgb.data() + 3 * width * static_cast<std::size_t>(region.height_px - 1 - y);
     float* out = image.pixel(0, y);

@@ -27,13 +27,13 @@ enum class RegionPrecision {
 struct GlaredRegion {
   int x0_px = 0, y0_px = 0;  // top left, row 0 at the top
   int width_px = 0, height_px = 0;
-  ImageRGBA exact;  // RegionPrecision::exact: the region, row 0 at the top
-  // RegionPrecision::half_rgb: 3 x width x height halves, rows bottom-up (OpenGL's order, so the
-  // region uploads as it is: stimuli/frame_renderer.h, replace_stimulus_region_half_rgb).
-  std::vector<std::uint16_t> half_rgb;
+  // Rows bottom-up (OpenGL's order), so a region uploads as it is, with no copy per flip
+  // (stimuli/frame_renderer.h); one of the two is filled, as `precision` asked.
+  std::vector<float> exact_rgba;        // RegionPrecision::exact: 4 x width x height floats
+  std::vector<std::uint16_t> half_rgb;  // RegionPrecision::half_rgb: 3 x width x height halves
 
   bool empty() const { return width_px == 0 || height_px == 0; }  // the glared frame equals the composed one
-  std::size_t bytes() const { return exact.rgba.size() * sizeof(float) + half_rgb.size() * sizeof(std::uint16_t); }
+  std::size_t bytes() const { return exact_rgba.size() * sizeof(float) + half_rgb.size() * sizeof(std::uint16_t); }
 };
 
 // The rectangle of `glared` that differs from `composed` (same size, compared bit for bit over

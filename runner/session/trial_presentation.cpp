@@ -32,7 +32,8 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
     renderer_.replace_stimulus_region_half_rgb(glared->half_rgb, glared->x0_px, glared->y0_px, glared->width_px,
                                                glared->height_px);
   else if (glared != nullptr)
-    renderer_.replace_stimulus_region(glared->exact, glared->x0_px, glared->y0_px);
+    renderer_.replace_stimulus_region_bottom_up(glared->exact_rgba, glared->x0_px, glared->y0_px, glared->width_px,
+                                                glared->height_px);
   if (!overlays.empty()) renderer_.compose_overlay(overlays);
   renderer_.encode_to_display(prepared_.experiment.display);
 }
