@@ -244,10 +244,6 @@ void FrameRenderer::replace_stimulus(const ImageRGBA& image) {
 
 void FrameRenderer::replace_stimulus_region(const ImageRGBA& region, int x0_px, int y0_px) {
   if (region.width_px == 0 || region.height_px == 0) return;
-  if (x0_px < 0 || y0_px < 0 || x0_px + region.width_px > width_px_ || y0_px + region.height_px > height_px_)
-    throw DisplayError("frame renderer: a " + std::to_string(region.width_px) + "x" + std::to_string(region.height_px) +
-                       " region at (" + std::to_string(x0_px) + ", " + std::to_string(y0_px) + ") outside the " +
-                       std::to_string(width_px_) + "x" + std::to_string(height_px_) + " stimulus");
   // GL rows start at the bottom; glarelab images start at the top.
   const std::size_t row_floats = static_cast<std::size_t>(region.width_px) * 4;
   std::vector<float> bottom_up(region.rgba.size());
@@ -255,10 +251,39 @@ void FrameRenderer::replace_stimulus_region(const ImageRGBA& region, int x0_px, 
     std::copy_n(region.rgba.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * row_floats), row_floats,
                 bottom_up.begin() +
                     static_cast<std::ptrdiff_t>(static_cast<std::size_t>(region.height_px - 1 - y) * row_floats));
+  replace_stimulus_region_bottom_up(bottom_up, x0_px, y0_px, region.width_px, region.height_px);
+}
+
+void FrameRenderer::replace_stimulus_region_bottom_up(const std::vector<float>& rgba_bottom_up, int x0_px, int y0_px,
+                                                      int width_px, int height_px) {
+  upload_stimulus_region(rgba_bottom_up.data(), rgba_bottom_up.size(), 4, GL_FLOAT, x0_px, y0_px, width_px, height_px,
+                         "replacing a region of the stimulus frame");
+}
+
+void FrameRenderer::replace_stimulus_region_half_rgb(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px,
+                                                     int y0_px, int width_px, int height_px) {
+  // GL_RGB into the RGBA32F stimulus sets alpha to 1.
+  upload_stimulus_region(rgb_bottom_up.data(), rgb_bottom_up.size(), 3, GL_HALF_FLOAT, x0_px, y0_px, width_px,
+                         height_px, "replacing a region of the stimulus frame from half floats");
+}
+
+void FrameRenderer::upload_stimulus_region(const void* values, std::size_t count, int channels, unsigned type,
+                                           int x0_px, int y0_px, int width_px, int height_px, const char* what) {
+  if (width_px == 0 || height_px == 0) return;
+  if (x0_px < 0 || y0_px < 0 || width_px < 0 || height_px < 0 || x0_px + width_px > width_px_ ||
+      y0_px + height_px > height_px_)
+    throw DisplayError("frame renderer: a " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+                       " region at (" + std::to_string(x0_px) + ", " + std::to_string(y0_px) + ") outside the " +
+                       std::to_string(width_px_) + "x" + std::to_string(height_px_) + " stimulus");
+  if (count != static_cast<std::size_t>(channels) * static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px))
+    throw DisplayError("frame renderer: " + std::to_string(count) + " values for a " + std::to_string(width_px) + "x" +
+                       std::to_string(height_px) + " region of " + std::to_string(channels) + " channels");
+  // Rows of half RGB (6 bytes a pixel) are only 2-byte aligned.
+  glPixelStorei(GL_UNPACK_ALIGNMENT, type == GL_HALF_FLOAT ? 2 : 4);
+  glTextureSubImage2D(stimulus_texture_.get(), 0, x0_px, height_px_ - y0_px - height_px, width_px, height_px,
+                      channels == 3 ? GL_RGB : GL_RGBA, type, values);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(stimulus_texture_.get(), 0, x0_px, height_px_ - y0_px - region.height_px, region.width_px,
-                      region.height_px, GL_RGBA, GL_FLOAT, bottom_up.data());
-  gl::check_gl_error("replacing a region of the stimulus frame");
+  gl::check_gl_error(what);
 }
 
 ImageRGBA FrameRenderer::read_display() const {

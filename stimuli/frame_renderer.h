@@ -2,6 +2,7 @@
 // Composes stimulus frames on the GPU. Frames are rendered into a float framebuffer (RGBA32F)
 // holding luminance-calibrated linear RGB (Y in cd/m2), then encoded for the display into the
 // backend's default framebuffer. Needs the backend's GL context to be current.
+#include <cstdint>
 #include <vector>
 
 #include "core/gl/gl_objects.h"
@@ -56,11 +57,22 @@ class FrameRenderer {
   // Overwrites only the rectangle of the stimulus framebuffer at (x0_px, y0_px) from the top left
   // with `region` (cd/m2): a glared frame that differs from the composed one only there.
   void replace_stimulus_region(const ImageRGBA& region, int x0_px, int y0_px);
+  // The same from rows already bottom-up, as OpenGL takes them, so nothing is copied: float32 RGBA
+  // (4 x width x height floats), or binary16 R, G, B (3 x width x height halves, each widened to
+  // float exactly; alpha becomes 1).
+  void replace_stimulus_region_bottom_up(const std::vector<float>& rgba_bottom_up, int x0_px, int y0_px, int width_px,
+                                         int height_px);
+  void replace_stimulus_region_half_rgb(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px, int y0_px,
+                                        int width_px, int height_px);
 
   int width_px() const { return width_px_; }
   int height_px() const { return height_px_; }
 
  private:
+  // Checks the rectangle and uploads `values` (`channels` per pixel, GL type `type`) into it, rows
+  // bottom-up.
+  void upload_stimulus_region(const void* values, std::size_t count, int channels, unsigned type, int x0_px, int y0_px,
+                              int width_px, int height_px, const char* what);
   void draw_placements(const std::vector<Placement>& placements, bool overlay);
   // (Re)creates the quantising target for `bits_per_channel` when it differs from the current one.
   void prepare_display_target(int bits_per_channel);

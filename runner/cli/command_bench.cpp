@@ -13,6 +13,7 @@
 #include "stimuli/depth_of_field_benchmark.h"
 #include "stimuli/glare_model_benchmark.h"
 #include "stimuli/perception/stage_timing.h"
+#include "runner/cli/bench_memory.h"
 #include "runner/cli/commands.h"
 #include "runner/display/compute_context.h"
 
@@ -29,6 +30,10 @@ struct BenchArguments {
   std::vector<int> analytic_size = {1920, 1080};
   bool perception_only = false;
   bool depth_of_field_only = false;
+  bool memory_only = false;
+  std::vector<int> memory_size = {1920, 1080};
+  int memory_frames = 30;
+  std::string memory_child;  // hidden: this process is a memory row's child (runner/cli/bench_memory.h)
 };
 
 void print_load_average(const std::string& where) {
@@ -84,6 +89,19 @@ void print_analytic_rows(const BenchArguments& args) {
   print_load_average("the two-level rows");
 }
 
+// A session's peak resident size at display size, control and dynamic glare, each in a child
+// process (runner/cli/bench_memory.h).
+void print_memory_rows(const BenchArguments& args) {
+  SessionMemoryOptions options;
+  options.width_px = args.memory_size[0];
+  options.height_px = args.memory_size[1];
+  options.stimulus_frames = args.memory_frames;
+  std::cerr << "memory: one trial of a " << options.width_px << " x " << options.height_px
+            << " session, control and dynamic glare, each in a child process" << std::endl;
+  std::cout << format_session_memory(options, measure_session_memory(options));
+  print_load_average("the memory rows");
+}
+
 }  // namespace
 
 Action add_bench_command(CLI::App& app) {
@@ -108,14 +126,31 @@ Action add_bench_command(CLI::App& app) {
                     "Only the perception stages (Luidolt 2020) at 1920 x 1080, CPU and GL");
   command->add_flag("--depth-of-field-only", args->depth_of_field_only,
                     "Only the depth-of-field stage (Kakimoto 2007) on a 1024 x 768 frame with Z");
+  command->add_flag("--memory-only", args->memory_only,
+                    "Only the memory rows: peak resident size of one trial of a session at --memory-size, control "
+                    "and dynamic glare (prepared frames), each in a child process");
+  command->add_option("--memory-size", args->memory_size,
+                      "Display of the memory rows, WIDTH HEIGHT in pixels (default 1920 1080)")
+      ->expected(2)
+      ->check(CLI::Range(64, 8192));
+  command->add_option("--memory-frames", args->memory_frames, "Stimulus frames of the memory rows' trial (default 30)")
+      ->check(CLI::Range(1, 600));
+  // The child of a memory row (runner/cli/bench_memory.h): runs one trial of FILE and reports its
+  // peak resident size. Not for users, so not listed.
+  command->add_option("--memory-child", args->memory_child)->group("");
   return [=]() {
+    if (!args->memory_child.empty()) return report_errors([&]() { return run_memory_child(args->memory_child, std::cout); });
     return report_errors([&]() {
       if (args->analytic_only && args->no_analytic)
         throw ConfigError({"--analytic-only", 0, 0}, "analytic-only", "--analytic-only and --no-analytic exclude each other");
       if (static_cast<int>(args->analytic_only) + static_cast<int>(args->perception_only) +
-              static_cast<int>(args->depth_of_field_only) > 1)
+              static_cast<int>(args->depth_of_field_only) + static_cast<int>(args->memory_only) > 1)
         throw ConfigError({"--analytic-only", 0, 0}, "analytic-only",
-                          "--analytic-only, --perception-only and --depth-of-field-only exclude each other");
+                          "--analytic-only, --perception-only, --depth-of-field-only and --memory-only exclude each other");
+      if (args->memory_only) {
+        print_memory_rows(*args);
+        return 0;
+      }
       if (args->analytic_only) {
         print_analytic_rows(*args);
         return 0;
@@ -164,6 +199,8 @@ Action add_bench_command(CLI::App& app) {
       print_perception_rows(*args);
       std::cout << "\n";
       print_depth_of_field_rows(*args);
+      std::cout << "\n";
+      print_memory_rows(*args);
       return 0;
     });
   };

@@ -10,23 +10,12 @@
 
 #include "core/image.h"
 #include "core/perception_settings.h"
+#include "runner/session/glared_region.h"
 #include "runner/tracker/tracker_session.h"
 #include "stimuli/glare_stage.h"
 #include "stimuli/position_glare.h"
 
 namespace glarelab {
-
-// A glared frame kept as the rectangle where it differs from the composed frame (bit for bit),
-// the rest being the composed frame itself: glare on a stimulus on a dark background changes the
-// stimulus and the PSF's reach around it, so a trial's prepared frames take a fraction of the
-// memory of whole frames (30 whole 1920 x 1080 frames are 1 GB).
-struct GlaredRegion {
-  int x0_px = 0, y0_px = 0;
-  ImageRGBA pixels;  // empty: the glared frame equals the composed one
-};
-
-// The rectangle of `glared` that differs from `composed` (same size).
-GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared);
 
 struct IntervalGlare {
   // false: control everywhere and no perception stage (or a preview passing by): no frames, the
@@ -53,7 +42,9 @@ struct IntervalGlare {
   std::string modes_label;    // "dynamic", or "left dynamic, right control"
   std::optional<GazePoint> gaze;
   std::optional<TrackerGaze> tracked;  // the tracker's gaze the window is placed at
-  std::vector<GlaredRegion> frames;    // computed so far (frame k at index k)
+  // Computed so far (frame k at index k): frame 0 exact, the others at half precision
+  // (runner/session/glared_region.h).
+  std::vector<GlaredRegion> frames;
   // Live with a tracker: the session time of the gaze sample frame k's window was placed at.
   std::vector<std::optional<double>> gaze_time_s;
 

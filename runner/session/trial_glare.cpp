@@ -3,7 +3,6 @@
 // or computed live before each flip, with their skip, gaze-window and gaze-latency events.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <chrono>
 #include <set>
 #include <optional>
@@ -33,27 +32,6 @@ std::string describe_glare_window(const GazeWindow& window, const std::optional<
 }
 
 }  // namespace
-
-GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared) {
-  const auto pixel_bytes = 4 * sizeof(float);
-  int x0 = glared.width_px, y0 = glared.height_px, x1 = -1, y1 = -1;
-  for (int y = 0; y < glared.height_px; ++y) {
-    const float* a = composed.pixel(0, y);
-    const float* b = glared.pixel(0, y);
-    if (std::memcmp(a, b, pixel_bytes * static_cast<std::size_t>(glared.width_px)) == 0) continue;
-    int first = 0, last = glared.width_px - 1;
-    while (std::memcmp(a + 4 * first, b + 4 * first, pixel_bytes) == 0) ++first;
-    while (std::memcmp(a + 4 * last, b + 4 * last, pixel_bytes) == 0) --last;
-    x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
-  }
-  GlaredRegion region;
-  if (x1 < 0) return region;
-  region.x0_px = x0;
-  region.y0_px = y0;
-  region.pixels = ImageRGBA(x1 - x0 + 1, y1 - y0 + 1);
-  for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(x0, y), 4 * region.pixels.width_px, region.pixels.pixel(0, y - y0));
-  return region;
-}
 
 // --- glare (stimuli/glare_stage.h) ---
 // An interval's glare: frame k is computed for the time it is planned to flip, first_flip + k
@@ -234,6 +212,10 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
     reports.push_back(report);
     return glared;
   };
+  // Frame 0 is what --save-frames and glarelab render record, so it is kept exact; the others
+  // only reach the display encoder and are kept at half precision, 6 bytes a pixel against 16
+  // (runner/session/glared_region.h: the codes shown stay within one of the exact frame's).
+  const RegionPrecision kept_at = k == 0 ? RegionPrecision::exact : RegionPrecision::half_rgb;
   if (glare.perceived) {
     // Fig. 6.1: adaptation -> glare -> acuity -> tone mapping -> scotopic colour, the gaze the
     // tracker's when one runs, else the display centre.
@@ -242,13 +224,13 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
         perception_.process(glare.seen_cd_m2(), glare.perception, time_s, period_s_, gaze.x, gaze.y,
                             glare.glared ? FieldGlare(glare_of) : FieldGlare());
     glare.adapted_cd_m2.push_back(result.adapted_luminance_cd_m2);
-    glare.frames.push_back(changed_region(glare.composed_cd_m2, result.image));
+    glare.frames.push_back(changed_region(glare.composed_cd_m2, result.image, kept_at));
     // One frame serving the interval: the eye still sees the rest of it.
     if (k + 1 == glare.frames_needed)
       perception_.see(result.frame_luminance_cd_m2, glare.first_flip_s, period_s_, glare.frames_needed,
                       glare.stimulus_frames);
   } else {
-    glare.frames.push_back(changed_region(glare.composed_cd_m2, glare_of(glare.seen_cd_m2(), std::nullopt)));
+    glare.frames.push_back(changed_region(glare.composed_cd_m2, glare_of(glare.seen_cd_m2(), std::nullopt), kept_at));
   }
   if (k == 0 && preview_frame_ && preview_frame_->reports.empty()) preview_frame_->reports = reports;
   for (const GlareFrameReport& report : reports) {

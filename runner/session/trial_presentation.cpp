@@ -28,7 +28,12 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
                        const std::vector<Placement>& overlays) {
   if (fast_forward_) return;
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
-  if (glared != nullptr) renderer_.replace_stimulus_region(glared->pixels, glared->x0_px, glared->y0_px);
+  if (glared != nullptr && !glared->half_rgb.empty())
+    renderer_.replace_stimulus_region_half_rgb(glared->half_rgb, glared->x0_px, glared->y0_px, glared->width_px,
+                                               glared->height_px);
+  else if (glared != nullptr)
+    renderer_.replace_stimulus_region_bottom_up(glared->exact_rgba, glared->x0_px, glared->y0_px, glared->width_px,
+                                                glared->height_px);
   if (!overlays.empty()) renderer_.compose_overlay(overlays);
   renderer_.encode_to_display(prepared_.experiment.display);
 }

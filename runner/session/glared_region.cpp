@@ -1,0 +1,72 @@
+// Glared frames kept as their changed rectangle, exact or at half precision
+// (runner/session/glared_region.h).
+#include "runner/session/glared_region.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/half_float.h"
+
+namespace glarelab {
+
+GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision) {
+  const auto pixel_bytes = 4 * sizeof(float);
+  int x0 = glared.width_px, y0 = glared.height_px, x1 = -1, y1 = -1;
+  for (int y = 0; y < glared.height_px; ++y) {
+    const float* a = composed.pixel(0, y);
+    const float* b = glared.pixel(0, y);
+    if (std::memcmp(a, b, pixel_bytes * static_cast<std::size_t>(glared.width_px)) == 0) continue;
+    int first = 0, last = glared.width_px - 1;
+    while (std::memcmp(a + 4 * first, b + 4 * first, pixel_bytes) == 0) ++first;
+    while (std::memcmp(a + 4 * last, b + 4 * last, pixel_bytes) == 0) --last;
+    x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
+  }
+  GlaredRegion region;
+  if (x1 < 0) return region;
+  region.x0_px = x0;
+  region.y0_px = y0;
+  region.width_px = x1 - x0 + 1;
+  region.height_px = y1 - y0 + 1;
+  const auto width = static_cast<std::size_t>(region.width_px);
+  // Bottom-up: region row y - y0 from the top is row y1 - y from the bottom.
+  if (precision == RegionPrecision::exact) {
+    region.exact_rgba.resize(4 * width * static_cast<std::size_t>(region.height_px));
+    for (int y = y0; y <= y1; ++y)
+      std::copy_n(glared.pixel(x0, y), 4 * width, region.exact_rgba.data() + 4 * width * static_cast<std::size_t>(y1 - y));
+    return region;
+  }
+  region.half_rgb.resize(3 * width * static_cast<std::size_t>(region.height_px));
+  for (int y = y0; y <= y1; ++y) {
+    std::uint16_t* out = region.half_rgb.data() + 3 * width * static_cast<std::size_t>(y1 - y);
+    const float* in = glared.pixel(x0, y);
+    for (std::size_t x = 0; x < width; ++x)
+      for (std::size_t c = 0; c < 3; ++c) out[3 * x + c] = half_from_float(in[4 * x + c]);
+  }
+  return region;
+}
+
+ImageRGBA region_pixels(const GlaredRegion& region) {
+  ImageRGBA image(region.width_px, region.height_px, 1.0f);
+  const auto width = static_cast<std::size_t>(region.width_px);
+  if (!region.exact_rgba.empty()) {
+    for (int y = 0; y < region.height_px; ++y)
+      std::copy_n(region.exact_rgba.data() + 4 * width * static_cast<std::size_t>(region.height_px - 1 - y), 4 * width,
+                  image.pixel(0, y));
+    return image;
+  }
+  for (int y = 0; y < region.height_px; ++y) {
+    const std::uint16_t* in = region.half_rgb.data() + 3 * width * static_cast<std::size_t>(region.height_px - 1 - y);
+    float* out = image.pixel(0, y);
+    for (std::size_t x = 0; x < width; ++x)
+      for (std::size_t c = 0; c < 3; ++c) out[4 * x + c] = float_from_half(in[3 * x + c]);
+  }
+  return image;
+}
+
+std::size_t prepared_frames_bound_bytes(int width_px, int height_px, int frames) {
+  const auto pixels = static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px);
+  if (frames <= 0) return 0;
+  return pixels * 4 * sizeof(float) + static_cast<std::size_t>(frames - 1) * pixels * 3 * sizeof(std::uint16_t);
+}
+
+}  // namespace glarelab

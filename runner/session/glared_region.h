@@ -1,0 +1,50 @@
+#pragma once
+// A glared frame as a session keeps it between computing and showing it: the rectangle where it
+// differs from the composed frame (the rest is the composed frame itself), in one of two
+// precisions. Glare on a stimulus on a dark background changes the stimulus and the PSF's reach
+// around it; a stimulus filling the display changes it all, and a trial prepares up to one frame
+// per stimulus frame (30 whole 1920 x 1080 float32 RGBA frames are 1.0 GB).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/image.h"
+
+namespace glarelab {
+
+enum class RegionPrecision {
+  // float32 RGBA, bit for bit the glared frame: an interval's frame 0, the one `run --save-frames`
+  // writes and `glarelab render` shows (linear cd/m2, a record of what was seen).
+  exact,
+  // binary16 R, G, B (core/half_float.h; alpha is 1 on upload, and nothing shown reads it): the
+  // other frames, which only reach the display encoder. Half's relative step (<= 4.9e-4, 2^-24
+  // cd/m2 absolute below 6.1e-5) is a fraction of a display code: the encoded code of a pixel stays
+  // the same or moves by one at 8 and 10 bits with or without dithering
+  // (tests/glared_region_test.cpp). 6 bytes a pixel against 16.
+  half_rgb,
+};
+
+struct GlaredRegion {
+  int x0_px = 0, y0_px = 0;  // top left, row 0 at the top
+  int width_px = 0, height_px = 0;
+  // Rows bottom-up (OpenGL's order), so a region uploads as it is, with no copy per flip
+  // (stimuli/frame_renderer.h); one of the two is filled, as `precision` asked.
+  std::vector<float> exact_rgba;        // RegionPrecision::exact: 4 x width x height floats
+  std::vector<std::uint16_t> half_rgb;  // RegionPrecision::half_rgb: 3 x width x height halves
+
+  bool empty() const { return width_px == 0 || height_px == 0; }  // the glared frame equals the composed one
+  std::size_t bytes() const { return exact_rgba.size() * sizeof(float) + half_rgb.size() * sizeof(std::uint16_t); }
+};
+
+// The rectangle of `glared` that differs from `composed` (same size, compared bit for bit over
+// R, G, B and A), kept at `precision`.
+GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision);
+
+// The linear cd/m2 a region holds (float32 RGBA, row 0 at the top; a half region's alpha is 1).
+ImageRGBA region_pixels(const GlaredRegion& region);
+
+// Bytes of the frames of a trial's interval kept as changed regions, at most: frame 0 exact and the
+// other frames at half precision, each at most the whole `width_px` x `height_px` frame.
+std::size_t prepared_frames_bound_bytes(int width_px, int height_px, int frames);
+
+}  // namespace glarelab

@@ -1,0 +1,182 @@
+// Prepared glare frames kept as changed rectangles (runner/session/glared_region.h): the rectangle
+// found against a hand-made frame, the bytes a 1080p trial's frames take against the bound, and
+// what reaches the display: a frame kept at half precision encodes, through the renderer's real
+// encode pass on the offscreen backend, to the same codes as the float32 frame, or to a
+// neighbouring code, for the example scenes under glare at 8 (dithered) and 10 bits.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "core/half_float.h"
+#include "protocols/experiment.h"
+#include "runner/display/display_backend.h"
+#include "runner/session/glared_region.h"
+#include "stimuli/frame_renderer.h"
+#include "stimuli/glare_stage.h"
+#include "stimuli/scene_library.h"
+
+namespace glarelab {
+namespace {
+
+TEST(GlaredRegion, KeepsTheChangedRectangleExactOrAtHalfPrecision) {
+  ImageRGBA composed(40, 30, 0.0f);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) composed.pixel(x, y)[3] = 1.0f;
+  ImageRGBA glared = composed;
+  // Changed: (7, 5) and (20, 12) in different channels; the rectangle spans both.
+  glared.pixel(7, 5)[0] = 3.14159f;
+  glared.pixel(20, 12)[2] = 1234.567f;
+  const GlaredRegion exact = changed_region(composed, glared, RegionPrecision::exact);
+  EXPECT_EQ(exact.x0_px, 7);
+  EXPECT_EQ(exact.y0_px, 5);
+  EXPECT_EQ(exact.width_px, 14);
+  EXPECT_EQ(exact.height_px, 8);
+  EXPECT_TRUE(exact.half_rgb.empty());
+  EXPECT_EQ(exact.exact_rgba.size(), 14u * 8u * 4u);
+  EXPECT_EQ(exact.bytes(), 14u * 8u * 16u);
+  const ImageRGBA exact_pixels = region_pixels(exact);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 14; ++x)
+      for (int c = 0; c < 4; ++c) ASSERT_EQ(exact_pixels.pixel(x, y)[c], glared.pixel(7 + x, 5 + y)[c]);
+
+  const GlaredRegion half = changed_region(composed, glared, RegionPrecision::half_rgb);
+  EXPECT_EQ(half.x0_px, 7);
+  EXPECT_EQ(half.width_px, 14);
+  EXPECT_TRUE(half.exact_rgba.empty());
+  EXPECT_EQ(half.bytes(), 14u * 8u * 6u);
+  // Rows bottom-up: the region's top row (y = 5) is the last in memory.
+  EXPECT_EQ(half.half_rgb[3 * 14 * 7 + 0], half_from_float(3.14159f));
+  const ImageRGBA half_pixels = region_pixels(half);
+  EXPECT_NEAR(half_pixels.pixel(0, 0)[0], 3.14159f, 3.14159f * std::ldexp(1.0f, -11));
+  EXPECT_NEAR(half_pixels.pixel(13, 7)[2], 1234.567f, 1234.567f * std::ldexp(1.0f, -11));
+  EXPECT_EQ(half_pixels.pixel(13, 7)[3], 1.0f);
+
+  EXPECT_TRUE(changed_region(composed, composed, RegionPrecision::half_rgb).empty());
+}
+
+TEST(GlaredRegion, A1080pTrialsFramesFitTheBoundAndTakeUnderFourTenthsOfFloat32) {
+  // Worst case: glare changes every pixel of every frame (a stimulus filling the display).
+  constexpr int kWidth = 1920, kHeight = 1080, kFrames = 30;
+  const ImageRGBA composed(kWidth, kHeight, 1.0f);
+  const ImageRGBA glared(kWidth, kHeight, 2.0f);
+  // A trial keeps frame 0 exact and the others at half precision (runner/session/trial_glare.cpp).
+  const std::size_t store = changed_region(composed, glared, RegionPrecision::exact).bytes() +
+                            (kFrames - 1) * changed_region(composed, glared, RegionPrecision::half_rgb).bytes();
+  const std::size_t pixels = std::size_t{kWidth} * kHeight;
+  EXPECT_EQ(store, pixels * (16 + (kFrames - 1) * 6));
+  EXPECT_LE(store, prepared_frames_bound_bytes(kWidth, kHeight, kFrames));
+  EXPECT_EQ(prepared_frames_bound_bytes(kWidth, kHeight, kFrames), pixels * (16 + (kFrames - 1) * 6));
+  const std::size_t float32_frames = kFrames * pixels * 4 * sizeof(float);  // 995 MB
+  EXPECT_LT(static_cast<double>(store), 0.4 * static_cast<double>(float32_frames));
+}
+
+// --- what the display shows ---
+
+struct Codes {
+  int largest_difference = 0;
+  long differing = 0;
+  long values = 0;
+};
+
+class HalfFramesOnTheDisplay : public ::testing::TestWithParam<std::string> {};
+
+// The example's first two scenes side by side (each centred in its half of the display) on its
+// background, as a session composes a side-by-side trial, in cd/m2.
+ImageRGBA side_by_side(const Experiment& experiment, const SceneLibrary& scenes) {
+  const DisplaySpec& display = experiment.display;
+  ImageRGBA frame(display.width_px, display.height_px, static_cast<float>(display.background_cd_m2));
+  for (int y = 0; y < frame.height_px; ++y)
+    for (int x = 0; x < frame.width_px; ++x) frame.pixel(x, y)[3] = 1.0f;
+  int slot = 0;
+  for (const auto& [name, scene] : scenes.scenes()) {
+    if (slot == 2) break;
+    const ImageRGBA& image = scene.image_cd_m2;
+    const int x0 = slot * frame.width_px / 2 + (frame.width_px / 2 - image.width_px) / 2;
+    const int y0 = (frame.height_px - image.height_px) / 2;
+    for (int y = 0; y < image.height_px; ++y)
+      for (int x = 0; x < image.width_px; ++x)
+        if (x0 + x >= 0 && x0 + x < frame.width_px && y0 + y >= 0 && y0 + y < frame.height_px)
+          std::copy_n(image.pixel(x, y), 4, frame.pixel(x0 + x, y0 + y));
+    ++slot;
+  }
+  return frame;
+}
+
+TEST_P(HalfFramesOnTheDisplay, EncodeToTheFloat32FramesCodesOrANeighbour) {
+  const Experiment experiment = load_experiment(std::string(GLARELAB_SOURCE_DIR) + "/examples/" + GetParam());
+  const SceneLibrary scenes(experiment.scenes, experiment.display);
+  const int width = experiment.display.width_px, height = experiment.display.height_px;
+  DisplayRequest request;
+  request.width_px = width;
+  request.height_px = height;
+  const auto display = create_display("offscreen", request);
+  FrameRenderer renderer(width, height);
+  const ImageRGBA composed = side_by_side(experiment, scenes);
+  GlareStage glare(experiment.glare, experiment.display, experiment.seed);  // no GL: the CPU path
+
+  const auto shown = [&](const ImageRGBA* whole, const GlaredRegion* region, const DisplaySpec& spec) {
+    if (whole != nullptr) renderer.replace_stimulus(*whole);
+    if (region != nullptr) {
+      renderer.replace_stimulus(composed);
+      renderer.replace_stimulus_region_half_rgb(region->half_rgb, region->x0_px, region->y0_px, region->width_px,
+                                                region->height_px);
+    }
+    renderer.encode_to_display(spec);
+    display->present();
+    return renderer.read_display();
+  };
+  for (const double time_s : {0.1, 0.35}) {
+    // A dynamic eye's frame, as a session prepares it.
+    const ImageRGBA glared = glare.apply(composed, GlareMode::dynamic, time_s);
+    const GlaredRegion region = changed_region(composed, glared, RegionPrecision::half_rgb);
+    ASSERT_FALSE(region.empty());
+    ASSERT_GT(region.width_px * region.height_px, 1000) << "glare changes the stimuli and their surround";
+    // Frame 0's exact region over the composed frame is the glared frame, bit for bit.
+    const GlaredRegion exact = changed_region(composed, glared, RegionPrecision::exact);
+    renderer.replace_stimulus(composed);
+    renderer.replace_stimulus_region_bottom_up(exact.exact_rgba, exact.x0_px, exact.y0_px, exact.width_px,
+                                               exact.height_px);
+    EXPECT_EQ(renderer.read_stimulus().rgba, glared.rgba);
+    for (const DisplayEncoding encoding : {experiment.display.encoding, DisplayEncoding::pq}) {
+      for (const int bits : {8, 10}) {
+        SCOPED_TRACE("t " + std::to_string(time_s) + " s, " + (encoding == DisplayEncoding::pq ? "pq" : "file's encoding") +
+                     ", " + std::to_string(bits) + " bits");
+        DisplaySpec spec = experiment.display;
+        spec.encoding = encoding;
+        spec.bits_per_channel = bits;  // 8: RGBA8 with 4x4 ordered dithering (stimuli/frame_renderer.h)
+        const double levels = std::ldexp(1.0, bits) - 1.0;
+        const ImageRGBA reference = shown(&glared, nullptr, spec);
+        const ImageRGBA half = shown(nullptr, &region, spec);
+        Codes codes;
+        for (int y = 0; y < height; ++y)
+          for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) {
+              const long a = std::lround(reference.pixel(x, y)[c] * levels);
+              const long b = std::lround(half.pixel(x, y)[c] * levels);
+              codes.largest_difference = std::max(codes.largest_difference, static_cast<int>(std::abs(a - b)));
+              codes.differing += a != b;
+              ++codes.values;
+            }
+        EXPECT_LE(codes.largest_difference, 1);
+        // Half's step (2^-11 relative) is a small fraction of a code, so few values sit close
+        // enough to a code boundary (or a dither threshold) to cross it.
+        EXPECT_LT(static_cast<double>(codes.differing), 0.01 * static_cast<double>(codes.values));
+        std::cout << GetParam() << " t " << time_s << " s " << (encoding == DisplayEncoding::pq ? "pq" : "file") << " "
+                  << bits << " bits: " << codes.differing << " of " << codes.values << " values one code apart\n";
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, HalfFramesOnTheDisplay, ::testing::Values("demo.toml", "spencer_staircase.toml"),
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           return param.param.substr(0, param.param.find('.'));
+                         });
+
+}  // namespace
+}  // namespace glarelab
