@@ -33,8 +33,8 @@ std::string describe_display_info(const DisplayBackend& display, const SessionCl
   const GlInfo& gl = display.gl_info();
   std::ostringstream text;
   text << "backend " << display.kind() << " " << display.width_px() << "x" << display.height_px() << "; mode "
-       << display.display_mode() << "; refresh " << display.refresh_hz() << " Hz ("
-       << (display.real_time() ? "the monitor's" : "virtual") << "); framebuffer " << framebuffer_depth()
+       << display.display_mode() << "; refresh " << display.refresh_hz() << " Hz"
+       << (display.real_time() ? "" : " (virtual)") << "; framebuffer " << framebuffer_depth()
        << "; GL renderer " << gl.renderer << "; GL vendor " << gl.vendor << "; GL version (driver) " << gl.version
        << "; GLSL " << gl.shading_language_version << "; context " << (gl.platform.empty() ? "-" : gl.platform)
        << "; clock " << clock.name();

@@ -11,7 +11,7 @@
 namespace glarelab {
 
 // "backend window 1280x720; mode windowed 1280x720 on monitor 0 'screen': video mode 1280x1024 at
-// 60 Hz, 8/8/8 bits, vsync on; refresh 60 Hz (the monitor's); framebuffer 8/8/8 bits; GL renderer
+// 60 Hz, 8/8/8 bits, vsync on; refresh 60 Hz; framebuffer 8/8/8 bits; GL renderer
 // llvmpipe (LLVM 15.0.6, 256 bits); GL vendor Mesa; GL version (driver) 4.5 (Core Profile) Mesa
 // 22.3.6; GLSL 4.50; context GLFW window, 8/8/8 bits framebuffer; clock monotonic". The framebuffer
 // depth is read from the default framebuffer, so the display's context must be current (as it is

@@ -232,6 +232,9 @@ class GlfwDisplay final : public DisplayBackend {
       text << ": video mode " << mode->width << "x" << mode->height << " at " << mode->refreshRate << " Hz, "
            << mode->redBits << "/" << mode->greenBits << "/" << mode->blueBits << " bits";
     text << ", vsync " << (request.vsync ? "on" : "off");
+    // A virtual X server (Xvfb) reports no rate: frames are then timed at the one asked for.
+    if (mode == nullptr || mode->refreshRate <= 0)
+      text << "; the monitor reports no refresh rate: timed at the requested " << request.refresh_hz << " Hz";
     return text.str();
   }
 
