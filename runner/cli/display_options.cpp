@@ -9,7 +9,8 @@ void add_display_options(CLI::App* command, DisplayOptions& options, const std::
   command->add_option("--display", options.display, "window (a person at the screen) or offscreen (EGL, else OSMesa)")
       ->check(CLI::IsMember(display_kinds()))
       ->capture_default_str();
-  command->add_option("--width", options.request.width_px, "Width in pixels (a window's size unless --fullscreen)")
+  command->add_option("--width", options.request.width_px,
+                      "Width in pixels (with --fullscreen: the monitor's video mode closest to it)")
       ->check(whole_number_check(1, 16384))
       ->capture_default_str();
   command->add_option("--height", options.request.height_px, "Height in pixels")
