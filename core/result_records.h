@@ -10,9 +10,9 @@
 namespace glarelab {
 
 // PRAGMA user_version of a current database. 2 added the adjustments table, 3 the frames'
-// gaze_age_s (docs/DATABASE.md "Schema version"); runner/store/schema_migrations.cpp has one
-// migration per version.
-inline constexpr int kResultsSchemaVersion = 3;
+// gaze_age_s, 4 the trials' procedure 'timing_test' (docs/DATABASE.md "Schema version");
+// runner/store/schema_migrations.cpp has one migration per version.
+inline constexpr int kResultsSchemaVersion = 4;
 
 struct SessionRecord {
   std::int64_t id = 0;
@@ -35,7 +35,7 @@ struct TrialRecord {
   std::int64_t session_id = 0;
   int trial_index = 0;  // from 0 within a session
   int block = 0;
-  std::string procedure;  // forced_choice | staircase | quest | adjustment | rating
+  std::string procedure;  // forced_choice | staircase | quest | adjustment | rating | timing_test
   std::string condition;  // JSON object of the condition row
   std::optional<double> intensity;
   std::string response;

@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
       {"devices", glarelab::cli::add_devices_command(app)},
       {"bench", glarelab::cli::add_bench_command(app)},
       {"render", glarelab::cli::add_render_command(app)},
+      {"calibrate", glarelab::cli::add_calibrate_command(app)},
+      {"timing-test", glarelab::cli::add_timing_test_command(app)},
   };
   try {
     app.parse(argc, argv);

@@ -158,11 +158,11 @@ TEST(Store, SchemaVersionAndContractColumns) {
   const std::string path = dir.file("nested/results/glarelab.db");
   {
     ResultStore store(path);
-    EXPECT_EQ(store.schema_version(), 3);
+    EXPECT_EQ(store.schema_version(), 4);
     EXPECT_EQ(store.path(), path);
   }
   RawDb db(path);
-  EXPECT_EQ(db.value("PRAGMA user_version"), "3");
+  EXPECT_EQ(db.value("PRAGMA user_version"), "4");
   EXPECT_THAT(column_names(db, "adjustments"), ::testing::ElementsAre("trial_id", "spot", "value_cd_m2"));
   EXPECT_THAT(column_names(db, "sessions"),
               ::testing::IsSupersetOf({"id", "experiment", "participant", "seed", "started_utc", "finished_utc",
@@ -339,7 +339,7 @@ TEST(Store, VersionTwoDatabaseGainsGazeAgeAndKeepsItsFrames) {
     db.exec("ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 2;");
   }
   ResultStore store(path);
-  EXPECT_EQ(store.schema_version(), 3);
+  EXPECT_EQ(store.schema_version(), 4);
   const auto trials = store.load_trials(session_id);
   ASSERT_EQ(trials.size(), 1u);
   const auto old_frames = store.load_frames(trials[0].id);
@@ -360,15 +360,15 @@ TEST(Store, NewerSchemaIsRefused) {
   const std::string path = dir.file("future.db");
   {
     RawDb db(path, true);
-    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 4;");
+    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 5;");
   }
   try {
     ResultStore store(path);
     FAIL() << "a database from a newer glarelab was opened";
   } catch (const StoreError& error) {
-    EXPECT_EQ(std::string(error.what()), path + ": schema version 4 is newer than this glarelab (3)");
+    EXPECT_EQ(std::string(error.what()), path + ": schema version 5 is newer than this glarelab (4)");
   }
-  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "4");
+  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "5");
 }
 
 TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
@@ -386,7 +386,7 @@ TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
     db.exec("DROP TABLE adjustments; ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 1;");
   }
   ResultStore store(path);
-  EXPECT_EQ(store.schema_version(), 3);
+  EXPECT_EQ(store.schema_version(), 4);
   ASSERT_EQ(store.load_trials(session_id).size(), 1u);
   TrialRecord adjustment = full_trial(session_id, 1);
   adjustment.procedure = "adjustment";

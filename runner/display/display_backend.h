@@ -35,7 +35,7 @@ struct DisplayRequest {
 
 // One input from the person at the display, in the order it happened.
 struct InputEvent {
-  // A key: "left", "right", "up", "down", "escape", "space", "enter", "a".."z", "0".."9";
+  // A key: "left", "right", "up", "down", "escape", "space", "enter", "backspace", "a".."z", "0".."9";
   // or one click of the mouse wheel: "wheel_up" (away from the user) or "wheel_down".
   std::string name;
   bool shift = false;  // Shift was held (the fine mode of the adjustment task)
@@ -65,6 +65,11 @@ class DisplayBackend : public GlContext {
   }
   // The user closed the window.
   virtual bool close_requested() const = 0;
+  // How the picture reaches the screen, for the session log (runner/display/display_info.h): a
+  // window's monitor and its video mode, full screen or windowed; offscreen, the buffer's size.
+  virtual std::string display_mode() const {
+    return kind() + " " + std::to_string(width_px()) + "x" + std::to_string(height_px()) + ", no monitor";
+  }
 };
 
 // The one place a backend is chosen: kind is "window", "offscreen" (EGL, else OSMesa), "egl" or

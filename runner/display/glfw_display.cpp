@@ -64,6 +64,7 @@ std::string key_name(int key) {
     case GLFW_KEY_DOWN: return "down";
     case GLFW_KEY_ESCAPE: return "escape";
     case GLFW_KEY_SPACE: return "space";
+    case GLFW_KEY_BACKSPACE: return "backspace";
     case GLFW_KEY_ENTER:
     case GLFW_KEY_KP_ENTER: return "enter";
     default: break;
@@ -100,6 +101,7 @@ class GlfwDisplay final : public DisplayBackend {
   bool real_time() const override { return true; }
   void present() override { glfwSwapBuffers(window_); }
   bool close_requested() const override { return glfwWindowShouldClose(window_) == GLFW_TRUE; }
+  std::string display_mode() const override { return display_mode_; }
   void make_current() override {
     // Release first: another context on this thread (the OSMesa context of the GL glare path, or
     // the one "auto" opens to look at the renderer) switches Mesa's shared GL dispatch without GLX
@@ -187,6 +189,7 @@ class GlfwDisplay final : public DisplayBackend {
     glfwSwapInterval(request.vsync ? 1 : 0);
     glfwGetFramebufferSize(window_, &width_px_, &height_px_);
     refresh_hz_ = (mode != nullptr && mode->refreshRate > 0) ? mode->refreshRate : request.refresh_hz;
+    display_mode_ = describe_mode(request, monitor, mode);
     info_ = load_and_check_gl("GLFW", glfw_proc, request);
     check_colour_depth(request);
   }
@@ -215,6 +218,26 @@ class GlfwDisplay final : public DisplayBackend {
                          "does not offer it)");
   }
 
+  // "full screen on monitor 0 'DP-1': video mode 1920x1080 at 60 Hz, 8/8/8 bits" or "windowed
+  // 1280x720 on monitor 0 ...": what the session log records as the display mode.
+  std::string describe_mode(const DisplayRequest& request, GLFWmonitor* monitor, const GLFWvidmode* mode) const {
+    std::ostringstream text;
+    if (request.fullscreen)
+      text << "full screen";
+    else
+      text << "windowed " << width_px_ << "x" << height_px_;
+    const char* name = glfwGetMonitorName(monitor);
+    text << " on monitor " << request.monitor << " '" << (name != nullptr ? name : "?") << "'";
+    if (mode != nullptr)
+      text << ": video mode " << mode->width << "x" << mode->height << " at " << mode->refreshRate << " Hz, "
+           << mode->redBits << "/" << mode->greenBits << "/" << mode->blueBits << " bits";
+    text << ", vsync " << (request.vsync ? "on" : "off");
+    // A virtual X server (Xvfb) reports no rate: frames are then timed at the one asked for.
+    if (mode == nullptr || mode->refreshRate <= 0)
+      text << "; the monitor reports no refresh rate: timed at the requested " << request.refresh_hz << " Hz";
+    return text.str();
+  }
+
   // Names the OpenGL version the driver does offer when the requested one was refused.
   static std::string probe_default_context() {
     const std::string refusal = last_glfw_error();
@@ -235,6 +258,7 @@ class GlfwDisplay final : public DisplayBackend {
   int height_px_ = 0;
   double refresh_hz_ = 60.0;
   GlInfo info_;
+  std::string display_mode_;
   std::vector<InputEvent> pending_input_;
   double wheel_clicks_ = 0.0;  // scroll not yet a whole click
 };

@@ -10,6 +10,7 @@
 #include "core/number_text.h"
 #include "glare/psf_scale.h"
 #include "protocols/stimulus_duration.h"
+#include "runner/display/display_info.h"
 #include "runner/session/condition_refraction.h"
 #include "runner/session/slow_flip_clock.h"
 #include "stimuli/glare_stage.h"
@@ -285,10 +286,7 @@ std::optional<std::int64_t> open_session_row(SessionStart& start, const Prepared
       earlier ? store.begin_session_after(session, *earlier) : std::optional<std::int64_t>(store.begin_session(session));
   if (!inserted) return std::nullopt;
   const std::int64_t session_id = *inserted;
-  store.log_event(session_id, 0.0, "display",
-                  display.kind() + " " + std::to_string(display.width_px()) + "x" +
-                      std::to_string(display.height_px()) + " at " + std::to_string(display.refresh_hz()) +
-                      " Hz, " + renderer + ", " + clock.name() + " clock");
+  store.log_event(session_id, 0.0, "display", describe_display_info(display, clock));
   const std::string rounding =
       describe_duration_rounding(prepared.experiment.forced_choice, prepared.experiment.display.refresh_hz);
   if (!rounding.empty()) store.log_event(session_id, 0.0, "duration_rounding", rounding);

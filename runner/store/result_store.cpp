@@ -244,8 +244,6 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
     // FULL syncs the WAL at every commit: a committed trial survives a power cut, not only a
     // crash of this process.
     exec(db_, path_, "PRAGMA synchronous=FULL", "setting synchronous=FULL");
-    exec(db_, path_, "PRAGMA foreign_keys=ON", "enabling foreign keys");
-
     for (int from = version; from < kSchemaVersion; ++from) {
       const std::string what = "migrating the schema from version " + std::to_string(from) + " to " +
                                std::to_string(from + 1);
@@ -258,6 +256,10 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
       exec(db_, path_, bump.c_str(), what);
       transaction.commit();
     }
+    // After the migrations: one that rebuilds a table (3 -> 4) drops a table that others refer
+    // to, which foreign keys would refuse, and PRAGMA foreign_keys cannot be switched inside the
+    // migrations' transactions; so foreign keys are switched on once the schema is current.
+    exec(db_, path_, "PRAGMA foreign_keys=ON", "enabling foreign keys");
   } catch (...) {
     // The destructor does not run for a constructor that throws.
     sqlite3_close_v2(db_);

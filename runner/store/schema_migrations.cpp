@@ -90,6 +90,37 @@ CREATE TABLE adjustments (
     R"sql(
 ALTER TABLE frames ADD COLUMN gaze_age_s REAL;
 )sql",
+    // 3 -> 4: `glarelab timing-test` stores its flips as one trial of procedure 'timing_test'.
+    // SQLite cannot alter a CHECK constraint, so the trials table is rebuilt with the wider one
+    // (the procedure of the SQLite manual, "Making Other Kinds Of Table Schema Changes"); the
+    // store runs migrations with foreign keys off, so dropping the old table leaves the frames'
+    // and adjustments' references to be resolved by the renamed one.
+    R"sql(
+CREATE TABLE trials_v4 (
+  id INTEGER PRIMARY KEY,
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  trial_index INTEGER NOT NULL,
+  block INTEGER NOT NULL,
+  procedure TEXT NOT NULL CHECK(procedure IN ('forced_choice','staircase','quest','adjustment','rating','timing_test')),
+  condition TEXT NOT NULL,
+  intensity REAL,
+  response TEXT NOT NULL,
+  correct INTEGER CHECK(correct IN (0, 1)),
+  response_time_s REAL,
+  onset_s REAL NOT NULL,
+  staircase TEXT,
+  reversal INTEGER,
+  started_utc TEXT NOT NULL,
+  UNIQUE(session_id, trial_index)
+);
+INSERT INTO trials_v4 (id, session_id, trial_index, block, procedure, condition, intensity, response, correct,
+                       response_time_s, onset_s, staircase, reversal, started_utc)
+  SELECT id, session_id, trial_index, block, procedure, condition, intensity, response, correct,
+         response_time_s, onset_s, staircase, reversal, started_utc FROM trials;
+DROP TABLE trials;
+ALTER TABLE trials_v4 RENAME TO trials;
+CREATE INDEX trials_session_id ON trials(session_id);
+)sql",
 };
 static_assert(std::size(kSchemaMigrations) == kResultsSchemaVersion, "one migration per schema version");
 
