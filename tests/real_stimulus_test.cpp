@@ -186,6 +186,20 @@ TEST(RealStimulus, ScaleAnchorsAreTwoTexts) {
   expect_refused_at(text("[\"low\", 7]"), "7]", "expected a string");
 }
 
+TEST(RealStimulus, ValidateListsTheRealObject) {
+  const ScratchDir scratch;
+  const std::string file = scratch.write(
+      "real.toml", experiment("type = \"rating\"\ncategories = [\"overall\"]",
+                              "[[conditions.rows]]\nname = \"real lamp\"\nscene = \"real:desk lamp\"\n"
+                              "[[conditions.rows]]\nname = \"simulated lamp\"\nscene = \"lamp_100\"\n"));
+  const auto run = run_glarelab({"validate", file}, scratch.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("2 condition row(s), 2 rating trials"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("  real stimulus: condition real lamp shows the real desk lamp (an instruction, no image)\n"),
+            std::string::npos)
+      << run.output;
+}
+
 // The instruction of a real stimulus as [presentation] draws text by default: lines 0.6 degrees
 // high (2 x 600 mm x tan(0.3 deg) / 0.25 mm = 25.1 px, drawn 25 px), wrapped within 90 % of the
 // 640 px width, at 100 cd/m2.
