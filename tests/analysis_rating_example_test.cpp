@@ -97,6 +97,26 @@ TEST(AnalysisRatingExample, LuidoltRatingsByThreeParticipantsGetPerCategoryTests
   // its largest value n (k - 1) = 9 (7.9 for these seeds).
   EXPECT_GT(chi_square_sum / 6.0, 6.0);
 
+  // Post hoc (analysis/rating_post_hoc.h): each category whose Friedman p is at most 0.05 gets its
+  // 6 pairs of the 4 conditions, in rating_post_hoc.csv and the summary, Holm p >= the pair's p.
+  std::size_t significant = 0;
+  for (std::size_t r = 1; r < tests.size(); ++r) {
+    if (std::stod(tests[r][8]) > 0.05) continue;
+    ++significant;
+    EXPECT_NE(summary.find("rating post hoc " + tests[r][0] + ", real_lamp vs standard: Wilcoxon T = "), std::string::npos)
+        << summary;
+  }
+  if (significant > 0) {
+    const auto pairs = csv_rows(test::read_bytes((out / "rating_post_hoc.csv").string()));
+    ASSERT_EQ(pairs.size(), 1 + 6 * significant);
+    for (std::size_t r = 1; r < pairs.size(); ++r) {
+      ASSERT_EQ(pairs[r].size(), 11u);
+      EXPECT_GE(std::stod(pairs[r][8]), std::stod(pairs[r][7])) << pairs[r][0] << " " << pairs[r][1] << " " << pairs[r][2];
+    }
+  } else {
+    EXPECT_FALSE(std::filesystem::exists(out / "rating_post_hoc.csv"));
+  }
+
   // SciPy recomputes every category's Friedman test from trials.csv, in the conditions' order.
   if (std::system("/usr/bin/python3 -c 'import scipy.stats' >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "SciPy is missing for /usr/bin/python3 (install python3-scipy): the statistics were not cross-checked";
