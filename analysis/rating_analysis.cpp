@@ -113,6 +113,8 @@ RatingComparison compare_category(const std::string& category, const std::vector
     comparison.wilcoxon = wilcoxon_signed_rank(first, second);
   } else {
     comparison.friedman = friedman_test(comparison.scores);
+    if (comparison.friedman->ok())
+      comparison.post_hoc = rating_post_hoc(comparison.conditions, comparison.scores, comparison.friedman->p_value);
   }
   return comparison;
 }

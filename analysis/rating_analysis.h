@@ -12,6 +12,7 @@
 
 #include "analysis/loaded_database.h"
 #include "analysis/rank_tests.h"
+#include "analysis/rating_post_hoc.h"
 
 namespace glarelab::analysis {
 
@@ -38,6 +39,8 @@ struct RatingComparison {
   std::vector<std::string> left_out;        // participants without a rating of every condition
   std::optional<WilcoxonSignedRank> wilcoxon;  // two conditions: conditions[0] - conditions[1]
   std::optional<FriedmanTest> friedman;        // three or more
+  // After a Friedman p <= 0.05: every pair's signed-rank test, Holm-adjusted (rating_post_hoc.h).
+  std::vector<RatingPairTest> post_hoc;
   std::string unavailable;                     // non-empty: why neither test was run
 };
 

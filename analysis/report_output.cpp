@@ -1,5 +1,6 @@
 #include "analysis/report_output.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -115,6 +116,16 @@ std::string comparison_sentence(const RatingComparison& c) {
   }
   if (!c.left_out.empty()) text += "; left out (not every condition rated): " + join(c.left_out, ", ");
   return text;
+}
+
+// "real_lamp vs standard: Wilcoxon T = 0, exact p = 0.0156, Holm p = 0.0938" per pair after a
+// significant Friedman test (analysis/rating_post_hoc.h).
+std::string post_hoc_sentence(const RatingPairTest& pair) {
+  const WilcoxonSignedRank& w = pair.wilcoxon;
+  std::string text = pair.first + " vs " + pair.second + ": ";
+  if (!w.ok()) return text + "not computed: " + w.unavailable;
+  return text + "Wilcoxon T = " + general(w.statistic) + ", " + (w.exact ? "exact " : "normal approximation ") +
+         format_p(w.p_value) + ", Holm p = " + fixed(pair.p_holm, 4);
 }
 
 void html_list(std::ostringstream& out, const std::vector<std::string>& items) {
@@ -291,7 +302,15 @@ std::string render_html(const AnalysisReport& report) {
     out << "</table>\n";
     if (!ratings.comparisons.empty()) {
       out << "<ul>\n";
-      for (const RatingComparison& c : ratings.comparisons) out << "<li>" << html_escape(comparison_sentence(c)) << "</li>\n";
+      for (const RatingComparison& c : ratings.comparisons) {
+        out << "<li>" << html_escape(comparison_sentence(c));
+        if (!c.post_hoc.empty()) {
+          out << "; pairs (Holm-adjusted):<ul>\n";
+          for (const RatingPairTest& pair : c.post_hoc) out << "<li>" << html_escape(post_hoc_sentence(pair)) << "</li>\n";
+          out << "</ul>";
+        }
+        out << "</li>\n";
+      }
       out << "</ul>\n";
     }
     html_list(out, ratings.notes);
@@ -388,7 +407,12 @@ std::string render_terminal_summary(const AnalysisReport& report) {
     if (r.mean) out << ", mean " << general(*r.mean) << ", median " << general(*r.median);
     out << "\n";
   }
-  for (const RatingComparison& c : report.ratings.comparisons) out << "  rating test " << comparison_sentence(c) << "\n";
+  for (const RatingComparison& c : report.ratings.comparisons) {
+    out << "  rating test " << comparison_sentence(c) << "\n";
+    for (const RatingPairTest& pair : c.post_hoc)
+      out << "  rating post hoc " << (c.category.empty() ? std::string("all trials") : c.category) << ", "
+          << post_hoc_sentence(pair) << "\n";
+  }
   long frames = 0;
   long dropped = 0;
   for (const SessionTiming& t : report.timing.sessions) {
@@ -456,6 +480,24 @@ std::string rating_tests_csv(const RatingAnalysis& ratings) {
   return text;
 }
 
+// rating_post_hoc.csv: a row per pair of conditions of each category whose Friedman test was
+// significant (written only when there is one).
+std::string rating_post_hoc_csv(const RatingAnalysis& ratings) {
+  std::string text = "category,first,second,participants,zero_differences,statistic,z,p_value,p_holm,method,not_computed\r\n";
+  for (const RatingComparison& c : ratings.comparisons)
+    for (const RatingPairTest& pair : c.post_hoc) {
+      const WilcoxonSignedRank& w = pair.wilcoxon;
+      text += csv_field(c.category) + "," + csv_field(pair.first) + "," + csv_field(pair.second) + "," +
+              std::to_string(w.pairs) + "," + std::to_string(w.zero_differences) + ",";
+      if (w.ok())
+        text += csv_number(w.statistic) + "," + (w.exact ? "" : csv_number(w.z)) + "," + csv_number(w.p_value) + "," +
+                csv_number(pair.p_holm) + "," + (w.exact ? "exact" : "normal") + ",\r\n";
+      else
+        text += ",,,,," + csv_field(w.unavailable) + "\r\n";
+    }
+  return text;
+}
+
 }  // namespace
 
 std::vector<std::string> write_report(const AnalysisReport& report, const std::string& directory) {
@@ -472,6 +514,9 @@ std::vector<std::string> write_report(const AnalysisReport& report, const std::s
   if (!report.ratings.empty()) {
     write(dir / "ratings.csv", ratings_csv(report.ratings));
     write(dir / "rating_tests.csv", rating_tests_csv(report.ratings));
+    const auto& comparisons = report.ratings.comparisons;
+    if (std::any_of(comparisons.begin(), comparisons.end(), [](const RatingComparison& c) { return !c.post_hoc.empty(); }))
+      write(dir / "rating_post_hoc.csv", rating_post_hoc_csv(report.ratings));
   }
   write(dir / "report.html", render_html(report));
   for (const Figure& figure : report.figures) write(dir / "figures" / (figure.file_stem + ".svg"), figure.svg);

@@ -103,10 +103,14 @@ struct AdaptiveSpec {
 };
 
 // Likert ratings (Luidolt 2020, section 7.2): every condition row's scene rated on every named
-// category, 1..scale_points.
+// category, 1..scale_points. A row's scene may be a physical object ("real:desk lamp",
+// core/real_stimulus.h).
 struct RatingSpec {
   std::vector<std::string> categories;
   int scale_points = 5;
+  // What the ends of the scale mean, shown in the question: empty, or two texts, for 1 and for
+  // scale_points (Luidolt 2020, 7.2.1: "completely different", "exactly the same").
+  std::vector<std::string> scale_anchors;
   int repetitions = 1;
 };
 

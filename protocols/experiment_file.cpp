@@ -22,6 +22,7 @@
 #include "protocols/observer_optics_config.h"
 #include "protocols/pair_design.h"
 #include "protocols/rating_procedure.h"
+#include "core/real_stimulus.h"
 #include "protocols/stimulus_duration.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
@@ -208,6 +209,9 @@ void read_scenes_section(TableReader& top, Experiment& experiment, const std::st
                             describe_toml_type(node));
     }
     if (name.empty()) scenes.fail_at_key(name, "scene names must not be empty");
+    if (is_real_stimulus(name))
+      scenes.fail_at_key(name, "scene names starting with 'real:' are reserved: a condition's \"" + name +
+                                   "\" names a physical object (core/real_stimulus.h), not a scene of [scenes]");
     TableReader reader(*node.as_table(), "scenes." + name, top.file());
     SceneSpec scene;
     scene.name = name;
@@ -464,6 +468,39 @@ ConditionSource generated_conditions(TableReader& top, const GeneratedDesign& ge
   return source;
 }
 
+// A row whose scene column names a physical object ("real:desk lamp", core/real_stimulus.h): only
+// a rating presents one (the observer looks at the object, then answers); the other procedures
+// show images side by side, scale a comparison or let the observer adjust one, none of which a
+// real object can be. The object must have a name (the instruction names it), and nothing that
+// renders an image (glare, perception stages) can apply to it.
+void check_real_stimulus(const LocatedRow& located, std::size_t field, const Experiment& experiment) {
+  const ConditionRow& row = located.row;
+  const auto& [column, scene] = row.fields[field];
+  if (experiment.procedure != "rating") {
+    const std::string procedure = experiment.procedure == "forced_choice" ? std::string("forced choice")
+                                                                           : experiment.procedure;
+    throw ConfigError(located.value_where[field], column,
+                      "condition '" + row.name() + "' shows a real stimulus ('" + scene + "'), which " + procedure +
+                          " cannot present: a real object can only be rated (procedure type = \"rating\"), since " +
+                          procedure + " shows, scales or adjusts images");
+  }
+  if (real_stimulus_object(scene).empty())
+    throw ConfigError(located.value_where[field], column,
+                      "condition '" + row.name() + "': '" + scene +
+                          "' names no object; write the object after 'real:', e.g. \"real:desk lamp\"");
+  for (std::size_t f = 0; f < row.fields.size(); ++f) {
+    const auto& [key, value] = row.fields[f];
+    const bool renders = (key == "glare" && !value.empty() && value != "control") ||
+                         (key == "perception" && !value.empty() && value != "none") ||
+                         (key == "glare_model" && !value.empty()) || (key == "glare_gain" && !value.empty());
+    if (renders)
+      throw ConfigError(located.value_where[f], key,
+                        "condition '" + row.name() + "' shows a real stimulus ('" + scene + "'): no image is rendered, "
+                            "so '" + key + " = " + value + "' cannot apply (leave it empty" +
+                            (key == "glare" ? ", or control" : key == "perception" ? ", or none" : "") + ")");
+  }
+}
+
 // Every row names an existing scene in each of `columns` (forced choice: scene_a and scene_b;
 // staircase and QUEST: reference and comparison).
 void check_scene_columns(const std::vector<LocatedRow>& rows, const Experiment& experiment,
@@ -486,6 +523,10 @@ void check_scene_columns(const std::vector<LocatedRow>& rows, const Experiment& 
                                                  " has no '" + column + "' (" + needs + ")");
       }
       const std::string& scene = row.fields[f].second;
+      if (is_real_stimulus(scene)) {
+        check_real_stimulus(located, f, experiment);
+        continue;
+      }
       if (experiment.scenes.count(scene) == 0) {
         throw ConfigError(located.value_where[f], column,
                           "unknown scene '" + scene + "' (scenes in [scenes]: " + join_quoted(scene_names) + ")");
@@ -510,6 +551,22 @@ void check_forced_choice_rows(const std::vector<LocatedRow>& rows, const Experim
     }
   }
   check_scene_columns(rows, experiment, csv, {"scene_a", "scene_b"});
+}
+
+// A rating shows the scene named in column scene of every row (an image, or a real object). Its
+// trials record the category rated and, for a real object, "stimulus": "real" beside the row's
+// columns in trials.condition: a row's own column of either name would be recorded twice.
+void check_rating_rows(const std::vector<LocatedRow>& rows, const Experiment& experiment,
+                       const std::optional<CsvTable>& csv) {
+  for (const LocatedRow& located : rows)
+    for (std::size_t f = 0; f < located.row.fields.size(); ++f) {
+      const std::string& column = located.row.fields[f].first;
+      if (column == "category" || column == "stimulus")
+        throw ConfigError(located.key_where[f], column,
+                          "column name '" + column + "' is reserved (rating trials record the category rated under "
+                          "'category' and a real stimulus under 'stimulus')");
+    }
+  check_scene_columns(rows, experiment, csv, {"scene"});
 }
 
 }  // namespace
@@ -552,7 +609,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   experiment.presentation = read_presentation_section(top, experiment);
 
   if (experiment.procedure == "forced_choice") check_forced_choice_rows(conditions.rows, experiment, conditions.csv);
-  else if (experiment.procedure == "rating") check_scene_columns(conditions.rows, experiment, conditions.csv, {"scene"});
+  else if (experiment.procedure == "rating") check_rating_rows(conditions.rows, experiment, conditions.csv);
   else if (experiment.procedure == "adjustment")
     check_scene_columns(conditions.rows, experiment, conditions.csv, {"target", "comparison"});
   else check_scene_columns(conditions.rows, experiment, conditions.csv, {"reference", "comparison"});

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/number_text.h"
+#include "core/real_stimulus.h"
 #include "protocols/blocked_design.h"
 #include "protocols/fixed_design_procedure.h"
 #include "protocols/json_text.h"
@@ -25,6 +26,26 @@ void read_rating_procedure(TableReader& procedure, Experiment& experiment) {
     spec.scale_points = static_cast<int>(*points);
   }
   spec.repetitions = procedure.repetitions("repetitions", spec.repetitions);
+  if (const toml::array* anchors = procedure.array("scale_anchors")) {
+    if (anchors->size() != 2)
+      procedure.fail("scale_anchors", "expected two texts, what 1 and what " + std::to_string(spec.scale_points) +
+                                          " mean (e.g. [\"completely different\", \"exactly the same\"]), found " +
+                                          std::to_string(anchors->size()));
+    for (std::size_t i = 0; i < anchors->size(); ++i) {
+      const std::string& text =
+          expect_string(*anchors->get(i), procedure.key_path("scale_anchors") + "[" + std::to_string(i) + "]",
+                        procedure.file());
+      if (text.empty()) procedure.fail("scale_anchors", "anchor texts must not be empty");
+      spec.scale_anchors.push_back(text);
+    }
+  }
+}
+
+std::string rating_question(const RatingSpec& spec, const std::string& category) {
+  const std::string top = std::to_string(spec.scale_points);
+  if (spec.scale_anchors.empty()) return "Rate the " + category + " from 1 to " + top;
+  return "Rate the " + category + " from 1 (" + spec.scale_anchors[0] + ") to " + top + " (" + spec.scale_anchors[1] +
+         ")";
 }
 
 std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {
@@ -56,8 +77,9 @@ std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {
     plan.condition_name = row.name();
     plan.positions = {"centre"};
     plan.scenes = {*scene};
+    plan.real_stimulus = real_stimulus_object(*scene);
     plan.allowed_responses = allowed;
-    plan.question = "Rate the " + category + " from 1 to " + std::to_string(spec.scale_points);
+    plan.question = rating_question(spec, category);
     plan.stimulus_frames = experiment.forced_choice.stimulus_frames;
     apply_block_placement(design[index].placement, false, plan);
     if (const std::string* mean = row.find("simulated_rating")) {
@@ -73,6 +95,8 @@ std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {
     JsonObjectWriter json;
     for (const auto& [column, value] : row.fields) json.add(column, value);
     json.add("category", category);
+    // The trial record says the stimulus was the object itself, not an image of it.
+    if (!plan.real_stimulus.empty()) json.add("stimulus", "real");
     plan.condition_json = json.str();
     trials.push_back(std::move(plan));
   }

@@ -203,6 +203,12 @@ std::string resolved_config_toml(const Experiment& experiment) {
                             {"categories", std::move(categories)},
                             {"scale_points", experiment.rating.scale_points},
                             {"repetitions", experiment.rating.repetitions}};
+    // Only when given: configurations stored before anchors existed read back unchanged.
+    if (!experiment.rating.scale_anchors.empty()) {
+      toml::array anchors;
+      for (const std::string& anchor : experiment.rating.scale_anchors) anchors.push_back(anchor);
+      procedure.insert("scale_anchors", std::move(anchors));
+    }
   } else if (experiment.procedure == "adjustment") {
     const AdjustmentSpec& adjustment = experiment.adjustment;
     procedure = toml::table{{"type", experiment.procedure},

@@ -18,6 +18,10 @@ struct TrialPlan {
   std::string condition_json;  // the condition row plus presentation facts, as a JSON object
   std::vector<std::string> positions;  // e.g. {"left", "right"}
   std::vector<std::string> scenes;     // scene name shown at each position
+  // A rating of a physical object (core/real_stimulus.h, scene "real:desk lamp"): the object's
+  // name. The session then draws the instruction to look at it instead of the scene, without
+  // glare or perception stages. Empty: the scenes are images.
+  std::string real_stimulus;
   // The condition each position shows (forced choice rows with condition_a / condition_b columns,
   // e.g. Ritschel's dynamic, static, control); empty otherwise. The simulated observer's
   // preferences ([observer.simulated.preferences]) are between these names.

@@ -1,8 +1,8 @@
 // examples/luidolt_ratings.toml run offscreen by three simulated participants (each its own
 // participant code and seed) into one database, then `glarelab analyze`: every one of the six
-// categories gets its distributions, its figure and a Friedman test across the three conditions
-// on the three participants' paired ratings. (Three, not
-// Luidolt's five: each run renders 18 trials, about 20 s on the test machine.)
+// categories gets its distributions, its figure and a Friedman test across the four conditions
+// (the real lamp and three simulations) on the three participants' paired ratings. (Three, not
+// Luidolt's five: each run renders 24 trials, 18 of them images, about 13 s of CPU time.)
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -48,10 +48,10 @@ TEST(AnalysisRatingExample, LuidoltRatingsByThreeParticipantsGetPerCategoryTests
   const auto analysis = test::run_glarelab({"analyze", db.string(), "--out", out.string()}, scratch.path());
   ASSERT_EQ(analysis.exit_code, 0) << analysis.output;
   const std::string& summary = analysis.output;
-  for (const std::string condition : {"control", "static", "dynamic"})
+  for (const std::string condition : {"real_lamp", "standard", "glare", "full"})
     EXPECT_NE(summary.find("rating " + condition + ": 18 answers"), std::string::npos) << summary;
   for (const std::string& category : kCategories) {
-    const std::string line = "rating test " + category + " (control vs static vs dynamic): Friedman chi2(2) = ";
+    const std::string line = "rating test " + category + " (real_lamp vs standard vs glare vs full): Friedman chi2(3) = ";
     const auto at = summary.find(line);
     ASSERT_NE(at, std::string::npos) << summary;
     EXPECT_NE(summary.substr(at, summary.find('\n', at) - at).find("; 3 participants"), std::string::npos) << summary;
@@ -61,20 +61,22 @@ TEST(AnalysisRatingExample, LuidoltRatingsByThreeParticipantsGetPerCategoryTests
   const std::string html = test::read_bytes((out / "report.html").string());
   EXPECT_NE(html.find("Kendall&#39;s W = "), std::string::npos);
 
-  // ratings.csv: 6 categories x 3 conditions, a column per point of the stored 5-point scale,
-  // and every cell holds the three participants' answers.
+  // ratings.csv: 6 categories x 4 conditions, a column per point of the stored 7-point scale
+  // (Luidolt 2020, 7.2.1), and every cell holds the three participants' answers.
   const auto ratings = csv_rows(test::read_bytes((out / "ratings.csv").string()));
-  ASSERT_EQ(ratings.size(), 19u);
+  ASSERT_EQ(ratings.size(), 25u);
   EXPECT_EQ(ratings[0], (std::vector<std::string>{"category", "condition", "answers", "mean", "median", "answers_1",
-                                                   "answers_2", "answers_3", "answers_4", "answers_5"}));
+                                                   "answers_2", "answers_3", "answers_4", "answers_5", "answers_6",
+                                                   "answers_7"}));
   for (std::size_t r = 1; r < ratings.size(); ++r) {
-    ASSERT_EQ(ratings[r].size(), 10u);
+    ASSERT_EQ(ratings[r].size(), 12u);
     EXPECT_EQ(ratings[r][2], "3");
     long sum = 0;
-    for (std::size_t c = 5; c < 10; ++c) sum += std::stol(ratings[r][c]);
+    for (std::size_t c = 5; c < 12; ++c) sum += std::stol(ratings[r][c]);
     EXPECT_EQ(sum, 3) << ratings[r][0] << " " << ratings[r][1];
   }
-  // rating_tests.csv: a Friedman row per category with chi2, df 2, p and W = chi2 / (3 * 2).
+  // rating_tests.csv: a Friedman row per category with chi2, df 3, p and W = chi2 / (n (k - 1))
+  // = chi2 / (3 * 3).
   const auto tests = csv_rows(test::read_bytes((out / "rating_tests.csv").string()));
   ASSERT_EQ(tests.size(), 7u);
   double chi_square_sum = 0.0;
@@ -83,18 +85,37 @@ TEST(AnalysisRatingExample, LuidoltRatingsByThreeParticipantsGetPerCategoryTests
     EXPECT_EQ(tests[r][0], kCategories[r - 1]);
     EXPECT_EQ(tests[r][2], "friedman");
     EXPECT_EQ(tests[r][3], "3");
-    EXPECT_EQ(tests[r][6], "2");
+    EXPECT_EQ(tests[r][6], "3");
     const double chi2 = std::stod(tests[r][5]);
-    EXPECT_NEAR(std::stod(tests[r][9]), chi2 / 6.0, 1e-12);
+    EXPECT_NEAR(std::stod(tests[r][9]), chi2 / 9.0, 1e-12);
     EXPECT_GE(std::stod(tests[r][8]), 0.0);
     EXPECT_LE(std::stod(tests[r][8]), 1.0);
     chi_square_sum += chi2;
   }
-  // The simulated means are 2.0, 3.0 and 4.2 with noise sd 0.7: the participants mostly agree
-  // on the order, so the statistics are far from zero.
-  // The simulated means 2.0, 3.0 and 4.2 (noise sd 0.7) order the conditions for most
-  // participants: the mean statistic lies above its null expectation, df = 2 (4.1 for these seeds).
-  EXPECT_GT(chi_square_sum / 6.0, 2.0);
+  // The simulated means 6.6 (real lamp), 3.0, 4.0 and 5.0 (noise sd 0.7) order the conditions
+  // for most participants: the mean statistic lies far above its null expectation, df = 3, near
+  // its largest value n (k - 1) = 9 (7.9 for these seeds).
+  EXPECT_GT(chi_square_sum / 6.0, 6.0);
+
+  // Post hoc (analysis/rating_post_hoc.h): each category whose Friedman p is at most 0.05 gets its
+  // 6 pairs of the 4 conditions, in rating_post_hoc.csv and the summary, Holm p >= the pair's p.
+  std::size_t significant = 0;
+  for (std::size_t r = 1; r < tests.size(); ++r) {
+    if (std::stod(tests[r][8]) > 0.05) continue;
+    ++significant;
+    EXPECT_NE(summary.find("rating post hoc " + tests[r][0] + ", real_lamp vs standard: Wilcoxon T = "), std::string::npos)
+        << summary;
+  }
+  if (significant > 0) {
+    const auto pairs = csv_rows(test::read_bytes((out / "rating_post_hoc.csv").string()));
+    ASSERT_EQ(pairs.size(), 1 + 6 * significant);
+    for (std::size_t r = 1; r < pairs.size(); ++r) {
+      ASSERT_EQ(pairs[r].size(), 11u);
+      EXPECT_GE(std::stod(pairs[r][8]), std::stod(pairs[r][7])) << pairs[r][0] << " " << pairs[r][1] << " " << pairs[r][2];
+    }
+  } else {
+    EXPECT_FALSE(std::filesystem::exists(out / "rating_post_hoc.csv"));
+  }
 
   // SciPy recomputes every category's Friedman test from trials.csv, in the conditions' order.
   if (std::system("/usr/bin/python3 -c 'import scipy.stats' >/dev/null 2>&1") != 0)

@@ -416,25 +416,31 @@ TEST(ExampleStudies, RitschelPairsRunWithTheHybridEye) {
 TEST(ExampleStudies, LuidoltRatingsRateEverySceneOnEveryCategory) {
   const ScratchDir scratch;
   const StudyRun run = run_example("luidolt_ratings.toml", scratch);
-  ASSERT_EQ(run.trials.size(), 18u);  // 3 conditions x 6 categories
+  ASSERT_EQ(run.trials.size(), 24u);  // 4 conditions x 6 categories
   EXPECT_NE(run.report_html.find("<h2>Ratings</h2>"), std::string::npos);
-  for (const std::string condition : {"control", "static", "dynamic"})
+  for (const std::string condition : {"real_lamp", "standard", "glare", "full"})
     EXPECT_NE(run.analysis_summary.find("rating " + condition + ": 6 answers"), std::string::npos) << run.analysis_summary;
   std::set<std::string> seen;
   std::map<std::string, double> sum;
-  for (const TrialRecord& trial : run.trials) {
+  for (std::size_t t = 0; t < run.trials.size(); ++t) {
+    const TrialRecord& trial = run.trials[t];
     EXPECT_EQ(trial.procedure, "rating");
     EXPECT_FALSE(trial.correct.has_value());
     const int rating = std::stoi(trial.response);
     EXPECT_GE(rating, 1);
-    EXPECT_LE(rating, 5);
-    seen.insert(json_member(trial.condition, "name") + "/" + json_member(trial.condition, "category"));
-    sum[json_member(trial.condition, "name")] += rating;
+    EXPECT_LE(rating, 7);  // Luidolt 2020, 7.2.1: a 7-point scale
+    const std::string name = json_member(trial.condition, "name");
+    seen.insert(name + "/" + json_member(trial.condition, "category"));
+    sum[name] += rating;
+    // Luidolt's order: the real lamp's six categories first (block 0), then the simulations.
+    EXPECT_EQ(name == "real_lamp", t < 6) << t << " " << trial.condition;
+    EXPECT_EQ(trial.block, t < 6 ? 0 : 1);
+    EXPECT_EQ(trial.condition.find("\"stimulus\":\"real\"") != std::string::npos, name == "real_lamp");
   }
-  EXPECT_EQ(seen.size(), 18u) << "every scene x category exactly once";
-  // Means 2.0 and 4.2 with noise sd 0.7 over six ratings each: the order survives the noise
-  // (the difference of the means has sd 0.4).
-  EXPECT_LT(sum["control"], sum["dynamic"]);
+  EXPECT_EQ(seen.size(), 24u) << "every condition x category exactly once";
+  // Means 3.0 (standard) and 5.0 (full) with noise sd 0.7 over six ratings each: the order
+  // survives the noise (the difference of the sums has sd 2.4, against 12).
+  EXPECT_LT(sum["standard"], sum["full"]);
 }
 
 TEST(ExampleStudies, RitschelAdjustmentStoresBothSettingsAndTheirMean) {

@@ -68,6 +68,11 @@ class ScratchDatabase {
 
 std::string describe(const PreviewFrame& frame) {
   std::ostringstream text;
+  if (!frame.plan.real_stimulus.empty()) {
+    text << "trial " << frame.plan.trial_index << " (" << frame.plan.procedure << "), " << frame.glare_label << " at "
+         << frame.time_s << " s: the instruction to look at it, no image rendered";
+    return text.str();
+  }
   text << "trial " << frame.plan.trial_index << " (" << frame.plan.procedure << "), " << frame.glare_label
        << " glare at " << frame.time_s << " s";
   if (frame.plan.intensity && !frame.plan.comparison_positions.empty())

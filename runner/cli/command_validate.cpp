@@ -1,5 +1,6 @@
 #include <iostream>
 
+#include "core/real_stimulus.h"
 #include "protocols/experiment.h"
 #include "protocols/procedure.h"
 #include "runner/cli/commands.h"
@@ -28,6 +29,11 @@ Action add_validate_command(CLI::App& app) {
         std::cout << "  scene " << name << ": " << scene.image_cd_m2.width_px << "x" << scene.image_cd_m2.height_px
                   << " px, peak " << scene.peak_cd_m2 << " cd/m2, mean " << scene.mean_cd_m2 << " cd/m2\n";
       }
+      // Conditions that show a physical object (core/real_stimulus.h): nothing to load for them.
+      for (const ConditionRow& row : experiment.conditions)
+        if (const std::string* scene = row.find("scene"); scene != nullptr && is_real_stimulus(*scene))
+          std::cout << "  real stimulus: condition " << row.name() << " shows the real " << real_stimulus_object(*scene)
+                    << " (an instruction, no image)\n";
       for (const ConditionRefraction& refraction : condition_refractions(experiment))
         std::cout << "  refraction: " << describe_condition_refraction(refraction) << "\n";
       return 0;

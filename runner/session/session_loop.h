@@ -172,6 +172,12 @@ class SessionLoop {
   bool previewed(const TrialPlan& plan) const { return preview_ != nullptr && plan.condition_name == preview_->condition; }
   // --- end glare ---
 
+  // runner/session/real_stimulus_trial.cpp: a trial showing a physical object (TrialPlan::
+  // real_stimulus): its interval without glare or perception stages (captured by a preview like any
+  // other), and the instruction to look at the object, centred (empty for an image).
+  IntervalGlare begin_real_stimulus(const TrialPlan& plan, int flips_before);
+  std::vector<Placement> real_stimulus_instruction_overlay(const TrialPlan& plan);
+
   // runner/session/trial_run.cpp: at an interval's first flip, before it is presented: the frame
   // saved (--save-frames) and, for the previewed trial, captured. True when the preview is done.
   bool capture_first_frame(const TrialPlan& plan, int interval);

@@ -39,17 +39,28 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   std::vector<TrialPlan> shown_plans;
   for (int interval = 0; interval < schedule.intervals; ++interval) {
     const TrialPlan& shown = shown_plans.emplace_back(interval_plan(plan, interval));
-    placements.push_back(layout(shown));
-    for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
     std::size_t first_flip = 0;
     while (schedule.timed[first_flip].interval != interval) ++first_flip;
+    if (!shown.real_stimulus.empty()) {
+      // A physical object: the instruction to look at it (below) instead of an image.
+      placements.emplace_back();
+      glare.push_back(begin_real_stimulus(shown, static_cast<int>(first_flip)));
+      continue;
+    }
+    placements.push_back(layout(shown));
+    for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
     glare.push_back(begin_glare(shown, placements.back(), static_cast<int>(first_flip)));
     // Perception stages are prepared before onset whatever the glare's presentation: the session's
     // eye then sees its frames in the order they flip.
     if (glare_presentation_ == GlarePresentation::prepared || glare.back().perceived) prepare_glare_frames(glare.back());
     if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
   }
-  const std::vector<Placement> question = overlays_.question(plan.question, stimulus_rects);
+  // The question above the stimuli; a real stimulus's instruction stands where its image would,
+  // and stays up with the question until the answer.
+  const std::vector<Placement> instruction = real_stimulus_instruction_overlay(plan);
+  for (const Placement& placement : instruction) stimulus_rects.push_back(placement.rect);
+  std::vector<Placement> question = instruction;
+  for (const Placement& placement : overlays_.question(plan.question, stimulus_rects)) question.push_back(placement);
 
   // The timed sequence: fixation, interval 1 [, inter-stimulus interval, interval 2].
   double sequence_start_s = 0.0;
