@@ -397,6 +397,7 @@ void SessionLoop::log_glare_setup() {
   }
   // In stereo every eye's stage picks its backend as the left eye's does.
   GlareStage& stage = stereo_eyes_.empty() ? glare_ : stereo_eyes_.front()->glare;
+  const DisplaySpec& stage_display = stereo_eyes_.empty() ? prepared_.experiment.display : stereo_eyes_.front()->display;
   std::string backend_reason = stage.backend_reason();
   if (!condition_refractions_.empty()) backend_reason += " " + stage.refraction_backend_reason() + ".";
   store_.log_event(session_id_, clock_.now_s(), "glare_backend", backend_reason);
@@ -407,12 +408,10 @@ void SessionLoop::log_glare_setup() {
   for (const ConditionRow& row : prepared_.experiment.conditions)
     if (const GlareModel model = glare_model_for(spec, row); model != GlareModel::ritschel) analytic_models.insert(model);
   for (const GlareModel model : analytic_models) {
-    for (const std::unique_ptr<StereoEye>& eye : stereo_eyes_) eye->glare.analytic_for(model, eye->display.width_px, eye->display.height_px);
-    const AnalyticGlare& analytic =
-        stereo_eyes_.empty()
-            ? glare_.analytic_for(model, prepared_.experiment.display.width_px, prepared_.experiment.display.height_px)
-            : stereo_eyes_.front()->glare.analytic_for(model, stereo_eyes_.front()->display.width_px,
-                                                      stereo_eyes_.front()->display.height_px);
+    // In stereo, each eye's kernel for its view (the left eye's described).
+    for (std::size_t e = 1; e < stereo_eyes_.size(); ++e)
+      stereo_eyes_[e]->glare.analytic_for(model, stereo_eyes_[e]->display.width_px, stereo_eyes_[e]->display.height_px);
+    const AnalyticGlare& analytic = stage.analytic_for(model, stage_display.width_px, stage_display.height_px);
     store_.log_event(session_id_, clock_.now_s(), "glare_model",
                      to_string(model) + (model == GlareModel::hybrid ? " (far field " + analytic.describe() + ")"
                                                                     : ": " + analytic.describe()));
