@@ -157,6 +157,29 @@ TEST(StereoSessionTest, RenderShowsBothEyes) {
   EXPECT_GT(frame.pixel(512 + 128, 128)[1], 1.0f);
 }
 
+// A glare mode per side (glare_a, glare_b): each half is the frame of a mono display of its size
+// with the same sides, bit for bit (Spencer's glare: no random eye), so each eye's glared side is
+// the same position in its view.
+TEST(StereoSessionTest, AGlareModePerSideIsTheSamePositionInEachEye) {
+  const test::ScratchDir scratch;
+  const auto render = [&](int width_px, bool stereo, const std::string& name) {
+    const std::filesystem::path dir = scratch.path() / name;
+    const auto experiment = stereo_demo(dir, width_px, stereo, "mode = \"control\"\nmodel = \"spencer\"");
+    test::write_bytes((dir / "conditions.csv").string(),
+                      "name,scene_a,scene_b,glare_a,glare_b\nsides,lamp_100,lamp_130,static,control\n");
+    const std::string out = (dir / "frame.exr").string();
+    const test::RunOutput output =
+        test::run_glarelab({"render", experiment.string(), "--condition", "sides", "--out", out}, dir);
+    EXPECT_EQ(output.exit_code, 0) << output.output;
+    return read_exr(out).image;
+  };
+  const ImageRGBA mono = render(512, false, "mono");
+  const ImageRGBA both = render(1024, true, "stereo");
+  ASSERT_EQ(both.width_px, 1024);
+  EXPECT_EQ(half(both, 0).rgba, mono.rgba);
+  EXPECT_EQ(half(both, 1).rgba, mono.rgba);
+}
+
 // Bad input: exit 2 naming FILE:LINE:COLUMN of the stereo key, no database written.
 void expect_refused(const std::filesystem::path& dir, const std::filesystem::path& experiment, const std::string& why) {
   for (const std::string command : {"run", "validate"}) {
