@@ -13,6 +13,10 @@ enum class DisplayEncoding { srgb, gamma, pq, table };
 // The primaries the drive values address (with encoding pq): the stimulus is linear Rec.709 and
 // is converted to BT.2020 primaries (ITU-R BT.2087 matrix) when the display takes BT.2020.
 enum class DisplayPrimaries { rec709, bt2020 };
+// Per-eye rendering ([display] stereo; stimuli/stereo_layout.h): one view for both eyes, or the
+// left eye's view in the left half of the frame and the right eye's in the right half (HMD mirror
+// windows, side-by-side stereo displays).
+enum class StereoMode { none, side_by_side };
 
 struct DisplaySpec {
   int width_px = 1280;
@@ -31,6 +35,7 @@ struct DisplaySpec {
   int bits_per_channel = 0;
   int monitor = 0;
   bool fullscreen = false;
+  StereoMode stereo = StereoMode::none;
 };
 
 // Visual angle (degrees) of a span of `pixels` centred on the line of sight:

@@ -22,6 +22,7 @@ enum class RandomStream : std::uint32_t {
   block_order = 10,          // random block orders, one seed per participant (protocols/block_design.h)
   block_trial_order = 11,    // trial orders within blocks, one seed per participant and block
   fuzz_mutation = 12,        // deterministic input mutations of the fuzz targets' replay runs (fuzz/)
+  stereo_eye = 13,           // the seed of each eye's model in a stereo session (stimuli/stereo_layout.h)
 };
 
 class CounterRandom {

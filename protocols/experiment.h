@@ -155,6 +155,7 @@ struct Experiment {
   std::string description;
   std::uint64_t seed = 1;
   DisplaySpec display;
+  SourceLocation stereo_where;  // [display] stereo's value, for refusals that depend on the scenes
   std::map<std::string, SceneSpec> scenes;
   std::string procedure = "forced_choice";
   ForcedChoiceSpec forced_choice;

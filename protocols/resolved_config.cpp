@@ -180,6 +180,8 @@ std::string resolved_config_toml(const Experiment& experiment) {
   if (display.encoding == DisplayEncoding::pq)
     display_table.insert("primaries", display.primaries == DisplayPrimaries::bt2020 ? "bt2020" : "rec709");
   if (display.encoding == DisplayEncoding::table) display_table.insert("calibration", display.calibration.file);
+  // Written only for stereo, so a mono experiment's resolved text is what it always was.
+  if (display.stereo == StereoMode::side_by_side) display_table.insert("stereo", "side_by_side");
   if (display.bits_per_channel != 0) display_table.insert("bits_per_channel", display.bits_per_channel);
   print_section(out, "display", display_table);
 

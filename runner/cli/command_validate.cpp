@@ -5,6 +5,7 @@
 #include "protocols/procedure.h"
 #include "runner/cli/commands.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/stereo_eyes.h"
 #include "stimuli/scene_library.h"
 
 namespace glarelab::cli {
@@ -21,6 +22,7 @@ Action add_validate_command(CLI::App& app) {
       // The refusals a session makes for the observer's refraction (the [glare] grid must sample
       // every condition's residual), made here too so a file that validates also runs.
       check_condition_refractions(experiment);
+      check_stereo_layout(experiment, scenes);
       std::cout << *path << ": ok: experiment '" << experiment.name << "', " << experiment.scenes.size()
                 << " scene(s), " << experiment.conditions.size() << " condition row(s), " << procedure->planned_trials() << " "
                 << experiment.procedure << " trials, display " << experiment.display.width_px << "x"

@@ -17,6 +17,16 @@
 
 namespace glarelab {
 
+// One eye of a stereo interval (runner/session/stereo_glare.cpp): its gaze in its own view and
+// what its frames reported, for the interval's stereo_eyes event.
+struct EyeIntervalGlare {
+  std::optional<GazePoint> gaze;
+  std::optional<TrackerGaze> tracked;
+  double pupil_sum_mm = 0.0;  // over the eye's wave-optics frames (report.pupil_diameter_mm > 0)
+  int pupil_frames = 0;
+  std::vector<double> adapted_cd_m2;  // perception: each frame's adapted luminance
+};
+
 struct IntervalGlare {
   // false: control everywhere and no perception stage (or a preview passing by): no frames, the
   // composed frame is shown as it is.
@@ -56,6 +66,7 @@ struct IntervalGlare {
   std::vector<double> gaze_to_flip_s;  // live: each frame's flip time minus its gaze sample's time
   std::vector<double> frame_compute_s;  // wall time spent computing each frame
   std::vector<double> adapted_cd_m2;    // perception: each frame's adapted luminance (Eq. 5.2)
+  std::vector<EyeIntervalGlare> eyes;   // stereo: left eye, right eye; empty on a mono display
 
   double frame_time_s(int k) const { return first_flip_s + k * period_s; }
   std::optional<double> gaze_time_of(int k) const {
@@ -68,5 +79,8 @@ struct IntervalGlare {
     return &frames[std::min<std::size_t>(static_cast<std::size_t>(k), frames.size() - 1)];
   }
 };
+
+// Counts a frame's glare reports into the interval's (applications, skips, held blinks, ...).
+void count_glare_reports(IntervalGlare& glare, const std::vector<GlareFrameReport>& reports);
 
 }  // namespace glarelab

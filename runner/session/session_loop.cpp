@@ -25,9 +25,11 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
   if (prepared.experiment.glare.presentation == "live") glare_presentation_ = GlarePresentation::live;
+  stereo_eyes_ = make_stereo_eyes(prepared.experiment, gl::compute_context_factory());
   for (const ConditionRefraction& refraction : condition_refractions(prepared_.experiment))
     condition_refractions_.emplace(refraction.condition, refraction);
   log_glare_setup();
+  log_stereo_setup();
   for (const ConditionRow& row : prepared_.experiment.conditions)
     adapts_ = adapts_ || perception_for(prepared_.experiment.perception, row).adaptation;
   for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));

@@ -18,6 +18,7 @@
 #include "runner/session/presentation_overlays.h"
 #include "runner/session/response_device_input.h"
 #include "runner/session/session_setup.h"
+#include "runner/session/stereo_eyes.h"
 #include "runner/session/stimulus_preview.h"
 #include "runner/session/trial_schedule.h"
 #include "runner/store/result_store.h"
@@ -177,6 +178,27 @@ class SessionLoop {
   // other), and the instruction to look at the object, centred (empty for an image).
   IntervalGlare begin_real_stimulus(const TrialPlan& plan, int flips_before);
   std::vector<Placement> real_stimulus_instruction_overlay(const TrialPlan& plan);
+  // --- stereo (runner/session/stereo_eyes.h, stimuli/stereo_layout.h) ---
+  // runner/session/stereo_glare.cpp: the per-eye halves of what the glare functions above do on a
+  // mono display, each eye with its own view, glare stage, perception eye and tracker samples.
+  std::vector<EyeView> stereo_views() const;
+  // Once per session: a 'stereo' event with each eye's view, seed and where its inputs come from.
+  void log_stereo_setup();
+  // Overlays placed for the whole display, repeated in each eye's view (clipped to it).
+  std::vector<Placement> stereo_overlays(const std::vector<Placement>& overlays) const;
+  // Each eye's own pupil and blinks from the tracker, for its glare stage.
+  void feed_stereo_tracker_inputs();
+  // Each eye's own gaze for a frame flipping at flip_s, normalised in its view.
+  void update_stereo_gaze(IntervalGlare& glare, double flip_s);
+  double eye_adaptation_luminance(const StereoEye& eye, const IntervalGlare& glare, std::size_t e,
+                                  const ImageRGBA& composed_cd_m2) const;
+  void see_stereo_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2);
+  // A preview passing by: each eye sees the interval's frames as computing them would have made it.
+  void record_stereo_interval(IntervalGlare& glare, const ImageRGBA& composed_cd_m2, int frames);
+  void compute_stereo_glare_frame(IntervalGlare& glare, int k);
+  // The interval's stereo_eyes event: each eye's pupil, gaze and adapted luminance.
+  void log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare);
+  // --- end stereo ---
 
   // runner/session/trial_run.cpp: at an interval's first flip, before it is presented: the frame
   // saved (--save-frames) and, for the previewed trial, captured. True when the preview is done.
@@ -223,6 +245,8 @@ class SessionLoop {
   // when the experiment does not model the observer's optics.
   std::map<std::string, ConditionRefraction> condition_refractions_;
   std::string save_frames_dir_;
+  // Stereo: the eyes, left first (empty on a mono display, where glare_ and perception_ serve).
+  std::vector<std::unique_ptr<StereoEye>> stereo_eyes_;
 };
 
 }  // namespace glarelab

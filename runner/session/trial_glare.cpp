@@ -43,6 +43,7 @@ std::string describe_glare_window(const GazeWindow& window, const std::optional<
 IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
                                        int flips_before) {
   IntervalGlare glare;
+  glare.eyes.resize(stereo_eyes_.size());
   glare.period_s = period_s_;
   glare.first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
   // A preview (stimulus_preview.h) computes the glare of its own trial's first frame only; other
@@ -57,9 +58,15 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   const auto refraction = condition_refractions_.find(plan.condition_name);
   glare_.set_refraction(refraction == condition_refractions_.end() ? std::nullopt
                                                                    : std::optional(refraction->second.fixation.residual));
+  for (const std::unique_ptr<StereoEye>& eye : stereo_eyes_) {
+    eye->glare.set_condition(model, gain);
+    eye->glare.set_refraction(refraction == condition_refractions_.end()
+                                  ? std::nullopt
+                                  : std::optional(refraction->second.fixation.residual));
+  }
   // A mode per position (stimuli/position_glare.h): one layer per placement.
   std::vector<GlareMode> position_modes;
-  if (plan.position_glare.size() == placements.size())
+  if (plan.position_glare.size() == plan.scenes.size())
     for (const std::string& name : plan.position_glare) position_modes.push_back(parse_glare_mode(name));
   if (captured && preview_->glare) {
     glare.mode = *preview_->glare;
@@ -121,7 +128,8 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
       const ImageRGBA composed = renderer_.read_stimulus();
       const double mean_cd_m2 = mean_luminance(composed);
       const double adaptation_cd_m2 = adapts_ ? adaptation_luminance(glare, composed) : 0.0;
-      for (int k = 0; k < plan.stimulus_frames; ++k) {
+      if (!stereo_eyes_.empty()) record_stereo_interval(glare, composed, plan.stimulus_frames);
+      for (int k = 0; stereo_eyes_.empty() && k < plan.stimulus_frames; ++k) {
         if (adapts_) perception_.see(adaptation_cd_m2, glare.first_flip_s, period_s_, k, k + 1);
         const bool adapted = glare.perceived && glare.perception.adaptation;
         if (glare.dynamic)
@@ -146,6 +154,7 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
       for (const TrackerBlinkInterval& blink : tracker_.detected_blinks()) blinks.push_back({blink.onset_s, blink.offset_s});
       glare_.set_detected_blinks(blinks);
     }
+    if (!stereo_eyes_.empty()) feed_stereo_tracker_inputs();
     update_glare_gaze(glare, glare.first_flip_s);
   }
   // Through the condition's spectacles, the eye receives the frame warped by the lens (every
@@ -156,7 +165,10 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
                : composed;
   };
   for (std::size_t p = 0; p < position_modes.size(); ++p) {
-    renderer_.compose({placements[p]}, 0.0);
+    // The position's placement (in stereo, its placement in each eye's view).
+    std::vector<Placement> position;
+    for (std::size_t q = p; q < placements.size(); q += position_modes.size()) position.push_back(placements[q]);
+    renderer_.compose(position, 0.0);
     glare.layers.push_back({seen(renderer_.read_stimulus()), position_modes[p], plan.glare_keeps_peak});
   }
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
@@ -178,6 +190,7 @@ double SessionLoop::adaptation_luminance(const IntervalGlare& glare, const Image
 }
 
 void SessionLoop::see_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2) {
+  if (!stereo_eyes_.empty()) return see_stereo_interval(glare, composed_cd_m2);
   perception_.see(adaptation_luminance(glare, composed_cd_m2), glare.first_flip_s, period_s_, 0, glare.stimulus_frames);
 }
 
@@ -188,10 +201,12 @@ void SessionLoop::update_glare_gaze(IntervalGlare& glare, double flip_s) {
                                                                        : tracker_.latest_gaze();
   glare.gaze.reset();
   if (glare.tracked) glare.gaze = GazePoint{glare.tracked->x, glare.tracked->y};
+  if (!stereo_eyes_.empty()) update_stereo_gaze(glare, flip_s);
 }
 
 void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
   if (!glare.active || k >= glare.frames_needed || static_cast<int>(glare.frames.size()) > k) return;
+  if (!stereo_eyes_.empty()) return compute_stereo_glare_frame(glare, k);
   const auto start = std::chrono::steady_clock::now();
   const double time_s = glare.frame_time_s(k);
   std::optional<double> gaze_time_s;
@@ -233,6 +248,12 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
     glare.frames.push_back(changed_region(glare.composed_cd_m2, glare_of(glare.seen_cd_m2(), std::nullopt), kept_at));
   }
   if (k == 0 && preview_frame_ && preview_frame_->reports.empty()) preview_frame_->reports = reports;
+  count_glare_reports(glare, reports);
+  glare.frame_compute_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  display_.make_current();  // a GL glare backend works in a context of its own
+}
+
+void count_glare_reports(IntervalGlare& glare, const std::vector<GlareFrameReport>& reports) {
   for (const GlareFrameReport& report : reports) {
     ++glare.applications;
     if (report.window && !glare.window) glare.window = report.window;
@@ -244,8 +265,6 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
     if (report.eye_closed && report.convolved) ++glare.closed;  // held PSF; otherwise counted as skipped
     glare.smallest_pupil_mm = std::min(glare.smallest_pupil_mm, report.pupil_diameter_mm);
   }
-  glare.frame_compute_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  display_.make_current();  // a GL glare backend works in a context of its own
 }
 
 void SessionLoop::prepare_glare_frames(IntervalGlare& glare) {
@@ -358,8 +377,11 @@ void SessionLoop::log_glare_setup() {
     store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
     return;
   }
-  std::string backend_reason = glare_.backend_reason();
-  if (!condition_refractions_.empty()) backend_reason += " " + glare_.refraction_backend_reason() + ".";
+  // In stereo every eye's stage picks its backend as the left eye's does.
+  GlareStage& stage = stereo_eyes_.empty() ? glare_ : stereo_eyes_.front()->glare;
+  const DisplaySpec& stage_display = stereo_eyes_.empty() ? prepared_.experiment.display : stereo_eyes_.front()->display;
+  std::string backend_reason = stage.backend_reason();
+  if (!condition_refractions_.empty()) backend_reason += " " + stage.refraction_backend_reason() + ".";
   store_.log_event(session_id_, clock_.now_s(), "glare_backend", backend_reason);
   display_.make_current();  // making a GL backend (or asking GL for auto) changed the current context
   // The analytic models' kernels are integrated over the display's pixels now, before the first
@@ -368,8 +390,10 @@ void SessionLoop::log_glare_setup() {
   for (const ConditionRow& row : prepared_.experiment.conditions)
     if (const GlareModel model = glare_model_for(spec, row); model != GlareModel::ritschel) analytic_models.insert(model);
   for (const GlareModel model : analytic_models) {
-    const AnalyticGlare& analytic =
-        glare_.analytic_for(model, prepared_.experiment.display.width_px, prepared_.experiment.display.height_px);
+    // In stereo, each eye's kernel for its view (the left eye's described).
+    for (std::size_t e = 1; e < stereo_eyes_.size(); ++e)
+      stereo_eyes_[e]->glare.analytic_for(model, stereo_eyes_[e]->display.width_px, stereo_eyes_[e]->display.height_px);
+    const AnalyticGlare& analytic = stage.analytic_for(model, stage_display.width_px, stage_display.height_px);
     store_.log_event(session_id_, clock_.now_s(), "glare_model",
                      to_string(model) + (model == GlareModel::hybrid ? " (far field " + analytic.describe() + ")"
                                                                     : ": " + analytic.describe()));

@@ -16,11 +16,15 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
     sizes.push_back({0, 0, scene.image_cd_m2.width_px, scene.image_cd_m2.height_px});
   }
   std::vector<PixelRect> columns;
-  const auto rects = side_by_side_layout(display_.width_px(), display_.height_px(), sizes, &columns);
+  // Stereo: the scenes in each eye's view, the left eye's placements first.
+  const auto rects = stereo_eyes_.empty() ? side_by_side_layout(display_.width_px(), display_.height_px(), sizes, &columns)
+                                          : stereo_layout(stereo_views(), sizes, &columns);
   std::vector<Placement> placements;
-  for (std::size_t i = 0; i < plan.scenes.size(); ++i)
+  for (std::size_t r = 0; r < rects.size(); ++r) {
+    const std::size_t i = r % plan.scenes.size();
     placements.push_back({&textures_.at(plan.scenes[i]), plan.scene_scale.empty() ? 1.0 : plan.scene_scale[i],
-                          rects[i], columns[i]});
+                          rects[r], columns[r]});
+  }
   return placements;
 }
 
@@ -34,7 +38,7 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   else if (glared != nullptr)
     renderer_.replace_stimulus_region_bottom_up(glared->exact_rgba, glared->x0_px, glared->y0_px, glared->width_px,
                                                 glared->height_px);
-  if (!overlays.empty()) renderer_.compose_overlay(overlays);
+  if (!overlays.empty()) renderer_.compose_overlay(stereo_eyes_.empty() ? overlays : stereo_overlays(overlays));
   renderer_.encode_to_display(prepared_.experiment.display);
 }
 

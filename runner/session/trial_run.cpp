@@ -125,6 +125,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     log_interval_glare(plan, interval_glare);
     settle_glare_presentation(plan, interval_glare);
     log_perception_stages(plan, interval_glare);
+    log_stereo_eyes(plan, interval_glare);
   }
 
   const double window_s = presentation.response_window_s;

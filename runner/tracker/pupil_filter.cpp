@@ -109,6 +109,11 @@ void PupilFilter::add_batch(const TrackerBatch& batch, std::vector<FilteredPupil
   for (; next_blink < batch.blinks.size(); ++next_blink) add_blink(batch.blinks[next_blink]);
 }
 
+std::optional<double> PupilFilter::eye_pupil_mm(int eye) const {
+  if (eye < 0 || eye > 1 || !eyes_[eye].has_value) return std::nullopt;
+  return eyes_[eye].filtered_mm;
+}
+
 double PupilFilter::model_pupil_mm() const {
   double sum = 0.0;
   int count = 0;

@@ -54,6 +54,9 @@ class PupilFilter {
   // Processes a batch in order (blinks by time, interleaved with the samples); appends outputs.
   void add_batch(const TrackerBatch& batch, std::vector<FilteredPupil>* out);
   double model_pupil_mm() const;
+  // One eye's filtered pupil (eye 0 or 1), nothing before that eye's first accepted sample: the
+  // pupil of that eye's model in a stereo session.
+  std::optional<double> eye_pupil_mm(int eye) const;
   // Whether any sample has been accepted (before that model_pupil_mm() is settings.initial_mm).
   bool has_measurement() const { return eyes_[0].has_value || eyes_[1].has_value; }
   std::size_t rejected() const { return rejected_; }

@@ -63,10 +63,18 @@ void TrackerSession::track_gaze_and_blinks(const TrackerBatch& batch, const std:
     if (sample.valid && sample.confidence >= min_confidence && sample.has_gaze()) {
       latest_gaze_ = TrackerGaze{sample.session_time_s, sample.gaze_x, sample.gaze_y};
       gaze_track_.add({sample.session_time_s, sample.gaze_x, sample.gaze_y});
+      eye_gaze_[eye_index(sample.eye)] = latest_gaze_;
+      eye_gaze_track_[eye_index(sample.eye)].add({sample.session_time_s, sample.gaze_x, sample.gaze_y});
     }
     const int eye = filtered[k].eye;
     eye_seen_[eye] = true;
     eye_in_blink_[eye] = filtered[k].blink;
+    std::vector<TrackerBlinkInterval>& own = eye_blinks_[eye_index(eye)];
+    const bool own_open = !own.empty() && std::isinf(own.back().offset_s);
+    if (!own_open && filtered[k].blink)
+      own.push_back({sample.session_time_s, std::numeric_limits<double>::infinity()});
+    else if (own_open && !filtered[k].blink)
+      own.back().offset_s = sample.session_time_s;
     const bool open_blink = !blinks_.empty() && std::isinf(blinks_.back().offset_s);
     const bool all_in_blink = (!eye_seen_[0] || eye_in_blink_[0]) && (!eye_seen_[1] || eye_in_blink_[1]);
     if (!open_blink && all_in_blink)
@@ -97,6 +105,13 @@ std::string TrackerSession::finish_calibration(double now_s) {
 double TrackerSession::model_pupil_mm() const {
   const double measured = filter_.model_pupil_mm();
   return range_ ? map_pupil_to_model_range(measured, *range_) : measured;
+}
+
+std::optional<double> TrackerSession::measured_eye_pupil_mm(int eye) const {
+  if (!source_) return std::nullopt;
+  const std::optional<double> measured = filter_.eye_pupil_mm(eye);
+  if (!measured) return std::nullopt;
+  return range_ ? map_pupil_to_model_range(*measured, *range_) : *measured;
 }
 
 std::optional<double> TrackerSession::measured_pupil_mm() const {

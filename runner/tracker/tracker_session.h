@@ -77,6 +77,19 @@ class TrackerSession {
   // blink (the filter's blink flag: tracker blink topic or a confidence drop) and ends at the first
   // sample of an eye out of it. The last one is open (offset +infinity) while it lasts.
   const std::vector<TrackerBlinkInterval>& detected_blinks() const { return blinks_; }
+
+  // One eye of a binocular tracker (eye 0 right, 1 left; a stereo session's per-eye inputs): its
+  // filtered pupil (calibrated like model_pupil_mm), nothing before its first accepted sample; its
+  // latest confident gaze and the gaze extrapolated from its own samples; its blinks, from its
+  // first sample in a blink to its first sample out of it (the last open while it lasts).
+  std::optional<double> measured_eye_pupil_mm(int eye) const;
+  std::optional<TrackerGaze> latest_eye_gaze(int eye) const { return eye_gaze_[eye_index(eye)]; }
+  std::optional<TrackerGaze> predicted_eye_gaze(int eye, double at_s) const {
+    const std::optional<GazeSample> predicted = eye_gaze_track_[eye_index(eye)].predicted(at_s);
+    if (!predicted) return std::nullopt;
+    return TrackerGaze{predicted->session_time_s, predicted->x, predicted->y};
+  }
+  const std::vector<TrackerBlinkInterval>& detected_eye_blinks(int eye) const { return eye_blinks_[eye_index(eye)]; }
   // Stops the source, writes what is left, returns a one-line summary (empty without a tracker).
   std::string finish(double now_s);
 
@@ -96,6 +109,10 @@ class TrackerSession {
   std::vector<TrackerBlinkInterval> blinks_;
   bool eye_seen_[2] = {false, false};
   bool eye_in_blink_[2] = {false, false};
+  static std::size_t eye_index(int eye) { return eye == 1 ? 1 : 0; }
+  std::optional<TrackerGaze> eye_gaze_[2];
+  GazeTrack eye_gaze_track_[2];
+  std::vector<TrackerBlinkInterval> eye_blinks_[2];
 };
 
 }  // namespace glarelab

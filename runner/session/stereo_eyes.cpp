@@ -1,0 +1,49 @@
+#include "runner/session/stereo_eyes.h"
+
+#include <string>
+#include <utility>
+
+#include "core/errors.h"
+#include "protocols/procedure.h"
+#include "runner/session/condition_refraction.h"
+
+namespace glarelab {
+
+StereoEye::StereoEye(const EyeView& eye_view, const Experiment& experiment, GlContextFactory gl_context)
+    : view(eye_view),
+      display(eye_display(experiment.display, eye_view)),
+      seed(eye_seed(experiment.seed, eye_view.tracker_eye)),
+      glare(experiment.glare, display, seed, std::move(gl_context)),
+      perception(experiment.perception.adaptation_time_constants, display) {}
+
+std::vector<std::unique_ptr<StereoEye>> make_stereo_eyes(const Experiment& experiment, GlContextFactory gl_context) {
+  std::vector<std::unique_ptr<StereoEye>> eyes;
+  for (const EyeView& view : stereo_eye_views(experiment.display))
+    eyes.push_back(std::make_unique<StereoEye>(view, experiment, gl_context));
+  return eyes;
+}
+
+void check_stereo_layout(const Experiment& experiment, const SceneLibrary& scenes) {
+  if (experiment.display.stereo == StereoMode::none) return;
+  // How many scenes a trial shows side by side: the procedure's first plan tells (every plan of a
+  // procedure shows the same number); a sequential forced choice shows them one at a time.
+  const std::unique_ptr<Procedure> procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
+  std::size_t shown = procedure->finished() ? 0 : procedure->next_trial().scenes.size();
+  // (The session reads `layout` whatever the procedure; others keep its default.)
+  if (experiment.forced_choice.layout == "sequential" && shown > 0) shown = 1;
+  if (shown == 0) return;
+  for (const auto& [name, scene] : scenes.scenes()) {
+    const PixelRect size{0, 0, scene.image_cd_m2.width_px, scene.image_cd_m2.height_px};
+    const std::string misfit =
+        stereo_misfit(experiment.display, std::vector<PixelRect>(shown, size), std::vector<std::string>(shown, name));
+    if (!misfit.empty()) throw ConfigError(experiment.stereo_where, "display.stereo", misfit);
+  }
+  for (const ConditionRefraction& refraction : condition_refractions(experiment))
+    if (refraction.traced_lens)
+      throw ConfigError(experiment.stereo_where, "display.stereo",
+                        "condition '" + refraction.condition + "' looks through spectacles '" + refraction.spectacles +
+                            "', whose lens is traced about the display's centre, not about each eye's view: "
+                            "stereo = \"side_by_side\" cannot show it");
+}
+
+}  // namespace glarelab
