@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "analysis/graded_choice_report.h"
+#include "analysis/paired_scale_report.h"
 #include "analysis/session_observer_eye.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
@@ -142,7 +144,7 @@ std::string render_html(const AnalysisReport& report) {
          "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; style-src 'unsafe-inline'; img-src data:\">\n"
          "<title>glarelab analysis</title>\n<style>\n"
          "body{font-family:sans-serif;margin:24px;max-width:1150px;color:#111}table{border-collapse:collapse;margin:8px 0}"
-         "td,th{border:1px solid #bbb;padding:3px 8px;font-size:13px;text-align:left}th{background:#eee}"
+         "td,th{border:1px solid #bbb;padding:3px 8px;font-size:13px;text-align:left;overflow-wrap:anywhere}th{background:#eee}"
          "figure{display:inline-block;margin:8px}figcaption{font-size:12px;color:#444;max-width:560px}"
          ".note{color:#a00}\n</style></head><body>\n";
   out << "<h1>glarelab analysis</h1>\n<p>glarelab " << html_escape(software_version()) << "; "
@@ -191,7 +193,13 @@ std::string render_html(const AnalysisReport& report) {
     }
     out << "</table>\n";
     html_list(out, report.forced_choice.notes);
+    out << paired_scales_html(report.paired_scales);
     html_figures(out, report, "forced_choice");
+  }
+
+  if (!report.graded_choice.empty()) {
+    out << graded_choice_html(report.graded_choice, report.options.bootstrap_samples);
+    html_figures(out, report, "graded_choice");
   }
 
   if (!report.staircases.empty()) {
@@ -360,6 +368,7 @@ std::string render_terminal_summary(const AnalysisReport& report) {
   out << "\n";
   for (const std::string& note : report.data.notes) out << "  note: " << note << "\n";
   for (const PairPreference& p : report.forced_choice.pooled) out << "  forced choice " << preference_sentence(p) << "\n";
+  out << graded_choice_terminal(report.graded_choice);
   for (const StaircaseResult& s : report.staircases) {
     out << "  " << s.procedure << " " << s.participant_label << " " << s.name << ": ";
     if (s.reversal_threshold) {
