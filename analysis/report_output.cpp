@@ -136,6 +136,14 @@ void html_figures(std::ostringstream& out, const AnalysisReport& report, const s
 
 std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
 
+// A file path that may break after each '/', so a long path wraps instead of widening the table
+// beyond the page.
+std::string path_cell(const std::string& path) {
+  std::string escaped = html_escape(path);
+  for (std::size_t at = escaped.find('/'); at != std::string::npos; at = escaped.find('/', at + 6)) escaped.insert(at + 1, "<wbr>");
+  return "<td>" + escaped + "</td>";
+}
+
 }  // namespace
 
 std::string render_html(const AnalysisReport& report) {
@@ -144,7 +152,7 @@ std::string render_html(const AnalysisReport& report) {
          "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; style-src 'unsafe-inline'; img-src data:\">\n"
          "<title>glarelab analysis</title>\n<style>\n"
          "body{font-family:sans-serif;margin:24px;max-width:1150px;color:#111}table{border-collapse:collapse;margin:8px 0}"
-         "td,th{border:1px solid #bbb;padding:3px 8px;font-size:13px;text-align:left;overflow-wrap:anywhere}th{background:#eee}"
+         "td,th{border:1px solid #bbb;padding:3px 8px;font-size:13px;text-align:left}th{background:#eee}"
          "figure{display:inline-block;margin:8px}figcaption{font-size:12px;color:#444;max-width:560px}"
          ".note{color:#a00}\n</style></head><body>\n";
   out << "<h1>glarelab analysis</h1>\n<p>glarelab " << html_escape(software_version()) << "; "
@@ -166,7 +174,7 @@ std::string render_html(const AnalysisReport& report) {
     out << "<tr>" << cell(std::to_string(s.record.id)) << cell(s.record.experiment) << cell(s.record.participant)
         << cell(s.record.status) << cell(std::to_string(s.trials.size())) << cell(s.record.started_utc)
         << cell(s.record.display_backend + " " + s.record.renderer) << cell(s.record.observer)
-        << cell(observer_eye_text(s.record.config)) << cell(s.record.software_version) << cell(s.database) << "</tr>\n";
+        << cell(observer_eye_text(s.record.config)) << cell(s.record.software_version) << path_cell(s.database) << "</tr>\n";
     if (s.record.status == "aborted") {
       session_notes.push_back("session " + s.label + " was aborted after " + std::to_string(s.trials.size()) +
                               " trial(s): its answered trials are included");
