@@ -6,7 +6,14 @@ AnalysisReport analyse(LoadedData data, const AnalysisOptions& options) {
   AnalysisReport report;
   report.data = std::move(data);
   report.options = options;
-  report.forced_choice = analyse_forced_choice(report.data);
+  GradedChoiceOptions graded_options;
+  graded_options.bootstrap_samples = options.bootstrap_samples;
+  graded_options.seed = options.seed;
+  graded_options.threads = options.threads;
+  report.graded_choice = analyse_graded_choice(report.data, graded_options);
+  report.forced_choice = analyse_forced_choice(
+      report.data, [&](const LoadedTrial& trial) { return is_graded_trial(trial, report.graded_choice); });
+  report.paired_scales = scale_pooled_pairs(report.forced_choice);
   StaircaseOptions staircase_options;
   staircase_options.bootstrap_samples = options.bootstrap_samples;
   staircase_options.last_reversals = options.last_reversals;

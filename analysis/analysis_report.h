@@ -7,7 +7,9 @@
 
 #include "analysis/adjustment_analysis.h"
 #include "analysis/forced_choice_analysis.h"
+#include "analysis/graded_choice_analysis.h"
 #include "analysis/loaded_database.h"
+#include "analysis/paired_scale.h"
 #include "analysis/pse_analysis.h"
 #include "analysis/rating_analysis.h"
 #include "analysis/staircase_analysis.h"
@@ -25,7 +27,7 @@ struct AnalysisOptions {
 
 struct Figure {
   std::string file_stem;  // "staircase_1" -> figures/staircase_1.svg
-  std::string section;    // forced_choice | staircase | adjustment | rating | timing | tracker
+  std::string section;    // forced_choice | graded_choice | staircase | adjustment | rating | timing | tracker
   std::string caption;
   std::string svg;
 };
@@ -33,7 +35,9 @@ struct Figure {
 struct AnalysisReport {
   LoadedData data;
   AnalysisOptions options;
-  ForcedChoiceAnalysis forced_choice;
+  ForcedChoiceAnalysis forced_choice;  // pair preferences of the trials without a graded variable
+  std::vector<PairedScale> paired_scales;  // Bradley-Terry per pooled forced-choice group (3+ options)
+  GradedChoiceAnalysis graded_choice;  // forced choice with a graded variable, per glare group
   std::vector<StaircaseResult> staircases;
   PseAnalysis pse;  // PSE staircases (response_rule = "pse")
   AdjustmentAnalysis adjustments;

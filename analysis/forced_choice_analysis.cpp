@@ -83,7 +83,7 @@ double PairPreference::neither_share() const {
   return all > 0 ? static_cast<double>(neither) / static_cast<double>(all) : 0.0;
 }
 
-ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data) {
+ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data, const std::function<bool(const LoadedTrial&)>& skip) {
   ForcedChoiceAnalysis analysis;
   std::map<std::pair<std::string, PairKey>, Counts> by_group;
   std::map<std::pair<std::string, PairKey>, Counts> by_pool;
@@ -91,7 +91,7 @@ ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data) {
   long unusable = 0;
   for (const LoadedSession& session : data.sessions) {
     for (const LoadedTrial& trial : session.trials) {
-      if (trial.record.procedure != "forced_choice") continue;
+      if (trial.record.procedure != "forced_choice" || (skip && skip(trial))) continue;
       ++analysis.trials;
       std::vector<std::string> options;
       for (const std::string& position : kPositions) {

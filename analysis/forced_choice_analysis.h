@@ -9,6 +9,7 @@
 // The options of a trial are the condition values at its positions ("left", "right"); the
 // chosen option is the condition value named by the response (or the response itself when it
 // names an option, or "neither").
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,8 @@ struct ForcedChoiceAnalysis {
   bool empty() const { return trials == 0; }
 };
 
-ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data);
+// Trials for which `skip` is true are left to another analysis (a graded variable).
+ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data,
+                                           const std::function<bool(const LoadedTrial&)>& skip = {});
 
 }  // namespace glarelab::analysis

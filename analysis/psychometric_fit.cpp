@@ -67,6 +67,8 @@ std::string shortest(double value) {
   return text;
 }
 
+}  // namespace
+
 Interval percentile_interval(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   auto at = [&](double q) {
@@ -78,6 +80,8 @@ Interval percentile_interval(std::vector<double> values) {
   };
   return {at(0.025), at(0.975)};
 }
+
+namespace {
 
 PsychometricFit fit_point(const std::vector<StimulusLevel>& levels, const PsychometricFitOptions& options) {
   PsychometricFit fit;
@@ -261,6 +265,7 @@ PsychometricFit fit_psychometric(const std::vector<StimulusLevel>& levels, const
     fit.threshold_ci = percentile_interval(thresholds);
     fit.slope_ci = percentile_interval(slopes);
   }
+  fit.bootstrap_thresholds = std::move(thresholds);
   return fit;
 }
 

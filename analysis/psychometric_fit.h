@@ -53,10 +53,14 @@ struct PsychometricFit {
   std::optional<Interval> threshold_ci;  // 95% parametric bootstrap
   std::optional<Interval> slope_ci;
   int bootstrap_failures = 0;  // replicates whose refit was not identifiable (left out)
+  std::vector<double> bootstrap_thresholds;  // the identifiable replicates' thresholds, in replicate order
   long total_trials = 0;
   bool ok() const { return unavailable.empty(); }
   double probability(double intensity) const;  // psi(x) with the fitted parameters
 };
+
+// The 2.5 and 97.5 percentiles (linear interpolation between order statistics); values not empty.
+Interval percentile_interval(std::vector<double> values);
 
 // Proportion correct psi(x) for the given parameters.
 double psychometric_probability(PsychometricShape shape, double x, double alpha, double beta, double guess,

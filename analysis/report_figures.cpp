@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "analysis/analysis_report.h"
+#include "analysis/graded_choice_report.h"
 #include "analysis/svg_plot.h"
 
 namespace glarelab::analysis {
@@ -23,42 +24,80 @@ std::string rating_number(double value) {
   return out;
 }
 
-Figure forced_choice_figure(const ForcedChoiceAnalysis& analysis) {
-  std::vector<std::string> labels;
-  const auto& rows = analysis.groups;
-  for (const PairPreference& p : rows) labels.push_back(p.group);
-  SvgPlot plot("Forced choice: share choosing the preferred option (95% CI, normal approx.)", "", "relative frequency",
-               std::max(560, 90 * static_cast<int>(rows.size()) + 80), 340);
-  plot.set_x_categories(labels);
-  plot.set_y_range(0.0, 1.0);
-  plot.horizontal_rule(0.5, "#888");
-  bool any_neither = false;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const PairPreference& p = rows[i];
-    const double x = static_cast<double>(i);
-    const double share = p.share_a();
-    const long n = p.chose_a + p.chose_b;
-    plot.bar(x - 0.15, 0.3, share, series_colour(0));
-    plot.bar(x + 0.15, 0.3, 1.0 - share, series_colour(1));
-    if (n > 0) {
-      const double half = 1.96 * std::sqrt(share * (1.0 - share) / static_cast<double>(n));
-      plot.error_bar(x - 0.15, std::max(0.0, share - half), std::min(1.0, share + half));
-    }
-    if (p.neither > 0) {
-      any_neither = true;
-      plot.markers({x}, {p.neither_share()}, "#000", 4.0);
-    }
+// A bar pair's label: the two options, the preferred first, then the group's values without their
+// keys ("dynamic vs control (lamp_130, brighter)"), so bars of one scene can be told apart and the
+// label wraps at spaces within its slot.
+std::string pair_label(const PairPreference& p) {
+  std::string values;
+  std::size_t start = 0;
+  while (start < p.group.size()) {
+    std::size_t end = p.group.find(", ", start);
+    if (end == std::string::npos) end = p.group.size();
+    std::string part = p.group.substr(start, end - start);
+    if (const std::size_t equals = part.find('='); equals != std::string::npos) part = part.substr(equals + 1);
+    values += (values.empty() ? "" : ", ") + part;
+    start = end + 2;
   }
-  plot.legend("preferred option (first named)", series_colour(0));
-  plot.legend("other option", series_colour(1));
-  if (any_neither) plot.legend("'neither' share (dot)", "#000");
-  if (rows.empty()) plot.note("no forced-choice pairs to show");
-  return {"forced_choice", "forced_choice", "Relative frequency of choices per condition; options are named in the table.",
-          plot.svg()};
+  return p.option_a + " vs " + p.option_b + " (" + values + ")";
+}
+
+// Forced choice, Ritschel et al. 2009, Fig. 12 left: a bar pair per group and pair of options, at
+// most kPairsPerFigure per figure (more make figures wider than the page), split evenly.
+std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis) {
+  constexpr std::size_t kPairsPerFigure = 8;
+  const auto& rows = analysis.groups;
+  const std::size_t count = std::max<std::size_t>(1, (rows.size() + kPairsPerFigure - 1) / kPairsPerFigure);
+  const std::size_t per_figure = std::max<std::size_t>(1, (rows.size() + count - 1) / count);
+  std::vector<Figure> figures;
+  for (std::size_t f = 0; f < count; ++f) {
+    const std::size_t first = f * per_figure;
+    const std::size_t last = std::min(rows.size(), first + per_figure);
+    std::vector<std::string> labels;
+    for (std::size_t i = first; i < last; ++i) labels.push_back(pair_label(rows[i]));
+    SvgPlot plot("Forced choice: share choosing the preferred option (95% CI, normal approx.)" +
+                     (count > 1 ? " (" + std::to_string(f + 1) + " of " + std::to_string(count) + ")" : std::string()),
+                 "pair of options (group)", "relative frequency (share of choices)",
+                 std::max(560, 90 * static_cast<int>(last - first) + 80), 340);
+    plot.set_x_categories(labels);
+    plot.set_y_range(0.0, 1.0);
+    plot.horizontal_rule(0.5, "#888");
+    bool any_neither = false;
+    for (std::size_t i = first; i < last; ++i) {
+      const PairPreference& p = rows[i];
+      const double x = static_cast<double>(i - first);
+      const double share = p.share_a();
+      const long n = p.chose_a + p.chose_b;
+      plot.bar(x - 0.15, 0.3, share, series_colour(0));
+      plot.bar(x + 0.15, 0.3, 1.0 - share, series_colour(1));
+      if (n > 0) {
+        const double half = 1.96 * std::sqrt(share * (1.0 - share) / static_cast<double>(n));
+        plot.error_bar(x - 0.15, std::max(0.0, share - half), std::min(1.0, share + half));
+      }
+      if (p.neither > 0) {
+        any_neither = true;
+        plot.markers({x}, {p.neither_share()}, "#000", 4.0);
+      }
+    }
+    plot.legend("preferred option (named first)", series_colour(0));
+    plot.legend("other option", series_colour(1));
+    if (any_neither) plot.legend("'neither' share (dot)", "#000");
+    if (rows.empty()) plot.note("no forced-choice pairs to show");
+    figures.push_back({f == 0 ? std::string("forced_choice") : "forced_choice_" + std::to_string(f + 1), "forced_choice",
+                       "Relative frequency of choices per pair of options; the table names every group.", plot.svg()});
+  }
+  return figures;
+}
+
+// The unit of a track's intensity (docs/PROCEDURES.md, adaptive trials): a staircase scales the
+// comparison to a peak in cd/m2; QUEST runs on log10 cd/m2, QUEST+ and Psi on their stimulus unit
+// (db_cd_m2 or log10_cd_m2, in the condition record).
+std::string intensity_label(const StaircaseResult& s) {
+  if (s.procedure == "staircase") return "intensity (comparison peak, cd/m2)";
+  return "intensity (QUEST: log10 cd/m2; QUEST+: its stimulus unit)";
 }
 
 Figure staircase_track_figure(const StaircaseResult& s, std::size_t index) {
-  SvgPlot plot("Staircase track: " + s.participant_label + ", " + s.name, "trial", "intensity");
+  SvgPlot plot("Staircase track: " + s.participant_label + ", " + s.name, "trial", intensity_label(s));
   double low = kInf;
   double high = -kInf;
   std::vector<double> x, y, xc, yc, xi, yi, xr, yr;
@@ -97,7 +136,7 @@ Figure staircase_track_figure(const StaircaseResult& s, std::size_t index) {
 }
 
 Figure psychometric_figure(const StaircaseResult& s, std::size_t index) {
-  SvgPlot plot("Psychometric fits: " + s.participant_label + ", " + s.name, "intensity", "proportion correct");
+  SvgPlot plot("Psychometric fits: " + s.participant_label + ", " + s.name, intensity_label(s), "proportion correct");
   std::vector<std::pair<double, bool>> trials;
   for (const StaircasePoint& p : s.track) trials.emplace_back(p.intensity, p.correct);
   const auto levels = levels_from_trials(trials);
@@ -178,22 +217,19 @@ std::string rating_colour(std::size_t index, std::size_t count) {
 // segment under the dot is the median value (on a boundary when the median falls between two).
 Figure rating_figure(const RatingAnalysis& ratings, const std::string& category, std::size_t index) {
   constexpr double kSlot_px = 110.0;
-  constexpr double kLegend_px = 170.0;
   std::vector<const RatingDistribution*> cells;
   for (const RatingDistribution& cell : ratings.cells)
     if (cell.category == category) cells.push_back(&cell);
   const std::string name = category.empty() ? "all trials" : category;
   SvgPlot plot("Ratings: " + name, "condition (median)", "answers",
-               static_cast<int>(80.0 + kSlot_px * static_cast<double>(cells.size()) + kLegend_px), 340);
+               static_cast<int>(80.0 + kSlot_px * static_cast<double>(cells.size())), 340);
   std::vector<std::string> labels;
   long most = 1;
   for (const RatingDistribution* cell : cells) {
     labels.push_back(cell->median ? cell->condition + " (" + rating_number(*cell->median) + ")" : cell->condition);
     most = std::max(most, cell->answers);
   }
-  plot.set_x_categories(labels);
-  // Room right of the bars for the legend.
-  plot.set_x_range(-0.5, static_cast<double>(cells.size()) - 0.5 + kLegend_px / kSlot_px);
+  plot.set_x_categories(labels);  // the legend stands right of the plotting area (analysis/svg_plot.h)
   plot.set_y_range(0.0, static_cast<double>(most) * 1.1);
   const std::size_t points = ratings.scale.size();
   std::vector<double> median_x, median_y;
@@ -226,7 +262,6 @@ Figure rating_figure(const RatingAnalysis& ratings, const std::string& category,
 // Luidolt 2020, Fig. 7.1: the mean rating of each category, a bar per condition.
 Figure rating_means_figure(const RatingAnalysis& ratings) {
   constexpr double kSlot_px = 120.0;
-  constexpr double kLegend_px = 170.0;
   std::vector<std::string> conditions;
   double top = 1.0;
   for (const RatingDistribution& cell : ratings.cells) {
@@ -237,9 +272,8 @@ Figure rating_means_figure(const RatingAnalysis& ratings) {
   std::vector<std::string> labels;
   for (const std::string& category : ratings.category_order) labels.push_back(category.empty() ? "all trials" : category);
   SvgPlot plot("Mean rating per category", "category", "mean rating",
-               static_cast<int>(80.0 + kSlot_px * static_cast<double>(labels.size()) + kLegend_px), 320);
+               static_cast<int>(80.0 + kSlot_px * static_cast<double>(labels.size())), 320);
   plot.set_x_categories(labels);
-  plot.set_x_range(-0.5, static_cast<double>(labels.size()) - 0.5 + kLegend_px / kSlot_px);
   plot.set_y_range(0.0, top);
   const double width = 0.8 / static_cast<double>(std::max<std::size_t>(conditions.size(), 1));
   for (std::size_t c = 0; c < conditions.size(); ++c) {
@@ -360,7 +394,18 @@ Figure pse_figure(const PseAnalysis& pse) {
 
 std::vector<Figure> draw_figures(const AnalysisReport& report) {
   std::vector<Figure> figures;
-  if (!report.forced_choice.empty()) figures.push_back(forced_choice_figure(report.forced_choice));
+  if (!report.forced_choice.empty())
+    for (Figure& figure : forced_choice_figures(report.forced_choice)) figures.push_back(std::move(figure));
+  for (std::size_t i = 0; i < report.paired_scales.size(); ++i) {
+    const PairedScale& paired = report.paired_scales[i];
+    figures.push_back({"preference_matrix_" + std::to_string(i + 1), "forced_choice",
+                       "Share of choices of the row's option over the column's (" + paired.group + ").",
+                       preference_matrix_svg(paired)});
+    figures.push_back({"bradley_terry_" + std::to_string(i + 1), "forced_choice",
+                       "Bradley-Terry scale of the options with 95% intervals (" + paired.group + ").",
+                       bradley_terry_svg(paired)});
+  }
+  if (!report.graded_choice.empty()) figures.push_back(graded_choice_figure(report.graded_choice));
   for (std::size_t i = 0; i < report.staircases.size(); ++i) {
     figures.push_back(staircase_track_figure(report.staircases[i], i + 1));
     figures.push_back(psychometric_figure(report.staircases[i], i + 1));

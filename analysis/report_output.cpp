@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "analysis/graded_choice_report.h"
+#include "analysis/paired_scale_report.h"
 #include "analysis/session_observer_eye.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
@@ -145,6 +147,14 @@ void html_figures(std::ostringstream& out, const AnalysisReport& report, const s
 
 std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
 
+// A file path that may break after each '/', so a long path wraps instead of widening the table
+// beyond the page.
+std::string path_cell(const std::string& path) {
+  std::string escaped = html_escape(path);
+  for (std::size_t at = escaped.find('/'); at != std::string::npos; at = escaped.find('/', at + 6)) escaped.insert(at + 1, "<wbr>");
+  return "<td>" + escaped + "</td>";
+}
+
 }  // namespace
 
 std::string render_html(const AnalysisReport& report) {
@@ -175,7 +185,7 @@ std::string render_html(const AnalysisReport& report) {
     out << "<tr>" << cell(std::to_string(s.record.id)) << cell(s.record.experiment) << cell(s.record.participant)
         << cell(s.record.status) << cell(std::to_string(s.trials.size())) << cell(s.record.started_utc)
         << cell(s.record.display_backend + " " + s.record.renderer) << cell(s.record.observer)
-        << cell(observer_eye_text(s.record.config)) << cell(s.record.software_version) << cell(s.database) << "</tr>\n";
+        << cell(observer_eye_text(s.record.config)) << cell(s.record.software_version) << path_cell(s.database) << "</tr>\n";
     if (s.record.status == "aborted") {
       session_notes.push_back("session " + s.label + " was aborted after " + std::to_string(s.trials.size()) +
                               " trial(s): its answered trials are included");
@@ -202,7 +212,13 @@ std::string render_html(const AnalysisReport& report) {
     }
     out << "</table>\n";
     html_list(out, report.forced_choice.notes);
+    out << paired_scales_html(report.paired_scales);
     html_figures(out, report, "forced_choice");
+  }
+
+  if (!report.graded_choice.empty()) {
+    out << graded_choice_html(report.graded_choice, report.options.bootstrap_samples);
+    html_figures(out, report, "graded_choice");
   }
 
   if (!report.staircases.empty()) {
@@ -379,6 +395,7 @@ std::string render_terminal_summary(const AnalysisReport& report) {
   out << "\n";
   for (const std::string& note : report.data.notes) out << "  note: " << note << "\n";
   for (const PairPreference& p : report.forced_choice.pooled) out << "  forced choice " << preference_sentence(p) << "\n";
+  out << graded_choice_terminal(report.graded_choice);
   for (const StaircaseResult& s : report.staircases) {
     out << "  " << s.procedure << " " << s.participant_label << " " << s.name << ": ";
     if (s.reversal_threshold) {

@@ -1,6 +1,18 @@
 #pragma once
 // Small SVG charts for the report, written directly (no JavaScript, no external resources):
 // axes with ticks, lines, markers, bars with error bars, text. All text is XML-escaped.
+//
+// Why the project's own writer rather than PLplot's SVG driver: the figures carry classes on
+// their parts (plot-area, data, legend) that the layout test reads back, the existing figure tests
+// read exact attributes, identical data give byte-identical files, and no new library is needed;
+// the layout rules below (wrapping, legend placement) would be the caller's work with PLplot too.
+//
+// Layout: figures lay themselves out from estimated text widths: titles, notes and axis labels
+// wrap at spaces to the figure's width; categorical slots are at least as wide as their longest
+// word (labels wrap within their slot, the figure widens with the number of categories); the
+// legend stands right of the plotting area, never over the data; the plotting area moves right or
+// down when tick labels, titles or notes need the room (tests/analysis_layout_test.cpp checks the
+// rendered boxes in headless Chromium).
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,7 +29,8 @@ class SvgPlot {
   // Data ranges; a zero-width range is widened so nothing divides by zero.
   void set_x_range(double low, double high);
   void set_y_range(double low, double high);
-  // Categorical x axis: category i is centred at x = i (range -0.5 .. n - 0.5).
+  // Categorical x axis: category i is centred at x = i (range -0.5 .. n - 0.5). Call before
+  // drawing: it widens the figure when the labels need it.
   void set_x_categories(std::vector<std::string> names);
 
   void line(const std::vector<double>& x, const std::vector<double>& y, const std::string& colour, double width_px = 2.0,
@@ -26,6 +39,8 @@ class SvgPlot {
                bool hollow = false);
   void bar(double x_centre, double width, double y, const std::string& colour);
   void error_bar(double x, double low, double high, const std::string& colour = "#222");
+  // A horizontal interval at height y (e.g. a PSE's interval on the x axis).
+  void horizontal_error_bar(double y, double low, double high, const std::string& colour = "#222");
   void horizontal_rule(double y, const std::string& colour);
   void legend(const std::string& label, const std::string& colour);
   void note(const std::string& text);  // a line under the title, e.g. "no data"

@@ -147,6 +147,13 @@ struct SimulatedObserverSpec {
   double glare_brightening_per_gain = 0.0;
   double appearance_sd_log10 = 0.03;
   double neither_band_log10 = 0.02;
+  // Forced choice between two sides with a glare mode each (condition columns glare_a and glare_b):
+  // a side shown in glare mode m looks (1 + glare_mode_brightening[m]) times its luminance (modes
+  // not listed: 1). When the map is not empty such trials are answered as appearance judgements
+  // (perceived log10 difference plus N(0, appearance_sd_log10^2) noise, the sign names the side),
+  // so P(scene_b named) = Phi((log10(L_b / L_a) + log10((1 + b_b) / (1 + b_a))) / sd) and the
+  // point of subjective equality lies exactly at L_b / L_a = (1 + b_a) / (1 + b_b).
+  std::map<std::string, double> glare_mode_brightening;
 };
 
 struct Experiment {

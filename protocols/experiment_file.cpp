@@ -353,6 +353,16 @@ ObserverEye read_observer_section(TableReader& top, Experiment& experiment) {
       reader.number_in_range("glare_brightening_per_gain", spec.glare_brightening_per_gain, 0.0, 100.0);
   spec.appearance_sd_log10 = reader.number_in_range("appearance_sd_log10", spec.appearance_sd_log10, 1e-6, 10.0);
   spec.neither_band_log10 = reader.number_in_range("neither_band_log10", spec.neither_band_log10, 0.0, 10.0);
+  if (const toml::table* modes = reader.table("glare_mode_brightening")) {
+    TableReader brightening(*modes, reader.key_path("glare_mode_brightening"), reader.file());
+    for (const auto& [key, node] : *modes) {
+      const std::string mode(key.str());
+      if (mode != "control" && mode != "static" && mode != "dynamic")
+        brightening.fail_at_key(mode, "expected a glare mode: control, static or dynamic");
+      spec.glare_mode_brightening[mode] = brightening.number_in_range(mode, 0.0, 0.0, 100.0);
+    }
+    brightening.report_unused();
+  }
   reader.report_unused();
   return eye;
 }

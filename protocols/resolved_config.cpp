@@ -261,6 +261,11 @@ std::string resolved_config_toml(const Experiment& experiment) {
                         {"appearance_sd_log10", observer.appearance_sd_log10},
                         {"neither_band_log10", observer.neither_band_log10}};
   if (!observer.preferences.empty()) simulated.insert("preferences", preferences_toml(observer.preferences));
+  if (!observer.glare_mode_brightening.empty()) {
+    toml::table brightening;
+    for (const auto& [mode, value] : observer.glare_mode_brightening) brightening.insert(mode, value);
+    simulated.insert("glare_mode_brightening", std::move(brightening));
+  }
   const ObserverEye& eye = experiment.glare.observer_eye;
   toml::table observer_table{{"age_years", eye.age_years}, {"pigmentation", eye.pigmentation},
                              {"spectacles", experiment.observer_optics.spectacles_worn}, {"simulated", std::move(simulated)}};

@@ -46,7 +46,7 @@ class SimulatedObserver : public Observer {
       const double rating = std::round(*plan.simulated_rating_mean + spec_.rating_sd * choice_random_.normal(index));
       const double top = static_cast<double>(plan.allowed_responses.size());
       response.value = plan.allowed_responses[static_cast<std::size_t>(std::clamp(rating, 1.0, top)) - 1];
-    } else if (plan.appearance_judgement) {
+    } else if (plan.appearance_judgement || glare_modes_judged(plan)) {
       response.value = appearance_response(plan, index);
     } else if (const std::optional<double> prefer_first = preference_for(plan); prefer_first && plan.correct_response.empty()) {
       // No right answer, two conditions with a stated preference: the first position's condition
@@ -93,7 +93,8 @@ class SimulatedObserver : public Observer {
   std::string appearance_response(const TrialPlan& plan, std::uint64_t index) const {
     const auto perceived = [&](std::size_t p) {
       const double gain = p < plan.position_glare_gain.size() ? plan.position_glare_gain[p] : 0.0;
-      return plan.source_luminance_cd_m2.at(p) * (1.0 + spec_.glare_brightening_per_gain * gain);
+      return plan.source_luminance_cd_m2.at(p) * (1.0 + spec_.glare_brightening_per_gain * gain) *
+             (1.0 + mode_brightening(plan, p));
     };
     const double a = perceived(0), b = perceived(1);
     double d = 0.0;
@@ -104,6 +105,20 @@ class SimulatedObserver : public Observer {
     if (seen < -spec_.neither_band_log10) return plan.allowed_responses[1];
     if (plan.allowed_responses.size() >= 3) return plan.allowed_responses[2];
     return plan.allowed_responses[seen >= 0.0 ? 0 : 1];  // two answers: the sign decides
+  }
+
+  // A forced choice whose two sides carry glare modes (glare_a, glare_b) is an appearance
+  // judgement when the observer is given a brightening per glare mode (SimulatedObserverSpec).
+  bool glare_modes_judged(const TrialPlan& plan) const {
+    return !spec_.glare_mode_brightening.empty() && plan.position_glare.size() == 2 &&
+           plan.source_luminance_cd_m2.size() == 2;
+  }
+
+  // The brightening of the glare mode shown at position p (0 for modes not listed).
+  double mode_brightening(const TrialPlan& plan, std::size_t p) const {
+    if (p >= plan.position_glare.size()) return 0.0;
+    const auto found = spec_.glare_mode_brightening.find(plan.position_glare[p]);
+    return found == spec_.glare_mode_brightening.end() ? 0.0 : found->second;
   }
 
   // Probability of choosing position 0 over position 1 from the preferences between the two

@@ -360,12 +360,15 @@ TEST(ExampleStudies, PresbyopeReadingGlassesSwitchWithinOneSession) {
 }
 
 // Every runnable file in examples/ runs offscreen with the simulated observer: the study files in
-// their own tests above, demo.toml in RunCommand.DemoRunsOffscreenAndStoresEveryTrial, and any
+// their own tests above, demo.toml in RunCommand.DemoRunsOffscreenAndStoresEveryTrial,
+// glare_brightness.toml in PseGradedChoice.ExampleRunsOffscreenAndTheReportFitsEachGlareMode, and any
 // other file here, so a new example cannot go untested.
 TEST(ExampleStudies, EveryExampleRunsOffscreen) {
   const std::set<std::string> tested_elsewhere = {"spencer_staircase.toml", "ritschel_2afc.toml",
                                                   "luidolt_ratings.toml", "ritschel_adjustment.toml", "demo.toml",
-                                                  "presbyope_reading_glasses.toml"};
+                                                  "presbyope_reading_glasses.toml",
+                                                  // tests/pse_graded_choice_test.cpp, at 2 frames per trial
+                                                  "glare_brightness.toml"};
   std::set<std::string> found;
   for (const auto& entry : std::filesystem::directory_iterator(std::string(GLARELAB_SOURCE_DIR) + "/examples")) {
     if (entry.path().extension() != ".toml") continue;

@@ -1,0 +1,159 @@
+#include "analysis/graded_choice_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "analysis/statistics.h"
+#include "analysis/svg_plot.h"
+
+namespace glarelab::analysis {
+namespace {
+
+std::string general(double value) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
+}
+
+std::string interval_text(const GradedChoiceAnalysis& analysis, const std::optional<Interval>& interval) {
+  if (!interval) return "-";
+  return graded_value_text(analysis, interval->low) + " to " + graded_value_text(analysis, interval->high);
+}
+
+long answers(const GradedChoiceGroup& group) {
+  long n = 0;
+  for (const StimulusLevel& level : group.levels) n += level.trials;
+  return n;
+}
+
+std::string test_sentence(const GradedChoiceAnalysis& analysis) {
+  const SharedPseTest& test = analysis.shared_pse;
+  if (!test.ok()) return "One PSE for every group against one per group: not computed (" + test.unavailable + ").";
+  return "One PSE for every group against one per group (each with its own slope): likelihood ratio G = " +
+         general(test.statistic) + ", chi2(" + std::to_string(test.df) + "), " + format_p(test.p_value) +
+         "; shared PSE " + graded_value_text(analysis, test.shared_pse) + ".";
+}
+
+std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
+
+}  // namespace
+
+std::string graded_value_text(const GradedChoiceAnalysis& analysis, double x) {
+  if (!analysis.log10_axis) return general(x);
+  return general(x) + " (ratio " + general(std::pow(10.0, x)) + ")";
+}
+
+std::string graded_choice_html(const GradedChoiceAnalysis& analysis, int bootstrap_samples) {
+  std::ostringstream out;
+  out << "<h2>Forced choice with a graded variable</h2>\n<p>Proportion of answers naming scene_b against "
+      << html_escape(analysis.axis_label())
+      << " per glare group; a maximum-likelihood cumulative normal without guess or lapse rate per group. The point of "
+         "subjective equality (PSE) is where it crosses 1/2; 95% parametric bootstrap intervals ("
+      << bootstrap_samples << " samples); the shift is each group's PSE minus that of the baseline ('"
+      << html_escape(analysis.baseline)
+      << "'), its interval from the differences of the bootstrap PSEs. Answers naming no side are left out of the fit.</p>\n";
+  out << "<table><tr><th>group</th><th>answers</th><th>neither</th><th>PSE</th><th>95% interval</th><th>slope</th>"
+         "<th>95% interval</th><th>shift from " << html_escape(analysis.baseline) << "</th><th>95% interval</th></tr>\n";
+  for (const GradedChoiceGroup& g : analysis.groups) {
+    out << "<tr>" << cell(g.name) << cell(std::to_string(answers(g))) << cell(std::to_string(g.neither));
+    if (g.fit.ok()) {
+      out << cell(graded_value_text(analysis, g.fit.threshold)) << cell(interval_text(analysis, g.fit.threshold_ci))
+          << cell(general(g.fit.slope))
+          << cell(g.fit.slope_ci ? general(g.fit.slope_ci->low) + " to " + general(g.fit.slope_ci->high) : "-");
+    } else {
+      out << "<td colspan=\"4\">" << html_escape("no fit: " + g.fit.unavailable) << "</td>";
+    }
+    out << cell(g.shift ? general(*g.shift) : "-")
+        << cell(g.shift_interval ? general(g.shift_interval->low) + " to " + general(g.shift_interval->high) : "-")
+        << "</tr>\n";
+  }
+  out << "</table>\n";
+  if (analysis.groups.size() >= 2) out << "<p>" << html_escape(test_sentence(analysis)) << "</p>\n";
+  if (!analysis.notes.empty()) {
+    out << "<ul>\n";
+    for (const std::string& note : analysis.notes) out << "<li>" << html_escape(note) << "</li>\n";
+    out << "</ul>\n";
+  }
+  return out.str();
+}
+
+std::string graded_choice_terminal(const GradedChoiceAnalysis& analysis) {
+  std::string text;
+  for (const GradedChoiceGroup& g : analysis.groups) {
+    text += "  graded choice " + g.name + " (" + analysis.axis_label() + "): ";
+    if (!g.fit.ok()) {
+      text += "no fit (" + g.fit.unavailable + ")\n";
+      continue;
+    }
+    text += "PSE " + graded_value_text(analysis, g.fit.threshold);
+    if (g.fit.threshold_ci) text += " [" + general(g.fit.threshold_ci->low) + ", " + general(g.fit.threshold_ci->high) + "]";
+    if (g.shift) {
+      text += "; shift from " + analysis.baseline + " " + general(*g.shift);
+      if (g.shift_interval) text += " [" + general(g.shift_interval->low) + ", " + general(g.shift_interval->high) + "]";
+    }
+    text += "\n";
+  }
+  if (analysis.groups.size() >= 2) text += "  graded choice test: " + test_sentence(analysis) + "\n";
+  return text;
+}
+
+Figure graded_choice_figure(const GradedChoiceAnalysis& analysis) {
+  const std::string x_label =
+      analysis.log10_axis ? "log10 " + analysis.variable + " (scene_b / scene_a, dimensionless)" : analysis.variable;
+  SvgPlot plot("Proportion naming scene_b, fits and PSEs (95% intervals)", x_label, "proportion naming scene_b", 640, 360);
+  double low = std::numeric_limits<double>::infinity();
+  double high = -low;
+  long most = 1;
+  for (const GradedChoiceGroup& g : analysis.groups) {
+    for (const StimulusLevel& level : g.levels) {
+      low = std::min(low, level.intensity);
+      high = std::max(high, level.intensity);
+      most = std::max(most, level.trials);
+    }
+  }
+  if (!(high >= low)) {
+    low = 0.0;
+    high = 1.0;
+    plot.note("no answers naming a side");
+  }
+  const double pad = 0.06 * std::max(high - low, 1e-9);
+  plot.set_x_range(low - pad, high + pad);
+  plot.set_y_range(0.0, 1.0);
+  plot.horizontal_rule(0.5, "#888");
+  for (std::size_t g = 0; g < analysis.groups.size(); ++g) {
+    const GradedChoiceGroup& group = analysis.groups[g];
+    const std::string& colour = series_colour(g);
+    // Area proportional to the number of answers: radius 2 to 8 px.
+    for (const StimulusLevel& level : group.levels) {
+      const double radius = 2.0 + 6.0 * std::sqrt(static_cast<double>(level.trials) / static_cast<double>(most));
+      plot.markers({level.intensity},
+                   {static_cast<double>(level.correct) / static_cast<double>(std::max(level.trials, 1L))}, colour, radius,
+                   true);
+    }
+    if (!group.fit.ok()) {
+      plot.note(group.name + ": no fit (" + group.fit.unavailable + ")");
+      plot.legend(group.name + " (no fit)", colour);
+      continue;
+    }
+    std::vector<double> x, y;
+    for (int i = 0; i <= 120; ++i) {
+      const double value = low - pad + (high - low + 2.0 * pad) * i / 120.0;
+      x.push_back(value);
+      y.push_back(group.fit.probability(value));
+    }
+    plot.line(x, y, colour, 2.0);
+    if (group.fit.threshold_ci) plot.horizontal_error_bar(0.5, group.fit.threshold_ci->low, group.fit.threshold_ci->high, colour);
+    plot.markers({group.fit.threshold}, {0.5}, colour, 4.5);
+    plot.legend(group.name + ": PSE " + general(group.fit.threshold), colour);
+  }
+  return {"graded_choice", "graded_choice",
+          "Proportion of answers naming scene_b against " + analysis.axis_label() +
+              " per glare group (rings: the data, area by number of answers), the fitted cumulative normals, and each "
+              "PSE (dot at 1/2) with its 95% bootstrap interval.",
+          plot.svg()};
+}
+
+}  // namespace glarelab::analysis

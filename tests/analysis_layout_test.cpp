@@ -1,0 +1,143 @@
+// Figures that lay themselves out (issue: titles, legends and labels never clipped or overlapping):
+// the report of every example in examples/ is drawn (tests/example_dry_run.h: the example's own
+// procedure answered by its simulated observer, two participants) and every figure is rendered in
+// headless Chromium (Debian's chromium), which gives the boxes the browser actually lays out. A
+// page holding the figures runs a script that measures, per figure:
+//   - every text element's box lies inside the SVG's viewport;
+//   - no two text elements' boxes overlap;
+//   - the legend's box does not overlap the plotting area (class plot-area) nor any data mark
+//     (the circles and rectangles of class data).
+// `chromium --headless --dump-dom` prints the page after its script ran; the problems are read
+// back from it. The report itself forbids scripts (Content-Security-Policy); the page here is the
+// test's own.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "analysis/analysis_report.h"
+#include "analysis/report_output.h"
+#include "tests/example_dry_run.h"
+#include "tests/scratch_dir.h"
+
+namespace glarelab::analysis {
+namespace {
+
+std::string chromium_binary() {
+  for (const char* candidate : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
+    if (std::filesystem::exists(candidate)) return candidate;
+  return "";
+}
+
+constexpr const char* kCheckScript = R"js(
+function boxesOverlap(a, b, tolerance) {
+  return a.left < b.right - tolerance && b.left < a.right - tolerance &&
+         a.top < b.bottom - tolerance && b.top < a.bottom - tolerance;
+}
+const problems = [];
+let figures = 0, texts = 0;
+for (const holder of document.querySelectorAll('div.figure')) {
+  const name = holder.dataset.name;
+  const svg = holder.querySelector('svg');
+  if (!svg) { problems.push(name + ': no svg'); continue; }
+  ++figures;
+  const view = svg.getBoundingClientRect();
+  const boxes = [];
+  for (const text of svg.querySelectorAll('text')) {
+    const r = text.getBoundingClientRect();
+    if (r.width === 0 && r.height === 0) continue;
+    ++texts;
+    const label = JSON.stringify(text.textContent.slice(0, 40));
+    if (r.left < view.left - 0.5 || r.right > view.right + 0.5 || r.top < view.top - 0.5 || r.bottom > view.bottom + 0.5)
+      problems.push(name + ': text ' + label + ' leaves the viewport');
+    boxes.push([r, label]);
+  }
+  for (let i = 0; i < boxes.length; ++i)
+    for (let j = i + 1; j < boxes.length; ++j)
+      if (boxesOverlap(boxes[i][0], boxes[j][0], 0.5))
+        problems.push(name + ': texts ' + boxes[i][1] + ' and ' + boxes[j][1] + ' overlap');
+  const legend = svg.querySelector('g.legend');
+  if (legend) {
+    const l = legend.getBoundingClientRect();
+    const area = svg.querySelector('rect.plot-area');
+    if (area && boxesOverlap(l, area.getBoundingClientRect(), 0.5)) problems.push(name + ': legend overlaps the plotting area');
+    for (const mark of svg.querySelectorAll('g.data circle, g.data rect'))
+      if (boxesOverlap(l, mark.getBoundingClientRect(), 0.5)) { problems.push(name + ': legend overlaps a data mark'); break; }
+  }
+}
+document.getElementById('result').textContent =
+    'FIGURES ' + figures + ' TEXTS ' + texts + '\n' + problems.map(p => 'PROBLEM ' + p).join('\n') + '\nEND';
+)js";
+
+TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
+  const std::string chromium = chromium_binary();
+  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian package chromium; scripts/setup.sh installs it)";
+  const test::ScratchDir dir;
+  const std::filesystem::path examples = std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples";
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(examples))
+    if (entry.path().extension() == ".toml") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 7u);
+
+  std::string page = "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><style>body{margin:0}"
+                     "div.figure{margin:8px}</style></head><body>\n";
+  std::size_t expected_figures = 0;
+  for (const auto& file : files) {
+    const std::string stem = file.stem().string();
+    const std::string db = dir.file(stem + ".db");
+    test::dry_run_example(file.string(), db, {1, 2});
+    AnalysisOptions options;
+    options.bootstrap_samples = 20;
+    options.threads = 2;
+    const AnalysisReport report = analyse(load_databases({db}), options);
+    write_report(report, dir.file(stem));
+    for (const Figure& figure : report.figures) {
+      page += "<div class=\"figure\" data-name=\"" + stem + "/" + figure.file_stem + "\">" + figure.svg + "</div>\n";
+      ++expected_figures;
+    }
+    std::printf("%s: %zu figures\n", stem.c_str(), report.figures.size());
+  }
+  page += "<pre id=\"result\">script did not run</pre><script>" + std::string(kCheckScript) + "</script></body></html>\n";
+  const std::string page_path = dir.file("figures.html");
+  std::ofstream(page_path) << page;
+  // GLARELAB_LAYOUT_KEEP=DIR keeps the page of figures and every example's report for a look.
+  if (const char* keep = std::getenv("GLARELAB_LAYOUT_KEEP"); keep != nullptr && *keep != '\0') {
+    std::filesystem::copy_file(page_path, std::filesystem::path(keep) / "figures.html",
+                               std::filesystem::copy_options::overwrite_existing);
+    for (const auto& file : files)
+      std::filesystem::copy(dir.file(file.stem().string()), std::filesystem::path(keep) / file.stem(),
+                            std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing);
+  }
+
+  const std::string dom = dir.file("dom.html");
+  const std::string command = "timeout 60 " + chromium +
+                              " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+                              " --disable-background-networking --disable-component-update --disable-sync"
+                              " --user-data-dir=" + dir.file("profile") + " --window-size=1400,1000 --dump-dom file://" +
+                              page_path + " >" + dom + " 2>" + dir.file("chromium.log");
+  const int status = std::system(command.c_str());
+  const std::string text = test::read_bytes(dom);
+  std::smatch counts;
+  ASSERT_TRUE(std::regex_search(text, counts, std::regex("FIGURES ([0-9]+) TEXTS ([0-9]+)")))
+      << "chromium exit status " << status << ": " << test::read_bytes(dir.file("chromium.log")) << text.substr(0, 500);
+  EXPECT_EQ(std::stoul(counts[1]), expected_figures);
+  EXPECT_GT(std::stoul(counts[2]), 10 * expected_figures);  // titles, ticks, labels: the texts were measured
+  std::printf("%s figures, %s text elements measured\n", counts[1].str().c_str(), counts[2].str().c_str());
+  // The problems as the script wrote them into the page: from its counts to its END line (the
+  // script's own source, dumped after the page's text, is not read).
+  const auto from = static_cast<std::size_t>(counts.position(0));
+  const std::string written = text.substr(from, text.find("\nEND", from) - from);
+  const std::regex problem("PROBLEM ([^\n]*)");
+  int problems = 0;
+  for (auto it = std::sregex_iterator(written.begin(), written.end(), problem); it != std::sregex_iterator(); ++it) {
+    ADD_FAILURE() << (*it)[1].str();
+    ++problems;
+  }
+  EXPECT_EQ(problems, 0);
+}
+
+}  // namespace
+}  // namespace glarelab::analysis
