@@ -33,7 +33,10 @@ CpuFloatConvolution::CpuFloatConvolution(int width_px, int height_px, int kernel
   result_real_ = FftwFloatBuffer<float>(3 * real_size);
   image_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
   kernel_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
-  product_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
+  // `same` (one PSF per scene): the product overwrites the PSF's spectrum in place, as the inverse
+  // destroys its input anyway; `full` keeps the PSF's spectrum for the next slot.
+  if (output == ConvolutionOutput::full) product_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
+  std::complex<float>* product = output == ConvolutionOutput::full ? product_.data() : kernel_spectrum_.data();
   if (slots > 1)
     for (int k = 0; k < slots; ++k) scene_spectra_.emplace_back(3 * spectrum_size);
   has_scene_.assign(static_cast<std::size_t>(slots), false);
@@ -45,14 +48,13 @@ CpuFloatConvolution::CpuFloatConvolution(int width_px, int height_px, int kernel
       FftwFloatPlan::real_rows_forward(rows_, cols_, 3, 0, kernel_px, kernel_real_.data(), kernel_spectrum_.data(), threads_);
   kernel_column_pass_ = FftwFloatPlan::complex_columns(rows_, cols_, 3, -1, kernel_spectrum_.data(),
                                                        kernel_spectrum_.data(), false, threads_);
-  inverse_column_pass_ =
-      FftwFloatPlan::complex_columns(rows_, cols_, 3, +1, product_.data(), product_.data(), false, threads_);
+  inverse_column_pass_ = FftwFloatPlan::complex_columns(rows_, cols_, 3, +1, product, product, false, threads_);
   // The rows of the result that are kept: the image's, shifted by the PSF's centre (`same`), or all
   // of the linear convolution's height + M - 1 (`full`).
   const int first_row = output == ConvolutionOutput::same ? kernel_px / 2 : 0;
   const int row_count = output == ConvolutionOutput::same ? height_px : height_px + kernel_px - 1;
   inverse_row_pass_ =
-      FftwFloatPlan::real_rows_inverse(rows_, cols_, 3, first_row, row_count, product_.data(), result_real_.data(), threads_);
+      FftwFloatPlan::real_rows_inverse(rows_, cols_, 3, first_row, row_count, product, result_real_.data(), threads_);
 }
 
 void CpuFloatConvolution::clear_rows(std::complex<float>* spectrum, int first_row) const {
@@ -141,7 +143,7 @@ void CpuFloatConvolution::multiply_and_invert(int slot) {
   // trigger (scenes with non-finite pixels are refused, the PSF is finite).
   const float* kernel = reinterpret_cast<const float*>(kernel_spectrum_.data());
   const float* image = reinterpret_cast<const float*>(spectrum(slot));
-  float* product = reinterpret_cast<float*>(product_.data());
+  float* product = reinterpret_cast<float*>(output_ == ConvolutionOutput::full ? product_.data() : kernel_spectrum_.data());
   parallel_chunks(spectrum_rows, threads_, [&](int first, int last) {
     for (std::size_t k = 2 * first * spectrum_cols; k < 2 * last * spectrum_cols; k += 2) {
       const float a = kernel[k], b = kernel[k + 1], c = image[k] * inverse_size, d = image[k + 1] * inverse_size;

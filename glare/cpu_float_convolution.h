@@ -70,7 +70,8 @@ class CpuFloatConvolution {
   void clear_rows(std::complex<float>* spectrum, int first_row) const;
   // The R, G, B of width x height pixels from (x0, y0) of `image` into slot `slot`'s spectrum.
   void transform_scene(const ImageRGBA& image, int x0, int y0, int slot);
-  // product_ = kernel spectrum x slot spectrum / (rows cols), then the inverse into result_real_.
+  // kernel spectrum x slot spectrum / (rows cols) into product_ (`full`; `same`: into the kernel
+  // spectrum itself), then the inverse into result_real_.
   void multiply_and_invert(int slot);
   FftwFloatPlan image_row_pass_, image_column_pass_, kernel_row_pass_, kernel_column_pass_;
   FftwFloatPlan inverse_column_pass_, inverse_row_pass_;
