@@ -6,10 +6,16 @@
 // after frame, a new PSF each frame) costs 3 forward + 3 inverse transforms, a new scene 3 more.
 // Each 2D transform is a row pass and a column pass of 1D FFTW transforms, so that the row pass
 // skips the rows that are zero padding (forward: all rows below the image, below the PSF, which is
-// only M of its rows x cols) or not wanted (inverse: all rows outside the image's); the column pass
+// only M of its rows x cols) or not wanted (inverse: all rows outside the output's); the column pass
 // runs in place (faster than FFTW's out-of-place column transforms that preserve their input).
+//
+// Two outputs: `same` (the image's own size, the PSF centred: convolve_image_cpu's result) and
+// `full` (the whole linear convolution, image + M - 1 each way, for a region of a larger frame whose
+// glare spills past it: write_full). Several scenes of one size can be kept at once (slots: the
+// separate lit regions of one frame), all convolved with one transform of the frame's PSF.
 // Checked against convolve_image_cpu in float64 (tests/glare_cpu_float_test.cpp).
 #include <complex>
+#include <vector>
 
 #include "core/image.h"
 #include "glare/fftw_float_plan.h"
@@ -17,29 +23,56 @@
 
 namespace glarelab {
 
+enum class ConvolutionOutput { same, full };
+
 class CpuFloatConvolution {
  public:
-  // Frames of width x height pixels with PSFs of kernel_px x kernel_px (display scale).
-  CpuFloatConvolution(int width_px, int height_px, int kernel_px, int threads = kGlareCpuThreads);
+  // Frames of width x height pixels with PSFs of kernel_px x kernel_px (display scale), with room
+  // for `slots` scenes.
+  CpuFloatConvolution(int width_px, int height_px, int kernel_px, int threads = kGlareCpuThreads,
+                      ConvolutionOutput output = ConvolutionOutput::same, int slots = 1);
   int fft_rows() const { return rows_; }
   int fft_cols() const { return cols_; }
+  int slots() const { return slots_; }
 
   // A new scene: its R, G, B forward transforms, kept for every convolve() until the next one.
   // Refuses (std::invalid_argument) a wrong size and NaN, Inf or negative R, G, B, as convolve_image_cpu.
-  void set_scene(const ImageRGBA& image);
+  void set_scene(const ImageRGBA& image, int slot = 0);
+  // The same for the width x height pixels of `frame` from (x0, y0) on (a region of a larger frame).
+  void set_scene(const ImageRGBA& frame, int x0, int y0, int slot);
   // The scene convolved with `psf` (1 or 3 channels, kernel_px wide) into `out` (resized once);
-  // alpha and depth copied from the scene.
+  // alpha and depth copied from the scene. `same` output only.
   void convolve(const Psf& psf, ImageRGBA& out);
 
+  // The PSF's spectrum for the write_full() calls that follow (one per frame, shared by the slots).
+  void set_kernel(const Psf& psf);
+  // `full` output: the slot's scene, placed in `frame` at (x0, y0), convolved with the set_kernel()
+  // PSF; the whole linear convolution (the scene grown by the PSF's reach, M/2 before, M - 1 - M/2
+  // after) written over R, G, B of `frame` there, clipped to the frame; alpha untouched.
+  void write_full(int slot, ImageRGBA& frame, int x0, int y0);
+
  private:
-  int width_ = 0, height_ = 0, kernel_px_ = 0, rows_ = 0, cols_ = 0, threads_ = 1;
-  bool has_scene_ = false;
-  ImageRGBA scene_;
+  int width_ = 0, height_ = 0, kernel_px_ = 0, rows_ = 0, cols_ = 0, threads_ = 1, slots_ = 1;
+  ConvolutionOutput output_ = ConvolutionOutput::same;
+  std::vector<bool> has_scene_;
+  bool has_kernel_ = false;
+  ImageRGBA scene_;  // `same`: the last scene, for its alpha and depth
   FftwFloatBuffer<float> image_real_, kernel_real_, result_real_;
-  FftwFloatBuffer<std::complex<float>> image_spectrum_, kernel_spectrum_;
+  FftwFloatBuffer<std::complex<float>> image_spectrum_, kernel_spectrum_, product_;
+  // With one slot its spectrum is image_spectrum_ itself; with more, each slot keeps a copy of the
+  // image_spectrum_ its scene was transformed in.
+  std::vector<FftwFloatBuffer<std::complex<float>>> scene_spectra_;
+  const std::complex<float>* spectrum(int slot) const {
+    return scene_spectra_.empty() ? image_spectrum_.data() : scene_spectra_[static_cast<std::size_t>(slot)].data();
+  }
   // Clears rows [first_row, rows) of the three spectra in `spectrum` (the row pass leaves there
   // what the in-place column pass of the last frame wrote).
   void clear_rows(std::complex<float>* spectrum, int first_row) const;
+  // The R, G, B of width x height pixels from (x0, y0) of `image` into slot `slot`'s spectrum.
+  void transform_scene(const ImageRGBA& image, int x0, int y0, int slot);
+  // kernel spectrum x slot spectrum / (rows cols) into product_ (`full`; `same`: into the kernel
+  // spectrum itself), then the inverse into result_real_.
+  void multiply_and_invert(int slot);
   FftwFloatPlan image_row_pass_, image_column_pass_, kernel_row_pass_, kernel_column_pass_;
   FftwFloatPlan inverse_column_pass_, inverse_row_pass_;
 };

@@ -1,5 +1,8 @@
 #include "glare/cpu_float_glare.h"
 
+#include <algorithm>
+#include <cstring>
+
 #include "glare/fftw_float_plan.h"
 #include "glare/psf_scale.h"
 
@@ -76,6 +79,75 @@ ImageRGBA CpuFloatGlare::convolve(const ImageRGBA& image, const Psf& display_psf
   ImageRGBA out;
   convolution_->convolve(display_psf, out);
   return out;
+}
+
+namespace {
+
+// Whether `pixels` holds the RGBA rows of `box` in `frame`, bit for bit.
+bool same_pixels(const std::vector<float>& pixels, const ImageRGBA& frame, const PixelBox& box) {
+  const std::size_t row_floats = 4 * static_cast<std::size_t>(box.width);
+  if (pixels.size() != row_floats * box.height) return false;
+  for (int y = 0; y < box.height; ++y)
+    if (std::memcmp(pixels.data() + row_floats * y, frame.pixel(box.x0, box.y0 + y), row_floats * sizeof(float)) != 0)
+      return false;
+  return true;
+}
+
+void keep_pixels(std::vector<float>& pixels, const ImageRGBA& frame, const PixelBox& box) {
+  const std::size_t row_floats = 4 * static_cast<std::size_t>(box.width);
+  pixels.resize(row_floats * box.height);
+  for (int y = 0; y < box.height; ++y) std::copy_n(frame.pixel(box.x0, box.y0 + y), row_floats, pixels.data() + row_floats * y);
+}
+
+// Plans kept for this many box sizes at most (a session shows few layouts; past it they are made again).
+constexpr std::size_t kRegionPlans = 8;
+
+}  // namespace
+
+void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<PixelBox>& boxes, const Psf& display_psf,
+                                     ImageRGBA& out) {
+  if (out.width_px != frame.width_px || out.height_px != frame.height_px)
+    throw std::invalid_argument("glare/cpu_float_glare: the output is not the frame's size");
+  if (region_kernel_px_ != display_psf.size_px) {
+    region_plans_.clear();
+    region_kernel_px_ = display_psf.size_px;
+  }
+  // The boxes of each size, in list order: their slots.
+  std::map<std::pair<int, int>, std::vector<const PixelBox*>> by_size;
+  for (const PixelBox& box : boxes) {
+    if (box.width <= 0 || box.height <= 0 || box.x0 < 0 || box.y0 < 0 || box.x0 + box.width > frame.width_px ||
+        box.y0 + box.height > frame.height_px)
+      throw std::invalid_argument("glare/cpu_float_glare: a region does not lie inside the frame");
+    by_size[{box.width, box.height}].push_back(&box);
+  }
+  reused_scene_ = true;
+  for (const auto& [size, sized] : by_size) {
+    auto found = region_plans_.find(size);
+    const int slots = static_cast<int>(sized.size());
+    if (found == region_plans_.end() || found->second.convolution->slots() < slots) {
+      if (found == region_plans_.end() && region_plans_.size() >= kRegionPlans) region_plans_.clear();
+      RegionPlan plan;
+      plan.convolution = std::make_unique<CpuFloatConvolution>(size.first, size.second, display_psf.size_px,
+                                                                kGlareCpuThreads, ConvolutionOutput::full, slots);
+      plan.pixels.resize(static_cast<std::size_t>(slots));
+      found = region_plans_.insert_or_assign(size, std::move(plan)).first;
+    }
+    RegionPlan& plan = found->second;
+    for (int slot = 0; slot < slots; ++slot) {
+      const PixelBox& box = *sized[static_cast<std::size_t>(slot)];
+      std::vector<float>& kept = plan.pixels[static_cast<std::size_t>(slot)];
+      if (same_pixels(kept, frame, box)) continue;
+      reused_scene_ = false;
+      kept.clear();  // a refused scene leaves no stale match behind
+      plan.convolution->set_scene(frame, box.x0, box.y0, slot);
+      keep_pixels(kept, frame, box);
+    }
+    plan.convolution->set_kernel(display_psf);
+    for (int slot = 0; slot < slots; ++slot) {
+      const PixelBox& box = *sized[static_cast<std::size_t>(slot)];
+      plan.convolution->write_full(slot, out, box.x0, box.y0);
+    }
+  }
 }
 
 }  // namespace glarelab

@@ -6,8 +6,11 @@
 // comes again (a static scene within a trial: 3 forward + 3 inverse transforms per frame instead
 // of 9). Its frame error against the float64 reference is below 1e-6 relative L2 (glarelab bench;
 // tests/glare_cpu_float_glare_test.cpp checks it through this class).
+#include <map>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/image.h"
 #include "glare/aperture_geometry.h"
@@ -15,6 +18,7 @@
 #include "glare/cpu_float_chromatic_psf.h"
 #include "glare/cpu_float_psf.h"
 #include "glare/cpu_float_spectral_psf.h"
+#include "glare/lit_regions.h"
 #include "glare/psf.h"
 
 namespace glarelab {
@@ -43,13 +47,21 @@ class CpuFloatGlare {
   // Linear convolution of R, G, B with a display-scale PSF (display_psf's size); alpha passes
   // through. Refuses NaN, Inf and negative pixels (std::invalid_argument), as convolve_image_cpu.
   ImageRGBA convolve(const ImageRGBA& image, const Psf& display_psf);
+  // The glare of the lit boxes of `frame` (glare/lit_regions.h: every pixel outside them black, no
+  // two nearer than the PSF's size) written into `out` (frame's size, holding frame): each box's
+  // whole linear convolution with `display_psf`, the box grown by the PSF's reach, over R, G, B;
+  // alpha untouched. Boxes of one size share one transform of the PSF, and each box's spectrum is
+  // kept while the same pixels come again at that place in the list (a static scene). Refuses NaN,
+  // Inf and negative pixels in the boxes (std::invalid_argument).
+  void convolve_regions(const ImageRGBA& frame, const std::vector<PixelBox>& boxes, const Psf& display_psf,
+                        ImageRGBA& out);
   // The phase sampling check of the last display_psf() (the eye's whole power error, defocus plus
   // refraction; cpu_float_psf.h): the aliasing warning, or empty. With LCA, that of the most aliased
   // wavelength (cpu_float_chromatic_psf.h).
   const std::string& sampling_warning() const {
     return chromatic_ ? chromatic_->sampling_warning() : psf_.sampling_warning();
   }
-  // Whether the last convolve() reused the kept frame spectrum.
+  // Whether the last convolve() (convolve_regions(): every box) reused the kept frame spectrum.
   bool reused_scene() const { return reused_scene_; }
 
  private:
@@ -61,6 +73,14 @@ class CpuFloatGlare {
   int convolution_width_px_ = 0, convolution_height_px_ = 0, convolution_kernel_px_ = 0;
   ImageRGBA scene_;  // the frame whose spectrum the convolution holds
   bool reused_scene_ = false;
+  // convolve_regions(): per box size, a `full` convolution with a slot per box of that size, and
+  // the pixels (RGBA rows) each slot's spectrum was made from.
+  struct RegionPlan {
+    std::unique_ptr<CpuFloatConvolution> convolution;
+    std::vector<std::vector<float>> pixels;
+  };
+  std::map<std::pair<int, int>, RegionPlan> region_plans_;
+  int region_kernel_px_ = 0;
 };
 
 }  // namespace glarelab

@@ -10,6 +10,8 @@
 #include <stdexcept>
 
 #include "glare/gl/gl_fft.h"
+#include "glare/lit_regions.h"
+#include "glare/parallel_rows.h"
 #include "glare/psf_cpu.h"
 #include "glare/psf_scale.h"
 #include "stimuli/display_model.h"
@@ -21,11 +23,33 @@ namespace {
 // 1e-4 cd/m2, where Eq. 2 has long reached its largest pupil).
 constexpr double kMinimumFieldLuminance_cd_m2 = 1e-4;
 
-double min_luminance(const ImageRGBA& image) {
-  double lowest = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i + 3 < image.rgba.size(); i += 4)
-    lowest = std::min(lowest, luminance_rec709(image.rgba[i], image.rgba[i + 1], image.rgba[i + 2]));
-  return image.empty() ? 0.0 : lowest;
+// The smallest and largest Rec.709 luminance of an image's pixels (0, 0 when empty), each pixel's
+// luminance in double as core/image.h's max_luminance; rows on threads (min and max do not depend
+// on the order).
+std::pair<double, double> luminance_range(const ImageRGBA& image) {
+  if (image.empty()) return {0.0, 0.0};
+  constexpr int kChunks = 2;
+  double lowest[kChunks], highest[kChunks];
+  std::fill(std::begin(lowest), std::end(lowest), std::numeric_limits<double>::infinity());
+  std::fill(std::begin(highest), std::end(highest), -std::numeric_limits<double>::infinity());
+  const auto pixels = static_cast<int>(image.rgba.size() / 4);
+  parallel_chunks(kChunks, kChunks, [&](int first, int last) {
+    for (int chunk = first; chunk < last; ++chunk) {
+      const std::size_t begin = static_cast<std::size_t>(pixels) * chunk / kChunks;
+      const std::size_t end = static_cast<std::size_t>(pixels) * (chunk + 1) / kChunks;
+      double low = std::numeric_limits<double>::infinity(), high = -std::numeric_limits<double>::infinity();
+      for (std::size_t k = begin; k < end; ++k) {
+        const float* p = &image.rgba[4 * k];
+        const double y = luminance_rec709(p[0], p[1], p[2]);
+        low = std::min(low, y);
+        high = std::max(high, y);
+      }
+      lowest[chunk] = low;
+      highest[chunk] = high;
+    }
+  });
+  const double high = std::max(highest[0], highest[1]);
+  return {std::min(lowest[0], lowest[1]), std::isinf(high) ? 0.0 : high};  // no pixel but NaN: 0, as max_luminance
 }
 
 }  // namespace
@@ -240,31 +264,37 @@ ImageRGBA GlareStage::convolve_with_backend(const ImageRGBA& image, const Psf& d
   return planned_ ? planned_->convolve(image, display_psf) : backend().convolve(image, display_psf);
 }
 
-// Convolves only the part of the frame that glare can change: the bounding box of its non-black
-// pixels grown by the PSF's half-size. Outside it the exact result is 0 (no light within the PSF's
-// reach), which is what the frame already holds; inside it the zero-padded FFT convolution of the
-// crop equals that of the whole frame, because everything the crop leaves out is black. A stimulus
-// on a black background (the demo: two 256 px scenes on a 1024 x 512 display) costs a fraction.
+// Convolves only the parts of the frame that glare can change: the boxes around its lit pixels
+// (glare/lit_regions.h), split where at least the PSF's size of black runs between them, so that
+// one box's glare cannot reach another's. Outside the boxes grown by the PSF's reach the exact
+// result is 0 (no light within reach), which is what the frame already holds; inside each, the
+// zero-padded FFT convolution of the box alone equals that of the whole frame, because everything
+// else within reach is black. A stimulus on a black background (the demo: two 256 px scenes on a
+// 1024 x 512 display) costs two small convolutions.
 ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_psf) {
-  int x0 = frame.width_px, y0 = frame.height_px, x1 = -1, y1 = -1;
-  for (int y = 0; y < frame.height_px; ++y)
-    for (int x = 0; x < frame.width_px; ++x) {
-      const float* p = frame.pixel(x, y);
-      if (p[0] != 0.0f || p[1] != 0.0f || p[2] != 0.0f) {
-        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-      }
-    }
-  if (x1 < 0) return frame;  // all black: so is its glare
-  const int reach = display_psf.size_px / 2;
-  x0 = std::max(0, x0 - reach), y0 = std::max(0, y0 - reach);
-  x1 = std::min(frame.width_px - 1, x1 + reach), y1 = std::min(frame.height_px - 1, y1 + reach);
-  if (x0 == 0 && y0 == 0 && x1 == frame.width_px - 1 && y1 == frame.height_px - 1 && frame.depth.empty())
-    return convolve_with_backend(frame, display_psf);
-  ImageRGBA crop(x1 - x0 + 1, y1 - y0 + 1);
-  for (int y = y0; y <= y1; ++y) std::copy_n(frame.pixel(x0, y), 4 * crop.width_px, crop.pixel(0, y - y0));
-  const ImageRGBA glared = convolve_with_backend(crop, display_psf);
+  const std::vector<PixelBox> boxes = lit_regions(frame, display_psf.size_px);
+  if (boxes.empty()) return frame;  // all black: so is its glare
+  backend();
   ImageRGBA out = frame;
-  for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(0, y - y0), 4 * crop.width_px, out.pixel(x0, y));
+  if (planned_) {
+    // Each box's whole linear convolution (FFT of box + M - 1, not of the box grown by the reach
+    // and padded again), one PSF transform for the boxes of one size.
+    planned_->convolve_regions(frame, boxes, display_psf, out);
+    return out;
+  }
+  const int reach = display_psf.size_px / 2;
+  for (const PixelBox& box : boxes) {
+    const int x0 = std::max(0, box.x0 - reach), y0 = std::max(0, box.y0 - reach);
+    const int x1 = std::min(frame.width_px - 1, box.x0 + box.width - 1 + reach);
+    const int y1 = std::min(frame.height_px - 1, box.y0 + box.height - 1 + reach);
+    if (boxes.size() == 1 && x0 == 0 && y0 == 0 && x1 == frame.width_px - 1 && y1 == frame.height_px - 1 &&
+        frame.depth.empty())
+      return convolve_with_backend(frame, display_psf);
+    ImageRGBA crop(x1 - x0 + 1, y1 - y0 + 1);
+    for (int y = y0; y <= y1; ++y) std::copy_n(frame.pixel(x0, y), 4 * crop.width_px, crop.pixel(0, y - y0));
+    const ImageRGBA glared = convolve_with_backend(crop, display_psf);
+    for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(0, y - y0), 4 * crop.width_px, out.pixel(x0, y));
+  }
   return out;
 }
 
@@ -293,8 +323,7 @@ ImageRGBA GlareStage::convolve_gaze_window(const ImageRGBA& frame, const Psf& di
   return out;
 }
 
-ImageRGBA GlareStage::glare_source(const ImageRGBA& frame) const {
-  if (spec_.source != "excess") return frame;
+ImageRGBA GlareStage::glare_excess(const ImageRGBA& frame) const {
   // Spencer 1995, section 3.2 end: the viewer's eye already scatters what the display shows, so
   // only the light the display cannot show (above its peak) is spread.
   ImageRGBA excess = frame;
@@ -304,7 +333,7 @@ ImageRGBA GlareStage::glare_source(const ImageRGBA& frame) const {
   return excess;
 }
 
-ImageRGBA GlareStage::with_gain(const ImageRGBA& frame, const ImageRGBA& source, const ImageRGBA& glared) const {
+ImageRGBA GlareStage::with_gain(const ImageRGBA& frame, const ImageRGBA& source, ImageRGBA glared) const {
   // gain 1 and the whole frame as source: the glared frame itself, not frame + (glared - frame)
   // rounded in float.
   if (condition_gain_ == 1.0 && spec_.source != "excess") return glared;
@@ -364,7 +393,7 @@ ImageRGBA GlareStage::apply_analytic(const ImageRGBA& frame, const ImageRGBA& so
   ImageRGBA glared;
   analytic.convolve(source, glared);
   r.convolved = true;
-  return with_gain(frame, source, glared);
+  return with_gain(frame, source, std::move(glared));
 }
 
 ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
@@ -384,7 +413,7 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   for (std::size_t i = 0; i < glared.rgba.size(); i += 4)
     for (int c = 0; c < 3; ++c) glared.rgba[i + c] += far_glare.rgba[i + c];
   r.convolved = true;
-  return with_gain(frame, source, glared);
+  return with_gain(frame, source, std::move(glared));
 }
 
 ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
@@ -398,8 +427,11 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   if (mode == GlareMode::control) return frame_cd_m2;
 
   const double mean_cd_m2 = field_luminance_cd_m2.value_or(mean_luminance(frame_cd_m2));
-  const ImageRGBA source = glare_source(frame_cd_m2);
-  if (spec_.source == "excess" && all_black(source)) {
+  // The light the glare spreads: the frame itself (no copy), or its excess over the display's peak.
+  std::optional<ImageRGBA> excess;
+  if (spec_.source == "excess") excess = glare_excess(frame_cd_m2);
+  const ImageRGBA& source = excess ? *excess : frame_cd_m2;
+  if (excess && all_black(source)) {
     // Nothing above the display's peak: the frame is shown as it is, bit for bit.
     if (mode == GlareMode::dynamic) record_dynamic_frame(time_s, mean_cd_m2);
     r.skip_reason = "nothing above the display's peak of " + std::to_string(display_.peak_luminance_cd_m2) +
@@ -418,7 +450,10 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   std::optional<Psf> psf = wave_psf(mode, time_s, mean_cd_m2, r);
   if (!psf) return frame_cd_m2;
   r.wing_fraction = psf_wing_fraction(*psf);
-  r.visibility_bound = condition_gain_ * visibility_bound(max_luminance(source), min_luminance(frame_cd_m2), r.wing_fraction,
+  // One pass for both when the frame is its own source.
+  const auto [frame_min_cd_m2, frame_max_cd_m2] = luminance_range(frame_cd_m2);
+  const double source_max_cd_m2 = excess ? luminance_range(source).second : frame_max_cd_m2;
+  r.visibility_bound = condition_gain_ * visibility_bound(source_max_cd_m2, frame_min_cd_m2, r.wing_fraction,
                                                           spec_.visibility_floor_cd_m2);
   if (spec_.skip_invisible && r.visibility_bound < spec_.visibility_weber_fraction) {
     r.skip_reason = "invisible: glare changes no pixel by more than " + std::to_string(r.visibility_bound) +

@@ -151,10 +151,11 @@ class GlareStage {
   // The wave-optics PSF of a frame (Ritschel, and the hybrid's near part), with blinks held; nothing
   // when the eye is closed and no open frame came before (r.skip_reason says so).
   std::optional<Psf> wave_psf(GlareMode mode, double time_s, double mean_cd_m2, GlareFrameReport& r);
-  // The light the glare spreads (GlareSpec::source): the frame, or its excess over the display peak.
-  ImageRGBA glare_source(const ImageRGBA& frame) const;
-  // frame + gain (glared - source), clipped at 0.
-  ImageRGBA with_gain(const ImageRGBA& frame, const ImageRGBA& source, const ImageRGBA& glared) const;
+  // The light the glare spreads with GlareSpec::source "excess": the frame's excess over the display
+  // peak ("frame": the frame itself, used without a copy).
+  ImageRGBA glare_excess(const ImageRGBA& frame) const;
+  // frame + gain (glared - source), clipped at 0; gain 1 and the frame as source: glared itself.
+  ImageRGBA with_gain(const ImageRGBA& frame, const ImageRGBA& source, ImageRGBA glared) const;
   ImageRGBA apply_analytic(const ImageRGBA& frame, const ImageRGBA& source, double mean_cd_m2, GlareFrameReport& r);
   ImageRGBA apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
                          double mean_cd_m2, GlareFrameReport& r);

@@ -2,41 +2,58 @@
 
 #include <stdexcept>
 
+#include "glare/fftw_float_plan.h"
+#include "glare/parallel_rows.h"
+
 namespace glarelab {
 
 ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers,
                               double time_s, const std::optional<GazePoint>& gaze,
                               std::vector<GlareFrameReport>* reports, std::optional<double> field_luminance) {
   const double field_luminance_cd_m2 = field_luminance ? *field_luminance : mean_luminance(composed_cd_m2);
-  // Background part: what no layer holds (exactly zero inside a placement, which replaces the
-  // background there; the background luminance elsewhere).
-  ImageRGBA result = composed_cd_m2;
-  for (const GlareLayer& layer : layers) {
+  for (const GlareLayer& layer : layers)
     if (layer.image_cd_m2.width_px != composed_cd_m2.width_px || layer.image_cd_m2.height_px != composed_cd_m2.height_px)
       throw std::invalid_argument("glare layers: a layer of " + std::to_string(layer.image_cd_m2.width_px) + "x" +
                                   std::to_string(layer.image_cd_m2.height_px) + " px for a frame of " +
                                   std::to_string(composed_cd_m2.width_px) + "x" +
                                   std::to_string(composed_cd_m2.height_px) + " px");
-    for (std::size_t i = 0; i < result.rgba.size(); ++i)
-      if (i % 4 != 3) result.rgba[i] -= layer.image_cd_m2.rgba[i];
-  }
-  for (const GlareLayer& layer : layers) {
+  // Each layer's glare (a control layer: the layer itself, not copied).
+  std::vector<ImageRGBA> glared(layers.size());
+  std::vector<const ImageRGBA*> glared_of(layers.size());
+  for (std::size_t l = 0; l < layers.size(); ++l) {
+    const GlareLayer& layer = layers[l];
+    if (layer.mode == GlareMode::control) {
+      glared_of[l] = &layer.image_cd_m2;
+      continue;
+    }
     GlareFrameReport report;
-    ImageRGBA glared = layer.mode == GlareMode::control
-                           ? layer.image_cd_m2
-                           : stage.apply(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2);
-    if (layer.keep_peak && layer.mode != GlareMode::control) {
-      const double before = max_luminance(layer.image_cd_m2), after = max_luminance(glared);
+    glared[l] = stage.apply(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2);
+    if (layer.keep_peak) {
+      const double before = max_luminance(layer.image_cd_m2), after = max_luminance(glared[l]);
       if (before > 0.0 && after > 0.0) {
         const auto scale = static_cast<float>(before / after);
-        for (std::size_t i = 0; i < glared.rgba.size(); ++i)
-          if (i % 4 != 3) glared.rgba[i] *= scale;
+        for (std::size_t i = 0; i < glared[l].rgba.size(); ++i)
+          if (i % 4 != 3) glared[l].rgba[i] *= scale;
       }
     }
-    if (layer.mode != GlareMode::control && reports != nullptr) reports->push_back(report);
-    for (std::size_t i = 0; i < result.rgba.size(); ++i)
-      if (i % 4 != 3) result.rgba[i] += glared.rgba[i];
+    if (reports != nullptr) reports->push_back(report);
+    glared_of[l] = &glared[l];
   }
+  // The background part (what no layer holds: exactly zero inside a placement, which replaces the
+  // background there; the background luminance elsewhere) plus every layer's glare, in one pass:
+  // per value composed - layer_1 - ... - layer_n + glared_1 + ... + glared_n, in that order.
+  ImageRGBA result = composed_cd_m2;
+  const auto pixels = static_cast<int>(result.rgba.size() / 4);
+  parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
+    for (int p = first; p < last; ++p)
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t i = 4 * static_cast<std::size_t>(p) + static_cast<std::size_t>(c);
+        float value = result.rgba[i];
+        for (const GlareLayer& layer : layers) value -= layer.image_cd_m2.rgba[i];
+        for (const ImageRGBA* image : glared_of) value += image->rgba[i];
+        result.rgba[i] = value;
+      }
+  });
   return result;
 }
 

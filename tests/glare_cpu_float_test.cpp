@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
 #include "glare/aperture_raster.h"
 #include "glare/convolution_cpu.h"
 #include "glare/cpu_float_convolution.h"
+#include "glare/cpu_float_glare.h"
+#include "glare/lit_regions.h"
 #include "glare/cpu_float_psf.h"
 #include "glare/cpu_float_spectral_psf.h"
 #include "glare/eye_model.h"
@@ -210,6 +213,111 @@ TEST(GlareCpuFloat, NewSceneReplacesTheKeptSpectrumAndBadImagesAreRefused) {
   second.pixel(1, 1)[0] = -1.0f;
   EXPECT_THROW(convolution.set_scene(second), std::invalid_argument);
   EXPECT_THROW(convolution.set_scene(hdr_frame(32)), std::invalid_argument);
+}
+
+// An asymmetric 3-channel PSF of m x m pixels, each channel summing to 1 (a misplaced or mirrored
+// kernel shows).
+Psf lopsided_psf(int m) {
+  Psf psf;
+  psf.size_px = m;
+  psf.channels = 3;
+  psf.values.assign(3 * static_cast<std::size_t>(m) * m, 0.0);
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0.0;
+    for (int y = 0; y < m; ++y)
+      for (int x = 0; x < m; ++x) {
+        const double dx = x - m / 2 - 0.3 * (c + 1), dy = y - m / 2 + 0.2;
+        const double value = 1.0 / (1.0 + dx * dx + 2.0 * dy * dy) + 0.01 * ((x * 7 + y * 3 + c) % 5);
+        psf.at(c, x, y) = value;
+        sum += value;
+      }
+    for (int y = 0; y < m; ++y)
+      for (int x = 0; x < m; ++x) psf.at(c, x, y) /= sum;
+  }
+  return psf;
+}
+
+// Three lit regions on black: two rooms of one size (a lamp in each) and a strip at the frame's
+// right edge (its glare is clipped there).
+ImageRGBA three_region_frame() {
+  ImageRGBA frame(400, 200, 0.0f);
+  for (const int left : {20, 150})
+    for (int y = 30; y < 90; ++y)
+      for (int x = left; x < left + 70; ++x) {
+        const bool lamp = std::abs(x - left - 35) < 3 && std::abs(y - 50) < 3;
+        float* p = frame.pixel(x, y);
+        p[0] = lamp ? 900.0f : 0.4f + 0.001f * static_cast<float>(x);
+        p[1] = lamp ? 1000.0f : 0.5f;
+        p[2] = lamp ? 700.0f : 0.3f + 0.002f * static_cast<float>(y);
+      }
+  for (int y = 120; y < 190; ++y)
+    for (int x = 385; x < 400; ++x) frame.pixel(x, y)[1] = 5.0f;
+  for (std::size_t k = 3; k < frame.rgba.size(); k += 4) frame.rgba[k] = 0.75f;
+  return frame;
+}
+
+TEST(GlareCpuFloat, RegionsConvolvedOnTheirOwnEqualTheWholeFrameInDouble) {
+  CpuFloatGlareSettings settings;
+  settings.grid_px = 64;
+  settings.display_degrees_per_pixel = 4.0 * psf_degrees_per_pixel(575.0, kWidthMm);
+  CpuFloatGlare glare(settings);
+  for (const int m : {17, 18}) {  // odd and even: the reach before and after the centre differ
+    ImageRGBA frame = three_region_frame();
+    const Psf psf = lopsided_psf(m);
+    const std::vector<PixelBox> boxes = lit_regions(frame, m);
+    ASSERT_EQ(boxes.size(), 3u);
+    const ImageRGBA reference = convolve_image_cpu(frame, psf, ConvolutionOptions{});
+    ImageRGBA out = frame;
+    glare.convolve_regions(frame, boxes, psf, out);
+    EXPECT_FALSE(glare.reused_scene());
+    EXPECT_LT(relative_l2(rgb_of(out), rgb_of(reference)), 1e-6) << m;
+    // Every pixel, also far from the lamps: the glare of the dim strip at the edge, and black
+    // between the regions' reach.
+    double worst = 0.0;
+    for (std::size_t k = 0; k < out.rgba.size(); ++k)
+      if (k % 4 != 3) worst = std::max(worst, std::abs(static_cast<double>(out.rgba[k]) - reference.rgba[k]));
+    EXPECT_LT(worst, 1e-6 * 1000.0) << m;
+    EXPECT_EQ(out.pixel(250, 10)[1], 0.0f) << "beyond every region's reach";
+    EXPECT_GT(out.pixel(380, 150)[1], 0.0f) << "the strip's glare";
+    EXPECT_EQ(out.pixel(200, 100)[3], 0.75f);  // alpha untouched
+    // The same frame again: the kept spectra serve, bit for bit the same result.
+    ImageRGBA again = frame;
+    glare.convolve_regions(frame, boxes, psf, again);
+    EXPECT_TRUE(glare.reused_scene());
+    EXPECT_EQ(again.rgba, out.rgba);
+    // One room changes: its spectrum is made again, and the result is that frame's.
+    for (int y = 30; y < 90; ++y) frame.pixel(180, y)[0] = 50.0f;
+    const ImageRGBA changed_reference = convolve_image_cpu(frame, psf, ConvolutionOptions{});
+    ImageRGBA changed = frame;
+    glare.convolve_regions(frame, lit_regions(frame, m), psf, changed);
+    EXPECT_FALSE(glare.reused_scene());
+    EXPECT_LT(relative_l2(rgb_of(changed), rgb_of(changed_reference)), 1e-6) << m;
+  }
+}
+
+TEST(GlareCpuFloat, RegionConvolutionRefusesBadInputAndMisuse) {
+  CpuFloatConvolution full(30, 20, 9, 2, ConvolutionOutput::full, 2);
+  EXPECT_EQ(full.slots(), 2);
+  EXPECT_EQ(full.fft_rows(), 28);  // 20 + 9 - 1, 2,3,5,7-smooth
+  EXPECT_EQ(full.fft_cols(), 40);  // 30 + 9 - 1 = 38 is 2 x 19: the next smooth size
+  ImageRGBA frame(100, 50, 1.0f);
+  ImageRGBA out = frame;
+  EXPECT_THROW(full.write_full(0, out, 10, 10), std::logic_error);  // no scene, no kernel
+  EXPECT_THROW(full.set_scene(frame, 80, 10, 0), std::invalid_argument);  // not inside the frame
+  EXPECT_THROW(full.set_scene(frame, 10, 10, 2), std::invalid_argument);  // no such slot
+  frame.pixel(15, 12)[1] = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(full.set_scene(frame, 10, 10, 0), std::invalid_argument);
+  ImageRGBA image(30, 20, 1.0f);
+  EXPECT_THROW(full.convolve(lopsided_psf(9), image), std::logic_error);  // `same` only
+  CpuFloatGlare glare([] {
+    CpuFloatGlareSettings settings;
+    settings.grid_px = 64;
+    settings.display_degrees_per_pixel = 4.0 * psf_degrees_per_pixel(575.0, kWidthMm);
+    return settings;
+  }());
+  ImageRGBA small(20, 20, 1.0f);
+  EXPECT_THROW(glare.convolve_regions(frame, {PixelBox{90, 0, 20, 10}}, lopsided_psf(9), out), std::invalid_argument);
+  EXPECT_THROW(glare.convolve_regions(frame, {PixelBox{0, 0, 10, 10}}, lopsided_psf(9), small), std::invalid_argument);
 }
 
 TEST(GlareCpuFloat, ClosedApertureAndDisplayTooFineAreRefused) {
