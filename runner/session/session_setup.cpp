@@ -10,6 +10,7 @@
 #include "core/number_text.h"
 #include "glare/psf_scale.h"
 #include "protocols/stimulus_duration.h"
+#include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
 #include "runner/session/slow_flip_clock.h"
 #include "stimuli/glare_stage.h"
@@ -194,6 +195,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   // The observer's refraction in every condition: computable, and sampled by the [glare] grid at
   // the eye's largest pupil (runner/session/condition_refraction.h).
   check_condition_refractions(prepared.experiment);
+  check_depth_of_field(prepared.experiment, *prepared.scenes);
   // --- response device (docs/DEVICES.md): the person answers with it, in a window or offscreen ---
   const bool device = !options.response_device.selector.empty();
   if (device && prepared.observer)
