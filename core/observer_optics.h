@@ -4,6 +4,7 @@
 // "spectacles"; docs/EXPERIMENT_FILES.md). Plain data below glare/ (which models the eye and the
 // lenses from it: glare/dioptric_power.h and the refraction and lens models) and protocols/ (which
 // reads the file), as core/perception_settings.h is for the perception stages.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,11 @@ struct ObserverOptics {
   ObserverRefractionSettings refraction;
   std::vector<SpectaclesSettings> spectacles;  // every [spectacles.NAME] table, in file order
   std::string spectacles_worn = "none";        // [observer] spectacles: the default of the column
+  // [observer] depth_of_field: true blurs every frame seen through the simulated eye by the depth of
+  // its scene (docs/DEPTH_OF_FIELD.md, "In a session"), false never; absent: wherever the optics are
+  // modelled and a scene shown carries a Z channel. Where it was written ("file:line:column").
+  std::optional<bool> depth_of_field;
+  std::string depth_of_field_where;
 
   // The spectacles called `name`, or nullptr for "none" or a name not defined.
   const SpectaclesSettings* find_spectacles(const std::string& name) const {

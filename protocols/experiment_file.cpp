@@ -334,6 +334,7 @@ ObserverEye read_observer_section(TableReader& top, Experiment& experiment) {
   eye.pigmentation = group.number_in_range("pigmentation", eye.pigmentation, 0.0, 1.0);
   read_observer_refraction(group, experiment.observer_optics);
   read_spectacles_worn(group, experiment.observer_optics);
+  read_depth_of_field(group, experiment.observer_optics);
   const toml::table* simulated = group.table("simulated");
   group.report_unused();
   if (simulated == nullptr) return eye;

@@ -116,6 +116,13 @@ void read_spectacles_worn(TableReader& observer, ObserverOptics& optics) {
   optics.spectacles_worn = *worn;
 }
 
+void read_depth_of_field(TableReader& observer, ObserverOptics& optics) {
+  const std::optional<bool> on = observer.boolean("depth_of_field");
+  if (!on) return;
+  optics.depth_of_field = *on;
+  optics.depth_of_field_where = observer.value_location("depth_of_field").to_string();
+}
+
 const SpectaclesSettings* spectacles_for(const ObserverOptics& optics, const ConditionRow& row) {
   const std::string* column = row.find("spectacles");
   const std::string name = column != nullptr && !column->empty() ? *column : optics.spectacles_worn;

@@ -269,6 +269,8 @@ std::string resolved_config_toml(const Experiment& experiment) {
   const ObserverEye& eye = experiment.glare.observer_eye;
   toml::table observer_table{{"age_years", eye.age_years}, {"pigmentation", eye.pigmentation},
                              {"spectacles", experiment.observer_optics.spectacles_worn}, {"simulated", std::move(simulated)}};
+  if (experiment.observer_optics.depth_of_field)
+    observer_table.insert("depth_of_field", *experiment.observer_optics.depth_of_field);
   if (experiment.observer_optics.refraction_stated)
     observer_table.insert("refraction", refraction_toml(experiment.observer_optics.refraction));
   print_section(out, "observer", std::move(observer_table));

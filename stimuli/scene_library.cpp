@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "core/exr_io.h"
+#include "stimuli/scene_depth.h"
 #include "stimuli/spencer_scenes.h"
 
 namespace glarelab {
@@ -28,6 +29,11 @@ SceneLibrary::SceneLibrary(const std::map<std::string, SceneSpec>& scenes, const
       throw ImageError(spec.file + ": scene '" + name + "' has " + report.describe() +
                        "; luminances must be finite and non-negative");
     }
+    // The Z channel (metres from the eye), checked now so that a bad depth stops the run before
+    // anything is written: NaN, -inf, zero and negative depths are no place a surface can be.
+    if (!read.image.depth.empty())
+      check_scene_depth(read.image.depth, read.image.width_px, read.image.height_px,
+                        (spec.file.empty() ? "scene '" + name + "'" : spec.file + ": scene '" + name + "'"));
     LoadedScene scene;
     scene.spec = spec;
     scene.image_cd_m2 = std::move(read.image);

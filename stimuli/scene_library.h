@@ -25,7 +25,8 @@ class SceneLibrary {
  public:
   // Reads every scene (an experiment's scenes, by name). Throws ImageError naming the file for missing or corrupt
   // files, and for NaN, Inf or negative pixels (with their counts): a luminance cannot be any of
-  // those, and a glare model fed one would spread it over the whole frame. Generated scenes are
+  // those, and a glare model fed one would spread it over the whole frame. A Z channel is checked
+  // as stimuli/scene_depth.h says (ImageError naming the file, the channel and the first bad pixel). Generated scenes are
   // drawn for `display` (their sizes are degrees, their luminances fractions of its peak).
   SceneLibrary(const std::map<std::string, SceneSpec>& scenes, const DisplaySpec& display);
 

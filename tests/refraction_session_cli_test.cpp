@@ -17,8 +17,13 @@ namespace {
 using test::run_glarelab;
 using test::ScratchDir;
 
+// The example, its scene path made absolute so that a copy elsewhere still finds it.
 std::string example_text() {
-  return test::read_bytes(std::string(GLARELAB_SOURCE_DIR) + "/examples/presbyope_reading_glasses.toml");
+  std::string text = test::read_bytes(std::string(GLARELAB_SOURCE_DIR) + "/examples/presbyope_reading_glasses.toml");
+  const std::string relative = "file = \"scenes/";
+  if (const auto at = text.find(relative); at != std::string::npos)
+    text.replace(at, relative.size(), "file = \"" + std::string(GLARELAB_SOURCE_DIR) + "/examples/scenes/");
+  return text;
 }
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {

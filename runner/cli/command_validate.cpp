@@ -4,6 +4,7 @@
 #include "protocols/experiment.h"
 #include "protocols/procedure.h"
 #include "runner/cli/commands.h"
+#include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
 #include "runner/session/stereo_eyes.h"
 #include "stimuli/scene_library.h"
@@ -23,6 +24,7 @@ Action add_validate_command(CLI::App& app) {
       // every condition's residual), made here too so a file that validates also runs.
       check_condition_refractions(experiment);
       check_stereo_layout(experiment, scenes);
+      check_depth_of_field(experiment, scenes);
       std::cout << *path << ": ok: experiment '" << experiment.name << "', " << experiment.scenes.size()
                 << " scene(s), " << experiment.conditions.size() << " condition row(s), " << procedure->planned_trials() << " "
                 << experiment.procedure << " trials, display " << experiment.display.width_px << "x"

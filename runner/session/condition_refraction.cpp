@@ -42,6 +42,7 @@ std::string rounded(double value) {
 
 bool models_observer_optics(const Experiment& experiment) {
   if (experiment.observer_optics.refraction_stated) return true;
+  if (experiment.observer_optics.depth_of_field == true) return true;
   for (const ConditionRow& row : experiment.conditions)
     if (spectacles_for(experiment.observer_optics, row) != nullptr) return true;
   return false;
@@ -68,6 +69,7 @@ std::optional<ConditionRefraction> condition_refraction(const Experiment& experi
     out.amplitude_source = "Hofstetter 18.5 - 0.3 x [observer] age_years " + number_text(age_years);
   }
   out.accommodation_amplitude_dioptres = eye.accommodation_amplitude_dioptres;
+  out.eye = eye;
   if (const SpectaclesSettings* pair = spectacles_for(optics, row)) {
     out.spectacles = pair->name;
     out.lens = ThinSpectacleLens{pair->prescription, 1e-3 * pair->vertex_distance_mm};

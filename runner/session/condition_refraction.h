@@ -30,14 +30,15 @@ struct ConditionRefraction {
   // distortion, prism and transverse chromatic aberration. Shared: the lens is immutable.
   std::shared_ptr<const SpectacleLens> traced_lens;
   double accommodation_amplitude_dioptres = 0.0;
+  EyeRefraction eye;                   // the eye itself, amplitude included (depth of field uses it)
   std::string amplitude_source;        // where the amplitude came from, for the record
   DioptricPower ocular_refraction;     // K: the eye's error at the cornea
   double viewing_distance_m = 0.0;     // the display, from the cornea
   FixationRefraction fixation;         // V, Delta P and the residual E at the display
 };
 
-// True when the experiment models the observer's optics: [observer.refraction] is present or some
-// condition wears spectacles. Then every condition's wave-optics PSF carries its residual (zero for
+// True when the experiment models the observer's optics: [observer.refraction] is present, some
+// condition wears spectacles or [observer] depth_of_field = true (an emmetrope without the table). Then every condition's wave-optics PSF carries its residual (zero for
 // an emmetrope whose accommodation reaches the display, but with the eye's LCA all the same); when
 // false every PSF is the one glarelab computed before refraction existed, bit for bit.
 bool models_observer_optics(const Experiment& experiment);

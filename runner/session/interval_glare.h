@@ -40,7 +40,8 @@ struct IntervalGlare {
   std::vector<GlareLayer> layers;  // one per position when the sides differ; else empty
   ImageRGBA composed_cd_m2;
   // The composed frame as it reaches the eye through the condition's spectacles (the frame
-  // warped by the lens, runner/session/condition_refraction.h); unset without spectacles.
+  // warped by the lens, runner/session/condition_refraction.h) and blurred by the depth of its
+  // points (runner/session/condition_depth_of_field.h); unset without either.
   std::optional<ImageRGBA> through_spectacles;
   const ImageRGBA& seen_cd_m2() const { return through_spectacles ? *through_spectacles : composed_cd_m2; }
   double field_cd_m2 = 0.0;  // its mean luminance, what the eye adapts to (once, not per frame)

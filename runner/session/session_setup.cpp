@@ -11,6 +11,7 @@
 #include "glare/psf_scale.h"
 #include "protocols/stimulus_duration.h"
 #include "runner/display/display_info.h"
+#include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
 #include "runner/session/slow_flip_clock.h"
 #include "runner/session/stereo_eyes.h"
@@ -198,6 +199,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   check_condition_refractions(prepared.experiment);
   // A stereo layout that does not fit each eye's half of the display (runner/session/stereo_eyes.h).
   check_stereo_layout(prepared.experiment, *prepared.scenes);
+  check_depth_of_field(prepared.experiment, *prepared.scenes);
   // --- response device (docs/DEVICES.md): the person answers with it, in a window or offscreen ---
   const bool device = !options.response_device.selector.empty();
   if (device && prepared.observer)

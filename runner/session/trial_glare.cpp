@@ -11,8 +11,10 @@
 #include <utility>
 #include <vector>
 
+#include "runner/session/condition_depth_of_field.h"
 #include "runner/session/session_loop.h"
 #include "core/number_text.h"
+#include "stimuli/frame_depth.h"
 #include "stimuli/perception/frame_adaptation_luminance.h"
 #include "stimuli/position_glare.h"
 
@@ -54,15 +56,22 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   const GlareModel model = glare_model_for(prepared_.experiment.glare, condition_row(plan));
   const double gain = glare_gain_for(condition_row(plan));
   glare_.set_condition(model, gain);
-  // The observer's residual refraction at the display in this condition (its spectacles).
+  // The observer's residual refraction at the display in this condition (its spectacles). With
+  // the depth of field on, the defocus of each depth is that stage's blur, and the PSF keeps only
+  // the eye's LCA (runner/session/condition_depth_of_field.h).
   const auto refraction = condition_refractions_.find(plan.condition_name);
-  glare_.set_refraction(refraction == condition_refractions_.end() ? std::nullopt
-                                                                   : std::optional(refraction->second.fixation.residual));
+  std::vector<const LoadedScene*> shown_scenes;
+  for (const std::string& name : plan.scenes) shown_scenes.push_back(&prepared_.scenes->get(name));
+  const bool depth_of_field = refraction != condition_refractions_.end() &&
+                              depth_of_field_applies(prepared_.experiment, shown_scenes);
+  const std::optional<DioptricPower> residual =
+      refraction == condition_refractions_.end() ? std::nullopt
+      : depth_of_field                            ? std::optional(DioptricPower{})
+                                                  : std::optional(refraction->second.fixation.residual);
+  glare_.set_refraction(residual);
   for (const std::unique_ptr<StereoEye>& eye : stereo_eyes_) {
     eye->glare.set_condition(model, gain);
-    eye->glare.set_refraction(refraction == condition_refractions_.end()
-                                  ? std::nullopt
-                                  : std::optional(refraction->second.fixation.residual));
+    eye->glare.set_refraction(residual);
   }
   // A mode per position (stimuli/position_glare.h): one layer per placement.
   std::vector<GlareMode> position_modes;
@@ -93,7 +102,8 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   glare.perceived = any_perception_stage(glare.perception);
   glare.stimulus_frames = plan.stimulus_frames;
   if (glare.perceived) glare.modes_label += ", perception " + perception_stages_label(glare.perception);
-  if (captured && !preview_frame_) {
+  const bool labels_preview = captured && !preview_frame_;
+  if (labels_preview) {
     preview_frame_.emplace();
     preview_frame_->plan = plan;
     preview_frame_->time_s = glare.first_flip_s;
@@ -158,11 +168,34 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
     update_glare_gaze(glare, glare.first_flip_s);
   }
   // Through the condition's spectacles, the eye receives the frame warped by the lens (every
-  // layer alike); the glare and the perception stages act on what reaches the eye.
+  // layer alike), then blurred by the depth of each of its points (the depth of field); the glare
+  // and the perception stages act on what reaches the eye.
+  const bool spectacles = refraction != condition_refractions_.end() && refraction->second.traced_lens;
+  std::vector<float> depth_m;
+  double depth_field_cd_m2 = 0.0;
+  if (depth_of_field) {
+    const DisplaySpec& display = prepared_.experiment.display;
+    std::vector<PlacedDepth> placed;
+    for (std::size_t i = 0; i < placements.size() && i < shown_scenes.size(); ++i)
+      placed.push_back({&shown_scenes[i]->image_cd_m2, placements[i].rect, placements[i].clip});
+    depth_m = seen_depth_m(refraction->second, display,
+                           composed_depth_m(display.width_px, display.height_px,
+                                            static_cast<float>(1e-3 * display.viewing_distance_mm), placed),
+                           kSpectacleThreads);
+    // The pupil adapts to the whole frame, for every layer alike.
+    renderer_.compose(placements, display.background_cd_m2);
+    depth_field_cd_m2 = mean_luminance(renderer_.read_stimulus());
+  }
   const auto seen = [&](const ImageRGBA& composed) {
-    return refraction != condition_refractions_.end() && refraction->second.traced_lens
-               ? frame_through_spectacles(refraction->second, prepared_.experiment.display, composed, kSpectacleThreads)
-               : composed;
+    ImageRGBA image = spectacles ? frame_through_spectacles(refraction->second, prepared_.experiment.display, composed,
+                                                            kSpectacleThreads)
+                                 : composed;
+    if (!depth_of_field) return image;
+    FrameDepthOfField blurred = depth_of_field_frame(refraction->second, prepared_.experiment.display, image, depth_m,
+                                                     depth_field_cd_m2, kSpectacleThreads);
+    if (glare.modes_label.find("depth of field") == std::string::npos)
+      glare.modes_label += ", " + describe_frame_depth_of_field(blurred);
+    return std::move(blurred.image_cd_m2);
   };
   for (std::size_t p = 0; p < position_modes.size(); ++p) {
     // The position's placement (in stereo, its placement in each eye's view).
@@ -173,8 +206,8 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   }
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   glare.composed_cd_m2 = renderer_.read_stimulus();
-  if (refraction != condition_refractions_.end() && refraction->second.traced_lens)
-    glare.through_spectacles = seen(glare.composed_cd_m2);
+  if (spectacles || depth_of_field) glare.through_spectacles = seen(glare.composed_cd_m2);
+  if (labels_preview) preview_frame_->glare_label = glare.modes_label;  // with the depth of field's part
   glare.field_cd_m2 = mean_luminance(glare.seen_cd_m2());
   // Glare alone: the frames are the eye's all the same (the perception stages' frames advance it
   // as they are computed).
