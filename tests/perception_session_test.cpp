@@ -50,12 +50,14 @@ struct PerceptionRun {
   Experiment experiment;
 };
 
-PerceptionRun run_session(const std::filesystem::path& dir, const std::filesystem::path& experiment, int trials) {
+PerceptionRun run_session(const std::filesystem::path& dir, const std::filesystem::path& experiment, int trials,
+                          const std::vector<std::string>& extra = {}) {
   PerceptionRun run{{}, dir / "frames", dir / "session.db", load_experiment(experiment.string())};
-  run.output = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated", "--db",
-                                   run.db.string(), "--save-frames", run.frames.string(), "--stop-after",
-                                   std::to_string(trials)},
-                                  dir);
+  std::vector<std::string> arguments = {"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
+                                        "--db", run.db.string(), "--save-frames", run.frames.string(), "--stop-after",
+                                        std::to_string(trials)};
+  arguments.insert(arguments.end(), extra.begin(), extra.end());
+  run.output = test::run_glarelab(arguments, dir);
   return run;
 }
 
@@ -229,6 +231,48 @@ TEST(PerceptionSession, AdaptationSetsTheGlaresFieldLuminance) {
   expect_frames_equal(shown, adapted, "static glare on the adapted eye");
   // The two field luminances give frames apart by more than the tolerance above.
   EXPECT_GT(differing_values(adapted, by_mean), 100u);
+}
+
+// The adaptation luminance is the frame weighted around the gaze (Eq. 5.1): with a tracker, the
+// tracker's gaze, not the display centre. A replayed track holds the gaze on the left lamp, then
+// (a second session) on the right one; each saved frame equals the stages run for an eye adapted at
+// that gaze point, and the two adapted luminances differ as the two lamps do.
+TEST(PerceptionSession, AdaptationWeightsTheFrameAroundTheTrackersGaze) {
+  const test::ScratchDir scratch;
+  const auto plain_dir = scratch.path() / "plain";
+  const PerceptionRun plain = run_session(plain_dir, perception_demo(plain_dir, "", {{"only", ""}}), 1);
+  ASSERT_EQ(plain.output.exit_code, 0) << plain.output.output;
+  const ImageRGBA composed = saved_frame(plain, 0);
+
+  std::vector<double> adapted_cd_m2;
+  double centre_cd_m2 = 0.0;
+  for (const double gaze_x : {0.25, 0.75}) {
+    const auto dir = scratch.path() / ("gaze_" + std::to_string(gaze_x));
+    std::filesystem::create_directories(dir);
+    std::string track = "eye,device_time_s,session_time_s,pupil_diameter_mm,gaze_x,gaze_y,confidence,valid\n";
+    for (int k = 0; k < 120 * 20; ++k) {
+      const std::string t = std::to_string(k / 120.0);
+      track += "0," + t + "," + t + ",4," + std::to_string(gaze_x) + ",0.5,0.95,1\n";
+    }
+    test::write_bytes((dir / "track.csv").string(), track);
+    const PerceptionRun run =
+        run_session(dir, perception_demo(dir, std::string(kTable) + "adaptation = true\ntone_mapping = true\n", {{"all", ""}}),
+                    1, {"--tracker", "replay:" + (dir / "track.csv").string()});
+    ASSERT_EQ(run.output.exit_code, 0) << run.output.output;
+    const PerceptionSettings& settings = run.experiment.perception;
+    const double period_s = 1.0 / run.experiment.display.refresh_hz;
+    const double at_gaze_cd_m2 = frame_adaptation_luminance_cd_m2(composed, gaze_x, 0.5, settings.adaptation_weighting);
+    TemporalAdaptation eye(at_gaze_cd_m2, settings.adaptation_time_constants);
+    const PerceptionResult expected =
+        run_perception_stages(composed, {gaze_x, 0.5, period_s}, eye, settings, run.experiment.display);
+    expect_frames_equal(saved_frame(run, 0), expected.image, "gaze x " + std::to_string(gaze_x));
+    adapted_cd_m2.push_back(at_gaze_cd_m2);
+    centre_cd_m2 = frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, settings.adaptation_weighting);
+  }
+  // lamp_100 on the left, lamp_130 on the right (sides fixed): the eye looking at the brighter lamp
+  // adapts higher, and neither equals the display centre's weighting.
+  EXPECT_GT(adapted_cd_m2[1], 1.1 * adapted_cd_m2[0]);
+  EXPECT_GT(std::abs(adapted_cd_m2[0] - centre_cd_m2), 0.05 * centre_cd_m2);
 }
 
 }  // namespace

@@ -64,14 +64,14 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   for (const std::string& name : plan.scenes) shown_scenes.push_back(&prepared_.scenes->get(name));
   const bool depth_of_field = refraction != condition_refractions_.end() &&
                               depth_of_field_applies(prepared_.experiment, shown_scenes);
-  const std::optional<DioptricPower> residual =
+  const std::optional<DioptricPower> residual_error =
       refraction == condition_refractions_.end() ? std::nullopt
       : depth_of_field                            ? std::optional(DioptricPower{})
                                                   : std::optional(refraction->second.fixation.residual);
-  glare_.set_refraction(residual);
+  glare_.set_refraction(residual_error);
   for (const std::unique_ptr<StereoEye>& eye : stereo_eyes_) {
     eye->glare.set_condition(model, gain);
-    eye->glare.set_refraction(residual);
+    eye->glare.set_refraction(residual_error);
   }
   // A mode per position (stimuli/position_glare.h): one layer per placement.
   std::vector<GlareMode> position_modes;
