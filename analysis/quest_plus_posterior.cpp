@@ -7,7 +7,6 @@
 #include "analysis/analysis_report.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
-#include "core/number_text.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -82,13 +81,13 @@ std::string quest_plus_posteriors_terminal(const std::vector<QuestPlusPosterior>
 
 std::string quest_plus_posteriors_csv(const std::vector<QuestPlusPosterior>& tracks) {
   std::ostringstream out;
-  out << "participant,track,method,trials,parameter,unit,value,probability\n";
+  out << "participant,track,method,trials,parameter,unit,value,probability\r\n";
   for (const QuestPlusPosterior& t : tracks)
     for (const MarginalPosterior& m : t.marginals)
       for (std::size_t i = 0; i < m.values.size(); ++i)
         out << csv_field(t.participant_label) << ',' << csv_field(t.track) << ',' << csv_field(t.method) << ','
             << t.trials << ',' << csv_field(m.parameter) << ',' << csv_field(m.unit) << ','
-            << number_text(m.values[i]) << ',' << number_text(m.probabilities[i]) << '\n';
+            << csv_number(m.values[i]) << ',' << csv_number(m.probabilities[i]) << "\r\n";
   return out.str();
 }
 

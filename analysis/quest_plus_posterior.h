@@ -39,8 +39,8 @@ std::string marginal_posterior_svg(const QuestPlusPosterior& track, std::size_t 
 // The report's table (one row per track and parameter) and the terminal lines.
 std::string quest_plus_posteriors_html(const std::vector<QuestPlusPosterior>& tracks);
 std::string quest_plus_posteriors_terminal(const std::vector<QuestPlusPosterior>& tracks);
-// Tidy CSV: participant, track, method, trials, parameter, unit, value, probability (one row per
-// grid point).
+// Tidy CSV (RFC 4180 as analysis/tidy_csv.h, CRLF, numbers that read back exactly): participant,
+// track, method, trials, parameter, unit, value, probability (one row per grid point).
 std::string quest_plus_posteriors_csv(const std::vector<QuestPlusPosterior>& tracks);
 
 }  // namespace glarelab::analysis

@@ -180,6 +180,11 @@ TEST_F(QuestPlusPosteriorTest, AnalyzeWritesOneFigurePerTrackAndParameter) {
   }
   const std::string csv = test::read_bytes((out / "quest_plus_posteriors.csv").string());
   EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), rows + 1);  // header + grid points
+  // The probabilities read back exactly (shortest round-trip text): the first row is the first
+  // track's first marginal at its first grid value.
+  const std::size_t second_line = csv.find("\r\n") + 2;
+  const std::string first_row = csv.substr(second_line, csv.find("\r\n", second_line) - second_line);
+  EXPECT_EQ(std::stod(first_row.substr(first_row.rfind(',') + 1)), tracks[0].marginals[0].probabilities[0]) << first_row;
 }
 
 }  // namespace
