@@ -8,6 +8,7 @@
 //     before the last answer;
 //   - each marginal sums to 1 and its mean and SD, summed here over the grid, equal the summary's;
 //   - `glarelab analyze` writes one figure per track and parameter, the table and the CSV.
+//   - a Psi track likewise, in log10 cd/m2; a session whose scene file moved gives a note.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -185,6 +186,84 @@ TEST_F(QuestPlusPosteriorTest, AnalyzeWritesOneFigurePerTrackAndParameter) {
   const std::size_t second_line = csv.find("\r\n") + 2;
   const std::string first_row = csv.substr(second_line, csv.find("\r\n", second_line) - second_line);
   EXPECT_EQ(std::stod(first_row.substr(first_row.rfind(',') + 1)), tracks[0].marginals[0].probabilities[0]) << first_row;
+}
+
+// A Psi study (log10 cd/m2) whose scene is a copy in the scratch directory, so that it can be moved.
+std::string psi_study(const test::ScratchDir& scratch) {
+  std::filesystem::copy_file(std::string(GLARELAB_SOURCE_DIR) + "/examples/scenes/lamp_100.exr", scratch.file("lamp.exr"));
+  return scratch.write("psi.toml", R"([experiment]
+name = "psi"
+seed = 1999
+
+[display]
+width_px = 128
+height_px = 64
+refresh_hz = 60.0
+viewing_distance_mm = 600.0
+pixel_pitch_mm = 0.25
+peak_luminance_cd_m2 = 250.0
+
+[scenes]
+lamp_100 = { file = "lamp.exr" }
+
+[procedure]
+type = "psi"
+intensities = { from = 2.0, to = 2.4, step = 0.02 }   # log10 cd/m2
+max_trials = 12
+
+[[conditions.rows]]
+name = "lamp"
+reference = "lamp_100"
+comparison = "lamp_100"
+
+[observer.simulated]
+threshold_log10 = 0.1
+slope = 3.5
+lapse = 0.02
+)");
+}
+
+TEST(QuestPlusPosterior, PsiTrackIsRebuiltInLog10Units) {
+  const test::ScratchDir scratch;
+  const std::string study = psi_study(scratch);
+  test::dry_run_example(study, scratch.file("psi.db"), {5});
+  const analysis::LoadedData data = analysis::load_databases({scratch.file("psi.db")});
+  std::vector<std::string> notes;
+  const std::vector<analysis::QuestPlusPosterior> tracks = rebuild_quest_plus_posteriors(data, notes);
+  EXPECT_TRUE(notes.empty());
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_EQ(tracks[0].method, "psi");
+  EXPECT_EQ(tracks[0].trials, 12);
+  ASSERT_EQ(tracks[0].marginals.size(), 4u);  // threshold, slope, guess, lapse (Palamedes' defaults)
+  EXPECT_EQ(analysis::parameter_axis_label(tracks[0].marginals[0]), "threshold (log10 cd/m2)");
+  EXPECT_EQ(tracks[0].marginals[1].unit, "no unit");
+
+  const Experiment experiment = load_experiment(study);
+  QuestPlus reference(quest_plus_track_grid(experiment, experiment.adaptive.tracks[0]).spec);
+  for (const analysis::LoadedTrial& trial : data.sessions[0].trials)
+    reference.add_response(stimulus_index_of(reference, trial, {}), *trial.record.correct == 1);
+  const std::vector<ParameterSummary> summary = reference.summary();
+  for (std::size_t p = 0; p < summary.size(); ++p) {
+    EXPECT_NEAR(tracks[0].marginals[p].mean, summary[p].mean, 1e-12);
+    EXPECT_NEAR(tracks[0].marginals[p].sd, summary[p].sd, 1e-12);
+    const std::vector<double> marginal = reference.marginal(p);
+    for (std::size_t i = 0; i < marginal.size(); ++i) EXPECT_NEAR(tracks[0].marginals[p].probabilities[i], marginal[i], 1e-12);
+  }
+}
+
+// A session whose design can no longer be built (its scene file moved) loses its posterior, with a
+// note naming it and why; the rest of the report is unaffected.
+TEST(QuestPlusPosterior, AMovedSceneFileLeavesANoteNotAFailure) {
+  const test::ScratchDir scratch;
+  test::dry_run_example(psi_study(scratch), scratch.file("psi.db"), {5});
+  std::filesystem::remove(scratch.file("lamp.exr"));
+  const analysis::LoadedData data = analysis::load_databases({scratch.file("psi.db")});
+  std::vector<std::string> notes;
+  EXPECT_TRUE(rebuild_quest_plus_posteriors(data, notes).empty());
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("session " + data.sessions[0].label + ": the QUEST+ posterior was not rebuilt"),
+            std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("lamp.exr"), std::string::npos) << notes[0];
 }
 
 }  // namespace
