@@ -11,6 +11,7 @@
 #include "analysis/loaded_database.h"
 #include "analysis/paired_scale.h"
 #include "analysis/pse_analysis.h"
+#include "analysis/quest_plus_posterior.h"
 #include "analysis/rating_analysis.h"
 #include "analysis/staircase_analysis.h"
 #include "analysis/timing_quality.h"
@@ -27,7 +28,7 @@ struct AnalysisOptions {
 
 struct Figure {
   std::string file_stem;  // "staircase_1" -> figures/staircase_1.svg
-  std::string section;    // forced_choice | graded_choice | staircase | adjustment | rating | timing | tracker
+  std::string section;    // forced_choice | graded_choice | staircase | quest_plus | adjustment | rating | timing | tracker
   std::string caption;
   std::string svg;
 };
@@ -40,6 +41,7 @@ struct AnalysisReport {
   GradedChoiceAnalysis graded_choice;  // forced choice with a graded variable, per glare group
   std::vector<StaircaseResult> staircases;
   PseAnalysis pse;  // PSE staircases (response_rule = "pse")
+  std::vector<QuestPlusPosterior> quest_plus;  // final posterior per QUEST+ / Psi track
   AdjustmentAnalysis adjustments;
   RatingAnalysis ratings;
   TimingQuality timing;
@@ -48,6 +50,11 @@ struct AnalysisReport {
 };
 
 AnalysisReport analyse(LoadedData data, const AnalysisOptions& options);
+
+// The final posteriors of the QUEST+ / Psi tracks, rebuilt by the runner (which alone may build a
+// procedure: runner/cli/quest_plus_posteriors.h), stored in the report with one figure per track
+// and parameter (section "quest_plus").
+void add_quest_plus_posteriors(AnalysisReport& report, std::vector<QuestPlusPosterior> posteriors);
 
 // The figures of a report (called by analyse; separate so the drawing is one concept).
 std::vector<Figure> draw_figures(const AnalysisReport& report);

@@ -244,6 +244,15 @@ std::string render_html(const AnalysisReport& report) {
     html_figures(out, report, "staircase");
   }
 
+  if (!report.quest_plus.empty()) {
+    out << "<h2>QUEST+ and Psi posteriors</h2>\n<p>The posterior over each track's parameter grid after its last "
+           "answered trial (Watson 2017), rebuilt by replaying the stored trials through the stored design: per "
+           "parameter its value at the joint posterior mode, the marginal mean and SD; quest_plus_posteriors.csv holds "
+           "every marginal.</p>\n";
+    out << quest_plus_posteriors_html(report.quest_plus);
+    html_figures(out, report, "quest_plus");
+  }
+
   if (!report.pse.tracks.empty()) {
     out << "<h2>Points of subjective equality</h2>\n<p>PSE: the comparison luminance (fraction of the display's peak) "
            "at which a maximum-likelihood cumulative normal fitted to P(comparison brighter) over the answers naming a "
@@ -406,6 +415,7 @@ std::string render_terminal_summary(const AnalysisReport& report) {
     if (!s.fits.empty()) out << "; " << fit_sentence(s.fits.front());
     out << "\n";
   }
+  out << quest_plus_posteriors_terminal(report.quest_plus);
   for (const PseTrack& t : report.pse.tracks) {
     out << "  pse " << t.participant_label << " " << t.name << " (glare gain " << general(t.glare_gain) << "): ";
     if (t.pse_fraction) {
@@ -535,6 +545,7 @@ std::vector<std::string> write_report(const AnalysisReport& report, const std::s
     if (std::any_of(comparisons.begin(), comparisons.end(), [](const RatingComparison& c) { return !c.post_hoc.empty(); }))
       write(dir / "rating_post_hoc.csv", rating_post_hoc_csv(report.ratings));
   }
+  if (!report.quest_plus.empty()) write(dir / "quest_plus_posteriors.csv", quest_plus_posteriors_csv(report.quest_plus));
   write(dir / "report.html", render_html(report));
   for (const Figure& figure : report.figures) write(dir / "figures" / (figure.file_stem + ".svg"), figure.svg);
   return written;

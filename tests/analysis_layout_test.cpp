@@ -19,6 +19,7 @@
 
 #include "analysis/analysis_report.h"
 #include "analysis/report_output.h"
+#include "runner/cli/quest_plus_posteriors.h"
 #include "tests/example_dry_run.h"
 #include "tests/scratch_dir.h"
 
@@ -92,7 +93,9 @@ TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
     AnalysisOptions options;
     options.bootstrap_samples = 20;
     options.threads = 2;
-    const AnalysisReport report = analyse(load_databases({db}), options);
+    AnalysisReport report = analyse(load_databases({db}), options);
+    // The QUEST+ / Psi marginal posteriors, as `glarelab analyze` adds them (runner/cli/command_analyze.cpp).
+    add_quest_plus_posteriors(report, rebuild_quest_plus_posteriors(report.data, report.data.notes));
     write_report(report, dir.file(stem));
     for (const Figure& figure : report.figures) {
       page += "<div class=\"figure\" data-name=\"" + stem + "/" + figure.file_stem + "\">" + figure.svg + "</div>\n";

@@ -8,6 +8,7 @@
 #include "analysis/report_output.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
+#include "runner/cli/quest_plus_posteriors.h"
 
 namespace glarelab::cli {
 namespace {
@@ -69,8 +70,10 @@ Action add_analyze_command(CLI::App& app) {
       ->capture_default_str();
   return [=]() {
     return report_errors([&]() {
-      const analysis::AnalysisReport report =
+      analysis::AnalysisReport report =
           analysis::analyse(analysis::load_databases(distinct_files(options->databases)), options->analysis);
+      // QUEST+ / Psi posteriors need the procedure (protocols/), which analysis/ may not build.
+      analysis::add_quest_plus_posteriors(report, rebuild_quest_plus_posteriors(report.data, report.data.notes));
       const auto written = analysis::write_report(report, options->out);
       std::cout << analysis::render_terminal_summary(report);
       std::cout << "  wrote " << written.size() << " files to " << options->out << " (report.html, trials.csv, figures/)\n";

@@ -1,0 +1,106 @@
+#include "analysis/quest_plus_posterior.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "analysis/analysis_report.h"
+#include "analysis/svg_plot.h"
+#include "analysis/tidy_csv.h"
+
+namespace glarelab::analysis {
+namespace {
+
+std::string general(double value) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
+}
+
+std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
+
+}  // namespace
+
+std::string parameter_axis_label(const MarginalPosterior& marginal) {
+  return marginal.parameter + (marginal.unit.empty() ? "" : " (" + marginal.unit + ")");
+}
+
+std::string marginal_posterior_svg(const QuestPlusPosterior& track, std::size_t parameter) {
+  const MarginalPosterior& m = track.marginals.at(parameter);
+  SvgPlot plot(track.method + " posterior of " + m.parameter + ": " + track.track + ", " + track.participant_label +
+                   " (" + std::to_string(track.trials) + " trials)",
+               parameter_axis_label(m), "marginal posterior probability");
+  const double low = *std::min_element(m.values.begin(), m.values.end());
+  const double high = *std::max_element(m.values.begin(), m.values.end());
+  const double peak = *std::max_element(m.probabilities.begin(), m.probabilities.end());
+  plot.set_x_range(low, high);
+  plot.set_y_range(0.0, std::max(peak, 1e-12) * 1.05);
+  const std::string& colour = series_colour(0);
+  if (m.values.size() > 1) plot.line(m.values, m.probabilities, colour);
+  plot.markers(m.values, m.probabilities, colour);
+  // The marginal mean as a dashed vertical line: where the summary's mean lies on the curve.
+  plot.line({m.mean, m.mean}, {0.0, std::max(peak, 1e-12) * 1.05}, series_colour(1), 1.5, true);
+  plot.legend("marginal posterior", colour);
+  plot.legend("marginal mean", series_colour(1));
+  plot.note("mode " + general(m.mode) + ", mean " + general(m.mean) + ", SD " + general(m.sd) +
+            (m.unit.empty() ? "" : " (" + m.unit + ")"));
+  return plot.svg();
+}
+
+std::string quest_plus_posteriors_html(const std::vector<QuestPlusPosterior>& tracks) {
+  std::ostringstream out;
+  out << "<table><tr><th>participant</th><th>track</th><th>method</th><th>trials</th><th>parameter</th>"
+         "<th>mode</th><th>mean</th><th>SD</th><th>grid</th></tr>\n";
+  for (const QuestPlusPosterior& t : tracks) {
+    for (const MarginalPosterior& m : t.marginals) {
+      const std::string grid = m.values.size() == 1 ? "fixed at " + general(m.values.front())
+                                                    : std::to_string(m.values.size()) + " values, " +
+                                                          general(m.values.front()) + " .. " + general(m.values.back());
+      out << "<tr>" << cell(t.participant_label) << cell(t.track) << cell(t.method) << cell(std::to_string(t.trials))
+          << cell(parameter_axis_label(m)) << cell(general(m.mode)) << cell(general(m.mean)) << cell(general(m.sd))
+          << cell(grid) << "</tr>\n";
+    }
+  }
+  out << "</table>\n";
+  return out.str();
+}
+
+std::string quest_plus_posteriors_terminal(const std::vector<QuestPlusPosterior>& tracks) {
+  std::ostringstream out;
+  for (const QuestPlusPosterior& t : tracks) {
+    out << "  " << t.method << " " << t.participant_label << " " << t.track << " (" << t.trials << " trials):";
+    for (std::size_t i = 0; i < t.marginals.size(); ++i) {
+      const MarginalPosterior& m = t.marginals[i];
+      out << (i == 0 ? " " : "; ") << parameter_axis_label(m) << " mean " << general(m.mean) << ", SD "
+          << general(m.sd) << ", mode " << general(m.mode);
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::string quest_plus_posteriors_csv(const std::vector<QuestPlusPosterior>& tracks) {
+  std::ostringstream out;
+  out << "participant,track,method,trials,parameter,unit,value,probability\r\n";
+  for (const QuestPlusPosterior& t : tracks)
+    for (const MarginalPosterior& m : t.marginals)
+      for (std::size_t i = 0; i < m.values.size(); ++i)
+        out << csv_field(t.participant_label) << ',' << csv_field(t.track) << ',' << csv_field(t.method) << ','
+            << t.trials << ',' << csv_field(m.parameter) << ',' << csv_field(m.unit) << ','
+            << csv_number(m.values[i]) << ',' << csv_number(m.probabilities[i]) << "\r\n";
+  return out.str();
+}
+
+void add_quest_plus_posteriors(AnalysisReport& report, std::vector<QuestPlusPosterior> posteriors) {
+  report.quest_plus = std::move(posteriors);
+  for (std::size_t t = 0; t < report.quest_plus.size(); ++t) {
+    const QuestPlusPosterior& track = report.quest_plus[t];
+    for (std::size_t p = 0; p < track.marginals.size(); ++p)
+      report.figures.push_back({"quest_plus_" + std::to_string(t + 1) + "_" + std::to_string(p + 1), "quest_plus",
+                                "Marginal posterior of " + track.marginals[p].parameter + " after the last trial of " +
+                                    track.track + " (" + track.participant_label + ").",
+                                marginal_posterior_svg(track, p)});
+  }
+}
+
+}  // namespace glarelab::analysis
