@@ -235,8 +235,11 @@ TEST(PerceptionSession, AdaptationSetsTheGlaresFieldLuminance) {
 
 // The adaptation luminance is the frame weighted around the gaze (Eq. 5.1): with a tracker, the
 // tracker's gaze, not the display centre. A replayed track holds the gaze on the left lamp, then
-// (a second session) on the right one; each saved frame equals the stages run for an eye adapted at
-// that gaze point, and the two adapted luminances differ as the two lamps do.
+// (a second session) on the right one. An interval's frames are prepared before its onset with the
+// gaze known then: the session's first interval is prepared at time 0, before any sample, so it
+// adapts at the display centre; the second trial (after 30 frames of fixation, the track running)
+// equals the stages run for the eye adapted at the tracker's gaze point, and the two sessions'
+// adapted luminances differ as the two lamps do.
 TEST(PerceptionSession, AdaptationWeightsTheFrameAroundTheTrackersGaze) {
   const test::ScratchDir scratch;
   const auto plain_dir = scratch.path() / "plain";
@@ -256,18 +259,32 @@ TEST(PerceptionSession, AdaptationWeightsTheFrameAroundTheTrackersGaze) {
     }
     test::write_bytes((dir / "track.csv").string(), track);
     const PerceptionRun run =
-        run_session(dir, perception_demo(dir, std::string(kTable) + "adaptation = true\ntone_mapping = true\n", {{"all", ""}}),
-                    1, {"--tracker", "replay:" + (dir / "track.csv").string()});
+        run_session(dir,
+                    perception_demo(dir,
+                                    std::string(kTable) + "adaptation = true\ntone_mapping = true\n"
+                                                          "\n[presentation]\nfixation_frames = 30\n",
+                                    {{"all", ""}}, 2),
+                    2, {"--tracker", "replay:" + (dir / "track.csv").string()});
     ASSERT_EQ(run.output.exit_code, 0) << run.output.output;
+    const std::vector<TrialRow> rows = trial_rows(run.db);
+    ASSERT_EQ(rows.size(), 2u);
     const PerceptionSettings& settings = run.experiment.perception;
     const double period_s = 1.0 / run.experiment.display.refresh_hz;
-    const double at_gaze_cd_m2 = frame_adaptation_luminance_cd_m2(composed, gaze_x, 0.5, settings.adaptation_weighting);
-    TemporalAdaptation eye(at_gaze_cd_m2, settings.adaptation_time_constants);
-    const PerceptionResult expected =
-        run_perception_stages(composed, {gaze_x, 0.5, period_s}, eye, settings, run.experiment.display);
-    expect_frames_equal(saved_frame(run, 0), expected.image, "gaze x " + std::to_string(gaze_x));
-    adapted_cd_m2.push_back(at_gaze_cd_m2);
     centre_cd_m2 = frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, settings.adaptation_weighting);
+    // Trial 0: no sample yet when it was prepared, the display centre.
+    TemporalAdaptation eye(centre_cd_m2, settings.adaptation_time_constants);
+    const PerceptionResult first = run_perception_stages(composed, {0.5, 0.5, period_s}, eye, settings, run.experiment.display);
+    expect_frames_equal(saved_frame(run, 0), first.image, "trial 0, gaze x " + std::to_string(gaze_x));
+    eye.advance(centre_cd_m2, period_s);  // trial 0's second frame
+    const double gap_s = rows[1].first_flip_s - (rows[0].first_flip_s + 2 * period_s);
+    ASSERT_GT(gap_s, 0.0);
+    eye.advance(run.experiment.display.background_cd_m2, gap_s);
+    // Trial 1: the tracker's gaze.
+    const double at_gaze_cd_m2 = frame_adaptation_luminance_cd_m2(composed, gaze_x, 0.5, settings.adaptation_weighting);
+    const PerceptionResult second =
+        run_perception_stages(composed, {gaze_x, 0.5, period_s}, eye, settings, run.experiment.display);
+    expect_frames_equal(saved_frame(run, 1), second.image, "trial 1, gaze x " + std::to_string(gaze_x));
+    adapted_cd_m2.push_back(at_gaze_cd_m2);
   }
   // lamp_100 on the left, lamp_130 on the right (sides fixed): the eye looking at the brighter lamp
   // adapts higher, and neither equals the display centre's weighting.
