@@ -11,6 +11,7 @@
 #include "protocols/experiment.h"
 #include "protocols/observer.h"
 #include "protocols/procedure.h"
+#include "runner/session/trial_record.h"
 #include "runner/store/result_store.h"
 #include "stimuli/scene_library.h"
 #include "tests/analysis_synthetic.h"
@@ -35,24 +36,9 @@ inline void dry_run_example(const std::string& experiment_path, const std::strin
       const TrialPlan plan = procedure->next_trial();
       const Response response = observer->respond(plan);
       const TrialOutcome outcome = procedure->record_response(plan, response);
-      TrialRecord record;
-      record.session_id = id;
-      record.trial_index = plan.trial_index;
-      record.block = plan.block;
-      record.procedure = plan.procedure;
-      record.condition = plan.condition_json;
-      record.intensity = outcome.intensity ? outcome.intensity : plan.intensity;
-      record.response = outcome.response;
-      record.correct = outcome.correct;
-      record.staircase = outcome.staircase;
-      record.reversal = outcome.reversal;
-      record.response_time_s = response.response_time_s;
-      record.onset_s = onset_s;
-      record.started_utc = "2026-01-01T00:00:00.000Z";
-      std::vector<AdjustmentSetting> settings;
-      for (std::size_t spot = 0; spot < outcome.adjustment_settings_cd_m2.size(); ++spot)
-        settings.push_back({static_cast<int>(spot), outcome.adjustment_settings_cd_m2[spot]});
-      store.commit_trial(record, synthetic_frames(onset_s), settings);
+      const TrialRecord record =
+          trial_record(id, plan, outcome, response.response_time_s, onset_s, "2026-01-01T00:00:00.000Z");
+      store.commit_trial(record, synthetic_frames(onset_s), adjustment_settings(outcome));
       onset_s += 2.0;
     }
     store.finish_session(id, "completed");

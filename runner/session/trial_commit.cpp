@@ -3,28 +3,14 @@
 #include <vector>
 
 #include "runner/session/session_loop.h"
+#include "runner/session/trial_record.h"
 
 namespace glarelab {
 
 void SessionLoop::commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome) {
-  TrialRecord record;
-  record.session_id = session_id_;
-  record.trial_index = plan.trial_index;
-  record.block = plan.block;
-  record.procedure = plan.procedure;
-  record.condition = plan.condition_json;
-  record.intensity = outcome.intensity ? outcome.intensity : plan.intensity;
-  record.response = outcome.response;
-  record.correct = outcome.correct;
-  record.staircase = outcome.staircase;
-  record.reversal = outcome.reversal;
-  record.response_time_s = run.response->response_time_s;
-  record.onset_s = run.onset_s;
-  record.started_utc = utc_now_iso8601();
-  std::vector<AdjustmentSetting> settings;
-  for (std::size_t spot = 0; spot < outcome.adjustment_settings_cd_m2.size(); ++spot)
-    settings.push_back({static_cast<int>(spot), outcome.adjustment_settings_cd_m2[spot]});
-  store_.commit_trial(record, run.frames, settings);
+  const TrialRecord record = trial_record(session_id_, plan, outcome, run.response->response_time_s, run.onset_s,
+                                          utc_now_iso8601());
+  store_.commit_trial(record, run.frames, adjustment_settings(outcome));
 }
 
 }  // namespace glarelab
