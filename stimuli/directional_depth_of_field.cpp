@@ -87,8 +87,12 @@ ImageRGBA apply_directional_depth_of_field(const ImageRGBA& image_cd_m2, const s
   base.pupil_radius_m = settings.pupil_radius_m;
   base.tolerance_px = settings.tolerance_px;
   base.threads = settings.threads;
-  // A placeholder that the inputs' check accepts; every region sets its own below.
-  base.residual_error = [](double) { return DioptricPower{}; };
+  // The error along the frame centre's line of sight, so the inputs are checked as the one-region
+  // stage would check them (an empty image is refused there first); each region below takes the
+  // error along its own centre's.
+  if (!image_cd_m2.empty())
+    base.residual_error = settings.residual_error(Span{0, image_cd_m2.width_px}.centre(),
+                                                  Span{0, image_cd_m2.height_px}.centre());
   check_depth_of_field_inputs(image_cd_m2, depth_m, base);
 
   const std::array<double, 2> depths = extreme_depths_m(depth_m);
