@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "glare/parallel_rows.h"
 
@@ -30,6 +31,29 @@ void edge_crossings(double py, const std::vector<double>& vertices, std::vector<
     const double xp = vertices[2 * previous], yp = vertices[2 * previous + 1];
     if ((yk > py) != (yp > py)) crossings.push_back(xk + (py - yk) * (xp - xk) / (yp - yk));
   }
+}
+
+// An x interval of the row at y that holds every point within width / 2 of the line's segment,
+// with a margin of one sub-sample (`margin_mm`): a point (x, y) that near the segment is within
+// width / 2 of a segment point S, so |S.y - y| <= width / 2 and |S.x - x| <= width / 2. The span is
+// therefore the x range of the segment points whose y lies within width / 2 + margin of the row,
+// widened by width / 2 + margin. For a long, thin grating line this is a few sub-samples where its
+// bounding box is the line's whole x extent. Empty (first > second) when no point can be that near.
+std::pair<double, double> line_row_span(const ApertureLine& line, double y, double margin_mm) {
+  const double reach = 0.5 * line.width_mm + margin_mm;
+  const double dy = line.y1_mm - line.y0_mm;
+  double t0 = 0.0, t1 = 1.0;
+  if (dy != 0.0) {
+    const double ta = (y - reach - line.y0_mm) / dy, tb = (y + reach - line.y0_mm) / dy;
+    t0 = std::max(0.0, std::min(ta, tb));
+    t1 = std::min(1.0, std::max(ta, tb));
+    if (t0 > t1) return {1.0, 0.0};
+  } else if (std::abs(line.y0_mm - y) > reach) {
+    return {1.0, 0.0};
+  }
+  const double dx = line.x1_mm - line.x0_mm;
+  const double xa = line.x0_mm + t0 * dx, xb = line.x0_mm + t1 * dx;
+  return {std::min(xa, xb) - reach, std::max(xa, xb) + reach};
 }
 
 // Axis-aligned bounds of a primitive, millimetres.
@@ -127,8 +151,13 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
         const Bounds& b = disc_bounds[k];
         if (y < b.y_min || y > b.y_max) continue;
         const auto& disc = geometry.discs[k];
-        const auto [first_column, last_column] = clip(column_range(b.x_min, b.x_max));
         const double ey = y - disc.centre_y_mm;
+        // The disc's chord on this row, widened by one sub-sample on each side (column_range adds
+        // one more): no sub-sample outside it can pass the exact test below, so the grid is the one
+        // the whole bounding box would give, bit for bit.
+        const double half_chord = std::sqrt(std::max(0.0, disc.radius_mm * disc.radius_mm - ey * ey)) + sub;
+        const auto [first_column, last_column] =
+            clip(column_range(disc.centre_x_mm - half_chord, disc.centre_x_mm + half_chord));
         for (int column = first_column; column <= last_column; ++column) {
           const double ex = sub_x(column) - disc.centre_x_mm;
           if (ex * ex + ey * ey <= disc.radius_mm * disc.radius_mm)
@@ -140,7 +169,9 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
         if (y < b.y_min || y > b.y_max) continue;
         const auto& line = geometry.lines[k];
         const double w2 = 0.25 * line.width_mm * line.width_mm;
-        const auto [first_column, last_column] = clip(column_range(b.x_min, b.x_max));
+        const auto [x_min, x_max] = line_row_span(line, y, sub);
+        if (x_min > x_max) continue;
+        const auto [first_column, last_column] = clip(column_range(x_min, x_max));
         for (int column = first_column; column <= last_column; ++column) {
           if (distance_squared_to_segment(sub_x(column), y, line) <= w2)
             row_values[static_cast<std::size_t>(column)] *= line.transmittance;

@@ -1,10 +1,13 @@
 // The aperture coverage rule (aperture_raster.h) on hand-checked cases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "glare/aperture_raster.h"
+#include "glare/eye_model.h"
 
 namespace glarelab {
 namespace {
@@ -83,6 +86,100 @@ TEST(GlareApertureRaster, PolygonEvenOdd) {
   EXPECT_DOUBLE_EQ(grid.transmittance[2 * 8 + 2], 0.0);  // centre (-1, 1): inside the ring: opaque
   EXPECT_DOUBLE_EQ(grid.transmittance[0], 1.0);           // centre (-2, 2): outside the polygon
   EXPECT_THROW(rasterise_aperture(geometry, {8, 4.0, 1}), std::invalid_argument);
+}
+
+// The coverage rule of aperture_raster.h written out per sub-sample over every primitive, with no
+// bounds, spans or skipped rows: the rasteriser only skips sub-samples that cannot pass a test, so it
+// must give this grid bit for bit (the same expressions, products and sums in the same order).
+ApertureGrid every_sub_sample(const ApertureGeometry& geometry, int n, double width_mm, int s) {
+  ApertureGrid grid;
+  grid.grid_px = n;
+  grid.aperture_width_mm = width_mm;
+  grid.transmittance.assign(static_cast<std::size_t>(n) * n, 0.0);
+  const double dx = grid.pixel_mm(), sub = dx / s, half = n / 2;
+  const double pupil_r2 = 0.25 * geometry.pupil_diameter_mm * geometry.pupil_diameter_mm;
+  for (int row = 0; row < n * s; ++row) {
+    const double y = (half + 0.5) * dx - (row + 0.5) * sub;
+    for (int column = 0; column < n * s; ++column) {
+      const double x = (column + 0.5) * sub - (half + 0.5) * dx;
+      double value = (x * x + y * y <= pupil_r2) ? 1.0 : 0.0;
+      for (const ApertureDisc& d : geometry.discs) {
+        const double ex = x - d.centre_x_mm, ey = y - d.centre_y_mm;
+        if (ex * ex + ey * ey <= d.radius_mm * d.radius_mm) value *= d.transmittance;
+      }
+      for (const ApertureLine& l : geometry.lines) {
+        const double lx = l.x1_mm - l.x0_mm, ly = l.y1_mm - l.y0_mm, length2 = lx * lx + ly * ly;
+        const double t = length2 > 0.0 ? std::clamp(((x - l.x0_mm) * lx + (y - l.y0_mm) * ly) / length2, 0.0, 1.0) : 0.0;
+        const double ex = l.x0_mm + t * lx - x, ey = l.y0_mm + t * ly - y;
+        if (ex * ex + ey * ey <= 0.25 * l.width_mm * l.width_mm) value *= l.transmittance;
+      }
+      for (const AperturePolygon& p : geometry.polygons) {
+        bool inside = false;
+        const std::size_t count = p.vertices_mm.size() / 2;
+        for (std::size_t k = 0, previous = count - 1; k < count; previous = k++) {
+          const double xk = p.vertices_mm[2 * k], yk = p.vertices_mm[2 * k + 1];
+          const double xp = p.vertices_mm[2 * previous], yp = p.vertices_mm[2 * previous + 1];
+          if ((yk > y) != (yp > y) && x < xk + (y - yk) * (xp - xk) / (yp - yk)) inside = !inside;
+        }
+        if (inside) value *= p.transmittance;
+      }
+      if (value != 0.0) grid.transmittance[static_cast<std::size_t>(row / s) * n + column / s] += value * (1.0 / (s * s));
+    }
+  }
+  return grid;
+}
+
+void expect_bit_identical(const ApertureGrid& fast, const ApertureGrid& reference, const char* what) {
+  ASSERT_EQ(fast.transmittance.size(), reference.transmittance.size());
+  std::size_t differing = 0, covered = 0;
+  for (std::size_t k = 0; k < fast.transmittance.size(); ++k) {
+    if (fast.transmittance[k] != reference.transmittance[k]) ++differing;
+    if (reference.transmittance[k] > 0.0 && reference.transmittance[k] < 1.0) ++covered;
+  }
+  EXPECT_EQ(differing, 0u) << what;
+  EXPECT_GT(covered, 100u) << what << ": the case must have partly covered pixels to be a test";
+}
+
+// Long thin lines at every angle (horizontal, vertical, near-horizontal, zero length), lines and
+// discs whose edges fall on sub-sample centres, and particles straddling the pupil's edge.
+TEST(GlareApertureRaster, RowSpansGiveTheGridOfEverySubSampleOnHardCases) {
+  const int n = 64, s = 3;
+  const double width_mm = 8.0, sub = width_mm / n / s;
+  ApertureGeometry geometry;
+  geometry.pupil_diameter_mm = 7.0;
+  std::mt19937_64 random(12345);  // a fixed test case, not a random choice of the product
+  std::uniform_real_distribution<double> position(-4.0, 4.0), unit(0.0, 1.0);
+  for (int k = 0; k < 60; ++k) {
+    const double angle = std::numbers::pi * unit(random), length = 6.0 * unit(random);
+    const double cx = position(random), cy = position(random);
+    geometry.lines.push_back({cx - 0.5 * length * std::cos(angle), cy - 0.5 * length * std::sin(angle),
+                              cx + 0.5 * length * std::cos(angle), cy + 0.5 * length * std::sin(angle),
+                              0.4 * sub + 0.3 * unit(random), 0.9 * unit(random)});
+  }
+  geometry.lines.push_back({-3.0, 0.5 * sub, 3.0, 0.5 * sub, 2.0 * sub, 0.5});     // horizontal, edge on samples
+  geometry.lines.push_back({1.5 * sub, -3.0, 1.5 * sub, 3.0, 1.0 * sub, 0.25});    // vertical
+  geometry.lines.push_back({-3.0, 0.2, 3.0, 0.2 + 1e-9, 0.05, 0.0});              // nearly horizontal
+  geometry.lines.push_back({0.7, 0.7, 0.7, 0.7, 0.3, 0.0});                       // zero length: a disc
+  for (int k = 0; k < 80; ++k)
+    geometry.discs.push_back({position(random), position(random), 0.5 * unit(random), 0.8 * unit(random)});
+  geometry.discs.push_back({0.5 * sub, 0.5 * sub, 2.0 * sub, 0.5});  // edge through sample centres
+  geometry.discs.push_back({3.5, 0.0, 0.4, 0.0});                    // across the pupil's edge
+  geometry.polygons.push_back({{-4.0, 2.5, 4.0, 2.0, 4.0, 4.0, -4.0, 4.0}, 0.0});
+  for (const int threads : {1, 3}) {
+    const ApertureGrid fast = rasterise_aperture(geometry, {n, width_mm, s, threads});
+    expect_bit_identical(fast, every_sub_sample(geometry, n, width_mm, s), "hard cases");
+  }
+}
+
+// The eye model's own aperture (particles, fibre gratings reaching into a wide pupil, lids).
+TEST(GlareApertureRaster, RowSpansGiveTheGridOfEverySubSampleForTheEyeModel) {
+  EyeParameters parameters;
+  parameters.initial_field_luminance_cd_m2 = 0.01;  // a wide pupil, so the gratings reach into it
+  const ApertureGeometry geometry = EyeModel(parameters, 7).geometry_at(1.0);
+  ASSERT_GT(geometry.lines.size(), 10u);
+  ASSERT_GT(geometry.discs.size(), 10u);
+  const ApertureGrid fast = rasterise_aperture(geometry, {128, 10.0, 2, 2});
+  expect_bit_identical(fast, every_sub_sample(geometry, 128, 10.0, 2), "eye model");
 }
 
 }  // namespace
