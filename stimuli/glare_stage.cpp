@@ -210,6 +210,12 @@ EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
 }
 
 void GlareStage::record_dynamic_frame(double time_s, double field_luminance_cd_m2) {
+  record_dynamic_luminance(time_s, field_luminance_cd_m2);
+  if (passed_dynamic_frames_.empty() || time_s > passed_dynamic_frames_.back().first)
+    passed_dynamic_frames_.emplace_back(time_s, field_luminance_cd_m2);
+}
+
+void GlareStage::record_dynamic_luminance(double time_s, double field_luminance_cd_m2) {
   EyeModel& eye = eye_for(GlareMode::dynamic, field_luminance_cd_m2);
   if (time_s > last_recorded_s_) {
     eye.record_frame_luminance(time_s, std::max(field_luminance_cd_m2, 0.0));
@@ -220,7 +226,7 @@ void GlareStage::record_dynamic_frame(double time_s, double field_luminance_cd_m
 std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double field_luminance_cd_m2, EyeState* state) {
   if (mode == GlareMode::control) throw std::invalid_argument("glare stage: control has no PSF");
   EyeModel& eye = eye_for(mode, field_luminance_cd_m2);
-  if (mode == GlareMode::dynamic) record_dynamic_frame(time_s, field_luminance_cd_m2);
+  if (mode == GlareMode::dynamic) record_dynamic_luminance(time_s, field_luminance_cd_m2);
   if (state != nullptr) *state = eye.state_at(time_s);
   PsfOptions options;
   options.grid_px = spec_.grid_px;
@@ -360,12 +366,27 @@ std::optional<Psf> GlareStage::wave_psf(GlareMode mode, double time_s, double me
     state = eye_for(mode, mean_cd_m2).state_at(time_s);
   } else {
     psf = display_psf(mode, time_s, mean_cd_m2, &state);
-    if (psf) last_open_dynamic_psf_ = psf;
+    if (psf) {
+      last_open_dynamic_psf_ = psf;
+      passed_dynamic_frames_.clear();
+    }
   }
   r.pupil_diameter_mm = state.pupil_diameter_mm;
   r.gratings_in_pupil = state.gratings_in_pupil;
   if (!psf) {
     r.eye_closed = true;
+    if (mode == GlareMode::dynamic) {
+      // Frames a preview passed by are later than any computed one: the latest open among them is
+      // the frame whose PSF the session holds.
+      while (!passed_dynamic_frames_.empty()) {
+        const auto [passed_s, passed_cd_m2] = passed_dynamic_frames_.back();
+        passed_dynamic_frames_.pop_back();
+        if (std::optional<Psf> open = display_psf(mode, passed_s, passed_cd_m2)) {
+          last_open_dynamic_psf_ = std::move(open);
+          passed_dynamic_frames_.clear();
+        }
+      }
+    }
     psf = mode == GlareMode::dynamic ? last_open_dynamic_psf_ : std::nullopt;
     if (!psf) r.skip_reason = "eye closed (blink): no light reaches the retina and no open frame came before";
   }
@@ -433,13 +454,13 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   const ImageRGBA& source = excess ? *excess : frame_cd_m2;
   if (excess && all_black(source)) {
     // Nothing above the display's peak: the frame is shown as it is, bit for bit.
-    if (mode == GlareMode::dynamic) record_dynamic_frame(time_s, mean_cd_m2);
+    if (mode == GlareMode::dynamic) record_dynamic_luminance(time_s, mean_cd_m2);
     r.skip_reason = "nothing above the display's peak of " + std::to_string(display_.peak_luminance_cd_m2) +
                     " cd/m2 (source = \"excess\")";
     return frame_cd_m2;
   }
   if (condition_gain_ == 0.0) {
-    if (mode == GlareMode::dynamic) record_dynamic_frame(time_s, mean_cd_m2);
+    if (mode == GlareMode::dynamic) record_dynamic_luminance(time_s, mean_cd_m2);
     r.skip_reason = "glare_gain 0";
     return frame_cd_m2;
   }

@@ -131,7 +131,10 @@ class GlareStage {
   // The dynamic eye sees a frame of this field luminance at time_s without its glare being
   // computed: the eye's adaptation history (pupil) becomes what computing the frame would have
   // made it. A preview (glarelab render) passes through the trials before the one it shows this
-  // way. Unlike apply(), it keeps no PSF to hold through a later blink.
+  // way. The frame is remembered, so that a later frame in a blink holds the PSF of the last open
+  // one as in the session that computed them all: that PSF is computed then, from the latest
+  // remembered frame back until one is open (the eye at a past time is a function of the time,
+  // the seed and the history up to it).
   void record_dynamic_frame(double time_s, double field_luminance_cd_m2);
   // The backend in use, made now if not yet: one sentence saying what was picked and why.
   const std::string& backend_reason();
@@ -193,6 +196,11 @@ class GlareStage {
   // luminances the caches start again (a recomputed PSF is the same; only its time is lost).
   static constexpr std::size_t kStaticCacheEntries = 32;
   std::optional<Psf> last_open_dynamic_psf_;
+  // Dynamic frames recorded without their PSF (record_dynamic_frame) since the last PSF computed:
+  // (time, field luminance) in time order, the candidates for the PSF a blink holds.
+  std::vector<std::pair<double, double>> passed_dynamic_frames_;
+  // The eye's luminance history only (apply()'s own skipped frames: no PSF in a session either).
+  void record_dynamic_luminance(double time_s, double field_luminance_cd_m2);
   GlareModel condition_model_;
   double condition_gain_ = 1.0;
   std::map<std::tuple<int, int, int>, std::unique_ptr<AnalyticGlare>> analytic_;

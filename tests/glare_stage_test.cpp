@@ -459,6 +459,39 @@ TEST(GlareStage, DetectedBlinksDriveTheLidsInsteadOfTheSchedule) {
   EXPECT_TRUE(report.eye_closed);
 }
 
+// A preview (glarelab render) passes the frames before the one it shows with record_dynamic_frame,
+// computing no PSF; when the shown frame falls in a blink it must hold the PSF of the last open
+// frame passed, exactly as the session that computed every frame does.
+TEST(GlareStage, AFramePassedByGivesTheHeldPsfOfTheSessionThatComputedIt) {
+  const EyelidModel lids(EyeParameters{}, 6);
+  const EyeParameters eye;
+  const double closed_s = lids.blink_onset_s(1) + eye.blink_closing_duration_s + 0.5 * eye.blink_closed_duration_s;
+  const ImageRGBA frame = lamp_frame(0.5f, 200.0f);
+  // Frames every 1/60 s up to the closed one: the last ones before it are already closing.
+  std::vector<double> times;
+  for (double t = closed_s - 0.5; t < closed_s - 1e-9; t += 1.0 / 60.0) times.push_back(t);
+  GlareStage session(small_spec(), small_display(), 6), preview(small_spec(), small_display(), 6),
+      forgetful(small_spec(), small_display(), 6);
+  int closed_before = 0;
+  for (const double t : times) {
+    GlareFrameReport report;
+    session.apply(frame, GlareMode::dynamic, t, &report);
+    closed_before += report.eye_closed ? 1 : 0;
+    preview.record_dynamic_frame(t, mean_luminance(frame));
+  }
+  ASSERT_GT(closed_before, 0) << "the case needs closed frames before the shown one, so the held PSF is an older frame's";
+  ASSERT_LT(closed_before, static_cast<int>(times.size()));
+  GlareFrameReport from_session, from_preview, from_nothing;
+  const ImageRGBA expected = session.apply(frame, GlareMode::dynamic, closed_s, &from_session);
+  const ImageRGBA shown = preview.apply(frame, GlareMode::dynamic, closed_s, &from_preview);
+  ASSERT_TRUE(from_session.eye_closed && from_session.convolved);
+  EXPECT_TRUE(from_preview.eye_closed && from_preview.convolved);
+  EXPECT_EQ(shown.rgba, expected.rgba) << "bit for bit";
+  // Without the frames before, no open frame came first: nothing to hold (the glare is skipped).
+  forgetful.apply(frame, GlareMode::dynamic, closed_s, &from_nothing);
+  EXPECT_FALSE(from_nothing.convolved);
+}
+
 TEST(GlareStage, VisibilityBoundFormula) {
   // Spelled out: peak 100, wing 0.2 -> 20 cd/m2 of veil at most; against 10 cd/m2 -> 2.
   EXPECT_DOUBLE_EQ(visibility_bound(100.0, 10.0, 0.2, 0.01), 2.0);
