@@ -148,11 +148,11 @@ void html_figures(std::ostringstream& out, const AnalysisReport& report, const s
 std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
 
 // A file path that may break after each '/', so a long path wraps instead of widening the table
-// beyond the page.
+// beyond the page (a single name longer than a cell breaks anywhere: overflow-wrap in the style).
 std::string path_cell(const std::string& path) {
   std::string escaped = html_escape(path);
   for (std::size_t at = escaped.find('/'); at != std::string::npos; at = escaped.find('/', at + 6)) escaped.insert(at + 1, "<wbr>");
-  return "<td>" + escaped + "</td>";
+  return "<td class=\"path\">" + escaped + "</td>";
 }
 
 }  // namespace
@@ -163,7 +163,7 @@ std::string render_html(const AnalysisReport& report) {
          "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; style-src 'unsafe-inline'; img-src data:\">\n"
          "<title>glarelab analysis</title>\n<style>\n"
          "body{font-family:sans-serif;margin:24px;max-width:1150px;color:#111}table{border-collapse:collapse;margin:8px 0}"
-         "td,th{border:1px solid #bbb;padding:3px 8px;font-size:13px;text-align:left}th{background:#eee}"
+         "td,th{border:1px solid #bbb;padding:3px 8px;font-size:13px;text-align:left}th{background:#eee}td.path{overflow-wrap:anywhere}"
          "figure{display:inline-block;margin:8px}figcaption{font-size:12px;color:#444;max-width:560px}"
          ".note{color:#a00}\n</style></head><body>\n";
   out << "<h1>glarelab analysis</h1>\n<p>glarelab " << html_escape(software_version()) << "; "

@@ -142,5 +142,47 @@ TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
   EXPECT_EQ(problems, 0);
 }
 
+// The report's own page stays within the body's 1150 px when a database lies under a directory
+// whose one name is 200 characters long (no '/' to break after): the sessions table's cells wrap
+// anywhere rather than widen the page. The report forbids scripts, so its policy line is taken out
+// of a copy and a measuring script appended to it.
+TEST(AnalysisLayout, ALongSingleWordDirectoryDoesNotWidenTheReportPastThePage) {
+  const std::string chromium = chromium_binary();
+  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian package chromium; scripts/setup.sh installs it)";
+  const test::ScratchDir dir;
+  const std::filesystem::path long_dir = std::filesystem::path(dir.path()) / std::string(200, 'd');
+  std::filesystem::create_directories(long_dir);
+  const std::string db = (long_dir / "demo.db").string();
+  test::dry_run_example(std::string(GLARELAB_SOURCE_DIR) + "/examples/ritschel_adjustment.toml", db, {1});
+  AnalysisOptions options;
+  options.bootstrap_samples = 0;
+  const AnalysisReport report = analyse(load_databases({db}), options);
+  std::string html = render_html(report);
+  const auto policy = html.find("<meta http-equiv=\"Content-Security-Policy\"");
+  ASSERT_NE(policy, std::string::npos);
+  html.erase(policy, html.find('>', policy) + 1 - policy);
+  ASSERT_NE(html.find(std::string(200, 'd')), std::string::npos) << "the path is not in the sessions table";
+  const auto body_end = html.rfind("</body>");
+  ASSERT_NE(body_end, std::string::npos);
+  html.insert(body_end, "<pre id=\"result\">script did not run</pre><script>document.getElementById('result').textContent="
+                        "'WIDTH '+Math.ceil(Math.max(...Array.from(document.querySelectorAll('table'),"
+                        "t=>t.getBoundingClientRect().right)))+' END';</script>");
+  const std::string page_path = dir.file("report.html");
+  std::ofstream(page_path) << html;
+  const std::string dom = dir.file("dom.html");
+  const std::string command = "timeout 60 " + chromium +
+                              " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+                              " --disable-background-networking --disable-component-update --disable-sync"
+                              " --user-data-dir=" + dir.file("profile") + " --window-size=1400,1000 --dump-dom file://" +
+                              page_path + " >" + dom + " 2>" + dir.file("chromium.log");
+  const int status = std::system(command.c_str());
+  const std::string text = test::read_bytes(dom);
+  std::smatch width;
+  ASSERT_TRUE(std::regex_search(text, width, std::regex("WIDTH ([0-9]+) END")))
+      << "chromium exit status " << status << ": " << test::read_bytes(dir.file("chromium.log"));
+  // The rightmost table edge: the body is at most 1150 px wide after a 24 px margin.
+  EXPECT_LE(std::stoi(width[1]), 24 + 1150 + 1) << "a table runs past the body";
+}
+
 }  // namespace
 }  // namespace glarelab::analysis
