@@ -100,6 +100,12 @@ std::string group_of(const LoadedTrial& trial, bool glare_b_varies) {
 
 }  // namespace
 
+std::optional<double> GradedChoiceGroup::pse() const {
+  if (fit.ok()) return fit.threshold;
+  if (posterior) return posterior->median;
+  return std::nullopt;
+}
+
 std::string GradedChoiceAnalysis::axis_label() const { return log10_axis ? "log10 " + variable : variable; }
 
 bool is_graded_trial(const LoadedTrial& trial, const GradedChoiceAnalysis& analysis) {
@@ -178,6 +184,7 @@ GradedChoiceAnalysis analyse_graded_choice(const LoadedData& data, const GradedC
     fit_options.bootstrap_samples = options.bootstrap_samples;
     fit_options.seed = options.seed + g;
     fits[g] = fit_psychometric(analysis.groups[g].levels, fit_options);
+    analysis.groups[g].posterior = pse_posterior(analysis.groups[g].levels);
   });
   for (std::size_t g = 0; g < fits.size(); ++g) analysis.groups[g].fit = std::move(fits[g]);
 
@@ -185,17 +192,13 @@ GradedChoiceAnalysis analyse_graded_choice(const LoadedData& data, const GradedC
                                     [](const GradedChoiceGroup& g) { return g.name == "control"; });
   const GradedChoiceGroup& baseline = control != analysis.groups.end() ? *control : analysis.groups.front();
   analysis.baseline = baseline.name;
-  for (GradedChoiceGroup& group : analysis.groups) {
-    if (&group == &baseline || !group.fit.ok() || !baseline.fit.ok()) continue;
-    group.shift = group.fit.threshold - baseline.fit.threshold;
-    const std::size_t n = std::min(group.fit.bootstrap_thresholds.size(), baseline.fit.bootstrap_thresholds.size());
-    if (n >= 20) {
-      std::vector<double> differences(n);
-      for (std::size_t i = 0; i < n; ++i)
-        differences[i] = group.fit.bootstrap_thresholds[i] - baseline.fit.bootstrap_thresholds[i];
-      group.shift_interval = percentile_interval(std::move(differences));
-    }
-  }
+  run_parallel_jobs(analysis.groups.size(), options.threads, [&](std::size_t g) {
+    GradedChoiceGroup& group = analysis.groups[g];
+    if (&group == &baseline || !group.pse() || !baseline.pse()) return;
+    group.shift = *group.pse() - *baseline.pse();
+    if (group.posterior && baseline.posterior)
+      group.shift_interval = pse_shift_credible_interval(*baseline.posterior, *group.posterior);
+  });
   if (analysis.groups.size() >= 2) {
     std::vector<std::vector<StimulusLevel>> levels;
     for (const GradedChoiceGroup& group : analysis.groups) levels.push_back(group.levels);

@@ -17,14 +17,16 @@
 // group has that name, else the first group; groups are listed baseline first, then alphabetically.
 //
 // Fit: cumulative normal, no guess and no lapse rate (P runs from 0 to 1 and a one-sided lapse
-// would move the 50 % point), maximum likelihood with a parametric bootstrap
-// (analysis/psychometric_fit.h). The shift's interval: the 2.5 and 97.5 percentiles of the
-// differences of the two groups' bootstrap PSEs, replicate by replicate (independent groups).
+// would move the 50 % point), maximum likelihood (analysis/psychometric_fit.h). The PSE's and the
+// shift's 95 % intervals are Bayesian credible intervals on a grid with weak priors
+// (analysis/pse_posterior.h, which says why not the bootstrap's percentiles); the slope's is the
+// parametric bootstrap's.
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "analysis/loaded_database.h"
+#include "analysis/pse_posterior.h"
 #include "analysis/psychometric_fit.h"
 #include "analysis/shared_pse_test.h"
 
@@ -34,9 +36,12 @@ struct GradedChoiceGroup {
   std::string name;
   std::vector<StimulusLevel> levels;  // x on the analysis axis; correct = answers naming scene_b
   long neither = 0;                   // answers naming no side (left out of the fit)
-  PsychometricFit fit;
-  std::optional<double> shift;        // PSE - the baseline's PSE, on the axis
-  std::optional<Interval> shift_interval;
+  PsychometricFit fit;                // ML: its threshold is the PSE; its bootstrap gives the slope's interval
+  std::optional<PsePosterior> posterior;  // of the PSE (pse_posterior.h): its 95 % credible interval
+  std::optional<double> shift;        // PSE - the baseline's PSE, on the axis (ML; posterior medians without a fit)
+  std::optional<Interval> shift_interval;  // 95 % credible interval of the difference
+  // The PSE shown: the ML threshold, else (answers that separate perfectly) the posterior median.
+  std::optional<double> pse() const;
 };
 
 struct GradedChoiceAnalysis {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -18,9 +19,14 @@ std::string general(double value) {
   return text;
 }
 
-std::string interval_text(const GradedChoiceAnalysis& analysis, const std::optional<Interval>& interval) {
+std::string interval_text(const std::optional<Interval>& interval, const std::function<std::string(double)>& value) {
   if (!interval) return "-";
-  return graded_value_text(analysis, interval->low) + " to " + graded_value_text(analysis, interval->high);
+  return value(interval->low) + " to " + value(interval->high);
+}
+
+std::optional<Interval> pse_interval(const GradedChoiceGroup& group) {
+  if (!group.posterior) return std::nullopt;
+  return group.posterior->credible;
 }
 
 long answers(const GradedChoiceGroup& group) {
@@ -51,23 +57,32 @@ std::string graded_choice_html(const GradedChoiceAnalysis& analysis, int bootstr
   out << "<h2>Forced choice with a graded variable</h2>\n<p>Proportion of answers naming scene_b against "
       << html_escape(analysis.axis_label())
       << " per glare group; a maximum-likelihood cumulative normal without guess or lapse rate per group. The point of "
-         "subjective equality (PSE) is where it crosses 1/2; 95% parametric bootstrap intervals ("
-      << bootstrap_samples << " samples); the shift is each group's PSE minus that of the baseline ('"
+         "subjective equality (PSE) is where it crosses 1/2; its 95% interval is the central 95% of its posterior (a grid "
+         "over PSE and width with weak priors from the tested levels, after Schuett et al. 2016), which keeps its "
+         "coverage with few answers per group where bootstrap percentiles do not. The shift is each group's PSE minus "
+         "that of the baseline ('"
       << html_escape(analysis.baseline)
-      << "'), its interval from the differences of the bootstrap PSEs. Answers naming no side are left out of the fit.</p>\n";
+      << "'), its interval the central 95% of the difference of the two posteriors; the slope's interval is the "
+         "parametric bootstrap's ("
+      << bootstrap_samples
+      << " samples). Where answers separate perfectly there is no maximum-likelihood fit and the PSE shown is the "
+         "posterior median. Answers naming no side are left out of the fit.</p>\n";
   out << "<table><tr><th>group</th><th>answers</th><th>neither</th><th>PSE</th><th>95% interval</th><th>slope</th>"
          "<th>95% interval</th><th>shift from " << html_escape(analysis.baseline) << "</th><th>95% interval</th></tr>\n";
   for (const GradedChoiceGroup& g : analysis.groups) {
     out << "<tr>" << cell(g.name) << cell(std::to_string(answers(g))) << cell(std::to_string(g.neither));
+    const auto value = [&](double x) { return graded_value_text(analysis, x); };
     if (g.fit.ok()) {
-      out << cell(graded_value_text(analysis, g.fit.threshold)) << cell(interval_text(analysis, g.fit.threshold_ci))
-          << cell(general(g.fit.slope))
+      out << cell(value(g.fit.threshold)) << cell(interval_text(pse_interval(g), value)) << cell(general(g.fit.slope))
           << cell(g.fit.slope_ci ? general(g.fit.slope_ci->low) + " to " + general(g.fit.slope_ci->high) : "-");
+    } else if (g.posterior) {
+      out << cell(value(g.posterior->median) + " (posterior median)") << cell(interval_text(pse_interval(g), value))
+          << "<td colspan=\"2\">" << html_escape("no ML fit: " + g.fit.unavailable) << "</td>";
     } else {
       out << "<td colspan=\"4\">" << html_escape("no fit: " + g.fit.unavailable) << "</td>";
     }
     out << cell(g.shift ? general(*g.shift) : "-")
-        << cell(g.shift_interval ? general(g.shift_interval->low) + " to " + general(g.shift_interval->high) : "-")
+        << cell(interval_text(g.shift_interval, general))
         << "</tr>\n";
   }
   out << "</table>\n";
@@ -84,15 +99,16 @@ std::string graded_choice_terminal(const GradedChoiceAnalysis& analysis) {
   std::string text;
   for (const GradedChoiceGroup& g : analysis.groups) {
     text += "  graded choice " + g.name + " (" + analysis.axis_label() + "): ";
-    if (!g.fit.ok()) {
+    if (!g.pse()) {
       text += "no fit (" + g.fit.unavailable + ")\n";
       continue;
     }
-    text += "PSE " + graded_value_text(analysis, g.fit.threshold);
-    if (g.fit.threshold_ci) text += " [" + general(g.fit.threshold_ci->low) + ", " + general(g.fit.threshold_ci->high) + "]";
+    text += "PSE " + graded_value_text(analysis, *g.pse());
+    if (!g.fit.ok()) text += " (posterior median; no ML fit: " + g.fit.unavailable + ")";
+    if (g.posterior) text += " [" + interval_text(pse_interval(g), general) + "]";
     if (g.shift) {
       text += "; shift from " + analysis.baseline + " " + general(*g.shift);
-      if (g.shift_interval) text += " [" + general(g.shift_interval->low) + ", " + general(g.shift_interval->high) + "]";
+      if (g.shift_interval) text += " [" + interval_text(g.shift_interval, general) + "]";
     }
     text += "\n";
   }
@@ -133,9 +149,27 @@ Figure graded_choice_figure(const GradedChoiceAnalysis& analysis) {
                    {static_cast<double>(level.correct) / static_cast<double>(std::max(level.trials, 1L))}, colour, radius,
                    true);
     }
+    // The intervals stacked below the 1/2 line, one row per group, so they never hide each other;
+    // an end beyond the plot stops at its edge.
+    if (group.posterior)
+      plot.horizontal_error_bar(0.5 - 0.045 * static_cast<double>(g + 1),
+                                std::clamp(group.posterior->credible.low, low - pad, high + pad),
+                                std::clamp(group.posterior->credible.high, low - pad, high + pad), colour);
     if (!group.fit.ok()) {
-      plot.note(group.name + ": no fit (" + group.fit.unavailable + ")");
-      plot.legend(group.name + " (no fit)", colour);
+      if (!group.posterior) {
+        plot.note(group.name + ": no fit (" + group.fit.unavailable + ")");
+        plot.legend(group.name + " (no fit)", colour);
+        continue;
+      }
+      // No maximum-likelihood fit (answers that separate perfectly): the posterior's median curve, dashed.
+      std::vector<double> x, y;
+      for (int i = 0; i <= 120; ++i) {
+        x.push_back(low - pad + (high - low + 2.0 * pad) * i / 120.0);
+        y.push_back(group.posterior->probability_at(x.back()));
+      }
+      plot.line(x, y, colour, 2.0, true);
+      plot.markers({group.posterior->median}, {0.5}, colour, 4.5);
+      plot.legend(group.name + ": PSE " + general(group.posterior->median) + " (posterior median, dashed)", colour);
       continue;
     }
     std::vector<double> x, y;
@@ -145,14 +179,14 @@ Figure graded_choice_figure(const GradedChoiceAnalysis& analysis) {
       y.push_back(group.fit.probability(value));
     }
     plot.line(x, y, colour, 2.0);
-    if (group.fit.threshold_ci) plot.horizontal_error_bar(0.5, group.fit.threshold_ci->low, group.fit.threshold_ci->high, colour);
     plot.markers({group.fit.threshold}, {0.5}, colour, 4.5);
     plot.legend(group.name + ": PSE " + general(group.fit.threshold), colour);
   }
   return {"graded_choice", "graded_choice",
           "Proportion of answers naming scene_b against " + analysis.axis_label() +
               " per glare group (rings: the data, area by number of answers), the fitted cumulative normals, and each "
-              "PSE (dot at 1/2) with its 95% bootstrap interval.",
+              "PSE (dot at 1/2) with its 95% credible interval (bars below, in the legend's order); a group whose answers "
+              "separate perfectly has no maximum-likelihood fit and shows its posterior median curve, dashed.",
           plot.svg()};
 }
 
