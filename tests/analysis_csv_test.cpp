@@ -70,12 +70,15 @@ TEST(AnalysisCsv, DemoExperimentDatabaseAnalyses) {
   const auto out = dir.path() / "out";
   const test::RunOutput analyze = test::run_glarelab({"analyze", db, "--out", out.string()}, dir.path());
   ASSERT_EQ(analyze.exit_code, 0) << analyze.output;
-  // 5 conditions x 1 repetition x 2 side assignments.
-  EXPECT_NE(analyze.output.find("Analysed 1 session(s), 10 trial(s)"), std::string::npos) << analyze.output;
-  EXPECT_NE(analyze.output.find("forced choice pooled: all conditions"), std::string::npos) << analyze.output;
+  // 17 conditions x 1 repetition x 2 side assignments; the demo crosses luminance ratio with glare
+  // mode, so the analysis fits one psychometric function per mode.
+  EXPECT_NE(analyze.output.find("Analysed 1 session(s), 34 trial(s)"), std::string::npos) << analyze.output;
+  for (const char* mode : {"control", "static", "dynamic"})
+    EXPECT_NE(analyze.output.find(std::string("graded choice ") + mode + " (log10 luminance_ratio): PSE "), std::string::npos)
+        << analyze.output;
   EXPECT_TRUE(std::filesystem::exists(out / "report.html"));
   const std::string frames = test::read_bytes((out / "frames.csv").string());
-  EXPECT_EQ(std::count(frames.begin(), frames.end(), '\n'), 1 + 10 * 3);
+  EXPECT_EQ(std::count(frames.begin(), frames.end(), '\n'), 1 + 34 * 3);
 }
 
 }  // namespace

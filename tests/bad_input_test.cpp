@@ -135,7 +135,7 @@ TEST(Validate, DemoIsValidAndDescribed) {
   const auto& dir = scratch.path();
   const auto run = run_glarelab({"validate", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml"}, dir);
   EXPECT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_NE(run.output.find("20 forced_choice trials"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("34 forced_choice trials"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("scene lamp_200: 256x256 px, peak 200 cd/m2"), std::string::npos) << run.output;
 }
 

@@ -96,19 +96,17 @@ inline std::filesystem::path demo_variant(const std::filesystem::path& dir,
   return path;
 }
 
-// The demo's condition table without its glare column (name,scene_a,scene_b), so every row takes
-// the [glare] default mode, control: for tests about sessions rather than glare.
+// Five rows of the demo's lamps without a glare column (name,scene_a,scene_b): the 100 cd/m2 lamp
+// beside one 5 % to 100 % brighter, so every row takes the [glare] default mode, control (or the
+// mode a variant sets): for tests about sessions rather than glare.
 inline void write_demo_conditions_without_glare(const std::filesystem::path& path) {
-  std::istringstream demo_rows(read_bytes(std::string(GLARELAB_SOURCE_DIR) + "/examples/demo_conditions.csv"));
-  std::string rows, line;
-  while (std::getline(demo_rows, line)) {
-    // Everything before the third comma.
-    std::size_t end = 0;
-    int commas = 0;
-    while (end < line.size() && !(line[end] == ',' && ++commas == 3)) ++end;
-    rows += line.substr(0, end) + "\n";
-  }
-  write_bytes(path.string(), rows);
+  write_bytes(path.string(),
+              "name,scene_a,scene_b\n"
+              "ratio_1.05,lamp_100,lamp_105\n"
+              "ratio_1.15,lamp_100,lamp_115\n"
+              "ratio_1.30,lamp_100,lamp_130\n"
+              "ratio_1.60,lamp_100,lamp_160\n"
+              "ratio_2.00,lamp_100,lamp_200\n");
 }
 
 // A small, quick demo for glare-in-session tests: 512 x 256 px, two frames per trial, every row

@@ -76,7 +76,7 @@ TEST(WindowBackend, ReadmeWindowCommandRunsTheDemoWithGlareAndEndsCleanlyOnEscap
             0)
       << test::read_bytes(output.string());
   const auto db = scratch.path() / "results" / "demo-which-light-is-brighter.db";
-  // Four answers: the demo's first trials are static, static, control and dynamic glare.
+  // Four answers (the demo crosses three glare modes with the luminance ratios, in a seeded order).
   for (int answered = 0; answered < 4; ++answered) {
     std::this_thread::sleep_for(std::chrono::milliseconds(900));  // past the 0.5 s stimulus
     ASSERT_EQ(shell(answered % 2 == 0 ? "xdotool key Left" : "xdotool key Right"), 0);

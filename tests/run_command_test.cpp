@@ -39,7 +39,7 @@ TEST(RunCommand, DemoRunsOffscreenAndStoresEveryTrial) {
                                     "offscreen", "--observer", "simulated", "--db", db.string(), "--participant", "p01"},
                                    dir);
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_NE(result.output.find("20 trials"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("34 trials"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find(db.string()), std::string::npos) << result.output;
 
   struct stat info {};
@@ -56,12 +56,14 @@ TEST(RunCommand, DemoRunsOffscreenAndStoresEveryTrial) {
   EXPECT_NE(sessions[0].config.find("stimulus_frames = 30"), std::string::npos) << sessions[0].config;
   EXPECT_FALSE(sessions[0].software_version.empty());
   const auto trials = store.load_trials(sessions[0].id);
-  ASSERT_EQ(trials.size(), 20u);  // 5 condition rows x 2 repetitions x 2 sides
+  ASSERT_EQ(trials.size(), 34u);  // 17 condition rows x 1 repetition x 2 sides
   for (std::size_t i = 0; i < trials.size(); ++i) {
     EXPECT_EQ(trials[i].trial_index, static_cast<int>(i));
     EXPECT_EQ(trials[i].procedure, "forced_choice");
     EXPECT_TRUE(trials[i].response == "left" || trials[i].response == "right");
-    ASSERT_TRUE(trials[i].correct.has_value());
+    // Scored unless both lamps are equally bright (the static and dynamic rows at ratio 1).
+    EXPECT_EQ(trials[i].correct.has_value(), trials[i].condition.find("\"luminance_ratio\":\"1\"") == std::string::npos)
+        << trials[i].condition;
     // Virtual clock: 30 frames per trial, flip k of the session at k / 60 s.
     EXPECT_DOUBLE_EQ(trials[i].onset_s, static_cast<double>(i * 30) / 60.0);
     const auto frames = store.load_frames(trials[i].id);
@@ -71,10 +73,16 @@ TEST(RunCommand, DemoRunsOffscreenAndStoresEveryTrial) {
   EXPECT_EQ(store.integrity_check(), "ok");
 }
 
+// The demo's design and glare with 6 frames per trial instead of 30: what these tests check (the
+// order, the answers, the resumed eye) does not depend on how long each stimulus is shown.
+std::string short_demo(const std::filesystem::path& dir) {
+  return demo_variant(dir, {{"stimulus_frames", "stimulus_frames = 6"}}).string();
+}
+
 TEST(RunCommand, SameSeedGivesIdenticalTrials) {
   const ScratchDir scratch;
   const auto& dir = scratch.path();
-  const std::string experiment = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
+  const std::string experiment = short_demo(dir);
   std::vector<std::vector<std::string>> runs;
   for (const char* name : {"a.db", "b.db", "c.db"}) {
     const std::string seed = std::string(name) == "c.db" ? "8" : "7";
@@ -97,9 +105,12 @@ TEST(RunCommand, ScriptedObserverAnswersInTrialOrder) {
   for (int i = 0; i < 10; ++i) script += "0\n";
   test::write_bytes(dir / "answers.txt", script);
   const auto db = dir / "s.db";
-  const auto result = run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
-                                    "offscreen", "--observer", "script:" + (dir / "answers.txt").string(), "--db",
-                                    db.string()},
+  // Five rows with a brighter side each, two repetitions: 20 scored trials.
+  test::write_demo_conditions_without_glare(dir / "conditions.csv");
+  const auto experiment = demo_variant(dir, {{"file", "file = \"" + (dir / "conditions.csv").string() + "\""},
+                                             {"repetitions", "repetitions = 2"}});
+  const auto result = run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer",
+                                    "script:" + (dir / "answers.txt").string(), "--db", db.string()},
                                    dir);
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const ResultStore store(db.string());
@@ -111,7 +122,7 @@ TEST(RunCommand, ScriptedObserverAnswersInTrialOrder) {
 TEST(RunCommand, StopAndResumeEqualsAnUninterruptedRun) {
   const ScratchDir scratch;
   const auto& dir = scratch.path();
-  const std::string experiment = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
+  const std::string experiment = short_demo(dir);
   const std::vector<std::string> common = {"--display", "offscreen", "--observer", "simulated"};
   auto args = [&](std::vector<std::string> extra) {
     std::vector<std::string> all = {"run", experiment};

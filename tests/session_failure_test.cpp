@@ -27,7 +27,7 @@ TEST(SessionFailure, AScriptShorterThanTheDesignOrWithAWrongLineIsRefusedBeforeA
         {"run", demo, "--display", "offscreen", "--observer", "script:" + script.string(), "--db", db.string()},
         scratch.path());
   };
-  test::write_bytes(script.string(), "1\n0\n1\n");  // the demo has 20 trials
+  test::write_bytes(script.string(), "left\nright\nleft\n");  // the demo has 34 trials
   const auto short_script = run();
   EXPECT_EQ(short_script.exit_code, 2) << short_script.output;
   EXPECT_NE(short_script.output.find(script.string() + ":4: response script holds 3 responses; trial 3 needs response 4"),
@@ -36,7 +36,7 @@ TEST(SessionFailure, AScriptShorterThanTheDesignOrWithAWrongLineIsRefusedBeforeA
   EXPECT_FALSE(std::filesystem::exists(db));
 
   std::string answers;
-  for (int k = 0; k < 20; ++k) answers += k == 11 ? "up\n" : "1\n";
+  for (int k = 0; k < 34; ++k) answers += k == 11 ? "up\n" : "left\n";
   test::write_bytes(script.string(), answers);
   const auto wrong_line = run();
   EXPECT_EQ(wrong_line.exit_code, 2) << wrong_line.output;
@@ -45,7 +45,7 @@ TEST(SessionFailure, AScriptShorterThanTheDesignOrWithAWrongLineIsRefusedBeforeA
   EXPECT_FALSE(std::filesystem::exists(db));
 
   // A script that ends in "abort" is a complete script: the session runs until that line.
-  answers = "1\n0\nabort\n";
+  answers = "left\nright\nabort\n";
   test::write_bytes(script.string(), answers);
   const auto aborted = run();
   EXPECT_EQ(aborted.exit_code, 130) << aborted.output;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -189,8 +190,11 @@ void expect_refused(const std::filesystem::path& dir, const std::filesystem::pat
       arguments.insert(arguments.end(), {"--display", "offscreen", "--observer", "simulated", "--db", db.string()});
     const test::RunOutput output = test::run_glarelab(arguments, dir);
     EXPECT_EQ(output.exit_code, 2) << command << ": " << output.output;
-    // The key's value on the [display] line after encoding (line 23 of the demo variant, column 10).
-    EXPECT_NE(output.output.find(experiment.string() + ":23:10: key 'display.stereo'"), std::string::npos)
+    // The key's value: the line after encoding in the variant, column 10.
+    const std::string text = test::read_bytes(experiment.string());
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(text.find("\nstereo = ")) + 1, '\n');
+    EXPECT_NE(output.output.find(experiment.string() + ":" + std::to_string(line) + ":10: key 'display.stereo'"),
+              std::string::npos)
         << command << ": " << output.output;
     EXPECT_NE(output.output.find(why), std::string::npos) << command << ": " << output.output;
     EXPECT_FALSE(std::filesystem::exists(db)) << command;
