@@ -1,5 +1,5 @@
 #pragma once
-// The FFTW floor of one dynamic glare frame (issue 12): the transforms no CPU frame can do without,
+// The FFTW floor of one dynamic glare frame: the transforms no CPU frame can do without,
 // in FFTW float with plans made once and the threads of the planned float path:
 //   - one N x N complex FFT (the aperture to the PSF, Ritschel et al. 2009, Eq. 3);
 //   - nine padded real transforms for the RGB convolution: 3 forward (image), 3 forward (PSF),

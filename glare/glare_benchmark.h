@@ -12,7 +12,7 @@
 // Beside the stages, the whole dynamic frame of the planned float32 CPU path (cpu_float_*.h:
 // aperture, PSF, spectral PSF at the display scale, RGB convolution) against the FFTW floor
 // (fftw_floor.h: one N x N complex FFT and nine padded real transforms, FFTW float, plans made once,
-// the same threads), measured in the same run (issue 12). Every timed frame takes the eye at a new
+// the same threads), measured in the same run. Every timed frame takes the eye at a new
 // time (1/60 s apart, blinks skipped), so nothing computed for one frame's PSF can serve the next.
 // Two frames: a new scene (the image's R, G, B transformed too) and a static scene (its spectrum
 // kept from the trial's first frame).

@@ -1,5 +1,5 @@
 #pragma once
-// Speed against error of the analytic glare (`glarelab bench`, issue of Spencer 1995's model): a
+// Speed against error of the analytic glare (`glarelab bench`; Spencer 1995's model and CIE 146): a
 // full-screen HDR frame (default 1920 x 1080, a dim room with lamps) convolved with the analytic
 // PSF over the whole display on the planned float32 path, beside
 //   - the FFTW floor of the same size in the same run: the 3 forward and 3 inverse real 2D

@@ -1,4 +1,4 @@
-// Figures that lay themselves out (issue: titles, legends and labels never clipped or overlapping):
+// Figures that lay themselves out (titles, legends and labels never clipped or overlapping):
 // the report of every example in examples/ is drawn (tests/example_dry_run.h: the example's own
 // procedure answered by its simulated observer, two participants) and every figure is rendered in
 // headless Chromium (Debian's chromium), which gives the boxes the browser actually lays out. A

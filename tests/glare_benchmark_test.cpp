@@ -73,7 +73,7 @@ TEST(GlareBenchmark, TinyGridsGiveOneRowPerBackendWithErrorsAndATable) {
     EXPECT_DOUBLE_EQ(row.new_scene_ratio(), row.new_scene_s / row.floor_s);
     EXPECT_DOUBLE_EQ(row.static_scene_ratio(), row.static_scene_s / row.floor_s);
     EXPECT_EQ(row.frame_error, result.rows[4 * k + 2].frame_error);
-    // 1e-5 as for the other float rows: the 1e-6 holds for N >= 256 with 32 wavelengths
+    // 1e-5 as for the other float rows: the goal of 1e-6 holds for N >= 256 with 32 wavelengths
     // (tests/glare_cpu_float_test.cpp); these grids of 32 and 64 with 4 wavelengths give 6e-6.
     EXPECT_LT(row.frame_error, 1e-5);
     EXPECT_EQ(row.discretisation_error, result.rows[4 * k + 2].discretisation_error);

@@ -1,6 +1,6 @@
 // The planned float32 CPU path (glare/cpu_float_*.h) against the float64 reference path: the
 // aperture bit for bit, the PSF, the spectral PSF at the display scale, the convolution and the
-// whole frame to the 1e-6 (relative L2), on the eye model's apertures. No timing here.
+// whole frame to 1e-6 (relative L2), on the eye model's apertures. No timing here.
 #include <gtest/gtest.h>
 
 #include <algorithm>

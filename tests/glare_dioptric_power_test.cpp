@@ -67,7 +67,7 @@ TEST(DioptricPower, VertexDistanceCompensationMatchesTheSphericalFormula) {
 }
 
 TEST(DioptricPower, BlurEllipseIsThePupilMappedByTheError) {
-  // 3 D of defocus over a 4 mm pupil: a disc 3 * 0.004 rad = 0.6875 deg across (issue 15's number).
+  // 3 D of defocus over a 4 mm pupil: a disc 3 * 0.004 rad = 0.6875 deg across (the closed form's number).
   const BlurEllipse disc = geometric_blur_ellipse(DioptricPower::spherical(3.0), 0.002);
   EXPECT_NEAR(2.0 * disc.semi_major_rad * 180.0 / 3.14159265358979323846, 0.6875, 1e-3);
   EXPECT_DOUBLE_EQ(disc.semi_major_rad, disc.semi_minor_rad);

@@ -1,4 +1,4 @@
-// The final QUEST+ posterior per track that `glarelab analyze` reports (issue 17), rebuilt from a
+// The final QUEST+ posterior per track that `glarelab analyze` reports, rebuilt from a
 // results database by replaying the stored design and trials as resume does
 // (runner/cli/quest_plus_posteriors.h), checked against independent references:
 //   - a QuestPlus fed directly with each stored trial's stimulus (found on the grid from the
