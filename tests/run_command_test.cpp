@@ -156,11 +156,13 @@ TEST(RunCommand, KillAtRandomPointsThenResume) {
   const ScratchDir scratch;
   const auto& dir = scratch.path();
   // A longer variant of the demo so kills land in every phase: start-up, trials, commit, finish.
-  // Its conditions leave out the demo's glare column (so every row is [glare] mode control): glare
-  // is not what this test is about, and it would slow each of its many runs.
+  // Its conditions leave out the demo's glare column (so every row is [glare] mode control) and it
+  // writes no question above the lamps: neither is what this test is about, and each would slow
+  // its many runs (the question's overlay is about a fifth of a frame on llvmpipe).
   test::write_demo_conditions_without_glare(dir / "conditions_without_glare.csv");
   const auto experiment =
       demo_variant(dir, {{"file", "file = \"" + (dir / "conditions_without_glare.csv").string() + "\""},
+                        {"question", "question = \"\""},
                         {"stimulus_frames", "stimulus_frames = 12"},
                         {"repetitions", "repetitions = 4"},
                         {"width_px", "width_px = 512"},
