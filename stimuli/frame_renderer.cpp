@@ -58,6 +58,7 @@ SceneTexture FrameRenderer::upload(const ImageRGBA& image) const {
 }
 
 void FrameRenderer::compose(const std::vector<Placement>& placements, double background_cd_m2) {
+  ++stimulus_generation_;
   glBindFramebuffer(GL_FRAMEBUFFER, stimulus_framebuffer_.get());
   glViewport(0, 0, width_px_, height_px_);
   glDisable(GL_BLEND);
@@ -71,6 +72,7 @@ void FrameRenderer::compose(const std::vector<Placement>& placements, double bac
 }
 
 void FrameRenderer::compose_overlay(const std::vector<Placement>& overlays) {
+  ++stimulus_generation_;
   glBindFramebuffer(GL_FRAMEBUFFER, stimulus_framebuffer_.get());
   glViewport(0, 0, width_px_, height_px_);
   glDisable(GL_DEPTH_TEST);
@@ -230,6 +232,7 @@ void FrameRenderer::replace_stimulus(const ImageRGBA& image) {
     throw DisplayError("frame renderer: replacing the " + std::to_string(width_px_) + "x" + std::to_string(height_px_) +
                        " stimulus with a " + std::to_string(image.width_px) + "x" + std::to_string(image.height_px) +
                        " image");
+  ++stimulus_generation_;
   // GL rows start at the bottom; glarelab images start at the top.
   const std::size_t row_floats = static_cast<std::size_t>(width_px_) * 4;
   std::vector<float> bottom_up(image.rgba.size());
@@ -278,6 +281,7 @@ void FrameRenderer::upload_stimulus_region(const void* values, std::size_t count
   if (count != static_cast<std::size_t>(channels) * static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px))
     throw DisplayError("frame renderer: " + std::to_string(count) + " values for a " + std::to_string(width_px) + "x" +
                        std::to_string(height_px) + " region of " + std::to_string(channels) + " channels");
+  ++stimulus_generation_;
   // Rows of half RGB (6 bytes a pixel) are only 2-byte aligned.
   glPixelStorei(GL_UNPACK_ALIGNMENT, type == GL_HALF_FLOAT ? 2 : 4);
   glTextureSubImage2D(stimulus_texture_.get(), 0, x0_px, height_px_ - y0_px - height_px, width_px, height_px,

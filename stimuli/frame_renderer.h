@@ -49,6 +49,9 @@ class FrameRenderer {
 
   // Read-backs (row 0 at the top). The stimulus is in cd/m2; the display image holds drive values
   // (from the quantising target when the last encode had one, so exactly its code values / max).
+  // Counts the writes to the stimulus framebuffer (compose, overlays, replaced frames and regions):
+  // a caller that drew it and finds the count unchanged knows it still holds what it drew.
+  std::uint64_t stimulus_generation() const { return stimulus_generation_; }
   ImageRGBA read_stimulus() const;
   ImageRGBA read_display() const;
   // Overwrites the stimulus framebuffer with an image of the same size (row 0 at the top, cd/m2):
@@ -91,6 +94,7 @@ class FrameRenderer {
   gl::Texture display_target_;           // quantising target of the last encode (bits 8, 10, 16)
   gl::Framebuffer display_framebuffer_;  // its framebuffer
   bool read_from_target_ = false;        // the last encode went through display_target_
+  std::uint64_t stimulus_generation_ = 0;
   gl::Program encode_table_program_;     // encoding = "table" (encode_display_table.frag), built on first use
   gl::Texture calibration_texture_;      // rows x 1 RGBA32F: (drive, gain r, gain g, gain b)
   gl::Texture code_gain_texture_;        // 256 x 1 RGBA32F: gains at drive k / 255

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <vector>
 
 #include "runner/display/display_backend.h"
 #include "stimuli/display_model.h"
@@ -109,6 +111,41 @@ TEST_P(HeadlessBackend, TwoContextsTakeTurns) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Display, HeadlessBackend, ::testing::Values("egl", "osmesa", "offscreen"));
+
+// The session re-encodes a flip of an unchanged frame without composing it again when the
+// renderer's write count is the one it left (runner/session/trial_presentation.cpp): every write
+// to the stimulus framebuffer must count, and reading or encoding must not.
+TEST(FrameRendererWrites, EveryWriteToTheStimulusCountsAndReadsAndEncodesDoNot) {
+  DisplayRequest request;
+  request.width_px = 32;
+  request.height_px = 16;
+  auto display = create_display("offscreen", request);
+  FrameRenderer renderer(32, 16);
+  const ImageRGBA pattern = position_pattern(8, 4);
+  const SceneTexture scene = renderer.upload(pattern);
+  DisplaySpec spec;
+  spec.peak_luminance_cd_m2 = 100.0;
+  std::uint64_t count = renderer.stimulus_generation();
+  const auto wrote = [&](const char* what) {
+    EXPECT_EQ(renderer.stimulus_generation(), count + 1) << what;
+    count = renderer.stimulus_generation();
+  };
+  renderer.compose({{&scene, 1.0, {2, 3, 8, 4}, {0, 0, 32, 16}}}, 0.5);
+  wrote("compose");
+  renderer.compose_overlay({{&scene, 1.0, {20, 3, 8, 4}, {0, 0, 32, 16}}});
+  wrote("compose_overlay");
+  renderer.replace_stimulus(position_pattern(32, 16));
+  wrote("replace_stimulus");
+  renderer.replace_stimulus_region(pattern, 4, 4);
+  wrote("replace_stimulus_region");
+  renderer.replace_stimulus_region_half_rgb(std::vector<std::uint16_t>(3 * 2 * 2, 0x3c00), 1, 1, 2, 2);
+  wrote("replace_stimulus_region_half_rgb");
+  (void)renderer.read_stimulus();
+  renderer.encode_to_display(spec);
+  (void)renderer.read_display();
+  renderer.replace_stimulus_region(ImageRGBA(0, 0), 0, 0);  // nothing written
+  EXPECT_EQ(renderer.stimulus_generation(), count) << "reads, encodes and empty regions write nothing";
+}
 
 // EGL that cannot start: asked for by name it is an error naming what was found; --display
 // offscreen falls back to OSMesa and says why. glvnd is pointed at no vendor library, so libEGL

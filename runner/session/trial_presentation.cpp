@@ -28,9 +28,35 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
   return placements;
 }
 
+namespace {
+
+bool same_rect(const PixelRect& a, const PixelRect& b) {
+  return a.x_px == b.x_px && a.y_px == b.y_px && a.width_px == b.width_px && a.height_px == b.height_px;
+}
+
+bool same_placements(const std::vector<Placement>& a, const std::vector<Placement>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].scene != b[i].scene || a[i].scale_cd_m2 != b[i].scale_cd_m2 || !same_rect(a[i].rect, b[i].rect) ||
+        !same_rect(a[i].clip, b[i].clip))
+      return false;
+  return true;
+}
+
+}  // namespace
+
 void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredRegion* glared,
                        const std::vector<Placement>& overlays) {
   if (fast_forward_) return;
+  // A flip of the frame the stimulus framebuffer already holds (the same scenes and overlays, no
+  // glare drawn over them, nothing written to it since): only the display encoding is redone, as
+  // between the flips of a blank phase. The framebuffer's values are the same either way.
+  if (glared == nullptr && drawn_ && drawn_->generation == renderer_.stimulus_generation() &&
+      same_placements(drawn_->placements, placements) && same_placements(drawn_->overlays, overlays)) {
+    renderer_.encode_to_display(prepared_.experiment.display);
+    return;
+  }
+  drawn_.reset();
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   if (glared != nullptr && !glared->half_rgb.empty())
     renderer_.replace_stimulus_region_half_rgb(glared->half_rgb, glared->x0_px, glared->y0_px, glared->width_px,
@@ -39,6 +65,7 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
     renderer_.replace_stimulus_region_bottom_up(glared->exact_rgba, glared->x0_px, glared->y0_px, glared->width_px,
                                                 glared->height_px);
   if (!overlays.empty()) renderer_.compose_overlay(stereo_eyes_.empty() ? overlays : stereo_overlays(overlays));
+  if (glared == nullptr) drawn_ = DrawnFrame{renderer_.stimulus_generation(), placements, overlays};
   renderer_.encode_to_display(prepared_.experiment.display);
 }
 
