@@ -8,6 +8,7 @@
 
 #include "glare/aperture_raster.h"
 #include "glare/eye_model.h"
+#include "tests/aperture_rule.h"
 
 namespace glarelab {
 namespace {
@@ -88,53 +89,14 @@ TEST(GlareApertureRaster, PolygonEvenOdd) {
   EXPECT_THROW(rasterise_aperture(geometry, {8, 4.0, 1}), std::invalid_argument);
 }
 
-// The coverage rule of aperture_raster.h written out per sub-sample over every primitive, with no
-// bounds, spans or skipped rows: the rasteriser only skips sub-samples that cannot pass a test, so it
-// must give this grid bit for bit (the same expressions, products and sums in the same order).
-ApertureGrid every_sub_sample(const ApertureGeometry& geometry, int n, double width_mm, int s) {
-  ApertureGrid grid;
-  grid.grid_px = n;
-  grid.aperture_width_mm = width_mm;
-  grid.transmittance.assign(static_cast<std::size_t>(n) * n, 0.0);
-  const double dx = grid.pixel_mm(), sub = dx / s, half = n / 2;
-  const double pupil_r2 = 0.25 * geometry.pupil_diameter_mm * geometry.pupil_diameter_mm;
-  for (int row = 0; row < n * s; ++row) {
-    const double y = (half + 0.5) * dx - (row + 0.5) * sub;
-    for (int column = 0; column < n * s; ++column) {
-      const double x = (column + 0.5) * sub - (half + 0.5) * dx;
-      double value = (x * x + y * y <= pupil_r2) ? 1.0 : 0.0;
-      for (const ApertureDisc& d : geometry.discs) {
-        const double ex = x - d.centre_x_mm, ey = y - d.centre_y_mm;
-        if (ex * ex + ey * ey <= d.radius_mm * d.radius_mm) value *= d.transmittance;
-      }
-      for (const ApertureLine& l : geometry.lines) {
-        const double lx = l.x1_mm - l.x0_mm, ly = l.y1_mm - l.y0_mm, length2 = lx * lx + ly * ly;
-        const double t = length2 > 0.0 ? std::clamp(((x - l.x0_mm) * lx + (y - l.y0_mm) * ly) / length2, 0.0, 1.0) : 0.0;
-        const double ex = l.x0_mm + t * lx - x, ey = l.y0_mm + t * ly - y;
-        if (ex * ex + ey * ey <= 0.25 * l.width_mm * l.width_mm) value *= l.transmittance;
-      }
-      for (const AperturePolygon& p : geometry.polygons) {
-        bool inside = false;
-        const std::size_t count = p.vertices_mm.size() / 2;
-        for (std::size_t k = 0, previous = count - 1; k < count; previous = k++) {
-          const double xk = p.vertices_mm[2 * k], yk = p.vertices_mm[2 * k + 1];
-          const double xp = p.vertices_mm[2 * previous], yp = p.vertices_mm[2 * previous + 1];
-          if ((yk > y) != (yp > y) && x < xk + (y - yk) * (xp - xk) / (yp - yk)) inside = !inside;
-        }
-        if (inside) value *= p.transmittance;
-      }
-      if (value != 0.0) grid.transmittance[static_cast<std::size_t>(row / s) * n + column / s] += value * (1.0 / (s * s));
-    }
-  }
-  return grid;
-}
-
-void expect_bit_identical(const ApertureGrid& fast, const ApertureGrid& reference, const char* what) {
-  ASSERT_EQ(fast.transmittance.size(), reference.transmittance.size());
+// The rasteriser against the rule sub-sample by sub-sample (tests/aperture_rule.h), which it must
+// equal bit for bit: its row spans only skip sub-samples that cannot pass a test.
+void expect_bit_identical(const ApertureGrid& fast, const std::vector<double>& reference, const char* what) {
+  ASSERT_EQ(fast.transmittance.size(), reference.size());
   std::size_t differing = 0, covered = 0;
-  for (std::size_t k = 0; k < fast.transmittance.size(); ++k) {
-    if (fast.transmittance[k] != reference.transmittance[k]) ++differing;
-    if (reference.transmittance[k] > 0.0 && reference.transmittance[k] < 1.0) ++covered;
+  for (std::size_t k = 0; k < reference.size(); ++k) {
+    if (fast.transmittance[k] != reference[k]) ++differing;
+    if (reference[k] > 0.0 && reference[k] < 1.0) ++covered;
   }
   EXPECT_EQ(differing, 0u) << what;
   EXPECT_GT(covered, 100u) << what << ": the case must have partly covered pixels to be a test";
@@ -167,7 +129,7 @@ TEST(GlareApertureRaster, RowSpansGiveTheGridOfEverySubSampleOnHardCases) {
   geometry.polygons.push_back({{-4.0, 2.5, 4.0, 2.0, 4.0, 4.0, -4.0, 4.0}, 0.0});
   for (const int threads : {1, 3}) {
     const ApertureGrid fast = rasterise_aperture(geometry, {n, width_mm, s, threads});
-    expect_bit_identical(fast, every_sub_sample(geometry, n, width_mm, s), "hard cases");
+    expect_bit_identical(fast, test::rasterise_by_the_rule(geometry, n, width_mm, s), "hard cases");
   }
 }
 
@@ -179,7 +141,7 @@ TEST(GlareApertureRaster, RowSpansGiveTheGridOfEverySubSampleForTheEyeModel) {
   ASSERT_GT(geometry.lines.size(), 10u);
   ASSERT_GT(geometry.discs.size(), 10u);
   const ApertureGrid fast = rasterise_aperture(geometry, {128, 10.0, 2, 2});
-  expect_bit_identical(fast, every_sub_sample(geometry, 128, 10.0, 2), "eye model");
+  expect_bit_identical(fast, test::rasterise_by_the_rule(geometry, 128, 10.0, 2), "eye model");
 }
 
 }  // namespace
