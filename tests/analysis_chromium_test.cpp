@@ -11,17 +11,12 @@
 #include "analysis/svg_plot.h"
 #include "core/png_io.h"
 #include "tests/analysis_synthetic.h"
+#include "tests/headless_chromium.h"
 #include "tests/scratch_dir.h"
 
 namespace glarelab::analysis {
 namespace {
 
-std::string chromium_binary() {
-  for (const char* candidate : {"/usr/bin/chromium", "/usr/bin/chromium-browser"}) {
-    if (std::filesystem::exists(candidate)) return candidate;
-  }
-  return "";
-}
 
 // Pixels within 12/255 of the colour "#rrggbb".
 long count_colour(const ImageRGBA& image, const std::string& hex) {
@@ -39,7 +34,7 @@ long count_colour(const ImageRGBA& image, const std::string& hex) {
 }
 
 TEST(AnalysisChromium, ReportRendersWithFiguresDrawn) {
-  const std::string chromium = chromium_binary();
+  const std::string chromium = test::chromium_binary();
   if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian package chromium; scripts/setup.sh installs it)";
   const test::ScratchDir dir;
   const std::string path = dir.file("render.db");
@@ -62,12 +57,10 @@ TEST(AnalysisChromium, ReportRendersWithFiguresDrawn) {
   write_report(report, out.string());
   const std::string screenshot = (dir.path() / "shot.png").string();
   const std::string profile = (dir.path() / "profile").string();
-  const std::string command = "timeout 20 " + chromium +
-                              " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-                              " --disable-background-networking --disable-component-update --disable-sync"
-                              " --user-data-dir=" + profile + " --screenshot=" + screenshot +
-                              " --window-size=1200,2000 file://" + (out / "report.html").string() + " >" +
-                              (dir.path() / "chromium.log").string() + " 2>&1";
+  const std::string command = test::headless_chromium_command(chromium, 20, profile,
+                                                              "--screenshot=" + screenshot + " --window-size=1200,2000",
+                                                              out / "report.html") +
+                              " >" + (dir.path() / "chromium.log").string() + " 2>&1";
   const int status = std::system(command.c_str());
   ASSERT_TRUE(std::filesystem::exists(screenshot))
       << "chromium exit status " << status << ": " << test::read_bytes((dir.path() / "chromium.log").string());

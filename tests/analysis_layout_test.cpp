@@ -21,15 +21,25 @@
 #include "analysis/report_output.h"
 #include "runner/cli/quest_plus_posteriors.h"
 #include "tests/example_dry_run.h"
+#include "tests/headless_chromium.h"
 #include "tests/scratch_dir.h"
 
 namespace glarelab::analysis {
 namespace {
 
-std::string chromium_binary() {
-  for (const char* candidate : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
-    if (std::filesystem::exists(candidate)) return candidate;
-  return "";
+// The page after its script ran (`--dump-dom`), and chromium's exit status; its log in `dir`.
+struct DumpedPage {
+  int status = 0;
+  std::string dom;
+};
+
+DumpedPage dump_dom(const std::string& chromium, const std::string& page_path, const test::ScratchDir& dir) {
+  const std::string dom = dir.file("dom.html");
+  const std::string command =
+      test::headless_chromium_command(chromium, 60, dir.file("profile"), "--window-size=1400,1000 --dump-dom", page_path) +
+      " >" + dom + " 2>" + dir.file("chromium.log");
+  const int status = std::system(command.c_str());
+  return {status, test::read_bytes(dom)};
 }
 
 constexpr const char* kCheckScript = R"js(
@@ -73,7 +83,7 @@ document.getElementById('result').textContent =
 )js";
 
 TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
-  const std::string chromium = chromium_binary();
+  const std::string chromium = test::chromium_binary();
   if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian package chromium; scripts/setup.sh installs it)";
   const test::ScratchDir dir;
   const std::filesystem::path examples = std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples";
@@ -115,14 +125,7 @@ TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
                             std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing);
   }
 
-  const std::string dom = dir.file("dom.html");
-  const std::string command = "timeout 60 " + chromium +
-                              " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-                              " --disable-background-networking --disable-component-update --disable-sync"
-                              " --user-data-dir=" + dir.file("profile") + " --window-size=1400,1000 --dump-dom file://" +
-                              page_path + " >" + dom + " 2>" + dir.file("chromium.log");
-  const int status = std::system(command.c_str());
-  const std::string text = test::read_bytes(dom);
+  const auto [status, text] = dump_dom(chromium, page_path, dir);
   std::smatch counts;
   ASSERT_TRUE(std::regex_search(text, counts, std::regex("FIGURES ([0-9]+) TEXTS ([0-9]+)")))
       << "chromium exit status " << status << ": " << test::read_bytes(dir.file("chromium.log")) << text.substr(0, 500);
@@ -147,7 +150,7 @@ TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
 // anywhere rather than widen the page. The report forbids scripts, so its policy line is taken out
 // of a copy and a measuring script appended to it.
 TEST(AnalysisLayout, ALongSingleWordDirectoryDoesNotWidenTheReportPastThePage) {
-  const std::string chromium = chromium_binary();
+  const std::string chromium = test::chromium_binary();
   if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian package chromium; scripts/setup.sh installs it)";
   const test::ScratchDir dir;
   const std::filesystem::path long_dir = std::filesystem::path(dir.path()) / std::string(200, 'd');
@@ -169,14 +172,7 @@ TEST(AnalysisLayout, ALongSingleWordDirectoryDoesNotWidenTheReportPastThePage) {
                         "t=>t.getBoundingClientRect().right)))+' END';</script>");
   const std::string page_path = dir.file("report.html");
   std::ofstream(page_path) << html;
-  const std::string dom = dir.file("dom.html");
-  const std::string command = "timeout 60 " + chromium +
-                              " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-                              " --disable-background-networking --disable-component-update --disable-sync"
-                              " --user-data-dir=" + dir.file("profile") + " --window-size=1400,1000 --dump-dom file://" +
-                              page_path + " >" + dom + " 2>" + dir.file("chromium.log");
-  const int status = std::system(command.c_str());
-  const std::string text = test::read_bytes(dom);
+  const auto [status, text] = dump_dom(chromium, page_path, dir);
   std::smatch width;
   ASSERT_TRUE(std::regex_search(text, width, std::regex("WIDTH ([0-9]+) END")))
       << "chromium exit status " << status << ": " << test::read_bytes(dir.file("chromium.log"));

@@ -14,6 +14,7 @@
 #include "analysis/svg_plot.h"
 #include "core/png_io.h"
 #include "tests/analysis_synthetic.h"
+#include "tests/headless_chromium.h"
 #include "tests/scratch_dir.h"
 
 namespace glarelab::analysis {
@@ -162,9 +163,7 @@ TEST(AnalysisRatingFigure, MeanFigureBarsAreTheMeans) {
 }
 
 TEST(AnalysisRatingFigure, ReportRendersInHeadlessChromium) {
-  std::string chromium;
-  for (const char* candidate : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
-    if (std::filesystem::exists(candidate)) chromium = candidate;
+  const std::string chromium = test::chromium_binary();
   if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian package chromium; scripts/setup.sh installs it)";
   const test::ScratchDir dir;
   AnalysisOptions options;
@@ -175,12 +174,10 @@ TEST(AnalysisRatingFigure, ReportRendersInHeadlessChromium) {
   for (const char* file : {"figures/rating_1.svg", "figures/rating_2.svg", "ratings.csv", "rating_tests.csv"})
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   const std::string screenshot = (dir.path() / "shot.png").string();
-  const std::string command = "timeout 20 " + chromium +
-                              " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-                              " --disable-background-networking --disable-component-update --disable-sync"
-                              " --user-data-dir=" + (dir.path() / "profile").string() + " --screenshot=" + screenshot +
-                              " --window-size=1200,3000 file://" + (out / "report.html").string() + " >" +
-                              (dir.path() / "chromium.log").string() + " 2>&1";
+  const std::string command = test::headless_chromium_command(chromium, 20, dir.path() / "profile",
+                                                              "--screenshot=" + screenshot + " --window-size=1200,3000",
+                                                              out / "report.html") +
+                              " >" + (dir.path() / "chromium.log").string() + " 2>&1";
   const int status = std::system(command.c_str());
   ASSERT_TRUE(std::filesystem::exists(screenshot))
       << "chromium exit status " << status << ": " << test::read_bytes((dir.path() / "chromium.log").string());
