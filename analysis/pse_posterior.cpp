@@ -6,6 +6,8 @@
 #include <numbers>
 #include <utility>
 
+#include "analysis/shared_pse_test.h"
+
 namespace glarelab::analysis {
 namespace {
 
@@ -13,11 +15,6 @@ constexpr int kMuPoints = 401;
 constexpr int kWidthPoints = 201;
 // 2 Phi^-1(0.95): the width from P = 0.05 to P = 0.95 in units of sigma.
 constexpr double kWidthPerSigma = 3.289707253902945;
-
-// ln Phi(z) through erfc, which keeps precision in the lower tail.
-double log_phi(double z) {
-  return std::log(std::max(0.5 * std::erfc(-z / std::numbers::sqrt2), std::numeric_limits<double>::min()));
-}
 
 // Rises as a raised cosine from 0 at `zero` to 1 at `one` (either order), 1 beyond `one`.
 double ramp(double v, double zero, double one) {
@@ -39,6 +36,18 @@ Interval central_interval(std::vector<std::pair<double, double>> weighted, doubl
   return {at(0.025), at(0.975)};
 }
 
+// The value below which `fraction` of the mass lies on an evenly spaced ascending grid, each
+// point's mass spread over its cell (half a step either side), linear within a cell.
+double grid_quantile(const std::vector<double>& grid, const std::vector<double>& mass, double fraction) {
+  const double step = grid.size() > 1 ? grid[1] - grid[0] : 0.0;
+  double below = 0.0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (below + mass[i] >= fraction && mass[i] > 0.0) return grid[i] - 0.5 * step + step * (fraction - below) / mass[i];
+    below += mass[i];
+  }
+  return grid.back() + 0.5 * step;
+}
+
 }  // namespace
 
 double PsePosterior::probability_at(double x) const {
@@ -46,15 +55,7 @@ double PsePosterior::probability_at(double x) const {
 }
 
 double posterior_quantile(const PsePosterior& posterior, double fraction) {
-  const std::vector<double>& mu = posterior.mu;
-  const double step = mu.size() > 1 ? mu[1] - mu[0] : 0.0;
-  double below = 0.0;
-  for (std::size_t i = 0; i < mu.size(); ++i) {
-    const double mass = posterior.probability[i];
-    if (below + mass >= fraction && mass > 0.0) return mu[i] - 0.5 * step + step * (fraction - below) / mass;
-    below += mass;
-  }
-  return mu.back() + 0.5 * step;
+  return grid_quantile(posterior.mu, posterior.probability, fraction);
 }
 
 std::optional<PsePosterior> pse_posterior(const std::vector<StimulusLevel>& levels) {
@@ -74,14 +75,16 @@ std::optional<PsePosterior> pse_posterior(const std::vector<StimulusLevel>& leve
   PsePosterior posterior;
   const double mu_low = x_min - 0.5 * range, mu_high = x_max + 0.5 * range;
   const double log_w_low = std::log(smallest_step), log_w_high = std::log(6.0 * range);
-  std::vector<double> mu_prior(kMuPoints), log_width_prior(kWidthPoints), inverse_sigma(kWidthPoints);
+  std::vector<double> mu_prior(kMuPoints), log_width(kWidthPoints), log_width_prior(kWidthPoints),
+      inverse_sigma(kWidthPoints);
   for (int i = 0; i < kMuPoints; ++i) {
     const double mu = mu_low + (mu_high - mu_low) * i / (kMuPoints - 1);
     posterior.mu.push_back(mu);
     mu_prior[i] = mu < x_min ? ramp(mu, mu_low, x_min) : mu > x_max ? ramp(mu, mu_high, x_max) : 1.0;
   }
   for (int j = 0; j < kWidthPoints; ++j) {
-    const double w = std::exp(log_w_low + (log_w_high - log_w_low) * j / (kWidthPoints - 1));
+    log_width[j] = log_w_low + (log_w_high - log_w_low) * j / (kWidthPoints - 1);
+    const double w = std::exp(log_width[j]);
     log_width_prior[j] = w < 2.0 * smallest_step ? ramp(w, smallest_step, 2.0 * smallest_step)
                          : w > 3.0 * range       ? ramp(w, 6.0 * range, 3.0 * range)
                                                  : 1.0;
@@ -94,12 +97,8 @@ std::optional<PsePosterior> pse_posterior(const std::vector<StimulusLevel>& leve
     if (mu_prior[i] <= 0.0) continue;
     for (int j = 0; j < kWidthPoints; ++j) {
       if (log_width_prior[j] <= 0.0) continue;
-      double value = std::log(mu_prior[i]) + std::log(log_width_prior[j]);
-      for (const StimulusLevel& level : levels) {
-        const double z = (level.intensity - posterior.mu[i]) * inverse_sigma[j];
-        if (level.correct > 0) value += static_cast<double>(level.correct) * log_phi(z);
-        if (level.trials > level.correct) value += static_cast<double>(level.trials - level.correct) * log_phi(-z);
-      }
+      const double value = std::log(mu_prior[i]) + std::log(log_width_prior[j]) +
+                           cumulative_normal_log_likelihood(levels, posterior.mu[i], inverse_sigma[j]);
       log_post[static_cast<std::size_t>(i) * kWidthPoints + j] = value;
       best = std::max(best, value);
     }
@@ -118,12 +117,8 @@ std::optional<PsePosterior> pse_posterior(const std::vector<StimulusLevel>& leve
   posterior.median = posterior_quantile(posterior, 0.5);
   posterior.credible = {posterior_quantile(posterior, 0.025), posterior_quantile(posterior, 0.975)};
   // The width's median on its log grid, by the same rule as the PSE's.
-  PsePosterior log_width;
-  for (int j = 0; j < kWidthPoints; ++j) {
-    log_width.mu.push_back(log_w_low + (log_w_high - log_w_low) * j / (kWidthPoints - 1));
-    log_width.probability.push_back(width_probability[j] / total);
-  }
-  posterior.sigma_median = std::exp(posterior_quantile(log_width, 0.5)) / kWidthPerSigma;
+  for (double& p : width_probability) p /= total;
+  posterior.sigma_median = std::exp(grid_quantile(log_width, width_probability, 0.5)) / kWidthPerSigma;
   return posterior;
 }
 

@@ -19,7 +19,9 @@ double log_phi(double z) {
   return std::log(std::max(0.5 * std::erfc(-z / std::sqrt(2.0)), std::numeric_limits<double>::min()));
 }
 
-double log_likelihood(const std::vector<StimulusLevel>& levels, double mu, double beta) {
+}  // namespace
+
+double cumulative_normal_log_likelihood(const std::vector<StimulusLevel>& levels, double mu, double beta) {
   double sum = 0.0;
   for (const StimulusLevel& level : levels) {
     const double z = beta * (level.intensity - mu);
@@ -29,6 +31,8 @@ double log_likelihood(const std::vector<StimulusLevel>& levels, double mu, doubl
   }
   return sum;
 }
+
+namespace {
 
 struct Range {
   double low = 0.0;
@@ -75,7 +79,7 @@ Maximum maximise_over_mu(const std::function<double(double)>& f, const Range& mu
 double profile_with_range(const std::vector<StimulusLevel>& levels, double mu, const Range& slopes, bool* at_bound) {
   // Unimodal in log beta because concave in beta: Brent on the logarithm spans the six decades.
   const auto [log_beta, negative] = boost::math::tools::brent_find_minima(
-      [&](double b) { return -log_likelihood(levels, mu, std::exp(b)); }, std::log(slopes.low), std::log(slopes.high),
+      [&](double b) { return -cumulative_normal_log_likelihood(levels, mu, std::exp(b)); }, std::log(slopes.low), std::log(slopes.high),
       kBrentBits);
   const double log_span = std::log(slopes.high) - std::log(slopes.low);
   if (at_bound != nullptr) *at_bound = log_beta > std::log(slopes.high) - 1e-3 * log_span;

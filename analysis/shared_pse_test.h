@@ -31,6 +31,10 @@ struct SharedPseTest {
 // Each group's levels: `trials` answered, `correct` the answers for the graded side (P rising with x).
 SharedPseTest shared_pse_test(const std::vector<std::vector<StimulusLevel>>& groups);
 
+// One group's log likelihood under P(x) = Phi(beta (x - mu)), `correct` counting the answers for
+// the graded side (ln Phi through erfc, precise in the lower tail).
+double cumulative_normal_log_likelihood(const std::vector<StimulusLevel>& levels, double mu, double beta);
+
 // The maximum over beta of one group's cumulative-normal log likelihood at PSE mu (beta within the
 // bounds of the PSE fits); `at_bound` is set when the maximum lies at the steepest slope allowed.
 double profile_log_likelihood(const std::vector<StimulusLevel>& levels, double mu, bool* at_bound = nullptr);
