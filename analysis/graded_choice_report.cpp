@@ -142,6 +142,15 @@ Figure graded_choice_figure(const GradedChoiceAnalysis& analysis) {
   for (std::size_t g = 0; g < analysis.groups.size(); ++g) {
     const GradedChoiceGroup& group = analysis.groups[g];
     const std::string& colour = series_colour(g);
+    // A fitted curve over the plotted range, 121 points.
+    const auto draw_curve = [&](const std::function<double(double)>& probability, bool dashed) {
+      std::vector<double> x, y;
+      for (int i = 0; i <= 120; ++i) {
+        x.push_back(low - pad + (high - low + 2.0 * pad) * i / 120.0);
+        y.push_back(probability(x.back()));
+      }
+      plot.line(x, y, colour, 2.0, dashed);
+    };
     // Area proportional to the number of answers: radius 2 to 8 px.
     for (const StimulusLevel& level : group.levels) {
       const double radius = 2.0 + 6.0 * std::sqrt(static_cast<double>(level.trials) / static_cast<double>(most));
@@ -162,23 +171,12 @@ Figure graded_choice_figure(const GradedChoiceAnalysis& analysis) {
         continue;
       }
       // No maximum-likelihood fit (answers that separate perfectly): the posterior's median curve, dashed.
-      std::vector<double> x, y;
-      for (int i = 0; i <= 120; ++i) {
-        x.push_back(low - pad + (high - low + 2.0 * pad) * i / 120.0);
-        y.push_back(group.posterior->probability_at(x.back()));
-      }
-      plot.line(x, y, colour, 2.0, true);
+      draw_curve([&](double x) { return group.posterior->probability_at(x); }, true);
       plot.markers({group.posterior->median}, {0.5}, colour, 4.5);
       plot.legend(group.name + ": PSE " + general(group.posterior->median) + " (posterior median, dashed)", colour);
       continue;
     }
-    std::vector<double> x, y;
-    for (int i = 0; i <= 120; ++i) {
-      const double value = low - pad + (high - low + 2.0 * pad) * i / 120.0;
-      x.push_back(value);
-      y.push_back(group.fit.probability(value));
-    }
-    plot.line(x, y, colour, 2.0);
+    draw_curve([&](double x) { return group.fit.probability(x); }, false);
     plot.markers({group.fit.threshold}, {0.5}, colour, 4.5);
     plot.legend(group.name + ": PSE " + general(group.fit.threshold), colour);
   }
