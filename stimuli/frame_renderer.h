@@ -47,11 +47,11 @@ class FrameRenderer {
   // Throws DisplayError for another depth or a calibration table larger than a texture.
   void encode_to_display(const DisplaySpec& display);
 
-  // Read-backs (row 0 at the top). The stimulus is in cd/m2; the display image holds drive values
-  // (from the quantising target when the last encode had one, so exactly its code values / max).
   // Counts the writes to the stimulus framebuffer (compose, overlays, replaced frames and regions):
   // a caller that drew it and finds the count unchanged knows it still holds what it drew.
   std::uint64_t stimulus_generation() const { return stimulus_generation_; }
+  // Read-backs (row 0 at the top). The stimulus is in cd/m2; the display image holds drive values
+  // (from the quantising target when the last encode had one, so exactly its code values / max).
   ImageRGBA read_stimulus() const;
   ImageRGBA read_display() const;
   // Overwrites the stimulus framebuffer with an image of the same size (row 0 at the top, cd/m2):
