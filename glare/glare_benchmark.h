@@ -49,6 +49,9 @@ struct GlareBenchmarkRow {
   double psf_s = 0.0;          // FFT + |F|^2 + normalisation, without the aperture
   double spectral_s = 0.0;     // chromatic blur from the reference PSF
   double convolution_s = 0.0;  // N x 3N/4 RGB frame with the spectral PSF at N/4 display pixels
+  // gl only: the convolution's GPU time alone (timestamp queries from the image's upload to the
+  // result's read-back), without the host's checks and bright-pixel split that convolution_s adds.
+  double convolution_gpu_s = 0.0;
   double psf_error = 0.0;          // vs CPU double, same N (0 for CPU double itself)
   double spectral_error = 0.0;     // vs CPU double, same N
   double frame_error = 0.0;        // convolved frame vs CPU double pipeline, same N
@@ -83,6 +86,10 @@ GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options);
 
 // A Markdown table, one row per grid and backend, times in ms, errors in scientific notation.
 std::string format_glare_benchmark_table(const GlareBenchmarkResult& result);
+
+// A Markdown table of the GL frame per N (empty without gl rows): the PSF stages, the convolution's
+// GPU time and wall time, and the frame both ways, in ms to three significant digits.
+std::string format_gl_frame_table(const GlareBenchmarkResult& result);
 
 // A Markdown table of the whole frames against the FFTW floor, one row per N: times in ms, ratios.
 std::string format_glare_frame_table(const GlareBenchmarkResult& result);

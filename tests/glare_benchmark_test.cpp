@@ -78,6 +78,17 @@ TEST(GlareBenchmark, TinyGridsGiveOneRowPerBackendWithErrorsAndATable) {
     EXPECT_LT(row.frame_error, 1e-5);
     EXPECT_EQ(row.discretisation_error, result.rows[4 * k + 2].discretisation_error);
   }
+  // The GL frame: one row per grid; the convolution's GPU time is part of its wall time.
+  for (std::size_t k = 3; k < result.rows.size(); k += 4) {
+    EXPECT_GT(result.rows[k].convolution_gpu_s, 0.0);
+    EXPECT_LE(result.rows[k].convolution_gpu_s, result.rows[k].convolution_s);
+  }
+  const std::string gl_frames = format_gl_frame_table(result);
+  EXPECT_EQ(gl_frames.rfind("| N | aperture ms | FFT+PSF ms | spectral ms | convolution GPU ms", 0), 0u) << gl_frames;
+  EXPECT_EQ(std::count(gl_frames.begin(), gl_frames.end(), '\n'), 4) << gl_frames;  // header, rule, two grids
+  EXPECT_NE(gl_frames.find("\n| 64 | "), std::string::npos) << gl_frames;
+  EXPECT_TRUE(format_gl_frame_table(GlareBenchmarkResult{}).empty());
+
   const std::string frames = format_glare_frame_table(result);
   std::istringstream frame_lines(frames);
   std::vector<std::string> frame_rows;

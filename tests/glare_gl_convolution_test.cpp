@@ -195,6 +195,38 @@ TEST_F(GlConvolutionTest, SunBesideDimBackgroundStaysAccurateWhenSplit) {
   EXPECT_LE(relative_l2(split_result, expected), 1e-5);
 }
 
+// The GPU's pad pass leaves out the pixels the host summed directly, by a float comparison against
+// a double threshold: a pixel just above the threshold whose nearest float lies above it too must be
+// counted once (directly), and one just below it once (by FFT), never twice or not at all.
+TEST_F(GlConvolutionTest, PixelsBesideTheSplitThresholdAreCountedOnce) {
+  // A dynamic range whose threshold (x the median, 1) rounds up to the nearest float: rounding the
+  // threshold to nearest on the GPU would put the pixel at that float in both parts.
+  double range = 0.0;
+  for (int n = 1; n < 64 && range == 0.0; ++n) {
+    const double candidate = 1e4 + n / 3.0;
+    if (static_cast<double>(static_cast<float>(candidate)) > candidate) range = candidate;
+  }
+  ASSERT_GT(range, 0.0);
+  const float above = static_cast<float>(range);  // the float nearest the threshold, above it
+  const float below = std::nextafter(above, 0.0f);
+  ASSERT_LT(static_cast<double>(below), range);
+  ImageRGBA image(48, 40, 1.0f);
+  for (int c = 0; c < 3; ++c) {
+    image.pixel(10, 12)[c] = above;
+    image.pixel(30, 25)[c] = below;
+  }
+  const Psf psf = core_and_tail_psf(21);
+  gl::GlConvolution convolution;
+  gl::GlConvolutionReport report;
+  const ImageRGBA result = convolution.convolve(image, psf, {.split_dynamic_range = range}, &report);
+  EXPECT_TRUE(report.split) << report.describe();
+  EXPECT_EQ(report.bright_pixels, 1u) << report.describe();
+  // Counted twice or left out, the pixel at `above` would move the result by about its own
+  // value times the PSF, near 1 of the ~1e4 energy: a relative L2 far above float rounding.
+  EXPECT_LE(relative_l2(result, direct_convolution(image, psf)), 1e-5);
+  EXPECT_GT(report.gpu_s, 0.0) << "the GPU's time is measured";
+}
+
 TEST_F(GlConvolutionTest, RefusesBadInput) {
   gl::GlConvolution convolution;
   const Psf psf = random_psf(5, 1, 1);

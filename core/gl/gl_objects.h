@@ -43,6 +43,7 @@ inline void delete_framebuffer(GLuint name) { glDeleteFramebuffers(1, &name); }
 inline void delete_vertex_array(GLuint name) { glDeleteVertexArrays(1, &name); }
 inline void delete_program(GLuint name) { glDeleteProgram(name); }
 inline void delete_shader(GLuint name) { glDeleteShader(name); }
+inline void delete_query(GLuint name) { glDeleteQueries(1, &name); }
 }  // namespace detail
 
 using Texture = Name<detail::delete_texture>;
@@ -51,6 +52,7 @@ using Framebuffer = Name<detail::delete_framebuffer>;
 using VertexArray = Name<detail::delete_vertex_array>;
 using Program = Name<detail::delete_program>;
 using Shader = Name<detail::delete_shader>;
+using Query = Name<detail::delete_query>;
 
 inline Texture create_texture(GLenum target) {
   GLuint name = 0;
@@ -66,6 +68,11 @@ inline Framebuffer create_framebuffer() {
   GLuint name = 0;
   glCreateFramebuffers(1, &name);
   return Framebuffer(name);
+}
+inline Query create_query(GLenum target) {
+  GLuint name = 0;
+  glCreateQueries(target, 1, &name);
+  return Query(name);
 }
 inline VertexArray create_vertex_array() {
   GLuint name = 0;

@@ -1,7 +1,9 @@
 #include "glare/gl/gl_convolution.h"
 
 #include <algorithm>
+#include <cmath>
 #include <complex>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -17,6 +19,7 @@ constexpr GLuint kMultiplyGroup = 256;
 // (from a 512 x 256 padded frame on, so the convolution tests run the loop).
 constexpr GLuint kMaxMultiplyGroups = 1024;
 constexpr GLuint kTile = 8;
+constexpr GLuint kPadTile = 16;  // convolution_pad_*.comp, convolution_crop.comp
 
 void validate(const ImageRGBA& image, const Psf& psf) {
   if (image.empty()) throw std::invalid_argument("GL convolution: the image is empty");
@@ -30,6 +33,13 @@ void validate(const ImageRGBA& image, const Psf& psf) {
 }
 
 float max_channel(const float* p) { return std::max({p[0], p[1], p[2]}); }
+
+// The largest float at or below `value`: for a float v, v > value exactly when v > this.
+float float_at_or_below(double value) {
+  float rounded = static_cast<float>(value);
+  if (static_cast<double>(rounded) > value) rounded = std::nextafter(rounded, -std::numeric_limits<float>::infinity());
+  return rounded;
+}
 
 }  // namespace
 
@@ -59,6 +69,13 @@ struct GlConvolution::Ffts {
 GlConvolution::GlConvolution()
     : multiply_program_(build_program({"glare/shaders/complex_multiply.comp"})),
       splat_program_(build_program({"glare/shaders/bright_splat.comp"})),
+      pad_image_program_(build_program({"glare/shaders/convolution_pad_image.comp"})),
+      pad_kernel_program_(build_program({"glare/shaders/convolution_pad_kernel.comp"})),
+      crop_program_(build_program({"glare/shaders/convolution_crop.comp"})),
+      image_(create_buffer()),
+      result_(create_buffer()),
+      gpu_start_(create_query(GL_TIMESTAMP)),
+      gpu_end_(create_query(GL_TIMESTAMP)),
       bright_(create_buffer()),
       bright_values_(create_buffer()),
       kernel_(create_buffer()) {}
@@ -82,15 +99,15 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   }
   const std::size_t layer = static_cast<std::size_t>(padded_width) * padded_height;
 
-  // Split into bright (summed directly) and dim (by FFT) parts.
+  // Split into bright (summed directly) and dim (by FFT) parts. The threshold is found here (the
+  // median); the pad pass on the GPU leaves the bright pixels out by the same comparison.
   GlConvolutionReport local_report;
   local_report.padded_width_px = padded_width;
   local_report.padded_height_px = padded_height;
   std::vector<float> bright_positions, bright_values;
-  std::vector<char> is_bright(static_cast<std::size_t>(width) * height, 0);
   if (options.split_bright) {
     std::vector<float> maxima;
-    maxima.reserve(is_bright.size());
+    maxima.reserve(static_cast<std::size_t>(width) * height);
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) maxima.push_back(max_channel(image.pixel(x, y)));
     std::nth_element(maxima.begin(), maxima.begin() + static_cast<std::ptrdiff_t>(maxima.size() / 2), maxima.end());
@@ -101,37 +118,51 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
         const float* p = image.pixel(x, y);
         if (max_channel(p) > local_report.bright_threshold) {
           ++local_report.bright_pixels;
-          is_bright[static_cast<std::size_t>(y) * width + x] = 1;
           bright_positions.insert(bright_positions.end(), {static_cast<float>(x), static_cast<float>(y), 0.0f, 0.0f});
           bright_values.insert(bright_values.end(), {p[0], p[1], p[2], 0.0f});
         }
       }
     local_report.split = local_report.bright_pixels > 0 && local_report.bright_pixels <= options.max_direct_bright_pixels;
-    if (!local_report.split) std::fill(is_bright.begin(), is_bright.end(), 0);
   }
+  const float pad_threshold =
+      local_report.split ? float_at_or_below(local_report.bright_threshold) : std::numeric_limits<float>::max();
 
-  std::vector<std::complex<float>> padded(3 * layer);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      if (is_bright[static_cast<std::size_t>(y) * width + x]) continue;
-      const float* p = image.pixel(x, y);
-      for (int c = 0; c < 3; ++c) padded[c * layer + static_cast<std::size_t>(y) * padded_width + x] = p[c];
-    }
-  ffts_->image.upload(padded);
+  glQueryCounter(gpu_start_.get(), GL_TIMESTAMP);
+  glNamedBufferData(image_.get(), static_cast<GLsizeiptr>(image.rgba.size() * sizeof(float)), image.rgba.data(),
+                    GL_DYNAMIC_DRAW);
+  const GLuint groups_x = (static_cast<GLuint>(padded_width) + kPadTile - 1) / kPadTile;
+  const GLuint groups_y = (static_cast<GLuint>(padded_height) + kPadTile - 1) / kPadTile;
+  const GLuint pad_image = pad_image_program_.get();
+  glUseProgram(pad_image);
+  glUniform1i(glGetUniformLocation(pad_image, "uWidth"), width);
+  glUniform1i(glGetUniformLocation(pad_image, "uHeight"), height);
+  glUniform1i(glGetUniformLocation(pad_image, "uPaddedWidth"), padded_width);
+  glUniform1i(glGetUniformLocation(pad_image, "uPaddedHeight"), padded_height);
+  glUniform1f(glGetUniformLocation(pad_image, "uBrightThreshold"), pad_threshold);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
+  glDispatchCompute(groups_x, groups_y, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-  // PSF centre (k/2, k/2) at index (0, 0), wrapping: circular convolution equals linear
-  // convolution on the image window because the padding is at least k - 1. The PSF's spectrum is
-  // kept while the same PSF comes again on the same padded grid (static glare, successive frames).
+  // The PSF's spectrum is kept while the same PSF comes again on the same padded grid (static
+  // glare, successive frames).
   const bool kernel_cached = kernel_ready_ && cached_psf_size_ == k && cached_psf_values_ == psf.values;
+  if (!kernel_cached || local_report.split) {
+    const std::vector<float> psf_values(psf.values.begin(), psf.values.end());
+    glNamedBufferData(kernel_.get(), static_cast<GLsizeiptr>(psf_values.size() * sizeof(float)), psf_values.data(),
+                      GL_DYNAMIC_DRAW);
+  }
   if (!kernel_cached) {
-    std::vector<std::complex<float>> kernel(static_cast<std::size_t>(psf.channels) * layer);
-    for (int c = 0; c < psf.channels; ++c)
-      for (int v = 0; v < k; ++v)
-        for (int u = 0; u < k; ++u) {
-          const int x = (u - k / 2 + padded_width) % padded_width, y = (v - k / 2 + padded_height) % padded_height;
-          kernel[c * layer + static_cast<std::size_t>(y) * padded_width + x] = static_cast<float>(psf.at(c, u, v));
-        }
-    ffts_->kernel.upload(kernel);
+    const GLuint pad_kernel = pad_kernel_program_.get();
+    glUseProgram(pad_kernel);
+    glUniform1i(glGetUniformLocation(pad_kernel, "uPaddedWidth"), padded_width);
+    glUniform1i(glGetUniformLocation(pad_kernel, "uPaddedHeight"), padded_height);
+    glUniform1i(glGetUniformLocation(pad_kernel, "uKernelSize"), k);
+    glUniform1i(glGetUniformLocation(pad_kernel, "uKernelLayers"), psf.channels);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->kernel.data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, kernel_.get());
+    glDispatchCompute(groups_x, groups_y, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     ffts_->kernel.transform(FftDirection::forward);
     cached_psf_size_ = k;
     cached_psf_values_ = psf.values;
@@ -152,13 +183,10 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   ffts_->image.transform(FftDirection::inverse);
 
   if (local_report.split) {
-    std::vector<float> psf_values(psf.values.begin(), psf.values.end());
     glNamedBufferData(bright_.get(), static_cast<GLsizeiptr>(bright_positions.size() * sizeof(float)),
                       bright_positions.data(), GL_DYNAMIC_DRAW);
     glNamedBufferData(bright_values_.get(), static_cast<GLsizeiptr>(bright_values.size() * sizeof(float)),
                       bright_values.data(), GL_DYNAMIC_DRAW);
-    glNamedBufferData(kernel_.get(), static_cast<GLsizeiptr>(psf_values.size() * sizeof(float)), psf_values.data(),
-                      GL_DYNAMIC_DRAW);
     const GLuint splat = splat_program_.get();
     glUseProgram(splat);
     glUniform1i(glGetUniformLocation(splat, "uWidth"), width);
@@ -175,17 +203,28 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     glDispatchCompute((static_cast<GLuint>(width) + kTile - 1) / kTile, (static_cast<GLuint>(height) + kTile - 1) / kTile, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
-  glUseProgram(0);
-  check_gl_error("GL convolution");
 
-  const std::vector<std::complex<float>> result = ffts_->image.download();
+  glNamedBufferData(result_.get(), static_cast<GLsizeiptr>(image.rgba.size() * sizeof(float)), nullptr, GL_DYNAMIC_READ);
+  const GLuint crop = crop_program_.get();
+  glUseProgram(crop);
+  glUniform1i(glGetUniformLocation(crop, "uWidth"), width);
+  glUniform1i(glGetUniformLocation(crop, "uHeight"), height);
+  glUniform1i(glGetUniformLocation(crop, "uPaddedWidth"), padded_width);
+  glUniform1i(glGetUniformLocation(crop, "uPaddedHeight"), padded_height);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, result_.get());
+  glDispatchCompute((static_cast<GLuint>(width) + kPadTile - 1) / kPadTile, (static_cast<GLuint>(height) + kPadTile - 1) / kPadTile, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glUseProgram(0);
   ImageRGBA output(width, height);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      float* p = output.pixel(x, y);
-      for (int c = 0; c < 3; ++c) p[c] = result[c * layer + static_cast<std::size_t>(y) * padded_width + x].real();
-      p[3] = image.pixel(x, y)[3];
-    }
+  glGetNamedBufferSubData(result_.get(), 0, static_cast<GLsizeiptr>(output.rgba.size() * sizeof(float)), output.rgba.data());
+  glQueryCounter(gpu_end_.get(), GL_TIMESTAMP);
+  check_gl_error("GL convolution");
+  GLuint64 start_ns = 0, end_ns = 0;
+  glGetQueryObjectui64v(gpu_start_.get(), GL_QUERY_RESULT, &start_ns);
+  glGetQueryObjectui64v(gpu_end_.get(), GL_QUERY_RESULT, &end_ns);
+  local_report.gpu_s = end_ns > start_ns ? 1e-9 * static_cast<double>(end_ns - start_ns) : 0.0;
   if (report != nullptr) *report = local_report;
   return output;
 }

@@ -2,7 +2,10 @@
 // Convolution of an HDR image (stimuli/image.h, R, G, B) with a PSF (glare/psf.h) on the GPU by FFT
 // (Ritschel et al. 2009, section 5): both zero-padded to powers of two at least image + PSF - 1 in
 // each direction, so nothing wraps around an edge and any image size works; pointwise complex
-// product; inverse FFT; the image-sized window read back. Alpha is passed through.
+// product; inverse FFT; the image-sized window read back. Alpha is passed through. The padding and
+// the window are made on the GPU (convolution_pad_image.comp, convolution_pad_kernel.comp,
+// convolution_crop.comp): only the image and the PSF go to the GPU and only the result comes back,
+// not the padded complex layers (6 x 8 bytes per padded pixel each way).
 //
 // Dynamic range: the float32 FFT spreads rounding noise of about 1e-7 of the brightest pixel's
 // energy over the whole frame, which swamps a 1e-2 cd/m2 surround next to a 1e8 cd/m2 source. So
@@ -33,6 +36,9 @@ struct GlConvolutionReport {
   std::size_t bright_pixels = 0;
   double bright_threshold = 0.0;  // in the image's units (cd/m2 for a calibrated image)
   bool psf_spectrum_reused = false;  // the same PSF as the previous call: its FFT was not redone
+  // The GPU's time from the image's upload to the result's read-back (GL timestamp queries): the
+  // convolution without the host's checks and split, which the call's wall time adds.
+  double gpu_s = 0.0;
   std::string describe() const;
 };
 
@@ -54,7 +60,9 @@ class GlConvolution {
  private:
   struct Ffts;
   std::unique_ptr<Ffts> ffts_;  // reused while the padded size and PSF channel count stay the same
-  Program multiply_program_, splat_program_;
+  Program multiply_program_, splat_program_, pad_image_program_, pad_kernel_program_, crop_program_;
+  Buffer image_, result_;  // the image in and the convolved image out, RGBA, width x height
+  Query gpu_start_, gpu_end_;
   Buffer bright_, bright_values_, kernel_;
   bool kernel_ready_ = false;  // ffts_->kernel holds the spectrum of the PSF below
   int cached_psf_size_ = 0;

@@ -26,6 +26,9 @@ struct SessionMemoryRow {
   int scene_px = 0;   // side of each square scene
   // The child's peak resident set size as its parent sees it (wait4's ru_maxrss, KiB) and as the
   // child read it from /proc/self/status (VmHWM, KiB) after its trial, just before exiting.
+  // ru_maxrss is the larger of the two when the parent had grown first: Linux's exec records the
+  // high-water mark of the address space it replaces, and posix_spawn's child shares the parent's
+  // until exec (CLONE_VM), so the rows are measured from a process that has not grown yet.
   long peak_rss_kib = 0;
   long vm_hwm_kib = 0;
   long frames_shown = 0;  // stimulus frames the child's trial flipped

@@ -23,6 +23,7 @@ namespace {
 struct BenchArguments {
   bool quick = false;
   bool no_gl = false;
+  std::vector<int> grids;  // empty: 256, 512, 1024 (and 2048 without --quick)
   int repeats = 0;  // 0: 1 with --quick, else 3
   int frames = 0;   // 0: 5 with --quick, else 10
   bool analytic_only = false;
@@ -90,16 +91,33 @@ void print_analytic_rows(const BenchArguments& args) {
 }
 
 // A session's peak resident size at display size, control and dynamic glare, each in a child
-// process (runner/cli/bench_memory.h).
-void print_memory_rows(const BenchArguments& args) {
+// process (runner/cli/bench_memory.h). Measured before anything else the command does: the child's
+// ru_maxrss starts from this process's high-water mark (bench_memory.h says why), so this process
+// must not have grown yet.
+struct MemoryRows {
   SessionMemoryOptions options;
-  options.width_px = args.memory_size[0];
-  options.height_px = args.memory_size[1];
-  options.stimulus_frames = args.memory_frames;
-  std::cerr << "memory: one trial of a " << options.width_px << " x " << options.height_px
+  std::vector<SessionMemoryRow> rows;
+  std::string load_average;
+};
+
+MemoryRows measure_memory_rows(const BenchArguments& args) {
+  MemoryRows measured;
+  measured.options.width_px = args.memory_size[0];
+  measured.options.height_px = args.memory_size[1];
+  measured.options.stimulus_frames = args.memory_frames;
+  std::cerr << "memory: one trial of a " << measured.options.width_px << " x " << measured.options.height_px
             << " session, control and dynamic glare, each in a child process" << std::endl;
-  std::cout << format_session_memory(options, measure_session_memory(options));
-  print_load_average("the memory rows");
+  measured.rows = measure_session_memory(measured.options);
+  std::ifstream loadavg("/proc/loadavg");
+  if (std::string one, five, fifteen; loadavg >> one >> five >> fifteen)
+    measured.load_average = one + ", " + five + ", " + fifteen;
+  return measured;
+}
+
+void print_memory_rows(const MemoryRows& measured) {
+  std::cout << format_session_memory(measured.options, measured.rows);
+  if (!measured.load_average.empty())
+    std::cout << "Load average (1, 5, 15 min) at the end of the memory rows: " << measured.load_average << ".\n";
 }
 
 }  // namespace
@@ -110,6 +128,10 @@ Action add_bench_command(CLI::App& app) {
       "bench", "Time the glare stages on the CPU and GL backends beside their errors (a speed-against-error table)");
   command->add_flag("--quick", args->quick, "Grids 256, 512, 1024 and one run per stage (default adds 2048, best of 3)");
   command->add_flag("--no-gl", args->no_gl, "CPU backends only");
+  command->add_option("--grids", args->grids,
+                      "Grid sizes N of the glare rows, in aperture pixels (even; powers of two 16..4096 with GL), "
+                      "replacing the default 256 512 1024 (2048)")
+      ->check(CLI::Range(16, 4096));
   command->add_option("--repeats", args->repeats, "Runs per stage, the fastest kept (default 1 with --quick, else 3)")
       ->check(CLI::Range(1, 100));
   command->add_option("--frames", args->frames,
@@ -148,7 +170,7 @@ Action add_bench_command(CLI::App& app) {
         throw ConfigError({"--analytic-only", 0, 0}, "analytic-only",
                           "--analytic-only, --perception-only, --depth-of-field-only and --memory-only exclude each other");
       if (args->memory_only) {
-        print_memory_rows(*args);
+        print_memory_rows(measure_memory_rows(*args));
         return 0;
       }
       if (args->analytic_only) {
@@ -163,8 +185,11 @@ Action add_bench_command(CLI::App& app) {
         print_depth_of_field_rows(*args);
         return 0;
       }
+      const MemoryRows memory = measure_memory_rows(*args);
       GlareBenchmarkOptions options;
-      options.grid_sizes = args->quick ? std::vector<int>{256, 512, 1024} : std::vector<int>{256, 512, 1024, 2048};
+      options.grid_sizes = !args->grids.empty() ? args->grids
+                           : args->quick   ? std::vector<int>{256, 512, 1024}
+                                           : std::vector<int>{256, 512, 1024, 2048};
       options.repeats = args->repeats > 0 ? args->repeats : (args->quick ? 1 : 3);
       options.frames = args->frames > 0 ? args->frames : (args->quick ? 5 : 10);
       if (!args->no_gl) options.gl_context = gl::compute_context_factory();
@@ -184,6 +209,11 @@ Action add_bench_command(CLI::App& app) {
       std::cout << "Errors are relative L2: against the CPU double path at the same N, and the monochromatic PSF "
                    "against the CPU double PSF of the 2N grid (central N x N).\n\n"
                 << format_glare_benchmark_table(result);
+      if (const std::string gl_frames = format_gl_frame_table(result); !gl_frames.empty())
+        std::cout << "\nGL frame: the PSF stages' wall times (each ended by glFinish), the convolution's GPU time alone "
+                     "(timestamp queries from the image's upload to the result's read-back) beside its wall time (with "
+                     "the host's pixel checks and bright-pixel split), and the frame both ways.\n\n"
+                  << gl_frames;
       std::cout << "\nWhole dynamic frame of the planned cpu float32 path (aperture, PSF, spectral PSF at the display "
                    "scale, RGB convolution of the N x 3N/4 frame; each frame at a new eye time, the fastest kept) "
                    "against the FFTW floor (FFTW float, plans made once, the same threads: one N x N complex FFT and "
@@ -200,7 +230,7 @@ Action add_bench_command(CLI::App& app) {
       std::cout << "\n";
       print_depth_of_field_rows(*args);
       std::cout << "\n";
-      print_memory_rows(*args);
+      print_memory_rows(memory);
       return 0;
     });
   };
