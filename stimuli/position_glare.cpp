@@ -41,18 +41,29 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
   }
   // The background part (what no layer holds: exactly zero inside a placement, which replaces the
   // background there; the background luminance elsewhere) plus every layer's glare, in one pass:
-  // per value composed - layer_1 - ... - layer_n + glared_1 + ... + glared_n, in that order.
-  ImageRGBA result = composed_cd_m2;
+  // per value composed - layer_1 - ... - layer_n + glared_1 + ... + glared_n, in that order. A
+  // control layer's glare is the layer itself, so its two terms cancel and are left out (exactly:
+  // where it is not zero the composed frame holds the same value and no other layer is drawn).
+  std::vector<std::size_t> glaring;
+  for (std::size_t l = 0; l < layers.size(); ++l)
+    if (layers[l].mode != GlareMode::control) glaring.push_back(l);
+  if (glaring.empty()) return composed_cd_m2;
+  // The result goes into the first glared layer's buffer (frame-sized, ours): one frame-sized
+  // allocation and copy fewer per frame. Each value is read before it is written.
+  ImageRGBA result = std::move(glared[glaring.front()]);
+  glared_of[glaring.front()] = &result;
   const auto pixels = static_cast<int>(result.rgba.size() / 4);
   parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
-    for (int p = first; p < last; ++p)
-      for (int c = 0; c < 3; ++c) {
-        const std::size_t i = 4 * static_cast<std::size_t>(p) + static_cast<std::size_t>(c);
-        float value = result.rgba[i];
-        for (const GlareLayer& layer : layers) value -= layer.image_cd_m2.rgba[i];
-        for (const ImageRGBA* image : glared_of) value += image->rgba[i];
+    for (int p = first; p < last; ++p) {
+      const std::size_t pixel = 4 * static_cast<std::size_t>(p);
+      for (std::size_t i = pixel; i < pixel + 3; ++i) {
+        float value = composed_cd_m2.rgba[i];
+        for (const std::size_t l : glaring) value -= layers[l].image_cd_m2.rgba[i];
+        for (const std::size_t l : glaring) value += glared_of[l]->rgba[i];
         result.rgba[i] = value;
       }
+      result.rgba[pixel + 3] = composed_cd_m2.rgba[pixel + 3];  // alpha: the composed frame's
+    }
   });
   return result;
 }

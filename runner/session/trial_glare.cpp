@@ -252,8 +252,11 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
   std::vector<GlareFrameReport> reports;
   // The glare of this frame, on the eye adapted to `field` (nothing: the frame's mean luminance).
   const auto glare_of = [&](const ImageRGBA& scene_cd_m2, std::optional<double> field_cd_m2) {
-    if (!glare.layers.empty())
+    if (!glare.layers.empty()) {
+      // The interval's seen frame: its mean luminance is the one computed once for the interval.
+      if (!field_cd_m2 && &scene_cd_m2 == &glare.seen_cd_m2()) field_cd_m2 = glare.field_cd_m2;
       return apply_layered_glare(glare_, scene_cd_m2, glare.layers, time_s, glare.gaze, &reports, field_cd_m2);
+    }
     GlareFrameReport report;
     ImageRGBA glared = glare_.apply(scene_cd_m2, glare.mode, time_s, &report, glare.gaze,
                                     field_cd_m2.value_or(glare.field_cd_m2));
