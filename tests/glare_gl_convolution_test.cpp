@@ -227,6 +227,28 @@ TEST_F(GlConvolutionTest, PixelsBesideTheSplitThresholdAreCountedOnce) {
   EXPECT_GT(report.gpu_s, 0.0) << "the GPU's time is measured";
 }
 
+// The direct sum runs only over the bright pixels' box grown by the PSF's reach, which is not the
+// same on both sides for an even PSF size: a random (asymmetric) 20 px PSF and two bright pixels
+// inside the image check both sides against the direct double convolution. The grown box is 57 px
+// (2 to 58) each way, one more than 7 tiles of 8, so a box one pixel short on either side would
+// leave the last row and column of it out instead of hiding in the last tile.
+TEST_F(GlConvolutionTest, SplitSumReachesEveryPixelTheBrightPixelsLight) {
+  ImageRGBA image(72, 64, 1.0f);
+  for (int c = 0; c < 3; ++c) {
+    image.pixel(12, 12)[c] = 1e5f;
+    image.pixel(49, 49)[c] = 2e5f;
+  }
+  for (const int channels : {1, 3}) {
+    const Psf psf = random_psf(20, channels, 11);
+    gl::GlConvolution convolution;
+    gl::GlConvolutionReport report;
+    const ImageRGBA result = convolution.convolve(image, psf, {}, &report);
+    EXPECT_TRUE(report.split) << report.describe();
+    EXPECT_EQ(report.bright_pixels, 2u) << report.describe();
+    EXPECT_LE(relative_l2(result, direct_convolution(image, psf)), 1e-5) << channels << " PSF channel(s)";
+  }
+}
+
 TEST_F(GlConvolutionTest, RefusesBadInput) {
   gl::GlConvolution convolution;
   const Psf psf = random_psf(5, 1, 1);

@@ -196,11 +196,25 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     glUniform1i(glGetUniformLocation(splat, "uKernelSize"), k);
     glUniform1i(glGetUniformLocation(splat, "uKernelLayers"), psf.channels);
     glUniform1i(glGetUniformLocation(splat, "uBrightCount"), static_cast<GLint>(local_report.bright_pixels));
+    // Only pixels within the PSF's reach of a bright pixel receive anything: the bright pixels'
+    // bounding box grown by the reach: bright_splat.comp's offset pixel - bright + K/2 lies in
+    // [0, K), so K/2 on the low side and K - 1 - K/2 on the high side.
+    int bx0 = width, by0 = height, bx1 = -1, by1 = -1;
+    for (std::size_t b = 0; b < bright_positions.size(); b += 4) {
+      const int bx = static_cast<int>(bright_positions[b]), by = static_cast<int>(bright_positions[b + 1]);
+      bx0 = std::min(bx0, bx);
+      by0 = std::min(by0, by);
+      bx1 = std::max(bx1, bx);
+      by1 = std::max(by1, by);
+    }
+    const int x0 = std::max(0, bx0 - k / 2), y0 = std::max(0, by0 - k / 2);
+    const int x1 = std::min(width - 1, bx1 + (k - 1 - k / 2)), y1 = std::min(height - 1, by1 + (k - 1 - k / 2));
+    glUniform2i(glGetUniformLocation(splat, "uOrigin"), x0, y0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bright_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, bright_values_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, kernel_.get());
-    glDispatchCompute((static_cast<GLuint>(width) + kTile - 1) / kTile, (static_cast<GLuint>(height) + kTile - 1) / kTile, 1);
+    glDispatchCompute((static_cast<GLuint>(x1 - x0 + 1) + kTile - 1) / kTile, (static_cast<GLuint>(y1 - y0 + 1) + kTile - 1) / kTile, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
 

@@ -14,9 +14,10 @@ uniform int uLayerSize;
 uniform int uKernelSize;
 uniform int uKernelLayers;
 uniform int uBrightCount;
+uniform ivec2 uOrigin;  // the dispatch covers the bright pixels' box grown by the PSF's reach, from here
 
 void main() {
-  const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  const ivec2 pixel = uOrigin + ivec2(gl_GlobalInvocationID.xy);
   if (pixel.x >= uWidth || pixel.y >= uHeight) return;
   const int half_kernel = uKernelSize / 2;
   const int kernel_count = uKernelSize * uKernelSize;
