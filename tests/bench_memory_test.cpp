@@ -46,6 +46,22 @@ TEST(BenchMemory, RowsReportTheChildsPeakResidentSizeAsProcSeesIt) {
   EXPECT_NE(run.output.find(std::to_string(cli::memory_scene_px(small)) + " px square"), std::string::npos);
 }
 
+// --grids: the glare rows' grid sizes; a size the GL FFT cannot take is refused naming the flag,
+// before any session or transform runs.
+TEST(BenchGrids, RefusesSizesTheGlFftCannotTakeNamingTheFlag) {
+  const test::ScratchDir scratch;
+  for (const char* grid : {"48", "50"}) {
+    const test::RunOutput run = test::run_glarelab({"bench", "--grids", "256", grid}, scratch.path());
+    EXPECT_EQ(run.exit_code, 2) << run.output;
+    EXPECT_NE(run.output.find("--grids"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find(std::string("grid ") + grid), std::string::npos) << run.output;
+    EXPECT_EQ(run.output.find("memory:"), std::string::npos) << "refused before the memory rows: " << run.output;
+  }
+  const test::RunOutput odd = test::run_glarelab({"bench", "--grids", "33", "--no-gl"}, scratch.path());
+  EXPECT_EQ(odd.exit_code, 2) << odd.output;
+  EXPECT_NE(odd.output.find("odd"), std::string::npos) << odd.output;
+}
+
 TEST(BenchMemory, MemoryOnlyExcludesTheOtherSections) {
   const test::ScratchDir scratch;
   const test::RunOutput run = test::run_glarelab({"bench", "--memory-only", "--analytic-only"}, scratch.path());

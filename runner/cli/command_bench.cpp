@@ -9,6 +9,7 @@
 #include "glare/glare_backend.h"
 #include "glare/analytic_two_level_benchmark.h"
 #include "glare/glare_benchmark.h"
+#include "glare/gl/gl_fft.h"
 #include "core/errors.h"
 #include "stimuli/depth_of_field_benchmark.h"
 #include "stimuli/glare_model_benchmark.h"
@@ -185,6 +186,13 @@ Action add_bench_command(CLI::App& app) {
         print_depth_of_field_rows(*args);
         return 0;
       }
+      // Bad grids are refused before the memory rows' sessions run.
+      for (const int grid : args->grids)
+        if (grid % 2 != 0 || (!args->no_gl && !gl::is_supported_fft_length(grid)))
+          throw ConfigError({"--grids", 0, 0}, "grids",
+                            "grid " + std::to_string(grid) + " is " +
+                                (grid % 2 != 0 ? std::string("odd") : std::string("not a GL FFT size")) +
+                                ": even sizes 16 to 4096, powers of two unless --no-gl");
       const MemoryRows memory = measure_memory_rows(*args);
       GlareBenchmarkOptions options;
       options.grid_sizes = !args->grids.empty() ? args->grids
