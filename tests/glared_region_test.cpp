@@ -59,6 +59,25 @@ TEST(GlaredRegion, KeepsTheChangedRectangleExactOrAtHalfPrecision) {
   EXPECT_TRUE(changed_region(composed, composed, RegionPrecision::half_rgb).empty());
 }
 
+// Each region changed_region() makes has its own serial (a flip of the region the framebuffer
+// already holds only re-encodes it: SessionLoop::draw); a copy, with the same pixels, keeps it.
+TEST(GlaredRegion, EveryRegionMadeHasItsOwnSerialAndACopyKeepsIt) {
+  const ImageRGBA composed(8, 6, 1.0f);
+  ImageRGBA glared = composed;
+  glared.pixel(3, 2)[0] = 2.0f;
+  const GlaredRegion first = changed_region(composed, glared, RegionPrecision::exact);
+  const GlaredRegion again = changed_region(composed, glared, RegionPrecision::exact);
+  const GlaredRegion unchanged = changed_region(composed, composed, RegionPrecision::half_rgb);
+  EXPECT_NE(first.serial, 0u);
+  EXPECT_NE(again.serial, 0u);
+  EXPECT_NE(unchanged.serial, 0u);
+  EXPECT_NE(first.serial, again.serial) << "the same pixels made twice are two regions";
+  EXPECT_NE(again.serial, unchanged.serial);
+  const GlaredRegion copy = first;
+  EXPECT_EQ(copy.serial, first.serial);
+  EXPECT_EQ(GlaredRegion{}.serial, 0u) << "a region not made by changed_region is never taken as drawn";
+}
+
 TEST(GlaredRegion, A1080pTrialsFramesFitTheBoundAndTakeUnderFourTenthsOfFloat32) {
   // Worst case: glare changes every pixel of every frame (a stimulus filling the display).
   constexpr int kWidth = 1920, kHeight = 1080, kFrames = 30;

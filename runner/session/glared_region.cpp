@@ -3,6 +3,7 @@
 #include "runner/session/glared_region.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 
 #include "core/half_float.h"
@@ -21,7 +22,9 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
     while (std::memcmp(a + 4 * last, b + 4 * last, pixel_bytes) == 0) --last;
     x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
   }
+  static std::atomic<std::uint64_t> next_serial{1};
   GlaredRegion region;
+  region.serial = next_serial.fetch_add(1, std::memory_order_relaxed);
   if (x1 < 0) return region;
   region.x0_px = x0;
   region.y0_px = y0;

@@ -31,6 +31,10 @@ struct GlaredRegion {
   // (stimuli/frame_renderer.h); one of the two is filled, as `precision` asked.
   std::vector<float> exact_rgba;        // RegionPrecision::exact: 4 x width x height floats
   std::vector<std::uint16_t> half_rgb;  // RegionPrecision::half_rgb: 3 x width x height halves
+  // Unique to each region changed_region() makes (from 1; a copy keeps it): a flip of the region
+  // the stimulus framebuffer already holds only re-encodes it (SessionLoop::draw), as for static
+  // glare, whose interval shows one region at every flip.
+  std::uint64_t serial = 0;
 
   bool empty() const { return width_px == 0 || height_px == 0; }  // the glared frame equals the composed one
   std::size_t bytes() const { return exact_rgba.size() * sizeof(float) + half_rgb.size() * sizeof(std::uint16_t); }

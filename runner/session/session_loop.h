@@ -247,11 +247,13 @@ class SessionLoop {
   std::string save_frames_dir_;
   // Stereo: the eyes, left first (empty on a mono display, where glare_ and perception_ serve).
   std::vector<std::unique_ptr<StereoEye>> stereo_eyes_;
-  // What draw() last composed into the stimulus framebuffer (no glare over it), and the renderer's
-  // write count after it: a flip of the same frame only re-encodes.
+  // What draw() last composed into the stimulus framebuffer (scenes, the glared region's serial or
+  // 0 for none, overlays), and the renderer's write count after it: a flip of the same frame only
+  // re-encodes.
   struct DrawnFrame {
     std::uint64_t generation = 0;
     std::vector<Placement> placements, overlays;
+    std::uint64_t glared_serial = 0;
   };
   std::optional<DrawnFrame> drawn_;
 };

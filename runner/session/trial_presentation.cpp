@@ -48,11 +48,14 @@ bool same_placements(const std::vector<Placement>& a, const std::vector<Placemen
 void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredRegion* glared,
                        const std::vector<Placement>& overlays) {
   if (fast_forward_) return;
-  // A flip of the frame the stimulus framebuffer already holds (the same scenes and overlays, no
-  // glare drawn over them, nothing written to it since): only the display encoding is redone, as
-  // between the flips of a blank phase. The framebuffer's values are the same either way.
-  if (glared == nullptr && drawn_ && drawn_->generation == renderer_.stimulus_generation() &&
-      same_placements(drawn_->placements, placements) && same_placements(drawn_->overlays, overlays)) {
+  // A flip of the frame the stimulus framebuffer already holds (the same scenes, glared region and
+  // overlays, nothing written to it since): only the display encoding is redone, as between the
+  // flips of a blank phase. The framebuffer's values are the same either way. A static glare
+  // interval shows one region at every flip; a dynamic one a new region each flip.
+  const std::uint64_t glared_serial = glared != nullptr ? glared->serial : 0;
+  if ((glared == nullptr || glared_serial != 0) && drawn_ && drawn_->generation == renderer_.stimulus_generation() &&
+      drawn_->glared_serial == glared_serial && same_placements(drawn_->placements, placements) &&
+      same_placements(drawn_->overlays, overlays)) {
     renderer_.encode_to_display(prepared_.experiment.display);
     return;
   }
@@ -65,7 +68,8 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
     renderer_.replace_stimulus_region_bottom_up(glared->exact_rgba, glared->x0_px, glared->y0_px, glared->width_px,
                                                 glared->height_px);
   if (!overlays.empty()) renderer_.compose_overlay(stereo_eyes_.empty() ? overlays : stereo_overlays(overlays));
-  if (glared == nullptr) drawn_ = DrawnFrame{renderer_.stimulus_generation(), placements, overlays};
+  if (glared == nullptr || glared_serial != 0)
+    drawn_ = DrawnFrame{renderer_.stimulus_generation(), placements, overlays, glared_serial};
   renderer_.encode_to_display(prepared_.experiment.display);
 }
 
