@@ -110,6 +110,34 @@ TEST_P(HeadlessBackend, TwoContextsTakeTurns) {
   check_backend_renders_pattern(*first);
 }
 
+// An offscreen display keeps the frame drawn into it across presents, which a session relies on to
+// skip encoding an unchanged stimulus again (SessionLoop::encode): the encoded frame read back after
+// more presents, and after drawing the stimulus framebuffer anew, is the one encoded first.
+TEST_P(HeadlessBackend, KeepsThePresentedFrameAcrossPresents) {
+  DisplayRequest request;
+  request.width_px = 48;
+  request.height_px = 32;
+  auto display = create_display(GetParam(), request);
+  EXPECT_TRUE(display->keeps_presented_frame());
+  FrameRenderer renderer(request.width_px, request.height_px);
+  const ImageRGBA pattern = position_pattern(24, 16);
+  const SceneTexture scene = renderer.upload(pattern);
+  renderer.compose({{&scene, 0.5, {8, 6, 24, 16}, {0, 0, request.width_px, request.height_px}}}, 0.25);
+  DisplaySpec spec;
+  spec.peak_luminance_cd_m2 = 100.0;
+  renderer.encode_to_display(spec);
+  display->present();
+  const ImageRGBA first = renderer.read_display();
+  display->present();
+  display->present();
+  EXPECT_EQ(renderer.read_display().rgba, first.rgba) << "presents alone change nothing";
+  renderer.compose({}, 50.0);  // the stimulus framebuffer drawn anew, the display's not encoded
+  display->present();
+  EXPECT_EQ(renderer.read_display().rgba, first.rgba) << "only an encode writes the display's framebuffer";
+  renderer.encode_to_display(spec);
+  EXPECT_NE(renderer.read_display().rgba, first.rgba) << "the check can fail: a new encode shows";
+}
+
 INSTANTIATE_TEST_SUITE_P(Display, HeadlessBackend, ::testing::Values("egl", "osmesa", "offscreen"));
 
 // The session re-encodes a flip of an unchanged frame without composing it again when the

@@ -54,6 +54,10 @@ class DisplayBackend : public GlContext {
   virtual bool real_time() const = 0;
   // Presents the default framebuffer: a vsync'd buffer swap for a window, glFinish offscreen.
   virtual void present() = 0;
+  // True when the default framebuffer still holds what was drawn into it after present() (an
+  // offscreen buffer; a window's back buffer is undefined after a swap): a frame drawn there once
+  // need not be drawn again for the next flip.
+  virtual bool keeps_presented_frame() const { return false; }
   // Keys pressed and wheel clicks since the last call, in order (window); none offscreen.
   virtual std::vector<InputEvent> poll_input() = 0;
   // The keys of poll_input(); wheel clicks are dropped (the wheel only adjusts, it never answers).

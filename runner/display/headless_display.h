@@ -18,6 +18,7 @@ class HeadlessDisplay : public DisplayBackend {
   double refresh_hz() const override { return refresh_hz_; }
   bool real_time() const override { return false; }
   void present() override;
+  bool keeps_presented_frame() const override { return true; }
   std::vector<InputEvent> poll_input() override { return {}; }
   bool close_requested() const override { return false; }
 

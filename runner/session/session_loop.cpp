@@ -43,7 +43,7 @@ bool SessionLoop::calibrate_pupil() {
     const double phase_start_s = clock_.now_s();
     while (clock_.now_s() - phase_start_s < tracker_.calibration_screen_s()) {
       renderer_.compose({}, luminance_cd_m2);
-      renderer_.encode_to_display(prepared_.experiment.display);
+      encode();
       display_.present();
       after_flip(clock_.on_flip());
       check_interrupt();

@@ -99,9 +99,9 @@ class SessionLoop {
   void present() {
     if (!fast_forward_) display_.present();
   }
-  void reencode() {
-    if (!fast_forward_) renderer_.encode_to_display(prepared_.experiment.display);
-  }
+  // Encodes the stimulus framebuffer into the display's (runner/session/trial_presentation.cpp).
+  void encode();
+  void reencode() { encode(); }
   // Stimulus flips keep their frame index; every other flip of the trial is numbered -1, -2, ...
   void record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped,
                    std::optional<double> gaze_age_s = std::nullopt);
@@ -256,6 +256,9 @@ class SessionLoop {
     std::uint64_t glared_serial = 0;
   };
   std::optional<DrawnFrame> drawn_;
+  // The renderer's write count when encode() last drew the display's framebuffer: a display that
+  // keeps its presented frame already shows that encoding.
+  std::optional<std::uint64_t> encoded_generation_;
 };
 
 }  // namespace glarelab

@@ -49,14 +49,14 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
                        const std::vector<Placement>& overlays) {
   if (fast_forward_) return;
   // A flip of the frame the stimulus framebuffer already holds (the same scenes, glared region and
-  // overlays, nothing written to it since): only the display encoding is redone, as between the
-  // flips of a blank phase. The framebuffer's values are the same either way. A static glare
+  // overlays, nothing written to it since): only the display encoding is redone (encode(): not
+  // even that where the display keeps its presented frame), as between the flips of a blank phase. The framebuffer's values are the same either way. A static glare
   // interval shows one region at every flip; a dynamic one a new region each flip.
   const std::uint64_t glared_serial = glared != nullptr ? glared->serial : 0;
   if ((glared == nullptr || glared_serial != 0) && drawn_ && drawn_->generation == renderer_.stimulus_generation() &&
       drawn_->glared_serial == glared_serial && same_placements(drawn_->placements, placements) &&
       same_placements(drawn_->overlays, overlays)) {
-    renderer_.encode_to_display(prepared_.experiment.display);
+    encode();
     return;
   }
   drawn_.reset();
@@ -70,7 +70,17 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   if (!overlays.empty()) renderer_.compose_overlay(stereo_eyes_.empty() ? overlays : stereo_overlays(overlays));
   if (glared == nullptr || glared_serial != 0)
     drawn_ = DrawnFrame{renderer_.stimulus_generation(), placements, overlays, glared_serial};
+  encode();
+}
+
+void SessionLoop::encode() {
+  if (fast_forward_) return;
+  // Only this function writes the display's framebuffer during a session, and the encoding is a
+  // function of the stimulus framebuffer (and the session's fixed display settings): an
+  // offscreen buffer that still holds the encoding of the same stimulus needs no new one.
+  if (display_.keeps_presented_frame() && encoded_generation_ == renderer_.stimulus_generation()) return;
   renderer_.encode_to_display(prepared_.experiment.display);
+  encoded_generation_ = renderer_.stimulus_generation();
 }
 
 TrialPlan SessionLoop::interval_plan(const TrialPlan& plan, int interval) const {
