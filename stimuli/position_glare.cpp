@@ -17,15 +17,15 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
                                   std::to_string(layer.image_cd_m2.height_px) + " px for a frame of " +
                                   std::to_string(composed_cd_m2.width_px) + "x" +
                                   std::to_string(composed_cd_m2.height_px) + " px");
-  // Each layer's glare (a control layer: the layer itself, not copied).
+  // Each glaring layer's glare. A control layer's glare is the layer itself, so its two terms in
+  // the sum below cancel and are left out (exactly: where it is not zero the composed frame holds
+  // the same value and no other layer is drawn).
+  std::vector<std::size_t> glaring;
   std::vector<ImageRGBA> glared(layers.size());
-  std::vector<const ImageRGBA*> glared_of(layers.size());
   for (std::size_t l = 0; l < layers.size(); ++l) {
     const GlareLayer& layer = layers[l];
-    if (layer.mode == GlareMode::control) {
-      glared_of[l] = &layer.image_cd_m2;
-      continue;
-    }
+    if (layer.mode == GlareMode::control) continue;
+    glaring.push_back(l);
     GlareFrameReport report;
     glared[l] = stage.apply(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2);
     if (layer.keep_peak) {
@@ -37,21 +37,14 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
       }
     }
     if (reports != nullptr) reports->push_back(report);
-    glared_of[l] = &glared[l];
   }
-  // The background part (what no layer holds: exactly zero inside a placement, which replaces the
-  // background there; the background luminance elsewhere) plus every layer's glare, in one pass:
-  // per value composed - layer_1 - ... - layer_n + glared_1 + ... + glared_n, in that order. A
-  // control layer's glare is the layer itself, so its two terms cancel and are left out (exactly:
-  // where it is not zero the composed frame holds the same value and no other layer is drawn).
-  std::vector<std::size_t> glaring;
-  for (std::size_t l = 0; l < layers.size(); ++l)
-    if (layers[l].mode != GlareMode::control) glaring.push_back(l);
   if (glaring.empty()) return composed_cd_m2;
+  // The background part (what no layer holds: exactly zero inside a placement, which replaces the
+  // background there; the background luminance elsewhere) plus every glaring layer's glare, in one
+  // pass: per value composed - layer_1 - ... - layer_n + glared_1 + ... + glared_n, in that order.
   // The result goes into the first glared layer's buffer (frame-sized, ours): one frame-sized
   // allocation and copy fewer per frame. Each value is read before it is written.
-  ImageRGBA result = std::move(glared[glaring.front()]);
-  glared_of[glaring.front()] = &result;
+  ImageRGBA& result = glared[glaring.front()];
   const auto pixels = static_cast<int>(result.rgba.size() / 4);
   parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
     for (int p = first; p < last; ++p) {
@@ -59,13 +52,13 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
       for (std::size_t i = pixel; i < pixel + 3; ++i) {
         float value = composed_cd_m2.rgba[i];
         for (const std::size_t l : glaring) value -= layers[l].image_cd_m2.rgba[i];
-        for (const std::size_t l : glaring) value += glared_of[l]->rgba[i];
+        for (const std::size_t l : glaring) value += glared[l].rgba[i];
         result.rgba[i] = value;
       }
       result.rgba[pixel + 3] = composed_cd_m2.rgba[pixel + 3];  // alpha: the composed frame's
     }
   });
-  return result;
+  return std::move(result);
 }
 
 }  // namespace glarelab

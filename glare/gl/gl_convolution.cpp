@@ -34,6 +34,31 @@ void validate(const ImageRGBA& image, const Psf& psf) {
 
 float max_channel(const float* p) { return std::max({p[0], p[1], p[2]}); }
 
+// Workgroups of `tile` along one axis to cover `count` invocations.
+GLuint groups_of(int count, GLuint tile) { return (static_cast<GLuint>(count) + tile - 1) / tile; }
+
+// The image and padded-grid sizes of the pad and crop passes (convolution_pad_image.comp,
+// convolution_crop.comp).
+void set_grid_uniforms(GLuint program, int width, int height, int padded_width, int padded_height) {
+  glUniform1i(glGetUniformLocation(program, "uWidth"), width);
+  glUniform1i(glGetUniformLocation(program, "uHeight"), height);
+  glUniform1i(glGetUniformLocation(program, "uPaddedWidth"), padded_width);
+  glUniform1i(glGetUniformLocation(program, "uPaddedHeight"), padded_height);
+}
+
+// The pixels summed directly (bright_splat.comp) and their bounding box.
+struct BrightPixels {
+  std::vector<float> positions;  // x, y, 0, 0 per pixel
+  std::vector<float> values;     // R, G, B, 0 per pixel
+  int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
+  void add(int x, int y, const float* p) {
+    positions.insert(positions.end(), {static_cast<float>(x), static_cast<float>(y), 0.0f, 0.0f});
+    values.insert(values.end(), {p[0], p[1], p[2], 0.0f});
+    x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+  }
+  std::size_t count() const { return positions.size() / 4; }
+};
+
 // The largest float at or below `value`: for a float v, v > value exactly when v > this.
 float float_at_or_below(double value) {
   float rounded = static_cast<float>(value);
@@ -104,7 +129,7 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   GlConvolutionReport local_report;
   local_report.padded_width_px = padded_width;
   local_report.padded_height_px = padded_height;
-  std::vector<float> bright_positions, bright_values;
+  BrightPixels bright;
   if (options.split_bright) {
     std::vector<float> maxima;
     maxima.reserve(static_cast<std::size_t>(width) * height);
@@ -116,12 +141,9 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
         const float* p = image.pixel(x, y);
-        if (max_channel(p) > local_report.bright_threshold) {
-          ++local_report.bright_pixels;
-          bright_positions.insert(bright_positions.end(), {static_cast<float>(x), static_cast<float>(y), 0.0f, 0.0f});
-          bright_values.insert(bright_values.end(), {p[0], p[1], p[2], 0.0f});
-        }
+        if (max_channel(p) > local_report.bright_threshold) bright.add(x, y, p);
       }
+    local_report.bright_pixels = bright.count();
     local_report.split = local_report.bright_pixels > 0 && local_report.bright_pixels <= options.max_direct_bright_pixels;
   }
   const float pad_threshold =
@@ -130,14 +152,10 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   glQueryCounter(gpu_start_.get(), GL_TIMESTAMP);
   glNamedBufferData(image_.get(), static_cast<GLsizeiptr>(image.rgba.size() * sizeof(float)), image.rgba.data(),
                     GL_DYNAMIC_DRAW);
-  const GLuint groups_x = (static_cast<GLuint>(padded_width) + kPadTile - 1) / kPadTile;
-  const GLuint groups_y = (static_cast<GLuint>(padded_height) + kPadTile - 1) / kPadTile;
+  const GLuint groups_x = groups_of(padded_width, kPadTile), groups_y = groups_of(padded_height, kPadTile);
   const GLuint pad_image = pad_image_program_.get();
   glUseProgram(pad_image);
-  glUniform1i(glGetUniformLocation(pad_image, "uWidth"), width);
-  glUniform1i(glGetUniformLocation(pad_image, "uHeight"), height);
-  glUniform1i(glGetUniformLocation(pad_image, "uPaddedWidth"), padded_width);
-  glUniform1i(glGetUniformLocation(pad_image, "uPaddedHeight"), padded_height);
+  set_grid_uniforms(pad_image, width, height, padded_width, padded_height);
   glUniform1f(glGetUniformLocation(pad_image, "uBrightThreshold"), pad_threshold);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
@@ -183,10 +201,10 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   ffts_->image.transform(FftDirection::inverse);
 
   if (local_report.split) {
-    glNamedBufferData(bright_.get(), static_cast<GLsizeiptr>(bright_positions.size() * sizeof(float)),
-                      bright_positions.data(), GL_DYNAMIC_DRAW);
-    glNamedBufferData(bright_values_.get(), static_cast<GLsizeiptr>(bright_values.size() * sizeof(float)),
-                      bright_values.data(), GL_DYNAMIC_DRAW);
+    glNamedBufferData(bright_.get(), static_cast<GLsizeiptr>(bright.positions.size() * sizeof(float)),
+                      bright.positions.data(), GL_DYNAMIC_DRAW);
+    glNamedBufferData(bright_values_.get(), static_cast<GLsizeiptr>(bright.values.size() * sizeof(float)),
+                      bright.values.data(), GL_DYNAMIC_DRAW);
     const GLuint splat = splat_program_.get();
     glUseProgram(splat);
     glUniform1i(glGetUniformLocation(splat, "uWidth"), width);
@@ -199,36 +217,26 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     // Only pixels within the PSF's reach of a bright pixel receive anything: the bright pixels'
     // bounding box grown by the reach: bright_splat.comp's offset pixel - bright + K/2 lies in
     // [0, K), so K/2 on the low side and K - 1 - K/2 on the high side.
-    int bx0 = width, by0 = height, bx1 = -1, by1 = -1;
-    for (std::size_t b = 0; b < bright_positions.size(); b += 4) {
-      const int bx = static_cast<int>(bright_positions[b]), by = static_cast<int>(bright_positions[b + 1]);
-      bx0 = std::min(bx0, bx);
-      by0 = std::min(by0, by);
-      bx1 = std::max(bx1, bx);
-      by1 = std::max(by1, by);
-    }
-    const int x0 = std::max(0, bx0 - k / 2), y0 = std::max(0, by0 - k / 2);
-    const int x1 = std::min(width - 1, bx1 + (k - 1 - k / 2)), y1 = std::min(height - 1, by1 + (k - 1 - k / 2));
+    const int x0 = std::max(0, bright.x0 - k / 2), y0 = std::max(0, bright.y0 - k / 2);
+    const int x1 = std::min(width - 1, bright.x1 + (k - 1 - k / 2));
+    const int y1 = std::min(height - 1, bright.y1 + (k - 1 - k / 2));
     glUniform2i(glGetUniformLocation(splat, "uOrigin"), x0, y0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bright_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, bright_values_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, kernel_.get());
-    glDispatchCompute((static_cast<GLuint>(x1 - x0 + 1) + kTile - 1) / kTile, (static_cast<GLuint>(y1 - y0 + 1) + kTile - 1) / kTile, 1);
+    glDispatchCompute(groups_of(x1 - x0 + 1, kTile), groups_of(y1 - y0 + 1, kTile), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
 
   glNamedBufferData(result_.get(), static_cast<GLsizeiptr>(image.rgba.size() * sizeof(float)), nullptr, GL_DYNAMIC_READ);
   const GLuint crop = crop_program_.get();
   glUseProgram(crop);
-  glUniform1i(glGetUniformLocation(crop, "uWidth"), width);
-  glUniform1i(glGetUniformLocation(crop, "uHeight"), height);
-  glUniform1i(glGetUniformLocation(crop, "uPaddedWidth"), padded_width);
-  glUniform1i(glGetUniformLocation(crop, "uPaddedHeight"), padded_height);
+  set_grid_uniforms(crop, width, height, padded_width, padded_height);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, result_.get());
-  glDispatchCompute((static_cast<GLuint>(width) + kPadTile - 1) / kPadTile, (static_cast<GLuint>(height) + kPadTile - 1) / kPadTile, 1);
+  glDispatchCompute(groups_of(width, kPadTile), groups_of(height, kPadTile), 1);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   glUseProgram(0);
   ImageRGBA output(width, height);

@@ -38,10 +38,15 @@ struct BenchArguments {
   std::string memory_child;  // hidden: this process is a memory row's child (runner/cli/bench_memory.h)
 };
 
-void print_load_average(const std::string& where) {
+// The 1, 5 and 15 minute load averages as "a, b, c"; empty where /proc/loadavg cannot be read.
+std::string load_average() {
   std::ifstream loadavg("/proc/loadavg");
-  if (std::string one, five, fifteen; loadavg >> one >> five >> fifteen)
-    std::cout << "Load average (1, 5, 15 min) at the end of " << where << ": " << one << ", " << five << ", " << fifteen << ".\n";
+  if (std::string one, five, fifteen; loadavg >> one >> five >> fifteen) return one + ", " + five + ", " + fifteen;
+  return {};
+}
+
+void print_load_average(const std::string& where, const std::string& averages = load_average()) {
+  if (!averages.empty()) std::cout << "Load average (1, 5, 15 min) at the end of " << where << ": " << averages << ".\n";
 }
 
 // Luidolt 2020's perception stages at 1920 x 1080, CPU double and GL, with their agreement, beside
@@ -98,7 +103,7 @@ void print_analytic_rows(const BenchArguments& args) {
 struct MemoryRows {
   SessionMemoryOptions options;
   std::vector<SessionMemoryRow> rows;
-  std::string load_average;
+  std::string load_averages;  // at the end of the rows
 };
 
 MemoryRows measure_memory_rows(const BenchArguments& args) {
@@ -109,16 +114,13 @@ MemoryRows measure_memory_rows(const BenchArguments& args) {
   std::cerr << "memory: one trial of a " << measured.options.width_px << " x " << measured.options.height_px
             << " session, control and dynamic glare, each in a child process" << std::endl;
   measured.rows = measure_session_memory(measured.options);
-  std::ifstream loadavg("/proc/loadavg");
-  if (std::string one, five, fifteen; loadavg >> one >> five >> fifteen)
-    measured.load_average = one + ", " + five + ", " + fifteen;
+  measured.load_averages = load_average();
   return measured;
 }
 
 void print_memory_rows(const MemoryRows& measured) {
   std::cout << format_session_memory(measured.options, measured.rows);
-  if (!measured.load_average.empty())
-    std::cout << "Load average (1, 5, 15 min) at the end of the memory rows: " << measured.load_average << ".\n";
+  print_load_average("the memory rows", measured.load_averages);
 }
 
 }  // namespace
@@ -211,9 +213,7 @@ Action add_bench_command(CLI::App& app) {
           std::cout << "CPU: " << line.substr(line.find(':') + 2) << ".\n";
           break;
         }
-      std::ifstream loadavg("/proc/loadavg");
-      if (std::string one, five, fifteen; loadavg >> one >> five >> fifteen)
-        std::cout << "Load average (1, 5, 15 min) at the end of the run: " << one << ", " << five << ", " << fifteen << ".\n";
+      print_load_average("the run");
       std::cout << "Errors are relative L2: against the CPU double path at the same N, and the monochromatic PSF "
                    "against the CPU double PSF of the 2N grid (central N x N).\n\n"
                 << format_glare_benchmark_table(result);

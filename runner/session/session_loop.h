@@ -99,9 +99,9 @@ class SessionLoop {
   void present() {
     if (!fast_forward_) display_.present();
   }
-  // Encodes the stimulus framebuffer into the display's (runner/session/trial_presentation.cpp).
+  // Encodes the stimulus framebuffer into the display's, unless an offscreen display still holds
+  // its encoding (runner/session/trial_presentation.cpp).
   void encode();
-  void reencode() { encode(); }
   // Stimulus flips keep their frame index; every other flip of the trial is numbered -1, -2, ...
   void record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped,
                    std::optional<double> gaze_age_s = std::nullopt);

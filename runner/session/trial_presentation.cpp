@@ -50,8 +50,9 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   if (fast_forward_) return;
   // A flip of the frame the stimulus framebuffer already holds (the same scenes, glared region and
   // overlays, nothing written to it since): only the display encoding is redone (encode(): not
-  // even that where the display keeps its presented frame), as between the flips of a blank phase. The framebuffer's values are the same either way. A static glare
-  // interval shows one region at every flip; a dynamic one a new region each flip.
+  // even that where the display keeps its presented frame), as between the flips of a blank
+  // phase. The framebuffer's values are the same either way. A static glare interval shows one
+  // region at every flip; a dynamic one a new region each flip.
   const std::uint64_t glared_serial = glared != nullptr ? glared->serial : 0;
   if ((glared == nullptr || glared_serial != 0) && drawn_ && drawn_->generation == renderer_.stimulus_generation() &&
       drawn_->glared_serial == glared_serial && same_placements(drawn_->placements, placements) &&
@@ -118,11 +119,11 @@ bool SessionLoop::present_timed_blank(const TrialPlan& plan, TrialRun& run, Flip
   double start_s = 0.0;
   for (int k = 0; k < frames; ++k) {
     // The stimulus framebuffer keeps the frame between these flips: later ones only re-encode it
-    // (the display's back buffer is not kept across a swap).
+    // (a window's back buffer is not kept across a swap).
     if (k == 0)
       draw({}, nullptr, overlays);
     else
-      reencode();
+      encode();
     present();
     const double flip_s = clock_.on_flip();
     after_flip(flip_s);
@@ -149,7 +150,7 @@ bool SessionLoop::show_screen(const TrialPlan& plan, const ScreenText& screen, T
     if (flips == 0)
       draw({}, nullptr, text);
     else
-      reencode();
+      encode();
     present();
     last_flip_s = clock_.on_flip();
     timing_.on_flip(last_flip_s, plan.trial_index, -1);

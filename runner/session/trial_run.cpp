@@ -69,7 +69,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     // Fixation and inter-stimulus flips repeat the frame before them: only its encoding is redrawn.
     const bool repeated = i > 0 && flip.phase != FlipPhase::interval && schedule.timed[i - 1].phase == flip.phase;
     if (repeated) {
-      reencode();
+      encode();
     } else if (flip.phase == FlipPhase::fixation) {
       draw({}, nullptr, overlays_.fixation());
     } else if (flip.phase == FlipPhase::interval) {
