@@ -18,9 +18,11 @@ CpuFloatPsf::CpuFloatPsf(const CpuFloatPsfSettings& settings) : settings_(settin
   if (!(settings.wavelength_nm > 0.0)) throw std::invalid_argument("glare/cpu_float_psf: wavelength must be > 0 nm");
   const std::size_t count = static_cast<std::size_t>(n) * n;
   field_ = FftwFloatBuffer<std::complex<float>>(count);
+  columns_ = FftwFloatBuffer<std::complex<float>>(count);
   spectrum_ = FftwFloatBuffer<std::complex<float>>(count);
+  row_tiles_ = FftwFloatBuffer<std::complex<float>>(static_cast<std::size_t>(std::max(1, settings.threads)) * kRowTile * n);
   power_ = FftwFloatBuffer<float>(count);
-  fft_ = FftwFloatPlan::complex_forward(n, n, field_.data(), spectrum_.data(), settings.threads);
+  row_fft_ = FftwFloatPlan::complex_row_forward(n, field_.data(), spectrum_.data());
 }
 
 double CpuFloatPsf::degrees_per_pixel() const {
@@ -62,28 +64,59 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error
   for (int j = written_first_row_; j <= written_last_row_; ++j)
     if (j < first_row || j > last_row)
       std::fill(&field_[static_cast<std::size_t>(j) * n], &field_[static_cast<std::size_t>(j) * n] + n, std::complex<float>{});
+  // The same rows' entries in columns_: the runs [written_first_row_, first_row) and
+  // (last_row, written_last_row_] of each of its rows.
+  const int stale_above = std::max(0, std::min(first_row, written_last_row_ + 1) - written_first_row_);
+  const int stale_below_first = std::max(last_row + 1, written_first_row_);
+  const int stale_below = std::max(0, written_last_row_ + 1 - stale_below_first);
+  if (stale_above > 0 || stale_below > 0)
+    parallel_chunks(n, settings_.threads, [&](int first, int last) {
+      for (int u = first; u < last; ++u) {
+        std::complex<float>* column = &columns_[static_cast<std::size_t>(u) * n];
+        std::fill_n(column + written_first_row_, stale_above, std::complex<float>{});
+        std::fill_n(column + stale_below_first, stale_below, std::complex<float>{});
+      }
+    });
   written_first_row_ = first_row;
   written_last_row_ = last_row;
   row_energy_.assign(static_cast<std::size_t>(n), 0.0);  // per row: the sum does not depend on the threads
-  parallel_chunks(last_row - first_row + 1, settings_.threads, [&](int first, int last) {
-    for (int j = first_row + first; j < first_row + last; ++j) {
-      double sum = 0.0;
-      const double y_m = (n / 2 - j) * dx_m;
-      for (int i = 0; i < n; ++i) {
-        const std::size_t index = static_cast<std::size_t>(j) * n + i;
-        const double a = grid_.transmittance[index];
-        std::complex<double> value{a, 0.0};
-        if (astigmatic && a != 0.0) {
-          const double x_m = (i - n / 2) * dx_m;
-          value = std::polar(a, power_error_phase_rad(error, wavelength_nm, x_m, y_m));
-        } else if (coefficient != 0.0 && a != 0.0) {
-          const double x_m = (i - n / 2) * dx_m;
-          value = std::polar(a, quadratic_phase_rad(coefficient, x_m * x_m + y_m * y_m));
+  const int row_count = last_row - first_row + 1;
+  const int tile_count = (row_count + kRowTile - 1) / kRowTile;
+  const int shares = std::clamp(settings_.threads, 1, std::max(1, tile_count));
+  // One share of the tiles per thread, each with its own tile buffer.
+  parallel_chunks(shares, shares, [&](int first_share, int last_share) {
+    for (int share = first_share; share < last_share; ++share) {
+      std::complex<float>* tile = &row_tiles_[static_cast<std::size_t>(share) * kRowTile * n];
+      for (int t = tile_count * share / shares; t < tile_count * (share + 1) / shares; ++t) {
+        const int tile_first = first_row + t * kRowTile, tile_rows = std::min(kRowTile, last_row + 1 - tile_first);
+        for (int r = 0; r < tile_rows; ++r) {
+          const int j = tile_first + r;
+          double sum = 0.0;
+          const double y_m = (n / 2 - j) * dx_m;
+          for (int i = 0; i < n; ++i) {
+            const std::size_t index = static_cast<std::size_t>(j) * n + i;
+            const double a = grid_.transmittance[index];
+            std::complex<double> value{a, 0.0};
+            if (astigmatic && a != 0.0) {
+              const double x_m = (i - n / 2) * dx_m;
+              value = std::polar(a, power_error_phase_rad(error, wavelength_nm, x_m, y_m));
+            } else if (coefficient != 0.0 && a != 0.0) {
+              const double x_m = (i - n / 2) * dx_m;
+              value = std::polar(a, quadratic_phase_rad(coefficient, x_m * x_m + y_m * y_m));
+            }
+            sum += a * a;
+            field_[index] = {static_cast<float>(value.real()), static_cast<float>(value.imag())};
+          }
+          row_energy_[static_cast<std::size_t>(j)] = sum;
+          // The row's DFT while the row is in cache: the first pass of the 2D FFT.
+          row_fft_.execute(&field_[static_cast<std::size_t>(j) * n], tile + static_cast<std::size_t>(r) * n);
         }
-        sum += a * a;
-        field_[index] = {static_cast<float>(value.real()), static_cast<float>(value.imag())};
+        // The tile transposed: its rows' values at frequency u are one run of columns_'s row u.
+        for (int u = 0; u < n; ++u) {
+          std::complex<float>* target = &columns_[static_cast<std::size_t>(u) * n + tile_first];
+          for (int r = 0; r < tile_rows; ++r) target[r] = tile[static_cast<std::size_t>(r) * n + u];
+        }
       }
-      row_energy_[static_cast<std::size_t>(j)] = sum;
     }
   });
   double aperture_energy = 0.0;
@@ -91,15 +124,29 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error
   if (!(aperture_energy > 0.0))
     throw ClosedApertureError("glare/cpu_float_psf: the aperture transmits no light (pupil outside the grid or fully blocked)");
 
-  fft_.execute();
-  // fftshift: frequency (u, v) goes to pixel ((u + N/2) mod N, (v + N/2) mod N), row by row in halves.
+  // The second pass: every row of columns_ (a column of the row transforms) into spectrum_.
   parallel_chunks(n, settings_.threads, [&](int first, int last) {
-    for (int y = first; y < last; ++y) {
-      const std::complex<float>* source = &spectrum_[static_cast<std::size_t>((y + n / 2) % n) * n];
-      float* target = &power_[static_cast<std::size_t>(y) * n];
+    for (int u = first; u < last; ++u)
+      row_fft_.execute(&columns_[static_cast<std::size_t>(u) * n], &spectrum_[static_cast<std::size_t>(u) * n]);
+  });
+  // |F|^2 with the fftshift: pixel (x, y) takes frequency (u, v) = ((x + N/2) mod N, (y + N/2) mod N),
+  // that is spectrum_[u][v]. kRowTile output rows at a time, so that each spectrum_ row is read in
+  // runs of kRowTile values.
+  const int half = n / 2;
+  const int band_count = (n + kRowTile - 1) / kRowTile;
+  parallel_chunks(band_count, settings_.threads, [&](int first, int last) {
+    for (int band = first; band < last; ++band) {
+      const int y0 = band * kRowTile, rows = std::min(kRowTile, n - y0);
+      int v[kRowTile];
+      for (int r = 0; r < rows; ++r) v[r] = y0 + r + half < n ? y0 + r + half : y0 + r + half - n;
       for (int x = 0; x < n; ++x) {
-        const std::complex<float> c = source[(x + n / 2) % n];
-        target[x] = c.real() * c.real() + c.imag() * c.imag();
+        const int u = x + half < n ? x + half : x + half - n;
+        const float* source = reinterpret_cast<const float*>(&spectrum_[static_cast<std::size_t>(u) * n]);
+        float* target = &power_[static_cast<std::size_t>(y0) * n + x];
+        for (int r = 0; r < rows; ++r) {
+          const float* c = source + 2 * v[r];
+          target[static_cast<std::size_t>(r) * n] = c[0] * c[0] + c[1] * c[1];
+        }
       }
     }
   });

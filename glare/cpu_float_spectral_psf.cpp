@@ -82,7 +82,7 @@ CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& setting
   groups_.resize(kGroups);
   for (Group& group : groups_) {
     group.rows_t.assign(static_cast<std::size_t>(n) * m_px, 0.0f);
-    group.row.assign(static_cast<std::size_t>(n), 0.0f);
+    group.row.assign(static_cast<std::size_t>(kTransposeTile) * n, 0.0f);
     group.d_t.assign(static_cast<std::size_t>(m_px) * m_px, 0.0f);
     group.rgb_t.assign(6 * static_cast<std::size_t>(m_px) * m_px, 0.0);
   }
@@ -156,16 +156,23 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
       if (wavelength.last_column < wavelength.first_column) continue;
       const int c0 = wavelength.first_column, c1 = wavelength.last_column + 1;
       // Rows: (W F)(m, :) = sum_j W(m, first + j) F(first + j, :), stored transposed.
-      for (int m = 0; m < m_px; ++m) {
-        const Band& band = wavelength.bands[static_cast<std::size_t>(m)];
-        float* row = group.row.data();
-        std::fill(row + c0, row + c1, 0.0f);
-        for (int j = 0; j < band.count; ++j) {
-          const float weight = weights_[static_cast<std::size_t>(band.offset + j)];
-          const float* source = power + static_cast<std::size_t>(band.first + j) * n;
-          for (int k = c0; k < c1; ++k) row[k] += weight * source[k];
+      for (int m0 = 0; m0 < m_px; m0 += kTransposeTile) {
+        const int tile_rows = std::min(kTransposeTile, m_px - m0);
+        for (int r = 0; r < tile_rows; ++r) {
+          const Band& band = wavelength.bands[static_cast<std::size_t>(m0 + r)];
+          float* row = group.row.data() + static_cast<std::size_t>(r) * n;
+          std::fill(row + c0, row + c1, 0.0f);
+          for (int j = 0; j < band.count; ++j) {
+            const float weight = weights_[static_cast<std::size_t>(band.offset + j)];
+            const float* source = power + static_cast<std::size_t>(band.first + j) * n;
+            for (int k = c0; k < c1; ++k) row[k] += weight * source[k];
+          }
         }
-        for (int k = c0; k < c1; ++k) group.rows_t[static_cast<std::size_t>(k) * m_px + m] = row[k];
+        for (int k = c0; k < c1; ++k) {
+          float* target = &group.rows_t[static_cast<std::size_t>(k) * m_px + m0];
+          const float* source = group.row.data() + k;
+          for (int r = 0; r < tile_rows; ++r) target[r] = source[static_cast<std::size_t>(r) * n];
+        }
       }
       // Columns: D^T(m', :) = sum_j W(m', first + j) (W F)^T(first + j, :).
       for (int mx = 0; mx < m_px; ++mx) {

@@ -60,7 +60,7 @@ class CpuFloatSpectralPsf {
   // (and the result) do not depend on the thread count.
   struct Group {
     std::vector<float> rows_t;  // W_i F transposed: N x M
-    std::vector<float> row;     // one row of W_i F: N
+    std::vector<float> row;     // kTransposeTile rows of W_i F: kTransposeTile x N
     std::vector<float> d_t;     // (W_i F W_i^T) transposed: M x M
     std::vector<double> rgb_t;  // 6 x M x M, transposed: R, G, B, then the sums of their magnitudes
   };
@@ -69,6 +69,9 @@ class CpuFloatSpectralPsf {
   void spectral_block(const float* power, const std::vector<PsfOverlap>& xs, const std::vector<PsfOverlap>& ys,
                       std::vector<double>& rgb) const;
   static constexpr int kGroups = 4;
+  // Rows of W_i F made before they are written transposed: a tile's column is one run of rows_t, so
+  // the transpose writes whole cache lines rather than one float per line (16 floats: 64 bytes).
+  static constexpr int kTransposeTile = 16;
   CpuFloatSpectralSettings settings_;
   int display_px_ = 0;
   std::vector<Wavelength> wavelengths_;

@@ -31,6 +31,17 @@ std::mutex& fftw_planner_mutex() {
   return mutex;
 }
 
+void forget_fftw_float_wisdom() {
+  std::lock_guard lock(fftw_planner_mutex());
+  fftwf_forget_wisdom();
+}
+
+namespace {
+
+unsigned rigor(FftwPlanning planning) { return planning == FftwPlanning::measure ? FFTW_MEASURE : FFTW_ESTIMATE; }
+
+}  // namespace
+
 template <typename T>
 FftwFloatBuffer<T>::FftwFloatBuffer(std::size_t count)
     : data_(static_cast<T*>(fftwf_malloc(std::max<std::size_t>(1, count * sizeof(T))))), size_(count) {
@@ -68,27 +79,42 @@ void FftwFloatPlan::execute() const {
   fftwf_execute(plan_);
 }
 
-FftwFloatPlan FftwFloatPlan::complex_forward(int rows, int cols, std::complex<float>* in, std::complex<float>* out,
-                                             int threads) {
-  return FftwFloatPlan(plan_with_threads(threads, "a float complex 2D FFT", [&] {
-    return fftwf_plan_dft_2d(rows, cols, reinterpret_cast<fftwf_complex*>(in), reinterpret_cast<fftwf_complex*>(out),
-                             FFTW_FORWARD, FFTW_ESTIMATE);
+void FftwFloatPlan::execute(std::complex<float>* in, std::complex<float>* out) const {
+  if (plan_ == nullptr) throw std::logic_error("glare/fftw_float_plan: executing an empty plan");
+  fftwf_execute_dft(plan_, reinterpret_cast<fftwf_complex*>(in), reinterpret_cast<fftwf_complex*>(out));
+}
+
+FftwFloatPlan FftwFloatPlan::complex_row_forward(int length, std::complex<float>* in, std::complex<float>* out) {
+  const bool rows_keep_alignment = (static_cast<std::size_t>(length) * sizeof(std::complex<float>)) % 64 == 0;
+  return FftwFloatPlan(plan_with_threads(1, "a float complex row FFT", [&] {
+    return fftwf_plan_dft_1d(length, reinterpret_cast<fftwf_complex*>(in), reinterpret_cast<fftwf_complex*>(out),
+                             FFTW_FORWARD, FFTW_ESTIMATE | (rows_keep_alignment ? 0 : FFTW_UNALIGNED));
   }));
 }
 
-FftwFloatPlan FftwFloatPlan::real_forward(int rows, int cols, int count, float* in, std::complex<float>* out, int threads) {
+FftwFloatPlan FftwFloatPlan::complex_forward(int rows, int cols, std::complex<float>* in, std::complex<float>* out,
+                                             int threads, FftwPlanning planning) {
+  return FftwFloatPlan(plan_with_threads(threads, "a float complex 2D FFT", [&] {
+    return fftwf_plan_dft_2d(rows, cols, reinterpret_cast<fftwf_complex*>(in), reinterpret_cast<fftwf_complex*>(out),
+                             FFTW_FORWARD, rigor(planning));
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::real_forward(int rows, int cols, int count, float* in, std::complex<float>* out, int threads,
+                                          FftwPlanning planning) {
   return FftwFloatPlan(plan_with_threads(threads, "float real 2D FFTs", [&] {
     const int size[2] = {rows, cols};
     return fftwf_plan_many_dft_r2c(2, size, count, in, nullptr, 1, rows * cols, reinterpret_cast<fftwf_complex*>(out),
-                                   nullptr, 1, rows * (cols / 2 + 1), FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+                                   nullptr, 1, rows * (cols / 2 + 1), rigor(planning) | FFTW_PRESERVE_INPUT);
   }));
 }
 
-FftwFloatPlan FftwFloatPlan::real_inverse(int rows, int cols, int count, std::complex<float>* in, float* out, int threads) {
+FftwFloatPlan FftwFloatPlan::real_inverse(int rows, int cols, int count, std::complex<float>* in, float* out, int threads,
+                                          FftwPlanning planning) {
   return FftwFloatPlan(plan_with_threads(threads, "float inverse real 2D FFTs", [&] {
     const int size[2] = {rows, cols};
     return fftwf_plan_many_dft_c2r(2, size, count, reinterpret_cast<fftwf_complex*>(in), nullptr, 1,
-                                   rows * (cols / 2 + 1), out, nullptr, 1, rows * cols, FFTW_ESTIMATE);
+                                   rows * (cols / 2 + 1), out, nullptr, 1, rows * cols, rigor(planning));
   }));
 }
 

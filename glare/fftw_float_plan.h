@@ -26,6 +26,17 @@ inline constexpr int kGlareCpuThreads = 2;
 
 std::mutex& fftw_planner_mutex();
 
+// How a plan is chosen. estimate: from the sizes alone (FFTW_ESTIMATE; the glare path, for the
+// reason above). measure: the fastest of the candidates FFTW times (FFTW_MEASURE; the FFTW floor,
+// which must be the fastest FFTW does the transforms: FFTW_ESTIMATE's own N x N complex plan took
+// 10 to 14 times FFTW_MEASURE's at N = 512 and 1024 on the bench's machine). Measured plans leave
+// wisdom that later estimate plans of the same problems would follow; whoever makes measured
+// plans calls forget_fftw_float_wisdom() after them, while no other thread plans.
+enum class FftwPlanning { estimate, measure };
+
+// FFTW float's accumulated wisdom forgotten (fftwf_forget_wisdom), under fftw_planner_mutex().
+void forget_fftw_float_wisdom();
+
 // Memory from fftwf_malloc (aligned for FFTW's SIMD codelets), count elements of T, zeroed.
 template <typename T>
 class FftwFloatBuffer {
@@ -56,14 +67,25 @@ class FftwFloatPlan {
   FftwFloatPlan& operator=(const FftwFloatPlan&) = delete;
   ~FftwFloatPlan();
   void execute() const;  // on the arrays it was planned with
+  // A complex plan run on other arrays of the planned layout (FFTW's new-array execute,
+  // fftwf_execute_dft): the rows of complex_row_forward.
+  void execute(std::complex<float>* in, std::complex<float>* out) const;
 
   // Forward complex rows x cols DFT (exponent sign -1, unnormalised), out of place.
-  static FftwFloatPlan complex_forward(int rows, int cols, std::complex<float>* in, std::complex<float>* out, int threads);
+  static FftwFloatPlan complex_forward(int rows, int cols, std::complex<float>* in, std::complex<float>* out, int threads,
+                                       FftwPlanning planning = FftwPlanning::estimate);
+  // One forward complex DFT of `length` values, out of place, made to be run by execute(in, out) on
+  // any row of two arrays of such rows (each row its own call, so that rows known to be zero are
+  // skipped and the rows are shared among threads). Planned FFTW_UNALIGNED unless a row's bytes are
+  // a multiple of 64, where every row keeps the alignment of fftwf_malloc's arrays.
+  static FftwFloatPlan complex_row_forward(int length, std::complex<float>* in, std::complex<float>* out);
   // `count` real rows x cols arrays, `rows * cols` apart, to `count` spectra of rows x (cols/2 + 1),
   // `rows * (cols/2 + 1)` apart (one plan for the three colour channels). Preserves its input.
-  static FftwFloatPlan real_forward(int rows, int cols, int count, float* in, std::complex<float>* out, int threads);
+  static FftwFloatPlan real_forward(int rows, int cols, int count, float* in, std::complex<float>* out, int threads,
+                                    FftwPlanning planning = FftwPlanning::estimate);
   // The inverse (complex to real, unnormalised); destroys its input, as every FFTW c2r may.
-  static FftwFloatPlan real_inverse(int rows, int cols, int count, std::complex<float>* in, float* out, int threads);
+  static FftwFloatPlan real_inverse(int rows, int cols, int count, std::complex<float>* in, float* out, int threads,
+                                    FftwPlanning planning = FftwPlanning::estimate);
 
   // The same 2D transforms in two passes of 1D transforms, so that rows known to be zero (input)
   // or not wanted (output) are skipped; the layouts are those of real_forward / real_inverse

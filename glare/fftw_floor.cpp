@@ -16,14 +16,19 @@ FftwFloatFloor::FftwFloatFloor(int psf_grid_px, int rows, int cols, int threads)
   real_out_ = FftwFloatBuffer<float>(3 * real_size);
   image_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
   psf_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
-  psf_fft_ = FftwFloatPlan::complex_forward(psf_grid_px, psf_grid_px, field_.data(), field_spectrum_.data(), threads);
+  // Measured plans: the fastest FFTW does these transforms (fftw_float_plan.h). They overwrite
+  // their arrays, so the data is written after them.
+  constexpr FftwPlanning measured = FftwPlanning::measure;
+  psf_fft_ = FftwFloatPlan::complex_forward(psf_grid_px, psf_grid_px, field_.data(), field_spectrum_.data(), threads, measured);
   for (int k = 0; k < 6; ++k) {
     std::complex<float>* out = (k < 3 ? image_spectrum_.data() : psf_spectrum_.data()) + (k % 3) * spectrum_size;
-    forward_[k] = FftwFloatPlan::real_forward(rows, cols, 1, real_in_.data() + k * real_size, out, threads);
+    forward_[k] = FftwFloatPlan::real_forward(rows, cols, 1, real_in_.data() + k * real_size, out, threads, measured);
   }
   for (int k = 0; k < 3; ++k)
     inverse_[k] = FftwFloatPlan::real_inverse(rows, cols, 1, psf_spectrum_.data() + k * spectrum_size,
-                                              real_out_.data() + k * real_size, threads);
+                                              real_out_.data() + k * real_size, threads, measured);
+  // The glare path's estimate plans made after this are the ones they would be without the floor.
+  forget_fftw_float_wisdom();
   // Data like a frame's: a disc of ones in the field, a small block in every real input.
   for (std::size_t k = 0; k < n2; k += 7) field_[k] = {1.0f, 0.0f};
   for (std::size_t k = 0; k < 6 * real_size; k += 5) real_in_[k] = 1.0f;

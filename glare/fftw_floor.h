@@ -1,6 +1,7 @@
 #pragma once
 // The FFTW floor of one dynamic glare frame: the transforms no CPU frame can do without,
-// in FFTW float with plans made once and the threads of the planned float path:
+// in FFTW float with plans made once (FFTW_MEASURE: the fastest plans FFTW finds, not the
+// FFTW_ESTIMATE plans of the glare path) and the threads of the planned float path:
 //   - one N x N complex FFT (the aperture to the PSF, Ritschel et al. 2009, Eq. 3);
 //   - nine padded real transforms for the RGB convolution: 3 forward (image), 3 forward (PSF),
 //     3 inverse, each rows x cols.
@@ -15,7 +16,9 @@ namespace glarelab {
 
 class FftwFloatFloor {
  public:
-  // psf_grid_px: N; rows x cols: the padded convolution size (convolution_cpu.h).
+  // psf_grid_px: N; rows x cols: the padded convolution size (convolution_cpu.h). Planning times
+  // the candidates (about a second for N = 1024), then forgets FFTW's wisdom: no other thread may
+  // make FFTW float plans meanwhile.
   FftwFloatFloor(int psf_grid_px, int rows, int cols, int threads = kGlareCpuThreads);
   void run();  // the ten transforms, one after the other
 

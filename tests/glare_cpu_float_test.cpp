@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -308,6 +309,26 @@ TEST(GlareCpuFloat, FftwFloorRunsItsTenTransforms) {
   floor.run();
   floor.run();
   EXPECT_THROW(FftwFloatFloor(1, 40, 48), std::invalid_argument);
+}
+
+// The floor's measured plans leave no wisdom behind: an estimated plan of the floor's own N x N
+// problem made after it is the one made before it, bit for bit (FFTW would otherwise reuse the
+// measured plan, whose rounding differs).
+TEST(GlareCpuFloat, EstimatedPlansAfterTheFloorAreThePlansBeforeIt) {
+  const int n = 256;
+  const auto transform = [&] {
+    FftwFloatBuffer<std::complex<float>> in(static_cast<std::size_t>(n) * n), out(static_cast<std::size_t>(n) * n);
+    const FftwFloatPlan plan = FftwFloatPlan::complex_forward(n, n, in.data(), out.data(), 2);
+    for (std::size_t k = 0; k < in.size(); ++k)
+      in[k] = {static_cast<float>(std::sin(0.37 * static_cast<double>(k))), static_cast<float>(std::cos(0.11 * static_cast<double>(k % 1000)))};
+    plan.execute();
+    return std::vector<std::complex<float>>(out.data(), out.data() + out.size());
+  };
+  const std::vector<std::complex<float>> before = transform();
+  { FftwFloatFloor floor(n, 40, 48, 2); }
+  const std::vector<std::complex<float>> after = transform();
+  ASSERT_EQ(before.size(), after.size());
+  EXPECT_EQ(0, std::memcmp(before.data(), after.data(), before.size() * sizeof(std::complex<float>)));
 }
 
 }  // namespace
