@@ -4,6 +4,8 @@
 // gaze age at its flip is logged.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <string>
 
@@ -111,6 +113,49 @@ TEST(LiveGlare, WithATrackerEachLiveFramesGazeAgeIsLogged) {
   EXPECT_NE(html.find("gaze to flip, live glare"), std::string::npos);
   EXPECT_EQ(html.find("no live glare frames"), std::string::npos);
   EXPECT_NE(test::read_bytes((out / "frames.csv").string()).find(",gaze_age_s"), std::string::npos);
+}
+
+// --clock real: an offscreen run paced by the wall clock. Each present waits for a refresh boundary,
+// as a window's swap waits for the vertical blank: no two flips fall in one period, the run takes
+// at least its flips' periods of wall time, the session says it ran on the monotonic clock, and the
+// presentation_mode event gives the glare cost per frame against the period.
+TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost) {
+  const test::ScratchDir scratch;
+  const auto started = std::chrono::steady_clock::now();
+  const GlareRun run = run_demo(scratch, "auto", 6, {"--clock", "real"});
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  ASSERT_EQ(run.output.exit_code, 0) << run.output.output;
+  const double period_s = 1.0 / 60.0;  // the demo's refresh_hz
+  const ResultStore store(run.db.string());
+  const SessionRecord session = store.load_sessions().at(0);
+  EXPECT_EQ(session.clock, "monotonic");
+  std::vector<double> flips_s;
+  for (const TrialRecord& trial : store.load_trials(session.id))
+    for (const FrameRecord& frame : store.load_frames(trial.id)) flips_s.push_back(frame.flip_s);
+  // The stimulus flips (3 a trial), in time order: each at least a period after the one before,
+  // all within the run's wall time.
+  std::sort(flips_s.begin(), flips_s.end());
+  ASSERT_EQ(flips_s.size(), 18u);
+  for (std::size_t k = 1; k < flips_s.size(); ++k)
+    ASSERT_GE(flips_s[k] - flips_s[k - 1], 0.9 * period_s) << "flips " << k - 1 << " and " << k << " in one period";
+  EXPECT_LE(flips_s.back() - flips_s.front(), wall_s);
+  const auto mode = test::session_event_messages(run.db.string(), "presentation_mode");
+  ASSERT_EQ(mode.size(), 1u);
+  EXPECT_NE(mode[0].find(" ms per glare frame on this machine"), std::string::npos) << mode[0];
+  EXPECT_NE(mode[0].find("against a refresh period of 16.667 ms"), std::string::npos) << mode[0];
+}
+
+// A virtual clock cannot stamp a window's flips: refused as bad input before anything opens.
+TEST(LiveGlare, VirtualClockInAWindowIsRefusedNamingTheFlag) {
+  const test::ScratchDir scratch;
+  const auto db = scratch.path() / "never.db";
+  const auto run = test::run_glarelab({"run", (std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples" / "demo.toml").string(), "--display",
+                                       "window", "--clock", "virtual", "--db", db.string()},
+                                      scratch.path());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--clock"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("a window"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(db));
 }
 
 }  // namespace

@@ -25,6 +25,11 @@ Action add_run_command(CLI::App& app) {
       ->capture_default_str();
   run->add_option("--observer", options->observer, "Who answers: keyboard, simulated or script:FILE")
       ->capture_default_str();
+  run->add_option("--clock", options->clock,
+                  "Session clock: real (offscreen frames paced by the wall clock, one refresh period each, and "
+                  "stamped on it) or virtual (one period per frame, as fast as the machine renders); default: a "
+                  "window's real clock, offscreen virtual unless a live tracker or response device is attached")
+      ->check(CLI::IsMember({"real", "virtual"}));
   auto* participant_number_option =
       run->add_option("--participant-number", *participant_number,
                       "Participant number N >= 1: picks the block order (default: 1 + the sessions of this "

@@ -22,7 +22,7 @@ std::optional<Response> SessionLoop::adjust_interactively(const TrialPlan& plan,
   while (true) {
     shown.scene_scale = {setting(0) / comparison_peak_cd_m2, 1.0, setting(1) / comparison_peak_cd_m2};
     draw(layout(shown));
-    display_.present();
+    present();
     const double flip_s = clock_.on_flip();
     timing_.on_flip(flip_s, plan.trial_index, -1);
     after_flip(flip_s);

@@ -95,9 +95,12 @@ class SessionLoop {
   // narrowed to its position `interval` (its scene alone, centred, with that position's glare).
   TrialPlan interval_plan(const TrialPlan& plan, int interval) const;
   // Flipping: a preview's fast-forward (the trials before the one it captures) advances the clock
-  // flip by flip without drawing or presenting anything.
+  // flip by flip without drawing or presenting anything. An offscreen run on the real clock then
+  // waits for the next refresh boundary, as a window's swap waits for the vertical blank, so the
+  // flip is stamped there (runner/tracker/real_time_pacer.h).
   void present() {
     if (!fast_forward_) display_.present();
+    if (pacer_ != nullptr) pacer_->wait_for_next_frame();
   }
   // Encodes the stimulus framebuffer into the display's, unless an offscreen display still holds
   // its encoding (runner/session/trial_presentation.cpp).
@@ -112,11 +115,8 @@ class SessionLoop {
   // A text screen until the observer continues: at least screen_min flips; then Space or Enter
   // (keyboard), at once for non-interactive observers. Logged as a 'screen' event.
   bool show_screen(const TrialPlan& plan, const ScreenText& screen, TrialRun& run);
-  // After every flip: real-time pacing of an offscreen run, and the tracker's per-frame poll.
-  void after_flip(double flip_s) {
-    if (pacer_ != nullptr) pacer_->wait_for_next_frame();
-    tracker_.on_frame(flip_s);
-  }
+  // After every flip: the tracker's per-frame poll.
+  void after_flip(double flip_s) { tracker_.on_frame(flip_s); }
 
   // runner/session/trial_run.cpp
   // "correct" / "wrong" for scored trials, the timeout text for a timeout; empty without feedback

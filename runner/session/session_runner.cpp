@@ -53,6 +53,14 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   // --- end tracker ---
   ResponseDeviceSession device(options.response_device);  // bad --response-device/--buttons: exit 2
 
+  // A virtual clock cannot stamp what happens in real time: a window's flips, a live tracker's
+  // samples, a response device's presses.
+  if (options.clock == "virtual" && (options.display == "window" || tracker.live() || device.configured()))
+    throw ConfigError({}, "--clock",
+                      std::string("virtual is for offscreen runs without live devices; this run has ") +
+                          (options.display == "window" ? "a window" : tracker.live() ? "a live tracker" : "a response device") +
+                          ", whose times are real");
+
   // 2. The display (a device failure is reported before a session exists).
   auto display = create_display(options.display, display_request(prepared.experiment));
   const std::string renderer = display->gl_info().describe();
@@ -71,7 +79,7 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     prepared.observer_description =
         (display->real_time() ? "keyboard and response device " : "response device ") + device.description();
   // --- end response device ---
-  if ((tracker.live() || device.active()) && !display->real_time())
+  if ((tracker.live() || device.active() || options.clock == "real") && !display->real_time())
     pacer = std::make_unique<RealTimePacer>(display->refresh_hz());
 
   // 3. The session row. A participant number counted from the database can be taken by another

@@ -19,6 +19,10 @@ struct RunOptions {
   std::string db_path;                  // empty: results/<experiment name>.db
   std::string display = "window";       // window | offscreen
   std::string observer = "keyboard";    // keyboard | simulated | script:FILE
+  // --clock: empty for the display's own (a window's real clock; offscreen: the virtual clock unless
+  // a live tracker or response device needs the real one), "real" (an offscreen run paced by the
+  // wall clock and stamped on it, so late glare frames show as dropped frames) or "virtual".
+  std::string clock;
   std::optional<std::uint64_t> seed;    // overrides [experiment] seed
   // Picks the block order (runner/session/participant_number.h); empty: the file's, else 1 + the
   // sessions of the experiment already in the database.

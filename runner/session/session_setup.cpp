@@ -248,8 +248,8 @@ std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, 
                                                  const RunOptions& options) {
   std::unique_ptr<SessionClock> clock;
   // A live tracker or response device needs the real-time clock (and an offscreen run paced in
-  // real time).
-  if (display.real_time() || tracker.live() || device.configured()) {
+  // real time), as does an offscreen run asked for with --clock real.
+  if (display.real_time() || tracker.live() || device.configured() || options.clock == "real") {
     clock = std::make_unique<MonotonicClock>(start.resumed ? start.store->last_flip_s(start.resumed->id) + 1.0 : 0.0);
   } else {
     // Frame k of the session flips at k / refresh_hz, across resumptions too.

@@ -1,8 +1,13 @@
 #pragma once
-// Paces an offscreen run in real time when a live tracker is attached: after each frame, sleep
-// until the next frame's deadline (start + k * period), so tracker time and session time stay
-// comparable. A run without live devices keeps the virtual clock and runs as fast as it renders.
+// Paces an offscreen run in real time (a live tracker or response device attached, or --clock
+// real): each present waits for the next refresh boundary (start + k * period), as a window's swap
+// waits for the vertical blank, so flips are stamped on the refresh grid and tracker time and
+// session time stay comparable. A frame ready after its boundary waits for the next one: it flips
+// a period late, and the session counts it dropped, as on a display. A run without live devices
+// and without --clock real keeps the virtual clock and runs as fast as it renders.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <thread>
 
@@ -12,17 +17,20 @@ class RealTimePacer {
  public:
   explicit RealTimePacer(double refresh_hz)
       : period_(std::chrono::duration<double>(1.0 / refresh_hz)), start_(std::chrono::steady_clock::now()) {}
-  // Sleeps until frame k + 1 is due (late frames do not sleep; the schedule is not shifted).
+  // Sleeps until the first refresh boundary after the last one waited for that is not yet past:
+  // never two flips in one period, and no burst of flips to catch up after a late one.
   void wait_for_next_frame() {
-    ++frames_;
+    const double elapsed_periods = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_) / period_;
+    boundary_ = std::max(boundary_ + 1, static_cast<std::int64_t>(std::ceil(elapsed_periods)));
     std::this_thread::sleep_until(start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                               period_ * static_cast<double>(frames_)));
+                                               period_ * static_cast<double>(boundary_)));
   }
+  std::int64_t boundary() const { return boundary_; }  // refresh boundaries since the start, of the last wait
 
  private:
   std::chrono::duration<double> period_;
   std::chrono::steady_clock::time_point start_;
-  std::int64_t frames_ = 0;
+  std::int64_t boundary_ = 0;
 };
 
 }  // namespace glarelab
