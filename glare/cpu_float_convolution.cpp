@@ -104,11 +104,9 @@ void CpuFloatConvolution::set_scene(const ImageRGBA& image, int slot) {
     throw std::invalid_argument("glare/cpu_float_convolution: the image is " + std::to_string(image.width_px) + " x " +
                                 std::to_string(image.height_px) + ", planned for " + std::to_string(width_) + " x " +
                                 std::to_string(height_));
-  const NonFiniteReport pixels = inspect_pixels(image);
-  if (!pixels.clean())
-    throw std::invalid_argument("glare/cpu_float_convolution: the image cannot be convolved: it has " + pixels.describe());
-  if (output_ == ConvolutionOutput::same) scene_ = image;
+  // transform_scene refuses non-finite and negative pixels as it copies them (no scan before it).
   transform_scene(image, 0, 0, slot);
+  if (output_ == ConvolutionOutput::same) scene_ = image;
 }
 
 void CpuFloatConvolution::set_scene(const ImageRGBA& frame, int x0, int y0, int slot) {

@@ -228,22 +228,27 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   const double core_radius_display_px = kCoreRings * (longest_nm / settings_.reference_wavelength_nm) *
                                         (settings_.aperture_width_mm / pupil_diameter_mm) *
                                         settings_.psf_degrees_per_pixel / settings_.display_degrees_per_pixel;
+  // The screen reads `total` and writes only straddles_: its display columns are shared among the
+  // threads.
+  parallel_chunks(m_px, settings_.threads, [&](int first, int last) {
+    for (int mx = first; mx < last; ++mx)
+      for (int my = 0; my < m_px; ++my) {
+        const std::size_t k = static_cast<std::size_t>(mx) * m_px + my;
+        const double dx = static_cast<double>(mx) - m_px / 2, dy = static_cast<double>(my) - m_px / 2;
+        bool straddles = dx * dx + dy * dy <= core_radius_display_px * core_radius_display_px;
+        for (int c = 0; c < 3 && !straddles; ++c) {
+          const double net = total[c * plane + k], magnitude = total[(3 + c) * plane + k];
+          if (magnitude > 0.0 && std::abs(net) < kStraddle * magnitude) straddles = true;
+          // A neighbour of the other sign: the channel's zero runs close by.
+          for (int ny = std::max(0, my - 1); ny <= std::min(m_px - 1, my + 1) && !straddles; ++ny)
+            for (int nx = std::max(0, mx - 1); nx <= std::min(m_px - 1, mx + 1); ++nx)
+              if ((total[c * plane + static_cast<std::size_t>(nx) * m_px + ny] < 0.0) != (net < 0.0)) straddles = true;
+        }
+        straddles_[k] = straddles ? 1 : 0;
+      }
+  });
   refined_pixels_ = 0;
-  for (std::size_t k = 0; k < plane; ++k) {
-    const double dx = static_cast<double>(k / m_px) - m_px / 2, dy = static_cast<double>(k % m_px) - m_px / 2;
-    bool straddles = dx * dx + dy * dy <= core_radius_display_px * core_radius_display_px;
-    const int mx = static_cast<int>(k / m_px), my = static_cast<int>(k % m_px);
-    for (int c = 0; c < 3; ++c) {
-      const double net = total[c * plane + k], magnitude = total[(3 + c) * plane + k];
-      if (magnitude > 0.0 && std::abs(net) < kStraddle * magnitude) straddles = true;
-      // A neighbour of the other sign: the channel's zero runs close by.
-      for (int ny = std::max(0, my - 1); ny <= std::min(m_px - 1, my + 1) && !straddles; ++ny)
-        for (int nx = std::max(0, mx - 1); nx <= std::min(m_px - 1, mx + 1); ++nx)
-          if ((total[c * plane + static_cast<std::size_t>(nx) * m_px + ny] < 0.0) != (net < 0.0)) straddles = true;
-    }
-    straddles_[k] = straddles ? 1 : 0;
-    refined_pixels_ += straddles ? 1 : 0;
-  }
+  for (const unsigned char straddles : straddles_) refined_pixels_ += straddles;
   // rgb_t is transposed: index x * M + y.
   parallel_chunks(m_px, settings_.threads, [&](int first, int last) {
     std::vector<double> block;
