@@ -57,8 +57,22 @@ SceneTexture FrameRenderer::upload(const ImageRGBA& image) const {
   return scene;
 }
 
+void FrameRenderer::mark_unencoded(const PixelRect& rect) {
+  const int x0 = std::max(0, rect.x_px), y0 = std::max(0, rect.y_px);
+  const int x1 = std::min(width_px_, rect.x_px + rect.width_px), y1 = std::min(height_px_, rect.y_px + rect.height_px);
+  if (x1 <= x0 || y1 <= y0) return;
+  if (unencoded_.width_px <= 0 || unencoded_.height_px <= 0) {
+    unencoded_ = PixelRect{x0, y0, x1 - x0, y1 - y0};
+    return;
+  }
+  const int u0 = std::min(x0, unencoded_.x_px), v0 = std::min(y0, unencoded_.y_px);
+  const int u1 = std::max(x1, unencoded_.x_px + unencoded_.width_px), v1 = std::max(y1, unencoded_.y_px + unencoded_.height_px);
+  unencoded_ = PixelRect{u0, v0, u1 - u0, v1 - v0};
+}
+
 void FrameRenderer::compose(const std::vector<Placement>& placements, double background_cd_m2) {
   ++stimulus_generation_;
+  mark_unencoded(PixelRect{0, 0, width_px_, height_px_});
   glBindFramebuffer(GL_FRAMEBUFFER, stimulus_framebuffer_.get());
   glViewport(0, 0, width_px_, height_px_);
   glDisable(GL_BLEND);
@@ -73,6 +87,13 @@ void FrameRenderer::compose(const std::vector<Placement>& placements, double bac
 
 void FrameRenderer::compose_overlay(const std::vector<Placement>& overlays) {
   ++stimulus_generation_;
+  // Each overlay draws its rectangle within its clip (draw_placements).
+  for (const Placement& overlay : overlays) {
+    const int x0 = std::max(overlay.rect.x_px, overlay.clip.x_px), y0 = std::max(overlay.rect.y_px, overlay.clip.y_px);
+    const int x1 = std::min(overlay.rect.x_px + overlay.rect.width_px, overlay.clip.x_px + overlay.clip.width_px);
+    const int y1 = std::min(overlay.rect.y_px + overlay.rect.height_px, overlay.clip.y_px + overlay.clip.height_px);
+    mark_unencoded(PixelRect{x0, y0, x1 - x0, y1 - y0});
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, stimulus_framebuffer_.get());
   glViewport(0, 0, width_px_, height_px_);
   glDisable(GL_DEPTH_TEST);
@@ -174,8 +195,22 @@ void FrameRenderer::prepare_calibration_table(const DisplayCalibration& calibrat
   uploaded_calibration_ = calibration;
 }
 
-void FrameRenderer::encode_to_display(const DisplaySpec& display) {
+void FrameRenderer::encode_to_display(const DisplaySpec& display) { encode_rect(display, PixelRect{0, 0, width_px_, height_px_}); }
+
+void FrameRenderer::encode_changes_to_display(const DisplaySpec& display) {
+  if (!encoded_once_) {
+    encode_to_display(display);
+    return;
+  }
+  if (unencoded_.width_px <= 0 || unencoded_.height_px <= 0) return;
+  encode_rect(display, unencoded_);
+}
+
+void FrameRenderer::encode_rect(const DisplaySpec& display, const PixelRect& rect) {
   const bool quantise = display.bits_per_channel != 0;
+  // GL's scissor and blit rectangles start at the bottom row.
+  const int gl_y0 = height_px_ - rect.y_px - rect.height_px;
+  const bool whole = rect.x_px == 0 && rect.y_px == 0 && rect.width_px == width_px_ && rect.height_px == height_px_;
   if (quantise) prepare_display_target(display.bits_per_channel);
   const bool table = display.encoding == DisplayEncoding::table;
   if (table) prepare_calibration_table(display.calibration);
@@ -183,7 +218,12 @@ void FrameRenderer::encode_to_display(const DisplaySpec& display) {
   glBindFramebuffer(GL_FRAMEBUFFER, target);
   glViewport(0, 0, width_px_, height_px_);
   glDisable(GL_BLEND);
-  glDisable(GL_SCISSOR_TEST);
+  if (whole) {
+    glDisable(GL_SCISSOR_TEST);
+  } else {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(rect.x_px, gl_y0, rect.width_px, rect.height_px);
+  }
   // Only an 8-bit target is dithered: 10 bits and half float already hold steps below what an
   // observer resolves at the luminances of interest (docs/DISPLAY_CALIBRATION.md).
   const int dither_levels = display.bits_per_channel == 8 ? 255 : 0;
@@ -215,11 +255,15 @@ void FrameRenderer::encode_to_display(const DisplaySpec& display) {
   }
   if (quantise) {
     // The default framebuffer gets the quantised frame (a window's is requested at this depth).
-    glBlitNamedFramebuffer(target, 0, 0, 0, width_px_, height_px_, 0, 0, width_px_, height_px_, GL_COLOR_BUFFER_BIT,
-                           GL_NEAREST);
+    glDisable(GL_SCISSOR_TEST);  // the blit takes its rectangle, not the scissor
+    glBlitNamedFramebuffer(target, 0, rect.x_px, gl_y0, rect.x_px + rect.width_px, gl_y0 + rect.height_px, rect.x_px, gl_y0,
+                           rect.x_px + rect.width_px, gl_y0 + rect.height_px, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }
+  glDisable(GL_SCISSOR_TEST);
   read_from_target_ = quantise;
+  unencoded_ = PixelRect{};
+  encoded_once_ = true;
   gl::check_gl_error("encoding a frame for the display");
 }
 
@@ -233,6 +277,7 @@ void FrameRenderer::replace_stimulus(const ImageRGBA& image) {
                        " stimulus with a " + std::to_string(image.width_px) + "x" + std::to_string(image.height_px) +
                        " image");
   ++stimulus_generation_;
+  mark_unencoded(PixelRect{0, 0, width_px_, height_px_});
   // GL rows start at the bottom; glarelab images start at the top.
   const std::size_t row_floats = static_cast<std::size_t>(width_px_) * 4;
   std::vector<float> bottom_up(image.rgba.size());
@@ -282,6 +327,7 @@ void FrameRenderer::upload_stimulus_region(const void* values, std::size_t count
     throw DisplayError("frame renderer: " + std::to_string(count) + " values for a " + std::to_string(width_px) + "x" +
                        std::to_string(height_px) + " region of " + std::to_string(channels) + " channels");
   ++stimulus_generation_;
+  mark_unencoded(PixelRect{x0_px, y0_px, width_px, height_px});
   // Rows of half RGB (6 bytes a pixel) are only 2-byte aligned.
   glPixelStorei(GL_UNPACK_ALIGNMENT, type == GL_HALF_FLOAT ? 2 : 4);
   glTextureSubImage2D(stimulus_texture_.get(), 0, x0_px, height_px_ - y0_px - height_px, width_px, height_px,
@@ -289,6 +335,8 @@ void FrameRenderer::upload_stimulus_region(const void* values, std::size_t count
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   gl::check_gl_error(what);
 }
+
+void FrameRenderer::finish() const { glFinish(); }
 
 ImageRGBA FrameRenderer::read_display() const {
   return read_framebuffer(read_from_target_ ? display_framebuffer_.get() : 0, width_px_, height_px_);

@@ -46,6 +46,15 @@ class FrameRenderer {
   // framebuffer holds; with 0 it is encoded straight into the default framebuffer.
   // Throws DisplayError for another depth or a calibration table larger than a texture.
   void encode_to_display(const DisplaySpec& display);
+  // The same for the pixels written to the stimulus framebuffer since the last encode only (their
+  // bounding rectangle, scissored; a quantised frame is copied to the default framebuffer in that
+  // rectangle only), for a display framebuffer that still holds the last encode with the same
+  // `display`: the offscreen displays (DisplayBackend::keeps_presented_frame). The encoding of a
+  // pixel depends only on its stimulus value and position, so the result is the full encode's,
+  // bit for bit. Before any encode, it is encode_to_display.
+  void encode_changes_to_display(const DisplaySpec& display);
+  // What encode_changes_to_display would encode (top-left origin); empty (0 x 0) when nothing changed.
+  PixelRect unencoded_rect() const { return unencoded_; }
 
   // Counts the writes to the stimulus framebuffer (compose, overlays, replaced frames and regions):
   // a caller that drew it and finds the count unchanged knows it still holds what it drew.
@@ -68,6 +77,9 @@ class FrameRenderer {
   void replace_stimulus_region_half_rgb(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px, int y0_px,
                                         int width_px, int height_px);
 
+  // Waits until the GL work issued so far is done (glFinish): what a draw cost, timed.
+  void finish() const;
+
   int width_px() const { return width_px_; }
   int height_px() const { return height_px_; }
 
@@ -77,6 +89,9 @@ class FrameRenderer {
   void upload_stimulus_region(const void* values, std::size_t count, int channels, unsigned type, int x0_px, int y0_px,
                               int width_px, int height_px, const char* what);
   void draw_placements(const std::vector<Placement>& placements, bool overlay);
+  // Widens unencoded_ by `rect` (clipped to the frame).
+  void mark_unencoded(const PixelRect& rect);
+  void encode_rect(const DisplaySpec& display, const PixelRect& rect);
   // (Re)creates the quantising target for `bits_per_channel` when it differs from the current one.
   void prepare_display_target(int bits_per_channel);
   // Uploads the calibration table (and its gains at each 8-bit code, for dithering) when it
@@ -95,6 +110,8 @@ class FrameRenderer {
   gl::Framebuffer display_framebuffer_;  // its framebuffer
   bool read_from_target_ = false;        // the last encode went through display_target_
   std::uint64_t stimulus_generation_ = 0;
+  PixelRect unencoded_;     // written since the last encode (top-left origin); 0 x 0: nothing
+  bool encoded_once_ = false;
   gl::Program encode_table_program_;     // encoding = "table" (encode_display_table.frag), built on first use
   gl::Texture calibration_texture_;      // rows x 1 RGBA32F: (drive, gain r, gain g, gain b)
   gl::Texture code_gain_texture_;        // 256 x 1 RGBA32F: gains at drive k / 255

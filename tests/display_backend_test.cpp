@@ -143,6 +143,65 @@ INSTANTIATE_TEST_SUITE_P(Display, HeadlessBackend, ::testing::Values("egl", "osm
 // The session re-encodes a flip of an unchanged frame without composing it again when the
 // renderer's write count is the one it left (runner/session/trial_presentation.cpp): every write
 // to the stimulus framebuffer must count, and reading or encoding must not.
+// An offscreen display keeps its encoded frame, so after a change only the changed pixels are
+// encoded again: the display then holds, bit for bit, what encoding the whole frame gives, for a
+// float target, a dithered 8-bit one, a 10-bit one and PQ. The changed rectangle is the bounding
+// box of the writes since the last encode (reads write nothing).
+TEST(FrameRendererWrites, EncodingOnlyWhatChangedEqualsEncodingTheWholeFrame) {
+  DisplayRequest request;
+  request.width_px = 48;
+  request.height_px = 32;
+  auto display = create_display("offscreen", request);
+  for (const int bits : {0, 8, 10}) {
+    for (const DisplayEncoding encoding : {DisplayEncoding::srgb, DisplayEncoding::pq}) {
+      FrameRenderer renderer(48, 32);
+      const ImageRGBA pattern = position_pattern(16, 8);
+      const SceneTexture scene = renderer.upload(pattern);
+      DisplaySpec spec;
+      spec.peak_luminance_cd_m2 = 100.0;
+      spec.bits_per_channel = bits;
+      spec.encoding = encoding;
+      const std::vector<Placement> overlay = {{&scene, 0.5, {10, 4, 16, 8}, {0, 0, 48, 32}}};
+      renderer.compose({{&scene, 1.0, {2, 3, 16, 8}, {0, 0, 48, 32}}}, 0.5);
+      renderer.compose_overlay(overlay);
+      renderer.encode_changes_to_display(spec);  // the first: the whole frame
+      EXPECT_EQ(renderer.unencoded_rect().width_px, 0);
+      // A new region under part of the overlay, the overlay blended again inside it only.
+      ImageRGBA region = position_pattern(12, 10);
+      for (float& value : region.rgba) value *= 3.0f;
+      for (std::size_t k = 3; k < region.rgba.size(); k += 4) region.rgba[k] = 1.0f;
+      renderer.replace_stimulus_region(region, 20, 6);
+      renderer.compose_overlay({{&scene, 0.5, {10, 4, 16, 8}, {20, 6, 6, 6}}});
+      // What a session's dynamic glare flip leaves in the stimulus (no new compose, the overlay
+      // blended again inside the region only) is what composing it all afresh gives.
+      {
+        FrameRenderer fresh(48, 32);
+        const SceneTexture fresh_scene = fresh.upload(pattern);
+        fresh.compose({{&fresh_scene, 1.0, {2, 3, 16, 8}, {0, 0, 48, 32}}}, 0.5);
+        fresh.replace_stimulus_region(region, 20, 6);
+        fresh.compose_overlay({{&fresh_scene, 0.5, {10, 4, 16, 8}, {0, 0, 48, 32}}});
+        EXPECT_EQ(renderer.read_stimulus().rgba, fresh.read_stimulus().rgba);
+      }
+      const PixelRect changed = renderer.unencoded_rect();
+      EXPECT_EQ(changed.x_px, 20);
+      EXPECT_EQ(changed.y_px, 6);
+      EXPECT_EQ(changed.width_px, 12);
+      EXPECT_EQ(changed.height_px, 10);
+      renderer.encode_changes_to_display(spec);
+      renderer.encode_changes_to_display(spec);  // nothing changed since: nothing encoded
+      const ImageRGBA incremental = renderer.read_display();
+      renderer.encode_to_display(spec);
+      const ImageRGBA whole = renderer.read_display();
+      ASSERT_EQ(incremental.rgba.size(), whole.rgba.size());
+      EXPECT_EQ(incremental.rgba, whole.rgba) << bits << " bits, encoding " << static_cast<int>(encoding);
+      // And the region did change the display (the test would not notice a missing encode otherwise).
+      renderer.replace_stimulus_region(pattern, 20, 6);
+      renderer.encode_to_display(spec);
+      EXPECT_NE(renderer.read_display().rgba, whole.rgba);
+    }
+  }
+}
+
 TEST(FrameRendererWrites, EveryWriteToTheStimulusCountsAndReadsAndEncodesDoNot) {
   DisplayRequest request;
   request.width_px = 32;

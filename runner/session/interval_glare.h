@@ -66,6 +66,9 @@ struct IntervalGlare {
   std::optional<GazeWindow> window;
   std::vector<double> gaze_to_flip_s;  // live: each frame's flip time minus its gaze sample's time
   std::vector<double> frame_compute_s;  // wall time spent computing each frame
+  // Until the session has settled how glare is presented: wall time drawing each glare flip (the
+  // region put in, overlays, the encode, the GL work finished), the rest of a live frame's cost.
+  std::vector<double> frame_draw_s;
   std::vector<double> adapted_cd_m2;    // perception: each frame's adapted luminance (Eq. 5.2)
   std::vector<EyeIntervalGlare> eyes;   // stereo: left eye, right eye; empty on a mono display
 

@@ -220,8 +220,8 @@ class SessionLoop {
   std::map<std::string, SceneTexture> textures_;
   FrameTimingMonitor timing_;
   bool presentation_mode_logged_ = false;
-  // Live glare needs a frame's glare computed within this fraction of the refresh period; the rest
-  // composes, encodes and flips it.
+  // Live glare needs a frame's glare computed and drawn within this fraction of the refresh
+  // period; the rest is the margin for the flip and the machine's other work.
   static constexpr double kLiveBudgetFraction = 0.75;
   enum class GlarePresentation { prepared, live };
   GlarePresentation glare_presentation_ = GlarePresentation::prepared;
@@ -254,11 +254,9 @@ class SessionLoop {
     std::uint64_t generation = 0;
     std::vector<Placement> placements, overlays;
     std::uint64_t glared_serial = 0;
+    PixelRect glared_box;  // where that region lies (0 x 0 without one)
   };
   std::optional<DrawnFrame> drawn_;
-  // The renderer's write count when encode() last drew the display's framebuffer: a display that
-  // keeps its presented frame already shows that encoding.
-  std::optional<std::uint64_t> encoded_generation_;
 };
 
 }  // namespace glarelab

@@ -1,5 +1,6 @@
 // Drawing and presenting a trial's flips: where the scenes go, what a flip draws, the background
 // and text screens around the stimulus, and how each flip is recorded (late ones logged).
+#include <algorithm>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -34,6 +35,25 @@ bool same_rect(const PixelRect& a, const PixelRect& b) {
   return a.x_px == b.x_px && a.y_px == b.y_px && a.width_px == b.width_px && a.height_px == b.height_px;
 }
 
+bool overlaps(const PixelRect& a, const PixelRect& b) {
+  return a.x_px < b.x_px + b.width_px && b.x_px < a.x_px + a.width_px && a.y_px < b.y_px + b.height_px &&
+         b.y_px < a.y_px + a.height_px;
+}
+
+// The overlays that draw into `box` (each draws its rectangle within its clip), clipped to it.
+std::vector<Placement> overlays_within(const std::vector<Placement>& overlays, const PixelRect& box) {
+  std::vector<Placement> within;
+  for (Placement overlay : overlays) {
+    if (!overlaps(overlay.rect, box) || !overlaps(overlay.clip, box)) continue;
+    const int x0 = std::max(overlay.clip.x_px, box.x_px), y0 = std::max(overlay.clip.y_px, box.y_px);
+    const int x1 = std::min(overlay.clip.x_px + overlay.clip.width_px, box.x_px + box.width_px);
+    const int y1 = std::min(overlay.clip.y_px + overlay.clip.height_px, box.y_px + box.height_px);
+    overlay.clip = PixelRect{x0, y0, x1 - x0, y1 - y0};
+    within.push_back(overlay);
+  }
+  return within;
+}
+
 bool same_placements(const std::vector<Placement>& a, const std::vector<Placement>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
@@ -60,28 +80,53 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
     encode();
     return;
   }
+  const PixelRect glared_box =
+      glared != nullptr ? PixelRect{glared->x0_px, glared->y0_px, glared->width_px, glared->height_px} : PixelRect{};
+  const auto replace_region = [&] {
+    if (!glared->half_rgb.empty())
+      renderer_.replace_stimulus_region_half_rgb(glared->half_rgb, glared->x0_px, glared->y0_px, glared->width_px,
+                                                 glared->height_px);
+    else
+      renderer_.replace_stimulus_region_bottom_up(glared->exact_rgba, glared->x0_px, glared->y0_px, glared->width_px,
+                                                  glared->height_px);
+  };
+  // A dynamic glare flip: the same scenes and overlays, a new glared region in the last one's
+  // rectangle. The framebuffer then differs from what compose, the region and the overlays would
+  // make only inside that rectangle, which the new region overwrites whole: the compose is left
+  // out, and the overlays are blended again inside the rectangle only (outside it the frame
+  // already holds them, and blending twice would darken it). The encode then redoes only the
+  // rectangle where the display keeps its frame (FrameRenderer::encode_changes_to_display).
+  if (glared != nullptr && glared_serial != 0 && stereo_eyes_.empty() && drawn_ && drawn_->glared_serial != 0 &&
+      drawn_->generation == renderer_.stimulus_generation() && same_rect(drawn_->glared_box, glared_box) &&
+      same_placements(drawn_->placements, placements) && same_placements(drawn_->overlays, overlays)) {
+    replace_region();
+    const std::vector<Placement> within = overlays_within(overlays, glared_box);
+    if (!within.empty()) renderer_.compose_overlay(within);
+    drawn_->generation = renderer_.stimulus_generation();
+    drawn_->glared_serial = glared_serial;
+    encode();
+    return;
+  }
   drawn_.reset();
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
-  if (glared != nullptr && !glared->half_rgb.empty())
-    renderer_.replace_stimulus_region_half_rgb(glared->half_rgb, glared->x0_px, glared->y0_px, glared->width_px,
-                                               glared->height_px);
-  else if (glared != nullptr)
-    renderer_.replace_stimulus_region_bottom_up(glared->exact_rgba, glared->x0_px, glared->y0_px, glared->width_px,
-                                                glared->height_px);
+  if (glared != nullptr) replace_region();
   if (!overlays.empty()) renderer_.compose_overlay(stereo_eyes_.empty() ? overlays : stereo_overlays(overlays));
   if (glared == nullptr || glared_serial != 0)
-    drawn_ = DrawnFrame{renderer_.stimulus_generation(), placements, overlays, glared_serial};
+    drawn_ = DrawnFrame{renderer_.stimulus_generation(), placements, overlays, glared_serial, glared_box};
   encode();
 }
 
 void SessionLoop::encode() {
   if (fast_forward_) return;
-  // Only this function writes the display's framebuffer during a session, and the encoding is a
-  // function of the stimulus framebuffer (and the session's fixed display settings): an
-  // offscreen buffer that still holds the encoding of the same stimulus needs no new one.
-  if (display_.keeps_presented_frame() && encoded_generation_ == renderer_.stimulus_generation()) return;
-  renderer_.encode_to_display(prepared_.experiment.display);
-  encoded_generation_ = renderer_.stimulus_generation();
+  // Only this function writes the display's framebuffer during a session, and the encoding of a
+  // pixel is a function of its stimulus value and position (and the session's fixed display
+  // settings): an offscreen buffer, which keeps what was encoded into it, needs only the pixels
+  // written since the last encode (none for an unchanged stimulus). A window's back buffer is
+  // encoded whole at every flip.
+  if (display_.keeps_presented_frame())
+    renderer_.encode_changes_to_display(prepared_.experiment.display);
+  else
+    renderer_.encode_to_display(prepared_.experiment.display);
 }
 
 TrialPlan SessionLoop::interval_plan(const TrialPlan& plan, int interval) const {

@@ -2,6 +2,7 @@
 // sequence stamped on the session clock, the answer (keys, response device, adjustment or a
 // non-interactive observer), scoring and feedback.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -76,7 +77,16 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
       IntervalGlare& shown_glare = glare[static_cast<std::size_t>(flip.interval)];
       // Live: this frame's glare now, with the gaze of this moment (nothing when already there).
       compute_glare_frame(shown_glare, flip.frame_in_interval);
+      // Until the presentation is settled, each glare flip's drawing is timed (with its GL work
+      // finished): with the glare's own cost it is what a live frame takes.
+      const bool timed = !presentation_mode_logged_ && shown_glare.active && !shown_glare.perceived;
+      const auto draw_start = std::chrono::steady_clock::now();
       draw(placements[static_cast<std::size_t>(flip.interval)], shown_glare.shown(flip.frame_in_interval), question);
+      if (timed && !fast_forward_) {
+        renderer_.finish();
+        shown_glare.frame_draw_s.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - draw_start).count());
+      }
       if (flip.frame_in_interval == 0 && capture_first_frame(shown_plans[static_cast<std::size_t>(flip.interval)], flip.interval)) {
         aborted_ = true;
         abort_reason_ = "preview captured";
