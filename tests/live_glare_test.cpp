@@ -132,12 +132,14 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
   std::vector<double> flips_s;
   for (const TrialRecord& trial : store.load_trials(session.id))
     for (const FrameRecord& frame : store.load_frames(trial.id)) flips_s.push_back(frame.flip_s);
-  // The stimulus flips (3 a trial), in time order: each at least a period after the one before,
-  // all within the run's wall time.
+  // The stimulus flips (3 a trial), in time order: each on a later refresh boundary than the one
+  // before, so never two in one period. A stamp is taken when the wait returns, a little after
+  // its boundary on a busy machine, so the margin is half a period (a run that did not wait, or
+  // caught up on late frames by flipping at once, stamps flips a fraction of a millisecond apart).
   std::sort(flips_s.begin(), flips_s.end());
   ASSERT_EQ(flips_s.size(), 18u);
   for (std::size_t k = 1; k < flips_s.size(); ++k)
-    ASSERT_GE(flips_s[k] - flips_s[k - 1], 0.9 * period_s) << "flips " << k - 1 << " and " << k << " in one period";
+    ASSERT_GE(flips_s[k] - flips_s[k - 1], 0.5 * period_s) << "flips " << k - 1 << " and " << k << " in one period";
   EXPECT_LE(flips_s.back() - flips_s.front(), wall_s);
   const auto mode = test::session_event_messages(run.db.string(), "presentation_mode");
   ASSERT_EQ(mode.size(), 1u);
