@@ -15,8 +15,18 @@ foreach(shader ${GLARELAB_SHADER_FILES})
   file(RELATIVE_PATH rel ${CMAKE_SOURCE_DIR} ${shader})
   string(REPLACE "/" "_" stamp_name ${rel})
   set(stamp ${CMAKE_BINARY_DIR}/shader_checks/${stamp_name}.ok)
+  set(validations COMMAND ${GLSLANG_VALIDATOR} ${shader})
+  if(rel STREQUAL "stimuli/shaders/encode_display.frag")
+    # Built once per encoding and dithering (stimuli/frame_renderer.cpp): each pair is validated.
+    set(validations)
+    foreach(encoding 0 1 2)
+      foreach(dither 0 1)
+        list(APPEND validations COMMAND ${GLSLANG_VALIDATOR} -l -DENCODING=${encoding} -DDITHER=${dither} ${shader})
+      endforeach()
+    endforeach()
+  endif()
   add_custom_command(OUTPUT ${stamp}
-    COMMAND ${GLSLANG_VALIDATOR} ${shader}
+    ${validations}
     COMMAND ${CMAKE_COMMAND} -E touch ${stamp}
     DEPENDS ${shader}
     COMMENT "Validating shader ${rel}"

@@ -32,8 +32,8 @@ FrameRenderer::FrameRenderer(int width_px, int height_px)
       stimulus_texture_(gl::create_texture(GL_TEXTURE_2D)),
       stimulus_framebuffer_(gl::create_framebuffer()),
       empty_vertex_array_(gl::create_vertex_array()),
-      placed_image_program_(gl::build_program({"stimuli/shaders/placed_image.vert", "stimuli/shaders/placed_image.frag"})),
-      encode_program_(gl::build_program({"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode_display.frag"})) {
+      placed_image_program_(gl::build_program({"stimuli/shaders/placed_image.vert", "stimuli/shaders/placed_image.frag"})) {
+  encode_program(0, false);  // the common one built now, so a driver that cannot build it says so at once
   // 32-bit float: a 1e8 cd/m2 source and a 1e-2 cd/m2 background must both survive exactly.
   glTextureStorage2D(stimulus_texture_.get(), 1, GL_RGBA32F, width_px_, height_px_);
   glTextureParameteri(stimulus_texture_.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -227,7 +227,10 @@ void FrameRenderer::encode_rect(const DisplaySpec& display, const PixelRect& rec
   // Only an 8-bit target is dithered: 10 bits and half float already hold steps below what an
   // observer resolves at the luminances of interest (docs/DISPLAY_CALIBRATION.md).
   const int dither_levels = display.bits_per_channel == 8 ? 255 : 0;
-  const GLuint program = table ? encode_table_program_.get() : encode_program_.get();
+  int encoding = 0;
+  if (display.encoding == DisplayEncoding::gamma) encoding = 1;
+  if (display.encoding == DisplayEncoding::pq) encoding = 2;
+  const GLuint program = table ? encode_table_program_.get() : encode_program(encoding, dither_levels > 0);
   glUseProgram(program);
   glBindVertexArray(empty_vertex_array_.get());
   glUniform1i(glGetUniformLocation(program, "uDitherLevels"), dither_levels);
@@ -239,11 +242,7 @@ void FrameRenderer::encode_rect(const DisplaySpec& display, const PixelRect& rec
     glBindTextureUnit(1, calibration_texture_.get());
     glBindTextureUnit(2, code_gain_texture_.get());
   } else {
-    int encoding = 0;
-    if (display.encoding == DisplayEncoding::gamma) encoding = 1;
-    if (display.encoding == DisplayEncoding::pq) encoding = 2;
     glUniform1f(glGetUniformLocation(program, "uPeakLuminance"), static_cast<float>(display.peak_luminance_cd_m2));
-    glUniform1i(glGetUniformLocation(program, "uEncoding"), encoding);
     glUniform1f(glGetUniformLocation(program, "uGamma"), static_cast<float>(display.gamma));
     glUniform1i(glGetUniformLocation(program, "uBt2020"), display.primaries == DisplayPrimaries::bt2020 ? 1 : 0);
   }
@@ -337,6 +336,20 @@ void FrameRenderer::upload_stimulus_region(const void* values, std::size_t count
 }
 
 void FrameRenderer::finish() const { glFinish(); }
+
+GLuint FrameRenderer::encode_program(int encoding, bool dither) {
+  const int key = 2 * encoding + (dither ? 1 : 0);
+  auto found = encode_programs_.find(key);
+  if (found == encode_programs_.end()) {
+    const std::string defines =
+        "#define ENCODING " + std::to_string(encoding) + "\n#define DITHER " + std::string(dither ? "1" : "0");
+    found = encode_programs_
+                .emplace(key, gl::build_program({"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode_display.frag"},
+                                                defines))
+                .first;
+  }
+  return found->second.get();
+}
 
 ImageRGBA FrameRenderer::read_display() const {
   return read_framebuffer(read_from_target_ ? display_framebuffer_.get() : 0, width_px_, height_px_);

@@ -3,6 +3,7 @@
 // holding luminance-calibrated linear RGB (Y in cd/m2), then encoded for the display into the
 // backend's default framebuffer. Needs the backend's GL context to be current.
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include "core/gl/gl_objects.h"
@@ -104,7 +105,10 @@ class FrameRenderer {
   gl::Framebuffer stimulus_framebuffer_;
   gl::VertexArray empty_vertex_array_;  // core profile needs a bound VAO even without attributes
   gl::Program placed_image_program_;
-  gl::Program encode_program_;
+  // encode_display.frag built for one encoding (0 sRGB, 1 gamma, 2 PQ) with or without dithering,
+  // made on first use: key 2 * encoding + dither.
+  unsigned encode_program(int encoding, bool dither);
+  std::map<int, gl::Program> encode_programs_;
   int target_bits_ = 0;                  // depth of display_target_; 0: none
   gl::Texture display_target_;           // quantising target of the last encode (bits 8, 10, 16)
   gl::Framebuffer display_framebuffer_;  // its framebuffer

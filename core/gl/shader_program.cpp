@@ -33,7 +33,9 @@ std::string info_log(GLuint name, bool is_program) {
 
 }  // namespace
 
-Program build_program(std::initializer_list<std::string_view> shader_paths) {
+Program build_program(std::initializer_list<std::string_view> shader_paths) { return build_program(shader_paths, {}); }
+
+Program build_program(std::initializer_list<std::string_view> shader_paths, std::string_view defines) {
   Program program(glCreateProgram());
   std::vector<Shader> shaders;
   std::string names;
@@ -41,9 +43,14 @@ Program build_program(std::initializer_list<std::string_view> shader_paths) {
     const std::string_view source = embedded_shader(path);
     if (source.empty()) throw DisplayError("OpenGL: shader " + std::string(path) + " is not embedded in this build");
     Shader shader(glCreateShader(stage_of(path)));
-    const char* text = source.data();
-    const auto length = static_cast<GLint>(source.size());
-    glShaderSource(shader.get(), 1, &text, &length);
+    // The #version line, the defines, a #line back to the source's second line, the rest.
+    const std::size_t first_line_end = defines.empty() ? source.size() : source.find('\n');
+    const std::size_t split = first_line_end == std::string_view::npos ? source.size() : first_line_end + 1;
+    const std::string specialised = defines.empty() ? std::string() : std::string(defines) + "\n#line 2\n";
+    const char* texts[3] = {source.data(), specialised.data(), source.data() + split};
+    const GLint lengths[3] = {static_cast<GLint>(split), static_cast<GLint>(specialised.size()),
+                              static_cast<GLint>(source.size() - split)};
+    glShaderSource(shader.get(), 3, texts, lengths);
     glCompileShader(shader.get());
     GLint ok = GL_FALSE;
     glGetShaderiv(shader.get(), GL_COMPILE_STATUS, &ok);

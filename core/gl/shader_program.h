@@ -11,6 +11,9 @@ namespace glarelab::gl {
 // Paths relative to the source root, e.g. {"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode.frag"}.
 // The stage is taken from the extension (.vert, .frag, .comp).
 Program build_program(std::initializer_list<std::string_view> shader_paths);
+// The same with `defines` ("#define NAME VALUE" lines) placed after each shader's #version line,
+// for a program specialised at build time (a #line directive keeps the driver's line numbers).
+Program build_program(std::initializer_list<std::string_view> shader_paths, std::string_view defines);
 
 // Checks glGetError and throws DisplayError("OpenGL: <what>: <error name>") if one is pending.
 void check_gl_error(std::string_view what);
