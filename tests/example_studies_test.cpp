@@ -220,19 +220,28 @@ TEST(ExampleStudies, RitschelTwoAfcHasEveryPairBothWaysRound) {
   EXPECT_TRUE(logged("trial_phases: trial 1: inter-trial 30, interval 1 15 (frames 0-14) flips"));
   EXPECT_TRUE(logged("trial_phases: trial 12: inter-trial 30, screen 60, interval 1 15 (frames 0-14) flips"));
   // Glare was applied per side and said so (the backend once, the held PSF through blinks per trial).
-  bool backend_logged = false, per_side_logged = false, mode_logged = false;
+  bool backend_logged = false, per_side_logged = false;
+  // "auto" settles each glare layout on its first interval, prepared or live by this machine's
+  // measured cost per frame: one event for a dynamic source beside a control, one for a dynamic
+  // beside a static (a static layout computes one frame an interval and is always prepared).
+  std::map<std::string, int> layouts_settled;
   for (const std::string& event : run.events) {
     backend_logged = backend_logged || event.rfind("glare_backend: glare backend", 0) == 0;
-    // Prepared or live: "auto" decides by this machine's measured cost per frame.
-    mode_logged = mode_logged || ((event.rfind("presentation_mode: glare trials: frames prepared before onset; ", 0) == 0 ||
-                                   event.rfind("presentation_mode: glare trials: live from trial ", 0) == 0) &&
-                                  event.find(" ms per glare frame on this machine and ") != std::string::npos);
     per_side_logged = per_side_logged || (event.rfind("glare_skipped: trial", 0) == 0 &&
                                           event.find("glare layer frame(s)") != std::string::npos);
+    if (event.rfind("presentation_mode: glare trials: ", 0) != 0) continue;
+    EXPECT_TRUE(event.rfind("presentation_mode: glare trials: frames prepared before onset where the glare is ", 0) == 0 ||
+                event.rfind("presentation_mode: glare trials: live from trial ", 0) == 0)
+        << event;
+    EXPECT_NE(event.find(" ms per glare frame on this machine and "), std::string::npos) << event;
+    for (const std::string layout : {"control + dynamic", "dynamic + static", "control + static"})
+      if (event.find("where the glare is " + layout + ";") != std::string::npos ||
+          event.find("where the glare is " + layout + ",") != std::string::npos)
+        ++layouts_settled[layout];
   }
   EXPECT_TRUE(backend_logged);
   EXPECT_TRUE(per_side_logged);
-  EXPECT_TRUE(mode_logged);
+  EXPECT_EQ(layouts_settled, (std::map<std::string, int>{{"control + dynamic", 1}, {"dynamic + static", 1}}));
   // First session in a new database: participant number 1, and the session says how it was chosen.
   bool participant_logged = false;
   for (const std::string& event : run.events)

@@ -24,7 +24,6 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       overlays_(renderer_, prepared.experiment),
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
-  if (prepared.experiment.glare.presentation == "live") glare_presentation_ = GlarePresentation::live;
   stereo_eyes_ = make_stereo_eyes(prepared.experiment, gl::compute_context_factory());
   for (const ConditionRefraction& refraction : condition_refractions(prepared_.experiment))
     condition_refractions_.emplace(refraction.condition, refraction);

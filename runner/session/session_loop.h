@@ -219,12 +219,18 @@ class SessionLoop {
   double period_s_;
   std::map<std::string, SceneTexture> textures_;
   FrameTimingMonitor timing_;
-  bool presentation_mode_logged_ = false;
   // Live glare needs a frame's glare computed and drawn within this fraction of the refresh
   // period; the rest is the margin for the flip and the machine's other work.
   static constexpr double kLiveBudgetFraction = 0.75;
   enum class GlarePresentation { prepared, live };
-  GlarePresentation glare_presentation_ = GlarePresentation::prepared;
+  // How glare intervals are presented (runner/session/trial_glare.cpp): [glare] presentation
+  // "live" or "prepared" for all; "auto" settles each glare layout (the interval's glare modes,
+  // whatever their sides: a dynamic source beside a static one costs more than one beside a
+  // control) on the first interval of it, prepared until then.
+  GlarePresentation presentation_for(const IntervalGlare& glare) const;
+  bool presentation_settled(const IntervalGlare& glare) const;
+  std::map<std::string, GlarePresentation> settled_presentations_;  // by glare_layout()
+  bool presentation_logged_ = false;  // "live" / "prepared" as asked: said once
   GlareStage glare_;
   // The perception stages' eye over the session (stimuli/session_perception.h); `adapts_`: some
   // condition has adaptation on, so every interval's frames are shown to the eye.

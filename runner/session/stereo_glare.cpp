@@ -135,7 +135,7 @@ void SessionLoop::compute_stereo_glare_frame(IntervalGlare& glare, int k) {
   const auto start = std::chrono::steady_clock::now();
   const double time_s = glare.frame_time_s(k);
   std::optional<double> gaze_time_s;
-  if (glare_presentation_ == GlarePresentation::live && tracker_.active()) {
+  if (presentation_for(glare) == GlarePresentation::live && tracker_.active()) {
     update_glare_gaze(glare, time_s);
     // The frame's gaze age is its older eye's.
     for (const EyeIntervalGlare& eye : glare.eyes)

@@ -243,7 +243,7 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
   const auto start = std::chrono::steady_clock::now();
   const double time_s = glare.frame_time_s(k);
   std::optional<double> gaze_time_s;
-  if (glare_presentation_ == GlarePresentation::live && tracker_.active()) {
+  if (presentation_for(glare) == GlarePresentation::live && tracker_.active()) {
     // Live: the gaze of this frame (its age at the flip goes into the frame's row).
     update_glare_gaze(glare, time_s);
     if (glare.tracked) gaze_time_s = glare.tracked->session_time_s;
@@ -349,21 +349,51 @@ void SessionLoop::log_interval_glare(const TrialPlan& plan, const IntervalGlare&
   }
 }
 
-// How glare trials are presented ([glare] presentation): "prepared" and "live" as asked; "auto"
-// prepares the first glare interval before onset, measuring what a frame costs (its glare, and
-// drawing it: the region, the overlays, the encode), and goes live from then on when the two
-// together fit kLiveBudgetFraction of the refresh period (the rest is the flip's margin). Logged
-// once as a 'presentation_mode' event.
+namespace {
+
+// The glare modes of an interval's positions, sorted, whatever their sides: "control + dynamic",
+// "dynamic + static", or one mode for the whole frame.
+std::string glare_layout(const IntervalGlare& glare) {
+  if (glare.layers.empty()) return to_string(glare.mode);
+  std::vector<std::string> modes;
+  for (const GlareLayer& layer : glare.layers) modes.push_back(to_string(layer.mode));
+  std::sort(modes.begin(), modes.end());
+  std::string layout;
+  for (const std::string& mode : modes) layout += (layout.empty() ? "" : " + ") + mode;
+  return layout;
+}
+
+}  // namespace
+
+SessionLoop::GlarePresentation SessionLoop::presentation_for(const IntervalGlare& glare) const {
+  const std::string& asked = prepared_.experiment.glare.presentation;
+  if (asked == "live") return GlarePresentation::live;
+  if (asked == "prepared") return GlarePresentation::prepared;
+  const auto settled = settled_presentations_.find(glare_layout(glare));
+  return settled == settled_presentations_.end() ? GlarePresentation::prepared : settled->second;
+}
+
+bool SessionLoop::presentation_settled(const IntervalGlare& glare) const {
+  const std::string& asked = prepared_.experiment.glare.presentation;
+  if (asked != "auto") return presentation_logged_;
+  return settled_presentations_.count(glare_layout(glare)) > 0;
+}
+
+// How glare trials are presented ([glare] presentation): "prepared" and "live" as asked (logged
+// once, with the first glare interval's cost); "auto" prepares the first glare interval of each
+// glare layout before onset, measuring what a frame costs (its glare, and drawing it: the region,
+// the overlays, the encode), and presents that layout live from then on when the two together
+// fit kLiveBudgetFraction of the refresh period (the rest is the flip's margin). Each settled
+// layout is logged as a 'presentation_mode' event.
 void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
   // Perception intervals are always prepared: their cost is the perception_stages event's.
-  if (!glare.active || glare.perceived || glare.frame_compute_s.empty() || presentation_mode_logged_) return;
+  if (!glare.active || glare.perceived || glare.frame_compute_s.empty() || presentation_settled(glare)) return;
   const std::string& asked = prepared_.experiment.glare.presentation;
   // The first frame of a session also makes the FFTW plans and buffers: the steady cost is the
   // median of the frames after it, so "auto" waits for an interval of two frames or more (a dynamic
   // one; a static interval computes one frame).
   const std::size_t measured = glare.frame_compute_s.size();
   if (asked == "auto" && measured < 2) return;
-  presentation_mode_logged_ = true;
   // The steady median of a per-frame series: the frames after the first (see above).
   const auto steady_median_s = [](const std::vector<double>& series) {
     if (series.empty()) return 0.0;
@@ -373,7 +403,7 @@ void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const Interva
   };
   const double compute_s = steady_median_s(glare.frame_compute_s);
   // Drawing a glare flip (the region, the overlays, the encode) is the rest of a live frame's
-  // cost: on a GPU a fraction of a millisecond, on a software renderer several.
+  // cost: on a GPU a fraction of a millisecond, on a software renderer one or more.
   const double draw_s = steady_median_s(glare.frame_draw_s);
   const double per_frame_s = compute_s + draw_s;
   const auto ms_text = [](double seconds) { return number_text(std::round(seconds * 1e6) / 1e3); };
@@ -382,6 +412,7 @@ void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const Interva
                            " (median of " + std::to_string(measured - (measured > 1 ? 1 : 0)) + " frame(s) of trial " +
                            std::to_string(plan.trial_index) + (measured > 1 ? ", its first frame left out" : "") +
                            ") against a refresh period of " + ms_text(period_s_) + " ms";
+  const std::string layout = glare_layout(glare);
   std::string message;
   if (asked == "live") {
     message = "glare trials: live, each frame computed just before its flip ([glare] presentation = \"live\"); " +
@@ -389,19 +420,21 @@ void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const Interva
   } else if (asked == "prepared") {
     message = "glare trials: frames prepared before onset ([glare] presentation = \"prepared\"); " + cost;
   } else if (per_frame_s <= kLiveBudgetFraction * period_s_) {
-    glare_presentation_ = GlarePresentation::live;
-    message = "glare trials: live from trial " + std::to_string(plan.trial_index + 1) +
+    settled_presentations_[layout] = GlarePresentation::live;
+    message = "glare trials: live from trial " + std::to_string(plan.trial_index + 1) + " where the glare is " + layout +
               ", each frame computed just before its flip with the gaze of that moment; " + cost +
               (glare.frame_draw_s.empty() ? " fits " : ", together " + ms_text(per_frame_s) + " ms, fit ") +
               number_text(kLiveBudgetFraction * 100.0) + " % of it (trial " + std::to_string(plan.trial_index) +
               " was prepared before onset to measure it)";
   } else {
-    message = "glare trials: frames prepared before onset; " + cost +
+    settled_presentations_[layout] = GlarePresentation::prepared;
+    message = "glare trials: frames prepared before onset where the glare is " + layout + "; " + cost +
               (glare.frame_draw_s.empty() ? " exceeds " : ", together " + ms_text(per_frame_s) + " ms, exceed ") +
               number_text(kLiveBudgetFraction * 100.0) +
               " % of it, so live glare would drop frames (prepared frames equal live ones: dynamic glare is a "
               "function of time and seed; only the gaze is the one known at the trial's start)";
   }
+  presentation_logged_ = true;
   store_.log_event(session_id_, clock_.now_s(), "presentation_mode", message + "; control trials: composed live at every refresh");
 }
 

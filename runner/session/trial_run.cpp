@@ -53,7 +53,8 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     glare.push_back(begin_glare(shown, placements.back(), static_cast<int>(first_flip)));
     // Perception stages are prepared before onset whatever the glare's presentation: the session's
     // eye then sees its frames in the order they flip.
-    if (glare_presentation_ == GlarePresentation::prepared || glare.back().perceived) prepare_glare_frames(glare.back());
+    if (presentation_for(glare.back()) == GlarePresentation::prepared || glare.back().perceived)
+      prepare_glare_frames(glare.back());
     if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
   }
   // The question above the stimuli; a real stimulus's instruction stands where its image would,
@@ -79,7 +80,8 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
       compute_glare_frame(shown_glare, flip.frame_in_interval);
       // Until the presentation is settled, each glare flip's drawing is timed (with its GL work
       // finished): with the glare's own cost it is what a live frame takes.
-      const bool timed = !presentation_mode_logged_ && shown_glare.active && !shown_glare.perceived;
+      const bool timed = shown_glare.active && !shown_glare.perceived && shown_glare.frames_needed > 1 &&
+                         !presentation_settled(shown_glare);
       const auto draw_start = std::chrono::steady_clock::now();
       draw(placements[static_cast<std::size_t>(flip.interval)], shown_glare.shown(flip.frame_in_interval), question);
       if (timed && !fast_forward_) {
