@@ -9,7 +9,8 @@ namespace glarelab {
 
 ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers,
                               double time_s, const std::optional<GazePoint>& gaze,
-                              std::vector<GlareFrameReport>* reports, std::optional<double> field_luminance) {
+                              std::vector<GlareFrameReport>* reports, std::optional<double> field_luminance,
+                              StaticLayerGlare* kept) {
   const double field_luminance_cd_m2 = field_luminance ? *field_luminance : mean_luminance(composed_cd_m2);
   for (const GlareLayer& layer : layers)
     if (layer.image_cd_m2.width_px != composed_cd_m2.width_px || layer.image_cd_m2.height_px != composed_cd_m2.height_px)
@@ -22,10 +23,23 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
   // the same value and no other layer is drawn).
   std::vector<std::size_t> glaring;
   std::vector<ImageRGBA> glared(layers.size());
+  std::vector<const ImageRGBA*> glare_of(layers.size(), nullptr);  // each glaring layer's glare, computed or kept
+  if (kept != nullptr && kept->layers.size() != layers.size()) kept->layers.assign(layers.size(), std::nullopt);
+  const auto same_gaze = [](const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
+    return a.has_value() == b.has_value() && (!a || (a->x == b->x && a->y == b->y));
+  };
   for (std::size_t l = 0; l < layers.size(); ++l) {
     const GlareLayer& layer = layers[l];
     if (layer.mode == GlareMode::control) continue;
     glaring.push_back(l);
+    std::optional<StaticLayerGlare::Kept>* keep =
+        kept != nullptr && layer.mode == GlareMode::static_eye ? &kept->layers[l] : nullptr;
+    if (keep != nullptr && *keep && same_gaze((*keep)->gaze, gaze) &&
+        (*keep)->field_luminance_cd_m2 == field_luminance_cd_m2) {
+      glare_of[l] = &(*keep)->glared_cd_m2;
+      if (reports != nullptr) reports->push_back((*keep)->report);
+      continue;
+    }
     GlareFrameReport report;
     glared[l] = stage.apply(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2);
     if (layer.keep_peak) {
@@ -37,14 +51,28 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
       }
     }
     if (reports != nullptr) reports->push_back(report);
+    if (keep != nullptr) {
+      *keep = StaticLayerGlare::Kept{glared[l], report, gaze, field_luminance_cd_m2};
+      glare_of[l] = &(*keep)->glared_cd_m2;
+    } else {
+      glare_of[l] = &glared[l];
+    }
   }
   if (glaring.empty()) return composed_cd_m2;
   // The background part (what no layer holds: exactly zero inside a placement, which replaces the
   // background there; the background luminance elsewhere) plus every glaring layer's glare, in one
   // pass: per value composed - layer_1 - ... - layer_n + glared_1 + ... + glared_n, in that order.
-  // The result goes into the first glared layer's buffer (frame-sized, ours): one frame-sized
-  // allocation and copy fewer per frame. Each value is read before it is written.
-  ImageRGBA& result = glared[glaring.front()];
+  // The result goes into the first computed layer's buffer (frame-sized, ours; a kept layer's
+  // glare is copied into the cache, so its own buffer is free too): one frame-sized allocation
+  // and copy fewer per frame. Each value is read before it is written.
+  std::size_t result_layer = glaring.front();
+  for (const std::size_t l : glaring)
+    if (!glared[l].rgba.empty()) {
+      result_layer = l;
+      break;
+    }
+  ImageRGBA& result = glared[result_layer];
+  if (result.rgba.empty()) result = ImageRGBA(composed_cd_m2.width_px, composed_cd_m2.height_px);
   const auto pixels = static_cast<int>(result.rgba.size() / 4);
   parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
     for (int p = first; p < last; ++p) {
@@ -52,7 +80,7 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
       for (std::size_t i = pixel; i < pixel + 3; ++i) {
         float value = composed_cd_m2.rgba[i];
         for (const std::size_t l : glaring) value -= layers[l].image_cd_m2.rgba[i];
-        for (const std::size_t l : glaring) value += glared[l].rgba[i];
+        for (const std::size_t l : glaring) value += glare_of[l]->rgba[i];
         result.rgba[i] = value;
       }
       result.rgba[pixel + 3] = composed_cd_m2.rgba[pixel + 3];  // alpha: the composed frame's

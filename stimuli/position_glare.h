@@ -29,13 +29,31 @@ struct GlareLayer {
   bool keep_peak = false;
 };
 
+// The glare of an interval's static layers, kept between its frames: a static layer's glare is a
+// function of the layer, the frozen eye, the field luminance and the gaze, none of which changes
+// from frame to frame unless a tracker moves the gaze (or the perception stages the adaptation),
+// so a dynamic source beside a static one does not convolve the static one again every frame.
+// One cache per interval (the layers it was filled for).
+struct StaticLayerGlare {
+  struct Kept {
+    ImageRGBA glared_cd_m2;  // after keep_peak
+    GlareFrameReport report;
+    std::optional<GazePoint> gaze;
+    double field_luminance_cd_m2 = 0.0;
+  };
+  std::vector<std::optional<Kept>> layers;  // by layer index
+};
+
 // One glared frame at `time_s`. `reports` receives one report per layer that is not control.
 // `field_luminance_cd_m2`: what the eye adapts to (the perception stages' adapted luminance);
-// nothing: the whole frame's mean luminance. Throws std::invalid_argument when a layer's size
-// differs from the composed frame's.
+// nothing: the whole frame's mean luminance. `kept`: the interval's static layers' glare, reused
+// where the gaze and field luminance are those it was computed for (the same result, bit for bit)
+// and filled otherwise. Throws std::invalid_argument when a layer's size differs from the
+// composed frame's.
 ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers,
                               double time_s, const std::optional<GazePoint>& gaze,
                               std::vector<GlareFrameReport>* reports = nullptr,
-                              std::optional<double> field_luminance_cd_m2 = std::nullopt);
+                              std::optional<double> field_luminance_cd_m2 = std::nullopt,
+                              StaticLayerGlare* kept = nullptr);
 
 }  // namespace glarelab

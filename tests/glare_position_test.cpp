@@ -152,6 +152,42 @@ TEST(PositionGlare, AKeptPeakIsTheGlareOfABrighterSource) {
   }
 }
 
+// A static layer's glare kept from frame to frame: frames of a dynamic lamp beside a static one
+// equal those computed afresh, bit for bit, with the static layer convolved once (its kept report
+// counts as an application each frame); a new gaze or field luminance computes it again.
+TEST(PositionGlare, AStaticLayersKeptGlareGivesTheFramesComputedAfresh) {
+  const TwoLamps lamps(400.0f, 250.0f);
+  const std::vector<GlareLayer> layers = {{lamps.left, GlareMode::dynamic}, {lamps.right, GlareMode::static_eye, true}};
+  GlareStage fresh_stage(small_spec(), small_display(), 11);
+  GlareStage kept_stage(small_spec(), small_display(), 11);
+  StaticLayerGlare kept;
+  const std::vector<std::optional<GazePoint>> gazes = {std::nullopt, std::nullopt, GazePoint{0.3, 0.5}, GazePoint{0.3, 0.5}};
+  // Where the kept glare's pixels live: the same buffer while it is reused, a new one when made again.
+  std::vector<const float*> kept_pixels;
+  for (std::size_t frame = 0; frame < gazes.size(); ++frame) {
+    const double time_s = 0.4 + static_cast<double>(frame) / 60.0;
+    std::vector<GlareFrameReport> fresh_reports, kept_reports;
+    const ImageRGBA fresh = apply_layered_glare(fresh_stage, lamps.composed, layers, time_s, gazes[frame], &fresh_reports);
+    const ImageRGBA reused =
+        apply_layered_glare(kept_stage, lamps.composed, layers, time_s, gazes[frame], &kept_reports, std::nullopt, &kept);
+    EXPECT_EQ(fresh.rgba, reused.rgba) << "frame " << frame;
+    ASSERT_EQ(kept_reports.size(), 2u);
+    EXPECT_EQ(fresh_reports.size(), kept_reports.size());
+    ASSERT_TRUE(kept.layers.at(1).has_value());
+    EXPECT_FALSE(kept.layers.at(0).has_value()) << "a dynamic layer's glare changes every frame: never kept";
+    EXPECT_EQ(kept.layers[1]->gaze.has_value(), gazes[frame].has_value());
+    kept_pixels.push_back(kept.layers[1]->glared_cd_m2.rgba.data());
+  }
+  EXPECT_EQ(kept_pixels[1], kept_pixels[0]) << "the same gaze: reused";
+  EXPECT_NE(kept_pixels[2], kept_pixels[1]) << "a new gaze: computed again";
+  EXPECT_EQ(kept_pixels[3], kept_pixels[2]);
+  // A different field luminance is not the kept one's: computed again, as afresh.
+  const ImageRGBA fresh = apply_layered_glare(fresh_stage, lamps.composed, layers, 0.5, std::nullopt, nullptr, 3.0);
+  const ImageRGBA reused = apply_layered_glare(kept_stage, lamps.composed, layers, 0.5, std::nullopt, nullptr, 3.0, &kept);
+  EXPECT_EQ(fresh.rgba, reused.rgba);
+  EXPECT_EQ(kept.layers[1]->field_luminance_cd_m2, 3.0);
+}
+
 TEST(PositionGlare, ALayerOfAnotherSizeIsRefused) {
   const TwoLamps lamps(100.0f, 100.0f);
   GlareStage stage(small_spec(), small_display(), 1);

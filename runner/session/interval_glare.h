@@ -38,6 +38,7 @@ struct IntervalGlare {
   bool glared = false;  // some position's glare mode is not control
   GlareMode mode = GlareMode::control;
   std::vector<GlareLayer> layers;  // one per position when the sides differ; else empty
+  StaticLayerGlare static_layers;  // the static layers' glare, kept from frame to frame
   ImageRGBA composed_cd_m2;
   // The composed frame as it reaches the eye through the condition's spectacles (the frame
   // warped by the lens, runner/session/condition_refraction.h) and blurred by the depth of its

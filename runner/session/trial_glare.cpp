@@ -255,7 +255,8 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
     if (!glare.layers.empty()) {
       // The interval's seen frame: its mean luminance is the one computed once for the interval.
       if (!field_cd_m2 && &scene_cd_m2 == &glare.seen_cd_m2()) field_cd_m2 = glare.field_cd_m2;
-      return apply_layered_glare(glare_, scene_cd_m2, glare.layers, time_s, glare.gaze, &reports, field_cd_m2);
+      return apply_layered_glare(glare_, scene_cd_m2, glare.layers, time_s, glare.gaze, &reports, field_cd_m2,
+                                 &glare.static_layers);
     }
     GlareFrameReport report;
     ImageRGBA glared = glare_.apply(scene_cd_m2, glare.mode, time_s, &report, glare.gaze,
