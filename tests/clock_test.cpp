@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 #include "core/clock.h"
+#include "runner/tracker/real_time_pacer.h"
 
 namespace glarelab {
 namespace {
@@ -49,6 +52,28 @@ TEST(Clock, MonotonicIsNonDecreasing) {
     ASSERT_GE(now, previous);
     previous = now;
   }
+}
+
+// The real-time pacer waits for refresh boundaries as a swap waits for the vertical blank: after a
+// frame that took 2.5 periods it waits for the next boundary still to come, not for the ones it
+// missed (which would flip the next frames at once to catch up), and never returns before the
+// boundary it waited for.
+TEST(Clock, RealTimePacerWaitsForTheNextBoundaryAfterALateFrame) {
+  const double period_s = 0.01;
+  const auto start = std::chrono::steady_clock::now();
+  RealTimePacer pacer(1.0 / period_s);
+  const auto elapsed_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  pacer.wait_for_next_frame();
+  EXPECT_EQ(pacer.boundary(), 1);
+  EXPECT_GE(elapsed_s(), 1.0 * period_s);
+  std::this_thread::sleep_for(std::chrono::duration<double>(2.5 * period_s));  // a late frame
+  pacer.wait_for_next_frame();
+  const std::int64_t after_late = pacer.boundary();
+  EXPECT_GE(after_late, 4);  // boundaries 2 and 3 passed while the frame was drawn
+  EXPECT_GE(elapsed_s(), static_cast<double>(after_late) * period_s);
+  pacer.wait_for_next_frame();
+  EXPECT_GE(pacer.boundary(), after_late + 1);
+  EXPECT_GE(elapsed_s(), static_cast<double>(pacer.boundary()) * period_s);
 }
 
 }  // namespace
