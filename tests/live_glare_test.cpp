@@ -147,6 +147,49 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
   EXPECT_NE(mode[0].find("against a refresh period of 16.667 ms"), std::string::npos) << mode[0];
 }
 
+// On a real clock, glare frames prepared before onset are computed during the inter-trial
+// interval, which is shortened by the time they took: the time from a trial's last stimulus flip
+// to the next trial's first is the same whether the next trial's glare is prepared, static or
+// absent (within the pacing's few periods), not longer by the preparation (20 frames of dynamic
+// glare: about a dozen periods here).
+TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) {
+  const test::ScratchDir scratch;
+  const auto dir = scratch.path();
+  const auto experiment = test::demo_variant(
+      dir, {{"stimulus_frames", "stimulus_frames = 20"},
+            {"grid_px", "grid_px = 256\npresentation = \"prepared\""},
+            {"dynamic", "dynamic = 0.25\n\n[presentation]\nisi_duration_s = 0.5"}});
+  const auto db = dir / "paced.db";
+  const auto run = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
+                                       "--db", db.string(), "--clock", "real", "--stop-after", "6"},
+                                      dir);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const double period_s = 1.0 / 60.0;
+  const ResultStore store(db.string());
+  const std::vector<TrialRecord> trials = store.load_trials(store.load_sessions().at(0).id);
+  ASSERT_EQ(trials.size(), 6u);
+  std::vector<double> gaps_s;
+  std::string described;
+  bool dynamic_seen = false;
+  for (std::size_t t = 1; t < trials.size(); ++t) {
+    // Stimulus flips only (frame_index >= 0; the inter-trial flips are numbered -1, -2, ...).
+    double last_s = -1e9, first_s = 1e9;
+    for (const FrameRecord& frame : store.load_frames(trials[t - 1].id))
+      if (frame.frame_index >= 0) last_s = std::max(last_s, frame.flip_s);
+    for (const FrameRecord& frame : store.load_frames(trials[t].id))
+      if (frame.frame_index >= 0) first_s = std::min(first_s, frame.flip_s);
+    ASSERT_GT(last_s, -1e9);
+    ASSERT_LT(first_s, 1e9);
+    gaps_s.push_back(first_s - last_s);
+    dynamic_seen = dynamic_seen || trials[t].condition.find("\"glare_a\":\"dynamic\"") != std::string::npos;
+    described += " " + std::to_string(1000.0 * gaps_s.back()) + " ms (" + trials[t].condition.substr(0, 24) + ")";
+  }
+  ASSERT_TRUE(dynamic_seen) << described;
+  const auto [shortest, longest] = std::minmax_element(gaps_s.begin(), gaps_s.end());
+  EXPECT_GE(*shortest, 0.5);  // the inter-trial interval itself
+  EXPECT_LE(*longest - *shortest, 4.0 * period_s) << "gaps:" << described;
+}
+
 // A virtual clock cannot stamp a window's flips: refused as bad input before anything opens.
 TEST(LiveGlare, VirtualClockInAWindowIsRefusedNamingTheFlag) {
   const test::ScratchDir scratch;

@@ -110,8 +110,11 @@ class SessionLoop {
                    std::optional<double> gaze_age_s = std::nullopt);
   void log_late_flip(const TrialPlan& plan, double flip_s, const std::string& which, double interval_s);
   // `frames` flips of the background (with `overlays`), timed from the first of them.
+  // continues_blank: these flips go on a blank already shown (the inter-trial interval after its
+  // glare was prepared): the first one's distance from the last flip is no late flip, nothing
+  // having changed on the screen.
   bool present_timed_blank(const TrialPlan& plan, TrialRun& run, FlipPhase phase, int frames,
-                           const std::vector<Placement>& overlays);
+                           const std::vector<Placement>& overlays, bool continues_blank = false);
   // A text screen until the observer continues: at least screen_min flips; then Space or Enter
   // (keyboard), at once for non-interactive observers. Logged as a 'screen' event.
   bool show_screen(const TrialPlan& plan, const ScreenText& screen, TrialRun& run);

@@ -160,7 +160,7 @@ void SessionLoop::log_late_flip(const TrialPlan& plan, double flip_s, const std:
 }
 
 bool SessionLoop::present_timed_blank(const TrialPlan& plan, TrialRun& run, FlipPhase phase, int frames,
-                                      const std::vector<Placement>& overlays) {
+                                      const std::vector<Placement>& overlays, bool continues_blank) {
   double start_s = 0.0;
   for (int k = 0; k < frames; ++k) {
     // The stimulus framebuffer keeps the frame between these flips: later ones only re-encode it
@@ -173,6 +173,16 @@ bool SessionLoop::present_timed_blank(const TrialPlan& plan, TrialRun& run, Flip
     const double flip_s = clock_.on_flip();
     after_flip(flip_s);
     if (k == 0) start_s = flip_s;
+    if (k == 0 && continues_blank) {
+      timing_.on_flip(flip_s, plan.trial_index, -1);  // the time since the last flip, not checked
+      record_flip(run, {phase, -1, -1}, flip_s, flip_s, false);
+      if (prepared_.observer == nullptr)
+        ignore_keys(plan, std::string("pressed during the ") + to_string(phase));
+      else
+        check_interrupt();
+      if (aborted_) return false;
+      continue;
+    }
     const std::optional<double> late_s = timing_.on_timed_flip(flip_s);
     if (late_s) log_late_flip(plan, flip_s, std::string(to_string(phase)) + " flip", *late_s);
     record_flip(run, {phase, -1, -1}, start_s + k * period_s_, flip_s, late_s.has_value());

@@ -3,6 +3,7 @@
 // non-interactive observer), scoring and feedback.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -27,8 +28,17 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   if (interactive) ignore_keys(plan, "pressed before onset");
   if (aborted_) return false;
 
-  // Background after the previous trial, then the screens.
-  if (!present_timed_blank(plan, run, FlipPhase::inter_trial, schedule.inter_trial_frames, {})) return false;
+  // Background after the previous trial, then the screens. Glare frames prepared before onset are
+  // computed during the inter-trial interval when no screen comes between (and no tracker gives
+  // the gaze, which is then taken as late as it can be): after the interval's first flip, its
+  // remaining flips shortened by the refresh boundaries that passed meanwhile. So on a real clock
+  // the blank lasts the interval whether a trial's glare is prepared, live or absent, rather than
+  // the interval plus the preparation; on the virtual clock the flips are the same either way.
+  const bool prepare_in_interval = schedule.screens.empty() && schedule.inter_trial_frames > 1 && !tracker_.active();
+  const int interval_flips_first = prepare_in_interval ? 1 : schedule.inter_trial_frames;
+  const int interval_flips_after = schedule.inter_trial_frames - interval_flips_first;  // as planned
+  if (!present_timed_blank(plan, run, FlipPhase::inter_trial, interval_flips_first, {})) return false;
+  const double interval_start_s = run.frames.empty() ? clock_.now_s() : run.frames.back().flip_s;
   for (const ScreenText& screen : schedule.screens)
     if (!show_screen(plan, screen, run)) return false;
 
@@ -45,17 +55,32 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     if (!shown.real_stimulus.empty()) {
       // A physical object: the instruction to look at it (below) instead of an image.
       placements.emplace_back();
-      glare.push_back(begin_real_stimulus(shown, static_cast<int>(first_flip)));
+      glare.push_back(begin_real_stimulus(shown, static_cast<int>(first_flip) + interval_flips_after));
       continue;
     }
     placements.push_back(layout(shown));
     for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
-    glare.push_back(begin_glare(shown, placements.back(), static_cast<int>(first_flip)));
+    glare.push_back(begin_glare(shown, placements.back(), static_cast<int>(first_flip) + interval_flips_after));
     // Perception stages are prepared before onset whatever the glare's presentation: the session's
     // eye then sees its frames in the order they flip.
     if (presentation_for(glare.back()) == GlarePresentation::prepared || glare.back().perceived)
       prepare_glare_frames(glare.back());
+    else if (prepare_in_interval)
+      // A live interval's first frame is computed in the inter-trial interval too (without a
+      // tracker a frame is a function of its time): the onset flip, which also composes the
+      // scenes, then only draws, and comes on time.
+      compute_glare_frame(glare.back(), 0);
     if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
+  }
+  if (prepare_in_interval) {
+    // The interval's flips were planned one a period after its first; those whose boundary passed
+    // while the frames were prepared are left out (none on the virtual clock, where now is the
+    // next flip's time).
+    const double elapsed_periods = (clock_.now_s() - interval_start_s) / period_s_;
+    const int passed = std::max(0, static_cast<int>(std::ceil(elapsed_periods - 1e-6)) - 1);
+    if (!present_timed_blank(plan, run, FlipPhase::inter_trial, std::max(0, interval_flips_after - passed), {},
+                             /*continues_blank=*/true))
+      return false;
   }
   // The question above the stimuli; a real stimulus's instruction stands where its image would,
   // and stays up with the question until the answer.
