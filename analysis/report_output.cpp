@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "analysis/graded_choice_report.h"
@@ -349,10 +350,13 @@ std::string render_html(const AnalysisReport& report) {
     html_figures(out, report, "rating");
   }
 
-  out << "<h2>Timing quality</h2>\n<table><tr><th>session</th><th>status</th><th>trials</th><th>frames</th>"
+  out << "<h2>Timing quality</h2>\n<table><tr><th>session</th><th>status</th><th>clock</th><th>trials</th><th>frames</th>"
          "<th>dropped</th><th>onset jitter SD (ms)</th><th>max |onset error| (ms)</th><th>frame interval (ms)</th></tr>\n";
   for (const SessionTiming& t : report.timing.sessions) {
-    out << "<tr>" << cell(t.label) << cell(t.status) << cell(std::to_string(t.trials)) << cell(std::to_string(t.frames))
+    out << "<tr>" << cell(t.label) << cell(t.status)
+        << cell(t.clock == "virtual" ? "virtual: one refresh period per flip, so no frame can drop"
+                                     : t.clock == "monotonic" ? "monotonic: the flips as they happened" : t.clock)
+        << cell(std::to_string(t.trials)) << cell(std::to_string(t.frames))
         << cell(std::to_string(t.dropped) +
                 (t.frames > 0 ? " (" + fixed(100.0 * static_cast<double>(t.dropped) / static_cast<double>(t.frames), 2) + "%)" : ""))
         << cell(t.onset_jitter_sd_s ? fixed(1000.0 * *t.onset_jitter_sd_s, 3) : "- (no frames)")
@@ -442,11 +446,19 @@ std::string render_terminal_summary(const AnalysisReport& report) {
   }
   long frames = 0;
   long dropped = 0;
+  std::set<std::string> clocks;
   for (const SessionTiming& t : report.timing.sessions) {
     frames += t.frames;
     dropped += t.dropped;
+    if (!t.clock.empty()) clocks.insert(t.clock);
   }
   out << "  timing: " << frames << " frames, " << dropped << " dropped";
+  // A virtual clock's flips are a period apart by construction: say which clock the count is on.
+  if (!clocks.empty()) {
+    std::string names;
+    for (const std::string& clock : clocks) names += (names.empty() ? "" : " and ") + clock;
+    out << " on the " << names << (clocks.size() > 1 ? " clocks" : " clock");
+  }
   if (report.timing.response_time_median_s) out << "; median response time " << fixed(*report.timing.response_time_median_s, 3) << " s";
   out << "\n";
   return out.str();

@@ -13,6 +13,7 @@ TimingQuality analyse_timing(const LoadedData& data) {
     SessionTiming timing;
     timing.label = session.label;
     timing.status = session.record.status;
+    timing.clock = session.record.clock;
     timing.trials = static_cast<long>(session.trials.size());
     std::vector<double> onset_errors;
     std::vector<double> intervals;

@@ -12,6 +12,10 @@ namespace glarelab::analysis {
 struct SessionTiming {
   std::string label;
   std::string status;
+  // The session's clock: "virtual" (each flip one refresh period after the last, whatever it cost:
+  // no frame can drop) or "monotonic" (the flips as they happened: a window, or offscreen paced in
+  // real time).
+  std::string clock;
   long trials = 0;
   long frames = 0;
   long dropped = 0;

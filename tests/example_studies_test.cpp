@@ -40,6 +40,10 @@ void analyse_study(const std::filesystem::path& db, const ScratchDir& scratch, S
   run.analysis_summary = result.output;
   run.report_html = test::read_bytes((out / "report.html").string());
   EXPECT_NE(run.report_html.find("<h2>Timing quality</h2>"), std::string::npos);
+  // Offscreen on the virtual clock: the report says so where the dropped frames are counted.
+  EXPECT_NE(run.report_html.find("<td>virtual: one refresh period per flip, so no frame can drop</td>"),
+            std::string::npos);
+  EXPECT_NE(run.analysis_summary.find(" dropped on the virtual clock"), std::string::npos) << run.analysis_summary;
   // No statistic printed as NaN or inf ("nan" as a word of its own, as printf and to_string write it).
   for (const std::string word : {"nan", "NaN", "inf"}) {
     for (std::size_t at = run.report_html.find(word); at != std::string::npos; at = run.report_html.find(word, at + 1)) {

@@ -145,6 +145,13 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
   ASSERT_EQ(mode.size(), 1u);
   EXPECT_NE(mode[0].find(" ms per glare frame on this machine"), std::string::npos) << mode[0];
   EXPECT_NE(mode[0].find("against a refresh period of 16.667 ms"), std::string::npos) << mode[0];
+  // The analysis counts the dropped frames on the clock they were stamped on.
+  const auto out = scratch.path() / "report";
+  const auto analysis = test::run_glarelab({"analyze", run.db.string(), "--out", out.string()}, scratch.path());
+  ASSERT_EQ(analysis.exit_code, 0) << analysis.output;
+  EXPECT_NE(analysis.output.find(" dropped on the monotonic clock"), std::string::npos) << analysis.output;
+  EXPECT_NE(test::read_bytes((out / "report.html").string()).find("<td>monotonic: the flips as they happened</td>"),
+            std::string::npos);
 }
 
 // On a real clock, glare frames prepared before onset are computed during the inter-trial
