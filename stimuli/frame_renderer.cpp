@@ -58,16 +58,17 @@ SceneTexture FrameRenderer::upload(const ImageRGBA& image) const {
 }
 
 void FrameRenderer::mark_unencoded(const PixelRect& rect) {
-  const int x0 = std::max(0, rect.x_px), y0 = std::max(0, rect.y_px);
-  const int x1 = std::min(width_px_, rect.x_px + rect.width_px), y1 = std::min(height_px_, rect.y_px + rect.height_px);
-  if (x1 <= x0 || y1 <= y0) return;
-  if (unencoded_.width_px <= 0 || unencoded_.height_px <= 0) {
-    unencoded_ = PixelRect{x0, y0, x1 - x0, y1 - y0};
+  const PixelRect in_frame = intersection(rect, PixelRect{0, 0, width_px_, height_px_});
+  if (in_frame.empty()) return;
+  if (unencoded_.empty()) {
+    unencoded_ = in_frame;
     return;
   }
-  const int u0 = std::min(x0, unencoded_.x_px), v0 = std::min(y0, unencoded_.y_px);
-  const int u1 = std::max(x1, unencoded_.x_px + unencoded_.width_px), v1 = std::max(y1, unencoded_.y_px + unencoded_.height_px);
-  unencoded_ = PixelRect{u0, v0, u1 - u0, v1 - v0};
+  // The bounding box of both.
+  const int x0 = std::min(in_frame.x_px, unencoded_.x_px), y0 = std::min(in_frame.y_px, unencoded_.y_px);
+  const int x1 = std::max(in_frame.x_px + in_frame.width_px, unencoded_.x_px + unencoded_.width_px);
+  const int y1 = std::max(in_frame.y_px + in_frame.height_px, unencoded_.y_px + unencoded_.height_px);
+  unencoded_ = PixelRect{x0, y0, x1 - x0, y1 - y0};
 }
 
 void FrameRenderer::compose(const std::vector<Placement>& placements, double background_cd_m2) {
@@ -88,12 +89,7 @@ void FrameRenderer::compose(const std::vector<Placement>& placements, double bac
 void FrameRenderer::compose_overlay(const std::vector<Placement>& overlays) {
   ++stimulus_generation_;
   // Each overlay draws its rectangle within its clip (draw_placements).
-  for (const Placement& overlay : overlays) {
-    const int x0 = std::max(overlay.rect.x_px, overlay.clip.x_px), y0 = std::max(overlay.rect.y_px, overlay.clip.y_px);
-    const int x1 = std::min(overlay.rect.x_px + overlay.rect.width_px, overlay.clip.x_px + overlay.clip.width_px);
-    const int y1 = std::min(overlay.rect.y_px + overlay.rect.height_px, overlay.clip.y_px + overlay.clip.height_px);
-    mark_unencoded(PixelRect{x0, y0, x1 - x0, y1 - y0});
-  }
+  for (const Placement& overlay : overlays) mark_unencoded(intersection(overlay.rect, overlay.clip));
   glBindFramebuffer(GL_FRAMEBUFFER, stimulus_framebuffer_.get());
   glViewport(0, 0, width_px_, height_px_);
   glDisable(GL_DEPTH_TEST);
@@ -202,7 +198,7 @@ void FrameRenderer::encode_changes_to_display(const DisplaySpec& display) {
     encode_to_display(display);
     return;
   }
-  if (unencoded_.width_px <= 0 || unencoded_.height_px <= 0) return;
+  if (unencoded_.empty()) return;
   encode_rect(display, unencoded_);
 }
 

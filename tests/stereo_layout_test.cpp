@@ -12,6 +12,25 @@
 namespace glarelab {
 namespace {
 
+// Rectangles' shared pixels, worked by hand: an overlap, one inside the other, two that only
+// touch along an edge (nothing shared), two apart.
+TEST(PixelRectIntersection, SharedPixelsOrNone) {
+  const PixelRect a{10, 20, 30, 40};  // x 10..39, y 20..59
+  const PixelRect shared = intersection(a, PixelRect{30, 50, 100, 100});
+  EXPECT_EQ(shared.x_px, 30);
+  EXPECT_EQ(shared.y_px, 50);
+  EXPECT_EQ(shared.width_px, 10);
+  EXPECT_EQ(shared.height_px, 10);
+  const PixelRect inside = intersection(a, PixelRect{12, 22, 3, 4});
+  EXPECT_EQ(inside.x_px, 12);
+  EXPECT_EQ(inside.y_px, 22);
+  EXPECT_EQ(inside.width_px, 3);
+  EXPECT_EQ(inside.height_px, 4);
+  EXPECT_TRUE(intersection(a, PixelRect{40, 20, 5, 5}).empty());  // touches x = 40, the first column past a
+  EXPECT_TRUE(intersection(a, PixelRect{100, 100, 5, 5}).empty());
+  EXPECT_FALSE(a.empty());
+}
+
 DisplaySpec stereo_display(int width_px, int height_px) {
   DisplaySpec display;
   display.width_px = width_px;

@@ -352,6 +352,18 @@ void SessionLoop::log_interval_glare(const TrialPlan& plan, const IntervalGlare&
 
 namespace {
 
+// The median of a per-frame cost series, its first frame left out when there are others: the
+// first frame of a session also makes the FFTW plans and buffers.
+double steady_median_s(const std::vector<double>& series) {
+  if (series.empty()) return 0.0;
+  std::vector<double> steady(series.begin() + (series.size() > 1 ? 1 : 0), series.end());
+  std::sort(steady.begin(), steady.end());
+  return steady[steady.size() / 2];
+}
+
+// Seconds in milliseconds, to the microsecond.
+std::string ms_text(double seconds) { return number_text(std::round(seconds * 1e6) / 1e3); }
+
 // The glare modes of an interval's positions, sorted, whatever their sides: "control + dynamic",
 // "dynamic + static", or one mode for the whole frame.
 std::string glare_layout(const IntervalGlare& glare) {
@@ -395,19 +407,11 @@ void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const Interva
   // one; a static interval computes one frame).
   const std::size_t measured = glare.frame_compute_s.size();
   if (asked == "auto" && measured < 2) return;
-  // The steady median of a per-frame series: the frames after the first (see above).
-  const auto steady_median_s = [](const std::vector<double>& series) {
-    if (series.empty()) return 0.0;
-    std::vector<double> steady(series.begin() + (series.size() > 1 ? 1 : 0), series.end());
-    std::sort(steady.begin(), steady.end());
-    return steady[steady.size() / 2];
-  };
   const double compute_s = steady_median_s(glare.frame_compute_s);
   // Drawing a glare flip (the region, the overlays, the encode) is the rest of a live frame's
   // cost: on a GPU a fraction of a millisecond, on a software renderer one or more.
   const double draw_s = steady_median_s(glare.frame_draw_s);
   const double per_frame_s = compute_s + draw_s;
-  const auto ms_text = [](double seconds) { return number_text(std::round(seconds * 1e6) / 1e3); };
   const std::string cost = ms_text(compute_s) + " ms per glare frame on this machine" +
                            (glare.frame_draw_s.empty() ? std::string() : " and " + ms_text(draw_s) + " ms to draw it") +
                            " (median of " + std::to_string(measured - (measured > 1 ? 1 : 0)) + " frame(s) of trial " +
@@ -504,17 +508,16 @@ void SessionLoop::log_perception_stages(const TrialPlan& plan, const IntervalGla
   // As for the glare: the first frame of a session also makes buffers and plans, so the steady
   // cost is the median of the frames after it when there are any.
   const std::size_t measured = glare.frame_compute_s.size();
-  std::vector<double> steady(glare.frame_compute_s.begin() + (measured > 1 ? 1 : 0), glare.frame_compute_s.end());
-  std::sort(steady.begin(), steady.end());
-  const double per_frame_s = steady[steady.size() / 2];
+  const double per_frame_s = steady_median_s(glare.frame_compute_s);
   const PerceptionSettings& s = prepared_.experiment.perception;
   const PerceptionSettings& shown = glare.perception;
   std::string text = "Fig. 6.1 order on the CPU (double precision), frames prepared before onset; [perception] " +
                      perception_stages_label(s) + "; trial " + std::to_string(plan.trial_index) + " ran " +
                      perception_stages_label(shown) + (glare.glared ? " with its glare after adaptation" : "") + ": " +
-                     number_text(std::round(per_frame_s * 1e6) / 1e3) + " ms per frame (median of " +
-                     std::to_string(steady.size()) + " frame(s)" + (measured > 1 ? ", the first left out" : "") +
-                     ") against a refresh period of " + number_text(std::round(period_s_ * 1e6) / 1e3) + " ms";
+                     ms_text(per_frame_s) + " ms per frame (median of " +
+                     std::to_string(measured - (measured > 1 ? 1 : 0)) + " frame(s)" +
+                     (measured > 1 ? ", the first left out" : "") + ") against a refresh period of " +
+                     ms_text(period_s_) + " ms";
   text += "; adaptation: gaze sigma " + number_text(s.adaptation_weighting.gaze_sigma_frame_widths) +
           " frame widths (gaze: " + (tracker_.active() ? "the tracker's" : "the display centre") + "), tau_rod " +
           number_text(s.adaptation_time_constants.rod_time_constant_s) + " s, tau_cone " +

@@ -1,6 +1,5 @@
 // Drawing and presenting a trial's flips: where the scenes go, what a flip draws, the background
 // and text screens around the stimulus, and how each flip is recorded (late ones logged).
-#include <algorithm>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -35,20 +34,12 @@ bool same_rect(const PixelRect& a, const PixelRect& b) {
   return a.x_px == b.x_px && a.y_px == b.y_px && a.width_px == b.width_px && a.height_px == b.height_px;
 }
 
-bool overlaps(const PixelRect& a, const PixelRect& b) {
-  return a.x_px < b.x_px + b.width_px && b.x_px < a.x_px + a.width_px && a.y_px < b.y_px + b.height_px &&
-         b.y_px < a.y_px + a.height_px;
-}
-
 // The overlays that draw into `box` (each draws its rectangle within its clip), clipped to it.
 std::vector<Placement> overlays_within(const std::vector<Placement>& overlays, const PixelRect& box) {
   std::vector<Placement> within;
   for (Placement overlay : overlays) {
-    if (!overlaps(overlay.rect, box) || !overlaps(overlay.clip, box)) continue;
-    const int x0 = std::max(overlay.clip.x_px, box.x_px), y0 = std::max(overlay.clip.y_px, box.y_px);
-    const int x1 = std::min(overlay.clip.x_px + overlay.clip.width_px, box.x_px + box.width_px);
-    const int y1 = std::min(overlay.clip.y_px + overlay.clip.height_px, box.y_px + box.height_px);
-    overlay.clip = PixelRect{x0, y0, x1 - x0, y1 - y0};
+    if (intersection(intersection(overlay.rect, overlay.clip), box).empty()) continue;
+    overlay.clip = intersection(overlay.clip, box);
     within.push_back(overlay);
   }
   return within;
