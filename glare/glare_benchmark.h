@@ -52,6 +52,10 @@ struct GlareBenchmarkRow {
   // gl only: the convolution's GPU time alone (timestamp queries from the image's upload to the
   // result's read-back), without the host's checks and bright-pixel split that convolution_s adds.
   double convolution_gpu_s = 0.0;
+  std::string convolution_gpu_stages;  // GL: the fastest call's GPU time by stage (GlConvolutionReport)
+  // GL, a static scene under dynamic glare: the image's spectrum kept, a new PSF transformed.
+  double static_convolution_s = 0.0, static_convolution_gpu_s = 0.0;
+  std::string static_convolution_gpu_stages;
   double psf_error = 0.0;          // vs CPU double, same N (0 for CPU double itself)
   double spectral_error = 0.0;     // vs CPU double, same N
   double frame_error = 0.0;        // convolved frame vs CPU double pipeline, same N

@@ -78,15 +78,27 @@ TEST(GlareBenchmark, TinyGridsGiveOneRowPerBackendWithErrorsAndATable) {
     EXPECT_LT(row.frame_error, 1e-5);
     EXPECT_EQ(row.discretisation_error, result.rows[4 * k + 2].discretisation_error);
   }
-  // The GL frame: one row per grid; the convolution's GPU time is part of its wall time.
+  // The GL frame: one row per grid and scene kind; the convolution's GPU time is part of its wall
+  // time, and its stages add up to it.
   for (std::size_t k = 3; k < result.rows.size(); k += 4) {
-    EXPECT_GT(result.rows[k].convolution_gpu_s, 0.0);
-    EXPECT_LE(result.rows[k].convolution_gpu_s, result.rows[k].convolution_s);
+    const GlareBenchmarkRow& row = result.rows[k];
+    EXPECT_GT(row.convolution_gpu_s, 0.0);
+    EXPECT_LE(row.convolution_gpu_s, row.convolution_s);
+    EXPECT_GT(row.static_convolution_gpu_s, 0.0);
+    EXPECT_LE(row.static_convolution_gpu_s, row.static_convolution_s);
+    for (const std::string& stages : {row.convolution_gpu_stages, row.static_convolution_gpu_stages})
+      for (const char* stage : {"image up + pad ", "PSF spectrum ", "image FFT ", "product ", "inverse FFT ", "bright sum ",
+                                "crop ", "read back "})
+        EXPECT_NE(stages.find(stage), std::string::npos) << stage << " in " << stages;
   }
   const std::string gl_frames = format_gl_frame_table(result);
-  EXPECT_EQ(gl_frames.rfind("| N | aperture ms | FFT+PSF ms | spectral ms | convolution GPU ms", 0), 0u) << gl_frames;
-  EXPECT_EQ(std::count(gl_frames.begin(), gl_frames.end(), '\n'), 4) << gl_frames;  // header, rule, two grids
-  EXPECT_NE(gl_frames.find("\n| 64 | "), std::string::npos) << gl_frames;
+  EXPECT_EQ(gl_frames.rfind("| N | scene | aperture ms | FFT+PSF ms | spectral ms | convolution GPU ms", 0), 0u) << gl_frames;
+  const std::string gl_table = gl_frames.substr(0, gl_frames.find("\n\n") + 1);
+  EXPECT_EQ(std::count(gl_table.begin(), gl_table.end(), '\n'), 6) << gl_frames;  // header, rule, two grids x two scenes
+  for (const char* row : {"\n| 32 | new | ", "\n| 32 | static | ", "\n| 64 | new | ", "\n| 64 | static | "})
+    EXPECT_NE(gl_table.find(row), std::string::npos) << row << " in " << gl_frames;
+  EXPECT_NE(gl_frames.find("N = 64, GL convolution's GPU time by stage, new scene: image up + pad "), std::string::npos)
+      << gl_frames;
   EXPECT_TRUE(format_gl_frame_table(GlareBenchmarkResult{}).empty());
 
   const std::string frames = format_glare_frame_table(result);

@@ -249,6 +249,47 @@ TEST_F(GlConvolutionTest, SplitSumReachesEveryPixelTheBrightPixelsLight) {
   }
 }
 
+// Both spectra are kept from call to call: a frame of dynamic glare over a static scene transforms
+// only its new PSF, one of static glare nothing. Whatever is kept, each result must be the one a
+// fresh convolution gives for the same image and PSF, bit for bit, and a change anywhere in the image
+// (its last pixel here), in its split or in the PSF must be noticed.
+TEST_F(GlConvolutionTest, KeptSpectraGiveTheResultsOfAFreshConvolution) {
+  ImageRGBA scene(60, 44, 2.0f);
+  for (int c = 0; c < 3; ++c) scene.pixel(17, 21)[c] = 3e5f;
+  ImageRGBA changed = scene;
+  changed.pixel(59, 43)[1] = 2.5f;
+  const Psf first = random_psf(15, 3, 21), second = random_psf(15, 3, 22);
+  struct Call {
+    const ImageRGBA* image;
+    const Psf* psf;
+    gl::GlConvolutionOptions options;
+    bool image_reused, psf_reused;
+  };
+  const std::vector<Call> calls = {
+      {&scene, &first, {}, false, false},   {&scene, &second, {}, true, false},
+      {&scene, &second, {}, true, true},    {&changed, &second, {}, false, true},
+      {&scene, &first, {}, false, false},   {&scene, &first, {.split_bright = false}, false, true},
+      {&scene, &first, {.split_bright = false}, true, true},
+  };
+  gl::GlConvolution kept;
+  for (std::size_t n = 0; n < calls.size(); ++n) {
+    const Call& call = calls[n];
+    gl::GlConvolutionReport report;
+    const ImageRGBA result = kept.convolve(*call.image, *call.psf, call.options, &report);
+    EXPECT_EQ(report.image_spectrum_reused, call.image_reused) << "call " << n << ": " << report.describe();
+    EXPECT_EQ(report.psf_spectrum_reused, call.psf_reused) << "call " << n << ": " << report.describe();
+    EXPECT_EQ(report.split, call.options.split_bright) << "call " << n << ": " << report.describe();
+    gl::GlConvolution fresh;
+    const ImageRGBA expected = fresh.convolve(*call.image, *call.psf, call.options);
+    EXPECT_EQ(result.rgba, expected.rgba) << "call " << n;
+    EXPECT_LE(relative_l2(result, direct_convolution(*call.image, *call.psf)), 1e-5) << "call " << n;
+  }
+  kept.forget_image();
+  gl::GlConvolutionReport report;
+  (void)kept.convolve(scene, first, {.split_bright = false}, &report);
+  EXPECT_FALSE(report.image_spectrum_reused) << "forget_image() drops the kept spectrum";
+}
+
 TEST_F(GlConvolutionTest, RefusesBadInput) {
   gl::GlConvolution convolution;
   const Psf psf = random_psf(5, 1, 1);

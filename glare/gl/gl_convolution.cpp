@@ -5,6 +5,7 @@
 #include <complex>
 #include <limits>
 #include <sstream>
+#include <iterator>
 #include <stdexcept>
 #include <vector>
 
@@ -20,11 +21,10 @@ constexpr GLuint kMultiplyGroup = 256;
 constexpr GLuint kMaxMultiplyGroups = 1024;
 constexpr GLuint kTile = 8;
 constexpr GLuint kPadTile = 16;  // convolution_pad_*.comp, convolution_crop.comp
+constexpr const char* kStageNames[] = {"image up + pad", "PSF spectrum", "image FFT", "product",
+                                       "inverse FFT",    "bright sum",   "crop",      "read back"};
 
-void validate(const ImageRGBA& image, const Psf& psf) {
-  if (image.empty()) throw std::invalid_argument("GL convolution: the image is empty");
-  const NonFiniteReport pixels = inspect_pixels(image);
-  if (!pixels.clean()) throw std::invalid_argument("GL convolution: the image has " + pixels.describe());
+void validate_psf(const Psf& psf) {
   if (psf.size_px < 1 || (psf.channels != 1 && psf.channels != 3) ||
       psf.values.size() != static_cast<std::size_t>(psf.channels) * psf.size_px * psf.size_px)
     throw std::invalid_argument("GL convolution: malformed PSF (size " + std::to_string(psf.size_px) + ", " +
@@ -77,6 +77,7 @@ int padded_fft_length(int length) {
 std::string GlConvolutionReport::describe() const {
   std::ostringstream text;
   text << "GL convolution on a " << padded_width_px << " x " << padded_height_px << " padded grid"
+       << (image_spectrum_reused ? " (image spectrum reused)" : "")
        << (psf_spectrum_reused ? " (PSF spectrum reused)" : "");
   if (split)
     text << "; " << bright_pixels << " bright pixel(s) above " << bright_threshold << " summed directly";
@@ -86,9 +87,18 @@ std::string GlConvolutionReport::describe() const {
   return text.str();
 }
 
+std::string GlConvolutionReport::describe_gpu_stages() const {
+  std::ostringstream text;
+  text.precision(3);
+  for (const auto& [name, seconds] : gpu_stages_s)
+    text << (text.tellp() > 0 ? ", " : "") << name << " " << 1e3 * seconds << " ms";
+  return text.str();
+}
+
 struct GlConvolution::Ffts {
-  GlFft image;
-  GlFft kernel;
+  GlFft image;    // the dim part of the image, then its spectrum (kept: ImageSpectrum)
+  GlFft kernel;   // the PSF, then its spectrum (kept while the PSF stays)
+  GlFft product;  // their product, then the convolved layers
 };
 
 GlConvolution::GlConvolution()
@@ -99,18 +109,49 @@ GlConvolution::GlConvolution()
       crop_program_(build_program({"glare/shaders/convolution_crop.comp"})),
       image_(create_buffer()),
       result_(create_buffer()),
-      gpu_start_(create_query(GL_TIMESTAMP)),
-      gpu_end_(create_query(GL_TIMESTAMP)),
       bright_(create_buffer()),
       bright_values_(create_buffer()),
-      kernel_(create_buffer()) {}
+      kernel_(create_buffer()) {
+  for (std::size_t k = 0; k <= std::size(kStageNames); ++k) timestamps_.push_back(create_query(GL_TIMESTAMP));
+}
 
 GlConvolution::~GlConvolution() = default;
 
+void GlConvolution::forget_image() { image_spectrum_.reset(); }
+
+namespace {
+
+// Writes `bytes` from `data` into `buffer`, giving it new storage only when its size changes (a
+// store of the same size is not re-specified, so the driver need not allocate or orphan it).
+void write_buffer(GLuint buffer, std::size_t& held_bytes, std::size_t bytes, const void* data) {
+  if (held_bytes != bytes) {
+    glNamedBufferData(buffer, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+    held_bytes = bytes;
+  } else if (bytes > 0) {
+    glNamedBufferSubData(buffer, 0, static_cast<GLsizeiptr>(bytes), data);
+  }
+}
+
+bool same_split(const GlConvolutionOptions& a, const GlConvolutionOptions& b) {
+  return a.split_bright == b.split_bright && a.split_dynamic_range == b.split_dynamic_range &&
+         a.max_direct_bright_pixels == b.max_direct_bright_pixels;
+}
+
+}  // namespace
+
+struct GlConvolution::ImageSpectrum {
+  ImageRGBA image;               // the image whose dim part's spectrum ffts_->image holds
+  GlConvolutionOptions options;  // the split it was made with
+  BrightPixels bright;           // its bright pixels (summed directly when split)
+  double bright_threshold = 0.0;
+  bool split = false;
+};
+
 ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options,
                                   GlConvolutionReport* report) {
-  validate(image, psf);
+  validate_psf(psf);
   const int width = image.width_px, height = image.height_px, k = psf.size_px;
+  if (image.empty()) throw std::invalid_argument("GL convolution: the image is empty");
   const int padded_width = padded_fft_length(width + k - 1);
   const int padded_height = padded_fft_length(height + k - 1);
   if (padded_width == 0 || padded_height == 0)
@@ -119,56 +160,84 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
                                 std::to_string(kFftMaxLength));
   if (!ffts_ || ffts_->image.width() != padded_width || ffts_->image.height() != padded_height ||
       ffts_->kernel.layers() != psf.channels) {
-    ffts_ = std::make_unique<Ffts>(Ffts{GlFft(padded_width, padded_height, 3), GlFft(padded_width, padded_height, psf.channels)});
+    ffts_ = std::make_unique<Ffts>(Ffts{GlFft(padded_width, padded_height, 3), GlFft(padded_width, padded_height, psf.channels),
+                                        GlFft(padded_width, padded_height, 3)});
     kernel_ready_ = false;
+    image_spectrum_.reset();
   }
   const std::size_t layer = static_cast<std::size_t>(padded_width) * padded_height;
 
-  // Split into bright (summed directly) and dim (by FFT) parts. The threshold is found here (the
-  // median); the pad pass on the GPU leaves the bright pixels out by the same comparison.
+  // The image's spectrum is kept while the same image comes again with the same split (a static
+  // scene under dynamic glare: only the PSF changes from frame to frame).
+  const bool image_cached = image_spectrum_ && same_split(image_spectrum_->options, options) &&
+                            image_spectrum_->image.width_px == width && image_spectrum_->image.height_px == height &&
+                            image_spectrum_->image.rgba == image.rgba;
+  if (!image_cached) {
+    const NonFiniteReport pixels = inspect_pixels(image);
+    if (!pixels.clean()) throw std::invalid_argument("GL convolution: the image has " + pixels.describe());
+    image_spectrum_.reset();
+    auto spectrum = std::make_unique<ImageSpectrum>();
+    spectrum->image = image;
+    spectrum->options = options;
+    // Split into bright (summed directly) and dim (by FFT) parts. The threshold is found here (the
+    // median); the pad pass on the GPU leaves the bright pixels out by the same comparison.
+    if (options.split_bright) {
+      std::vector<float> maxima;
+      maxima.reserve(static_cast<std::size_t>(width) * height);
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) maxima.push_back(max_channel(image.pixel(x, y)));
+      std::nth_element(maxima.begin(), maxima.begin() + static_cast<std::ptrdiff_t>(maxima.size() / 2), maxima.end());
+      const double median = maxima[maxima.size() / 2];
+      spectrum->bright_threshold = options.split_dynamic_range * median;
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+          const float* p = image.pixel(x, y);
+          if (max_channel(p) > spectrum->bright_threshold) spectrum->bright.add(x, y, p);
+        }
+      spectrum->split = spectrum->bright.count() > 0 && spectrum->bright.count() <= options.max_direct_bright_pixels;
+    }
+    image_spectrum_ = std::move(spectrum);
+  }
+  const ImageSpectrum& scene = *image_spectrum_;
   GlConvolutionReport local_report;
   local_report.padded_width_px = padded_width;
   local_report.padded_height_px = padded_height;
-  BrightPixels bright;
-  if (options.split_bright) {
-    std::vector<float> maxima;
-    maxima.reserve(static_cast<std::size_t>(width) * height);
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) maxima.push_back(max_channel(image.pixel(x, y)));
-    std::nth_element(maxima.begin(), maxima.begin() + static_cast<std::ptrdiff_t>(maxima.size() / 2), maxima.end());
-    const double median = maxima[maxima.size() / 2];
-    local_report.bright_threshold = options.split_dynamic_range * median;
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) {
-        const float* p = image.pixel(x, y);
-        if (max_channel(p) > local_report.bright_threshold) bright.add(x, y, p);
-      }
-    local_report.bright_pixels = bright.count();
-    local_report.split = local_report.bright_pixels > 0 && local_report.bright_pixels <= options.max_direct_bright_pixels;
-  }
+  local_report.bright_threshold = scene.bright_threshold;
+  local_report.bright_pixels = scene.bright.count();
+  local_report.split = scene.split;
+  local_report.image_spectrum_reused = image_cached;
+  const BrightPixels& bright = scene.bright;
   const float pad_threshold =
-      local_report.split ? float_at_or_below(local_report.bright_threshold) : std::numeric_limits<float>::max();
+      scene.split ? float_at_or_below(scene.bright_threshold) : std::numeric_limits<float>::max();
 
-  glQueryCounter(gpu_start_.get(), GL_TIMESTAMP);
-  glNamedBufferData(image_.get(), static_cast<GLsizeiptr>(image.rgba.size() * sizeof(float)), image.rgba.data(),
-                    GL_DYNAMIC_DRAW);
+  std::size_t stamp = 0;
+  const auto stage_done = [&] { glQueryCounter(timestamps_[stamp++].get(), GL_TIMESTAMP); };
+  stage_done();
   const GLuint groups_x = groups_of(padded_width, kPadTile), groups_y = groups_of(padded_height, kPadTile);
-  const GLuint pad_image = pad_image_program_.get();
-  glUseProgram(pad_image);
-  set_grid_uniforms(pad_image, width, height, padded_width, padded_height);
-  glUniform1f(glGetUniformLocation(pad_image, "uBrightThreshold"), pad_threshold);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
-  glDispatchCompute(groups_x, groups_y, 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  if (!image_cached) {
+    write_buffer(image_.get(), image_bytes_, image.rgba.size() * sizeof(float), image.rgba.data());
+    const GLuint pad_image = pad_image_program_.get();
+    glUseProgram(pad_image);
+    set_grid_uniforms(pad_image, width, height, padded_width, padded_height);
+    glUniform1f(glGetUniformLocation(pad_image, "uBrightThreshold"), pad_threshold);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
+    glDispatchCompute(groups_x, groups_y, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    if (scene.split) {
+      write_buffer(bright_.get(), bright_bytes_, bright.positions.size() * sizeof(float), bright.positions.data());
+      write_buffer(bright_values_.get(), bright_values_bytes_, bright.values.size() * sizeof(float), bright.values.data());
+    }
+  }
+  stage_done();
 
   // The PSF's spectrum is kept while the same PSF comes again on the same padded grid (static
   // glare, successive frames).
   const bool kernel_cached = kernel_ready_ && cached_psf_size_ == k && cached_psf_values_ == psf.values;
-  if (!kernel_cached || local_report.split) {
+  if (!kernel_cached) {
+    // The PSF in float: the pad pass reads it, and the bright sum of any image later with this PSF.
     const std::vector<float> psf_values(psf.values.begin(), psf.values.end());
-    glNamedBufferData(kernel_.get(), static_cast<GLsizeiptr>(psf_values.size() * sizeof(float)), psf_values.data(),
-                      GL_DYNAMIC_DRAW);
+    write_buffer(kernel_.get(), kernel_bytes_, psf_values.size() * sizeof(float), psf_values.data());
   }
   if (!kernel_cached) {
     const GLuint pad_kernel = pad_kernel_program_.get();
@@ -187,8 +256,10 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     kernel_ready_ = true;
   }
   local_report.psf_spectrum_reused = kernel_cached;
+  stage_done();
 
-  ffts_->image.transform(FftDirection::forward);
+  if (!image_cached) ffts_->image.transform(FftDirection::forward);
+  stage_done();
   const GLuint multiply = multiply_program_.get();
   glUseProgram(multiply);
   glUniform1ui(glGetUniformLocation(multiply, "uLayerSize"), static_cast<GLuint>(layer));
@@ -196,15 +267,14 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   glUniform1ui(glGetUniformLocation(multiply, "uKernelLayers"), static_cast<GLuint>(psf.channels));
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ffts_->kernel.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ffts_->product.data());
   glDispatchCompute(std::min((static_cast<GLuint>(3 * layer) + kMultiplyGroup - 1) / kMultiplyGroup, kMaxMultiplyGroups), 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  ffts_->image.transform(FftDirection::inverse);
+  stage_done();
+  ffts_->product.transform(FftDirection::inverse);
+  stage_done();
 
-  if (local_report.split) {
-    glNamedBufferData(bright_.get(), static_cast<GLsizeiptr>(bright.positions.size() * sizeof(float)),
-                      bright.positions.data(), GL_DYNAMIC_DRAW);
-    glNamedBufferData(bright_values_.get(), static_cast<GLsizeiptr>(bright.values.size() * sizeof(float)),
-                      bright.values.data(), GL_DYNAMIC_DRAW);
+  if (scene.split) {
     const GLuint splat = splat_program_.get();
     glUseProgram(splat);
     glUniform1i(glGetUniformLocation(splat, "uWidth"), width);
@@ -221,32 +291,42 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     const int x1 = std::min(width - 1, bright.x1 + (k - 1 - k / 2));
     const int y1 = std::min(height - 1, bright.y1 + (k - 1 - k / 2));
     glUniform2i(glGetUniformLocation(splat, "uOrigin"), x0, y0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->product.data());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bright_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, bright_values_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, kernel_.get());
     glDispatchCompute(groups_of(x1 - x0 + 1, kTile), groups_of(y1 - y0 + 1, kTile), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
+  stage_done();
 
-  glNamedBufferData(result_.get(), static_cast<GLsizeiptr>(image.rgba.size() * sizeof(float)), nullptr, GL_DYNAMIC_READ);
+  if (result_bytes_ != image.rgba.size() * sizeof(float)) {
+    result_bytes_ = image.rgba.size() * sizeof(float);
+    glNamedBufferData(result_.get(), static_cast<GLsizeiptr>(result_bytes_), nullptr, GL_DYNAMIC_READ);
+  }
   const GLuint crop = crop_program_.get();
   glUseProgram(crop);
   set_grid_uniforms(crop, width, height, padded_width, padded_height);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->product.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, result_.get());
   glDispatchCompute(groups_of(width, kPadTile), groups_of(height, kPadTile), 1);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   glUseProgram(0);
+  stage_done();
   ImageRGBA output(width, height);
   glGetNamedBufferSubData(result_.get(), 0, static_cast<GLsizeiptr>(output.rgba.size() * sizeof(float)), output.rgba.data());
-  glQueryCounter(gpu_end_.get(), GL_TIMESTAMP);
+  stage_done();
   check_gl_error("GL convolution");
-  GLuint64 start_ns = 0, end_ns = 0;
-  glGetQueryObjectui64v(gpu_start_.get(), GL_QUERY_RESULT, &start_ns);
-  glGetQueryObjectui64v(gpu_end_.get(), GL_QUERY_RESULT, &end_ns);
-  local_report.gpu_s = end_ns > start_ns ? 1e-9 * static_cast<double>(end_ns - start_ns) : 0.0;
+  std::vector<GLuint64> stamps_ns(timestamps_.size(), 0);
+  for (std::size_t s = 0; s < timestamps_.size(); ++s)
+    glGetQueryObjectui64v(timestamps_[s].get(), GL_QUERY_RESULT, &stamps_ns[s]);
+  const auto seconds_between = [](GLuint64 from_ns, GLuint64 to_ns) {
+    return to_ns > from_ns ? 1e-9 * static_cast<double>(to_ns - from_ns) : 0.0;
+  };
+  local_report.gpu_s = seconds_between(stamps_ns.front(), stamps_ns.back());
+  for (std::size_t s = 0; s + 1 < stamps_ns.size(); ++s)
+    local_report.gpu_stages_s.emplace_back(kStageNames[s], seconds_between(stamps_ns[s], stamps_ns[s + 1]));
   if (report != nullptr) *report = local_report;
   return output;
 }

@@ -12,13 +12,10 @@
 namespace glarelab::gl {
 namespace {
 
-constexpr GLuint kWorkgroupSize = 64;  // local_size_x of fft_radix2.comp
-
-int log2_exact(int length) {
-  int bits = 0;
-  while ((1 << bits) < length) ++bits;
-  return bits;
-}
+// Complex values one workgroup holds in shared memory: the 32 KiB OpenGL 4.5 guarantees
+// (GL_MAX_COMPUTE_SHARED_MEMORY_SIZE is at least 32768), so the longest line, 4096, fits.
+constexpr int kSharedElements = 4096;
+constexpr int kMaxThreads = 256;  // per workgroup; OpenGL guarantees 1024
 
 Buffer complex_buffer(std::size_t elements) {
   Buffer buffer = create_buffer();
@@ -42,12 +39,11 @@ GlFft::GlFft(int width, int height, int layers)
                                   std::to_string(kFftMaxLength));
   if (layers < 1 || layers > 64) throw std::invalid_argument("GL FFT: layer count " + std::to_string(layers) + " is not 1..64");
 
-  radix2_ = make_pass("glare/shaders/fft_radix2.comp");
-  radix4_ = make_pass("glare/shaders/fft_radix4.comp");
+  rows_ = make_axis_pass(width, std::min(height, kSharedElements / width));
+  columns_ = make_axis_pass(height, std::min(width, kSharedElements / height));
   data_ = complex_buffer(element_count());
-  scratch_ = complex_buffer(element_count());
 
-  // exp(-2 pi i m / L_max) for m < L_max (radix 4 needs r k < 4 Ns <= L_max), in double, rounded
+  // exp(-2 pi i m / L_max) for m < L_max (radix 4 needs r k < 4 Ns <= L), in double, rounded
   // once to float.
   std::vector<float> twiddles(2 * static_cast<std::size_t>(max_length_));
   for (int m = 0; m < max_length_; ++m) {
@@ -64,66 +60,47 @@ std::size_t GlFft::element_count() const {
   return static_cast<std::size_t>(layers_) * static_cast<std::size_t>(height_) * static_cast<std::size_t>(width_);
 }
 
-GlFft::Pass GlFft::make_pass(const char* shader_path) {
-  Pass pass;
-  pass.program = build_program({shader_path});
+GlFft::AxisPass GlFft::make_axis_pass(int length, int lines) {
+  AxisPass pass;
+  pass.lines_per_group = lines;
+  const int threads = std::max(1, std::min(kMaxThreads, length * lines / 4));
+  pass.program = build_program({"glare/shaders/fft_lines_shared.comp"},
+                               "#define LENGTH " + std::to_string(length) + "\n#define LINES " + std::to_string(lines) +
+                                   "\n#define THREADS " + std::to_string(threads) + "\n");
   const GLuint p = pass.program.get();
-  pass.length = glGetUniformLocation(p, "uLength");
-  pass.span = glGetUniformLocation(p, "uSpan");
-  pass.twiddle_stride = glGetUniformLocation(p, "uTwiddleStride");
   pass.axis_stride = glGetUniformLocation(p, "uAxisStride");
   pass.line_stride = glGetUniformLocation(p, "uLineStride");
-  pass.lines = glGetUniformLocation(p, "uLines");
   pass.layer_stride = glGetUniformLocation(p, "uLayerStride");
+  pass.twiddle_length = glGetUniformLocation(p, "uTwiddleLength");
+  pass.lines_along_x = glGetUniformLocation(p, "uLinesAlongX");
   pass.conjugate = glGetUniformLocation(p, "uConjugate");
   pass.scale = glGetUniformLocation(p, "uScale");
-  pass.lines_along_x = glGetUniformLocation(p, "uLinesAlongX");
   return pass;
 }
 
-void GlFft::run_axis(bool rows, float conjugate, bool scale_last_pass) {
-  const int length = rows ? width_ : height_;
+void GlFft::run_axis(const AxisPass& pass, bool rows, float conjugate, float scale) const {
   const int lines = rows ? height_ : width_;
-  const int bits = log2_exact(length);
-  const auto groups_of = [](int count) { return (static_cast<GLuint>(count) + kWorkgroupSize - 1) / kWorkgroupSize; };
-  // Odd powers of two: one radix-2 pass (Ns = 1), then radix 4 (Ns = 2, 8, ...); even: radix 4 only.
-  int span = 1;
-  while (span < length) {
-    const int radix = (bits % 2 == 1 && span == 1) ? 2 : 4;
-    const Pass& pass = radix == 2 ? radix2_ : radix4_;
-    const int butterflies = length / radix;
-    glUseProgram(pass.program.get());
-    glUniform1ui(pass.length, static_cast<GLuint>(length));
-    glUniform1ui(pass.axis_stride, rows ? 1u : static_cast<GLuint>(width_));
-    glUniform1ui(pass.line_stride, rows ? static_cast<GLuint>(width_) : 1u);
-    glUniform1ui(pass.lines, static_cast<GLuint>(lines));
-    glUniform1ui(pass.layer_stride, static_cast<GLuint>(width_ * height_));
-    glUniform1f(pass.conjugate, conjugate);
-    // Rows: invocations along x walk the butterflies of one row (contiguous). Columns: they walk
-    // across columns, so a workgroup reads 64 adjacent elements of a row, not 64 rows apart.
-    glUniform1i(pass.lines_along_x, rows ? 0 : 1);
-    glUniform1ui(pass.span, static_cast<GLuint>(span));
-    glUniform1ui(pass.twiddle_stride, static_cast<GLuint>(max_length_ / (radix * span)));
-    const bool last = span * radix == length;
-    glUniform1f(pass.scale,
-                scale_last_pass && last ? static_cast<float>(1.0 / (static_cast<double>(width_) * height_)) : 1.0f);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data_.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, scratch_.get());
-    const GLuint groups_x = rows ? groups_of(butterflies) : groups_of(lines);
-    const GLuint groups_y = rows ? static_cast<GLuint>(lines) : static_cast<GLuint>(butterflies);
-    glDispatchCompute(groups_x, groups_y, static_cast<GLuint>(layers_));
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    std::swap(data_, scratch_);
-    span *= radix;
-  }
+  glUseProgram(pass.program.get());
+  glUniform1ui(pass.axis_stride, rows ? 1u : static_cast<GLuint>(width_));
+  glUniform1ui(pass.line_stride, rows ? static_cast<GLuint>(width_) : 1u);
+  glUniform1ui(pass.layer_stride, static_cast<GLuint>(width_ * height_));
+  glUniform1ui(pass.twiddle_length, static_cast<GLuint>(max_length_));
+  // Columns: a workgroup's lines are adjacent columns, so its invocations read across a row.
+  glUniform1i(pass.lines_along_x, rows ? 0 : 1);
+  glUniform1f(pass.conjugate, conjugate);
+  glUniform1f(pass.scale, scale);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data_.get());
+  // Lengths and line counts are powers of two, so the workgroups tile the lines exactly.
+  glDispatchCompute(static_cast<GLuint>(lines / pass.lines_per_group), static_cast<GLuint>(layers_), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
 void GlFft::transform(FftDirection direction) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, twiddles_.get());
   const bool inverse = direction == FftDirection::inverse;
   const float conjugate = inverse ? -1.0f : 1.0f;
-  run_axis(true, conjugate, false);
-  run_axis(false, conjugate, inverse);
+  run_axis(rows_, true, conjugate, 1.0f);
+  run_axis(columns_, false, conjugate, inverse ? static_cast<float>(1.0 / (static_cast<double>(width_) * height_)) : 1.0f);
   glUseProgram(0);
   check_gl_error("GL FFT: transform");
 }

@@ -1,8 +1,9 @@
 #pragma once
-// 2D complex-to-complex FFT on the GPU by OpenGL 4.5 compute shaders (glare/shaders/fft_radix2.comp):
-// radix-4 Stockham passes (one radix-2 pass first for odd
-// powers of two), rows then columns, on a std430 shader storage buffer of vec2 (real,
-// imaginary) holding `layers` grids of width x height, layer-major, row-major, row 0 first.
+// 2D complex-to-complex FFT on the GPU by OpenGL 4.5 compute shaders: rows, then columns, each axis
+// one dispatch of glare/shaders/fft_lines_shared.comp (a workgroup transforms whole lines in shared
+// memory by radix-4 Stockham stages, one radix-2 stage first for odd powers of two), in place on a
+// std430 shader storage buffer of vec2 (real, imaginary) holding `layers` grids of width x height,
+// layer-major, row-major, row 0 first.
 // Same sign convention as FFTW: forward X[k] = sum_n x[n] exp(-2 pi i k n / L); the inverse is
 // scaled by 1 / (width * height), so inverse(forward(x)) = x.
 // Twiddle factors are computed in double precision on the CPU and uploaded as floats.
@@ -32,9 +33,8 @@ class GlFft {
   int layers() const { return layers_; }
   std::size_t element_count() const;  // layers * height * width
 
-  // The buffer that holds the data (input before transform(), output after). Other passes write
-  // into it and read from it directly; transform() may exchange it with the scratch buffer, so ask
-  // again after each transform.
+  // The buffer that holds the data (input before transform(), output after, in place). Other
+  // passes write into it and read from it directly.
   GLuint data() const { return data_.get(); }
 
   void transform(FftDirection direction);
@@ -43,22 +43,23 @@ class GlFft {
   std::vector<std::complex<float>> download() const;
 
  private:
-  // One compiled pass shader (radix 2 or 4) and its uniform locations.
-  struct Pass {
+  // The program that transforms every line along one axis, specialised for its length and the
+  // lines one workgroup takes, and its uniform locations.
+  struct AxisPass {
     Program program;
-    GLint length, span, twiddle_stride, axis_stride, line_stride, lines, layer_stride, conjugate, scale, lines_along_x;
+    int lines_per_group = 1;
+    GLint axis_stride, line_stride, layer_stride, twiddle_length, lines_along_x, conjugate, scale;
   };
-  static Pass make_pass(const char* shader_path);
-  void run_axis(bool rows, float conjugate, bool scale_last_pass);
+  static AxisPass make_axis_pass(int length, int lines);
+  void run_axis(const AxisPass& pass, bool rows, float conjugate, float scale) const;
 
   int width_;
   int height_;
   int layers_;
   int max_length_;
-  Pass radix2_;
-  Pass radix4_;
+  AxisPass rows_;
+  AxisPass columns_;
   Buffer data_;
-  Buffer scratch_;
   Buffer twiddles_;
 };
 

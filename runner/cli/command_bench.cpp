@@ -220,7 +220,9 @@ Action add_bench_command(CLI::App& app) {
       if (const std::string gl_frames = format_gl_frame_table(result); !gl_frames.empty())
         std::cout << "\nGL frame: the PSF stages' wall times (each ended by glFinish), the convolution's GPU time alone "
                      "(timestamp queries from the image's upload to the result's read-back) beside its wall time (with "
-                     "the host's pixel checks and bright-pixel split), and the frame both ways.\n\n"
+                     "the host's pixel checks and bright-pixel split), and the frame both ways. Each call has a new PSF; a new "
+                     "scene checks, splits, uploads and transforms its image too, a static scene (a fixed stimulus under "
+                     "dynamic glare) keeps the image's spectrum.\n\n"
                   << gl_frames;
       std::cout << "\nWhole dynamic frame of the planned cpu float32 path (aperture, PSF, spectral PSF at the display "
                    "scale, RGB convolution of the N x 3N/4 frame; each frame at a new eye time, the fastest kept) "
