@@ -277,8 +277,21 @@ ImageRGBA GlareStage::convolve_with_backend(const ImageRGBA& image, const Psf& d
 // zero-padded FFT convolution of the box alone equals that of the whole frame, because everything
 // else within reach is black. A stimulus on a black background (the demo: two 256 px scenes on a
 // 1024 x 512 display) costs two small convolutions.
-ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_psf) {
+ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelBox>* changed) {
   const std::vector<PixelBox> boxes = lit_regions(frame, display_psf.size_px);
+  if (changed != nullptr) {
+    // Each box grown by the PSF's reach (M/2 before, M - 1 - M/2 <= M/2 after), clipped: the
+    // planned path writes exactly there (CpuFloatConvolution::write_full), the backend path the
+    // crops below.
+    changed->clear();
+    const int reach = display_psf.size_px / 2;
+    for (const PixelBox& box : boxes) {
+      const int x0 = std::max(0, box.x0 - reach), y0 = std::max(0, box.y0 - reach);
+      const int x1 = std::min(frame.width_px, box.x0 + box.width + reach);
+      const int y1 = std::min(frame.height_px, box.y0 + box.height + reach);
+      changed->push_back({x0, y0, x1 - x0, y1 - y0});
+    }
+  }
   if (boxes.empty()) return frame;  // all black: so is its glare
   backend();
   ImageRGBA out = frame;
@@ -447,7 +460,8 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   r.gain = condition_gain_;
   if (mode == GlareMode::control) return frame_cd_m2;
 
-  const double mean_cd_m2 = field_luminance_cd_m2.value_or(mean_luminance(frame_cd_m2));
+  // Not value_or(mean_luminance(...)): that would scan the frame even when the field is given.
+  const double mean_cd_m2 = field_luminance_cd_m2 ? *field_luminance_cd_m2 : mean_luminance(frame_cd_m2);
   // The light the glare spreads: the frame itself (no copy), or its excess over the display's peak.
   std::optional<ImageRGBA> excess;
   if (spec_.source == "excess") excess = glare_excess(frame_cd_m2);
@@ -482,7 +496,15 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     return frame_cd_m2;
   }
   r.convolved = true;
-  if (spec_.gaze_window_px == 0) return with_gain(frame_cd_m2, source, convolve_frame(source, *psf));
+  if (spec_.gaze_window_px == 0) {
+    // The frame as its own source at gain 1: the glared frame is convolve_frame's, so it changes
+    // only where that says.
+    const bool confined = condition_gain_ == 1.0 && !excess;
+    std::vector<PixelBox> changed;
+    ImageRGBA glared = convolve_frame(source, *psf, confined ? &changed : nullptr);
+    if (confined) r.changed_boxes = std::move(changed);
+    return with_gain(frame_cd_m2, source, std::move(glared));
+  }
   GazeWindowOptions options;
   options.window_px = spec_.gaze_window_px;
   const GazePoint at = gaze.value_or(GazePoint{});

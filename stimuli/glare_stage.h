@@ -36,6 +36,7 @@
 #include "glare/glare_backend.h"
 #include "glare/psf.h"
 #include "glare/glare_spec.h"
+#include "glare/lit_regions.h"
 #include "core/image.h"
 
 namespace glarelab {
@@ -59,6 +60,11 @@ struct GlareFrameReport {
   double wing_fraction = 0.0;      // PSF energy outside the central display pixel (largest channel)
   // Gaze window: set when GlareSpec::gaze_window_px > 0 and the frame was convolved.
   std::optional<GazeWindow> window;
+  // Where the glared frame can differ from the frame: when set, it equals the frame bit for bit
+  // outside these boxes (its lit boxes grown by the PSF's reach, clipped to the frame; none when
+  // nothing changed). Not set: it may differ anywhere (analytic and hybrid glare, a gaze window,
+  // a gain other than 1, source = "excess").
+  std::optional<std::vector<PixelBox>> changed_boxes;
 };
 
 // A gaze point in normalised display coordinates (0..1 from the left and from the top).
@@ -148,7 +154,8 @@ class GlareStage {
 
  private:
   EyeModel& eye_for(GlareMode mode, double field_luminance_cd_m2);
-  ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf);
+  // `changed`, when given, receives the boxes outside which the result is the frame itself.
+  ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelBox>* changed = nullptr);
   ImageRGBA convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window);
   ImageRGBA convolve_with_backend(const ImageRGBA& image, const Psf& display_psf);
   // The wave-optics PSF of a frame (Ritschel, and the hybrid's near part), with blinks held; nothing

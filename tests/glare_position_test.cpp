@@ -188,6 +188,37 @@ TEST(PositionGlare, AStaticLayersKeptGlareGivesTheFramesComputedAfresh) {
   EXPECT_EQ(kept.layers[1]->field_luminance_cd_m2, 3.0);
 }
 
+// The sum of the layers' glare is made only where the glare changed them (the reports' boxes);
+// everywhere it must be the per-value sum composed - left - right + glared left + glared right of
+// the layers glared one by one, bit for bit, including the background between and around the boxes.
+TEST(PositionGlare, TheSumIsMadeWhereTheGlareChangedAndIsTheWholeSumEverywhere) {
+  const TwoLamps lamps(400.0f, 250.0f);
+  ImageRGBA composed = lamps.composed;
+  for (std::size_t i = 0; i < composed.rgba.size(); ++i)
+    if (i % 4 != 3 && composed.rgba[i] == 0.0f) composed.rgba[i] = 0.5f;  // a grey background
+  const std::vector<GlareLayer> layers = {{lamps.left, GlareMode::dynamic}, {lamps.right, GlareMode::static_eye}};
+  GlareStage stage(small_spec(), small_display(), 11), reference_stage(small_spec(), small_display(), 11);
+  std::vector<GlareFrameReport> reports;
+  const ImageRGBA result = apply_layered_glare(stage, composed, layers, 0.4, std::nullopt, &reports);
+  const double field_cd_m2 = mean_luminance(composed);
+  const ImageRGBA left = reference_stage.apply(lamps.left, GlareMode::dynamic, 0.4, nullptr, std::nullopt, field_cd_m2);
+  const ImageRGBA right = reference_stage.apply(lamps.right, GlareMode::static_eye, 0.4, nullptr, std::nullopt, field_cd_m2);
+  ImageRGBA expected = composed;
+  for (std::size_t i = 0; i < expected.rgba.size(); ++i)
+    if (i % 4 != 3) expected.rgba[i] = composed.rgba[i] - lamps.left.rgba[i] - lamps.right.rgba[i] + left.rgba[i] + right.rgba[i];
+  EXPECT_EQ(result.rgba, expected.rgba);
+  EXPECT_GT(relative_l2(result, composed), 1e-3) << "glare must change the frame for the test to mean anything";
+  // The boxes the sum was confined to: each lamp's grown by the PSF's reach, far less than the frame.
+  ASSERT_EQ(reports.size(), 2u);
+  for (const GlareFrameReport& report : reports) {
+    ASSERT_TRUE(report.changed_boxes.has_value());
+    ASSERT_EQ(report.changed_boxes->size(), 1u);
+    const PixelBox& box = report.changed_boxes->front();
+    EXPECT_LT(box.width * box.height, 128 * 64 / 2);
+    EXPECT_GT(box.width, 8);
+  }
+}
+
 TEST(PositionGlare, ALayerOfAnotherSizeIsRefused) {
   const TwoLamps lamps(100.0f, 100.0f);
   GlareStage stage(small_spec(), small_display(), 1);
