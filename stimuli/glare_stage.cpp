@@ -277,8 +277,13 @@ ImageRGBA GlareStage::convolve_with_backend(const ImageRGBA& image, const Psf& d
 // zero-padded FFT convolution of the box alone equals that of the whole frame, because everything
 // else within reach is black. A stimulus on a black background (the demo: two 256 px scenes on a
 // 1024 x 512 display) costs two small convolutions.
-ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelBox>* changed) {
-  const std::vector<PixelBox> boxes = lit_regions(frame, display_psf.size_px);
+ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelBox>* changed,
+                                     FrameFacts* facts) {
+  std::vector<PixelBox> found;
+  if (facts == nullptr) found = lit_regions(frame, display_psf.size_px);
+  else if (!facts->lit_boxes.contains(display_psf.size_px))
+    facts->lit_boxes.emplace(display_psf.size_px, lit_regions(frame, display_psf.size_px));
+  const std::vector<PixelBox>& boxes = facts == nullptr ? found : facts->lit_boxes.at(display_psf.size_px);
   if (changed != nullptr) {
     // Each box grown by the PSF's reach (M/2 before, M - 1 - M/2 <= M/2 after), clipped: the
     // planned path writes exactly there (CpuFloatConvolution::write_full), the backend path the
@@ -451,7 +456,8 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
 }
 
 ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
-                            const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2) {
+                            const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2,
+                            FrameFacts* facts) {
   GlareFrameReport local;
   GlareFrameReport& r = report != nullptr ? *report : local;
   r = GlareFrameReport{};
@@ -486,7 +492,9 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   if (!psf) return frame_cd_m2;
   r.wing_fraction = psf_wing_fraction(*psf);
   // One pass for both when the frame is its own source.
-  const auto [frame_min_cd_m2, frame_max_cd_m2] = luminance_range(frame_cd_m2);
+  if (facts != nullptr && !facts->luminance_range_cd_m2) facts->luminance_range_cd_m2 = luminance_range(frame_cd_m2);
+  const auto [frame_min_cd_m2, frame_max_cd_m2] =
+      facts != nullptr ? *facts->luminance_range_cd_m2 : luminance_range(frame_cd_m2);
   const double source_max_cd_m2 = excess ? luminance_range(source).second : frame_max_cd_m2;
   r.visibility_bound = condition_gain_ * visibility_bound(source_max_cd_m2, frame_min_cd_m2, r.wing_fraction,
                                                           spec_.visibility_floor_cd_m2);
@@ -501,7 +509,8 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     // only where that says.
     const bool confined = condition_gain_ == 1.0 && !excess;
     std::vector<PixelBox> changed;
-    ImageRGBA glared = convolve_frame(source, *psf, confined ? &changed : nullptr);
+    // The frame's facts hold for the source only when the source is the frame.
+    ImageRGBA glared = convolve_frame(source, *psf, confined ? &changed : nullptr, excess ? nullptr : facts);
     if (confined) r.changed_boxes = std::move(changed);
     return with_gain(frame_cd_m2, source, std::move(glared));
   }

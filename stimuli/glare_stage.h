@@ -67,6 +67,15 @@ struct GlareFrameReport {
   std::optional<std::vector<PixelBox>> changed_boxes;
 };
 
+// What GlareStage::apply finds out about a frame before it glares it, kept for the frames that bring
+// the same image again (a position's layer, or the seen frame, on every frame of an interval), so
+// that each frame does not scan the whole image again. The image must not change while its facts
+// are kept: one FrameFacts per image, made anew with it.
+struct FrameFacts {
+  std::optional<std::pair<double, double>> luminance_range_cd_m2;  // smallest and largest Rec.709 luminance
+  std::map<int, std::vector<PixelBox>> lit_boxes;                   // glare/lit_regions.h, by gap (the PSF's size)
+};
+
 // A gaze point in normalised display coordinates (0..1 from the left and from the top).
 struct GazePoint {
   double x = 0.5;
@@ -106,9 +115,10 @@ class GlareStage {
   // nothing: the display centre).
   // `field_luminance_cd_m2`: what the eye adapts to; nothing: the frame's mean luminance. A frame
   // split into layers (stimuli/position_glare.h) passes the whole frame's mean for every layer.
+  // `facts`: the frame's facts, used where known and filled where not (nothing: found afresh).
   ImageRGBA apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report = nullptr,
                   const std::optional<GazePoint>& gaze = std::nullopt,
-                  std::optional<double> field_luminance_cd_m2 = std::nullopt);
+                  std::optional<double> field_luminance_cd_m2 = std::nullopt, FrameFacts* facts = nullptr);
 
   // The glare model and gain of the frames to come (a trial's condition: the "glare_model" and
   // "glare_gain" columns); until called, GlareSpec::model and 1.
@@ -155,7 +165,9 @@ class GlareStage {
  private:
   EyeModel& eye_for(GlareMode mode, double field_luminance_cd_m2);
   // `changed`, when given, receives the boxes outside which the result is the frame itself.
-  ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelBox>* changed = nullptr);
+  // `facts`: the frame's, for its lit boxes (nothing: found afresh).
+  ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelBox>* changed = nullptr,
+                           FrameFacts* facts = nullptr);
   ImageRGBA convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window);
   ImageRGBA convolve_with_backend(const ImageRGBA& image, const Psf& display_psf);
   // The wave-optics PSF of a frame (Ritschel, and the hybrid's near part), with blinks held; nothing

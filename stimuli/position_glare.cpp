@@ -46,7 +46,7 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
       continue;
     }
     GlareFrameReport report;
-    glared[l] = stage.apply(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2);
+    glared[l] = stage.apply(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2, &layer.facts);
     if (layer.keep_peak) {
       const double before = max_luminance(layer.image_cd_m2), after = max_luminance(glared[l]);
       if (before > 0.0 && after > 0.0) {

@@ -27,6 +27,9 @@ struct GlareLayer {
   // to peak at the drawn peak. (A point-spread function moves some of a source's light into its
   // halo, the more the higher the glare gain, so the unscaled core would dim as the glare grows.)
   bool keep_peak = false;
+  // The layer image's facts, found on its first frame and kept for the others (the image does not
+  // change while the layer lives). Mutable: a cache the const layers of a frame fill.
+  mutable FrameFacts facts = {};
 };
 
 // The glare of an interval's static layers, kept between its frames: a static layer's glare is a

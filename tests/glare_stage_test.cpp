@@ -23,6 +23,7 @@
 #include "glare/spectral_psf.h"
 #include "stimuli/display_model.h"
 #include "runner/display/compute_context.h"
+#include "glare/lit_regions.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {
@@ -177,6 +178,33 @@ TEST(GlareStage, CroppedConvolutionEqualsTheWholeFrameConvolution) {
   for (std::size_t i = 0; i < whole.rgba.size(); ++i)
     worst = std::max(worst, static_cast<double>(std::abs(whole.rgba[i] - cropped.rgba[i])));
   EXPECT_LT(worst, 300.0 * 1e-6);
+}
+
+// A frame's facts (its luminance range and lit boxes) are found on its first frame and kept for
+// the frames after: every frame is then the frame found afresh, bit for bit; and the kept facts
+// are what the stage uses (told that a lit frame has no lit boxes, it glares nothing).
+TEST(GlareStage, KeptFrameFactsGiveTheFramesFoundAfresh) {
+  const ImageRGBA frame = lamp_frame(0.0f, 300.0f);
+  GlareStage kept_stage(small_spec(), small_display(), 4), fresh_stage(small_spec(), small_display(), 4);
+  FrameFacts facts;
+  for (const double time_s : {0.2, 0.25, 0.3}) {
+    GlareFrameReport kept_report, fresh_report;
+    const ImageRGBA kept = kept_stage.apply(frame, GlareMode::dynamic, time_s, &kept_report, std::nullopt, std::nullopt, &facts);
+    const ImageRGBA fresh = fresh_stage.apply(frame, GlareMode::dynamic, time_s, &fresh_report);
+    EXPECT_EQ(kept.rgba, fresh.rgba) << "t = " << time_s;
+    EXPECT_TRUE(kept_report.convolved);
+    EXPECT_EQ(kept_report.visibility_bound, fresh_report.visibility_bound);
+    ASSERT_TRUE(facts.luminance_range_cd_m2.has_value());
+    ASSERT_EQ(facts.lit_boxes.size(), 1u);
+    EXPECT_EQ(facts.lit_boxes.begin()->second, lit_regions(frame, facts.lit_boxes.begin()->first));
+  }
+  FrameFacts dark = facts;
+  dark.lit_boxes.begin()->second.clear();
+  GlareFrameReport report;
+  const ImageRGBA unlit = kept_stage.apply(frame, GlareMode::dynamic, 0.35, &report, std::nullopt, std::nullopt, &dark);
+  EXPECT_EQ(unlit.rgba, frame.rgba) << "the kept facts are the ones used";
+  ASSERT_TRUE(report.changed_boxes.has_value());
+  EXPECT_TRUE(report.changed_boxes->empty());
 }
 
 double relative_l2(const ImageRGBA& test, const ImageRGBA& reference) {

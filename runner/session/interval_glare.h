@@ -46,6 +46,7 @@ struct IntervalGlare {
   std::optional<ImageRGBA> through_spectacles;
   const ImageRGBA& seen_cd_m2() const { return through_spectacles ? *through_spectacles : composed_cd_m2; }
   double field_cd_m2 = 0.0;  // its mean luminance, what the eye adapts to (once, not per frame)
+  FrameFacts seen_facts;     // the seen frame's, found on its first glared frame (stimuli/glare_stage.h)
   bool dynamic = false;
   int frames_needed = 1;      // dynamic (or adapting): every stimulus frame; static: one serves all
   int stimulus_frames = 1;    // the interval's stimulus frames

@@ -259,8 +259,10 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
                                  &glare.static_layers);
     }
     GlareFrameReport report;
+    // The interval's seen frame is the same on every frame: its facts are kept.
     ImageRGBA glared = glare_.apply(scene_cd_m2, glare.mode, time_s, &report, glare.gaze,
-                                    field_cd_m2.value_or(glare.field_cd_m2));
+                                    field_cd_m2.value_or(glare.field_cd_m2),
+                                    &scene_cd_m2 == &glare.seen_cd_m2() ? &glare.seen_facts : nullptr);
     reports.push_back(report);
     return glared;
   };
