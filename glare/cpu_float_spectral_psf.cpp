@@ -83,7 +83,7 @@ CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& setting
   for (Group& group : groups_) {
     group.rows_t.assign(static_cast<std::size_t>(n) * m_px, 0.0f);
     group.row.assign(static_cast<std::size_t>(kTransposeTile) * n, 0.0f);
-    group.d_t.assign(static_cast<std::size_t>(m_px) * m_px, 0.0f);
+    group.d_t.assign(static_cast<std::size_t>(kFusedWavelengths) * m_px * m_px, 0.0f);
     group.rgb_t.assign(6 * static_cast<std::size_t>(m_px) * m_px, 0.0);
   }
   straddles_.assign(static_cast<std::size_t>(m_px) * m_px, 0);
@@ -132,10 +132,16 @@ void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<P
         row1 = next1;
       }
       const float wy0 = wavelength.weight0[y], wy1 = wavelength.weight1[y];
-      double* out = rgb.data() + 3 * j * width;  // data(): an empty block (width 0) has no element 0 to take the address of
+      // data(): an empty block (width 0) has no element 0 to take the address of.
+      double* red = rgb.data() + j * width;
+      double* green = red + height * width;
+      double* blue = green + height * width;
+      const double r = wavelength.rgb_weight[0], g = wavelength.rgb_weight[1], b = wavelength.rgb_weight[2];
       for (std::size_t i = 0; i < width; ++i) {
         const double v = wy0 * h0[i] + wy1 * h1[i];
-        for (int c = 0; c < 3; ++c) out[3 * i + c] += wavelength.rgb_weight[c] * v;
+        red[i] += r * v;
+        green[i] += g * v;
+        blue[i] += b * v;
       }
     }
   }
@@ -151,9 +157,35 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
     std::fill(group.rgb_t.begin(), group.rgb_t.end(), 0.0);
     const int first_wavelength = wavelength_count * group_index / kGroups;
     const int last_wavelength = wavelength_count * (group_index + 1) / kGroups;
+    // The D of up to kFusedWavelengths wavelengths, then added to R, G, B and their magnitudes in
+    // one pass (each sum in the wavelengths' order, as one pass per wavelength would add them), so
+    // the six double planes are read and written once per kFusedWavelengths wavelengths.
+    std::vector<const Wavelength*> pending;
+    const auto add_pending = [&] {
+      const std::size_t count = pending.size();
+      for (int c = 0; c < 3; ++c) {
+        double* target = &group.rgb_t[c * plane];
+        double* magnitude = &group.rgb_t[(3 + c) * plane];
+        double weight[kFusedWavelengths], absolute[kFusedWavelengths];
+        for (std::size_t s = 0; s < count; ++s)
+          weight[s] = pending[s]->rgb_weight[c], absolute[s] = std::abs(weight[s]);
+        for (std::size_t k = 0; k < plane; ++k) {
+          double net = target[k], size = magnitude[k];
+          for (std::size_t s = 0; s < count; ++s) {
+            const double d = group.d_t[s * plane + k];
+            net += weight[s] * d;
+            size += absolute[s] * d;
+          }
+          target[k] = net;
+          magnitude[k] = size;
+        }
+      }
+      pending.clear();
+    };
     for (int w = first_wavelength; w < last_wavelength; ++w) {
       const Wavelength& wavelength = wavelengths_[static_cast<std::size_t>(w)];
       if (wavelength.last_column < wavelength.first_column) continue;
+      float* const d_t = &group.d_t[pending.size() * plane];
       const int c0 = wavelength.first_column, c1 = wavelength.last_column + 1;
       // Rows: (W F)(m, :) = sum_j W(m, first + j) F(first + j, :), stored transposed.
       for (int m0 = 0; m0 < m_px; m0 += kTransposeTile) {
@@ -177,7 +209,7 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
       // Columns: D^T(m', :) = sum_j W(m', first + j) (W F)^T(first + j, :).
       for (int mx = 0; mx < m_px; ++mx) {
         const Band& band = wavelength.bands[static_cast<std::size_t>(mx)];
-        float* d = &group.d_t[static_cast<std::size_t>(mx) * m_px];
+        float* d = d_t + static_cast<std::size_t>(mx) * m_px;
         std::fill(d, d + m_px, 0.0f);
         for (int j = 0; j < band.count; ++j) {
           const float weight = weights_[static_cast<std::size_t>(band.offset + j)];
@@ -185,16 +217,10 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
           for (int my = 0; my < m_px; ++my) d[my] += weight * source[my];
         }
       }
-      for (int c = 0; c < 3; ++c) {
-        double* target = &group.rgb_t[c * plane];
-        double* magnitude = &group.rgb_t[(3 + c) * plane];
-        const double weight = wavelength.rgb_weight[c], absolute = std::abs(weight);
-        for (std::size_t k = 0; k < plane; ++k) {
-          target[k] += weight * group.d_t[k];
-          magnitude[k] += absolute * group.d_t[k];
-        }
-      }
+      pending.push_back(&wavelength);
+      if (pending.size() == static_cast<std::size_t>(kFusedWavelengths)) add_pending();
     }
+    if (!pending.empty()) add_pending();
   };
   parallel_chunks(kGroups, settings_.threads, [&](int first, int last) {
     for (int g = first; g < last; ++g) run_group(g);
@@ -249,25 +275,44 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   });
   refined_pixels_ = 0;
   for (const unsigned char straddles : straddles_) refined_pixels_ += straddles;
-  // rgb_t is transposed: index x * M + y.
+  // rgb_t is transposed: index x * M + y. Display rows on the threads; along a row, each run of
+  // refined display pixels has its PSF pixels computed in one block (the PSF columns from the run's
+  // first to its last, each once, in rows the loops over them vectorise along), then each display
+  // pixel sums its own PSF pixels clamped, in the order one block per pixel would: the same sums.
   parallel_chunks(m_px, settings_.threads, [&](int first, int last) {
     std::vector<double> block;
-    for (int mx = first; mx < last; ++mx)
-      for (int my = 0; my < m_px; ++my) {
-        const std::size_t k = static_cast<std::size_t>(mx) * m_px + my;
-        if (straddles_[k] == 0) continue;
-        const auto& xs = box_[static_cast<std::size_t>(mx)];
-        const auto& ys = box_[static_cast<std::size_t>(my)];
-        spectral_block(power, xs, ys, block);
-        double sum[3] = {0.0, 0.0, 0.0};
-        for (std::size_t j = 0; j < ys.size(); ++j)
-          for (std::size_t i = 0; i < xs.size(); ++i) {
-            const double area = xs[i].fraction * ys[j].fraction;
-            const double* rgb = &block[3 * (j * xs.size() + i)];
-            for (int c = 0; c < 3; ++c) sum[c] += area * std::max(0.0, rgb[c]);
-          }
-        for (int c = 0; c < 3; ++c) total[c * plane + k] = sum[c];
+    std::vector<PsfOverlap> columns;
+    for (int my = first; my < last; ++my) {
+      const auto& ys = box_[static_cast<std::size_t>(my)];
+      const auto refined = [&](int mx) { return straddles_[static_cast<std::size_t>(mx) * m_px + my] != 0; };
+      for (int run_start = 0; run_start < m_px;) {
+        if (!refined(run_start)) {
+          ++run_start;
+          continue;
+        }
+        int run_end = run_start;
+        int lowest = n, highest = -1;
+        for (; run_end < m_px && refined(run_end); ++run_end)
+          for (const PsfOverlap& overlap : box_[static_cast<std::size_t>(run_end)])
+            lowest = std::min(lowest, overlap.input), highest = std::max(highest, overlap.input);
+        columns.clear();
+        for (int column = lowest; column <= highest; ++column) columns.push_back({column, 1.0});
+        spectral_block(power, columns, ys, block);
+        const std::size_t width = columns.size(), rows = ys.size();
+        for (int mx = run_start; mx < run_end; ++mx) {
+          const auto& xs = box_[static_cast<std::size_t>(mx)];
+          double sum[3] = {0.0, 0.0, 0.0};
+          for (std::size_t j = 0; j < rows; ++j)
+            for (const PsfOverlap& x : xs) {
+              const double area = x.fraction * ys[j].fraction;
+              const std::size_t at = j * width + static_cast<std::size_t>(x.input - lowest);
+              for (std::size_t c = 0; c < 3; ++c) sum[c] += area * std::max(0.0, block[c * rows * width + at]);
+            }
+          for (int c = 0; c < 3; ++c) total[c * plane + static_cast<std::size_t>(mx) * m_px + my] = sum[c];
+        }
+        run_start = run_end;
       }
+    }
   });
 
   Psf psf;

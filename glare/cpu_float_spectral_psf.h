@@ -61,14 +61,17 @@ class CpuFloatSpectralPsf {
   struct Group {
     std::vector<float> rows_t;  // W_i F transposed: N x M
     std::vector<float> row;     // kTransposeTile rows of W_i F: kTransposeTile x N
-    std::vector<float> d_t;     // (W_i F W_i^T) transposed: M x M
+    std::vector<float> d_t;     // (W_i F W_i^T) transposed, M x M, for kFusedWavelengths wavelengths
     std::vector<double> rgb_t;  // 6 x M x M, transposed: R, G, B, then the sums of their magnitudes
   };
   // R, G, B of the N x N spectral PSF, as spectral_psf.cpp computes them, on the PSF pixels
-  // xs x ys (the PSF pixels of one display pixel): rgb[3 (j |xs| + i) + c] for xs[i], ys[j].
+  // xs x ys (the PSF pixels of a run of display pixels along a row): rgb[(c |ys| + j) |xs| + i]
+  // for xs[i], ys[j], each channel's rows contiguous so that the loops over xs vectorise.
   void spectral_block(const float* power, const std::vector<PsfOverlap>& xs, const std::vector<PsfOverlap>& ys,
                       std::vector<double>& rgb) const;
   static constexpr int kGroups = 4;
+  // Wavelengths whose D (W_i F W_i^T) a group holds before adding them to its R, G, B sums.
+  static constexpr int kFusedWavelengths = 4;
   // Rows of W_i F made before they are written transposed: a tile's column is one run of rows_t, so
   // the transpose writes whole cache lines rather than one float per line (16 floats: 64 bytes).
   static constexpr int kTransposeTile = 16;
