@@ -284,8 +284,15 @@ TEST_F(GlConvolutionTest, KeptSpectraGiveTheResultsOfAFreshConvolution) {
     EXPECT_EQ(result.rgba, expected.rgba) << "call " << n;
     EXPECT_LE(relative_l2(result, direct_convolution(*call.image, *call.psf)), 1e-5) << "call " << n;
   }
-  kept.forget_image();
+  // A refused image leaves the kept spectra as they were.
+  ImageRGBA refused = scene;
+  refused.pixel(3, 3)[0] = -1.0f;
+  EXPECT_THROW(kept.convolve(refused, second, {.split_bright = false}), std::invalid_argument);
   gl::GlConvolutionReport report;
+  const ImageRGBA after_refusal = kept.convolve(scene, first, {.split_bright = false}, &report);
+  EXPECT_TRUE(report.image_spectrum_reused && report.psf_spectrum_reused) << report.describe();
+  EXPECT_EQ(after_refusal.rgba, gl::GlConvolution().convolve(scene, first, {.split_bright = false}).rgba);
+  kept.forget_image();
   (void)kept.convolve(scene, first, {.split_bright = false}, &report);
   EXPECT_FALSE(report.image_spectrum_reused) << "forget_image() drops the kept spectrum";
 }

@@ -172,10 +172,10 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   const bool image_cached = image_spectrum_ && same_split(image_spectrum_->options, options) &&
                             image_spectrum_->image.width_px == width && image_spectrum_->image.height_px == height &&
                             image_spectrum_->image.rgba == image.rgba;
+  std::unique_ptr<ImageSpectrum> fresh_spectrum;
   if (!image_cached) {
     const NonFiniteReport pixels = inspect_pixels(image);
     if (!pixels.clean()) throw std::invalid_argument("GL convolution: the image has " + pixels.describe());
-    image_spectrum_.reset();
     auto spectrum = std::make_unique<ImageSpectrum>();
     spectrum->image = image;
     spectrum->options = options;
@@ -196,9 +196,12 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
         }
       spectrum->split = spectrum->bright.count() > 0 && spectrum->bright.count() <= options.max_direct_bright_pixels;
     }
-    image_spectrum_ = std::move(spectrum);
+    fresh_spectrum = std::move(spectrum);
+    // The kept spectrum is overwritten below: it is kept again (as this image's) only once the
+    // call has gone through.
+    image_spectrum_.reset();
   }
-  const ImageSpectrum& scene = *image_spectrum_;
+  const ImageSpectrum& scene = image_cached ? *image_spectrum_ : *fresh_spectrum;
   GlConvolutionReport local_report;
   local_report.padded_width_px = padded_width;
   local_report.padded_height_px = padded_height;
@@ -238,8 +241,6 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     // The PSF in float: the pad pass reads it, and the bright sum of any image later with this PSF.
     const std::vector<float> psf_values(psf.values.begin(), psf.values.end());
     write_buffer(kernel_.get(), kernel_bytes_, psf_values.size() * sizeof(float), psf_values.data());
-  }
-  if (!kernel_cached) {
     const GLuint pad_kernel = pad_kernel_program_.get();
     glUseProgram(pad_kernel);
     glUniform1i(glGetUniformLocation(pad_kernel, "uPaddedWidth"), padded_width);
@@ -251,9 +252,8 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     glDispatchCompute(groups_x, groups_y, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     ffts_->kernel.transform(FftDirection::forward);
-    cached_psf_size_ = k;
-    cached_psf_values_ = psf.values;
-    kernel_ready_ = true;
+    // Kept as this PSF's once the call has gone through (below).
+    kernel_ready_ = false;
   }
   local_report.psf_spectrum_reused = kernel_cached;
   stage_done();
@@ -318,6 +318,12 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   glGetNamedBufferSubData(result_.get(), 0, static_cast<GLsizeiptr>(output.rgba.size() * sizeof(float)), output.rgba.data());
   stage_done();
   check_gl_error("GL convolution");
+  if (!kernel_cached) {
+    cached_psf_size_ = k;
+    cached_psf_values_ = psf.values;
+    kernel_ready_ = true;
+  }
+  if (!image_cached) image_spectrum_ = std::move(fresh_spectrum);
   std::vector<GLuint64> stamps_ns(timestamps_.size(), 0);
   for (std::size_t s = 0; s < timestamps_.size(); ++s)
     glGetQueryObjectui64v(timestamps_[s].get(), GL_QUERY_RESULT, &stamps_ns[s]);
