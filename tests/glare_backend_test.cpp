@@ -287,6 +287,14 @@ TEST_F(GlareBackendAgreement, ClosedEyeIsRefusedByTypeOnBothBackends) {
   const ApertureGeometry open = eye.geometry_at(closed_s + 0.5);
   EXPECT_NO_THROW(cpu.psf(open, options));
   EXPECT_NO_THROW(gl_->psf(open, options));
+  // The monochromatic PSF too (GL: its own sums, read with it), and an open eye after a closed one.
+  options.spectral = false;
+  EXPECT_THROW(cpu.psf(closed, options), ClosedApertureError);
+  EXPECT_THROW(gl_->psf(closed, options), ClosedApertureError);
+  const Psf after = gl_->psf(open, options);
+  double sum = 0.0;
+  for (const double value : after.values) sum += value;
+  EXPECT_NEAR(sum, 1.0, 1e-5);
 }
 
 // A backend that fails the test when used: the control condition must not reach it.

@@ -79,6 +79,8 @@ GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
   const std::size_t partials = 3 * ((count + kReduceSpan - 1) / kReduceSpan);
   partial_a_ = storage(partials * sizeof(float));
   partial_b_ = storage(partials * sizeof(float));
+  power_sums_ = storage(sizeof(float));
+  spectral_sums_ = storage(3 * sizeof(float));
   weights_ = create_buffer();
   check_gl_error("GL PSF: creating buffers and programs");
 }
@@ -110,14 +112,12 @@ void GlPsf::normalise(GLuint values, int channels) {
     to_a = !to_a;
     count = groups;
   }
-  // A closed eye (lids over the whole pupil) sums to 0 and would normalise to NaN: refused by type,
-  // as on the CPU (glare/psf.h). One float per channel comes back; the PSF is read back anyway.
-  std::vector<float> sums(static_cast<std::size_t>(channels));
+  // A closed eye (lids over the whole pupil) sums to 0: psf_normalise.comp leaves such a channel as
+  // it is, and read() refuses it by type, as the CPU does (glare/psf.h). The sums are kept on the
+  // GPU beside the result rather than read back here, so a PSF costs one round trip, not three.
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  glGetNamedBufferSubData(source, 0, static_cast<GLsizeiptr>(sums.size() * sizeof(float)), sums.data());
-  for (const float sum : sums)
-    if (!(sum > 0.0f))
-      throw ClosedApertureError("GL PSF: the aperture transmits no light (pupil outside the grid or fully blocked)");
+  glCopyNamedBufferSubData(source, values == power_.get() ? power_sums_.get() : spectral_sums_.get(), 0, 0,
+                           static_cast<GLsizeiptr>(channels * sizeof(float)));
   const GLuint normalise_program = normalise_program_.get();
   glUseProgram(normalise_program);
   glUniform1ui(glGetUniformLocation(normalise_program, "uCount"), per_channel);
@@ -287,7 +287,13 @@ Psf GlPsf::read(int channels, double wavelength_nm) const {
   const std::size_t count = static_cast<std::size_t>(channels) * size_px_ * size_px_;
   std::vector<float> values(count);
   glGetNamedBufferSubData(result_buffer(channels), 0, static_cast<GLsizeiptr>(count * sizeof(float)), values.data());
+  std::vector<float> sums(static_cast<std::size_t>(channels));
+  glGetNamedBufferSubData(channels == 1 ? power_sums_.get() : spectral_sums_.get(), 0,
+                          static_cast<GLsizeiptr>(sums.size() * sizeof(float)), sums.data());
   check_gl_error("GL PSF: reading back");
+  for (const float sum : sums)
+    if (!(sum > 0.0f))
+      throw ClosedApertureError("GL PSF: the aperture transmits no light (pupil outside the grid or fully blocked)");
   Psf psf;
   psf.size_px = size_px_;
   psf.channels = channels;

@@ -62,11 +62,13 @@ class GlPsf {
   const std::string& chromatic_sampling_warning() const { return chromatic_warning_; }
   int chromatic_aliased_wavelengths() const { return chromatic_aliased_; }
 
-  // The same work without reading back (for timing): the result stays in result_buffer().
+  // The same work without reading back (for timing): the result stays in result_buffer(). A closed
+  // aperture is found by read() (ClosedApertureError), not here: no GPU round trip before it.
   void run_monochromatic(const ApertureGeometry& geometry, double wavelength_nm);
   void run_spectral(const ApertureGeometry& geometry, int wavelength_count, double reference_wavelength_nm);
   void run_chromatic(const ApertureGeometry& geometry, int wavelength_count, double reference_wavelength_nm);
   GLuint result_buffer(int channels) const { return channels == 1 ? power_.get() : spectral_.get(); }
+  // Throws ClosedApertureError when the aperture transmitted no light (a channel's sum not > 0).
   Psf read(int channels, double wavelength_nm) const;
 
   int size_px() const { return size_px_; }
@@ -83,6 +85,8 @@ class GlPsf {
   std::string chromatic_warning_;
   int chromatic_aliased_ = 0;
   Buffer phase_x_, phase_y_, cross_table_, power_, spectral_, weights_, partial_a_, partial_b_;
+  // Each result's channel sums before its normalisation (copied on the GPU), read with it.
+  Buffer power_sums_, spectral_sums_;
 };
 
 }  // namespace glarelab::gl
