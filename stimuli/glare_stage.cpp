@@ -284,19 +284,18 @@ ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_
   else if (!facts->lit_boxes.contains(display_psf.size_px))
     facts->lit_boxes.emplace(display_psf.size_px, lit_regions(frame, display_psf.size_px));
   const std::vector<PixelBox>& boxes = facts == nullptr ? found : facts->lit_boxes.at(display_psf.size_px);
-  if (changed != nullptr) {
-    // Each box grown by the PSF's reach (M/2 before, M - 1 - M/2 <= M/2 after), clipped: the
-    // planned path writes exactly there (CpuFloatConvolution::write_full), the backend path the
-    // crops below.
-    changed->clear();
-    const int reach = display_psf.size_px / 2;
-    for (const PixelBox& box : boxes) {
-      const int x0 = std::max(0, box.x0 - reach), y0 = std::max(0, box.y0 - reach);
-      const int x1 = std::min(frame.width_px, box.x0 + box.width + reach);
-      const int y1 = std::min(frame.height_px, box.y0 + box.height + reach);
-      changed->push_back({x0, y0, x1 - x0, y1 - y0});
-    }
+  // Each box grown by the PSF's reach (M/2 before, M - 1 - M/2 <= M/2 after), clipped to the
+  // frame: where its glare lands. The planned path writes exactly there
+  // (CpuFloatConvolution::write_full), the backend path convolves these crops.
+  const int reach = display_psf.size_px / 2;
+  std::vector<PixelBox> reached;
+  for (const PixelBox& box : boxes) {
+    const int x0 = std::max(0, box.x0 - reach), y0 = std::max(0, box.y0 - reach);
+    const int x1 = std::min(frame.width_px, box.x0 + box.width + reach);
+    const int y1 = std::min(frame.height_px, box.y0 + box.height + reach);
+    reached.push_back({x0, y0, x1 - x0, y1 - y0});
   }
+  if (changed != nullptr) *changed = reached;
   if (boxes.empty()) return frame;  // all black: so is its glare
   backend();
   ImageRGBA out = frame;
@@ -306,18 +305,13 @@ ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_
     planned_->convolve_regions(frame, boxes, display_psf, out);
     return out;
   }
-  const int reach = display_psf.size_px / 2;
-  for (const PixelBox& box : boxes) {
-    const int x0 = std::max(0, box.x0 - reach), y0 = std::max(0, box.y0 - reach);
-    const int x1 = std::min(frame.width_px - 1, box.x0 + box.width - 1 + reach);
-    const int y1 = std::min(frame.height_px - 1, box.y0 + box.height - 1 + reach);
-    if (boxes.size() == 1 && x0 == 0 && y0 == 0 && x1 == frame.width_px - 1 && y1 == frame.height_px - 1 &&
-        frame.depth.empty())
+  for (const PixelBox& area : reached) {
+    if (reached.size() == 1 && area == PixelBox{0, 0, frame.width_px, frame.height_px} && frame.depth.empty())
       return convolve_with_backend(frame, display_psf);
-    ImageRGBA crop(x1 - x0 + 1, y1 - y0 + 1);
-    for (int y = y0; y <= y1; ++y) std::copy_n(frame.pixel(x0, y), 4 * crop.width_px, crop.pixel(0, y - y0));
+    ImageRGBA crop(area.width, area.height);
+    for (int y = 0; y < area.height; ++y) std::copy_n(frame.pixel(area.x0, area.y0 + y), 4 * area.width, crop.pixel(0, y));
     const ImageRGBA glared = convolve_with_backend(crop, display_psf);
-    for (int y = y0; y <= y1; ++y) std::copy_n(glared.pixel(0, y - y0), 4 * crop.width_px, out.pixel(x0, y));
+    for (int y = 0; y < area.height; ++y) std::copy_n(glared.pixel(0, y), 4 * area.width, out.pixel(area.x0, area.y0 + y));
   }
   return out;
 }
