@@ -116,6 +116,15 @@ void fft2d_real_inverse(std::vector<std::complex<float>>& spectrum, std::vector<
   fftwf_destroy_plan(plan);
 }
 
+int smooth_fft_size(int n) {
+  for (int candidate = std::max(n, 1);; ++candidate) {
+    int rest = candidate;
+    for (int prime : {2, 3, 5})
+      while (rest % prime == 0) rest /= prime;
+    if (rest == 1) return candidate;
+  }
+}
+
 int good_fft_size(int n) {
   for (int candidate = std::max(n, 1);; ++candidate) {
     int rest = candidate;

@@ -1,5 +1,7 @@
 #include "glare/fftw_float_plan.h"
 
+#include "glare/fftw_wisdom.h"
+
 #include <fftw3.h>
 
 #include <algorithm>
@@ -12,13 +14,18 @@ namespace {
 
 // Plans with `threads` FFTW threads, then puts the planner back to one thread: the plans of
 // fft_cpu.cpp (made per call) stay single-threaded, as they were.
+// make_plan(flags) gets the planning's FFTW flags (fftwf_plan_s* (unsigned)).
 template <typename MakePlan>
-fftwf_plan_s* plan_with_threads(int threads, const char* what, MakePlan&& make_plan) {
+fftwf_plan_s* plan_with_threads(int threads, const char* what, FftwPlanning planning, MakePlan&& make_plan) {
   std::lock_guard lock(fftw_planner_mutex());
   static const int initialised = fftwf_init_threads();
   if (initialised == 0) throw std::runtime_error("glare/fftw_float_plan: fftwf_init_threads failed");
   fftwf_plan_with_nthreads(std::max(1, threads));
-  fftwf_plan plan = make_plan();
+  fftwf_plan plan = nullptr;
+  if (planning == FftwPlanning::kept)
+    plan = plan_with_kept_wisdom(0U, make_plan);
+  else
+    plan = make_plan(planning == FftwPlanning::measure ? FFTW_MEASURE : FFTW_ESTIMATE);
   fftwf_plan_with_nthreads(1);
   if (plan == nullptr) throw std::runtime_error(std::string("glare/fftw_float_plan: FFTW could not plan ") + what);
   return plan;
@@ -35,12 +42,6 @@ void forget_fftw_float_wisdom() {
   std::lock_guard lock(fftw_planner_mutex());
   fftwf_forget_wisdom();
 }
-
-namespace {
-
-unsigned rigor(FftwPlanning planning) { return planning == FftwPlanning::measure ? FFTW_MEASURE : FFTW_ESTIMATE; }
-
-}  // namespace
 
 template <typename T>
 FftwFloatBuffer<T>::FftwFloatBuffer(std::size_t count)
@@ -86,71 +87,73 @@ void FftwFloatPlan::execute(std::complex<float>* in, std::complex<float>* out) c
 
 FftwFloatPlan FftwFloatPlan::complex_row_forward(int length, std::complex<float>* in, std::complex<float>* out) {
   const bool rows_keep_alignment = (static_cast<std::size_t>(length) * sizeof(std::complex<float>)) % 64 == 0;
-  return FftwFloatPlan(plan_with_threads(1, "a float complex row FFT", [&] {
+  return FftwFloatPlan(plan_with_threads(1, "a float complex row FFT", FftwPlanning::estimate, [&](unsigned flags) {
     return fftwf_plan_dft_1d(length, reinterpret_cast<fftwf_complex*>(in), reinterpret_cast<fftwf_complex*>(out),
-                             FFTW_FORWARD, FFTW_ESTIMATE | (rows_keep_alignment ? 0 : FFTW_UNALIGNED));
+                             FFTW_FORWARD, flags | (rows_keep_alignment ? 0 : FFTW_UNALIGNED));
   }));
 }
 
 FftwFloatPlan FftwFloatPlan::complex_forward(int rows, int cols, std::complex<float>* in, std::complex<float>* out,
                                              int threads, FftwPlanning planning) {
-  return FftwFloatPlan(plan_with_threads(threads, "a float complex 2D FFT", [&] {
+  return FftwFloatPlan(plan_with_threads(threads, "a float complex 2D FFT", planning, [&](unsigned flags) {
     return fftwf_plan_dft_2d(rows, cols, reinterpret_cast<fftwf_complex*>(in), reinterpret_cast<fftwf_complex*>(out),
-                             FFTW_FORWARD, rigor(planning));
+                             FFTW_FORWARD, flags);
   }));
 }
 
 FftwFloatPlan FftwFloatPlan::real_forward(int rows, int cols, int count, float* in, std::complex<float>* out, int threads,
                                           FftwPlanning planning) {
-  return FftwFloatPlan(plan_with_threads(threads, "float real 2D FFTs", [&] {
+  return FftwFloatPlan(plan_with_threads(threads, "float real 2D FFTs", planning, [&](unsigned flags) {
     const int size[2] = {rows, cols};
     return fftwf_plan_many_dft_r2c(2, size, count, in, nullptr, 1, rows * cols, reinterpret_cast<fftwf_complex*>(out),
-                                   nullptr, 1, rows * (cols / 2 + 1), rigor(planning) | FFTW_PRESERVE_INPUT);
+                                   nullptr, 1, rows * (cols / 2 + 1), flags | FFTW_PRESERVE_INPUT);
   }));
 }
 
 FftwFloatPlan FftwFloatPlan::real_inverse(int rows, int cols, int count, std::complex<float>* in, float* out, int threads,
                                           FftwPlanning planning) {
-  return FftwFloatPlan(plan_with_threads(threads, "float inverse real 2D FFTs", [&] {
+  return FftwFloatPlan(plan_with_threads(threads, "float inverse real 2D FFTs", planning, [&](unsigned flags) {
     const int size[2] = {rows, cols};
     return fftwf_plan_many_dft_c2r(2, size, count, reinterpret_cast<fftwf_complex*>(in), nullptr, 1,
-                                   rows * (cols / 2 + 1), out, nullptr, 1, rows * cols, rigor(planning));
+                                   rows * (cols / 2 + 1), out, nullptr, 1, rows * cols, flags);
   }));
 }
 
 FftwFloatPlan FftwFloatPlan::real_rows_forward(int rows, int cols, int count, int first_row, int row_count, float* in,
-                                               std::complex<float>* out, int threads) {
+                                               std::complex<float>* out, int threads, FftwPlanning planning) {
   const int spectrum_cols = cols / 2 + 1;
-  return FftwFloatPlan(plan_with_threads(threads, "float real row FFTs", [&] {
+  return FftwFloatPlan(plan_with_threads(threads, "float real row FFTs", planning, [&](unsigned flags) {
     const fftwf_iodim length{cols, 1, 1};
     const fftwf_iodim loops[2] = {{count, rows * cols, rows * spectrum_cols}, {row_count, cols, spectrum_cols}};
     return fftwf_plan_guru_dft_r2c(1, &length, 2, loops, in + static_cast<std::ptrdiff_t>(first_row) * cols,
                                    reinterpret_cast<fftwf_complex*>(out + static_cast<std::ptrdiff_t>(first_row) * spectrum_cols),
-                                   FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+                                   flags | FFTW_PRESERVE_INPUT);
   }));
 }
 
 FftwFloatPlan FftwFloatPlan::real_rows_inverse(int rows, int cols, int count, int first_row, int row_count,
-                                               std::complex<float>* in, float* out, int threads) {
+                                               std::complex<float>* in, float* out, int threads,
+                                               FftwPlanning planning) {
   const int spectrum_cols = cols / 2 + 1;
-  return FftwFloatPlan(plan_with_threads(threads, "float inverse real row FFTs", [&] {
+  return FftwFloatPlan(plan_with_threads(threads, "float inverse real row FFTs", planning, [&](unsigned flags) {
     const fftwf_iodim length{cols, 1, 1};
     const fftwf_iodim loops[2] = {{count, rows * spectrum_cols, rows * cols}, {row_count, spectrum_cols, cols}};
     return fftwf_plan_guru_dft_c2r(1, &length, 2, loops,
                                    reinterpret_cast<fftwf_complex*>(in + static_cast<std::ptrdiff_t>(first_row) * spectrum_cols),
-                                   out + static_cast<std::ptrdiff_t>(first_row) * cols, FFTW_ESTIMATE);
+                                   out + static_cast<std::ptrdiff_t>(first_row) * cols, flags);
   }));
 }
 
 FftwFloatPlan FftwFloatPlan::complex_columns(int rows, int cols, int count, int sign, std::complex<float>* in,
-                                             std::complex<float>* out, bool preserve_input, int threads) {
+                                             std::complex<float>* out, bool preserve_input, int threads,
+                                             FftwPlanning planning) {
   const int spectrum_cols = cols / 2 + 1;
-  return FftwFloatPlan(plan_with_threads(threads, "float column FFTs", [&] {
+  return FftwFloatPlan(plan_with_threads(threads, "float column FFTs", planning, [&](unsigned flags) {
     const fftwf_iodim length{rows, spectrum_cols, spectrum_cols};
     const fftwf_iodim loops[2] = {{count, rows * spectrum_cols, rows * spectrum_cols}, {spectrum_cols, 1, 1}};
     return fftwf_plan_guru_dft(1, &length, 2, loops, reinterpret_cast<fftwf_complex*>(in),
                                reinterpret_cast<fftwf_complex*>(out), sign,
-                               FFTW_ESTIMATE | (preserve_input ? FFTW_PRESERVE_INPUT : FFTW_DESTROY_INPUT));
+                               flags | (preserve_input ? FFTW_PRESERVE_INPUT : FFTW_DESTROY_INPUT));
   }));
 }
 

@@ -2,10 +2,12 @@
 // FFTW float plans made once and executed every frame, for the planned float32 glare path
 // (cpu_float_glare.h) and the FFTW floor it is measured against (fftw_floor.h).
 //
-// Planning: FFTW_ESTIMATE with FFTW's own threads (libfftw3f_threads). ESTIMATE picks the plan from
-// the sizes, strides, alignment and thread count alone, never from timings, so the same input gives
-// the same output on every run; FFTW_MEASURE would time candidate plans and could pick another one
-// (with other rounding) from run to run. The thread count is part of the plan, so it is fixed
+// Planning, with FFTW's own threads (libfftw3f_threads): FFTW_ESTIMATE picks the plan from the sizes,
+// strides, alignment and thread count alone, never from timings, so the same input gives the same
+// output on every run. FFTW_MEASURE times candidate plans and could pick another one (with other
+// rounding) from run to run, unless the plan it picked is kept: `kept` plans are measured once per
+// machine and read from the wisdom file ever after (fftw_wisdom.h), so they too are the same plans
+// in every run on that machine. The thread count is part of the plan, so it is fixed
 // (kGlareCpuThreads) rather than read from the machine: a session's frames do not depend on the
 // number of cores of the computer it runs on.
 //
@@ -32,7 +34,10 @@ std::mutex& fftw_planner_mutex();
 // 10 to 14 times FFTW_MEASURE's at N = 512 and 1024 on the bench's machine). Measured plans leave
 // wisdom that later estimate plans of the same problems would follow; whoever makes measured
 // plans calls forget_fftw_float_wisdom() after them, while no other thread plans.
-enum class FftwPlanning { estimate, measure };
+// kept: FFTW_MEASURE with the wisdom kept in a file (fftw_wisdom.h), or FFTW_ESTIMATE where none can
+// be kept. Measured and kept plans overwrite their arrays while they are made: data (zero padding
+// included) is written after planning.
+enum class FftwPlanning { estimate, measure, kept };
 
 // FFTW float's accumulated wisdom forgotten (fftwf_forget_wisdom), under fftw_planner_mutex().
 void forget_fftw_float_wisdom();
@@ -92,14 +97,17 @@ class FftwFloatPlan {
   // (count arrays of rows x cols reals, of rows x (cols/2 + 1) complex values).
   // Row pass, real to complex: rows [first_row, first_row + row_count) of each array only.
   static FftwFloatPlan real_rows_forward(int rows, int cols, int count, int first_row, int row_count, float* in,
-                                         std::complex<float>* out, int threads);
+                                         std::complex<float>* out, int threads,
+                                         FftwPlanning planning = FftwPlanning::estimate);
   // Row pass, complex to real (destroys its input): rows [first_row, first_row + row_count) only.
   static FftwFloatPlan real_rows_inverse(int rows, int cols, int count, int first_row, int row_count,
-                                         std::complex<float>* in, float* out, int threads);
+                                         std::complex<float>* in, float* out, int threads,
+                                         FftwPlanning planning = FftwPlanning::estimate);
   // Column pass over all rows x (cols/2 + 1) complex values, sign FFTW_FORWARD (-1) or
   // FFTW_BACKWARD (+1), out of place; preserve_input keeps `in` (its zero rows) intact.
   static FftwFloatPlan complex_columns(int rows, int cols, int count, int sign, std::complex<float>* in,
-                                       std::complex<float>* out, bool preserve_input, int threads);
+                                       std::complex<float>* out, bool preserve_input, int threads,
+                                       FftwPlanning planning = FftwPlanning::estimate);
 
  private:
   explicit FftwFloatPlan(fftwf_plan_s* plan) : plan_(plan) {}

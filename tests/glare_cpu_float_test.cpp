@@ -263,10 +263,45 @@ TEST(GlareCpuFloat, RegionsConvolvedOnTheirOwnEqualTheWholeFrameInDouble) {
   }
 }
 
+// `same` output pads only by half the PSF (image + M/2, at least M): the folded-back end of the
+// circular convolution lands in rows and columns that are not read. Checked against the float64
+// convolution for odd and even PSFs, one wider than the image, and sizes at the bound.
+TEST(GlareCpuFloat, SamePaddingIsHalfThePsfAndStillTheLinearConvolution) {
+  struct Case {
+    int width, height, m, rows, cols;
+  };
+  // rows = smallest 2,3,5-smooth >= max(height + m / 2, m), cols likewise from the width.
+  for (const Case& c : {Case{64, 48, 8, 54, 72}, Case{60, 45, 15, 54, 72}, Case{40, 12, 31, 32, 60},
+                        Case{25, 25, 25, 40, 40}, Case{97, 33, 2, 36, 100},
+                        Case{50, 44, 8, 48, 54}}) {  // the last exactly at the bound both ways
+    const ImageRGBA image = [&] {
+      ImageRGBA frame(c.width, c.height, 0.0f);
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x)
+          for (int channel = 0; channel < 3; ++channel)
+            frame.pixel(x, y)[channel] = 0.2f + 0.01f * static_cast<float>((x * 5 + y * 11 + channel * 3) % 13);
+      // Lamps at the corners: their glare is what would fold back across the image.
+      frame.pixel(0, 0)[0] = 800.0f;
+      frame.pixel(c.width - 1, c.height - 1)[1] = 900.0f;
+      frame.pixel(c.width - 1, 0)[2] = 700.0f;
+      return frame;
+    }();
+    const Psf psf = lopsided_psf(c.m);
+    CpuFloatConvolution convolution(c.width, c.height, c.m);
+    EXPECT_EQ(convolution.fft_rows(), c.rows) << c.width << " x " << c.height << ", M " << c.m;
+    EXPECT_EQ(convolution.fft_cols(), c.cols) << c.width << " x " << c.height << ", M " << c.m;
+    convolution.set_scene(image);
+    ImageRGBA out;
+    convolution.convolve(psf, out);
+    const ImageRGBA reference = convolve_image_cpu(image, psf, ConvolutionOptions{});
+    EXPECT_LT(relative_l2(rgb_of(out), rgb_of(reference)), 1e-6) << c.width << " x " << c.height << ", M " << c.m;
+  }
+}
+
 TEST(GlareCpuFloat, RegionConvolutionRefusesBadInputAndMisuse) {
   CpuFloatConvolution full(30, 20, 9, 2, ConvolutionOutput::full, 2);
   EXPECT_EQ(full.slots(), 2);
-  EXPECT_EQ(full.fft_rows(), 28);  // 20 + 9 - 1, 2,3,5,7-smooth
+  EXPECT_EQ(full.fft_rows(), 30);  // 20 + 9 - 1 = 28 is 4 x 7: the next 2,3,5-smooth size
   EXPECT_EQ(full.fft_cols(), 40);  // 30 + 9 - 1 = 38 is 2 x 19: the next smooth size
   ImageRGBA frame(100, 50, 1.0f);
   ImageRGBA out = frame;

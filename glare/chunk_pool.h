@@ -1,0 +1,23 @@
+#pragma once
+// Worker threads started once per process that run the chunks of parallel_chunks (parallel_rows.h).
+//
+// run_chunks(chunks, run_chunk) calls run_chunk(0) .. run_chunk(chunks - 1), each exactly once,
+// and returns when all have returned. The caller takes chunks as the workers do, so the call
+// finishes even when every worker is busy: a chunk that calls run_chunks itself (nested loops), or
+// several threads calling at once, never wait on each other for a free worker. The first exception a
+// chunk throws is rethrown to the caller after the other chunks have finished.
+//
+// Why not std::async or OpenMP: std::async starts a thread per call (what this replaces), and
+// OpenMP's runtime would be a second thread pool beside FFTW's and a build dependency for a
+// loop this small.
+#include <functional>
+
+namespace glarelab {
+
+void run_chunks(int chunks, const std::function<void(int chunk)>& run_chunk);
+
+// Workers the pool has started so far (they start on demand, up to kMaxChunkWorkers).
+int chunk_workers_started();
+inline constexpr int kMaxChunkWorkers = 15;
+
+}  // namespace glarelab
