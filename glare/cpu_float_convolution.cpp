@@ -82,6 +82,11 @@ void CpuFloatConvolution::clear_rows(std::complex<float>* spectrum, int first_ro
 void CpuFloatConvolution::transform_scene(const ImageRGBA& image, int x0, int y0, int slot) {
   if (slot < 0 || slot >= slots_) throw std::invalid_argument("glare/cpu_float_convolution: no scene slot " + std::to_string(slot));
   const std::size_t real_size = static_cast<std::size_t>(rows_) * cols_;
+  // `same` output keeps the scene's alpha for convolve() (not the whole scene: a copy of it was a
+  // frame-sized pass of its own).
+  // Into incoming_alpha_, swapped in once the scene is accepted: a refused scene leaves the last one.
+  const bool keep_alpha = output_ == ConvolutionOutput::same;
+  if (keep_alpha) incoming_alpha_.resize(static_cast<std::size_t>(width_) * height_);
   std::atomic<bool> clean = true;
   parallel_chunks(height_, threads_, [&](int first, int last) {
     bool chunk_clean = true;
@@ -94,6 +99,7 @@ void CpuFloatConvolution::transform_scene(const ImageRGBA& image, int x0, int y0
           chunk_clean = chunk_clean && p[c] >= 0.0f && p[c] <= std::numeric_limits<float>::max();
           image_real_[c * real_size + static_cast<std::size_t>(y) * cols_ + x] = p[c];
         }
+        if (keep_alpha) incoming_alpha_[static_cast<std::size_t>(y) * width_ + x] = p[3];
       }
     }
     if (!chunk_clean) clean = false;
@@ -104,6 +110,7 @@ void CpuFloatConvolution::transform_scene(const ImageRGBA& image, int x0, int y0
     throw std::invalid_argument("glare/cpu_float_convolution: the image cannot be convolved: it has " +
                                 inspect_pixels(region).describe());
   }
+  if (keep_alpha) scene_alpha_.swap(incoming_alpha_);
   image_row_pass_.execute();
   clear_rows(image_spectrum_.data(), height_);
   image_column_pass_.execute();
@@ -120,7 +127,7 @@ void CpuFloatConvolution::set_scene(const ImageRGBA& image, int slot) {
                                 std::to_string(height_));
   // transform_scene refuses non-finite and negative pixels as it copies them (no scan before it).
   transform_scene(image, 0, 0, slot);
-  if (output_ == ConvolutionOutput::same) scene_ = image;
+  if (output_ == ConvolutionOutput::same) scene_depth_ = image.depth;
 }
 
 void CpuFloatConvolution::set_scene(const ImageRGBA& frame, int x0, int y0, int slot) {
@@ -175,7 +182,9 @@ void CpuFloatConvolution::convolve(const Psf& psf, ImageRGBA& out) {
   const std::size_t real_size = static_cast<std::size_t>(rows_) * cols_;
   const int m = kernel_px_;
   // full(y, x) = sum img(y', x') psf(y - y', x - x'); the PSF's centre is (M/2, M/2).
-  if (out.width_px != width_ || out.height_px != height_ || out.rgba.size() != scene_.rgba.size()) out = scene_;
+  if (out.width_px != width_ || out.height_px != height_ || out.rgba.size() != 4 * scene_alpha_.size())
+    out = ImageRGBA(width_, height_);
+  out.depth = scene_depth_;
   parallel_chunks(height_, threads_, [&](int first, int last) {
     for (int y = first; y < last; ++y)
       for (int x = 0; x < width_; ++x) {
@@ -183,7 +192,7 @@ void CpuFloatConvolution::convolve(const Psf& psf, ImageRGBA& out) {
         float* target = &out.rgba[4 * pixel];
         for (int c = 0; c < 3; ++c)
           target[c] = result_real_[c * real_size + static_cast<std::size_t>(y + m / 2) * cols_ + (x + m / 2)];
-        target[3] = scene_.rgba[4 * pixel + 3];
+        target[3] = scene_alpha_[pixel];
       }
   });
 }

@@ -57,7 +57,8 @@ class CpuFloatConvolution {
   ConvolutionOutput output_ = ConvolutionOutput::same;
   std::vector<bool> has_scene_;
   bool has_kernel_ = false;
-  ImageRGBA scene_;  // `same`: the last scene, for its alpha and depth
+  std::vector<float> scene_alpha_, scene_depth_;  // `same`: the last scene's alpha and depth
+  std::vector<float> incoming_alpha_;              // a new scene's alpha while it is checked
   FftwFloatBuffer<float> image_real_, kernel_real_, result_real_;
   FftwFloatBuffer<std::complex<float>> image_spectrum_, kernel_spectrum_, product_;
   // With one slot its spectrum is image_spectrum_ itself; with more, each slot keeps a copy of the

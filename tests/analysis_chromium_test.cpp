@@ -57,7 +57,7 @@ TEST(AnalysisChromium, ReportRendersWithFiguresDrawn) {
   write_report(report, out.string());
   const std::string screenshot = (dir.path() / "shot.png").string();
   const std::string profile = (dir.path() / "profile").string();
-  const std::string command = test::headless_chromium_command(chromium, 20, profile,
+  const std::string command = test::headless_chromium_command(chromium, 60, profile,
                                                               "--screenshot=" + screenshot + " --window-size=1200,2000",
                                                               out / "report.html") +
                               " >" + (dir.path() / "chromium.log").string() + " 2>&1";

@@ -174,7 +174,7 @@ TEST(AnalysisRatingFigure, ReportRendersInHeadlessChromium) {
   for (const char* file : {"figures/rating_1.svg", "figures/rating_2.svg", "ratings.csv", "rating_tests.csv"})
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   const std::string screenshot = (dir.path() / "shot.png").string();
-  const std::string command = test::headless_chromium_command(chromium, 20, dir.path() / "profile",
+  const std::string command = test::headless_chromium_command(chromium, 60, dir.path() / "profile",
                                                               "--screenshot=" + screenshot + " --window-size=1200,3000",
                                                               out / "report.html") +
                               " >" + (dir.path() / "chromium.log").string() + " 2>&1";

@@ -178,9 +178,27 @@ TEST(GlareCpuFloat, NewSceneReplacesTheKeptSpectrumAndBadImagesAreRefused) {
   const ImageRGBA expected = convolve_image_cpu(second, psf, ConvolutionOptions{});
   EXPECT_LT(relative_l2(rgb_of(out_second), rgb_of(expected)), 1e-6);
   EXPECT_NEAR(out_second.pixel(10, 10)[1], 2.0f * out_first.pixel(10, 10)[1], 1e-4f);
-  second.pixel(1, 1)[0] = -1.0f;
-  EXPECT_THROW(convolution.set_scene(second), std::invalid_argument);
+  // Alpha and depth come from the scene.
+  for (std::size_t k = 3; k < second.rgba.size(); k += 4) EXPECT_EQ(out_second.rgba[k], second.rgba[k]);
+  // A refused scene leaves the last one: its spectrum, alpha and depth.
+  ImageRGBA refused = second;
+  refused.pixel(1, 1)[0] = -1.0f;
+  for (std::size_t k = 3; k < refused.rgba.size(); k += 4) refused.rgba[k] = 0.9f;
+  refused.depth.assign(static_cast<std::size_t>(refused.width_px) * refused.height_px, 7.0f);
+  EXPECT_THROW(convolution.set_scene(refused), std::invalid_argument);
   EXPECT_THROW(convolution.set_scene(hdr_frame(32)), std::invalid_argument);
+  ImageRGBA again;
+  convolution.convolve(psf, again);
+  EXPECT_EQ(again.rgba, out_second.rgba);
+  EXPECT_EQ(again.depth, out_second.depth);
+  // A scene with depth gives it to the result, and one without takes it away.
+  second.depth.assign(static_cast<std::size_t>(second.width_px) * second.height_px, 2.5f);
+  convolution.set_scene(second);
+  convolution.convolve(psf, again);
+  EXPECT_EQ(again.depth, second.depth);
+  convolution.set_scene(first);
+  convolution.convolve(psf, again);
+  EXPECT_TRUE(again.depth.empty());
 }
 
 // An asymmetric 3-channel PSF of m x m pixels, each channel summing to 1 (a misplaced or mirrored

@@ -15,7 +15,9 @@ inline std::string chromium_binary() {
   return "";
 }
 
-// `timeout SECONDS chromium --headless ... --user-data-dir=PROFILE FLAGS file://PAGE`.
+// `timeout SECONDS chromium --headless ... --user-data-dir=PROFILE FLAGS file://PAGE`. Give it a
+// minute: alone it takes a second or two, but on a loaded 2-core machine a start has taken more
+// than 20 s.
 inline std::string headless_chromium_command(const std::string& chromium, int timeout_s,
                                              const std::filesystem::path& profile, const std::string& flags,
                                              const std::filesystem::path& page) {
