@@ -45,6 +45,7 @@ struct SessionCounts {
   std::int64_t dropped_events = 0;
   std::int64_t frames_in_table = 0;
   std::string summary_event;
+  std::vector<std::string> presentation_events;
 };
 
 SessionCounts run_demo(const test::ScratchDir& scratch, std::optional<int> slow_flip_every) {
@@ -74,6 +75,7 @@ SessionCounts run_demo(const test::ScratchDir& scratch, std::optional<int> slow_
     const std::string line = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
     if (line.rfind("dropped_frame:", 0) == 0) ++counts.dropped_events;
     if (line.rfind("frame_timing:", 0) == 0) counts.summary_event = line;
+    if (line.rfind("presentation_mode:", 0) == 0) counts.presentation_events.push_back(line.substr(18));
   }
   sqlite3_finalize(statement);
   return counts;
@@ -107,6 +109,41 @@ TEST(FrameTiming, InjectedSlowFlipsAreCountedWithTheirTrial) {
   EXPECT_EQ(counts.dropped_events, expected_drops);
   EXPECT_NE(counts.summary_event.find("dropped " + std::to_string(expected_drops) + ";"), std::string::npos)
       << counts.summary_event;
+}
+
+// [glare] presentation = "auto" settles the demo's layout live after its first glare trial; when
+// a live trial then drops glare frames (here every 7th flip comes a period late), the layout goes
+// back to prepared frames from the next trial on, once, and the log says why with the counts.
+TEST(FrameTiming, AutoTakesALayoutBackToPreparedFramesWhenLiveFramesDrop) {
+  const test::ScratchDir calm_scratch;
+  const SessionCounts calm = run_demo(calm_scratch, std::nullopt);
+  ASSERT_EQ(calm.presentation_events.size(), 1u);
+  ASSERT_EQ(calm.presentation_events[0].rfind("glare trials: live from trial ", 0), 0u) << calm.presentation_events[0];
+
+  const test::ScratchDir scratch;
+  const SessionCounts counts = run_demo(scratch, 7);
+  ASSERT_EQ(counts.result.status, "completed");
+  ASSERT_EQ(counts.presentation_events.size(), 2u);
+  // The same settling as without the slow flips (the costs after the ';' are measured afresh).
+  EXPECT_EQ(counts.presentation_events[0].substr(0, counts.presentation_events[0].find(';')),
+            calm.presentation_events[0].substr(0, calm.presentation_events[0].find(';')));
+  ASSERT_EQ(counts.presentation_events[0].rfind("glare trials: live from trial ", 0), 0u) << counts.presentation_events[0];
+  // "live from trial N where the glare is L, ..." then "prepared before onset from trial M where the
+  // glare is L: live, trial M - 1 dropped K of its 5 glare frame(s) (...)".
+  const std::string& back = counts.presentation_events[1];
+  const std::string prefix = "glare trials: frames prepared before onset from trial ";
+  ASSERT_EQ(back.rfind(prefix, 0), 0u) << back;
+  const int from_trial = std::stoi(back.substr(prefix.size()));
+  const std::string live_from = counts.presentation_events[0].substr(std::string("glare trials: live from trial ").size());
+  EXPECT_GT(from_trial, std::stoi(live_from)) << back;
+  const std::string layout = live_from.substr(live_from.find(" where the glare is "), live_from.find(',') - live_from.find(" where the glare is "));
+  EXPECT_NE(back.find(layout + ": live, trial " + std::to_string(from_trial - 1) + " dropped "), std::string::npos) << back;
+  const std::size_t dropped_at = back.find(" dropped ") + 9;
+  const int dropped = std::stoi(back.substr(dropped_at));
+  EXPECT_GE(dropped, 1);
+  EXPECT_LE(dropped, 5);
+  EXPECT_NE(back.find(" of its 5 glare frame(s) (its glare frames took "), std::string::npos) << back;
+  EXPECT_NE(back.find(" ms at most, against a refresh period of "), std::string::npos) << back;
 }
 
 }  // namespace

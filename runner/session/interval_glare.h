@@ -67,6 +67,7 @@ struct IntervalGlare {
   double smallest_pupil_mm = 1e9;
   std::optional<GazeWindow> window;
   std::vector<double> gaze_to_flip_s;  // live: each frame's flip time minus its gaze sample's time
+  int live_frames_shown = 0, live_frames_dropped = 0;  // live: stimulus flips, and those that came late
   std::vector<double> frame_compute_s;  // wall time spent computing each frame
   // Until the session has settled how glare is presented: wall time drawing each glare flip (the
   // region put in, overlays, the encode, the GL work finished), the rest of a live frame's cost.

@@ -232,6 +232,9 @@ class SessionLoop {
   // control) on the first interval of it, prepared until then.
   GlarePresentation presentation_for(const IntervalGlare& glare) const;
   bool presentation_settled(const IntervalGlare& glare) const;
+  // "auto": a layout settled live whose trial dropped a glare frame is prepared from the next
+  // trial on, and a presentation_mode event says so, with the frames' measured costs.
+  void review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare);
   std::map<std::string, GlarePresentation> settled_presentations_;  // by glare_layout()
   bool presentation_logged_ = false;  // "live" / "prepared" as asked: said once
   GlareStage glare_;

@@ -388,6 +388,29 @@ SessionLoop::GlarePresentation SessionLoop::presentation_for(const IntervalGlare
   return settled == settled_presentations_.end() ? GlarePresentation::prepared : settled->second;
 }
 
+void SessionLoop::review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
+  if (prepared_.experiment.glare.presentation != "auto" || glare.live_frames_dropped == 0) return;
+  const std::string layout = glare_layout(glare);
+  const auto settled = settled_presentations_.find(layout);
+  if (settled == settled_presentations_.end() || settled->second != GlarePresentation::live) return;
+  // The settling measured a median; a real clock's frames vary around it (the machine's other
+  // work, the first frames after a pause), and a late live frame is a frame the participant did
+  // not see in time. Prepared frames cannot be late for their glare, so the layout goes back to them.
+  settled->second = GlarePresentation::prepared;
+  std::string cost;
+  if (!glare.frame_compute_s.empty()) {
+    const double longest_s = *std::max_element(glare.frame_compute_s.begin(), glare.frame_compute_s.end());
+    cost = " (its glare frames took " + ms_text(steady_median_s(glare.frame_compute_s)) + " ms as a median, " +
+           ms_text(longest_s) + " ms at most, against a refresh period of " + ms_text(period_s_) + " ms)";
+  }
+  store_.log_event(session_id_, clock_.now_s(), "presentation_mode",
+                   "glare trials: frames prepared before onset from trial " + std::to_string(plan.trial_index + 1) +
+                       " where the glare is " + layout + ": live, trial " + std::to_string(plan.trial_index) + " dropped " +
+                       std::to_string(glare.live_frames_dropped) + " of its " + std::to_string(glare.live_frames_shown) +
+                       " glare frame(s)" + cost + "; prepared frames equal live ones (dynamic glare is a function of time "
+                       "and seed; only the gaze is the one known at the trial's start)");
+}
+
 bool SessionLoop::presentation_settled(const IntervalGlare& glare) const {
   const std::string& asked = prepared_.experiment.glare.presentation;
   if (asked != "auto") return presentation_logged_;

@@ -133,9 +133,14 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
       const bool dropped = timing_.on_flip(flip_s, plan.trial_index, flip.stimulus_frame);
       if (dropped)
         log_late_flip(plan, flip_s, "frame " + std::to_string(flip.stimulus_frame), timing_.dropped().back().interval_s);
+      IntervalGlare& shown_glare = glare[static_cast<std::size_t>(flip.interval)];
+      // A live glare frame that came late: "auto" takes its layout back to prepared frames.
+      if (shown_glare.active && !shown_glare.perceived && presentation_for(shown_glare) == GlarePresentation::live) {
+        ++shown_glare.live_frames_shown;
+        if (dropped) ++shown_glare.live_frames_dropped;
+      }
       // Live glare with a tracker: how old this frame's gaze was when it flipped.
       std::optional<double> gaze_age_s;
-      IntervalGlare& shown_glare = glare[static_cast<std::size_t>(flip.interval)];
       if (const std::optional<double> gaze_time_s = shown_glare.gaze_time_of(flip.frame_in_interval)) {
         gaze_age_s = flip_s - *gaze_time_s;
         shown_glare.gaze_to_flip_s.push_back(*gaze_age_s);
@@ -161,6 +166,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   for (const IntervalGlare& interval_glare : glare) {
     log_interval_glare(plan, interval_glare);
     settle_glare_presentation(plan, interval_glare);
+    review_live_presentation(plan, interval_glare);
     log_perception_stages(plan, interval_glare);
     log_stereo_eyes(plan, interval_glare);
   }
