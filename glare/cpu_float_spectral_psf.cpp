@@ -235,9 +235,7 @@ void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<P
       double* red = rgb.data() + j * width;
       double* green = red + height * width;
       double* blue = green + height * width;
-      const double r = wavelength.rgb_weight[0], g = wavelength.rgb_weight[1], b = wavelength.rgb_weight[2];
-      const double rgb_weight[3] = {r, g, b};
-      add_interpolated_column(h0, h1, wy0, wy1, rgb_weight, width, red, green, blue);
+      add_interpolated_column(h0, h1, wy0, wy1, wavelength.rgb_weight, width, red, green, blue);
     }
   }
 }

@@ -17,13 +17,11 @@ namespace {
 // make_plan(flags) gets the planning's FFTW flags (fftwf_plan_s* (unsigned)).
 template <typename MakePlan>
 fftwf_plan_s* plan_with_threads(int threads, const char* what, FftwPlanning planning, MakePlan&& make_plan) {
-  std::lock_guard lock(fftw_planner_mutex());
-  static const int initialised = fftwf_init_threads();
-  if (initialised == 0) throw std::runtime_error("glare/fftw_float_plan: fftwf_init_threads failed");
+  std::lock_guard lock(fftw_planner_mutex());  // which has set up FFTW's threads
   fftwf_plan_with_nthreads(std::max(1, threads));
   fftwf_plan plan = nullptr;
   if (planning == FftwPlanning::kept)
-    plan = plan_with_kept_wisdom(0U, make_plan);
+    plan = plan_with_kept_wisdom(make_plan);
   else
     plan = make_plan(planning == FftwPlanning::measure ? FFTW_MEASURE : FFTW_ESTIMATE);
   fftwf_plan_with_nthreads(1);
@@ -35,6 +33,13 @@ fftwf_plan_s* plan_with_threads(int threads, const char* what, FftwPlanning plan
 
 std::mutex& fftw_planner_mutex() {
   static std::mutex mutex;
+  // FFTW float's threads are set up before its planner is first used, by any plan (fft_cpu.cpp's
+  // per-call plans too; every planning takes this mutex first). A planner made before
+  // fftwf_init_threads has another configuration, and wisdom carries the configuration as its
+  // signature: wisdom written by a process that planned (or set a time limit) first could not be read
+  // by one that set up threads first, and the kept plans (fftw_wisdom.h) would be measured again.
+  static const bool threads_ready = fftwf_init_threads() != 0;
+  if (!threads_ready) throw std::runtime_error("glare/fftw_float_plan: fftwf_init_threads failed");
   return mutex;
 }
 

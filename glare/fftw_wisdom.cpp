@@ -101,23 +101,35 @@ void use_fftw_wisdom_file(const std::string& path) {
   current_place() = path.empty() || path == "none" ? FftwWisdomPlace{"", "no wisdom file chosen"} : place_at(path);
 }
 
-fftwf_plan_s* plan_with_kept_wisdom(unsigned extra_flags, const std::function<fftwf_plan_s*(unsigned flags)>& make_plan) {
+fftwf_plan_s* plan_with_kept_wisdom(const std::function<fftwf_plan_s*(unsigned rigor_flags)>& make_plan) {
   const FftwWisdomPlace place = fftw_wisdom_place();
-  if (!place.kept()) return make_plan(FFTW_ESTIMATE | extra_flags);
+  if (!place.kept()) return make_plan(FFTW_ESTIMATE);
   const std::string lock_path = place.path + ".lock";
   const int lock_fd = open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (lock_fd < 0 || flock(lock_fd, LOCK_EX) != 0) {
     if (lock_fd >= 0) close(lock_fd);
     std::cerr << "glare/fftw_wisdom: cannot lock " << lock_path << "; this plan is estimated\n";
-    return make_plan(FFTW_ESTIMATE | extra_flags);
+    return make_plan(FFTW_ESTIMATE);
   }
   // The file's wisdom joins what this process has (a missing or unreadable file adds nothing; a
   // damaged one is replaced below by what this process knows).
   const std::string before = read_whole(place.path);
   if (!before.empty()) fftwf_import_wisdom_from_string(before.c_str());
   fftwf_set_timelimit(kMeasureLimitS);
-  fftwf_plan plan = make_plan(FFTW_MEASURE | extra_flags);
+  fftwf_plan plan = make_plan(FFTW_MEASURE);
   fftwf_set_timelimit(FFTW_NO_TIMELIMIT);
+  // The plan counts as kept only if the wisdom now holds it (FFTW_WISDOM_ONLY plans from wisdom
+  // alone, or not at all): a measurement cut short by the time limit, for one, may not be recorded,
+  // and the next run would measure again and could pick another plan. Such a problem is estimated.
+  if (plan != nullptr) {
+    if (fftwf_plan check = make_plan(FFTW_MEASURE | FFTW_WISDOM_ONLY); check != nullptr) {
+      fftwf_destroy_plan(check);
+    } else {
+      fftwf_destroy_plan(plan);
+      plan = make_plan(FFTW_ESTIMATE);
+      std::cerr << "glare/fftw_wisdom: a measured plan was not kept in the wisdom; this plan is estimated\n";
+    }
+  }
   if (char* exported = fftwf_export_wisdom_to_string(); exported != nullptr) {
     const std::string after = canonical_wisdom(exported);
     std::free(exported);

@@ -1,6 +1,6 @@
 #pragma once
 // FFTW float wisdom kept in a file between runs, so that the planned float32 path's transforms can
-// be FFTW_MEASURE plans (the fastest FFTW finds, 1.3 to 2 times faster than FFTW_ESTIMATE's for
+// be FFTW_MEASURE plans (the fastest FFTW finds; FFTW_ESTIMATE's took 1.6 to 2.2 times as long for
 // the convolution's strided column passes on the bench's machine) and still be the same plans, with
 // the same rounding and so the same bits, in every run on a machine.
 //
@@ -42,10 +42,10 @@ FftwWisdomPlace fftw_wisdom_place();
 // and the reason.
 void use_fftw_wisdom_file(const std::string& path);
 
-// A measured plan (FFTW_MEASURE | extra_flags) made by make_plan with the kept wisdom: the file is
-// read under the lock, the plan made, and the wisdom written back if planning added to it. Without a
-// place, or where the lock cannot be taken, make_plan is called with FFTW_ESTIMATE | extra_flags.
-// The caller holds fftw_planner_mutex(); make_plan is called once.
-fftwf_plan_s* plan_with_kept_wisdom(unsigned extra_flags, const std::function<fftwf_plan_s*(unsigned flags)>& make_plan);
+// A measured plan, make_plan(FFTW_MEASURE), with the kept wisdom: the file is read under the lock,
+// the plan made, and the wisdom written back if planning added to it. Without a place, or where the
+// lock cannot be taken, make_plan(FFTW_ESTIMATE). The caller holds fftw_planner_mutex(); make_plan
+// is called once, and adds its own flags (FFTW_PRESERVE_INPUT, ...) to the ones it is given.
+fftwf_plan_s* plan_with_kept_wisdom(const std::function<fftwf_plan_s*(unsigned rigor_flags)>& make_plan);
 
 }  // namespace glarelab

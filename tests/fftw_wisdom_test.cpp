@@ -4,6 +4,8 @@
 // Every result is checked against the float64 convolution (convolve_image_cpu).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +15,7 @@
 #include "core/exr_io.h"
 #include "glare/convolution_cpu.h"
 #include "glare/cpu_float_convolution.h"
+#include "glare/fft_cpu.h"
 #include "glare/fftw_float_plan.h"
 #include "glare/fftw_wisdom.h"
 #include "scratch_dir.h"
@@ -146,6 +149,13 @@ TEST_F(FftwWisdom, WithoutAFilePlansAreEstimatedAndTheReasonIsSaid) {
 // Two sessions, two processes, one wisdom file named by GLARELAB_FFTW_WISDOM: the first measures
 // and writes it, the second reads it; the log names it, and the frames are the same bits.
 TEST_F(FftwWisdom, SessionsShareTheFileNamedByTheEnvironmentAndGiveTheSameFrames) {
+  // In this process: a per-call float FFT first (it makes FFTW's planner), then a kept plan.
+  std::vector<float> real(64 * 48, 1.0f);
+  (void)fft2d_real_forward(real, 48, 64);
+  use_fftw_wisdom_file((scratch_.path() / "in_process.wisdom").string());
+  (void)convolve_float(test_scene(72, 40), test_psf(9));
+  const std::string in_process_wisdom = test::read_bytes((scratch_.path() / "in_process.wisdom").string());
+
   const std::filesystem::path file = scratch_.path() / "lab" / "fftwf.wisdom";
   ASSERT_EQ(setenv("GLARELAB_FFTW_WISDOM", file.c_str(), 1), 0);
   std::vector<std::filesystem::path> frames, databases;
@@ -167,6 +177,12 @@ TEST_F(FftwWisdom, SessionsShareTheFileNamedByTheEnvironmentAndGiveTheSameFrames
   }
   unsetenv("GLARELAB_FFTW_WISDOM");
   EXPECT_EQ(wisdom[1], wisdom[0]);  // the second run measured nothing
+  // Wisdom carries the planner's configuration as its signature (its first line), and a process
+  // reads only wisdom of its own configuration. This test process planned a per-call float FFT
+  // (fft_cpu.h) before any kept plan, the sessions did not: the same signature, so each can read
+  // what the other wrote.
+  const std::string first_line = wisdom[0].substr(0, wisdom[0].find('\n'));
+  EXPECT_EQ(in_process_wisdom.substr(0, in_process_wisdom.find('\n')), first_line);
   for (const auto& db : databases) {
     const auto backend = test::session_event_messages(db.string(), "glare_backend");
     ASSERT_EQ(backend.size(), 1u);
