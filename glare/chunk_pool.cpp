@@ -8,7 +8,6 @@
 #include <memory>
 #include <mutex>
 #include <thread>
-#include <vector>
 
 namespace glarelab {
 namespace {
@@ -23,11 +22,9 @@ struct ChunkJob {
   std::mutex done_mutex;
   std::condition_variable done;
 
-  // Runs chunks until none is left to claim; false when there was none.
-  bool work() {
-    bool ran = false;
+  // Runs chunks until none is left to claim.
+  void work() {
     for (int chunk = next.fetch_add(1); chunk < chunks; chunk = next.fetch_add(1)) {
-      ran = true;
       std::exception_ptr thrown;
       try {
         (*run_chunk)(chunk);
@@ -38,7 +35,6 @@ struct ChunkJob {
       if (thrown && !error) error = thrown;
       if (++finished == chunks) done.notify_all();
     }
-    return ran;
   }
 };
 
@@ -51,12 +47,8 @@ class ChunkPool {
     {
       std::lock_guard lock(mutex_);
       // Enough workers for this call's other chunks (never more than kMaxChunkWorkers).
-      const int wanted = std::min(kMaxChunkWorkers, chunks - 1);
-      while (static_cast<int>(workers_.size()) < wanted) {
-        workers_.emplace_back([this] { serve(); });
-        workers_.back().detach();
-      }
-      started_ = static_cast<int>(workers_.size());
+      for (const int wanted = std::min(kMaxChunkWorkers, chunks - 1); workers_ < wanted; ++workers_)
+        std::thread([this] { serve(); }).detach();
       jobs_.push_back(job);
     }
     wake_.notify_all();
@@ -68,7 +60,7 @@ class ChunkPool {
 
   int started() {
     std::lock_guard lock(mutex_);
-    return started_;
+    return workers_;
   }
 
  private:
@@ -92,8 +84,7 @@ class ChunkPool {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::shared_ptr<ChunkJob>> jobs_;
-  std::vector<std::thread> workers_;
-  int started_ = 0;
+  int workers_ = 0;  // started, detached
 };
 
 // Never destroyed: its detached workers wait on it until the process ends, and no static

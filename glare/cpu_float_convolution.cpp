@@ -83,8 +83,8 @@ void CpuFloatConvolution::transform_scene(const ImageRGBA& image, int x0, int y0
   if (slot < 0 || slot >= slots_) throw std::invalid_argument("glare/cpu_float_convolution: no scene slot " + std::to_string(slot));
   const std::size_t real_size = static_cast<std::size_t>(rows_) * cols_;
   // `same` output keeps the scene's alpha for convolve() (not the whole scene: a copy of it was a
-  // frame-sized pass of its own).
-  // Into incoming_alpha_, swapped in once the scene is accepted: a refused scene leaves the last one.
+  // frame-sized pass of its own), read into incoming_alpha_ and swapped in once the scene is
+  // accepted, so that a refused scene leaves the last one's.
   const bool keep_alpha = output_ == ConvolutionOutput::same;
   if (keep_alpha) incoming_alpha_.resize(static_cast<std::size_t>(width_) * height_);
   std::atomic<bool> clean = true;

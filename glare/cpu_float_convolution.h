@@ -3,8 +3,9 @@
 // to a 2,3,5-smooth size at which the circular convolution's wanted values are the linear
 // convolution's (image + M - 1 for `full` output, image + M/2 for `same`; the constructor says why):
 // FFTW plans (measured once per machine and kept, fftw_wisdom.h) and buffers made once, the three
-// channels transformed by one plan each way, on kGlareCpuThreads threads. The scene's spectrum is kept: a static scene (the same image frame
-// after frame, a new PSF each frame) costs 3 forward + 3 inverse transforms, a new scene 3 more.
+// channels transformed by one plan each way, on kGlareCpuThreads threads. The scene's spectrum is
+// kept: a static scene (the same image frame after frame, a new PSF each frame) costs 3 forward +
+// 3 inverse transforms, a new scene 3 more.
 // Each 2D transform is a row pass and a column pass of 1D FFTW transforms, so that the row pass
 // skips the rows that are zero padding (forward: all rows below the image, below the PSF, which is
 // only M of its rows x cols) or not wanted (inverse: all rows outside the output's); the column pass

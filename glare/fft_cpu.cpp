@@ -5,6 +5,7 @@
 #include "glare/fftw_float_plan.h"
 
 #include <algorithm>
+#include <initializer_list>
 #include <mutex>
 #include <stdexcept>
 
@@ -116,22 +117,22 @@ void fft2d_real_inverse(std::vector<std::complex<float>>& spectrum, std::vector<
   fftwf_destroy_plan(plan);
 }
 
-int smooth_fft_size(int n) {
+namespace {
+
+// Smallest n' >= n with no prime factor outside `primes`.
+int smallest_size_with_factors(int n, std::initializer_list<int> primes) {
   for (int candidate = std::max(n, 1);; ++candidate) {
     int rest = candidate;
-    for (int prime : {2, 3, 5})
+    for (int prime : primes)
       while (rest % prime == 0) rest /= prime;
     if (rest == 1) return candidate;
   }
 }
 
-int good_fft_size(int n) {
-  for (int candidate = std::max(n, 1);; ++candidate) {
-    int rest = candidate;
-    for (int prime : {2, 3, 5, 7})
-      while (rest % prime == 0) rest /= prime;
-    if (rest == 1) return candidate;
-  }
-}
+}  // namespace
+
+int smooth_fft_size(int n) { return smallest_size_with_factors(n, {2, 3, 5}); }
+
+int good_fft_size(int n) { return smallest_size_with_factors(n, {2, 3, 5, 7}); }
 
 }  // namespace glarelab

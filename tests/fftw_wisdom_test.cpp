@@ -18,13 +18,14 @@
 #include "glare/fft_cpu.h"
 #include "glare/fftw_float_plan.h"
 #include "glare/fftw_wisdom.h"
+#include "glare_psf_test_support.h"
 #include "scratch_dir.h"
 #include "session_events.h"
 
 namespace glarelab {
 namespace {
 
-// A scene with a few bright pixels on a dim, varied background, and a normalised 3-channel PSF.
+// A scene with a few bright pixels on a dim, varied background (the PSF: test::lopsided_psf).
 ImageRGBA test_scene(int width, int height) {
   ImageRGBA image(width, height);
   for (int y = 0; y < height; ++y)
@@ -36,27 +37,6 @@ ImageRGBA test_scene(int width, int height) {
   image.pixel(width / 3, height / 2)[0] = 4000.0f;
   image.pixel(2 * width / 3, height / 4)[1] = 2500.0f;
   return image;
-}
-
-Psf test_psf(int size_px) {
-  Psf psf;
-  psf.size_px = size_px;
-  psf.channels = 3;
-  psf.degrees_per_pixel = 0.05;
-  psf.values.assign(3 * static_cast<std::size_t>(size_px) * size_px, 0.0);
-  for (int c = 0; c < 3; ++c) {
-    double sum = 0.0;
-    for (int y = 0; y < size_px; ++y)
-      for (int x = 0; x < size_px; ++x) {
-        const double dx = x - size_px / 2, dy = y - size_px / 2;
-        const double value = 1.0 / (1.0 + (dx * dx + dy * dy) * (1.0 + 0.3 * c));
-        psf.at(c, x, y) = value;
-        sum += value;
-      }
-    for (int y = 0; y < size_px; ++y)
-      for (int x = 0; x < size_px; ++x) psf.at(c, x, y) /= sum;
-  }
-  return psf;
 }
 
 // The float32 convolution of the test scene, planned now with whatever wisdom place is in use.
@@ -92,7 +72,7 @@ TEST_F(FftwWisdom, KeptPlansAreMeasuredOnceAndReadBackForTheSameBits) {
   ASSERT_TRUE(fftw_wisdom_place().kept()) << fftw_wisdom_place().reason;
   EXPECT_EQ(fftw_wisdom_place().describe(), "FFTW plans measured once and kept in " + file.string());
   const ImageRGBA scene = test_scene(96, 64);
-  const Psf psf = test_psf(31);
+  const Psf psf = test::lopsided_psf(31);
   const ImageRGBA reference = convolve_image_cpu(scene, psf, ConvolutionOptions{});
 
   const ImageRGBA first = convolve_float(scene, psf);
@@ -124,7 +104,7 @@ TEST_F(FftwWisdom, ADamagedFileIsReplacedAndTheResultIsRight) {
   test::write_bytes(file.string(), "not wisdom at all\n");
   use_fftw_wisdom_file(file.string());
   const ImageRGBA scene = test_scene(80, 48);
-  const Psf psf = test_psf(21);
+  const Psf psf = test::lopsided_psf(21);
   EXPECT_LT(relative_error(convolve_float(scene, psf), convolve_image_cpu(scene, psf, ConvolutionOptions{})), 1e-6);
   EXPECT_EQ(test::read_bytes(file.string()).rfind("(fftw-3", 0), 0u);
 }
@@ -134,7 +114,7 @@ TEST_F(FftwWisdom, WithoutAFilePlansAreEstimatedAndTheReasonIsSaid) {
   EXPECT_FALSE(fftw_wisdom_place().kept());
   EXPECT_EQ(fftw_wisdom_place().describe(), "FFTW plans estimated (no wisdom file chosen)");
   const ImageRGBA scene = test_scene(64, 40);
-  const Psf psf = test_psf(17);
+  const Psf psf = test::lopsided_psf(17);
   const ImageRGBA estimated = convolve_float(scene, psf);
   EXPECT_LT(relative_error(estimated, convolve_image_cpu(scene, psf, ConvolutionOptions{})), 1e-6);
   EXPECT_EQ(convolve_float(scene, psf).rgba, estimated.rgba);  // estimate plans: the same in every run
@@ -153,7 +133,7 @@ TEST_F(FftwWisdom, SessionsShareTheFileNamedByTheEnvironmentAndGiveTheSameFrames
   std::vector<float> real(64 * 48, 1.0f);
   (void)fft2d_real_forward(real, 48, 64);
   use_fftw_wisdom_file((scratch_.path() / "in_process.wisdom").string());
-  (void)convolve_float(test_scene(72, 40), test_psf(9));
+  (void)convolve_float(test_scene(72, 40), test::lopsided_psf(9));
   const std::string in_process_wisdom = test::read_bytes((scratch_.path() / "in_process.wisdom").string());
 
   const std::filesystem::path file = scratch_.path() / "lab" / "fftwf.wisdom";

@@ -23,6 +23,7 @@
 #include "glare/psf_scale.h"
 #include "glare/spectral_psf.h"
 #include "tests/aperture_rule.h"
+#include "tests/glare_psf_test_support.h"
 
 namespace glarelab {
 namespace {
@@ -201,28 +202,6 @@ TEST(GlareCpuFloat, NewSceneReplacesTheKeptSpectrumAndBadImagesAreRefused) {
   EXPECT_TRUE(again.depth.empty());
 }
 
-// An asymmetric 3-channel PSF of m x m pixels, each channel summing to 1 (a misplaced or mirrored
-// kernel shows).
-Psf lopsided_psf(int m) {
-  Psf psf;
-  psf.size_px = m;
-  psf.channels = 3;
-  psf.values.assign(3 * static_cast<std::size_t>(m) * m, 0.0);
-  for (int c = 0; c < 3; ++c) {
-    double sum = 0.0;
-    for (int y = 0; y < m; ++y)
-      for (int x = 0; x < m; ++x) {
-        const double dx = x - m / 2 - 0.3 * (c + 1), dy = y - m / 2 + 0.2;
-        const double value = 1.0 / (1.0 + dx * dx + 2.0 * dy * dy) + 0.01 * ((x * 7 + y * 3 + c) % 5);
-        psf.at(c, x, y) = value;
-        sum += value;
-      }
-    for (int y = 0; y < m; ++y)
-      for (int x = 0; x < m; ++x) psf.at(c, x, y) /= sum;
-  }
-  return psf;
-}
-
 // Three lit regions on black: two rooms of one size (a lamp in each) and a strip at the frame's
 // right edge (its glare is clipped there).
 ImageRGBA three_region_frame() {
@@ -249,7 +228,7 @@ TEST(GlareCpuFloat, RegionsConvolvedOnTheirOwnEqualTheWholeFrameInDouble) {
   CpuFloatGlare glare(settings);
   for (const int m : {17, 18}) {  // odd and even: the reach before and after the centre differ
     ImageRGBA frame = three_region_frame();
-    const Psf psf = lopsided_psf(m);
+    const Psf psf = test::lopsided_psf(m);
     const std::vector<PixelBox> boxes = lit_regions(frame, m);
     ASSERT_EQ(boxes.size(), 3u);
     const ImageRGBA reference = convolve_image_cpu(frame, psf, ConvolutionOptions{});
@@ -304,7 +283,7 @@ TEST(GlareCpuFloat, SamePaddingIsHalfThePsfAndStillTheLinearConvolution) {
       frame.pixel(c.width - 1, 0)[2] = 700.0f;
       return frame;
     }();
-    const Psf psf = lopsided_psf(c.m);
+    const Psf psf = test::lopsided_psf(c.m);
     CpuFloatConvolution convolution(c.width, c.height, c.m);
     EXPECT_EQ(convolution.fft_rows(), c.rows) << c.width << " x " << c.height << ", M " << c.m;
     EXPECT_EQ(convolution.fft_cols(), c.cols) << c.width << " x " << c.height << ", M " << c.m;
@@ -329,7 +308,7 @@ TEST(GlareCpuFloat, RegionConvolutionRefusesBadInputAndMisuse) {
   frame.pixel(15, 12)[1] = std::numeric_limits<float>::infinity();
   EXPECT_THROW(full.set_scene(frame, 10, 10, 0), std::invalid_argument);
   ImageRGBA image(30, 20, 1.0f);
-  EXPECT_THROW(full.convolve(lopsided_psf(9), image), std::logic_error);  // `same` only
+  EXPECT_THROW(full.convolve(test::lopsided_psf(9), image), std::logic_error);  // `same` only
   CpuFloatGlare glare([] {
     CpuFloatGlareSettings settings;
     settings.grid_px = 64;
@@ -337,8 +316,8 @@ TEST(GlareCpuFloat, RegionConvolutionRefusesBadInputAndMisuse) {
     return settings;
   }());
   ImageRGBA small(20, 20, 1.0f);
-  EXPECT_THROW(glare.convolve_regions(frame, {PixelBox{90, 0, 20, 10}}, lopsided_psf(9), out), std::invalid_argument);
-  EXPECT_THROW(glare.convolve_regions(frame, {PixelBox{0, 0, 10, 10}}, lopsided_psf(9), small), std::invalid_argument);
+  EXPECT_THROW(glare.convolve_regions(frame, {PixelBox{90, 0, 20, 10}}, test::lopsided_psf(9), out), std::invalid_argument);
+  EXPECT_THROW(glare.convolve_regions(frame, {PixelBox{0, 0, 10, 10}}, test::lopsided_psf(9), small), std::invalid_argument);
 }
 
 TEST(GlareCpuFloat, ClosedApertureAndDisplayTooFineAreRefused) {

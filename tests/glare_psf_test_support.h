@@ -1,5 +1,6 @@
 #pragma once
-// Helpers shared by the glare PSF tests: azimuthal averages and bilinear lookups in angle.
+// Helpers shared by the glare PSF tests: azimuthal averages, bilinear lookups in angle, and a
+// test PSF for convolutions.
 #include <cmath>
 #include <vector>
 
@@ -46,6 +47,28 @@ inline double channel_sum(const Psf& psf, int channel) {
   const std::size_t count = static_cast<std::size_t>(psf.size_px) * psf.size_px;
   for (std::size_t k = 0; k < count; ++k) sum += psf.values[static_cast<std::size_t>(channel) * count + k];
   return sum;
+}
+
+// An asymmetric 3-channel PSF of m x m pixels, each channel summing to 1 (a misplaced or mirrored
+// kernel shows).
+inline Psf lopsided_psf(int m) {
+  Psf psf;
+  psf.size_px = m;
+  psf.channels = 3;
+  psf.values.assign(3 * static_cast<std::size_t>(m) * m, 0.0);
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0.0;
+    for (int y = 0; y < m; ++y)
+      for (int x = 0; x < m; ++x) {
+        const double dx = x - m / 2 - 0.3 * (c + 1), dy = y - m / 2 + 0.2;
+        const double value = 1.0 / (1.0 + dx * dx + 2.0 * dy * dy) + 0.01 * ((x * 7 + y * 3 + c) % 5);
+        psf.at(c, x, y) = value;
+        sum += value;
+      }
+    for (int y = 0; y < m; ++y)
+      for (int x = 0; x < m; ++x) psf.at(c, x, y) /= sum;
+  }
+  return psf;
 }
 
 }  // namespace glarelab::test

@@ -363,6 +363,11 @@ double steady_median_s(const std::vector<double>& series) {
   return steady[steady.size() / 2];
 }
 
+// Why presenting glare frames prepared before onset costs the participant nothing but the gaze.
+constexpr const char* kPreparedEqualsLive =
+    "prepared frames equal live ones: dynamic glare is a function of time and seed; only the gaze is the one known at "
+    "the trial's start";
+
 // Seconds in milliseconds, to the microsecond.
 std::string ms_text(double seconds) { return number_text(std::round(seconds * 1e6) / 1e3); }
 
@@ -407,8 +412,7 @@ void SessionLoop::review_live_presentation(const TrialPlan& plan, const Interval
                    "glare trials: frames prepared before onset from trial " + std::to_string(plan.trial_index + 1) +
                        " where the glare is " + layout + ": live, trial " + std::to_string(plan.trial_index) + " dropped " +
                        std::to_string(glare.live_frames_dropped) + " of its " + std::to_string(glare.live_frames_shown) +
-                       " glare frame(s)" + cost + "; prepared frames equal live ones (dynamic glare is a function of time "
-                       "and seed; only the gaze is the one known at the trial's start)");
+                       " glare frame(s)" + cost + "; " + kPreparedEqualsLive);
 }
 
 bool SessionLoop::presentation_settled(const IntervalGlare& glare) const {
@@ -461,8 +465,7 @@ void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const Interva
     message = "glare trials: frames prepared before onset where the glare is " + layout + "; " + cost +
               (glare.frame_draw_s.empty() ? " exceeds " : ", together " + ms_text(per_frame_s) + " ms, exceed ") +
               number_text(kLiveBudgetFraction * 100.0) +
-              " % of it, so live glare would drop frames (prepared frames equal live ones: dynamic glare is a "
-              "function of time and seed; only the gaze is the one known at the trial's start)";
+              " % of it, so live glare would drop frames (" + kPreparedEqualsLive + ")";
   }
   presentation_logged_ = true;
   store_.log_event(session_id_, clock_.now_s(), "presentation_mode", message + "; control trials: composed live at every refresh");
