@@ -142,7 +142,17 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
     ASSERT_GE(flips_s[k] - flips_s[k - 1], 0.5 * period_s) << "flips " << k - 1 << " and " << k << " in one period";
   EXPECT_LE(flips_s.back() - flips_s.front(), wall_s);
   const auto mode = test::session_event_messages(run.db.string(), "presentation_mode");
-  ASSERT_EQ(mode.size(), 1u);
+  // One event settling the layout; on a loaded machine a live trial may drop a frame on this real
+  // clock, and then exactly one more takes the layout back to prepared frames (and only then).
+  std::int64_t dropped = 0;
+  for (const TrialRecord& trial : store.load_trials(session.id))
+    for (const FrameRecord& frame : store.load_frames(trial.id)) dropped += frame.dropped;
+  ASSERT_GE(mode.size(), 1u);
+  ASSERT_LE(mode.size(), 2u);
+  if (mode.size() == 2) {
+    EXPECT_GT(dropped, 0) << mode[1];
+    EXPECT_EQ(mode[1].rfind("glare trials: frames prepared before onset from trial ", 0), 0u) << mode[1];
+  }
   EXPECT_NE(mode[0].find(" ms per glare frame on this machine"), std::string::npos) << mode[0];
   EXPECT_NE(mode[0].find("against a refresh period of 16.667 ms"), std::string::npos) << mode[0];
   // The analysis counts the dropped frames on the clock they were stamped on.
