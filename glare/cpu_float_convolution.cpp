@@ -33,76 +33,132 @@ CpuFloatConvolution::CpuFloatConvolution(int width_px, int height_px, int kernel
   };
   rows_ = padded(height_px);
   cols_ = padded(width_px);
-  const std::size_t real_size = static_cast<std::size_t>(rows_) * cols_;
   const std::size_t spectrum_size = static_cast<std::size_t>(rows_) * (cols_ / 2 + 1);
-  // Zero padding: written once, after the plans (which may write over their arrays while they are
-  // measured); each frame writes only the image and kernel regions.
-  image_real_ = FftwFloatBuffer<float>(3 * real_size);
-  kernel_real_ = FftwFloatBuffer<float>(3 * real_size);
-  result_real_ = FftwFloatBuffer<float>(3 * real_size);
-  image_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
   kernel_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
   // `same` (one PSF per scene): the product overwrites the PSF's spectrum in place, as the inverse
   // destroys its input anyway; `full` keeps the PSF's spectrum for the next slot.
   if (output == ConvolutionOutput::full) product_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
   std::complex<float>* product = output == ConvolutionOutput::full ? product_.data() : kernel_spectrum_.data();
-  if (slots > 1)
-    for (int k = 0; k < slots; ++k) scene_spectra_.emplace_back(3 * spectrum_size);
+  for (int k = 0; k < slots; ++k) scene_spectra_.emplace_back(3 * spectrum_size);
+  incoming_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
   has_scene_.assign(static_cast<std::size_t>(slots), false);
+  // Row buffers: every row starts 64 bytes on from the last, so that all keep the alignment of
+  // fftwf_malloc's arrays that the row plan was made for.
+  row_stride_ = (cols_ + 15) / 16 * 16;
+  tile_stride_ = (cols_ / 2 + 1 + 7) / 8 * 8;
+  for (int t = 0; t < threads_; ++t)
+    row_scratch_.push_back({FftwFloatBuffer<float>(3 * static_cast<std::size_t>(row_stride_)),
+                            FftwFloatBuffer<std::complex<float>>(3 * static_cast<std::size_t>(kRowTile) * tile_stride_), 0});
   // Measured plans kept in the wisdom file (fftw_float_plan.h): the column passes' strided
   // transforms are where FFTW_ESTIMATE's plans lose most (1.6 to 2.2 times FFTW_MEASURE's here).
   constexpr FftwPlanning kept = FftwPlanning::kept;
-  image_row_pass_ = FftwFloatPlan::real_rows_forward(rows_, cols_, 3, 0, height_px, image_real_.data(),
-                                                     image_spectrum_.data(), threads_, kept);
-  image_column_pass_ = FftwFloatPlan::complex_columns(rows_, cols_, 3, -1, image_spectrum_.data(), image_spectrum_.data(),
-                                                      false, threads_, kept);
-  kernel_row_pass_ = FftwFloatPlan::real_rows_forward(rows_, cols_, 3, 0, kernel_px, kernel_real_.data(),
-                                                      kernel_spectrum_.data(), threads_, kept);
-  kernel_column_pass_ = FftwFloatPlan::complex_columns(rows_, cols_, 3, -1, kernel_spectrum_.data(),
-                                                       kernel_spectrum_.data(), false, threads_, kept);
-  inverse_column_pass_ = FftwFloatPlan::complex_columns(rows_, cols_, 3, +1, product, product, false, threads_, kept);
-  // The rows of the result that are kept: the image's, shifted by the PSF's centre (`same`), or all
-  // of the linear convolution's height + M - 1 (`full`).
-  const int first_row = output == ConvolutionOutput::same ? kernel_px / 2 : 0;
-  const int row_count = output == ConvolutionOutput::same ? height_px : height_px + kernel_px - 1;
-  inverse_row_pass_ = FftwFloatPlan::real_rows_inverse(rows_, cols_, 3, first_row, row_count, product,
-                                                       result_real_.data(), threads_, kept);
-  std::fill(image_real_.data(), image_real_.data() + image_real_.size(), 0.0f);
-  std::fill(kernel_real_.data(), kernel_real_.data() + kernel_real_.size(), 0.0f);
+  row_forward_ = FftwFloatPlan::real_row_forward(cols_, row_scratch_.front().rows.data(), row_scratch_.front().tile.data(), kept);
+  row_inverse_ = FftwFloatPlan::real_row_inverse(cols_, row_scratch_.front().tile.data(), row_scratch_.front().rows.data(), kept);
+  // The planning may have written over the row buffer, whose zeros past the rows are relied on.
+  std::fill(row_scratch_.front().rows.data(), row_scratch_.front().rows.data() + row_scratch_.front().rows.size(), 0.0f);
+  // The column passes: one plan each over all columns.
+  image_column_pass_ = FftwFloatPlan::transposed_columns(rows_, cols_, 3, -1, incoming_spectrum_.data(), threads_, kept);
+  kernel_column_pass_ = FftwFloatPlan::transposed_columns(rows_, cols_, 3, -1, kernel_spectrum_.data(), threads_, kept);
+  inverse_column_pass_ = FftwFloatPlan::transposed_columns(rows_, cols_, 3, +1, product, threads_, kept);
+}
+
+template <typename Fill>
+bool CpuFloatConvolution::forward_rows(int row_count, int width, std::complex<float>* spectrum, const Fill& fill) {
+  const std::size_t spectrum_cols = static_cast<std::size_t>(cols_ / 2 + 1);
+  const std::size_t spectrum_size = static_cast<std::size_t>(rows_) * spectrum_cols;
+  const std::size_t row_stride = static_cast<std::size_t>(row_stride_), tile_stride = static_cast<std::size_t>(tile_stride_);
+  const int tiles = (row_count + kRowTile - 1) / kRowTile;
+  std::atomic<bool> accepted = true;
+  std::atomic<int> next_scratch{0};
+  parallel_chunks(tiles, threads_, [&](int first_tile, int last_tile) {
+    RowScratch& scratch = row_scratch_[static_cast<std::size_t>(next_scratch++) % row_scratch_.size()];
+    float* rgb[3] = {scratch.rows.data(), scratch.rows.data() + row_stride, scratch.rows.data() + 2 * row_stride};
+    // The values past `width` are the transform's zero padding: clear what a wider fill left there.
+    if (scratch.written_width > width)
+      for (float* channel : rgb) std::fill(channel + width, channel + scratch.written_width, 0.0f);
+    scratch.written_width = width;
+    bool chunk_accepted = true;
+    for (int tile = first_tile; tile < last_tile; ++tile) {
+      const int row0 = tile * kRowTile, rows = std::min(kRowTile, row_count - row0);
+      for (int r = 0; r < rows; ++r) {
+        chunk_accepted = fill(row0 + r, rgb[0], rgb[1], rgb[2]) && chunk_accepted;
+        for (int c = 0; c < 3; ++c)
+          row_forward_.execute(rgb[c], scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * tile_stride);
+      }
+      // Transposed: the tile's rows are kRowTile consecutive values of each column.
+      for (int c = 0; c < 3; ++c)
+        for (std::size_t k = 0; k < spectrum_cols; ++k) {
+          std::complex<float>* target = spectrum + c * spectrum_size + k * static_cast<std::size_t>(rows_) + static_cast<std::size_t>(row0);
+          const std::complex<float>* source = scratch.tile.data() + static_cast<std::size_t>(c) * kRowTile * tile_stride + k;
+          for (int r = 0; r < rows; ++r) target[r] = source[static_cast<std::size_t>(r) * tile_stride];
+        }
+    }
+    if (!chunk_accepted) accepted = false;
+  });
+  return accepted;
+}
+
+template <typename Emit>
+void CpuFloatConvolution::inverse_rows(std::complex<float>* product, int first_row, int row_count, const Emit& emit) {
+  const std::size_t spectrum_cols = static_cast<std::size_t>(cols_ / 2 + 1);
+  const std::size_t spectrum_size = static_cast<std::size_t>(rows_) * spectrum_cols;
+  const std::size_t row_stride = static_cast<std::size_t>(row_stride_), tile_stride = static_cast<std::size_t>(tile_stride_);
+  const int tiles = (row_count + kRowTile - 1) / kRowTile;
+  std::atomic<int> next_scratch{0};
+  parallel_chunks(tiles, threads_, [&](int first_tile, int last_tile) {
+    RowScratch& scratch = row_scratch_[static_cast<std::size_t>(next_scratch++) % row_scratch_.size()];
+    float* rgb[3] = {scratch.rows.data(), scratch.rows.data() + row_stride, scratch.rows.data() + 2 * row_stride};
+    scratch.written_width = cols_;  // the rows are written whole: forward_rows clears past its width
+    for (int tile = first_tile; tile < last_tile; ++tile) {
+      const int row0 = first_row + tile * kRowTile, rows = std::min(kRowTile, first_row + row_count - row0);
+      // kRowTile consecutive values of each column are the tile's rows.
+      for (int c = 0; c < 3; ++c)
+        for (std::size_t k = 0; k < spectrum_cols; ++k) {
+          const std::complex<float>* source = product + c * spectrum_size + k * static_cast<std::size_t>(rows_) + static_cast<std::size_t>(row0);
+          std::complex<float>* target = scratch.tile.data() + static_cast<std::size_t>(c) * kRowTile * tile_stride + k;
+          for (int r = 0; r < rows; ++r) target[static_cast<std::size_t>(r) * tile_stride] = source[r];
+        }
+      for (int r = 0; r < rows; ++r) {
+        for (int c = 0; c < 3; ++c)
+          row_inverse_.execute(scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * tile_stride, rgb[c]);
+        emit(row0 + r, rgb[0], rgb[1], rgb[2]);
+      }
+    }
+  });
 }
 
 void CpuFloatConvolution::clear_rows(std::complex<float>* spectrum, int first_row) const {
-  const std::size_t spectrum_cols = static_cast<std::size_t>(cols_ / 2 + 1);
-  const std::size_t spectrum_size = static_cast<std::size_t>(rows_) * spectrum_cols;
-  for (int c = 0; c < 3; ++c)
-    std::fill(spectrum + c * spectrum_size + first_row * spectrum_cols, spectrum + (c + 1) * spectrum_size,
-              std::complex<float>{});
+  // Transposed spectra: rows [first_row, rows) are the tail of each of the 3 (cols/2 + 1) columns.
+  const int columns = 3 * (cols_ / 2 + 1);
+  const std::size_t rows = static_cast<std::size_t>(rows_);
+  parallel_chunks(columns, threads_, [&](int first, int last) {
+    for (int k = first; k < last; ++k)
+      std::fill(spectrum + k * rows + first_row, spectrum + (k + 1) * rows, std::complex<float>{});
+  });
 }
 
 void CpuFloatConvolution::transform_scene(const ImageRGBA& image, int x0, int y0, int slot) {
   if (slot < 0 || slot >= slots_) throw std::invalid_argument("glare/cpu_float_convolution: no scene slot " + std::to_string(slot));
-  const std::size_t real_size = static_cast<std::size_t>(rows_) * cols_;
   // `same` output keeps the scene's alpha for convolve() (not the whole scene: a copy of it was a
   // frame-sized pass of its own), read into incoming_alpha_ and swapped in once the scene is
-  // accepted, so that a refused scene leaves the last one's.
+  // accepted, as is its spectrum, so that a refused scene leaves the last one's.
   const bool keep_alpha = output_ == ConvolutionOutput::same;
   if (keep_alpha) incoming_alpha_.resize(static_cast<std::size_t>(width_) * height_);
-  std::atomic<bool> clean = true;
-  parallel_chunks(height_, threads_, [&](int first, int last) {
-    bool chunk_clean = true;
-    for (int y = first; y < last; ++y) {
-      const float* source = image.pixel(x0, y0 + y);
-      for (int x = 0; x < width_; ++x) {
-        const float* p = source + 4 * x;
-        for (int c = 0; c < 3; ++c) {
-          // NaN fails both comparisons: refused, as convolve_image_cpu refuses it.
-          chunk_clean = chunk_clean && p[c] >= 0.0f && p[c] <= std::numeric_limits<float>::max();
-          image_real_[c * real_size + static_cast<std::size_t>(y) * cols_ + x] = p[c];
-        }
-        if (keep_alpha) incoming_alpha_[static_cast<std::size_t>(y) * width_ + x] = p[3];
-      }
+  const bool clean = forward_rows(height_, width_, incoming_spectrum_.data(), [&](int y, float* red, float* green, float* blue) {
+    const float* source = image.pixel(x0, y0 + y);
+    bool row_clean = true;
+    for (int x = 0; x < width_; ++x) {
+      const float* p = source + 4 * x;
+      // NaN fails both comparisons: refused, as convolve_image_cpu refuses it.
+      row_clean &= (p[0] >= 0.0f) & (p[0] <= std::numeric_limits<float>::max()) & (p[1] >= 0.0f) &
+                   (p[1] <= std::numeric_limits<float>::max()) & (p[2] >= 0.0f) & (p[2] <= std::numeric_limits<float>::max());
+      red[x] = p[0];
+      green[x] = p[1];
+      blue[x] = p[2];
     }
-    if (!chunk_clean) clean = false;
+    if (keep_alpha)
+      for (int x = 0; x < width_; ++x) incoming_alpha_[static_cast<std::size_t>(y) * width_ + x] = source[4 * x + 3];
+    return row_clean;
   });
   if (!clean) {
     ImageRGBA region(width_, height_);
@@ -110,13 +166,10 @@ void CpuFloatConvolution::transform_scene(const ImageRGBA& image, int x0, int y0
     throw std::invalid_argument("glare/cpu_float_convolution: the image cannot be convolved: it has " +
                                 inspect_pixels(region).describe());
   }
+  clear_rows(incoming_spectrum_.data(), height_);
+  image_column_pass_.execute(incoming_spectrum_.data(), incoming_spectrum_.data());
+  std::swap(incoming_spectrum_, scene_spectra_[static_cast<std::size_t>(slot)]);
   if (keep_alpha) scene_alpha_.swap(incoming_alpha_);
-  image_row_pass_.execute();
-  clear_rows(image_spectrum_.data(), height_);
-  image_column_pass_.execute();
-  if (!scene_spectra_.empty())
-    std::memcpy(scene_spectra_[static_cast<std::size_t>(slot)].data(), image_spectrum_.data(),
-                image_spectrum_.size() * sizeof(std::complex<float>));
   has_scene_[static_cast<std::size_t>(slot)] = true;
 }
 
@@ -139,21 +192,21 @@ void CpuFloatConvolution::set_scene(const ImageRGBA& frame, int x0, int y0, int 
 void CpuFloatConvolution::set_kernel(const Psf& psf) {
   if (psf.size_px != kernel_px_ || (psf.channels != 1 && psf.channels != 3))
     throw std::invalid_argument("glare/cpu_float_convolution: the PSF is not the planned size, or not 1 or 3 channels");
-  const std::size_t real_size = static_cast<std::size_t>(rows_) * cols_;
   const int m = kernel_px_;
-  for (int c = 0; c < 3; ++c) {
-    const int channel = psf.channels == 3 ? c : 0;
-    for (int y = 0; y < m; ++y)
-      for (int x = 0; x < m; ++x)
-        kernel_real_[c * real_size + static_cast<std::size_t>(y) * cols_ + x] = static_cast<float>(psf.at(channel, x, y));
-  }
-  kernel_row_pass_.execute();
+  forward_rows(m, m, kernel_spectrum_.data(), [&](int y, float* red, float* green, float* blue) {
+    float* const targets[3] = {red, green, blue};
+    for (int c = 0; c < 3; ++c) {
+      const double* source = &psf.values[(static_cast<std::size_t>(psf.channels == 3 ? c : 0) * m + y) * m];
+      for (int x = 0; x < m; ++x) targets[c][x] = static_cast<float>(source[x]);
+    }
+    return true;
+  });
   clear_rows(kernel_spectrum_.data(), kernel_px_);
   kernel_column_pass_.execute();
   has_kernel_ = true;
 }
 
-void CpuFloatConvolution::multiply_and_invert(int slot) {
+std::complex<float>* CpuFloatConvolution::multiply_and_invert_columns(int slot) {
   // The product of the spectra, with the 1 / (rows cols) of the unnormalised inverse folded in.
   const float inverse_size = static_cast<float>(1.0 / (static_cast<double>(rows_) * cols_));
   const int spectrum_rows = 3 * rows_;
@@ -162,7 +215,8 @@ void CpuFloatConvolution::multiply_and_invert(int slot) {
   // trigger (scenes with non-finite pixels are refused, the PSF is finite).
   const float* kernel = reinterpret_cast<const float*>(kernel_spectrum_.data());
   const float* image = reinterpret_cast<const float*>(spectrum(slot));
-  float* product = reinterpret_cast<float*>(output_ == ConvolutionOutput::full ? product_.data() : kernel_spectrum_.data());
+  std::complex<float>* product_spectrum = output_ == ConvolutionOutput::full ? product_.data() : kernel_spectrum_.data();
+  float* product = reinterpret_cast<float*>(product_spectrum);
   parallel_chunks(spectrum_rows, threads_, [&](int first, int last) {
     for (std::size_t k = 2 * first * spectrum_cols; k < 2 * last * spectrum_cols; k += 2) {
       const float a = kernel[k], b = kernel[k + 1], c = image[k] * inverse_size, d = image[k + 1] * inverse_size;
@@ -171,29 +225,30 @@ void CpuFloatConvolution::multiply_and_invert(int slot) {
     }
   });
   inverse_column_pass_.execute();
-  inverse_row_pass_.execute();
+  return product_spectrum;
 }
 
 void CpuFloatConvolution::convolve(const Psf& psf, ImageRGBA& out) {
   if (output_ != ConvolutionOutput::same) throw std::logic_error("glare/cpu_float_convolution: convolve needs `same` output");
   if (!has_scene_[0]) throw std::logic_error("glare/cpu_float_convolution: convolve before set_scene");
   set_kernel(psf);
-  multiply_and_invert(0);
-  const std::size_t real_size = static_cast<std::size_t>(rows_) * cols_;
-  const int m = kernel_px_;
-  // full(y, x) = sum img(y', x') psf(y - y', x - x'); the PSF's centre is (M/2, M/2).
+  std::complex<float>* product = multiply_and_invert_columns(0);
+  const int half = kernel_px_ / 2;
+  // full(y, x) = sum img(y', x') psf(y - y', x - x'); the PSF's centre is (M/2, M/2): output row y is
+  // full row y + M/2, output column x full column x + M/2.
   if (out.width_px != width_ || out.height_px != height_ || out.rgba.size() != 4 * scene_alpha_.size())
     out = ImageRGBA(width_, height_);
   out.depth = scene_depth_;
-  parallel_chunks(height_, threads_, [&](int first, int last) {
-    for (int y = first; y < last; ++y)
-      for (int x = 0; x < width_; ++x) {
-        const std::size_t pixel = static_cast<std::size_t>(y) * width_ + x;
-        float* target = &out.rgba[4 * pixel];
-        for (int c = 0; c < 3; ++c)
-          target[c] = result_real_[c * real_size + static_cast<std::size_t>(y + m / 2) * cols_ + (x + m / 2)];
-        target[3] = scene_alpha_[pixel];
-      }
+  inverse_rows(product, half, height_, [&](int row, const float* red, const float* green, const float* blue) {
+    const int y = row - half;
+    float* target = out.pixel(0, y);
+    const float* alpha = &scene_alpha_[static_cast<std::size_t>(y) * width_];
+    for (int x = 0; x < width_; ++x, target += 4) {
+      target[0] = red[x + half];
+      target[1] = green[x + half];
+      target[2] = blue[x + half];
+      target[3] = alpha[x];
+    }
   });
 }
 
@@ -201,19 +256,18 @@ void CpuFloatConvolution::write_full(int slot, ImageRGBA& frame, int x0, int y0)
   if (output_ != ConvolutionOutput::full) throw std::logic_error("glare/cpu_float_convolution: write_full needs `full` output");
   if (slot < 0 || slot >= slots_ || !has_scene_[static_cast<std::size_t>(slot)] || !has_kernel_)
     throw std::logic_error("glare/cpu_float_convolution: write_full before set_scene and set_kernel");
-  multiply_and_invert(slot);
-  const std::size_t real_size = static_cast<std::size_t>(rows_) * cols_;
   const int m = kernel_px_;
   // Full index (fy, fx) is frame pixel (y0 - M/2 + fy, x0 - M/2 + fx), for fy < height + M - 1.
   const int fy0 = std::max(0, m / 2 - y0), fy1 = std::min(height_ + m - 1, frame.height_px - y0 + m / 2);
   const int fx0 = std::max(0, m / 2 - x0), fx1 = std::min(width_ + m - 1, frame.width_px - x0 + m / 2);
   if (fy1 <= fy0 || fx1 <= fx0) return;
-  parallel_chunks(fy1 - fy0, threads_, [&](int first, int last) {
-    for (int fy = fy0 + first; fy < fy0 + last; ++fy) {
-      float* target = frame.pixel(x0 - m / 2 + fx0, y0 - m / 2 + fy);
-      const std::size_t row = static_cast<std::size_t>(fy) * cols_;
-      for (int fx = fx0; fx < fx1; ++fx, target += 4)
-        for (int c = 0; c < 3; ++c) target[c] = result_real_[c * real_size + row + fx];
+  std::complex<float>* product = multiply_and_invert_columns(slot);
+  inverse_rows(product, fy0, fy1 - fy0, [&](int fy, const float* red, const float* green, const float* blue) {
+    float* target = frame.pixel(x0 - m / 2 + fx0, y0 - m / 2 + fy);
+    for (int fx = fx0; fx < fx1; ++fx, target += 4) {
+      target[0] = red[fx];
+      target[1] = green[fx];
+      target[2] = blue[fx];
     }
   });
 }

@@ -8,14 +8,16 @@
 // 3 inverse transforms, a new scene 3 more.
 // Each 2D transform is a row pass and a column pass of 1D FFTW transforms, so that the row pass
 // skips the rows that are zero padding (forward: all rows below the image, below the PSF, which is
-// only M of its rows x cols) or not wanted (inverse: all rows outside the output's); the column pass
-// runs in place (faster than FFTW's out-of-place column transforms that preserve their input).
+// only M of its rows x cols) or not wanted (inverse: all rows outside the output's). The spectra are
+// kept transposed (fftw_float_plan.h), so the column pass runs in place over contiguous columns; the
+// forward row pass transforms each row as it is copied in (forward_rows).
 //
 // Two outputs: `same` (the image's own size, the PSF centred: convolve_image_cpu's result) and
 // `full` (the whole linear convolution, image + M - 1 each way, for a region of a larger frame whose
 // glare spills past it: write_full). Several scenes of one size can be kept at once (slots: the
 // separate lit regions of one frame), all convolved with one transform of the frame's PSF.
 // Checked against convolve_image_cpu in float64 (tests/glare_cpu_float_test.cpp).
+#include <array>
 #include <complex>
 #include <vector>
 
@@ -60,24 +62,44 @@ class CpuFloatConvolution {
   bool has_kernel_ = false;
   std::vector<float> scene_alpha_, scene_depth_;  // `same`: the last scene's alpha and depth
   std::vector<float> incoming_alpha_;              // a new scene's alpha while it is checked
-  FftwFloatBuffer<float> image_real_, kernel_real_, result_real_;
-  FftwFloatBuffer<std::complex<float>> image_spectrum_, kernel_spectrum_, product_;
-  // With one slot its spectrum is image_spectrum_ itself; with more, each slot keeps a copy of the
-  // image_spectrum_ its scene was transformed in.
+  FftwFloatBuffer<std::complex<float>> kernel_spectrum_, product_;
+  // Each slot's scene spectrum, and the one a new scene is transformed into: swapped with the slot's
+  // once the scene is accepted, so that a refused scene leaves the last one's.
   std::vector<FftwFloatBuffer<std::complex<float>>> scene_spectra_;
-  const std::complex<float>* spectrum(int slot) const {
-    return scene_spectra_.empty() ? image_spectrum_.data() : scene_spectra_[static_cast<std::size_t>(slot)].data();
-  }
+  FftwFloatBuffer<std::complex<float>> incoming_spectrum_;
+  const std::complex<float>* spectrum(int slot) const { return scene_spectra_[static_cast<std::size_t>(slot)].data(); }
+  // The forward row pass, fused with the copy in: kRowTile rows at a time per thread, each row copied
+  // into a thread's row buffer (R, G, B) and transformed while in cache (real_row_forward), the
+  // tile's spectra then written transposed, kRowTile consecutive values of each column at once.
+  static constexpr int kRowTile = 8;
+  struct RowScratch {
+    FftwFloatBuffer<float> rows;                  // R, G, B: 3 x row_stride_ (zero past what was written)
+    FftwFloatBuffer<std::complex<float>> tile;    // 3 x kRowTile x tile_stride_
+    int written_width = 0;                        // values of each row the last fill wrote
+  };
+  int row_stride_ = 0, tile_stride_ = 0;  // cols_ and cols_/2 + 1 rounded up to 64 bytes
+  std::vector<RowScratch> row_scratch_;   // one per thread
+  FftwFloatPlan row_forward_, row_inverse_;
+  // Rows [0, row_count) of the three channels of `spectrum` (transposed), filled by
+  // fill(y, r, g, b), which writes `width` values of row y into each and returns false for values
+  // the convolution refuses; the rows are transformed either way. Returns whether all were accepted.
+  template <typename Fill>
+  bool forward_rows(int row_count, int width, std::complex<float>* spectrum, const Fill& fill);
+  // The inverse row pass, fused with the copy out: rows [first_row, first_row + row_count) of the
+  // three channels of `product` (transposed; destroyed), kRowTile at a time per thread, read into a
+  // thread's tile, transformed row by row (real_row_inverse) and handed to emit(row, r, g, b)
+  // while in cache.
+  template <typename Emit>
+  void inverse_rows(std::complex<float>* product, int first_row, int row_count, const Emit& emit);
   // Clears rows [first_row, rows) of the three spectra in `spectrum` (the row pass leaves there
   // what the in-place column pass of the last frame wrote).
   void clear_rows(std::complex<float>* spectrum, int first_row) const;
   // The R, G, B of width x height pixels from (x0, y0) of `image` into slot `slot`'s spectrum.
   void transform_scene(const ImageRGBA& image, int x0, int y0, int slot);
   // kernel spectrum x slot spectrum / (rows cols) into product_ (`full`; `same`: into the kernel
-  // spectrum itself), then the inverse into result_real_.
-  void multiply_and_invert(int slot);
-  FftwFloatPlan image_row_pass_, image_column_pass_, kernel_row_pass_, kernel_column_pass_;
-  FftwFloatPlan inverse_column_pass_, inverse_row_pass_;
+  // spectrum itself), then the inverse's column pass; returns the product.
+  std::complex<float>* multiply_and_invert_columns(int slot);
+  FftwFloatPlan image_column_pass_, kernel_column_pass_, inverse_column_pass_;
 };
 
 }  // namespace glarelab

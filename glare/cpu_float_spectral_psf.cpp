@@ -1,11 +1,16 @@
 #include "glare/cpu_float_spectral_psf.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #if defined(__SSE__)
 #include <xmmintrin.h>
+#endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
 #endif
 
 #include "glare/cie_cmf.h"
@@ -45,21 +50,46 @@ void transpose_tile(const float* source, int source_stride, int rows, int c0, in
     for (int r = 0; r < rows; ++r) target[at(k, target_stride) + r] = source[at(r, source_stride) + k];
 }
 
-// The D planes (float) of kCount wavelengths added to a channel's sum and its magnitude (double),
-// each in the wavelengths' order. The count is a constant so that the loop over the plane is
-// vectorised (it was not with a count known only at run time); the same sums, the same bits.
-template <int kCount>
-void add_wavelengths(const float* __restrict d_t, std::size_t plane, const double* weight, const double* absolute,
-                     double* __restrict target, double* __restrict magnitude) {
-  for (std::size_t k = 0; k < plane; ++k) {
-    double net = target[k], size = magnitude[k];
-    for (int s = 0; s < kCount; ++s) {
-      const double d = d_t[static_cast<std::size_t>(s) * plane + k];
-      net += weight[s] * d;
-      size += absolute[s] * d;
+// The D values (float) of `count` wavelengths for a tile of display rows [m0, m0 + rows) summed into
+// R, G, B and their magnitudes (six double planes, `plane` apart, transposed: index m' M + m), each
+// sum in the wavelengths' order from 0. tile_d holds wavelength s's D(m0 + r, m') at
+// (s M + m') 8 + r, just written by reduce_tile and still in cache; weights[p count + s] is sum p's
+// weight of wavelength s (p: R, |R|, G, |G|, B, |B|). Four rows a step in vectors of four doubles
+// (as scalars, the six sums did not fit the registers); each product rounded, then added, in every
+// clone: the same bits.
+using Double4 = double __attribute__((vector_size(32)));
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void add_wavelengths(const float* __restrict tile_d, int count, int columns, int m0, int rows, std::size_t plane,
+                     const double* weights, double* __restrict rgb_t) {
+  using Float4 = float __attribute__((vector_size(16)));
+  const std::size_t wavelength_stride = static_cast<std::size_t>(columns) * 8;
+  const auto weight = [&](int p, int s) { return weights[static_cast<std::size_t>(p * count + s)]; };
+  // Planes in the order of the weights: R, |R|, G, |G|, B, |B| (rgb_t holds R, G, B, |R|, |G|, |B|).
+  constexpr std::size_t kPlane[6] = {0, 3, 1, 4, 2, 5};
+  for (int column = 0; column < columns; ++column) {
+    const std::size_t first = static_cast<std::size_t>(column) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(m0);
+    const float* d_column = tile_d + static_cast<std::size_t>(column) * 8;
+    int row = 0;
+    for (; row + 4 <= rows; row += 4) {
+      Double4 sums[6] = {};
+      for (int s = 0; s < count; ++s) {
+        Float4 value;
+        std::memcpy(&value, d_column + static_cast<std::size_t>(s) * wavelength_stride + row, sizeof value);
+        const Double4 d = __builtin_convertvector(value, Double4);
+        for (int p = 0; p < 6; ++p) sums[p] += weight(p, s) * d;
+      }
+      for (int p = 0; p < 6; ++p) std::memcpy(rgb_t + kPlane[p] * plane + first + row, &sums[p], sizeof(Double4));
     }
-    target[k] = net;
-    magnitude[k] = size;
+    for (; row < rows; ++row) {
+      double sums[6] = {};
+      for (int s = 0; s < count; ++s) {
+        const double d = d_column[static_cast<std::size_t>(s) * wavelength_stride + row];
+        for (int p = 0; p < 6; ++p) sums[p] += weight(p, s) * d;
+      }
+      for (int p = 0; p < 6; ++p) rgb_t[kPlane[p] * plane + first + row] = sums[p];
+    }
   }
 }
 
@@ -67,7 +97,8 @@ void add_wavelengths(const float* __restrict d_t, std::size_t plane, const doubl
 // added in j's order from 0, as the element-by-element loops did. Cloned for AVX2 where the compiler
 // can (the ifunc picks the clone at load time): 8 floats a step instead of SSE's 4 in the spectral
 // stage's two hottest loops. AVX2 without FMA: each product is rounded, then added, as on SSE, so
-// both clones give the same bits.
+// both clones give the same bits. (Keeping 32 outputs in registers while the rows are added, so
+// that each is written once, was slower here: 2.0 against 1.6 ms for the row pass's loops.)
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
 __attribute__((target_clones("avx2", "default")))
 #endif
@@ -81,27 +112,117 @@ void weighted_row_sum(float* __restrict out, int length, const float* weights, i
   }
 }
 
-// The refinement's two loops (spectral_block), cloned for AVX2 as weighted_row_sum is (the same bits).
-// Along x: h[i] = weight0[i] source[index0[i]] + weight1[i] source[index1[i]].
+// The pass along the reference columns for a tile of display rows m0 + r, r < rows <= 8:
+// out[m' stride + r] = sum over k < count of W(m', first + k) (W F)(m0 + r, first + k) for every
+// display column m' (its band: first, count, weights from offset), read from
+// tile_t[x * 8 + r] = (W F)(m0 + r, x). Eight rows in one vector a step, added in k's order from 0 as
+// the pass over rows of the transposed W F (weighted_row_sum) added them: the same bits.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-void interpolate_along_row(const float* __restrict source, const int* index0, const int* index1, const float* weight0,
-                           const float* weight1, std::size_t width, float* __restrict h) {
-  for (std::size_t i = 0; i < width; ++i) h[i] = weight0[i] * source[index0[i]] + weight1[i] * source[index1[i]];
+void reduce_tile(const float* __restrict tile_t, const CpuFloatSpectralPsf::Band* bands, const float* weights,
+                 int columns, int rows, float* __restrict out, std::size_t stride) {
+  using Lane = float __attribute__((vector_size(32)));
+  // sum += w (W F)(rows, first + k), and the sum's rows stored, without functions that take or
+  // return a vector (their ABI would differ between the clones).
+  const auto add = [&](Lane& sum, const CpuFloatSpectralPsf::Band& band, int k) {
+    Lane value;
+    std::memcpy(&value, tile_t + (static_cast<std::size_t>(band.first) + static_cast<std::size_t>(k)) * 8, sizeof value);
+    sum += weights[band.offset + k] * value;
+  };
+  const auto store = [&](int column, const Lane& sum) {
+    std::memcpy(out + static_cast<std::size_t>(column) * stride, &sum, static_cast<std::size_t>(rows) * sizeof(float));
+  };
+  // Four display columns at a time: four independent sums, where one sum's chain of additions kept
+  // the loop waiting on each addition's latency.
+  constexpr int kColumns = 4;
+  int column = 0;
+  for (; column + kColumns <= columns; column += kColumns) {
+    const CpuFloatSpectralPsf::Band* band = bands + column;
+    Lane sum[kColumns] = {};
+    int shared = band[0].count;
+    for (int c = 1; c < kColumns; ++c) shared = std::min(shared, band[c].count);
+    for (int k = 0; k < shared; ++k)
+      for (int c = 0; c < kColumns; ++c) add(sum[c], band[c], k);
+    for (int c = 0; c < kColumns; ++c) {
+      for (int k = shared; k < band[c].count; ++k) add(sum[c], band[c], k);
+      store(column + c, sum[c]);
+    }
+  }
+  for (; column < columns; ++column) {
+    const CpuFloatSpectralPsf::Band& band = bands[column];
+    Lane sum = {};
+    for (int k = 0; k < band.count; ++k) add(sum, band, k);
+    store(column, sum);
+  }
 }
 
-// Along y, then into R, G, B: v = wy0 h0[i] + wy1 h1[i] (float, then double), each channel += its
-// weight times v.
+// The refinement's loops (spectral_block). Along x: h[i] = weight0[i] source[index0[i]] +
+// weight1[i] source[index1[i]] for consecutive PSF columns, where the indices never fall and eight
+// consecutive outputs read at most 16 consecutive source values (checked per wavelength: `compact`).
+// The compiler made the two reads of every output scalar loads (two thirds of the refinement's
+// time); with AVX2, eight outputs take two loads of eight source values and a permutation of each
+// (vpermps) in their place. The products and the sum are rounded as the scalar loop rounds them
+// (no fused multiply-add), so both give the same bits.
+void interpolate_along_row_scalar(const float* __restrict source, const int* index0, const int* index1,
+                                  const float* weight0, const float* weight1, std::size_t begin, std::size_t end,
+                                  float* __restrict h) {
+  for (std::size_t i = begin; i < end; ++i) h[i] = weight0[i] * source[index0[i]] + weight1[i] * source[index1[i]];
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// source[base + at[k]] for at[k] in [0, 16): `low` holds source[base, base + 8), `high` the next 8.
+__attribute__((target("avx2"))) inline __m256 permuted_read(__m256 low, __m256 high, __m256i at) {
+  const __m256 from_low = _mm256_permutevar8x32_ps(low, at), from_high = _mm256_permutevar8x32_ps(high, at);
+  return _mm256_blendv_ps(from_low, from_high, _mm256_castsi256_ps(_mm256_cmpgt_epi32(at, _mm256_set1_epi32(7))));
+}
+
+__attribute__((target("avx2"))) void interpolate_along_row_avx2(const float* __restrict source, int length,
+                                                                  const int* index0, const int* index1,
+                                                                  const float* weight0, const float* weight1,
+                                                                  std::size_t width, float* __restrict h) {
+  std::size_t i = 0;
+  for (; i + 8 <= width; i += 8) {
+    const int base = index0[i];
+    if (base + 16 > length) break;  // the loads would pass the row's end: the rest one by one
+    const __m256 low = _mm256_loadu_ps(source + base), high = _mm256_loadu_ps(source + base + 8);
+    const __m256i offset = _mm256_set1_epi32(base);
+    const __m256i at0 = _mm256_sub_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(index0 + i)), offset);
+    const __m256i at1 = _mm256_sub_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(index1 + i)), offset);
+    const __m256 product0 = _mm256_mul_ps(_mm256_loadu_ps(weight0 + i), permuted_read(low, high, at0));
+    const __m256 product1 = _mm256_mul_ps(_mm256_loadu_ps(weight1 + i), permuted_read(low, high, at1));
+    _mm256_storeu_ps(h + i, _mm256_add_ps(product0, product1));
+  }
+  interpolate_along_row_scalar(source, index0, index1, weight0, weight1, i, width, h);
+}
+#endif
+
+void interpolate_along_row(const float* __restrict source, int length, const int* index0, const int* index1,
+                           const float* weight0, const float* weight1, std::size_t width, bool compact,
+                           float* __restrict h) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (compact && avx2) {
+    interpolate_along_row_avx2(source, length, index0, index1, weight0, weight1, width, h);
+    return;
+  }
+#else
+  (void)length;
+  (void)compact;
+#endif
+  interpolate_along_row_scalar(source, index0, index1, weight0, weight1, 0, width, h);
+}
+
+// Along y, then into R, G, B (float): v = wy0 h0[i] + wy1 h1[i], each channel += its weight times v.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
 __attribute__((target_clones("avx2", "default")))
 #endif
 void add_interpolated_column(const float* __restrict h0, const float* __restrict h1, float wy0, float wy1,
-                             const double* rgb_weight, std::size_t width, double* __restrict red,
-                             double* __restrict green, double* __restrict blue) {
-  const double r = rgb_weight[0], g = rgb_weight[1], b = rgb_weight[2];
+                             const float* rgb_weight, std::size_t width, float* __restrict red,
+                             float* __restrict green, float* __restrict blue) {
+  const float r = rgb_weight[0], g = rgb_weight[1], b = rgb_weight[2];
   for (std::size_t i = 0; i < width; ++i) {
-    const double v = wy0 * h0[i] + wy1 * h1[i];
+    const float v = wy0 * h0[i] + wy1 * h1[i];
     red[i] += r * v;
     green[i] += g * v;
     blue[i] += b * v;
@@ -131,6 +252,7 @@ CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& setting
     wavelength.rgb_weight[1] = jacobian * sample.weight.g;
     wavelength.rgb_weight[2] = jacobian * sample.weight.b;
     wavelength.scale = scale;
+    for (int c = 0; c < 3; ++c) wavelength.rgb_weight_float[c] = static_cast<float>(wavelength.rgb_weight[c]);
     for (int x = 0; x < n; ++x) {
       const double position = (x - centre) * scale + centre;
       const double floor_position = std::floor(position);
@@ -142,6 +264,13 @@ CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& setting
       wavelength.weight0.push_back(inside0 ? static_cast<float>(1.0 - fraction) : 0.0f);
       wavelength.weight1.push_back(inside1 ? static_cast<float>(fraction) : 0.0f);
     }
+    // interpolate_along_row's vector form: eight consecutive outputs read at most 16 consecutive
+    // source values: they span at most 7 scale + 2, within 15 while scale <= 13/7 (lambda_ref / lambda
+    // is at most about 1.5).
+    wavelength.compact = true;
+    for (int x = 0; x + 7 < n; ++x)
+      if (wavelength.index1[static_cast<std::size_t>(x + 7)] - wavelength.index0[static_cast<std::size_t>(x)] > 15)
+        wavelength.compact = false;
     wavelength.first_column = n;
     for (int m = 0; m < m_px; ++m) {
       // Row m of W = R B: sum over the PSF pixels x in display pixel m of their bilinear weights.
@@ -179,48 +308,55 @@ CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& setting
     }
     wavelengths_.push_back(std::move(wavelength));
   }
-  groups_.resize(kGroups);
-  for (Group& group : groups_) {
-    group.rows_t.assign(static_cast<std::size_t>(n) * m_px, 0.0f);
-    group.row.assign(static_cast<std::size_t>(kTransposeTile) * n, 0.0f);
-    group.d_t.assign(static_cast<std::size_t>(kFusedWavelengths) * m_px * m_px, 0.0f);
-    group.rgb_t.assign(6 * static_cast<std::size_t>(m_px) * m_px, 0.0);
+  for (std::size_t w = 0; w < wavelengths_.size(); ++w)
+    if (wavelengths_[w].last_column >= wavelengths_[w].first_column) active_.push_back(static_cast<int>(w));
+  sum_weights_.assign(6 * active_.size(), 0.0);
+  for (std::size_t s = 0; s < active_.size(); ++s)
+    for (int c = 0; c < 3; ++c) {
+      const double weight = wavelengths_[static_cast<std::size_t>(active_[s])].rgb_weight[c];
+      sum_weights_[(2 * c) * active_.size() + s] = weight;
+      sum_weights_[(2 * c + 1) * active_.size() + s] = std::abs(weight);
+    }
+  scratch_.resize(static_cast<std::size_t>(std::max(1, settings.threads)));
+  for (TileScratch& scratch : scratch_) {
+    scratch.row.assign(static_cast<std::size_t>(kTile) * n, 0.0f);
+    scratch.tile_t.assign(static_cast<std::size_t>(kTile) * n, 0.0f);
+    scratch.tile_d.assign(active_.size() * m_px * kTile, 0.0f);
   }
+  totals_.assign(6 * static_cast<std::size_t>(m_px) * m_px, 0.0);
   straddles_.assign(static_cast<std::size_t>(m_px) * m_px, 0);
+  negative_.assign(straddles_.size(), 0);
+  along_y_any_.assign(straddles_.size(), 0);
+  along_y_all_.assign(straddles_.size(), 0);
 }
 
-void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<PsfOverlap>& xs,
-                                         const std::vector<PsfOverlap>& ys, std::vector<double>& rgb) const {
+void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<BlockSegment>& segments, int width_px,
+                                         const std::vector<PsfOverlap>& ys, std::vector<float>& rgb) const {
   const int n = settings_.grid_px;
-  const std::size_t width = xs.size(), height = ys.size();
-  rgb.assign(3 * width * height, 0.0);
+  const std::size_t width = static_cast<std::size_t>(width_px), height = ys.size();
+  rgb.assign(3 * width * height, 0.0f);
   // Bilinear per wavelength as spectral_psf.cpp, separably: each reference row the block reads is
   // interpolated along x once (consecutive PSF rows share their neighbour rows), then along y.
-  // Scratch for the block's columns: a display pixel spans at most display/PSF pixel ratio + 2.
   thread_local std::vector<float> scratch;
-  thread_local std::vector<int> indices;
-  scratch.resize(4 * width);
-  indices.resize(2 * width);
-  float *h0 = scratch.data(), *h1 = h0 + width, *weight0 = h1 + width, *weight1 = weight0 + width;
-  int *index0 = indices.data(), *index1 = index0 + width;
+  scratch.resize(2 * width);
+  float *h0 = scratch.data(), *h1 = h0 + width;
   for (const Wavelength& wavelength : wavelengths_) {
-    for (std::size_t i = 0; i < width; ++i) {
-      const auto x = static_cast<std::size_t>(xs[i].input);
-      index0[i] = wavelength.index0[x];
-      index1[i] = wavelength.index1[x];
-      weight0[i] = wavelength.weight0[x];
-      weight1[i] = wavelength.weight1[x];
-    }
     const auto interpolate_row = [&](int row, float* h) {
-      interpolate_along_row(power + static_cast<std::size_t>(row) * n, index0, index1, weight0, weight1, width, h);
+      const float* source = power + static_cast<std::size_t>(row) * n;
+      for (const BlockSegment& segment : segments) {
+        const auto column = static_cast<std::size_t>(segment.first_column);
+        interpolate_along_row(source, n, &wavelength.index0[column], &wavelength.index1[column],
+                              &wavelength.weight0[column], &wavelength.weight1[column],
+                              static_cast<std::size_t>(segment.columns), wavelength.compact, h + segment.offset);
+      }
     };
     int row0 = -1, row1 = -1;  // the reference rows h0 and h1 hold
     for (std::size_t j = 0; j < height; ++j) {
       const auto y = static_cast<std::size_t>(ys[j].input);
       const int next0 = wavelength.index0[y], next1 = wavelength.index1[y];
       if (next0 == row1 && next0 != row0) {  // moved down one row: the lower neighbour becomes the upper
-        std::copy(h1, h1 + width, h0);
-        row0 = row1;
+        std::swap(h0, h1);
+        std::swap(row0, row1);
       }
       if (next0 != row0) {
         interpolate_row(next0, h0);
@@ -232,10 +368,10 @@ void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<P
       }
       const float wy0 = wavelength.weight0[y], wy1 = wavelength.weight1[y];
       // data(): an empty block (width 0) has no element 0 to take the address of.
-      double* red = rgb.data() + j * width;
-      double* green = red + height * width;
-      double* blue = green + height * width;
-      add_interpolated_column(h0, h1, wy0, wy1, wavelength.rgb_weight, width, red, green, blue);
+      float* red = rgb.data() + j * width;
+      float* green = red + height * width;
+      float* blue = green + height * width;
+      add_interpolated_column(h0, h1, wy0, wy1, wavelength.rgb_weight_float, width, red, green, blue);
     }
   }
 }
@@ -244,69 +380,38 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   if (!(pupil_diameter_mm > 0.0)) throw std::invalid_argument("glare/cpu_float_spectral_psf: pupil diameter must be > 0 mm");
   const int n = settings_.grid_px, m_px = display_px_;
   const std::size_t plane = static_cast<std::size_t>(m_px) * m_px;
-  const int wavelength_count = static_cast<int>(wavelengths_.size());
-  const auto run_group = [&](int group_index) {
-    Group& group = groups_[static_cast<std::size_t>(group_index)];
-    std::fill(group.rgb_t.begin(), group.rgb_t.end(), 0.0);
-    const int first_wavelength = wavelength_count * group_index / kGroups;
-    const int last_wavelength = wavelength_count * (group_index + 1) / kGroups;
-    // The D of up to kFusedWavelengths wavelengths, then added to R, G, B and their magnitudes in
-    // one pass (each sum in the wavelengths' order, as one pass per wavelength would add them), so
-    // the six double planes are read and written once per kFusedWavelengths wavelengths.
-    static_assert(kFusedWavelengths == 4, "add_pending's switch takes 1 to 4 wavelengths");
-    std::vector<const Wavelength*> pending;
-    const auto add_pending = [&] {
-      const std::size_t count = pending.size();
-      for (int c = 0; c < 3; ++c) {
-        double* target = &group.rgb_t[c * plane];
-        double* magnitude = &group.rgb_t[(3 + c) * plane];
-        double weight[kFusedWavelengths], absolute[kFusedWavelengths];
-        for (std::size_t s = 0; s < count; ++s)
-          weight[s] = pending[s]->rgb_weight[c], absolute[s] = std::abs(weight[s]);
-        switch (count) {
-          case 1: add_wavelengths<1>(group.d_t.data(), plane, weight, absolute, target, magnitude); break;
-          case 2: add_wavelengths<2>(group.d_t.data(), plane, weight, absolute, target, magnitude); break;
-          case 3: add_wavelengths<3>(group.d_t.data(), plane, weight, absolute, target, magnitude); break;
-          default: add_wavelengths<4>(group.d_t.data(), plane, weight, absolute, target, magnitude); break;
-        }
-      }
-      pending.clear();
-    };
-    for (int w = first_wavelength; w < last_wavelength; ++w) {
-      const Wavelength& wavelength = wavelengths_[static_cast<std::size_t>(w)];
-      if (wavelength.last_column < wavelength.first_column) continue;
-      float* const d_t = &group.d_t[pending.size() * plane];
-      const int c0 = wavelength.first_column, c1 = wavelength.last_column + 1;
-      // Rows: (W F)(m, :) = sum_j W(m, first + j) F(first + j, :), stored transposed.
-      for (int m0 = 0; m0 < m_px; m0 += kTransposeTile) {
-        const int tile_rows = std::min(kTransposeTile, m_px - m0);
+  // kTile display rows at a time, the tiles shared among the threads; per tile and wavelength,
+  // (W F)(m, :) = sum_j W(m, first + j) F(first + j, :) (along the reference rows), transposed into
+  // tile_t, then D(m, m') = sum_k W(m', first + k) (W F)(m, first + k) for all m' (along the reference
+  // columns), kTile rows m in one vector, into tile_d; then the tile's D of all the wavelengths added
+  // to R, G, B and their magnitudes in one pass, each sum in the wavelengths' order (so the result
+  // does not depend on the thread count). The D values are read while in cache and the six double
+  // planes are written once.
+  static_assert(kTile == 8, "reduce_tile and add_wavelengths take 8 rows a step");
+  const int tile_count = (m_px + kTile - 1) / kTile;
+  const int active_count = static_cast<int>(active_.size());
+  std::vector<double>& total = totals_;
+  std::atomic<int> next_scratch{0};
+  parallel_chunks(tile_count, settings_.threads, [&](int first_tile, int last_tile) {
+    TileScratch& scratch = scratch_[static_cast<std::size_t>(next_scratch++ % static_cast<int>(scratch_.size()))];
+    for (int tile = first_tile; tile < last_tile; ++tile) {
+      const int m0 = tile * kTile, tile_rows = std::min(kTile, m_px - m0);
+      for (int s = 0; s < active_count; ++s) {
+        const Wavelength& wavelength = wavelengths_[static_cast<std::size_t>(active_[static_cast<std::size_t>(s)])];
+        const int c0 = wavelength.first_column, c1 = wavelength.last_column + 1;
         for (int r = 0; r < tile_rows; ++r) {
           const Band& band = wavelength.bands[static_cast<std::size_t>(m0 + r)];
-          float* row = group.row.data() + static_cast<std::size_t>(r) * n;
+          float* row = scratch.row.data() + static_cast<std::size_t>(r) * n;
           weighted_row_sum(row + c0, c1 - c0, &weights_[static_cast<std::size_t>(band.offset)], band.count,
                            power + static_cast<std::size_t>(band.first) * n + c0, static_cast<std::size_t>(n));
         }
-        transpose_tile(group.row.data(), n, tile_rows, c0, c1, &group.rows_t[static_cast<std::size_t>(m0)], m_px);
+        transpose_tile(scratch.row.data(), n, tile_rows, c0, c1, scratch.tile_t.data(), kTile);
+        reduce_tile(scratch.tile_t.data(), wavelength.bands.data(), weights_.data(), m_px, tile_rows,
+                    &scratch.tile_d[static_cast<std::size_t>(s) * m_px * kTile], static_cast<std::size_t>(kTile));
       }
-      // Columns: D^T(m', :) = sum_j W(m', first + j) (W F)^T(first + j, :).
-      for (int mx = 0; mx < m_px; ++mx) {
-        const Band& band = wavelength.bands[static_cast<std::size_t>(mx)];
-        weighted_row_sum(d_t + static_cast<std::size_t>(mx) * m_px, m_px, &weights_[static_cast<std::size_t>(band.offset)],
-                         band.count, &group.rows_t[static_cast<std::size_t>(band.first) * m_px], static_cast<std::size_t>(m_px));
-      }
-      pending.push_back(&wavelength);
-      if (pending.size() == static_cast<std::size_t>(kFusedWavelengths)) add_pending();
+      add_wavelengths(scratch.tile_d.data(), active_count, m_px, m0, tile_rows, plane, sum_weights_.data(), total.data());
     }
-    if (!pending.empty()) add_pending();
-  };
-  parallel_chunks(kGroups, settings_.threads, [&](int first, int last) {
-    for (int g = first; g < last; ++g) run_group(g);
   });
-
-  // Sum the groups in a fixed order: rgb_t of group 0 holds the totals (R, G, B, magnitudes).
-  std::vector<double>& total = groups_.front().rgb_t;
-  for (std::size_t g = 1; g < groups_.size(); ++g)
-    for (std::size_t k = 0; k < total.size(); ++k) total[k] += groups_[g].rgb_t[k];
 
   // The clamp. spectral_psf.cpp clamps negative R, G, B on PSF pixels, before the box resampling;
   // clamping the box means instead differs wherever a display pixel's PSF pixels do not all have
@@ -331,37 +436,68 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   const double core_radius_display_px = kCoreRings * (longest_nm / settings_.reference_wavelength_nm) *
                                         (settings_.aperture_width_mm / pupil_diameter_mm) *
                                         settings_.psf_degrees_per_pixel / settings_.display_degrees_per_pixel;
-  // The screen reads `total` and writes only straddles_: its display columns are shared among the
-  // threads.
+  // The screen, in passes that vectorise (the per-pixel loops with their early exits took a tenth
+  // of the stage): negative_ holds a bit per channel, set where it is negative; spread_any_ and
+  // spread_all_ its OR and AND over each pixel's 3 x 3 neighbourhood (clipped at the edges), first
+  // along y (contiguous, the planes are transposed), then along x. A channel has a neighbour of the
+  // other sign exactly where its OR is set and its AND is not (the pixel is in its own
+  // neighbourhood). Each pass writes only its own display columns.
+  const auto column = [&](int mx) { return static_cast<std::size_t>(mx) * static_cast<std::size_t>(m_px); };
   parallel_chunks(m_px, settings_.threads, [&](int first, int last) {
-    for (int mx = first; mx < last; ++mx)
+    for (std::size_t k = column(first); k < column(last); ++k)
+      negative_[k] = static_cast<unsigned char>((total[k] < 0.0 ? 1 : 0) | (total[plane + k] < 0.0 ? 2 : 0) |
+                                                (total[2 * plane + k] < 0.0 ? 4 : 0));
+  });
+  parallel_chunks(m_px, settings_.threads, [&](int first, int last) {
+    for (int mx = first; mx < last; ++mx) {
+      const unsigned char* in = &negative_[column(mx)];
+      unsigned char* any = &along_y_any_[column(mx)];
+      unsigned char* all = &along_y_all_[column(mx)];
       for (int my = 0; my < m_px; ++my) {
-        const std::size_t k = static_cast<std::size_t>(mx) * m_px + my;
-        const double dx = static_cast<double>(mx) - m_px / 2, dy = static_cast<double>(my) - m_px / 2;
-        bool straddles = dx * dx + dy * dy <= core_radius_display_px * core_radius_display_px;
-        for (int c = 0; c < 3 && !straddles; ++c) {
-          const double net = total[c * plane + k], magnitude = total[(3 + c) * plane + k];
-          if (magnitude > 0.0 && std::abs(net) < kStraddle * magnitude) straddles = true;
-          // A neighbour of the other sign: the channel's zero runs close by.
-          for (int ny = std::max(0, my - 1); ny <= std::min(m_px - 1, my + 1) && !straddles; ++ny)
-            for (int nx = std::max(0, mx - 1); nx <= std::min(m_px - 1, mx + 1); ++nx)
-              if ((total[c * plane + static_cast<std::size_t>(nx) * m_px + ny] < 0.0) != (net < 0.0)) straddles = true;
-        }
-        straddles_[k] = straddles ? 1 : 0;
+        const unsigned char here = in[my], before = my > 0 ? in[my - 1] : here, after = my + 1 < m_px ? in[my + 1] : here;
+        any[my] = static_cast<unsigned char>(before | here | after);
+        all[my] = static_cast<unsigned char>(before & here & after);
       }
+    }
+  });
+  parallel_chunks(m_px, settings_.threads, [&](int first, int last) {
+    for (int mx = first; mx < last; ++mx) {
+      const int left = std::max(0, mx - 1), right = std::min(m_px - 1, mx + 1);
+      const unsigned char *any0 = &along_y_any_[column(left)], *any1 = &along_y_any_[column(mx)], *any2 = &along_y_any_[column(right)];
+      const unsigned char *all0 = &along_y_all_[column(left)], *all1 = &along_y_all_[column(mx)], *all2 = &along_y_all_[column(right)];
+      const double* net[3] = {&total[column(mx)], &total[plane + column(mx)], &total[2 * plane + column(mx)]};
+      const double* size[3] = {&total[3 * plane + column(mx)], &total[4 * plane + column(mx)], &total[5 * plane + column(mx)]};
+      unsigned char* out = &straddles_[column(mx)];
+      const double dx = static_cast<double>(mx) - m_px / 2;
+      for (int my = 0; my < m_px; ++my) {
+        const unsigned char any = static_cast<unsigned char>(any0[my] | any1[my] | any2[my]);
+        const unsigned char all = static_cast<unsigned char>(all0[my] & all1[my] & all2[my]);
+        bool straddles = (any & ~all) != 0;
+        // A value that is a small part of its wavelengths' magnitudes.
+        for (int c = 0; c < 3; ++c) straddles |= size[c][my] > 0.0 && std::abs(net[c][my]) < kStraddle * size[c][my];
+        const double dy = static_cast<double>(my) - m_px / 2;
+        straddles |= dx * dx + dy * dy <= core_radius_display_px * core_radius_display_px;
+        out[my] = straddles ? 1 : 0;
+      }
+    }
   });
   refined_pixels_ = 0;
   for (const unsigned char straddles : straddles_) refined_pixels_ += straddles;
-  // rgb_t is transposed: index x * M + y. Display rows on the threads; along a row, each run of
-  // refined display pixels has its PSF pixels computed in one block (the PSF columns from the run's
-  // first to its last, each once, in rows the loops over them vectorise along), then each display
-  // pixel sums its own PSF pixels clamped, in the order one block per pixel would: the same sums.
+  // rgb_t is transposed: index x * M + y. Display rows on the threads; each display row's runs of
+  // refined display pixels have their PSF pixels computed in one block (each run's PSF columns, side
+  // by side, each once, in rows the loops over them vectorise along; per wavelength the row's
+  // reference rows are read for all its runs while they are in cache), then each display pixel
+  // sums its own PSF pixels clamped.
   parallel_chunks(m_px, settings_.threads, [&](int first, int last) {
-    std::vector<double> block;
-    std::vector<PsfOverlap> columns;
+    std::vector<float> block;
+    std::vector<BlockSegment> segments;
+    std::vector<int> run_starts;
     for (int my = first; my < last; ++my) {
       const auto& ys = box_[static_cast<std::size_t>(my)];
       const auto refined = [&](int mx) { return straddles_[static_cast<std::size_t>(mx) * m_px + my] != 0; };
+      segments.clear();
+      run_starts.clear();
+      int width = 0;
       for (int run_start = 0; run_start < m_px;) {
         if (!refined(run_start)) {
           ++run_start;
@@ -372,23 +508,29 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
         for (; run_end < m_px && refined(run_end); ++run_end)
           for (const PsfOverlap& overlap : box_[static_cast<std::size_t>(run_end)])
             lowest = std::min(lowest, overlap.input), highest = std::max(highest, overlap.input);
-        columns.clear();
-        for (int column = lowest; column <= highest; ++column) columns.push_back({column, 1.0});
-        spectral_block(power, columns, ys, block);
-        const std::size_t width = columns.size(), rows = ys.size();
-        for (int mx = run_start; mx < run_end; ++mx) {
+        // Rounded up to whole vectors of 8 where the grid has the columns: the columns past the
+        // run are computed and not read, in place of the interpolation's one-by-one tail.
+        const int columns = std::min(n - lowest, (highest - lowest + 1 + 7) / 8 * 8);
+        segments.push_back({lowest, columns, width, run_start, run_end});
+        width += columns;
+        run_start = run_end;
+      }
+      if (segments.empty()) continue;
+      spectral_block(power, segments, width, ys, block);
+      const std::size_t stride = static_cast<std::size_t>(width), rows = ys.size();
+      for (const BlockSegment& segment : segments)
+        for (int mx = segment.first_display; mx < segment.end_display; ++mx) {
           const auto& xs = box_[static_cast<std::size_t>(mx)];
           double sum[3] = {0.0, 0.0, 0.0};
           for (std::size_t j = 0; j < rows; ++j)
             for (const PsfOverlap& x : xs) {
               const double area = x.fraction * ys[j].fraction;
-              const std::size_t at = j * width + static_cast<std::size_t>(x.input - lowest);
-              for (std::size_t c = 0; c < 3; ++c) sum[c] += area * std::max(0.0, block[c * rows * width + at]);
+              const std::size_t at = j * stride + static_cast<std::size_t>(segment.offset + x.input - segment.first_column);
+              for (std::size_t c = 0; c < 3; ++c)
+                sum[c] += area * std::max(0.0, static_cast<double>(block[c * rows * stride + at]));
             }
           for (int c = 0; c < 3; ++c) total[c * plane + static_cast<std::size_t>(mx) * m_px + my] = sum[c];
         }
-        run_start = run_end;
-      }
     }
   });
 

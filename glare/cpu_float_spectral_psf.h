@@ -30,6 +30,12 @@ struct CpuFloatSpectralSettings {
 
 class CpuFloatSpectralPsf {
  public:
+  // Row m of a wavelength's W (display pixel m from reference pixels): count weights from `first`.
+  struct Band {
+    int first = 0;   // first reference pixel
+    int count = 0;   // weights
+    int offset = 0;  // into weights_
+  };
   // Throws PsfScaleError when the PSF cannot be shown at the display's scale (psf_scale.h).
   explicit CpuFloatSpectralPsf(const CpuFloatSpectralSettings& settings);
   int display_size_px() const { return display_px_; }
@@ -41,14 +47,11 @@ class CpuFloatSpectralPsf {
   int refined_pixels() const { return refined_pixels_; }
 
  private:
-  struct Band {
-    int first = 0;   // first reference pixel
-    int count = 0;   // weights
-    int offset = 0;  // into weights_
-  };
   struct Wavelength {
     double rgb_weight[3];     // Jacobian times the CMF weight in linear Rec.709
+    float rgb_weight_float[3];  // the same in float, for the refinement's PSF pixels
     double scale = 1.0;       // lambda_ref / lambda
+    bool compact = true;      // interpolate_along_row's vector form applies (the constructor)
     // Per PSF pixel x: the two bilinear neighbours of the scaled position and their weights, a
     // neighbour outside the grid clamped onto it with weight 0 (it reads 0 in spectral_psf.cpp).
     std::vector<int> index0, index1;
@@ -56,32 +59,38 @@ class CpuFloatSpectralPsf {
     std::vector<Band> bands;  // one per display pixel (row or column, the matrix is square)
     int first_column = 0, last_column = -1;  // reference columns any band reads
   };
-  // Accumulator per wavelength group: a fixed number of groups, whatever the threads, so the sums
-  // (and the result) do not depend on the thread count.
-  struct Group {
-    std::vector<float> rows_t;  // W_i F transposed: N x M
-    std::vector<float> row;     // kTransposeTile rows of W_i F: kTransposeTile x N
-    std::vector<float> d_t;     // (W_i F W_i^T) transposed, M x M, for kFusedWavelengths wavelengths
-    std::vector<double> rgb_t;  // 6 x M x M, transposed: R, G, B, then the sums of their magnitudes
+  // A thread's buffers for a tile of display rows (compute()).
+  struct TileScratch {
+    std::vector<float> row;     // kTile rows of W_i F: kTile x N
+    std::vector<float> tile_t;  // the same transposed: N x kTile
+    std::vector<float> tile_d;  // W_i F W_i^T of the kTile display rows, M x kTile, per wavelength
   };
-  // R, G, B of the N x N spectral PSF, as spectral_psf.cpp computes them, on the PSF pixels
-  // xs x ys (the PSF pixels of a run of display pixels along a row): rgb[(c |ys| + j) |xs| + i]
-  // for xs[i], ys[j], each channel's rows contiguous so that the loops over xs vectorise.
-  void spectral_block(const float* power, const std::vector<PsfOverlap>& xs, const std::vector<PsfOverlap>& ys,
-                      std::vector<double>& rgb) const;
-  static constexpr int kGroups = 4;
-  // Wavelengths whose D (W_i F W_i^T) a group holds before adding them to its R, G, B sums.
-  static constexpr int kFusedWavelengths = 4;
-  // Rows of W_i F made before they are written transposed: a tile's column is one run of rows_t, so
-  // the transpose writes whole cache lines rather than one float per line (16 floats: 64 bytes).
-  static constexpr int kTransposeTile = 16;
+  // A run of refined display pixels [first_display, end_display) along a display row, and its PSF
+  // columns [first_column, first_column + columns) at `offset` in the row's block.
+  struct BlockSegment {
+    int first_column = 0, columns = 0, offset = 0;
+    int first_display = 0, end_display = 0;
+  };
+  // R, G, B of the N x N spectral PSF, as spectral_psf.cpp computes them (in float), on the PSF
+  // pixels of the segments' columns x ys (the PSF rows of one display row): rgb[(c |ys| + j) width_px
+  // + segment.offset + i], each channel's rows contiguous so that the loops along them vectorise.
+  void spectral_block(const float* power, const std::vector<BlockSegment>& segments, int width_px,
+                      const std::vector<PsfOverlap>& ys, std::vector<float>& rgb) const;
+  // Rows of W_i F made at a time, then transposed so that the pass along them (W_i F W_i^T) takes a
+  // vector of kTile rows a step (compute()).
+  static constexpr int kTile = 8;
   CpuFloatSpectralSettings settings_;
   int display_px_ = 0;
   std::vector<Wavelength> wavelengths_;
   std::vector<float> weights_;
-  std::vector<Group> groups_;
+  std::vector<int> active_;          // wavelengths whose bands read any reference pixel
+  std::vector<double> sum_weights_;  // per sum p (R, |R|, G, |G|, B, |B|) and active wavelength s: p |active_| + s
+  std::vector<TileScratch> scratch_;  // one per thread
+  std::vector<double> totals_;       // 6 x M x M, transposed: R, G, B, then the sums of their magnitudes
   std::vector<std::vector<PsfOverlap>> box_;  // psf_scale.h's weights, PSF to display
   std::vector<unsigned char> straddles_;      // per display pixel: refined on PSF pixels
+  // The screen's sign bits (bit c: channel c negative), and their OR and AND along y (compute()).
+  std::vector<unsigned char> negative_, along_y_any_, along_y_all_;
   int refined_pixels_ = 0;
 };
 

@@ -90,6 +90,28 @@ void FftwFloatPlan::execute(std::complex<float>* in, std::complex<float>* out) c
   fftwf_execute_dft(plan_, reinterpret_cast<fftwf_complex*>(in), reinterpret_cast<fftwf_complex*>(out));
 }
 
+void FftwFloatPlan::execute(float* in, std::complex<float>* out) const {
+  if (plan_ == nullptr) throw std::logic_error("glare/fftw_float_plan: executing an empty plan");
+  fftwf_execute_dft_r2c(plan_, in, reinterpret_cast<fftwf_complex*>(out));
+}
+
+FftwFloatPlan FftwFloatPlan::real_row_forward(int length, float* in, std::complex<float>* out, FftwPlanning planning) {
+  return FftwFloatPlan(plan_with_threads(1, "a float real row FFT", planning, [&](unsigned flags) {
+    return fftwf_plan_dft_r2c_1d(length, in, reinterpret_cast<fftwf_complex*>(out), flags | FFTW_PRESERVE_INPUT);
+  }));
+}
+
+void FftwFloatPlan::execute(std::complex<float>* in, float* out) const {
+  if (plan_ == nullptr) throw std::logic_error("glare/fftw_float_plan: executing an empty plan");
+  fftwf_execute_dft_c2r(plan_, reinterpret_cast<fftwf_complex*>(in), out);
+}
+
+FftwFloatPlan FftwFloatPlan::real_row_inverse(int length, std::complex<float>* in, float* out, FftwPlanning planning) {
+  return FftwFloatPlan(plan_with_threads(1, "an inverse float real row FFT", planning, [&](unsigned flags) {
+    return fftwf_plan_dft_c2r_1d(length, reinterpret_cast<fftwf_complex*>(in), out, flags);
+  }));
+}
+
 FftwFloatPlan FftwFloatPlan::complex_row_forward(int length, std::complex<float>* in, std::complex<float>* out) {
   const bool rows_keep_alignment = (static_cast<std::size_t>(length) * sizeof(std::complex<float>)) % 64 == 0;
   return FftwFloatPlan(plan_with_threads(1, "a float complex row FFT", FftwPlanning::estimate, [&](unsigned flags) {
@@ -146,6 +168,17 @@ FftwFloatPlan FftwFloatPlan::real_rows_inverse(int rows, int cols, int count, in
     return fftwf_plan_guru_dft_c2r(1, &length, 2, loops,
                                    reinterpret_cast<fftwf_complex*>(in + static_cast<std::ptrdiff_t>(first_row) * spectrum_cols),
                                    out + static_cast<std::ptrdiff_t>(first_row) * cols, flags);
+  }));
+}
+
+FftwFloatPlan FftwFloatPlan::transposed_columns(int rows, int cols, int count, int sign, std::complex<float>* data,
+                                                int threads, FftwPlanning planning) {
+  const int spectrum_cols = cols / 2 + 1;
+  return FftwFloatPlan(plan_with_threads(threads, "float column FFTs (transposed)", planning, [&](unsigned flags) {
+    const fftwf_iodim length{rows, 1, 1};
+    const fftwf_iodim loops[1] = {{count * spectrum_cols, rows, rows}};
+    return fftwf_plan_guru_dft(1, &length, 1, loops, reinterpret_cast<fftwf_complex*>(data),
+                               reinterpret_cast<fftwf_complex*>(data), sign, flags);
   }));
 }
 

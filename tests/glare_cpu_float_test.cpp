@@ -162,6 +162,39 @@ TEST(GlareCpuFloat, SpectralPsfAtCoarseDisplayPixels) {
   EXPECT_LT(relative_l2(kernel.values, reference.values), 1e-6);
 }
 
+TEST(GlareCpuFloat, SpectralPsfIsTheSameBitsOnOneTwoOrThreeThreads) {
+  // The display rows are shared among the threads in tiles, each display pixel's sums taken over the
+  // wavelengths in one order whichever thread runs its tile, and the refinement runs per display
+  // row: the thread count must not change a bit (a frame must not depend on the computer's cores).
+  const ApertureGeometry geometry = eye_at(3.4);
+  CpuFloatPsfSettings psf_settings;
+  psf_settings.raster.grid_px = 256;
+  psf_settings.raster.aperture_width_mm = kWidthMm;
+  CpuFloatPsf psf(psf_settings);
+  psf.rasterise(geometry);
+  psf.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres);
+  std::vector<Psf> kernels;
+  std::vector<int> refined;
+  for (int threads : {1, 2, 3}) {
+    CpuFloatSpectralSettings settings;
+    settings.grid_px = 256;
+    settings.psf_degrees_per_pixel = psf.degrees_per_pixel();
+    settings.display_degrees_per_pixel = 4.0 * psf.degrees_per_pixel();
+    settings.aperture_width_mm = kWidthMm;
+    settings.threads = threads;
+    CpuFloatSpectralPsf spectral(settings);
+    kernels.push_back(spectral.compute(psf.power(), geometry.pupil_diameter_mm));
+    refined.push_back(spectral.refined_pixels());
+  }
+  EXPECT_GT(refined.front(), 0);  // the refinement ran
+  for (std::size_t k = 1; k < kernels.size(); ++k) {
+    EXPECT_EQ(refined[k], refined.front());
+    ASSERT_EQ(kernels[k].values.size(), kernels.front().values.size());
+    for (std::size_t v = 0; v < kernels.front().values.size(); ++v)
+      ASSERT_EQ(kernels[k].values[v], kernels.front().values[v]) << "value " << v << ", " << k + 1 << " threads";
+  }
+}
+
 TEST(GlareCpuFloat, NewSceneReplacesTheKeptSpectrumAndBadImagesAreRefused) {
   ImageRGBA first = hdr_frame(64), second = hdr_frame(64);
   for (float& v : second.rgba) v *= 2.0f;
