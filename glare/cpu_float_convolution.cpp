@@ -52,10 +52,11 @@ CpuFloatConvolution::CpuFloatConvolution(int width_px, int height_px, int kernel
   // Measured plans kept in the wisdom file (fftw_float_plan.h): the column passes' strided
   // transforms are where FFTW_ESTIMATE's plans lose most (1.6 to 2.2 times FFTW_MEASURE's here).
   constexpr FftwPlanning kept = FftwPlanning::kept;
-  row_forward_ = FftwFloatPlan::real_row_forward(cols_, row_scratch_.front().rows.data(), row_scratch_.front().tile.data(), kept);
-  row_inverse_ = FftwFloatPlan::real_row_inverse(cols_, row_scratch_.front().tile.data(), row_scratch_.front().rows.data(), kept);
+  RowScratch& first_scratch = row_scratch_.front();
+  row_forward_ = FftwFloatPlan::real_row_forward(cols_, first_scratch.rows.data(), first_scratch.tile.data(), kept);
+  row_inverse_ = FftwFloatPlan::real_row_inverse(cols_, first_scratch.tile.data(), first_scratch.rows.data(), kept);
   // The planning may have written over the row buffer, whose zeros past the rows are relied on.
-  std::fill(row_scratch_.front().rows.data(), row_scratch_.front().rows.data() + row_scratch_.front().rows.size(), 0.0f);
+  std::fill(first_scratch.rows.data(), first_scratch.rows.data() + first_scratch.rows.size(), 0.0f);
   // The column passes: one plan each over all columns.
   image_column_pass_ = FftwFloatPlan::transposed_columns(rows_, cols_, 3, -1, incoming_spectrum_.data(), threads_, kept);
   kernel_column_pass_ = FftwFloatPlan::transposed_columns(rows_, cols_, 3, -1, kernel_spectrum_.data(), threads_, kept);
@@ -77,19 +78,22 @@ bool CpuFloatConvolution::forward_rows(int row_count, int width, std::complex<fl
     if (scratch.written_width > width)
       for (float* channel : rgb) std::fill(channel + width, channel + scratch.written_width, 0.0f);
     scratch.written_width = width;
+    const auto tile_row = [&](int c, int r) {
+      return scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * tile_stride;
+    };
     bool chunk_accepted = true;
     for (int tile = first_tile; tile < last_tile; ++tile) {
       const int row0 = tile * kRowTile, rows = std::min(kRowTile, row_count - row0);
       for (int r = 0; r < rows; ++r) {
         chunk_accepted = fill(row0 + r, rgb[0], rgb[1], rgb[2]) && chunk_accepted;
         for (int c = 0; c < 3; ++c)
-          row_forward_.execute(rgb[c], scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * tile_stride);
+          row_forward_.execute(rgb[c], tile_row(c, r));
       }
       // Transposed: the tile's rows are kRowTile consecutive values of each column.
       for (int c = 0; c < 3; ++c)
         for (std::size_t k = 0; k < spectrum_cols; ++k) {
-          std::complex<float>* target = spectrum + c * spectrum_size + k * static_cast<std::size_t>(rows_) + static_cast<std::size_t>(row0);
-          const std::complex<float>* source = scratch.tile.data() + static_cast<std::size_t>(c) * kRowTile * tile_stride + k;
+          std::complex<float>* target = spectrum + c * spectrum_size + k * rows_ + row0;
+          const std::complex<float>* source = tile_row(c, 0) + k;
           for (int r = 0; r < rows; ++r) target[r] = source[static_cast<std::size_t>(r) * tile_stride];
         }
     }
@@ -109,18 +113,21 @@ void CpuFloatConvolution::inverse_rows(std::complex<float>* product, int first_r
     RowScratch& scratch = row_scratch_[static_cast<std::size_t>(next_scratch++) % row_scratch_.size()];
     float* rgb[3] = {scratch.rows.data(), scratch.rows.data() + row_stride, scratch.rows.data() + 2 * row_stride};
     scratch.written_width = cols_;  // the rows are written whole: forward_rows clears past its width
+    const auto tile_row = [&](int c, int r) {
+      return scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * tile_stride;
+    };
     for (int tile = first_tile; tile < last_tile; ++tile) {
       const int row0 = first_row + tile * kRowTile, rows = std::min(kRowTile, first_row + row_count - row0);
       // kRowTile consecutive values of each column are the tile's rows.
       for (int c = 0; c < 3; ++c)
         for (std::size_t k = 0; k < spectrum_cols; ++k) {
-          const std::complex<float>* source = product + c * spectrum_size + k * static_cast<std::size_t>(rows_) + static_cast<std::size_t>(row0);
-          std::complex<float>* target = scratch.tile.data() + static_cast<std::size_t>(c) * kRowTile * tile_stride + k;
+          const std::complex<float>* source = product + c * spectrum_size + k * rows_ + row0;
+          std::complex<float>* target = tile_row(c, 0) + k;
           for (int r = 0; r < rows; ++r) target[static_cast<std::size_t>(r) * tile_stride] = source[r];
         }
       for (int r = 0; r < rows; ++r) {
         for (int c = 0; c < 3; ++c)
-          row_inverse_.execute(scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * tile_stride, rgb[c]);
+          row_inverse_.execute(tile_row(c, r), rgb[c]);
         emit(row0 + r, rgb[0], rgb[1], rgb[2]);
       }
     }

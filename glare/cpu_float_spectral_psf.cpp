@@ -96,8 +96,8 @@ void add_wavelengths(const float* __restrict tile_d, int count, int columns, int
 // out[0, length) = sum over j < count of weights[j] times row j of `sources` (rows `stride` apart),
 // added in j's order from 0, as the element-by-element loops did. Cloned for AVX2 where the compiler
 // can (the ifunc picks the clone at load time): 8 floats a step instead of SSE's 4 in the spectral
-// stage's two hottest loops. AVX2 without FMA: each product is rounded, then added, as on SSE, so
-// both clones give the same bits. (Keeping 32 outputs in registers while the rows are added, so
+// stage's pass along the reference rows. AVX2 without FMA: each product is rounded, then added, as
+// on SSE, so both clones give the same bits. (Keeping 32 outputs in registers while the rows are added, so
 // that each is written once, was slower here: 2.0 against 1.6 ms for the row pass's loops.)
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
 __attribute__((target_clones("avx2", "default")))
