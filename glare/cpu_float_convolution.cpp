@@ -42,15 +42,15 @@ CpuFloatConvolution::CpuFloatConvolution(int width_px, int height_px, int kernel
   for (int k = 0; k < slots; ++k) scene_spectra_.emplace_back(3 * spectrum_size);
   incoming_spectrum_ = FftwFloatBuffer<std::complex<float>>(3 * spectrum_size);
   has_scene_.assign(static_cast<std::size_t>(slots), false);
-  // Row buffers: every row starts 64 bytes on from the last, so that all keep the alignment of
-  // fftwf_malloc's arrays that the row plan was made for.
+  // Row buffers: every row starts a multiple of 64 bytes after the first, so that all keep the
+  // alignment of fftwf_malloc's arrays that the row plans were made for.
   row_stride_ = (cols_ + 15) / 16 * 16;
   tile_stride_ = (cols_ / 2 + 1 + 7) / 8 * 8;
   for (int t = 0; t < threads_; ++t)
     row_scratch_.push_back({FftwFloatBuffer<float>(3 * static_cast<std::size_t>(row_stride_)),
                             FftwFloatBuffer<std::complex<float>>(3 * static_cast<std::size_t>(kRowTile) * tile_stride_), 0});
-  // Measured plans kept in the wisdom file (fftw_float_plan.h): the column passes' strided
-  // transforms are where FFTW_ESTIMATE's plans lose most (1.6 to 2.2 times FFTW_MEASURE's here).
+  // Measured plans kept in the wisdom file (fftw_float_plan.h): FFTW_ESTIMATE's plans of the
+  // column passes took 1.6 to 2.2 times FFTW_MEASURE's here (when the columns were strided).
   constexpr FftwPlanning kept = FftwPlanning::kept;
   RowScratch& first_scratch = row_scratch_.front();
   row_forward_ = FftwFloatPlan::real_row_forward(cols_, first_scratch.rows.data(), first_scratch.tile.data(), kept);
