@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -67,34 +66,29 @@ template <typename Fill>
 bool CpuFloatConvolution::forward_rows(int row_count, int width, std::complex<float>* spectrum, const Fill& fill) {
   const std::size_t spectrum_cols = static_cast<std::size_t>(cols_ / 2 + 1);
   const std::size_t spectrum_size = static_cast<std::size_t>(rows_) * spectrum_cols;
-  const std::size_t row_stride = static_cast<std::size_t>(row_stride_), tile_stride = static_cast<std::size_t>(tile_stride_);
   const int tiles = (row_count + kRowTile - 1) / kRowTile;
   std::atomic<bool> accepted = true;
-  std::atomic<int> next_scratch{0};
-  parallel_chunks(tiles, threads_, [&](int first_tile, int last_tile) {
-    RowScratch& scratch = row_scratch_[static_cast<std::size_t>(next_scratch++) % row_scratch_.size()];
-    float* rgb[3] = {scratch.rows.data(), scratch.rows.data() + row_stride, scratch.rows.data() + 2 * row_stride};
+  parallel_indexed_chunks(tiles, threads_, [&](int chunk, int first_tile, int last_tile) {
+    RowScratch& scratch = row_scratch_[static_cast<std::size_t>(chunk)];
+    float* const rgb[3] = {scratch_row(scratch, 0), scratch_row(scratch, 1), scratch_row(scratch, 2)};
     // The values past `width` are the transform's zero padding: clear what a wider fill left there.
     if (scratch.written_width > width)
       for (float* channel : rgb) std::fill(channel + width, channel + scratch.written_width, 0.0f);
     scratch.written_width = width;
-    const auto tile_row = [&](int c, int r) {
-      return scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * tile_stride;
-    };
     bool chunk_accepted = true;
     for (int tile = first_tile; tile < last_tile; ++tile) {
       const int row0 = tile * kRowTile, rows = std::min(kRowTile, row_count - row0);
       for (int r = 0; r < rows; ++r) {
         chunk_accepted = fill(row0 + r, rgb[0], rgb[1], rgb[2]) && chunk_accepted;
         for (int c = 0; c < 3; ++c)
-          row_forward_.execute(rgb[c], tile_row(c, r));
+          row_forward_.execute(rgb[c], tile_row(scratch, c, r));
       }
       // Transposed: the tile's rows are kRowTile consecutive values of each column.
       for (int c = 0; c < 3; ++c)
         for (std::size_t k = 0; k < spectrum_cols; ++k) {
           std::complex<float>* target = spectrum + c * spectrum_size + k * rows_ + row0;
-          const std::complex<float>* source = tile_row(c, 0) + k;
-          for (int r = 0; r < rows; ++r) target[r] = source[static_cast<std::size_t>(r) * tile_stride];
+          const std::complex<float>* source = tile_row(scratch, c, 0) + k;
+          for (int r = 0; r < rows; ++r) target[r] = source[static_cast<std::size_t>(r) * tile_stride_];
         }
     }
     if (!chunk_accepted) accepted = false;
@@ -106,28 +100,23 @@ template <typename Emit>
 void CpuFloatConvolution::inverse_rows(std::complex<float>* product, int first_row, int row_count, const Emit& emit) {
   const std::size_t spectrum_cols = static_cast<std::size_t>(cols_ / 2 + 1);
   const std::size_t spectrum_size = static_cast<std::size_t>(rows_) * spectrum_cols;
-  const std::size_t row_stride = static_cast<std::size_t>(row_stride_), tile_stride = static_cast<std::size_t>(tile_stride_);
   const int tiles = (row_count + kRowTile - 1) / kRowTile;
-  std::atomic<int> next_scratch{0};
-  parallel_chunks(tiles, threads_, [&](int first_tile, int last_tile) {
-    RowScratch& scratch = row_scratch_[static_cast<std::size_t>(next_scratch++) % row_scratch_.size()];
-    float* rgb[3] = {scratch.rows.data(), scratch.rows.data() + row_stride, scratch.rows.data() + 2 * row_stride};
+  parallel_indexed_chunks(tiles, threads_, [&](int chunk, int first_tile, int last_tile) {
+    RowScratch& scratch = row_scratch_[static_cast<std::size_t>(chunk)];
+    float* const rgb[3] = {scratch_row(scratch, 0), scratch_row(scratch, 1), scratch_row(scratch, 2)};
     scratch.written_width = cols_;  // the rows are written whole: forward_rows clears past its width
-    const auto tile_row = [&](int c, int r) {
-      return scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * tile_stride;
-    };
     for (int tile = first_tile; tile < last_tile; ++tile) {
       const int row0 = first_row + tile * kRowTile, rows = std::min(kRowTile, first_row + row_count - row0);
       // kRowTile consecutive values of each column are the tile's rows.
       for (int c = 0; c < 3; ++c)
         for (std::size_t k = 0; k < spectrum_cols; ++k) {
           const std::complex<float>* source = product + c * spectrum_size + k * rows_ + row0;
-          std::complex<float>* target = tile_row(c, 0) + k;
-          for (int r = 0; r < rows; ++r) target[static_cast<std::size_t>(r) * tile_stride] = source[r];
+          std::complex<float>* target = tile_row(scratch, c, 0) + k;
+          for (int r = 0; r < rows; ++r) target[static_cast<std::size_t>(r) * tile_stride_] = source[r];
         }
       for (int r = 0; r < rows; ++r) {
         for (int c = 0; c < 3; ++c)
-          row_inverse_.execute(tile_row(c, r), rgb[c]);
+          row_inverse_.execute(tile_row(scratch, c, r), rgb[c]);
         emit(row0 + r, rgb[0], rgb[1], rgb[2]);
       }
     }

@@ -17,7 +17,6 @@
 // glare spills past it: write_full). Several scenes of one size can be kept at once (slots: the
 // separate lit regions of one frame), all convolved with one transform of the frame's PSF.
 // Checked against convolve_image_cpu in float64 (tests/glare_cpu_float_test.cpp).
-#include <array>
 #include <complex>
 #include <vector>
 
@@ -78,7 +77,14 @@ class CpuFloatConvolution {
     int written_width = 0;                        // values of each row the last fill wrote
   };
   int row_stride_ = 0, tile_stride_ = 0;  // cols_ and cols_/2 + 1 rounded up to 64 bytes
-  std::vector<RowScratch> row_scratch_;   // one per thread
+  std::vector<RowScratch> row_scratch_;   // one per thread (parallel_indexed_chunks' chunk)
+  // Channel c's row buffer, and channel c's row r of the tile.
+  float* scratch_row(RowScratch& scratch, int c) const {
+    return scratch.rows.data() + static_cast<std::size_t>(c) * static_cast<std::size_t>(row_stride_);
+  }
+  std::complex<float>* tile_row(RowScratch& scratch, int c, int r) const {
+    return scratch.tile.data() + (static_cast<std::size_t>(c) * kRowTile + static_cast<std::size_t>(r)) * static_cast<std::size_t>(tile_stride_);
+  }
   FftwFloatPlan row_forward_, row_inverse_;
   // Rows [0, row_count) of the three channels of `spectrum` (transposed), filled by
   // fill(y, r, g, b), which writes `width` values of row y into each and returns false for values

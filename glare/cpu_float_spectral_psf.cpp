@@ -1,7 +1,6 @@
 #include "glare/cpu_float_spectral_psf.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -97,8 +96,8 @@ void add_wavelengths(const float* __restrict tile_d, int count, int columns, int
 // added in j's order from 0, as the element-by-element loops did. Cloned for AVX2 where the compiler
 // can (the ifunc picks the clone at load time): 8 floats a step instead of SSE's 4 in the spectral
 // stage's pass along the reference rows. AVX2 without FMA: each product is rounded, then added, as
-// on SSE, so both clones give the same bits. (Keeping 32 outputs in registers while the rows are added, so
-// that each is written once, was slower here: 2.0 against 1.6 ms for the row pass's loops.)
+// on SSE, so both clones give the same bits. (Keeping 32 outputs in registers while the rows are
+// added, so that each is written once, was slower here: 2.0 against 1.6 ms for the row pass's loops.)
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
 __attribute__((target_clones("avx2", "default")))
 #endif
@@ -115,8 +114,8 @@ void weighted_row_sum(float* __restrict out, int length, const float* weights, i
 // The pass along the reference columns for a tile of display rows m0 + r, r < rows <= 8:
 // out[m' stride + r] = sum over k < count of W(m', first + k) (W F)(m0 + r, first + k) for every
 // display column m' (its band: first, count, weights from offset), read from
-// tile_t[x * 8 + r] = (W F)(m0 + r, x). Eight rows in one vector a step, added in k's order from 0 as
-// the pass over rows of the transposed W F (weighted_row_sum) added them: the same bits.
+// tile_t[x * 8 + r] = (W F)(m0 + r, x). Eight rows in one vector a step, each sum added in k's order
+// from 0, each product rounded and then added in every clone: the same bits.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
 __attribute__((target_clones("avx2", "default")))
 #endif
@@ -251,7 +250,6 @@ CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& setting
     wavelength.rgb_weight[0] = jacobian * sample.weight.r;
     wavelength.rgb_weight[1] = jacobian * sample.weight.g;
     wavelength.rgb_weight[2] = jacobian * sample.weight.b;
-    wavelength.scale = scale;
     for (int c = 0; c < 3; ++c) wavelength.rgb_weight_float[c] = static_cast<float>(wavelength.rgb_weight[c]);
     for (int x = 0; x < n; ++x) {
       const double position = (x - centre) * scale + centre;
@@ -391,9 +389,8 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   const int tile_count = (m_px + kTile - 1) / kTile;
   const int active_count = static_cast<int>(active_.size());
   std::vector<double>& total = totals_;
-  std::atomic<int> next_scratch{0};
-  parallel_chunks(tile_count, settings_.threads, [&](int first_tile, int last_tile) {
-    TileScratch& scratch = scratch_[static_cast<std::size_t>(next_scratch++ % static_cast<int>(scratch_.size()))];
+  parallel_indexed_chunks(tile_count, settings_.threads, [&](int chunk, int first_tile, int last_tile) {
+    TileScratch& scratch = scratch_[static_cast<std::size_t>(chunk)];
     for (int tile = first_tile; tile < last_tile; ++tile) {
       const int m0 = tile * kTile, tile_rows = std::min(kTile, m_px - m0);
       for (int s = 0; s < active_count; ++s) {
@@ -437,9 +434,9 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
                                         (settings_.aperture_width_mm / pupil_diameter_mm) *
                                         settings_.psf_degrees_per_pixel / settings_.display_degrees_per_pixel;
   // The screen, in passes that vectorise (the per-pixel loops with their early exits took a tenth
-  // of the stage): negative_ holds a bit per channel, set where it is negative; spread_any_ and
-  // spread_all_ its OR and AND over each pixel's 3 x 3 neighbourhood (clipped at the edges), first
-  // along y (contiguous, the planes are transposed), then along x. A channel has a neighbour of the
+  // of the stage): negative_ holds a bit per channel, set where it is negative; its OR and AND over
+  // each pixel's 3 x 3 neighbourhood (clipped at the edges) are taken first along y (along_y_any_,
+  // along_y_all_: contiguous, the planes are transposed), then along x. A channel has a neighbour of the
   // other sign exactly where its OR is set and its AND is not (the pixel is in its own
   // neighbourhood). Each pass writes only its own display columns.
   const auto column = [&](int mx) { return static_cast<std::size_t>(mx) * static_cast<std::size_t>(m_px); };
@@ -483,7 +480,7 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   });
   refined_pixels_ = 0;
   for (const unsigned char straddles : straddles_) refined_pixels_ += straddles;
-  // rgb_t is transposed: index x * M + y. Display rows on the threads; each display row's runs of
+  // `total` is transposed: index x * M + y. Display rows on the threads; each display row's runs of
   // refined display pixels have their PSF pixels computed in one block (each run's PSF columns, side
   // by side, each once, in rows the loops over them vectorise along; per wavelength the row's
   // reference rows are read for all its runs while they are in cache), then each display pixel
@@ -491,12 +488,10 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   parallel_chunks(m_px, settings_.threads, [&](int first, int last) {
     std::vector<float> block;
     std::vector<BlockSegment> segments;
-    std::vector<int> run_starts;
     for (int my = first; my < last; ++my) {
       const auto& ys = box_[static_cast<std::size_t>(my)];
       const auto refined = [&](int mx) { return straddles_[static_cast<std::size_t>(mx) * m_px + my] != 0; };
       segments.clear();
-      run_starts.clear();
       int width = 0;
       for (int run_start = 0; run_start < m_px;) {
         if (!refined(run_start)) {

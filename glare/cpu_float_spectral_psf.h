@@ -50,7 +50,6 @@ class CpuFloatSpectralPsf {
   struct Wavelength {
     double rgb_weight[3];     // Jacobian times the CMF weight in linear Rec.709
     float rgb_weight_float[3];  // the same in float, for the refinement's PSF pixels
-    double scale = 1.0;       // lambda_ref / lambda
     bool compact = true;      // interpolate_along_row's vector form applies (the constructor)
     // Per PSF pixel x: the two bilinear neighbours of the scaled position and their weights, a
     // neighbour outside the grid clamped onto it with weight 0 (it reads 0 in spectral_psf.cpp).
@@ -85,7 +84,7 @@ class CpuFloatSpectralPsf {
   std::vector<float> weights_;
   std::vector<int> active_;          // wavelengths whose bands read any reference pixel
   std::vector<double> sum_weights_;  // per sum p (R, |R|, G, |G|, B, |B|) and active wavelength s: p |active_| + s
-  std::vector<TileScratch> scratch_;  // one per thread
+  std::vector<TileScratch> scratch_;  // one per thread (parallel_indexed_chunks' chunk)
   std::vector<double> totals_;       // 6 x M x M, transposed: R, G, B, then the sums of their magnitudes
   std::vector<std::vector<PsfOverlap>> box_;  // psf_scale.h's weights, PSF to display
   std::vector<unsigned char> straddles_;      // per display pixel: refined on PSF pixels

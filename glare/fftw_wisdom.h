@@ -1,8 +1,8 @@
 #pragma once
 // FFTW float wisdom kept in a file between runs, so that the planned float32 path's transforms can
 // be FFTW_MEASURE plans (the fastest FFTW finds; FFTW_ESTIMATE's took 1.6 to 2.2 times as long for
-// the convolution's strided column passes on the bench's machine) and still be the same plans, with
-// the same rounding and so the same bits, in every run on a machine.
+// the convolution's column passes on the bench's machine, when they were strided) and still be the
+// same plans, with the same rounding and so the same bits, in every run on a machine.
 //
 // Why a file: FFTW_MEASURE times candidate plans, so two runs that each measured could pick
 // different plans and give frames that differ in their last bits (a live run and a prepared run of
@@ -45,7 +45,9 @@ void use_fftw_wisdom_file(const std::string& path);
 // A measured plan, make_plan(FFTW_MEASURE), with the kept wisdom: the file is read under the lock,
 // the plan made, and the wisdom written back if planning added to it. Without a place, or where the
 // lock cannot be taken, make_plan(FFTW_ESTIMATE). The caller holds fftw_planner_mutex(); make_plan
-// is called once, and adds its own flags (FFTW_PRESERVE_INPUT, ...) to the ones it is given.
+// adds its own flags (FFTW_PRESERVE_INPUT, ...) to the ones it is given, and may be called more than
+// once: again with FFTW_WISDOM_ONLY to check that the wisdom holds the plan, and with FFTW_ESTIMATE
+// where it does not.
 fftwf_plan_s* plan_with_kept_wisdom(const std::function<fftwf_plan_s*(unsigned rigor_flags)>& make_plan);
 
 }  // namespace glarelab

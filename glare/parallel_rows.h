@@ -13,17 +13,24 @@
 
 namespace glarelab {
 
-// body(first, last) for [first, last) chunks covering [0, count); threads <= 1 runs it inline.
-// An exception from a chunk is rethrown here once every chunk has finished.
+// body(chunk, first, last) for [first, last) chunks covering [0, count), chunk their index in
+// [0, max(1, threads)): each chunk may use buffers of its own, one per thread, indexed by it;
+// threads <= 1 runs it inline. An exception from a chunk is rethrown here once every chunk has finished.
 template <typename Body>
-void parallel_chunks(int count, int threads, Body&& body) {
+void parallel_indexed_chunks(int count, int threads, Body&& body) {
   const int chunks = std::clamp(threads, 1, std::max(1, count));
   if (chunks <= 1) {
-    if (count > 0) body(0, count);
+    if (count > 0) body(0, 0, count);
     return;
   }
   const auto bound = [&](int chunk) { return static_cast<int>(static_cast<long long>(count) * chunk / chunks); };
-  run_chunks(chunks, [&](int chunk) { body(bound(chunk), bound(chunk + 1)); });
+  run_chunks(chunks, [&](int chunk) { body(chunk, bound(chunk), bound(chunk + 1)); });
+}
+
+// body(first, last) for [first, last) chunks covering [0, count), as parallel_indexed_chunks.
+template <typename Body>
+void parallel_chunks(int count, int threads, Body&& body) {
+  parallel_indexed_chunks(count, threads, [&](int, int first, int last) { body(first, last); });
 }
 
 }  // namespace glarelab
