@@ -58,7 +58,7 @@ struct Planned {
   Psf kernel_for(const ApertureGeometry& geometry) {
     psf.rasterise(geometry);
     psf.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres);
-    return spectral.compute(psf.power(), geometry.pupil_diameter_mm);
+    return spectral.compute(psf.power_column_major(), geometry.pupil_diameter_mm);
   }
 };
 
@@ -89,7 +89,7 @@ void float_spectral(benchmark::State& state) {  // 32 wavelengths at the display
     planned.psf.rasterise(geometry);
     planned.psf.transform(geometry.pupil_diameter_mm, geometry.defocus_dioptres);
     state.ResumeTiming();
-    benchmark::DoNotOptimize(planned.spectral.compute(planned.psf.power(), geometry.pupil_diameter_mm).values.data());
+    benchmark::DoNotOptimize(planned.spectral.compute(planned.psf.power_column_major(), geometry.pupil_diameter_mm).values.data());
   }
 }
 

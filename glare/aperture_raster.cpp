@@ -131,6 +131,39 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
   const int pupil_first_row = pupil_first_column, pupil_last_row = pupil_last_column;
   const int first_pixel_row = pupil_first_row / s, last_pixel_row = pupil_last_row / s;
 
+  // The discs (the eye model's lens particles: over a thousand) listed per pixel row whose
+  // sub-rows their bounds may meet, each list in the discs' order, so that a sub-row visits only
+  // its few discs instead of testing every disc's bounds (most of the rasteriser's time at N = 512
+  // and 1024). The bounds test below still decides, so each sub-sample sees the same discs, in the
+  // same order, as the loop over all of them: the grid is the same, bit for bit.
+  const int pixel_rows = std::max(0, last_pixel_row - first_pixel_row + 1);
+  std::vector<int> disc_list_start(static_cast<std::size_t>(pixel_rows) + 1, 0), disc_list;
+  // Sub-row r lies at y = (N/2 + 1/2) dx - (r + 1/2) sub: the sub-rows of [y_min, y_max], widened by one.
+  const auto disc_pixel_rows = [&](const Bounds& b) {
+    const double top = (half + 0.5) * dx;
+    // Clamped in double first: a disc far off the grid must not overflow the int.
+    const auto sub_row_at = [&](double position) { return static_cast<int>(std::clamp(position, -2.0, sub_n + 1.0)); };
+    const int first_sub = sub_row_at(std::floor((top - b.y_max) / sub - 0.5)) - 1;
+    const int last_sub = sub_row_at(std::ceil((top - b.y_min) / sub - 0.5)) + 1;
+    const int first = std::max(first_pixel_row, std::max(0, first_sub) / s);
+    const int last = std::min(last_pixel_row, std::min(sub_n - 1, last_sub) / s);
+    return std::pair<int, int>{first - first_pixel_row, last - first_pixel_row};
+  };
+  for (const Bounds& b : disc_bounds) {
+    const auto [first, last] = disc_pixel_rows(b);
+    for (int row = first; row <= last; ++row) ++disc_list_start[static_cast<std::size_t>(row) + 1];
+  }
+  for (int row = 0; row < pixel_rows; ++row)
+    disc_list_start[static_cast<std::size_t>(row) + 1] += disc_list_start[static_cast<std::size_t>(row)];
+  disc_list.resize(static_cast<std::size_t>(disc_list_start.back()));
+  {
+    std::vector<int> filled(disc_list_start.begin(), disc_list_start.end() - 1);
+    for (std::size_t k = 0; k < disc_bounds.size(); ++k) {
+      const auto [first, last] = disc_pixel_rows(disc_bounds[k]);
+      for (int row = first; row <= last; ++row) disc_list[static_cast<std::size_t>(filled[static_cast<std::size_t>(row)]++)] = static_cast<int>(k);
+    }
+  }
+
   // One row of sub-samples at a time: pupil test, then each primitive whose bounds meet the row
   // multiplies its transmittance into the sub-samples it contains. Pixel rows are independent and
   // shared among threads.
@@ -147,7 +180,9 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
         const double x = sub_x(column);
         row_values[static_cast<std::size_t>(column)] = (x * x + y * y <= pupil_r2) ? 1.0 : 0.0;
       }
-      for (std::size_t k = 0; k < geometry.discs.size(); ++k) {
+      const auto discs_row = static_cast<std::size_t>(sub_row / s - first_pixel_row);
+      for (int listed = disc_list_start[discs_row]; listed < disc_list_start[discs_row + 1]; ++listed) {
+        const auto k = static_cast<std::size_t>(disc_list[static_cast<std::size_t>(listed)]);
         const Bounds& b = disc_bounds[k];
         if (y < b.y_min || y > b.y_max) continue;
         const auto& disc = geometry.discs[k];

@@ -128,11 +128,19 @@ SpectralPsfResult CpuFloatChromaticPsf::compute(CpuFloatPsf& psf, double pupil_d
     // The unit-sum PSF of psf_cpu.h (K = 1 / sum), as the reference accumulates it, with the
     // Jacobian (lambda_ref / lambda)^2: a PSF at lambda has pixels of lambda / W, the reference
     // grid pixels of lambda_ref / W.
-    const float* power = psf.power();
+    const float* power = psf.power_column_major();
     double sum = 0.0;
     for (std::size_t k = 0; k < count; ++k) sum += power[k];
     const double ratio = settings_.reference_wavelength_nm / wavelength.wavelength_nm;
     accumulate(wavelength, power, ratio * ratio / sum);
+  }
+  // The power was column-major, and so are the sums (accumulate treats both axes alike): each plane
+  // transposed back to the row-major layout of spectral_accumulation.h.
+  for (std::size_t c = 0; c < 3; ++c) {
+    double* values = &xyz_.values[c * count];
+    for (int x = 0; x < n; ++x)
+      for (int y = x + 1; y < n; ++y)
+        std::swap(values[static_cast<std::size_t>(x) * n + y], values[static_cast<std::size_t>(y) * n + x]);
   }
   return rec709_psf_from_xyz(xyz_, degrees_per_pixel(), "glare/cpu_float_chromatic_psf");
 }

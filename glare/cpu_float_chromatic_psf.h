@@ -64,7 +64,8 @@ class CpuFloatChromaticPsf {
     std::vector<double> weight0, weight1;
     int first_px = 0, last_px = -1;  // output pixels with a neighbour inside the grid
   };
-  // Adds one wavelength's power spectrum times `scale` (CMF weight / sum, Jacobian) into xyz_.
+  // Adds one wavelength's power spectrum (column-major, CpuFloatPsf's layout) times `scale` (CMF
+  // weight / sum, Jacobian) into xyz_, which so holds column-major sums until compute() transposes it.
   void accumulate(const Wavelength& wavelength, const float* power, double scale);
   CpuFloatChromaticSettings settings_;
   std::vector<Wavelength> wavelengths_;

@@ -58,7 +58,7 @@ Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry) {
   // The whole power error: defocus plus the observer's refraction error (spherical: the defocus
   // phase as before, bit for bit; astigmatic: glare/astigmatic_phase.h's phase).
   psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
-  return spectral_.compute(psf_.power(), geometry.pupil_diameter_mm);
+  return spectral_.compute(psf_.power_column_major(), geometry.pupil_diameter_mm);
 }
 
 ImageRGBA CpuFloatGlare::convolve(const ImageRGBA& image, const Psf& display_psf) {

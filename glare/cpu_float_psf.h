@@ -31,7 +31,7 @@ class CpuFloatPsf {
 
   // Stage 1: the aperture of `geometry` (aperture_raster.h, the same grid bit for bit).
   void rasterise(const ApertureGeometry& geometry);
-  // Stage 2: the pupil phase, the N x N FFT, |F|^2 shifted into power(). Throws ClosedApertureError
+  // Stage 2: the pupil phase, the N x N FFT, |F|^2 shifted into power_column_major(). Throws ClosedApertureError
   // for an aperture that transmits nothing; an aliased phase leaves sampling_warning() non-empty.
   // A spherical defocus (fresnel.h's phase of settings.phase):
   void transform(double pupil_diameter_mm, double defocus_dioptres);
@@ -48,14 +48,15 @@ class CpuFloatPsf {
   void transform(double pupil_diameter_mm, const DioptricPower& error, double wavelength_nm);
 
   // |FFT|^2 shifted, unnormalised (K is left to whoever normalises: the spectral PSF normalises its
-  // channels itself), N x N row-major.
-  const float* power() const { return power_.data(); }
+  // channels itself), N x N column-major: pixel (x, y) at [x N + y]. The FFT leaves its result
+  // transposed (below), so this layout is written in order; the spectral stages read it as it is.
+  const float* power_column_major() const { return power_.data(); }
   const std::string& sampling_warning() const { return sampling_warning_; }
   const ApertureGrid& aperture() const { return grid_; }
   // The pupil function the last transform() handed the FFT, N x N row-major, row 0 at the top
   // (the rows that cannot meet the pupil are 0).
   const std::complex<float>* field() const { return field_.data(); }
-  // power() normalised to sum 1 as a one-channel Psf (psf_cpu.h's result); allocates, for checks.
+  // The power normalised to sum 1 as a one-channel Psf (psf_cpu.h's result); allocates, for checks.
   Psf monochromatic_psf() const;
 
  private:

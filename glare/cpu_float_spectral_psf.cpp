@@ -376,6 +376,11 @@ void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<B
 
 Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   if (!(pupil_diameter_mm > 0.0)) throw std::invalid_argument("glare/cpu_float_spectral_psf: pupil diameter must be > 0 mm");
+  // `power` is column-major (CpuFloatPsf's layout): its rows are the PSF's columns. Every step below
+  // treats the two axes alike (one W and one box for both, the screen and the core disk symmetric),
+  // so it is written as for a row-major PSF: "rows", "y" and "display rows" are the input's rows
+  // (PSF columns), and `total` comes out holding the row-major display PSF, which the last step
+  // copies as it is.
   const int n = settings_.grid_px, m_px = display_px_;
   const std::size_t plane = static_cast<std::size_t>(m_px) * m_px;
   // kTile display rows at a time, the tiles shared among the threads; per tile and wavelength,
@@ -536,12 +541,13 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   psf.values.assign(3 * plane, 0.0);
   for (int c = 0; c < 3; ++c) {
     double positive = 0.0;
-    for (int x = 0; x < m_px; ++x)
-      for (int y = 0; y < m_px; ++y) {
-        const double value = std::max(0.0, total[c * plane + static_cast<std::size_t>(x) * m_px + y]);
-        positive += value;
-        psf.at(c, x, y) = value;
-      }
+    // total[c plane + x' M + y'] with x' the input's column, y' its row: PSF pixel (x, y) = (y', x')
+    // at [y M + x], as Psf::at holds it.
+    for (std::size_t k = 0; k < plane; ++k) {
+      const double value = std::max(0.0, total[c * plane + k]);
+      positive += value;
+      psf.values[c * plane + k] = value;
+    }
     if (!(positive > 0.0)) throw std::runtime_error("glare/cpu_float_spectral_psf: a Rec.709 channel has no positive energy");
     const double inverse = 1.0 / positive;
     for (std::size_t k = 0; k < plane; ++k) psf.values[c * plane + k] *= inverse;

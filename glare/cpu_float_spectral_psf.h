@@ -39,7 +39,8 @@ class CpuFloatSpectralPsf {
   // Throws PsfScaleError when the PSF cannot be shown at the display's scale (psf_scale.h).
   explicit CpuFloatSpectralPsf(const CpuFloatSpectralSettings& settings);
   int display_size_px() const { return display_px_; }
-  // `power`: the N x N reference PSF (any positive scale; each channel is normalised to sum 1).
+  // `power`: the N x N reference PSF (any positive scale; each channel is normalised to sum 1),
+  // column-major as CpuFloatPsf::power_column_major() holds it: pixel (x, y) at [x N + y].
   // Returns R, G, B at the display scale, as resample_psf_to_display(spectral_psf_from_reference()).
   // pupil_diameter_mm: the aperture's pupil, for the size of the PSF's core (compute()).
   Psf compute(const float* power, double pupil_diameter_mm);

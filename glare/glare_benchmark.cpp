@@ -176,7 +176,7 @@ struct PlannedPath {
   void frame(const ApertureGeometry& geometry, bool new_scene, ImageRGBA& out) {
     psf.rasterise(geometry);
     psf.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
-    const Psf kernel = spectral.compute(psf.power(), geometry.pupil_diameter_mm);
+    const Psf kernel = spectral.compute(psf.power_column_major(), geometry.pupil_diameter_mm);
     if (new_scene) convolution.set_scene(scene);
     convolution.convolve(kernel, out);
   }
@@ -192,7 +192,7 @@ PlannedRun run_cpu_planned(const ApertureGeometry& geometry, int n, const GlareB
   run.row.psf_s =
       fastest(options.repeats, [&] { path.psf.transform(geometry.pupil_diameter_mm, geometry.total_power_error()); });
   run.mono = path.psf.monochromatic_psf();
-  run.row.spectral_s = fastest(options.repeats, [&] { run.spectral = path.spectral.compute(path.psf.power(), geometry.pupil_diameter_mm); });
+  run.row.spectral_s = fastest(options.repeats, [&] { run.spectral = path.spectral.compute(path.psf.power_column_major(), geometry.pupil_diameter_mm); });
   run.row.convolution_s = fastest(options.repeats, [&] {
     path.convolution.set_scene(path.scene);
     path.convolution.convolve(run.spectral, run.frame);

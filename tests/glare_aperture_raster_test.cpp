@@ -126,6 +126,11 @@ TEST(GlareApertureRaster, RowSpansGiveTheGridOfEverySubSampleOnHardCases) {
     geometry.discs.push_back({position(random), position(random), 0.5 * unit(random), 0.8 * unit(random)});
   geometry.discs.push_back({0.5 * sub, 0.5 * sub, 2.0 * sub, 0.5});  // edge through sample centres
   geometry.discs.push_back({3.5, 0.0, 0.4, 0.0});                    // across the pupil's edge
+  // The rasteriser lists the discs per pixel row: one far off the grid (on no row), one over the
+  // whole pupil (on every row), one whose top edge meets the pupil's first sub-row.
+  geometry.discs.push_back({0.0, 1e12, 1.0, 0.5});
+  geometry.discs.push_back({0.0, 0.0, 100.0, 0.9});
+  geometry.discs.push_back({0.0, -3.6, 0.1 + 0.5 * sub, 0.3});
   geometry.polygons.push_back({{-4.0, 2.5, 4.0, 2.0, 4.0, 4.0, -4.0, 4.0}, 0.0});
   for (const int threads : {1, 3}) {
     const ApertureGrid fast = rasterise_aperture(geometry, {n, width_mm, s, threads});

@@ -191,7 +191,7 @@ TEST(GlareCpuFloatAstigmatic, SphericalErrorsAreTheDefocusPathBitForBit) {
   a.transform(5.0, with_refraction.total_power_error());
   b.rasterise(defocus_only);
   b.transform(5.0, defocus_only.defocus_dioptres);
-  EXPECT_TRUE(std::equal(a.power(), a.power() + n * n, b.power()));
+  EXPECT_TRUE(std::equal(a.power_column_major(), a.power_column_major() + n * n, b.power_column_major()));
   // CpuFloatGlare: the session path, whole display PSF.
   CpuFloatGlareSettings settings;
   settings.grid_px = n;

@@ -145,10 +145,10 @@ TEST(GlareCpuFloatChromatic, TransformAtTheSettingsWavelengthIsTheTwoArgumentOne
   CpuFloatPsf psf(settings);
   psf.rasterise(geometry);
   psf.transform(kPupilMm, geometry.total_power_error());
-  const std::vector<float> two(psf.power(), psf.power() + 128 * 128);
+  const std::vector<float> two(psf.power_column_major(), psf.power_column_major() + 128 * 128);
   psf.transform(kPupilMm, geometry.total_power_error(), 450.0);  // something else in between
   psf.transform(kPupilMm, geometry.total_power_error(), kReferenceNm);
-  const std::vector<float> three(psf.power(), psf.power() + 128 * 128);
+  const std::vector<float> three(psf.power_column_major(), psf.power_column_major() + 128 * 128);
   EXPECT_EQ(two, three);
   EXPECT_THROW(psf.transform(kPupilMm, geometry.total_power_error(), 0.0), std::invalid_argument);
 }

@@ -130,7 +130,7 @@ TEST(GlareCpuFloat, WholeFrameWithin1e6OfTheDoublePathAtNewEyeTimes) {
       const Psf mono = psf.monochromatic_psf();
       EXPECT_LT(relative_l2(mono.values, reference.mono.values), 1e-6) << n << " at " << time_s << " s";
       EXPECT_DOUBLE_EQ(mono.degrees_per_pixel, reference.mono.degrees_per_pixel);
-      const Psf kernel = spectral.compute(psf.power(), geometry.pupil_diameter_mm);
+      const Psf kernel = spectral.compute(psf.power_column_major(), geometry.pupil_diameter_mm);
       ASSERT_EQ(kernel.size_px, reference.display_spectral.size_px);
       EXPECT_LT(relative_l2(kernel.values, reference.display_spectral.values), 2e-6) << n << " at " << time_s << " s";
       convolution.convolve(kernel, out);
@@ -156,7 +156,11 @@ TEST(GlareCpuFloat, SpectralPsfAtCoarseDisplayPixels) {
   settings.display_degrees_per_pixel = display;
   settings.aperture_width_mm = kWidthMm;
   CpuFloatSpectralPsf spectral(settings);
-  const std::vector<float> power(reference_mono.values.begin(), reference_mono.values.end());
+  // Column-major, as CpuFloatPsf hands it over; the PSF is not symmetric (eyelashes, particles), so a
+  // layout mistake would show.
+  std::vector<float> power(reference_mono.values.size());
+  for (int x = 0; x < 256; ++x)
+    for (int y = 0; y < 256; ++y) power[static_cast<std::size_t>(x) * 256 + y] = static_cast<float>(reference_mono.at(0, x, y));
   const Psf kernel = spectral.compute(power.data(), geometry.pupil_diameter_mm);
   ASSERT_EQ(kernel.size_px, reference.size_px);
   EXPECT_LT(relative_l2(kernel.values, reference.values), 1e-6);
@@ -183,7 +187,7 @@ TEST(GlareCpuFloat, SpectralPsfIsTheSameBitsOnOneTwoOrThreeThreads) {
     settings.aperture_width_mm = kWidthMm;
     settings.threads = threads;
     CpuFloatSpectralPsf spectral(settings);
-    kernels.push_back(spectral.compute(psf.power(), geometry.pupil_diameter_mm));
+    kernels.push_back(spectral.compute(psf.power_column_major(), geometry.pupil_diameter_mm));
     refined.push_back(spectral.refined_pixels());
   }
   EXPECT_GT(refined.front(), 0);  // the refinement ran
