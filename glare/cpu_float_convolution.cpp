@@ -2,14 +2,50 @@
 
 #include <algorithm>
 #include <atomic>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "glare/fft_cpu.h"
 #include "glare/parallel_rows.h"
+#include "glare/rgba_rows.h"
 
 namespace glarelab {
+
+namespace {
+
+// rows x count complex values written transposed: source[r source_stride + k] to
+// target[k target_stride + r]. Two by two in SSE2 registers, each complex value one 64-bit lane,
+// where the compiler has them (x86-64 always): the compiler made the element-by-element copy one
+// scalar move per value with a test of the row count. A copy: the bits are the same either way.
+void transpose_complex(const std::complex<float>* source, std::size_t source_stride, int rows, std::size_t count,
+                       std::complex<float>* target, std::size_t target_stride) {
+  std::size_t k = 0;
+#if defined(__SSE2__)
+  const auto lane = [](const std::complex<float>* value) { return reinterpret_cast<const double*>(value); };
+  const auto lane_out = [](std::complex<float>* value) { return reinterpret_cast<double*>(value); };
+  for (; k + 2 <= count; k += 2) {
+    int r = 0;
+    for (; r + 2 <= rows; r += 2) {
+      const __m128d upper = _mm_loadu_pd(lane(source + r * source_stride + k));
+      const __m128d lower = _mm_loadu_pd(lane(source + (r + 1) * source_stride + k));
+      _mm_storeu_pd(lane_out(target + k * target_stride + r), _mm_unpacklo_pd(upper, lower));
+      _mm_storeu_pd(lane_out(target + (k + 1) * target_stride + r), _mm_unpackhi_pd(upper, lower));
+    }
+    for (; r < rows; ++r) {
+      target[k * target_stride + r] = source[r * source_stride + k];
+      target[(k + 1) * target_stride + r] = source[r * source_stride + k + 1];
+    }
+  }
+#endif
+  for (; k < count; ++k)
+    for (int r = 0; r < rows; ++r) target[k * target_stride + r] = source[static_cast<std::size_t>(r) * source_stride + k];
+}
+
+}  // namespace
 
 CpuFloatConvolution::CpuFloatConvolution(int width_px, int height_px, int kernel_px, int threads,
                                          ConvolutionOutput output, int slots)
@@ -85,11 +121,8 @@ bool CpuFloatConvolution::forward_rows(int row_count, int width, std::complex<fl
       }
       // Transposed: the tile's rows are kRowTile consecutive values of each column.
       for (int c = 0; c < 3; ++c)
-        for (std::size_t k = 0; k < spectrum_cols; ++k) {
-          std::complex<float>* target = spectrum + c * spectrum_size + k * rows_ + row0;
-          const std::complex<float>* source = tile_row(scratch, c, 0) + k;
-          for (int r = 0; r < rows; ++r) target[r] = source[static_cast<std::size_t>(r) * tile_stride_];
-        }
+        transpose_complex(tile_row(scratch, c, 0), static_cast<std::size_t>(tile_stride_), rows, spectrum_cols,
+                          spectrum + c * spectrum_size + row0, static_cast<std::size_t>(rows_));
     }
     if (!chunk_accepted) accepted = false;
   });
@@ -109,11 +142,8 @@ void CpuFloatConvolution::inverse_rows(std::complex<float>* product, int first_r
       const int row0 = first_row + tile * kRowTile, rows = std::min(kRowTile, first_row + row_count - row0);
       // kRowTile consecutive values of each column are the tile's rows.
       for (int c = 0; c < 3; ++c)
-        for (std::size_t k = 0; k < spectrum_cols; ++k) {
-          const std::complex<float>* source = product + c * spectrum_size + k * rows_ + row0;
-          std::complex<float>* target = tile_row(scratch, c, 0) + k;
-          for (int r = 0; r < rows; ++r) target[static_cast<std::size_t>(r) * tile_stride_] = source[r];
-        }
+        transpose_complex(product + c * spectrum_size + row0, static_cast<std::size_t>(rows_), static_cast<int>(spectrum_cols),
+                          static_cast<std::size_t>(rows), tile_row(scratch, c, 0), static_cast<std::size_t>(tile_stride_));
       for (int r = 0; r < rows; ++r) {
         for (int c = 0; c < 3; ++c)
           row_inverse_.execute(tile_row(scratch, c, r), rgb[c]);
@@ -141,20 +171,9 @@ void CpuFloatConvolution::transform_scene(const ImageRGBA& image, int x0, int y0
   const bool keep_alpha = output_ == ConvolutionOutput::same;
   if (keep_alpha) incoming_alpha_.resize(static_cast<std::size_t>(width_) * height_);
   const bool clean = forward_rows(height_, width_, incoming_spectrum_.data(), [&](int y, float* red, float* green, float* blue) {
-    const float* source = image.pixel(x0, y0 + y);
-    bool row_clean = true;
-    for (int x = 0; x < width_; ++x) {
-      const float* p = source + 4 * x;
-      // NaN fails both comparisons: refused, as convolve_image_cpu refuses it.
-      row_clean &= (p[0] >= 0.0f) & (p[0] <= std::numeric_limits<float>::max()) & (p[1] >= 0.0f) &
-                   (p[1] <= std::numeric_limits<float>::max()) & (p[2] >= 0.0f) & (p[2] <= std::numeric_limits<float>::max());
-      red[x] = p[0];
-      green[x] = p[1];
-      blue[x] = p[2];
-    }
-    if (keep_alpha)
-      for (int x = 0; x < width_; ++x) incoming_alpha_[static_cast<std::size_t>(y) * width_ + x] = source[4 * x + 3];
-    return row_clean;
+    // A negative or non-finite R, G or B (NaN included) is refused, as convolve_image_cpu refuses it.
+    float* alpha = keep_alpha ? &incoming_alpha_[static_cast<std::size_t>(y) * width_] : nullptr;
+    return split_rgba_row(image.pixel(x0, y0 + y), width_, red, green, blue, alpha);
   });
   if (!clean) {
     ImageRGBA region(width_, height_);
@@ -237,14 +256,8 @@ void CpuFloatConvolution::convolve(const Psf& psf, ImageRGBA& out) {
   out.depth = scene_depth_;
   inverse_rows(product, half, height_, [&](int row, const float* red, const float* green, const float* blue) {
     const int y = row - half;
-    float* target = out.pixel(0, y);
-    const float* alpha = &scene_alpha_[static_cast<std::size_t>(y) * width_];
-    for (int x = 0; x < width_; ++x, target += 4) {
-      target[0] = red[x + half];
-      target[1] = green[x + half];
-      target[2] = blue[x + half];
-      target[3] = alpha[x];
-    }
+    join_rgba_row(red + half, green + half, blue + half, &scene_alpha_[static_cast<std::size_t>(y) * width_], width_,
+                  out.pixel(0, y));
   });
 }
 
