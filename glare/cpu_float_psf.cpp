@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "glare/astigmatic_phase.h"
+#include "glare/complex_transpose.h"
 #include "glare/parallel_rows.h"
 #include "glare/psf_cpu.h"
 
@@ -79,6 +80,19 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error
     });
   written_first_row_ = first_row;
   written_last_row_ = last_row;
+  // The spherical phase pi c (x^2 + y^2) is a sum of an x and a y term, so exp(i phi) is the product
+  // of a factor per column and one per row: a table of the pupil's N or fewer values (x and y take the
+  // same offsets from N/2) instead of a sine and a cosine per pixel. The product differs from
+  // apply_quadratic_phase's polar(a, pi c r^2) by a few roundings in double, far below the float
+  // the value is rounded to.
+  const bool separable = !astigmatic && coefficient != 0.0;
+  if (separable) {
+    phase_factor_.resize(static_cast<std::size_t>(n));
+    for (int i = first_row; i <= last_row; ++i) {
+      const double x_m = (i - n / 2) * dx_m;
+      phase_factor_[static_cast<std::size_t>(i)] = std::polar(1.0, quadratic_phase_rad(coefficient, x_m * x_m));
+    }
+  }
   row_energy_.assign(static_cast<std::size_t>(n), 0.0);  // per row: the sum does not depend on the threads
   const int row_count = last_row - first_row + 1;
   const int tile_count = (row_count + kRowTile - 1) / kRowTile;
@@ -93,16 +107,25 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error
           const int j = tile_first + r;
           double sum = 0.0;
           const double y_m = (n / 2 - j) * dx_m;
-          for (int i = 0; i < n; ++i) {
+          const std::complex<double> y_factor = separable ? phase_factor_[static_cast<std::size_t>(j)] : std::complex<double>{};
+          // The pupil's columns, as its rows (the aperture is 0 outside the pupil's bounding square):
+          // the rest of the row is 0, written as a block (the per-pixel loop over the whole row was
+          // most of the row pass at N = 512).
+          std::complex<float>* field_row = &field_[static_cast<std::size_t>(j) * n];
+          std::fill(field_row, field_row + first_row, std::complex<float>{});
+          std::fill(field_row + last_row + 1, field_row + n, std::complex<float>{});
+          for (int i = first_row; i <= last_row; ++i) {
             const std::size_t index = static_cast<std::size_t>(j) * n + i;
             const double a = grid_.transmittance[index];
             std::complex<double> value{a, 0.0};
             if (astigmatic && a != 0.0) {
               const double x_m = (i - n / 2) * dx_m;
               value = std::polar(a, power_error_phase_rad(error, wavelength_nm, x_m, y_m));
-            } else if (coefficient != 0.0 && a != 0.0) {
-              const double x_m = (i - n / 2) * dx_m;
-              value = std::polar(a, quadratic_phase_rad(coefficient, x_m * x_m + y_m * y_m));
+            } else if (separable && a != 0.0) {
+              // Written out: std::complex's operator* checks for NaN (C99 Annex G).
+              const std::complex<double> x_factor = phase_factor_[static_cast<std::size_t>(i)];
+              value = {a * (x_factor.real() * y_factor.real() - x_factor.imag() * y_factor.imag()),
+                       a * (x_factor.real() * y_factor.imag() + x_factor.imag() * y_factor.real())};
             }
             sum += a * a;
             field_[index] = {static_cast<float>(value.real()), static_cast<float>(value.imag())};
@@ -112,10 +135,8 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error
           row_fft_.execute(&field_[static_cast<std::size_t>(j) * n], tile + static_cast<std::size_t>(r) * n);
         }
         // The tile transposed: its rows' values at frequency u are one run of columns_'s row u.
-        for (int u = 0; u < n; ++u) {
-          std::complex<float>* target = &columns_[static_cast<std::size_t>(u) * n + tile_first];
-          for (int r = 0; r < tile_rows; ++r) target[r] = tile[static_cast<std::size_t>(r) * n + u];
-        }
+        transpose_complex(tile, static_cast<std::size_t>(n), tile_rows, static_cast<std::size_t>(n), &columns_[static_cast<std::size_t>(tile_first)],
+                          static_cast<std::size_t>(n));
       }
     }
   });

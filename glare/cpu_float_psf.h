@@ -76,6 +76,7 @@ class CpuFloatPsf {
   FftwFloatPlan row_fft_;
   std::string sampling_warning_;
   std::vector<double> row_energy_;  // sum |A|^2 per aperture row
+  std::vector<std::complex<double>> phase_factor_;  // exp(i pi c x^2) per column of the pupil (transform())
   int written_first_row_ = 0, written_last_row_ = -1;  // field rows the last transform wrote
 };
 

@@ -103,8 +103,14 @@ __attribute__((target_clones("avx2", "default")))
 #endif
 void weighted_row_sum(float* __restrict out, int length, const float* weights, int count,
                       const float* __restrict sources, std::size_t stride) {
-  std::fill(out, out + length, 0.0f);
-  for (int j = 0; j < count; ++j) {
+  // The first row's products start the sums (0 + p = p: the weights and the power are >= 0, so no
+  // product is -0), in place of a pass that clears `out`.
+  if (count <= 0) {
+    std::fill(out, out + length, 0.0f);
+    return;
+  }
+  for (int k = 0; k < length; ++k) out[k] = weights[0] * sources[k];
+  for (int j = 1; j < count; ++j) {
     const float weight = weights[j];
     const float* source = sources + static_cast<std::size_t>(j) * stride;
     for (int k = 0; k < length; ++k) out[k] += weight * source[k];
@@ -129,8 +135,14 @@ void reduce_tile(const float* __restrict tile_t, const CpuFloatSpectralPsf::Band
     std::memcpy(&value, tile_t + (static_cast<std::size_t>(band.first) + static_cast<std::size_t>(k)) * 8, sizeof value);
     sum += weights[band.offset + k] * value;
   };
+  // A whole vector where the tile has 8 rows: a copy of a fixed size is a store, one of `rows`
+  // floats a call to memcpy per display column.
   const auto store = [&](int column, const Lane& sum) {
-    std::memcpy(out + static_cast<std::size_t>(column) * stride, &sum, static_cast<std::size_t>(rows) * sizeof(float));
+    float* target = out + static_cast<std::size_t>(column) * stride;
+    if (rows == 8)
+      std::memcpy(target, &sum, sizeof sum);
+    else
+      std::memcpy(target, &sum, static_cast<std::size_t>(rows) * sizeof(float));
   };
   // Four display columns at a time: four independent sums, where one sum's chain of additions kept
   // the loop waiting on each addition's latency.
