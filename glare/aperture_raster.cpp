@@ -80,9 +80,19 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
       throw std::invalid_argument("glare/aperture_raster: a polygon needs at least 3 (x, y) vertices");
   }
 
+  const std::size_t count = static_cast<std::size_t>(n) * n;
+  if (grid.grid_px != n || grid.transmittance.size() != count) {
+    grid.transmittance.assign(count, 0.0);
+  } else if (grid.rows_written_first <= grid.rows_written_last) {
+    // A reused grid: only the rows the last call wrote can hold anything but 0 (8 MB of doubles
+    // cleared per frame at N = 1024 otherwise).
+    const int first = std::max(0, grid.rows_written_first), last = std::min(n - 1, grid.rows_written_last);
+    if (first <= last)
+      std::fill(grid.transmittance.begin() + static_cast<std::ptrdiff_t>(first) * n,
+                grid.transmittance.begin() + static_cast<std::ptrdiff_t>(last + 1) * n, 0.0);
+  }
   grid.grid_px = n;
   grid.aperture_width_mm = options.aperture_width_mm;
-  grid.transmittance.assign(static_cast<std::size_t>(n) * n, 0.0);
   const double dx = grid.pixel_mm();
   const double sub = dx / s;
   const int sub_n = n * s;
@@ -235,6 +245,8 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
   };
   if (pupil_first_column <= pupil_last_column)
     parallel_chunks(last_pixel_row - first_pixel_row + 1, options.threads, rasterise_pixel_rows);
+  grid.rows_written_first = first_pixel_row;
+  grid.rows_written_last = pupil_first_column <= pupil_last_column ? last_pixel_row : first_pixel_row - 1;
 }
 
 std::vector<std::complex<double>> apply_quadratic_phase(const ApertureGrid& grid, double coefficient_per_m2) {

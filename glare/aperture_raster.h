@@ -15,6 +15,7 @@
 //            an edge counts when exactly one of its end points has y > point y).
 // Pixel value = mean of its s^2 sub-sample values.
 #include <complex>
+#include <limits>
 #include <vector>
 
 #include "glare/aperture_geometry.h"
@@ -35,6 +36,11 @@ struct ApertureGrid {
   int grid_px = 0;
   double aperture_width_mm = 0.0;
   std::vector<double> transmittance;  // row-major, row 0 at the top, values in [0, 1]
+  // Rows outside [rows_written_first, rows_written_last] hold 0: rasterise_aperture writes only the
+  // pupil's rows and, reusing a grid, clears only the rows its last call wrote (not all N x N
+  // values). Code that writes `transmittance` itself must widen the range (or leave the whole grid
+  // marked, as a default-constructed one is).
+  int rows_written_first = 0, rows_written_last = std::numeric_limits<int>::max();
   double pixel_mm() const { return aperture_width_mm / grid_px; }
 };
 

@@ -149,5 +149,32 @@ TEST(GlareApertureRaster, RowSpansGiveTheGridOfEverySubSampleForTheEyeModel) {
   expect_bit_identical(fast, test::rasterise_by_the_rule(geometry, 128, 10.0, 2), "eye model");
 }
 
+TEST(GlareApertureRaster, AReusedGridHoldsOnlyTheNewAperture) {
+  // A reused grid is cleared only where the last call wrote: a wide pupil, then a narrow one, then
+  // none, then one again, each compared with a fresh grid (and with the rule) bit for bit.
+  const EyeModel eye(EyeParameters{}, 3);
+  ApertureRasterOptions options;
+  options.grid_px = 128;
+  options.aperture_width_mm = 10.0;
+  ApertureGrid reused;
+  for (const double pupil_mm : {8.0, 4.0, 0.0, 6.0}) {
+    ApertureGeometry geometry = eye.geometry_at(2.0);
+    geometry.pupil_diameter_mm = pupil_mm;
+    rasterise_aperture(geometry, options, reused);
+    const ApertureGrid fresh = rasterise_aperture(geometry, options);
+    EXPECT_EQ(reused.transmittance, fresh.transmittance) << pupil_mm << " mm";
+    if (pupil_mm > 0.0) expect_bit_identical(reused, test::rasterise_by_the_rule(geometry, 128, 10.0, 2), "reused grid");
+  }
+  // A grid written by hand is marked whole, and cleared whole.
+  ApertureGrid by_hand;
+  by_hand.grid_px = 128;
+  by_hand.aperture_width_mm = 10.0;
+  by_hand.transmittance.assign(128 * 128, 1.0);
+  ApertureGeometry narrow = eye.geometry_at(2.0);
+  narrow.pupil_diameter_mm = 2.0;
+  rasterise_aperture(narrow, options, by_hand);
+  EXPECT_EQ(by_hand.transmittance, rasterise_aperture(narrow, options).transmittance);
+}
+
 }  // namespace
 }  // namespace glarelab
