@@ -170,7 +170,10 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
     std::vector<int> filled(disc_list_start.begin(), disc_list_start.end() - 1);
     for (std::size_t k = 0; k < disc_bounds.size(); ++k) {
       const auto [first, last] = disc_pixel_rows(disc_bounds[k]);
-      for (int row = first; row <= last; ++row) disc_list[static_cast<std::size_t>(filled[static_cast<std::size_t>(row)]++)] = static_cast<int>(k);
+      for (int row = first; row <= last; ++row) {
+        int& next = filled[static_cast<std::size_t>(row)];
+        disc_list[static_cast<std::size_t>(next++)] = static_cast<int>(k);
+      }
     }
   }
 

@@ -15,7 +15,8 @@ namespace {
 // Pixel values with distinct bit patterns: x + c / 8 + 1/1024 (exact in float).
 std::vector<float> ramp(int width) {
   std::vector<float> rgba(4 * static_cast<std::size_t>(width));
-  for (std::size_t k = 0; k < rgba.size(); ++k) rgba[k] = static_cast<float>(k / 4) + static_cast<float>(k % 4) / 8.0f + 1.0f / 1024.0f;
+  for (std::size_t k = 0; k < rgba.size(); ++k)
+    rgba[k] = static_cast<float>(k / 4) + static_cast<float>(k % 4) / 8.0f + 1.0f / 1024.0f;
   return rgba;
 }
 
