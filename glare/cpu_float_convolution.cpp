@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <string>
 
-
 #include "glare/complex_transpose.h"
 #include "glare/fft_cpu.h"
 #include "glare/parallel_rows.h"
@@ -108,8 +107,9 @@ void CpuFloatConvolution::inverse_rows(std::complex<float>* product, int first_r
       const int row0 = first_row + tile * kRowTile, rows = std::min(kRowTile, first_row + row_count - row0);
       // kRowTile consecutive values of each column are the tile's rows.
       for (int c = 0; c < 3; ++c)
-        transpose_complex(product + c * spectrum_size + row0, static_cast<std::size_t>(rows_), static_cast<int>(spectrum_cols),
-                          static_cast<std::size_t>(rows), tile_row(scratch, c, 0), static_cast<std::size_t>(tile_stride_));
+        transpose_complex(product + c * spectrum_size + row0, static_cast<std::size_t>(rows_),
+                          static_cast<int>(spectrum_cols), static_cast<std::size_t>(rows), tile_row(scratch, c, 0),
+                          static_cast<std::size_t>(tile_stride_));
       for (int r = 0; r < rows; ++r) {
         for (int c = 0; c < 3; ++c)
           row_inverse_.execute(tile_row(scratch, c, r), rgb[c]);
