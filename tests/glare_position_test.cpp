@@ -217,6 +217,20 @@ TEST(PositionGlare, TheSumIsMadeWhereTheGlareChangedAndIsTheWholeSumEverywhere) 
     EXPECT_LT(box.width * box.height, 128 * 64 / 2);
     EXPECT_GT(box.width, 8);
   }
+  // Outside the reports' boxes the result is the composed frame, bit for bit: what a session takes
+  // as given when it looks for the changed rectangle only inside them (runner/session/trial_glare.cpp).
+  std::size_t outside = 0;
+  for (int y = 0; y < composed.height_px; ++y)
+    for (int x = 0; x < composed.width_px; ++x) {
+      bool inside = false;
+      for (const GlareFrameReport& report : reports)
+        for (const PixelBox& box : *report.changed_boxes)
+          inside |= x >= box.x0 && x < box.x0 + box.width && y >= box.y0 && y < box.y0 + box.height;
+      if (inside) continue;
+      ++outside;
+      for (int c = 0; c < 4; ++c) ASSERT_EQ(result.pixel(x, y)[c], composed.pixel(x, y)[c]) << x << ", " << y;
+    }
+  EXPECT_GT(outside, 0u);
 }
 
 TEST(PositionGlare, ALayerOfAnotherSizeIsRefused) {

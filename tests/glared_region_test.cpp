@@ -59,6 +59,38 @@ TEST(GlaredRegion, KeepsTheChangedRectangleExactOrAtHalfPrecision) {
   EXPECT_TRUE(changed_region(composed, composed, RegionPrecision::half_rgb).empty());
 }
 
+// Given the box the differences lie in (the glare reports' changed boxes), the same rectangle and
+// pixels as the whole-frame comparison, for boxes tight, loose, partly outside the frame and empty.
+TEST(GlaredRegion, ABoxTheDifferencesLieInGivesTheSameRegion) {
+  ImageRGBA composed(64, 48, 0.0f);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) composed.pixel(x, y)[3] = 1.0f;
+  ImageRGBA glared = composed;
+  glared.pixel(10, 7)[1] = 2.5f;
+  glared.pixel(31, 20)[0] = 7.0f;
+  glared.pixel(18, 29)[3] = 0.5f;  // alpha counts too
+  for (const RegionPrecision precision : {RegionPrecision::exact, RegionPrecision::half_rgb}) {
+    const GlaredRegion whole = changed_region(composed, glared, precision);
+    ASSERT_EQ(whole.x0_px, 10);
+    ASSERT_EQ(whole.y0_px, 7);
+    ASSERT_EQ(whole.width_px, 22);
+    ASSERT_EQ(whole.height_px, 23);
+    for (const PixelBox box : {PixelBox{10, 7, 22, 23}, PixelBox{2, 3, 50, 40}, PixelBox{-20, -5, 200, 100}}) {
+      const GlaredRegion bounded = changed_region(composed, glared, precision, box);
+      EXPECT_EQ(bounded.x0_px, whole.x0_px);
+      EXPECT_EQ(bounded.y0_px, whole.y0_px);
+      EXPECT_EQ(bounded.width_px, whole.width_px);
+      EXPECT_EQ(bounded.height_px, whole.height_px);
+      EXPECT_EQ(bounded.exact_rgba, whole.exact_rgba);
+      EXPECT_EQ(bounded.half_rgb, whole.half_rgb);
+    }
+  }
+  // The box is what is compared: a difference left outside it is not looked for.
+  EXPECT_EQ(changed_region(composed, glared, RegionPrecision::exact, PixelBox{0, 0, 20, 20}).width_px, 1);
+  EXPECT_TRUE(changed_region(composed, glared, RegionPrecision::exact, PixelBox{0, 0, 0, 0}).empty());
+  EXPECT_TRUE(changed_region(composed, composed, RegionPrecision::exact, PixelBox{10, 7, 22, 23}).empty());
+}
+
 // Each region changed_region() makes has its own serial (a flip of the region the framebuffer
 // already holds only re-encodes it: SessionLoop::draw); a copy, with the same pixels, keeps it.
 TEST(GlaredRegion, EveryRegionMadeHasItsOwnSerialAndACopyKeepsIt) {

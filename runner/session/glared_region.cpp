@@ -10,14 +10,23 @@
 
 namespace glarelab {
 
-GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision) {
+GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
+                            const std::optional<PixelBox>& differs_within) {
   const auto pixel_bytes = 4 * sizeof(float);
+  // The pixels compared: the whole frame, or the box the caller knows the differences lie in.
+  int left = 0, top = 0, right = glared.width_px, bottom = glared.height_px;  // [left, right) x [top, bottom)
+  if (differs_within) {
+    left = std::clamp(differs_within->x0, 0, glared.width_px);
+    top = std::clamp(differs_within->y0, 0, glared.height_px);
+    right = std::clamp(differs_within->x0 + differs_within->width, left, glared.width_px);
+    bottom = std::clamp(differs_within->y0 + differs_within->height, top, glared.height_px);
+  }
   int x0 = glared.width_px, y0 = glared.height_px, x1 = -1, y1 = -1;
-  for (int y = 0; y < glared.height_px; ++y) {
+  for (int y = top; y < bottom && left < right; ++y) {
     const float* a = composed.pixel(0, y);
     const float* b = glared.pixel(0, y);
-    if (std::memcmp(a, b, pixel_bytes * static_cast<std::size_t>(glared.width_px)) == 0) continue;
-    int first = 0, last = glared.width_px - 1;
+    if (std::memcmp(a + 4 * left, b + 4 * left, pixel_bytes * static_cast<std::size_t>(right - left)) == 0) continue;
+    int first = left, last = right - 1;
     while (std::memcmp(a + 4 * first, b + 4 * first, pixel_bytes) == 0) ++first;
     while (std::memcmp(a + 4 * last, b + 4 * last, pixel_bytes) == 0) --last;
     x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;

@@ -6,9 +6,11 @@
 // per stimulus frame (30 whole 1920 x 1080 float32 RGBA frames are 1.0 GB).
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/image.h"
+#include "glare/lit_regions.h"
 
 namespace glarelab {
 
@@ -41,8 +43,12 @@ struct GlaredRegion {
 };
 
 // The rectangle of `glared` that differs from `composed` (same size, compared bit for bit over
-// R, G, B and A), kept at `precision`.
-GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision);
+// R, G, B and A), kept at `precision`. `differs_within`, when given, is a box the two are known to
+// be equal outside (the union of GlareFrameReport::changed_boxes): only its pixels are compared,
+// which finds the same rectangle without reading the rest of two whole frames (a small stimulus
+// on a 1920 x 1080 display changes a small part of it). A box reaching past the frame is clipped.
+GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
+                            const std::optional<PixelBox>& differs_within = std::nullopt);
 
 // The linear cd/m2 a region holds (float32 RGBA, row 0 at the top; a half region's alpha is 1).
 ImageRGBA region_pixels(const GlaredRegion& region);
