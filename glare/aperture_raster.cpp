@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <span>
 #include <utility>
+#include <vector>
 
 #include "glare/parallel_rows.h"
 
@@ -60,6 +62,37 @@ std::pair<double, double> line_row_span(const ApertureLine& line, double y, doub
 struct Bounds {
   double x_min, x_max, y_min, y_max;
 };
+
+// Indices of primitives per pixel row: row r's are indices[start[r], start[r + 1]), ascending.
+struct RowLists {
+  std::vector<int> start, indices;
+  std::span<const int> of(int row) const {
+    const auto first = static_cast<std::size_t>(start[static_cast<std::size_t>(row)]);
+    const auto last = static_cast<std::size_t>(start[static_cast<std::size_t>(row) + 1]);
+    return {indices.data() + first, last - first};
+  }
+};
+
+// Each primitive k (bounds[k]) listed on the pixel rows [first, last] = rows_of(bounds[k]) (rows
+// counted from the first pixel row rasterised; an empty range lists it nowhere).
+template <typename RowsOf>
+RowLists list_per_row(const std::vector<Bounds>& bounds, int rows, const RowsOf& rows_of) {
+  RowLists lists;
+  lists.start.assign(static_cast<std::size_t>(rows) + 1, 0);
+  for (const Bounds& b : bounds) {
+    const auto [first, last] = rows_of(b);
+    for (int row = first; row <= last; ++row) ++lists.start[static_cast<std::size_t>(row) + 1];
+  }
+  for (int row = 0; row < rows; ++row) lists.start[static_cast<std::size_t>(row) + 1] += lists.start[static_cast<std::size_t>(row)];
+  lists.indices.resize(static_cast<std::size_t>(lists.start.back()));
+  std::vector<int> next(lists.start.begin(), lists.start.end() - 1);
+  for (std::size_t k = 0; k < bounds.size(); ++k) {
+    const auto [first, last] = rows_of(bounds[k]);
+    for (int row = first; row <= last; ++row)
+      lists.indices[static_cast<std::size_t>(next[static_cast<std::size_t>(row)]++)] = static_cast<int>(k);
+  }
+  return lists;
+}
 
 }  // namespace
 
@@ -141,17 +174,17 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
   const int pupil_first_row = pupil_first_column, pupil_last_row = pupil_last_column;
   const int first_pixel_row = pupil_first_row / s, last_pixel_row = pupil_last_row / s;
 
-  // The discs (the eye model's lens particles: over a thousand) listed per pixel row whose
-  // sub-rows their bounds may meet, each list in the discs' order, so that a sub-row visits only
-  // its few discs instead of testing every disc's bounds (most of the rasteriser's time at N = 512
-  // and 1024). The bounds test below still decides, so each sub-sample sees the same discs, in the
-  // same order, as the loop over all of them: the grid is the same, bit for bit.
+  // The discs (the eye model's lens particles: over a thousand) and the lines (its lashes and
+  // fibres: over a thousand with a wide pupil) listed per pixel row whose sub-rows their bounds may
+  // meet, each list in the primitives' order, so that a sub-row visits only its few primitives
+  // instead of testing every one's bounds (most of the rasteriser's time at N = 512 and 1024). The
+  // bounds test below still decides, so each sub-sample sees the same primitives, in the same order,
+  // as the loops over all of them: the grid is the same, bit for bit.
   const int pixel_rows = std::max(0, last_pixel_row - first_pixel_row + 1);
-  std::vector<int> disc_list_start(static_cast<std::size_t>(pixel_rows) + 1, 0), disc_list;
   // Sub-row r lies at y = (N/2 + 1/2) dx - (r + 1/2) sub: the sub-rows of [y_min, y_max], widened by one.
-  const auto disc_pixel_rows = [&](const Bounds& b) {
+  const auto pixel_rows_of = [&](const Bounds& b) {
     const double top = (half + 0.5) * dx;
-    // Clamped in double first: a disc far off the grid must not overflow the int.
+    // Clamped in double first: a primitive far off the grid must not overflow the int.
     const auto sub_row_at = [&](double position) { return static_cast<int>(std::clamp(position, -2.0, sub_n + 1.0)); };
     const int first_sub = sub_row_at(std::floor((top - b.y_max) / sub - 0.5)) - 1;
     const int last_sub = sub_row_at(std::ceil((top - b.y_min) / sub - 0.5)) + 1;
@@ -159,23 +192,8 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
     const int last = std::min(last_pixel_row, std::min(sub_n - 1, last_sub) / s);
     return std::pair<int, int>{first - first_pixel_row, last - first_pixel_row};
   };
-  for (const Bounds& b : disc_bounds) {
-    const auto [first, last] = disc_pixel_rows(b);
-    for (int row = first; row <= last; ++row) ++disc_list_start[static_cast<std::size_t>(row) + 1];
-  }
-  for (int row = 0; row < pixel_rows; ++row)
-    disc_list_start[static_cast<std::size_t>(row) + 1] += disc_list_start[static_cast<std::size_t>(row)];
-  disc_list.resize(static_cast<std::size_t>(disc_list_start.back()));
-  {
-    std::vector<int> filled(disc_list_start.begin(), disc_list_start.end() - 1);
-    for (std::size_t k = 0; k < disc_bounds.size(); ++k) {
-      const auto [first, last] = disc_pixel_rows(disc_bounds[k]);
-      for (int row = first; row <= last; ++row) {
-        int& next = filled[static_cast<std::size_t>(row)];
-        disc_list[static_cast<std::size_t>(next++)] = static_cast<int>(k);
-      }
-    }
-  }
+  const RowLists disc_lists = list_per_row(disc_bounds, pixel_rows, pixel_rows_of);
+  const RowLists line_lists = list_per_row(line_bounds, pixel_rows, pixel_rows_of);
 
   // One row of sub-samples at a time: pupil test, then each primitive whose bounds meet the row
   // multiplies its transmittance into the sub-samples it contains. Pixel rows are independent and
@@ -193,9 +211,9 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
         const double x = sub_x(column);
         row_values[static_cast<std::size_t>(column)] = (x * x + y * y <= pupil_r2) ? 1.0 : 0.0;
       }
-      const auto discs_row = static_cast<std::size_t>(sub_row / s - first_pixel_row);
-      for (int listed = disc_list_start[discs_row]; listed < disc_list_start[discs_row + 1]; ++listed) {
-        const auto k = static_cast<std::size_t>(disc_list[static_cast<std::size_t>(listed)]);
+      const int list_row = sub_row / s - first_pixel_row;
+      for (const int listed : disc_lists.of(list_row)) {
+        const auto k = static_cast<std::size_t>(listed);
         const Bounds& b = disc_bounds[k];
         if (y < b.y_min || y > b.y_max) continue;
         const auto& disc = geometry.discs[k];
@@ -212,7 +230,8 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
             row_values[static_cast<std::size_t>(column)] *= disc.transmittance;
         }
       }
-      for (std::size_t k = 0; k < geometry.lines.size(); ++k) {
+      for (const int listed : line_lists.of(list_row)) {
+        const auto k = static_cast<std::size_t>(listed);
         const Bounds& b = line_bounds[k];
         if (y < b.y_min || y > b.y_max) continue;
         const auto& line = geometry.lines[k];
