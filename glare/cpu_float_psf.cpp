@@ -96,50 +96,47 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error
   row_energy_.assign(static_cast<std::size_t>(n), 0.0);  // per row: the sum does not depend on the threads
   const int row_count = last_row - first_row + 1;
   const int tile_count = (row_count + kRowTile - 1) / kRowTile;
-  const int shares = std::clamp(settings_.threads, 1, std::max(1, tile_count));
-  // One share of the tiles per thread, each with its own tile buffer.
-  parallel_chunks(shares, shares, [&](int first_share, int last_share) {
-    for (int share = first_share; share < last_share; ++share) {
-      std::complex<float>* tile = &row_tiles_[static_cast<std::size_t>(share) * kRowTile * n];
-      for (int t = tile_count * share / shares; t < tile_count * (share + 1) / shares; ++t) {
-        const int tile_first = first_row + t * kRowTile, tile_rows = std::min(kRowTile, last_row + 1 - tile_first);
-        for (int r = 0; r < tile_rows; ++r) {
-          const int j = tile_first + r;
-          double sum = 0.0;
-          const double y_m = (n / 2 - j) * dx_m;
-          const std::complex<double> y_factor =
-              separable ? phase_factor_[static_cast<std::size_t>(j)] : std::complex<double>{};
-          // The pupil's columns are the range of its rows (the pupil is centred, the aperture 0
-          // outside its bounding square): the rest of the row is 0, written as a block (the
-          // per-pixel loop over the whole row was most of the row pass at N = 512).
-          const int first_column = first_row, last_column = last_row;
-          std::complex<float>* field_row = &field_[static_cast<std::size_t>(j) * n];
-          std::fill(field_row, field_row + first_column, std::complex<float>{});
-          std::fill(field_row + last_column + 1, field_row + n, std::complex<float>{});
-          for (int i = first_column; i <= last_column; ++i) {
-            const std::size_t index = static_cast<std::size_t>(j) * n + i;
-            const double a = grid_.transmittance[index];
-            std::complex<double> value{a, 0.0};
-            if (astigmatic && a != 0.0) {
-              const double x_m = (i - n / 2) * dx_m;
-              value = std::polar(a, power_error_phase_rad(error, wavelength_nm, x_m, y_m));
-            } else if (separable && a != 0.0) {
-              // Written out: std::complex's operator* checks for NaN (C99 Annex G).
-              const std::complex<double> x_factor = phase_factor_[static_cast<std::size_t>(i)];
-              value = {a * (x_factor.real() * y_factor.real() - x_factor.imag() * y_factor.imag()),
-                       a * (x_factor.real() * y_factor.imag() + x_factor.imag() * y_factor.real())};
-            }
-            sum += a * a;
-            field_[index] = {static_cast<float>(value.real()), static_cast<float>(value.imag())};
+  // The tiles shared among the threads, each thread with a tile buffer of its own.
+  parallel_indexed_chunks(tile_count, settings_.threads, [&](int chunk, int first_tile, int last_tile) {
+    std::complex<float>* tile = &row_tiles_[static_cast<std::size_t>(chunk) * kRowTile * n];
+    for (int t = first_tile; t < last_tile; ++t) {
+      const int tile_first = first_row + t * kRowTile, tile_rows = std::min(kRowTile, last_row + 1 - tile_first);
+      for (int r = 0; r < tile_rows; ++r) {
+        const int j = tile_first + r;
+        double sum = 0.0;
+        const double y_m = (n / 2 - j) * dx_m;
+        const std::complex<double> y_factor =
+            separable ? phase_factor_[static_cast<std::size_t>(j)] : std::complex<double>{};
+        // The pupil's columns are the range of its rows (the pupil is centred, the aperture 0
+        // outside its bounding square): the rest of the row is 0, written as a block (the
+        // per-pixel loop over the whole row was most of the row pass at N = 512).
+        const int first_column = first_row, last_column = last_row;
+        std::complex<float>* field_row = &field_[static_cast<std::size_t>(j) * n];
+        std::fill(field_row, field_row + first_column, std::complex<float>{});
+        std::fill(field_row + last_column + 1, field_row + n, std::complex<float>{});
+        for (int i = first_column; i <= last_column; ++i) {
+          const std::size_t index = static_cast<std::size_t>(j) * n + i;
+          const double a = grid_.transmittance[index];
+          std::complex<double> value{a, 0.0};
+          if (astigmatic && a != 0.0) {
+            const double x_m = (i - n / 2) * dx_m;
+            value = std::polar(a, power_error_phase_rad(error, wavelength_nm, x_m, y_m));
+          } else if (separable && a != 0.0) {
+            // Written out: std::complex's operator* checks for NaN (C99 Annex G).
+            const std::complex<double> x_factor = phase_factor_[static_cast<std::size_t>(i)];
+            value = {a * (x_factor.real() * y_factor.real() - x_factor.imag() * y_factor.imag()),
+                     a * (x_factor.real() * y_factor.imag() + x_factor.imag() * y_factor.real())};
           }
-          row_energy_[static_cast<std::size_t>(j)] = sum;
-          // The row's DFT while the row is in cache: the first pass of the 2D FFT.
-          row_fft_.execute(&field_[static_cast<std::size_t>(j) * n], tile + static_cast<std::size_t>(r) * n);
+          sum += a * a;
+          field_[index] = {static_cast<float>(value.real()), static_cast<float>(value.imag())};
         }
-        // The tile transposed: its rows' values at frequency u are one run of columns_'s row u.
-        const auto stride = static_cast<std::size_t>(n);
-        transpose_complex(tile, stride, tile_rows, stride, &columns_[static_cast<std::size_t>(tile_first)], stride);
+        row_energy_[static_cast<std::size_t>(j)] = sum;
+        // The row's DFT while the row is in cache: the first pass of the 2D FFT.
+        row_fft_.execute(&field_[static_cast<std::size_t>(j) * n], tile + static_cast<std::size_t>(r) * n);
       }
+      // The tile transposed: its rows' values at frequency u are one run of columns_'s row u.
+      const auto stride = static_cast<std::size_t>(n);
+      transpose_complex(tile, stride, tile_rows, stride, &columns_[static_cast<std::size_t>(tile_first)], stride);
     }
   });
   double aperture_energy = 0.0;

@@ -118,7 +118,7 @@ void weighted_row_sum(float* __restrict out, int length, const float* weights, i
 }
 
 // The pass along the reference columns for a tile of display rows m0 + r, r < rows <= 8:
-// out[m' stride + r] = sum over k < count of W(m', first + k) (W F)(m0 + r, first + k) for every
+// out[m' 8 + r] = sum over k < count of W(m', first + k) (W F)(m0 + r, first + k) for every
 // display column m' (its band: first, count, weights from offset), read from
 // tile_t[x * 8 + r] = (W F)(m0 + r, x). Eight rows in one vector a step, each sum added in k's order
 // from 0, each product rounded and then added in every clone: the same bits.
@@ -126,7 +126,7 @@ void weighted_row_sum(float* __restrict out, int length, const float* weights, i
 __attribute__((target_clones("avx2", "default")))
 #endif
 void reduce_tile(const float* __restrict tile_t, const CpuFloatSpectralPsf::Band* bands, const float* weights,
-                 int columns, int rows, float* __restrict out, std::size_t stride) {
+                 int columns, int rows, float* __restrict out) {
   using Lane = float __attribute__((vector_size(32)));
   // sum += w (W F)(rows, first + k), and the sum's rows stored, without functions that take or
   // return a vector (their ABI would differ between the clones).
@@ -138,7 +138,7 @@ void reduce_tile(const float* __restrict tile_t, const CpuFloatSpectralPsf::Band
   // A whole vector where the tile has 8 rows: a copy of a fixed size is a store, one of `rows`
   // floats a call to memcpy per display column.
   const auto store = [&](int column, const Lane& sum) {
-    float* target = out + static_cast<std::size_t>(column) * stride;
+    float* target = out + static_cast<std::size_t>(column) * 8;
     if (rows == 8)
       std::memcpy(target, &sum, sizeof sum);
     else
@@ -421,7 +421,7 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
         }
         transpose_tile(scratch.row.data(), n, tile_rows, c0, c1, scratch.tile_t.data(), kTile);
         reduce_tile(scratch.tile_t.data(), wavelength.bands.data(), weights_.data(), m_px, tile_rows,
-                    &scratch.tile_d[static_cast<std::size_t>(s) * m_px * kTile], static_cast<std::size_t>(kTile));
+                    &scratch.tile_d[static_cast<std::size_t>(s) * m_px * kTile]);
       }
       add_wavelengths(scratch.tile_d.data(), active_count, m_px, m0, tile_rows, plane, sum_weights_.data(), total.data());
     }

@@ -23,10 +23,16 @@
 namespace glarelab {
 namespace {
 
+// A black frame with alpha 1, as a composed frame of the renderer holds.
+ImageRGBA opaque_black(int width_px, int height_px) {
+  ImageRGBA frame(width_px, height_px, 0.0f);
+  for (int y = 0; y < height_px; ++y)
+    for (int x = 0; x < width_px; ++x) frame.pixel(x, y)[3] = 1.0f;
+  return frame;
+}
+
 TEST(GlaredRegion, KeepsTheChangedRectangleExactOrAtHalfPrecision) {
-  ImageRGBA composed(40, 30, 0.0f);
-  for (int y = 0; y < 30; ++y)
-    for (int x = 0; x < 40; ++x) composed.pixel(x, y)[3] = 1.0f;
+  const ImageRGBA composed = opaque_black(40, 30);
   ImageRGBA glared = composed;
   // Changed: (7, 5) and (20, 12) in different channels; the rectangle spans both.
   glared.pixel(7, 5)[0] = 3.14159f;
@@ -62,9 +68,7 @@ TEST(GlaredRegion, KeepsTheChangedRectangleExactOrAtHalfPrecision) {
 // Given the box the differences lie in (the glare reports' changed boxes), the same rectangle and
 // pixels as the whole-frame comparison, for boxes tight, loose, partly outside the frame and empty.
 TEST(GlaredRegion, ABoxTheDifferencesLieInGivesTheSameRegion) {
-  ImageRGBA composed(64, 48, 0.0f);
-  for (int y = 0; y < 48; ++y)
-    for (int x = 0; x < 64; ++x) composed.pixel(x, y)[3] = 1.0f;
+  const ImageRGBA composed = opaque_black(64, 48);
   ImageRGBA glared = composed;
   glared.pixel(10, 7)[1] = 2.5f;
   glared.pixel(31, 20)[0] = 7.0f;
