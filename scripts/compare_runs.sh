@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # Runs every example experiment offscreen with the simulated observer, seeded, with two glarelab
-# binaries, and compares what each stored: the trials rows (every DESIGN column but the wall clock)
-# and the frames rows. For refactors that must not change behaviour: build the commit before the
-# change elsewhere (git worktree add /tmp/before HEAD~1; cmake there) and pass both binaries.
+# binaries, and compares what each stored and showed: the trials rows (every stored column but the
+# wall clock), the frames rows, and the frames each saved with --save-frames (compare_frames, built
+# beside the AFTER binary in scripts/: identical, or within 1e-6 relative where only the order of
+# floating-point sums changed, each such frame named). For refactors that must not change
+# behaviour: build the commit before the change elsewhere (git worktree add /tmp/before HEAD~1;
+# cmake there) and pass both binaries.
 #   scripts/compare_runs.sh BEFORE_BINARY AFTER_BINARY [SEED]
-# Exit 0 when every example stores identical rows with both; 1 with the first differences shown.
+# Exit 0 when every example stores identical rows and equal frames with both; 1 with the first
+# differences shown.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 2 ]; then
@@ -14,6 +18,11 @@ fi
 before=$(realpath "$1")
 after=$(realpath "$2")
 seed=${3:-7}
+compare_frames=$(dirname "$after")/scripts/compare_frames
+if [ ! -x "$compare_frames" ]; then
+  echo "compare_runs: $compare_frames is missing (build the compare_frames target beside $after)" >&2
+  exit 2
+fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
@@ -31,7 +40,8 @@ for experiment in examples/*.toml; do
     binary=$before
     [ "$side" = after ] && binary=$after
     "$binary" run "$experiment" --display offscreen --observer simulated --participant compare \
-      --participant-number 1 --seed "$seed" --db "$work/$name.$side.db" > "$work/$name.$side.log" 2>&1 || {
+      --participant-number 1 --seed "$seed" --db "$work/$name.$side.db" \
+      --save-frames "$work/$name.$side.saved" > "$work/$name.$side.log" 2>&1 || {
       echo "$name: the $side binary failed (exit $?):"; tail -n 5 "$work/$name.$side.log"; status=1; continue 2; }
     dump "$work/$name.$side.db" "$work/$name.$side"
   done
@@ -39,11 +49,15 @@ for experiment in examples/*.toml; do
   frames=$(wc -l < "$work/$name.after.frames.csv")
   if cmp -s "$work/$name.before.trials.csv" "$work/$name.after.trials.csv" &&
      cmp -s "$work/$name.before.frames.csv" "$work/$name.after.frames.csv"; then
-    echo "$name: identical ($((trials - 1)) trials, $((frames - 1)) frames)"
+    echo "$name: identical rows ($((trials - 1)) trials, $((frames - 1)) frames)"
   else
     echo "$name: DIFFERENT"
     diff "$work/$name.before.trials.csv" "$work/$name.after.trials.csv" | head -n 10 || true
     diff "$work/$name.before.frames.csv" "$work/$name.after.frames.csv" | head -n 10 || true
+    status=1
+  fi
+  if ! "$compare_frames" "$work/$name.before.saved" "$work/$name.after.saved" | sed "s/^/$name: /"; then
+    echo "$name: saved frames DIFFERENT"
     status=1
   fi
 done
