@@ -1,6 +1,6 @@
 #pragma once
 // Shader sources embedded at build time (cmake/EmbedShaders.cmake), keyed by their path relative to
-// the source root, e.g. "stimuli/shaders/compose.frag". Every one was validated by glslangValidator.
+// the source root, e.g. "stimuli/shaders/placed_image.frag". Every one was validated by glslangValidator.
 #include <string_view>
 #include <vector>
 

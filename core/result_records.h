@@ -1,8 +1,8 @@
 #pragma once
 // The rows of a glarelab results database as plain structs, and the schema version. runner/store
 // writes and migrates databases (runner/store/result_store.h); analysis/ reads them without ever
-// writing. Both sides need the row shapes of the contract (docs/DATABASE.md, DESIGN.md
-// "Database") and neither may include the other, so they live in the base layer.
+// writing. Both sides need the row shapes of the contract (docs/DATABASE.md, "Tables") and
+// neither may include the other, so they live in the base layer.
 #include <cstdint>
 #include <optional>
 #include <string>

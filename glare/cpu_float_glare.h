@@ -5,7 +5,7 @@
 // are made once per grid and per frame size; the frame's spectrum is kept while the same frame
 // comes again (a static scene within a trial: 3 forward + 3 inverse transforms per frame instead
 // of 9). Its frame error against the float64 reference is below 1e-6 relative L2 (glarelab bench;
-// tests/glare_cpu_float_glare_test.cpp checks it through this class).
+// tests/glare_cpu_float_test.cpp checks it through this class).
 #include <map>
 #include <memory>
 #include <string>
@@ -31,7 +31,7 @@ struct CpuFloatGlareSettings {
   int wavelength_samples = 32;
   double display_degrees_per_pixel = 0.0;  // at the display's centre (psf_scale.h)
   // false: the scaled-reference spectral PSF (cpu_float_spectral_psf.h), one FFT at the reference
-  // wavelength, bit for bit as before. true: the eye's longitudinal chromatic aberration, one FFT per
+  // wavelength. true: the eye's longitudinal chromatic aberration, one FFT per
   // wavelength with its own power error (cpu_float_chromatic_psf.h), box-resampled onto the display
   // (psf_scale.h) as the float64 path resamples compute_chromatic_psf.
   bool longitudinal_chromatic_aberration = false;

@@ -1,6 +1,6 @@
 #pragma once
 // The CPU glare backend: aperture_raster + FFTW (psf_cpu.h), spectral_psf.h, convolution_cpu.h.
-// float64 is the reference the GL path is checked against; float32 is about twice as fast.
+// float64 is the reference the GL path is checked against; float32 the faster (docs/PERFORMANCE.md).
 // With the observer's refraction (geometry.refraction_error, PsfOptions::observer_refraction) a
 // spectral PSF is chromatic_psf.h's, one FFT per wavelength with the eye's LCA.
 #include "glare/convolution_cpu.h"

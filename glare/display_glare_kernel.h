@@ -14,7 +14,7 @@
 // f0 core, the 0.02 degree knee of f1/f2, CIE's 0.1 degree kink), Gauss-Legendre in both; farther
 // pixels by a tensor Gauss-Legendre rule whose order follows the profile's local scale in pixels
 // (pixels subdivided where it is under 5 pixels, e.g. the halo on a coarse display). Relative
-// accuracy about 1e-7 per pixel (tests/display_glare_kernel_test.cpp checks 1e-5 against
+// accuracy about 1e-7 per pixel (tests/glare_display_kernel_test.cpp checks 1e-5 against
 // adaptive Gauss-Kronrod).
 #include <vector>
 

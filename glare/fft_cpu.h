@@ -25,8 +25,8 @@ void fft2d_real_inverse(std::vector<std::complex<float>>& spectrum, std::vector<
 // Smallest n' >= n whose prime factors are 2, 3, 5 and 7 (sizes FFTW handles fastest).
 int good_fft_size(int n);
 // Smallest n' >= n whose prime factors are 2, 3 and 5: without 7, whose codelets FFTW runs slower
-// per value (FFTW_MEASURE plans of the convolution's 3 x 1029 x 1296 grid took 1.7 times those of
-// 3 x 1024 x 1200 on the bench's machine, for 9 % more values).
+// per value, more than its share (docs/PERFORMANCE.md, "Measurements behind the code's
+// choices").
 int smooth_fft_size(int n);
 
 }  // namespace glarelab

@@ -30,10 +30,10 @@ std::mutex& fftw_planner_mutex();
 
 // How a plan is chosen. estimate: from the sizes alone (FFTW_ESTIMATE; the glare path, for the
 // reason above). measure: the fastest of the candidates FFTW times (FFTW_MEASURE; the FFTW floor,
-// which must be the fastest FFTW does the transforms: FFTW_ESTIMATE's own N x N complex plan took
-// 10 to 14 times FFTW_MEASURE's at N = 512 and 1024 on the bench's machine). Measured plans leave
-// wisdom that later estimate plans of the same problems would follow; whoever makes measured
-// plans calls forget_fftw_float_wisdom() after them, while no other thread plans.
+// which must be the fastest FFTW does the transforms, and FFTW_ESTIMATE's own N x N complex plan is
+// far from that: docs/PERFORMANCE.md, "Measurements behind the code's choices"). Measured
+// plans leave wisdom that later estimate plans of the same problems would follow; whoever makes
+// measured plans calls forget_fftw_float_wisdom() after them, while no other thread plans.
 // kept: FFTW_MEASURE with the wisdom kept in a file (fftw_wisdom.h), or FFTW_ESTIMATE where none can
 // be kept. Measured and kept plans overwrite their arrays while they are made: data (zero padding
 // included) is written after planning.
@@ -123,10 +123,10 @@ class FftwFloatPlan {
   // The column pass of spectra stored transposed, column by column: value (row r, frequency k) of
   // array c at (c (cols/2 + 1) + k) rows + r. The row passes then write and read a column's values
   // together (cpu_float_convolution.h) and the column pass runs over contiguous columns, which FFTW
-  // does faster than strided ones (this machine, 900 x 1200, three channels, FFTW_MEASURE, 2
-  // threads: forward rows + columns 2.1 ms against 3.3 ms for a 262-row PSF, 3.8 against 4.8 ms for
-  // a 768-row image, inverse 3.9 against 4.6 ms). In place, sign FFTW_FORWARD (-1) or FFTW_BACKWARD
-  // (+1), over the count (cols/2 + 1) columns.
+  // does faster than strided ones (docs/PERFORMANCE.md, "Measurements behind the code's
+  // choices").
+  // In place, sign FFTW_FORWARD (-1) or FFTW_BACKWARD (+1), over the count (cols/2 + 1) columns
+  // laid out as above.
   static FftwFloatPlan transposed_columns(int rows, int cols, int count, int sign, std::complex<float>* data,
                                           int threads, FftwPlanning planning = FftwPlanning::estimate);
   // Column pass over all rows x (cols/2 + 1) complex values, sign FFTW_FORWARD (-1) or

@@ -1,8 +1,8 @@
 #pragma once
 // FFTW float wisdom kept in a file between runs, so that the planned float32 path's transforms can
-// be FFTW_MEASURE plans (the fastest FFTW finds; FFTW_ESTIMATE's took 1.6 to 2.2 times as long for
-// the convolution's column passes on the bench's machine, when they were strided) and still be the
-// same plans, with the same rounding and so the same bits, in every run on a machine.
+// be FFTW_MEASURE plans (the fastest FFTW finds, faster than FFTW_ESTIMATE's: docs/PERFORMANCE.md,
+// "Measurements behind the code's choices") and still be the same plans, with the same
+// rounding and so the same bits, in every run on a machine.
 //
 // Why a file: FFTW_MEASURE times candidate plans, so two runs that each measured could pick
 // different plans and give frames that differ in their last bits (a live run and a prepared run of

@@ -5,8 +5,8 @@
 // independent (rasterising, power spectra, the spectral PSF's output rows).
 //
 // The chunks run on a pool of worker threads started once per process (chunk_pool.h), with the
-// caller taking chunks too: a glare frame makes a dozen such calls, and starting a thread for each
-// cost 35 to 40 us a call on the bench's machine.
+// caller taking chunks too: a glare frame makes a dozen such calls, and starting threads for each
+// would cost a fixed time per call (docs/PERFORMANCE.md, "Measurements behind the code's choices").
 #include <algorithm>
 
 #include "glare/chunk_pool.h"

@@ -1,6 +1,6 @@
 #pragma once
 // A point-spread function sampled on a square grid centred on pixel (size/2, size/2), with its
-// angular pixel size (DESIGN.md image contract). Channels are "Y" (one wavelength) or linear
+// angular pixel size (docs/ARCHITECTURE.md, "Images"). Channels are "Y" (one wavelength) or linear
 // Rec.709 "R,G,B" (spectral); each channel sums to 1.
 #include <stdexcept>
 #include <string>

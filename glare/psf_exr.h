@@ -1,5 +1,5 @@
 #pragma once
-// PSFs as OpenEXR files (DESIGN.md image contract): float channels, "Y" for a one-channel PSF or
+// PSFs as OpenEXR files (docs/ARCHITECTURE.md, "Images"): float channels, "Y" for a one-channel PSF or
 // R, G, B for a spectral one, and the float header attribute degreesPerPixel.
 #include <string>
 

@@ -3,7 +3,7 @@
 // (after Vos 1984 and Hemenger 1992): a radial density P(theta) per steradian over the visual
 // field, theta the angle from the point source in degrees, of unit volume by Eq. 4,
 //   (pi^2 / 90) Int_0^90 P(theta) sin(theta) dtheta = 1.
-// Components (each of unit volume, tests/spencer_psf_test.cpp):
+// Components (each of unit volume, tests/glare_spencer_psf_test.cpp):
 //   f0 = 2.61e6 exp(-(theta / 0.02)^2)          unscattered Gaussian core
 //   f1 = 20.91 / (theta + 0.02)^3               ciliary corona, theta^-3
 //   f2 = 72.37 / (theta + 0.02)^2               veiling glare, theta^-2

@@ -28,10 +28,10 @@
 //    0.004 rad); in floating point each also carries its own rounding, of the size the integration
 //    from 0 has against exact arithmetic (measured: the two agree to the last bit at 150-3000 s,
 //    tests/eye_time_bound_test.cpp);
-//  - any t costs at most 5 windows of steps (a fresh model at 24 h: ~180k steps, a few ms),
-//    and times in order cost about 1.25 steps per step, as before.
+//  - any t costs at most 5 windows of steps (a fresh model at 24 h: ~180k steps),
+//    and times in order cost about 1.25 steps per step (one window of 4 integrated twice).
 // If the damping is so weak that no window up to kMaxForgettingCheckpoints checkpoints reaches
-// 2^-60, the model integrates from t = 0 as before (times are bounded by kMaxEyeModelTime_s).
+// 2^-60, the model integrates every time from t = 0 (times are bounded by kMaxEyeModelTime_s).
 #include <cstdint>
 #include <map>
 #include <vector>

@@ -20,7 +20,7 @@ struct ConditionRow;
 PerceptionSettings perception_defaults();
 // Reads [perception] if present (strictly: unknown keys and values out of range are ConfigErrors
 // naming file:line:column and the key). Without the table, or for a switch it leaves out, every
-// stage is off, so an experiment that does not mention perception shows its frames as before.
+// stage is off, so an experiment that does not mention perception shows its frames unchanged.
 PerceptionSettings read_perception_section(TableReader& top);
 // The table resolved_config_toml writes (every key explicit).
 toml::table perception_section_toml(const PerceptionSettings& settings);

@@ -1,5 +1,5 @@
 #pragma once
-// Builds GL programs from the embedded shader files (runner/embedded_shaders.h). Compile and link
+// Builds GL programs from the embedded shader files (core/embedded_shaders.h). Compile and link
 // errors throw DisplayError("OpenGL: <shader path>: <driver log>").
 #include <initializer_list>
 #include <string_view>
@@ -8,7 +8,7 @@
 
 namespace glarelab::gl {
 
-// Paths relative to the source root, e.g. {"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode.frag"}.
+// Paths relative to the source root, e.g. {"stimuli/shaders/fullscreen.vert", "stimuli/shaders/encode_display.frag"}.
 // The stage is taken from the extension (.vert, .frag, .comp).
 Program build_program(std::initializer_list<std::string_view> shader_paths);
 // The same with `defines` ("#define NAME VALUE" lines) placed after each shader's #version line,

@@ -7,7 +7,7 @@
 // Same sign convention as FFTW: forward X[k] = sum_n x[n] exp(-2 pi i k n / L); the inverse is
 // scaled by 1 / (width * height), so inverse(forward(x)) = x.
 // Twiddle factors are computed in double precision on the CPU and uploaded as floats.
-// A current OpenGL 4.5 context is required (glare/gl/gl_compute_context.h); not thread-safe.
+// A current OpenGL 4.5 context is required (core/gl/gl_context.h); not thread-safe.
 #include <complex>
 #include <vector>
 

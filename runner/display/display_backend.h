@@ -1,8 +1,8 @@
 #pragma once
-// One interface for every way of showing frames. Window (GLFW) and offscreen (OSMesa) are
-// siblings behind it, created in one place (display_factory.cpp); an EGL headless sibling is added
-// there without touching callers. Each backend owns a current OpenGL 4.5 core context and loads
-// the GL entry points through its own get-proc-address (glad), so both live in one binary.
+// One interface for every way of showing frames. Window (GLFW) and offscreen (EGL, else OSMesa)
+// are siblings behind it, created in one place (display_factory.cpp), where a backend is added
+// without touching callers. Each backend owns a current OpenGL 4.5 core context and loads the GL
+// entry points through its own get-proc-address (glad), so all of them live in one binary.
 #include <memory>
 #include <stdexcept>
 #include <string>

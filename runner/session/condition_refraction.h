@@ -40,7 +40,7 @@ struct ConditionRefraction {
 // True when the experiment models the observer's optics: [observer.refraction] is present, some
 // condition wears spectacles or [observer] depth_of_field = true (an emmetrope without the table). Then every condition's wave-optics PSF carries its residual (zero for
 // an emmetrope whose accommodation reaches the display, but with the eye's LCA all the same); when
-// false every PSF is the one glarelab computed before refraction existed, bit for bit.
+// false no PSF carries a refractive error or the eye's LCA: each comes from the eye model's aperture alone.
 bool models_observer_optics(const Experiment& experiment);
 
 // The refraction of one condition; nothing when the experiment does not model the observer's

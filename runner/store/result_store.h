@@ -1,7 +1,7 @@
 #pragma once
-// The results database (SQLite). Contract (docs/DATABASE.md, ../DESIGN.md):
-//  - tables sessions, trials, frames, tracker_samples, session_events, with the DESIGN minimum
-//    columns (never renamed) and a schema version in PRAGMA user_version, upgraded by migrations;
+// The results database (SQLite). Contract (docs/DATABASE.md):
+//  - tables sessions, trials, frames, tracker_samples, session_events, with the columns of
+//    docs/DATABASE.md "Tables" (never renamed), and a schema version in PRAGMA user_version that migrations upgrade;
 //  - WAL journal with synchronous=FULL; a trial and its frames are one transaction, committed
 //    before the next trial starts, so a killed run loses at most the trial in progress;
 //  - the database file is created with owner-only permissions (0600).
