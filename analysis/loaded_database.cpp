@@ -99,6 +99,147 @@ void require_columns(const ReadOnlyDatabase& db, const std::string& table, const
   }
 }
 
+// Where each trial id of one file landed in LoadedData: (session index, trial index).
+using TrialPlaces = std::unordered_map<std::int64_t, std::pair<std::size_t, std::size_t>>;
+
+// Appends the file's sessions to data.sessions; returns each session id's index there.
+std::map<std::int64_t, std::size_t> load_sessions(const ReadOnlyDatabase& db, const std::set<std::string>& columns,
+                                                  LoadedData& data) {
+  const std::size_t first = data.sessions.size();
+  StatementGuard query{db.prepare(
+      "SELECT id, experiment, participant, seed, started_utc, finished_utc, status, config, software_version, "
+      "renderer, " +
+      column_or_null(columns, "display_backend") + ", " + column_or_null(columns, "clock") + ", " +
+      column_or_null(columns, "observer") + " FROM sessions ORDER BY id")};
+  while (db.step(query.stmt)) {
+    LoadedSession session;
+    session.database = db.path();
+    SessionRecord& r = session.record;
+    r.id = sqlite3_column_int64(query.stmt, 0);
+    r.experiment = text(query.stmt, 1);
+    r.participant = text(query.stmt, 2);
+    r.seed = std::bit_cast<std::uint64_t>(static_cast<std::int64_t>(sqlite3_column_int64(query.stmt, 3)));
+    r.started_utc = text(query.stmt, 4);
+    r.finished_utc = text(query.stmt, 5);
+    r.status = text(query.stmt, 6);
+    r.config = text(query.stmt, 7);
+    r.software_version = text(query.stmt, 8);
+    r.renderer = text(query.stmt, 9);
+    r.display_backend = text(query.stmt, 10);
+    r.clock = text(query.stmt, 11);
+    r.observer = text(query.stmt, 12);
+    data.sessions.push_back(std::move(session));
+  }
+  std::map<std::int64_t, std::size_t> session_at;
+  for (std::size_t i = first; i < data.sessions.size(); ++i) session_at[data.sessions[i].record.id] = i;
+  return session_at;
+}
+
+// Appends each trial to its session (a trial without its session is not analysable and is left
+// out); returns where each landed.
+TrialPlaces load_trials(const ReadOnlyDatabase& db, const std::set<std::string>& columns,
+                        const std::map<std::int64_t, std::size_t>& session_at, LoadedData& data) {
+  TrialPlaces trial_at;
+  // An experiment repeats a few condition texts over thousands of trials: each distinct text is
+  // parsed once (nullopt: not a JSON object).
+  std::unordered_map<std::string, std::optional<ConditionFields>> parsed_conditions;
+  StatementGuard query{db.prepare(
+      "SELECT id, session_id, trial_index, block, procedure, condition, intensity, response, correct, "
+      "response_time_s, onset_s, staircase, reversal, " +
+      column_or_null(columns, "started_utc") + " FROM trials ORDER BY session_id, trial_index")};
+  int unreadable = 0;
+  while (db.step(query.stmt)) {
+    LoadedTrial trial;
+    TrialRecord& r = trial.record;
+    r.id = sqlite3_column_int64(query.stmt, 0);
+    r.session_id = sqlite3_column_int64(query.stmt, 1);
+    r.trial_index = sqlite3_column_int(query.stmt, 2);
+    r.block = sqlite3_column_int(query.stmt, 3);
+    r.procedure = text(query.stmt, 4);
+    r.condition = text(query.stmt, 5);
+    r.intensity = optional_real(query.stmt, 6);
+    r.response = text(query.stmt, 7);
+    r.correct = optional_int(query.stmt, 8);
+    r.response_time_s = optional_real(query.stmt, 9);
+    r.onset_s = sqlite3_column_double(query.stmt, 10);
+    r.staircase = text(query.stmt, 11);
+    r.reversal = optional_int(query.stmt, 12);
+    r.started_utc = text(query.stmt, 13);
+    auto [parsed, first_seen] = parsed_conditions.try_emplace(r.condition);
+    if (first_seen) {
+      try {
+        parsed->second = parse_condition_json(r.condition);
+      } catch (const std::invalid_argument&) {
+        parsed->second = std::nullopt;
+      }
+    }
+    if (parsed->second) {
+      trial.condition = *parsed->second;
+    } else {
+      ++unreadable;
+      trial.condition = {{"name", r.condition}};
+    }
+    const auto owner = session_at.find(r.session_id);
+    if (owner == session_at.end()) continue;  // a trial without its session is not analysable
+    auto& trials = data.sessions[owner->second].trials;
+    trial_at[r.id] = {owner->second, trials.size()};
+    trials.push_back(std::move(trial));
+  }
+  if (unreadable > 0) {
+    data.notes.push_back(db.path() + ": " + std::to_string(unreadable) +
+                         " trial(s) with a condition that is not a JSON object: used as the condition name");
+  }
+  return trial_at;
+}
+
+void load_frames(const ReadOnlyDatabase& db, const std::set<std::string>& columns, const TrialPlaces& trial_at,
+                 LoadedData& data) {
+  StatementGuard query{db.prepare("SELECT trial_id, frame_index, scheduled_s, flip_s, dropped, " +
+                                  column_or_null(columns, "gaze_age_s") + " FROM frames ORDER BY trial_id, rowid")};
+  while (db.step(query.stmt)) {
+    const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
+    if (found == trial_at.end()) continue;
+    FrameRecord frame;
+    frame.frame_index = sqlite3_column_int(query.stmt, 1);
+    frame.scheduled_s = sqlite3_column_double(query.stmt, 2);
+    frame.flip_s = sqlite3_column_double(query.stmt, 3);
+    frame.dropped = sqlite3_column_int(query.stmt, 4) != 0;
+    frame.gaze_age_s = optional_real(query.stmt, 5);
+    data.sessions[found->second.first].trials[found->second.second].frames.push_back(frame);
+  }
+}
+
+void load_tracker_samples(const ReadOnlyDatabase& db, const std::map<std::int64_t, std::size_t>& session_at,
+                          LoadedData& data) {
+  StatementGuard query{db.prepare(
+      "SELECT session_id, eye, device_time_s, session_time_s, pupil_diameter_mm, gaze_x, gaze_y, confidence, valid "
+      "FROM tracker_samples ORDER BY session_id, session_time_s, eye")};
+  while (db.step(query.stmt)) {
+    const auto owner = session_at.find(sqlite3_column_int64(query.stmt, 0));
+    if (owner == session_at.end()) continue;
+    TrackerSampleRecord sample;
+    sample.eye = sqlite3_column_int(query.stmt, 1);
+    sample.device_time_s = sqlite3_column_double(query.stmt, 2);
+    sample.session_time_s = sqlite3_column_double(query.stmt, 3);
+    sample.pupil_diameter_mm = optional_real(query.stmt, 4);
+    sample.gaze_x = optional_real(query.stmt, 5);
+    sample.gaze_y = optional_real(query.stmt, 6);
+    sample.confidence = sqlite3_column_double(query.stmt, 7);
+    sample.valid = sqlite3_column_int(query.stmt, 8) != 0;
+    data.sessions[owner->second].tracker_samples.push_back(sample);
+  }
+}
+
+void load_adjustments(const ReadOnlyDatabase& db, const TrialPlaces& trial_at, LoadedData& data) {
+  StatementGuard query{db.prepare("SELECT trial_id, spot, value_cd_m2 FROM adjustments ORDER BY trial_id, spot")};
+  while (db.step(query.stmt)) {
+    const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
+    if (found == trial_at.end()) continue;
+    data.sessions[found->second.first].trials[found->second.second].adjustments.push_back(
+        {sqlite3_column_int(query.stmt, 1), sqlite3_column_double(query.stmt, 2)});
+  }
+}
+
 void load_one(const std::string& path, LoadedData& data) {
   const ReadOnlyDatabase db(path);
   // One read transaction: every table is read from the same snapshot, even while a runner is
@@ -132,132 +273,11 @@ void load_one(const std::string& path, LoadedData& data) {
   if (frame_columns.empty()) data.notes.push_back(path + ": no frames table: timing quality not available");
   if (tracker_columns.empty()) data.notes.push_back(path + ": no tracker_samples table");
 
-  const std::size_t first = data.sessions.size();
-  {
-    StatementGuard query{db.prepare(
-        "SELECT id, experiment, participant, seed, started_utc, finished_utc, status, config, software_version, "
-        "renderer, " +
-        column_or_null(session_columns, "display_backend") + ", " + column_or_null(session_columns, "clock") + ", " +
-        column_or_null(session_columns, "observer") + " FROM sessions ORDER BY id")};
-    while (db.step(query.stmt)) {
-      LoadedSession session;
-      session.database = path;
-      SessionRecord& r = session.record;
-      r.id = sqlite3_column_int64(query.stmt, 0);
-      r.experiment = text(query.stmt, 1);
-      r.participant = text(query.stmt, 2);
-      r.seed = std::bit_cast<std::uint64_t>(static_cast<std::int64_t>(sqlite3_column_int64(query.stmt, 3)));
-      r.started_utc = text(query.stmt, 4);
-      r.finished_utc = text(query.stmt, 5);
-      r.status = text(query.stmt, 6);
-      r.config = text(query.stmt, 7);
-      r.software_version = text(query.stmt, 8);
-      r.renderer = text(query.stmt, 9);
-      r.display_backend = text(query.stmt, 10);
-      r.clock = text(query.stmt, 11);
-      r.observer = text(query.stmt, 12);
-      data.sessions.push_back(std::move(session));
-    }
-  }
-  std::map<std::int64_t, std::size_t> session_at;
-  for (std::size_t i = first; i < data.sessions.size(); ++i) session_at[data.sessions[i].record.id] = i;
-
-  std::unordered_map<std::int64_t, std::pair<std::size_t, std::size_t>> trial_at;  // trial id -> (session, trial)
-  // An experiment repeats a few condition texts over thousands of trials: each distinct text is
-  // parsed once (nullopt: not a JSON object).
-  std::unordered_map<std::string, std::optional<ConditionFields>> parsed_conditions;
-  {
-    StatementGuard query{db.prepare(
-        "SELECT id, session_id, trial_index, block, procedure, condition, intensity, response, correct, "
-        "response_time_s, onset_s, staircase, reversal, " +
-        column_or_null(trial_columns, "started_utc") + " FROM trials ORDER BY session_id, trial_index")};
-    int unreadable = 0;
-    while (db.step(query.stmt)) {
-      LoadedTrial trial;
-      TrialRecord& r = trial.record;
-      r.id = sqlite3_column_int64(query.stmt, 0);
-      r.session_id = sqlite3_column_int64(query.stmt, 1);
-      r.trial_index = sqlite3_column_int(query.stmt, 2);
-      r.block = sqlite3_column_int(query.stmt, 3);
-      r.procedure = text(query.stmt, 4);
-      r.condition = text(query.stmt, 5);
-      r.intensity = optional_real(query.stmt, 6);
-      r.response = text(query.stmt, 7);
-      r.correct = optional_int(query.stmt, 8);
-      r.response_time_s = optional_real(query.stmt, 9);
-      r.onset_s = sqlite3_column_double(query.stmt, 10);
-      r.staircase = text(query.stmt, 11);
-      r.reversal = optional_int(query.stmt, 12);
-      r.started_utc = text(query.stmt, 13);
-      auto [parsed, first_seen] = parsed_conditions.try_emplace(r.condition);
-      if (first_seen) {
-        try {
-          parsed->second = parse_condition_json(r.condition);
-        } catch (const std::invalid_argument&) {
-          parsed->second = std::nullopt;
-        }
-      }
-      if (parsed->second) {
-        trial.condition = *parsed->second;
-      } else {
-        ++unreadable;
-        trial.condition = {{"name", r.condition}};
-      }
-      const auto owner = session_at.find(r.session_id);
-      if (owner == session_at.end()) continue;  // a trial without its session is not analysable
-      auto& trials = data.sessions[owner->second].trials;
-      trial_at[r.id] = {owner->second, trials.size()};
-      trials.push_back(std::move(trial));
-    }
-    if (unreadable > 0) {
-      data.notes.push_back(path + ": " + std::to_string(unreadable) +
-                           " trial(s) with a condition that is not a JSON object: used as the condition name");
-    }
-  }
-  if (!frame_columns.empty()) {
-    StatementGuard query{db.prepare(
-        "SELECT trial_id, frame_index, scheduled_s, flip_s, dropped, " + column_or_null(frame_columns, "gaze_age_s") +
-        " FROM frames ORDER BY trial_id, rowid")};
-    while (db.step(query.stmt)) {
-      const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
-      if (found == trial_at.end()) continue;
-      FrameRecord frame;
-      frame.frame_index = sqlite3_column_int(query.stmt, 1);
-      frame.scheduled_s = sqlite3_column_double(query.stmt, 2);
-      frame.flip_s = sqlite3_column_double(query.stmt, 3);
-      frame.dropped = sqlite3_column_int(query.stmt, 4) != 0;
-      frame.gaze_age_s = optional_real(query.stmt, 5);
-      data.sessions[found->second.first].trials[found->second.second].frames.push_back(frame);
-    }
-  }
-  if (!tracker_columns.empty()) {
-    StatementGuard query{db.prepare(
-        "SELECT session_id, eye, device_time_s, session_time_s, pupil_diameter_mm, gaze_x, gaze_y, confidence, valid "
-        "FROM tracker_samples ORDER BY session_id, session_time_s, eye")};
-    while (db.step(query.stmt)) {
-      const auto owner = session_at.find(sqlite3_column_int64(query.stmt, 0));
-      if (owner == session_at.end()) continue;
-      TrackerSampleRecord sample;
-      sample.eye = sqlite3_column_int(query.stmt, 1);
-      sample.device_time_s = sqlite3_column_double(query.stmt, 2);
-      sample.session_time_s = sqlite3_column_double(query.stmt, 3);
-      sample.pupil_diameter_mm = optional_real(query.stmt, 4);
-      sample.gaze_x = optional_real(query.stmt, 5);
-      sample.gaze_y = optional_real(query.stmt, 6);
-      sample.confidence = sqlite3_column_double(query.stmt, 7);
-      sample.valid = sqlite3_column_int(query.stmt, 8) != 0;
-      data.sessions[owner->second].tracker_samples.push_back(sample);
-    }
-  }
-  if (have_adjustments) {
-    StatementGuard query{db.prepare("SELECT trial_id, spot, value_cd_m2 FROM adjustments ORDER BY trial_id, spot")};
-    while (db.step(query.stmt)) {
-      const auto found = trial_at.find(sqlite3_column_int64(query.stmt, 0));
-      if (found == trial_at.end()) continue;
-      data.sessions[found->second.first].trials[found->second.second].adjustments.push_back(
-          {sqlite3_column_int(query.stmt, 1), sqlite3_column_double(query.stmt, 2)});
-    }
-  }
+  const std::map<std::int64_t, std::size_t> session_at = load_sessions(db, session_columns, data);
+  const TrialPlaces trial_at = load_trials(db, trial_columns, session_at, data);
+  if (!frame_columns.empty()) load_frames(db, frame_columns, trial_at, data);
+  if (!tracker_columns.empty()) load_tracker_samples(db, session_at, data);
+  if (have_adjustments) load_adjustments(db, trial_at, data);
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 #include "analysis/report_output.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 
 #include "analysis/graded_choice_report.h"
 #include "analysis/paired_scale_report.h"
+#include "analysis/rating_report.h"
 #include "analysis/session_observer_eye.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
@@ -74,63 +74,6 @@ std::string fit_sentence(const PsychometricFit& fit) {
   return text;
 }
 
-std::string distribution_text(const RatingDistribution& r) {
-  std::string text;
-  for (const auto& [value, count] : r.categories) text += (text.empty() ? "" : ", ") + value + ": " + std::to_string(count);
-  return text;
-}
-
-std::string join(const std::vector<std::string>& items, const std::string& separator) {
-  std::string text;
-  for (const std::string& item : items) text += (text.empty() ? "" : separator) + item;
-  return text;
-}
-
-// "glare appearance (control vs static vs dynamic): Friedman chi2(2) = 6.533, p = 0.0381,
-// Kendall's W = 0.408; 8 participants, tie correction 0.9375 (fewer than 10 participants: ...)".
-std::string comparison_sentence(const RatingComparison& c) {
-  std::string text = (c.category.empty() ? std::string("all trials") : c.category) + " (" + join(c.conditions, " vs ") + "): ";
-  if (!c.unavailable.empty()) {
-    text += "not computed: " + c.unavailable;
-  } else if (c.wilcoxon) {
-    const WilcoxonSignedRank& w = *c.wilcoxon;
-    if (!w.ok()) {
-      text += "Wilcoxon signed-rank not computed: " + w.unavailable;
-    } else {
-      text += "Wilcoxon signed-rank T = " + general(w.statistic) + " (R+ " + general(w.rank_sum_positive) + ", R- " +
-              general(w.rank_sum_negative) + "), " +
-              (w.exact ? std::string("exact ") : "normal approximation z = " + fixed(w.z, 3) + ", ") + format_p(w.p_value);
-      if (!w.exact && w.ranked < 10) text += " (fewer than 10 non-zero differences: the approximation is rough)";
-      text += "; " + std::to_string(w.pairs) + " participants";
-      if (w.zero_differences > 0) text += ", " + std::to_string(w.zero_differences) + " zero differences discarded";
-    }
-  } else if (c.friedman) {
-    const FriedmanTest& f = *c.friedman;
-    if (!f.ok()) {
-      text += "Friedman test not computed: " + f.unavailable;
-    } else {
-      text += "Friedman chi2(" + general(f.df) + ") = " + fixed(f.chi_square, 3) + ", " + format_p(f.p_value) +
-              ", Kendall's W = " + fixed(f.kendall_w, 3) + "; " + std::to_string(f.subjects) + " participants";
-      if (f.tie_correction < 1.0) text += ", tie correction " + fixed(f.tie_correction, 4);
-      // The chi-square approximation of the Friedman statistic is poor for small n (e.g. n = 3,
-      // k = 3: chi2 = 6 has exact p = 0.028, chi-square p = 0.050).
-      if (f.subjects < 10) text += " (fewer than 10 participants: the chi-square p is rough)";
-    }
-  }
-  if (!c.left_out.empty()) text += "; left out (not every condition rated): " + join(c.left_out, ", ");
-  return text;
-}
-
-// "real_lamp vs standard: Wilcoxon T = 0, exact p = 0.0156, Holm p = 0.0938" per pair after a
-// significant Friedman test (analysis/rating_post_hoc.h).
-std::string post_hoc_sentence(const RatingPairTest& pair) {
-  const WilcoxonSignedRank& w = pair.wilcoxon;
-  std::string text = pair.first + " vs " + pair.second + ": ";
-  if (!w.ok()) return text + "not computed: " + w.unavailable;
-  return text + "Wilcoxon T = " + general(w.statistic) + ", " + (w.exact ? "exact " : "normal approximation ") +
-         format_p(w.p_value) + ", Holm p = " + fixed(pair.p_holm, 4);
-}
-
 void html_list(std::ostringstream& out, const std::vector<std::string>& items) {
   if (items.empty()) return;
   out << "<ul>\n";
@@ -156,10 +99,8 @@ std::string path_cell(const std::string& path) {
   return "<td class=\"path\">" + escaped + "</td>";
 }
 
-}  // namespace
-
-std::string render_html(const AnalysisReport& report) {
-  std::ostringstream out;
+// The document head with its style, the title line and the notes on the data.
+void html_head(std::ostringstream& out, const AnalysisReport& report) {
   out << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
          "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; style-src 'unsafe-inline'; img-src data:\">\n"
          "<title>glarelab analysis</title>\n<style>\n"
@@ -177,7 +118,10 @@ std::string render_html(const AnalysisReport& report) {
     html_list(out, report.data.notes);
     out << "</div>\n";
   }
+}
 
+// One row per session, and a note for each aborted or unfinished one.
+void html_sessions(std::ostringstream& out, const AnalysisReport& report) {
   out << "<h2>Sessions</h2>\n<table><tr><th>session</th><th>experiment</th><th>participant</th><th>status</th>"
          "<th>trials</th><th>started (UTC)</th><th>display</th><th>observer</th><th>observer's eye</th><th>software</th>"
          "<th>database</th></tr>\n";
@@ -196,160 +140,112 @@ std::string render_html(const AnalysisReport& report) {
   }
   out << "</table>\n";
   html_list(out, session_notes);
+}
 
-  if (!report.forced_choice.empty()) {
-    out << "<h2>Forced choice</h2>\n<p>Relative frequency with which each option was chosen over the other, exact "
-           "two-sided binomial test and Pearson chi-square test against no preference (Ritschel et al. 2009, Sec. 6.1).</p>\n";
-    out << "<table><tr><th>group</th><th>preferred</th><th>other</th><th>chosen</th><th>of</th><th>share</th>"
-           "<th>chi-square</th><th>binomial</th><th>neither</th></tr>\n";
-    for (const auto* list : {&report.forced_choice.groups, &report.forced_choice.pooled}) {
-      for (const PairPreference& p : *list) {
-        out << "<tr>" << cell(p.group) << cell(p.option_a) << cell(p.option_b) << cell(std::to_string(p.chose_a))
-            << cell(std::to_string(p.chose_a + p.chose_b)) << cell(fixed(p.share_a(), 3))
-            << cell(describe(p.chi_square, "chi2")) << cell(describe_binomial(p.binomial))
-            << cell(p.neither > 0 ? std::to_string(p.neither) + " (" + fixed(100.0 * p.neither_share(), 1) + "%)" : "0")
-            << "</tr>\n";
-      }
-    }
-    out << "</table>\n";
-    html_list(out, report.forced_choice.notes);
-    out << paired_scales_html(report.paired_scales);
-    html_figures(out, report, "forced_choice");
-  }
-
-  if (!report.graded_choice.empty()) {
-    out << graded_choice_html(report.graded_choice, report.options.bootstrap_samples);
-    html_figures(out, report, "graded_choice");
-  }
-
-  if (!report.staircases.empty()) {
-    out << "<h2>Staircases and QUEST</h2>\n<p>Threshold as the mean intensity at the last " << report.options.last_reversals
-        << " reversals; maximum-likelihood fits psi = gamma + (1 - gamma - lambda) F with lambda in [0, 0.06] and "
-        << report.options.bootstrap_samples << " parametric bootstrap samples for the 95% intervals (Wichmann &amp; Hill 2001).</p>\n";
-    out << "<table><tr><th>participant</th><th>staircase</th><th>procedure</th><th>trials</th><th>reversals</th>"
-           "<th>threshold (reversals)</th><th>QUEST estimate</th><th>fits</th></tr>\n";
-    for (const StaircaseResult& s : report.staircases) {
-      std::string threshold = s.reversal_threshold ? general(*s.reversal_threshold) + " (last " +
-                                                         std::to_string(s.reversals_used) + ")"
-                                                   : "-";
-      if (!s.threshold_note.empty()) threshold += "; " + s.threshold_note;
-      std::string fits;
-      for (const PsychometricFit& fit : s.fits) fits += fit_sentence(fit) + "\n";
-      if (!s.guess_note.empty()) fits += s.guess_note;
-      out << "<tr>" << cell(s.participant_label) << cell(s.name) << cell(s.procedure) << cell(std::to_string(s.track.size()))
-          << cell(std::to_string(s.reversals)) << cell(threshold)
-          << cell(s.quest_estimate ? general(*s.quest_estimate) : "-") << "<td style=\"white-space:pre-line\">"
-          << html_escape(fits) << "</td></tr>\n";
-    }
-    out << "</table>\n";
-    html_figures(out, report, "staircase");
-  }
-
-  if (!report.quest_plus.empty()) {
-    out << "<h2>QUEST+ and Psi posteriors</h2>\n<p>The posterior over each track's parameter grid after its last "
-           "answered trial (Watson 2017), rebuilt by replaying the stored trials through the stored design: per "
-           "parameter its value at the joint posterior mode, the marginal mean and SD; quest_plus_posteriors.csv holds "
-           "every marginal.</p>\n";
-    out << quest_plus_posteriors_html(report.quest_plus);
-    html_figures(out, report, "quest_plus");
-  }
-
-  if (!report.pse.tracks.empty()) {
-    out << "<h2>Points of subjective equality</h2>\n<p>PSE: the comparison luminance (fraction of the display's peak) "
-           "at which a maximum-likelihood cumulative normal fitted to P(comparison brighter) over the answers naming a "
-           "side crosses 1/2 (no guess or lapse rate; 'neither' answers left out), with its 95% parametric bootstrap "
-           "interval (" << report.options.bootstrap_samples << " samples); beside it the mean at the last "
-        << report.options.last_reversals << " reversals, which stands in for the PSE when the fit is not identifiable "
-           "(a short track whose answers separate perfectly). Per group and glare strength: the mean over participants (one "
-           "participant: the bootstrap interval; several: mean &plusmn; t SE).</p>\n";
-    out << "<table><tr><th>participant</th><th>track</th><th>group</th><th>glare gain</th><th>reference</th><th>trials</th>"
-           "<th>neither</th><th>PSE</th><th>95% interval</th><th>reversal mean</th></tr>\n";
-    for (const PseTrack& t : report.pse.tracks) {
-      out << "<tr>" << cell(t.participant_label) << cell(t.name) << cell(t.group) << cell(general(t.glare_gain))
-          << cell(general(t.reference_fraction)) << cell(std::to_string(t.trials)) << cell(std::to_string(t.neither))
-          << cell(t.pse_fraction ? general(*t.pse_fraction) + (t.note.empty() ? "" : "; " + t.note) : t.note)
-          << cell(t.pse_interval ? general(t.pse_interval->low) + " to " + general(t.pse_interval->high) : "-")
-          << cell(t.reversal_mean_fraction ? general(*t.reversal_mean_fraction) + " (last " +
-                                                 std::to_string(t.reversals_used) + ")"
-                                           : "-")
+// Preferences per group and pooled, the paired scales and the section's figures.
+void html_forced_choice(std::ostringstream& out, const AnalysisReport& report) {
+  out << "<h2>Forced choice</h2>\n<p>Relative frequency with which each option was chosen over the other, exact "
+         "two-sided binomial test and Pearson chi-square test against no preference (Ritschel et al. 2009, Sec. 6.1).</p>\n";
+  out << "<table><tr><th>group</th><th>preferred</th><th>other</th><th>chosen</th><th>of</th><th>share</th>"
+         "<th>chi-square</th><th>binomial</th><th>neither</th></tr>\n";
+  for (const auto* list : {&report.forced_choice.groups, &report.forced_choice.pooled}) {
+    for (const PairPreference& p : *list) {
+      out << "<tr>" << cell(p.group) << cell(p.option_a) << cell(p.option_b) << cell(std::to_string(p.chose_a))
+          << cell(std::to_string(p.chose_a + p.chose_b)) << cell(fixed(p.share_a(), 3))
+          << cell(describe(p.chi_square, "chi2")) << cell(describe_binomial(p.binomial))
+          << cell(p.neither > 0 ? std::to_string(p.neither) + " (" + fixed(100.0 * p.neither_share(), 1) + "%)" : "0")
           << "</tr>\n";
     }
-    out << "</table>\n<table><tr><th>group</th><th>glare gain</th><th>participants</th><th>mean PSE</th>"
-           "<th>95% interval</th></tr>\n";
-    for (const PsePoint& p : report.pse.points) {
-      out << "<tr>" << cell(p.group) << cell(general(p.glare_gain)) << cell(std::to_string(p.participants))
-          << cell(general(p.mean_pse_fraction))
-          << cell(p.interval ? general(p.interval->low) + " to " + general(p.interval->high) : "-") << "</tr>\n";
-    }
-    out << "</table>\n";
-    html_figures(out, report, "pse");
   }
+  out << "</table>\n";
+  html_list(out, report.forced_choice.notes);
+  out << paired_scales_html(report.paired_scales);
+  html_figures(out, report, "forced_choice");
+}
 
-  if (!report.adjustments.empty()) {
-    const AdjustmentAnalysis& a = report.adjustments;
-    out << "<h2>Double adjustment</h2>\n<p>Perceived luminance (mean of the adjusted spots), mean and standard error over "
-           "participants (Ritschel et al. 2009, Fig. 12 right).</p>\n";
-    out << "<table><tr><th>condition</th><th>target</th><th>mean</th><th>SE</th><th>participants</th></tr>\n";
-    for (const AdjustmentCell& c : a.cells) {
-      out << "<tr>" << cell(c.condition) << cell(c.target) << cell(general(c.perceived.mean))
-          << cell(c.perceived.standard_error ? general(*c.perceived.standard_error) : "- (one participant)")
-          << cell(std::to_string(c.perceived.n)) << "</tr>\n";
-    }
-    out << "</table>\n<ul>\n";
-    for (const AdjustmentAnova& anova : a.anovas) {
-      out << "<li>Repeated-measures ANOVA at target " << html_escape(anova.target) << ": "
-          << html_escape(describe_anova(anova.anova)) << "</li>\n";
-    }
-    for (const PairedComparison& p : a.paired) {
-      out << "<li>Paired t-test at target " << html_escape(p.target) << ", " << html_escape(p.condition_a) << " vs "
-          << html_escape(p.condition_b) << ": " << html_escape(describe(p.t_test, "t")) << "</li>\n";
-    }
-    out << "</ul>\n";
-    html_list(out, a.notes);
-    html_figures(out, report, "adjustment");
+// Per track: reversal threshold, QUEST estimate and the psychometric fits.
+void html_staircases(std::ostringstream& out, const AnalysisReport& report) {
+  out << "<h2>Staircases and QUEST</h2>\n<p>Threshold as the mean intensity at the last " << report.options.last_reversals
+      << " reversals; maximum-likelihood fits psi = gamma + (1 - gamma - lambda) F with lambda in [0, 0.06] and "
+      << report.options.bootstrap_samples << " parametric bootstrap samples for the 95% intervals (Wichmann &amp; Hill 2001).</p>\n";
+  out << "<table><tr><th>participant</th><th>staircase</th><th>procedure</th><th>trials</th><th>reversals</th>"
+         "<th>threshold (reversals)</th><th>QUEST estimate</th><th>fits</th></tr>\n";
+  for (const StaircaseResult& s : report.staircases) {
+    std::string threshold = s.reversal_threshold ? general(*s.reversal_threshold) + " (last " +
+                                                       std::to_string(s.reversals_used) + ")"
+                                                 : "-";
+    if (!s.threshold_note.empty()) threshold += "; " + s.threshold_note;
+    std::string fits;
+    for (const PsychometricFit& fit : s.fits) fits += fit_sentence(fit) + "\n";
+    if (!s.guess_note.empty()) fits += s.guess_note;
+    out << "<tr>" << cell(s.participant_label) << cell(s.name) << cell(s.procedure) << cell(std::to_string(s.track.size()))
+        << cell(std::to_string(s.reversals)) << cell(threshold)
+        << cell(s.quest_estimate ? general(*s.quest_estimate) : "-") << "<td style=\"white-space:pre-line\">"
+        << html_escape(fits) << "</td></tr>\n";
   }
+  out << "</table>\n";
+  html_figures(out, report, "staircase");
+}
 
-  if (!report.ratings.empty()) {
-    const RatingAnalysis& ratings = report.ratings;
-    out << "<h2>Ratings</h2>\n<p>Answers per point of the scale, mean and median, per category (the question of the "
-           "trial) and condition (Luidolt 2020, Sec. 7.2.1, Figs. 7.1-7.7). Per category, the conditions are compared on "
-           "paired ratings (same participant, same category; a participant's repeated ratings of a condition averaged): "
-           "two conditions by the Wilcoxon signed-rank test (zero differences discarded, tied differences midranked; "
-           "exact p without zeros or ties and at most 50 pairs, else the normal approximation with the tie-corrected "
-           "variance and no continuity correction), three or more by the Friedman test (midranks within each "
-           "participant, tie-corrected) with Kendall's W = chi2 / (n (k - 1)).</p>\n";
-    out << "<table><tr><th>category</th><th>condition</th><th>answers</th><th>distribution</th><th>mean</th>"
-           "<th>median</th></tr>\n";
-    for (const RatingDistribution& r : ratings.cells) {
-      out << "<tr>" << cell(r.category.empty() ? "-" : r.category) << cell(r.condition) << cell(std::to_string(r.answers))
-          << cell(distribution_text(r)) << cell(r.mean ? general(*r.mean) : "- (not numeric)")
-          << cell(r.median ? general(*r.median) : "-") << "</tr>\n";
-    }
-    out << "</table>\n";
-    if (!ratings.comparisons.empty()) {
-      out << "<ul>\n";
-      for (const RatingComparison& c : ratings.comparisons) {
-        out << "<li>" << html_escape(comparison_sentence(c));
-        if (!c.post_hoc.empty()) {
-          out << "; pairs (Holm-adjusted):<ul>\n";
-          for (const RatingPairTest& pair : c.post_hoc) out << "<li>" << html_escape(post_hoc_sentence(pair)) << "</li>\n";
-          out << "</ul>";
-        }
-        out << "</li>\n";
-      }
-      out << "</ul>\n";
-    }
-    html_list(out, ratings.notes);
-    out << "<p>Every category pooled:</p>\n<table><tr><th>condition</th><th>answers</th><th>distribution</th><th>mean</th>"
-           "<th>median</th></tr>\n";
-    for (const RatingDistribution& r : ratings.conditions) {
-      out << "<tr>" << cell(r.condition) << cell(std::to_string(r.answers)) << cell(distribution_text(r))
-          << cell(r.mean ? general(*r.mean) : "- (not numeric)") << cell(r.median ? general(*r.median) : "-") << "</tr>\n";
-    }
-    out << "</table>\n";
-    html_figures(out, report, "rating");
+// Per track and per group x glare strength.
+void html_pse(std::ostringstream& out, const AnalysisReport& report) {
+  out << "<h2>Points of subjective equality</h2>\n<p>PSE: the comparison luminance (fraction of the display's peak) "
+         "at which a maximum-likelihood cumulative normal fitted to P(comparison brighter) over the answers naming a "
+         "side crosses 1/2 (no guess or lapse rate; 'neither' answers left out), with its 95% parametric bootstrap "
+         "interval (" << report.options.bootstrap_samples << " samples); beside it the mean at the last "
+      << report.options.last_reversals << " reversals, which stands in for the PSE when the fit is not identifiable "
+         "(a short track whose answers separate perfectly). Per group and glare strength: the mean over participants (one "
+         "participant: the bootstrap interval; several: mean &plusmn; t SE).</p>\n";
+  out << "<table><tr><th>participant</th><th>track</th><th>group</th><th>glare gain</th><th>reference</th><th>trials</th>"
+         "<th>neither</th><th>PSE</th><th>95% interval</th><th>reversal mean</th></tr>\n";
+  for (const PseTrack& t : report.pse.tracks) {
+    out << "<tr>" << cell(t.participant_label) << cell(t.name) << cell(t.group) << cell(general(t.glare_gain))
+        << cell(general(t.reference_fraction)) << cell(std::to_string(t.trials)) << cell(std::to_string(t.neither))
+        << cell(t.pse_fraction ? general(*t.pse_fraction) + (t.note.empty() ? "" : "; " + t.note) : t.note)
+        << cell(t.pse_interval ? general(t.pse_interval->low) + " to " + general(t.pse_interval->high) : "-")
+        << cell(t.reversal_mean_fraction ? general(*t.reversal_mean_fraction) + " (last " +
+                                               std::to_string(t.reversals_used) + ")"
+                                         : "-")
+        << "</tr>\n";
   }
+  out << "</table>\n<table><tr><th>group</th><th>glare gain</th><th>participants</th><th>mean PSE</th>"
+         "<th>95% interval</th></tr>\n";
+  for (const PsePoint& p : report.pse.points) {
+    out << "<tr>" << cell(p.group) << cell(general(p.glare_gain)) << cell(std::to_string(p.participants))
+        << cell(general(p.mean_pse_fraction))
+        << cell(p.interval ? general(p.interval->low) + " to " + general(p.interval->high) : "-") << "</tr>\n";
+  }
+  out << "</table>\n";
+  html_figures(out, report, "pse");
+}
 
+// Perceived luminance per condition and target, the ANOVAs and paired t-tests.
+void html_adjustments(std::ostringstream& out, const AnalysisReport& report) {
+  const AdjustmentAnalysis& a = report.adjustments;
+  out << "<h2>Double adjustment</h2>\n<p>Perceived luminance (mean of the adjusted spots), mean and standard error over "
+         "participants (Ritschel et al. 2009, Fig. 12 right).</p>\n";
+  out << "<table><tr><th>condition</th><th>target</th><th>mean</th><th>SE</th><th>participants</th></tr>\n";
+  for (const AdjustmentCell& c : a.cells) {
+    out << "<tr>" << cell(c.condition) << cell(c.target) << cell(general(c.perceived.mean))
+        << cell(c.perceived.standard_error ? general(*c.perceived.standard_error) : "- (one participant)")
+        << cell(std::to_string(c.perceived.n)) << "</tr>\n";
+  }
+  out << "</table>\n<ul>\n";
+  for (const AdjustmentAnova& anova : a.anovas) {
+    out << "<li>Repeated-measures ANOVA at target " << html_escape(anova.target) << ": "
+        << html_escape(describe_anova(anova.anova)) << "</li>\n";
+  }
+  for (const PairedComparison& p : a.paired) {
+    out << "<li>Paired t-test at target " << html_escape(p.target) << ", " << html_escape(p.condition_a) << " vs "
+        << html_escape(p.condition_b) << ": " << html_escape(describe(p.t_test, "t")) << "</li>\n";
+  }
+  out << "</ul>\n";
+  html_list(out, a.notes);
+  html_figures(out, report, "adjustment");
+}
+
+// Frame timing per session and the response times.
+void html_timing(std::ostringstream& out, const AnalysisReport& report) {
   out << "<h2>Timing quality</h2>\n<table><tr><th>session</th><th>status</th><th>clock</th><th>trials</th><th>frames</th>"
          "<th>dropped</th><th>onset jitter SD (ms)</th><th>max |onset error| (ms)</th><th>frame interval (ms)</th></tr>\n";
   for (const SessionTiming& t : report.timing.sessions) {
@@ -373,7 +269,10 @@ std::string render_html(const AnalysisReport& report) {
         << " answered trials.</p>\n";
   }
   html_figures(out, report, "timing");
+}
 
+// Samples, blinks and gaze-to-flip latency per session.
+void html_tracker(std::ostringstream& out, const AnalysisReport& report) {
   out << "<h2>Tracker quality</h2>\n";
   if (report.tracker.sessions.empty()) {
     out << "<p>No tracker samples in these sessions.</p>\n";
@@ -391,6 +290,44 @@ std::string render_html(const AnalysisReport& report) {
     out << "</table>\n";
     html_figures(out, report, "tracker");
   }
+}
+
+}  // namespace
+
+std::string render_html(const AnalysisReport& report) {
+  std::ostringstream out;
+  html_head(out, report);
+  html_sessions(out, report);
+
+  if (!report.forced_choice.empty()) html_forced_choice(out, report);
+
+  if (!report.graded_choice.empty()) {
+    out << graded_choice_html(report.graded_choice, report.options.bootstrap_samples);
+    html_figures(out, report, "graded_choice");
+  }
+
+  if (!report.staircases.empty()) html_staircases(out, report);
+
+  if (!report.quest_plus.empty()) {
+    out << "<h2>QUEST+ and Psi posteriors</h2>\n<p>The posterior over each track's parameter grid after its last "
+           "answered trial (Watson 2017), rebuilt by replaying the stored trials through the stored design: per "
+           "parameter its value at the joint posterior mode, the marginal mean and SD; quest_plus_posteriors.csv holds "
+           "every marginal.</p>\n";
+    out << quest_plus_posteriors_html(report.quest_plus);
+    html_figures(out, report, "quest_plus");
+  }
+
+  if (!report.pse.tracks.empty()) html_pse(out, report);
+
+  if (!report.adjustments.empty()) html_adjustments(out, report);
+
+  if (!report.ratings.empty()) {
+    out << ratings_html(report.ratings);
+    html_figures(out, report, "rating");
+  }
+
+  html_timing(out, report);
+  html_tracker(out, report);
   out << "</body></html>\n";
   return out.str();
 }
@@ -433,17 +370,7 @@ std::string render_terminal_summary(const AnalysisReport& report) {
   for (const AdjustmentAnova& anova : report.adjustments.anovas) {
     out << "  adjustment at target " << anova.target << ": " << describe_anova(anova.anova) << "\n";
   }
-  for (const RatingDistribution& r : report.ratings.conditions) {
-    out << "  rating " << r.condition << ": " << r.answers << " answers";
-    if (r.mean) out << ", mean " << general(*r.mean) << ", median " << general(*r.median);
-    out << "\n";
-  }
-  for (const RatingComparison& c : report.ratings.comparisons) {
-    out << "  rating test " << comparison_sentence(c) << "\n";
-    for (const RatingPairTest& pair : c.post_hoc)
-      out << "  rating post hoc " << (c.category.empty() ? std::string("all trials") : c.category) << ", "
-          << post_hoc_sentence(pair) << "\n";
-  }
+  out << ratings_terminal(report.ratings);
   long frames = 0;
   long dropped = 0;
   std::set<std::string> clocks;
@@ -463,81 +390,6 @@ std::string render_terminal_summary(const AnalysisReport& report) {
   out << "\n";
   return out.str();
 }
-
-namespace {
-
-// ratings.csv: one row per category x condition: counts per answer value (`answers_<value>`,
-// characters outside [A-Za-z0-9_] as '_'), mean and median.
-std::string ratings_csv(const RatingAnalysis& ratings) {
-  std::string text = "category,condition,answers,mean,median";
-  for (const std::string& value : ratings.scale) {
-    std::string column = "answers_" + value;
-    for (char& c : column)
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) c = '_';
-    text += "," + csv_field(column);
-  }
-  text += "\r\n";
-  for (const RatingDistribution& r : ratings.cells) {
-    text += csv_field(r.category) + "," + csv_field(r.condition) + "," + std::to_string(r.answers) + "," +
-            (r.mean ? csv_number(*r.mean) : "") + "," + (r.median ? csv_number(*r.median) : "");
-    for (const auto& entry : r.categories) text += "," + std::to_string(entry.second);
-    text += "\r\n";
-  }
-  return text;
-}
-
-// rating_tests.csv: one row per category: the test run, on how many participants, its numbers
-// (empty where they do not apply) or why it was not computed.
-std::string rating_tests_csv(const RatingAnalysis& ratings) {
-  std::string text =
-      "category,conditions,test,participants,zero_differences,statistic,df,z,p_value,kendall_w,method,not_computed\r\n";
-  for (const RatingComparison& c : ratings.comparisons) {
-    std::string row = csv_field(c.category) + "," + csv_field(join(c.conditions, ";")) + ",";
-    if (c.wilcoxon) {
-      const WilcoxonSignedRank& w = *c.wilcoxon;
-      row += "wilcoxon_signed_rank," + std::to_string(w.pairs) + "," + std::to_string(w.zero_differences) + ",";
-      if (w.ok()) {
-        row += csv_number(w.statistic) + ",," + (w.exact ? "" : csv_number(w.z)) + "," + csv_number(w.p_value) + ",," +
-               (w.exact ? "exact" : "normal") + ",";
-      } else {
-        row += ",,,,,," + csv_field(w.unavailable);
-      }
-    } else if (c.friedman) {
-      const FriedmanTest& f = *c.friedman;
-      row += "friedman," + std::to_string(f.subjects) + ",,";
-      if (f.ok()) {
-        row += csv_number(f.chi_square) + "," + csv_number(f.df) + ",," + csv_number(f.p_value) + "," +
-               csv_number(f.kendall_w) + ",chi_square,";
-      } else {
-        row += ",,,,,," + csv_field(f.unavailable);
-      }
-    } else {
-      row += "," + std::to_string(c.participants.size()) + ",,,,,,,," + csv_field(c.unavailable);
-    }
-    text += row + "\r\n";
-  }
-  return text;
-}
-
-// rating_post_hoc.csv: a row per pair of conditions of each category whose Friedman test was
-// significant (written only when there is one).
-std::string rating_post_hoc_csv(const RatingAnalysis& ratings) {
-  std::string text = "category,first,second,participants,zero_differences,statistic,z,p_value,p_holm,method,not_computed\r\n";
-  for (const RatingComparison& c : ratings.comparisons)
-    for (const RatingPairTest& pair : c.post_hoc) {
-      const WilcoxonSignedRank& w = pair.wilcoxon;
-      text += csv_field(c.category) + "," + csv_field(pair.first) + "," + csv_field(pair.second) + "," +
-              std::to_string(w.pairs) + "," + std::to_string(w.zero_differences) + ",";
-      if (w.ok())
-        text += csv_number(w.statistic) + "," + (w.exact ? "" : csv_number(w.z)) + "," + csv_number(w.p_value) + "," +
-                csv_number(pair.p_holm) + "," + (w.exact ? "exact" : "normal") + ",\r\n";
-      else
-        text += ",,,,," + csv_field(w.unavailable) + "\r\n";
-    }
-  return text;
-}
-
-}  // namespace
 
 std::vector<std::string> write_report(const AnalysisReport& report, const std::string& directory) {
   std::vector<std::string> written = write_tidy_csv(report.data, directory);

@@ -94,15 +94,8 @@ RowLists list_per_row(const std::vector<Bounds>& bounds, int rows, const RowsOf&
   return lists;
 }
 
-}  // namespace
-
-ApertureGrid rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOptions& options) {
-  ApertureGrid grid;
-  rasterise_aperture(geometry, options, grid);
-  return grid;
-}
-
-void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOptions& options, ApertureGrid& grid) {
+// The options' and polygons' preconditions (std::invalid_argument naming the one broken).
+void check_raster_input(const ApertureGeometry& geometry, const ApertureRasterOptions& options) {
   const int n = options.grid_px;
   const int s = options.supersampling;
   if (n < 2 || n % 2 != 0) throw std::invalid_argument("glare/aperture_raster: grid size must be even and >= 2");
@@ -112,7 +105,11 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
     if (polygon.vertices_mm.size() < 6 || polygon.vertices_mm.size() % 2 != 0)
       throw std::invalid_argument("glare/aperture_raster: a polygon needs at least 3 (x, y) vertices");
   }
+}
 
+// An N x N grid of zeros: allocated when the size changed, else only the rows the last call wrote
+// are cleared.
+void clear_for_rasterising(ApertureGrid& grid, int n) {
   const std::size_t count = static_cast<std::size_t>(n) * n;
   if (grid.grid_px != n || grid.transmittance.size() != count) {
     grid.transmittance.assign(count, 0.0);
@@ -124,24 +121,11 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
       std::fill(grid.transmittance.begin() + static_cast<std::ptrdiff_t>(first) * n,
                 grid.transmittance.begin() + static_cast<std::ptrdiff_t>(last + 1) * n, 0.0);
   }
-  grid.grid_px = n;
-  grid.aperture_width_mm = options.aperture_width_mm;
-  const double dx = grid.pixel_mm();
-  const double sub = dx / s;
-  const int sub_n = n * s;
-  const double half = n / 2;
-  const double pupil_r2 = 0.25 * geometry.pupil_diameter_mm * geometry.pupil_diameter_mm;
-  // Sub-sample column a_global = i s + a lies at x = (a_global + 1/2) sub - (N/2 + 1/2) dx.
-  auto sub_x = [&](int column) { return (column + 0.5) * sub - (half + 0.5) * dx; };
-  auto sub_y = [&](int row) { return (half + 0.5) * dx - (row + 0.5) * sub; };
-  // Inverse of sub_x for the column range of a bound (widened by one, the exact test decides).
-  auto column_range = [&](double x_min, double x_max) {
-    const int first = std::max(0, static_cast<int>(std::floor((x_min + (half + 0.5) * dx) / sub - 0.5)) - 1);
-    const int last = std::min(sub_n - 1, static_cast<int>(std::ceil((x_max + (half + 0.5) * dx) / sub - 0.5)) + 1);
-    return std::pair<int, int>{first, last};
-  };
+}
 
-  std::vector<Bounds> disc_bounds, line_bounds, polygon_bounds;
+// The bounds of each disc, line (widened by half its width) and polygon, in the geometry's order.
+void primitive_bounds(const ApertureGeometry& geometry, std::vector<Bounds>& disc_bounds,
+                      std::vector<Bounds>& line_bounds, std::vector<Bounds>& polygon_bounds) {
   for (const auto& d : geometry.discs)
     disc_bounds.push_back({d.centre_x_mm - d.radius_mm, d.centre_x_mm + d.radius_mm, d.centre_y_mm - d.radius_mm,
                            d.centre_y_mm + d.radius_mm});
@@ -160,6 +144,40 @@ void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOp
     }
     polygon_bounds.push_back(b);
   }
+}
+
+}  // namespace
+
+ApertureGrid rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOptions& options) {
+  ApertureGrid grid;
+  rasterise_aperture(geometry, options, grid);
+  return grid;
+}
+
+void rasterise_aperture(const ApertureGeometry& geometry, const ApertureRasterOptions& options, ApertureGrid& grid) {
+  check_raster_input(geometry, options);
+  const int n = options.grid_px;
+  const int s = options.supersampling;
+  clear_for_rasterising(grid, n);
+  grid.grid_px = n;
+  grid.aperture_width_mm = options.aperture_width_mm;
+  const double dx = grid.pixel_mm();
+  const double sub = dx / s;
+  const int sub_n = n * s;
+  const double half = n / 2;
+  const double pupil_r2 = 0.25 * geometry.pupil_diameter_mm * geometry.pupil_diameter_mm;
+  // Sub-sample column a_global = i s + a lies at x = (a_global + 1/2) sub - (N/2 + 1/2) dx.
+  auto sub_x = [&](int column) { return (column + 0.5) * sub - (half + 0.5) * dx; };
+  auto sub_y = [&](int row) { return (half + 0.5) * dx - (row + 0.5) * sub; };
+  // Inverse of sub_x for the column range of a bound (widened by one, the exact test decides).
+  auto column_range = [&](double x_min, double x_max) {
+    const int first = std::max(0, static_cast<int>(std::floor((x_min + (half + 0.5) * dx) / sub - 0.5)) - 1);
+    const int last = std::min(sub_n - 1, static_cast<int>(std::ceil((x_max + (half + 0.5) * dx) / sub - 0.5)) + 1);
+    return std::pair<int, int>{first, last};
+  };
+
+  std::vector<Bounds> disc_bounds, line_bounds, polygon_bounds;
+  primitive_bounds(geometry, disc_bounds, line_bounds, polygon_bounds);
 
   // Only the sub-samples inside the pupil's bounding square can be non-zero: everywhere else the
   // pupil test gives 0 and every primitive multiplies that 0 by a transmittance in [0, 1], so those

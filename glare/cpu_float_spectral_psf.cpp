@@ -242,104 +242,6 @@ void add_interpolated_column(const float* __restrict h0, const float* __restrict
 
 }  // namespace
 
-CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& settings) : settings_(settings) {
-  const int n = settings.grid_px;
-  if (n < 2 || n % 2 != 0) throw std::invalid_argument("glare/cpu_float_spectral_psf: grid size must be even and >= 2");
-  if (!(settings.reference_wavelength_nm > 0.0))
-    throw std::invalid_argument("glare/cpu_float_spectral_psf: reference wavelength must be > 0");
-  check_psf_fits_display(n, settings.psf_degrees_per_pixel, settings.display_degrees_per_pixel);
-  display_px_ = display_psf_size_px(n, settings.psf_degrees_per_pixel, settings.display_degrees_per_pixel);
-  const int m_px = display_px_;
-  box_ = psf_overlap_weights(n, settings.psf_degrees_per_pixel, m_px, settings.display_degrees_per_pixel);
-  const auto& box = box_;
-  const double centre = n / 2;
-  std::vector<double> dense(static_cast<std::size_t>(n), 0.0);
-  for (const SpectralSample& sample : spectral_samples(settings.wavelength_samples)) {
-    Wavelength wavelength;
-    // spectral_psf.cpp: x_i = (x - c) lambda_ref / lambda + c, value times the Jacobian scale^2.
-    const double scale = settings.reference_wavelength_nm / sample.wavelength_nm;
-    const double jacobian = scale * scale;
-    wavelength.rgb_weight[0] = jacobian * sample.weight.r;
-    wavelength.rgb_weight[1] = jacobian * sample.weight.g;
-    wavelength.rgb_weight[2] = jacobian * sample.weight.b;
-    for (int c = 0; c < 3; ++c) wavelength.rgb_weight_float[c] = static_cast<float>(wavelength.rgb_weight[c]);
-    for (int x = 0; x < n; ++x) {
-      const double position = (x - centre) * scale + centre;
-      const double floor_position = std::floor(position);
-      const int x0 = static_cast<int>(floor_position);
-      const double fraction = position - floor_position;
-      const bool inside0 = x0 >= 0 && x0 < n, inside1 = x0 + 1 >= 0 && x0 + 1 < n;
-      wavelength.index0.push_back(std::clamp(x0, 0, n - 1));
-      wavelength.index1.push_back(std::clamp(x0 + 1, 0, n - 1));
-      wavelength.weight0.push_back(inside0 ? static_cast<float>(1.0 - fraction) : 0.0f);
-      wavelength.weight1.push_back(inside1 ? static_cast<float>(fraction) : 0.0f);
-    }
-    // interpolate_along_row's vector form: eight consecutive outputs read at most 16 consecutive
-    // source values: they span at most 7 scale + 2, within 15 while scale <= 13/7 (lambda_ref / lambda
-    // is at most about 1.5).
-    wavelength.compact = true;
-    for (int x = 0; x + 7 < n; ++x)
-      if (wavelength.index1[static_cast<std::size_t>(x + 7)] - wavelength.index0[static_cast<std::size_t>(x)] > 15)
-        wavelength.compact = false;
-    wavelength.first_column = n;
-    for (int m = 0; m < m_px; ++m) {
-      // Row m of W = R B: sum over the PSF pixels x in display pixel m of their bilinear weights.
-      int first = n, last = -1;
-      for (const PsfOverlap& overlap : box[static_cast<std::size_t>(m)]) {
-        const double position = (overlap.input - centre) * scale + centre;
-        const double floor_position = std::floor(position);
-        const int x0 = static_cast<int>(floor_position);
-        const double fraction = position - floor_position;
-        // Out-of-grid neighbours read 0, as spectral_psf.cpp's bilinear does.
-        if (x0 >= 0 && x0 < n) {
-          dense[static_cast<std::size_t>(x0)] += overlap.fraction * (1.0 - fraction);
-          first = std::min(first, x0);
-          last = std::max(last, x0);
-        }
-        if (x0 + 1 >= 0 && x0 + 1 < n) {
-          dense[static_cast<std::size_t>(x0 + 1)] += overlap.fraction * fraction;
-          first = std::min(first, x0 + 1);
-          last = std::max(last, x0 + 1);
-        }
-      }
-      Band band;
-      band.offset = static_cast<int>(weights_.size());
-      if (last >= first) {
-        band.first = first;
-        band.count = last - first + 1;
-        for (int k = first; k <= last; ++k) {
-          weights_.push_back(static_cast<float>(dense[static_cast<std::size_t>(k)]));
-          dense[static_cast<std::size_t>(k)] = 0.0;
-        }
-        wavelength.first_column = std::min(wavelength.first_column, first);
-        wavelength.last_column = std::max(wavelength.last_column, last);
-      }
-      wavelength.bands.push_back(band);
-    }
-    wavelengths_.push_back(std::move(wavelength));
-  }
-  for (std::size_t w = 0; w < wavelengths_.size(); ++w)
-    if (wavelengths_[w].last_column >= wavelengths_[w].first_column) active_.push_back(static_cast<int>(w));
-  sum_weights_.assign(6 * active_.size(), 0.0);
-  for (std::size_t s = 0; s < active_.size(); ++s)
-    for (int c = 0; c < 3; ++c) {
-      const double weight = wavelengths_[static_cast<std::size_t>(active_[s])].rgb_weight[c];
-      sum_weights_[(2 * c) * active_.size() + s] = weight;
-      sum_weights_[(2 * c + 1) * active_.size() + s] = std::abs(weight);
-    }
-  scratch_.resize(static_cast<std::size_t>(std::max(1, settings.threads)));
-  for (TileScratch& scratch : scratch_) {
-    scratch.row.assign(static_cast<std::size_t>(kTile) * n, 0.0f);
-    scratch.tile_t.assign(static_cast<std::size_t>(kTile) * n, 0.0f);
-    scratch.tile_d.assign(active_.size() * m_px * kTile, 0.0f);
-  }
-  totals_.assign(6 * static_cast<std::size_t>(m_px) * m_px, 0.0);
-  straddles_.assign(static_cast<std::size_t>(m_px) * m_px, 0);
-  negative_.assign(straddles_.size(), 0);
-  along_y_any_.assign(straddles_.size(), 0);
-  along_y_all_.assign(straddles_.size(), 0);
-}
-
 void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<BlockSegment>& segments, int width_px,
                                          const std::vector<PsfOverlap>& ys, std::vector<float>& rgb) const {
   const int n = settings_.grid_px;
@@ -386,13 +288,8 @@ void CpuFloatSpectralPsf::spectral_block(const float* power, const std::vector<B
   }
 }
 
-Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
-  if (!(pupil_diameter_mm > 0.0)) throw std::invalid_argument("glare/cpu_float_spectral_psf: pupil diameter must be > 0 mm");
-  // `power` is column-major (CpuFloatPsf's layout): its rows are the PSF's columns. Every step below
-  // treats the two axes alike (one W and one box for both, the screen and the core disk symmetric),
-  // so it is written as for a row-major PSF: "rows", "y" and "display rows" are the input's rows
-  // (PSF columns), and `total` comes out holding the row-major display PSF, which the last step
-  // copies as it is.
+// The tiles' pass into totals_ (compute()).
+void CpuFloatSpectralPsf::add_spectral_tiles(const float* power) {
   const int n = settings_.grid_px, m_px = display_px_;
   const std::size_t plane = static_cast<std::size_t>(m_px) * m_px;
   // kTile display rows at a time, the tiles shared among the threads; per tile and wavelength,
@@ -426,7 +323,13 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
       add_wavelengths(scratch.tile_d.data(), active_count, m_px, m0, tile_rows, plane, sum_weights_.data(), total.data());
     }
   });
+}
 
+// The screen: straddles_ set on the display pixels whose clamp is done on PSF pixels (compute()).
+void CpuFloatSpectralPsf::screen_straddles(double pupil_diameter_mm) {
+  const int m_px = display_px_;
+  const std::size_t plane = static_cast<std::size_t>(m_px) * m_px;
+  const std::vector<double>& total = totals_;
   // The clamp. spectral_psf.cpp clamps negative R, G, B on PSF pixels, before the box resampling;
   // clamping the box means instead differs wherever a display pixel's PSF pixels do not all have
   // the same sign (1e-5 of the frame on the eye model's PSFs). Where a channel's sign can change
@@ -497,6 +400,13 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
   });
   refined_pixels_ = 0;
   for (const unsigned char straddles : straddles_) refined_pixels_ += straddles;
+}
+
+// The refined display pixels of totals_ summed from their PSF pixels, clamped (compute()).
+void CpuFloatSpectralPsf::refine_straddles(const float* power) {
+  const int n = settings_.grid_px, m_px = display_px_;
+  const std::size_t plane = static_cast<std::size_t>(m_px) * m_px;
+  std::vector<double>& total = totals_;
   // `total` is transposed: index x * M + y. Display rows on the threads; each display row's runs of
   // refined display pixels have their PSF pixels computed in one block (each run's PSF columns, side
   // by side, each once, in rows the loops over them vectorise along; per wavelength the row's
@@ -545,7 +455,22 @@ Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
         }
     }
   });
+}
 
+Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
+  if (!(pupil_diameter_mm > 0.0)) throw std::invalid_argument("glare/cpu_float_spectral_psf: pupil diameter must be > 0 mm");
+  // `power` is column-major (CpuFloatPsf's layout): its rows are the PSF's columns. Every step below
+  // treats the two axes alike (one W and one box for both, the screen and the core disk symmetric),
+  // so it is written as for a row-major PSF: "rows", "y" and "display rows" are the input's rows
+  // (PSF columns), and `total` comes out holding the row-major display PSF, which the last step
+  // copies as it is.
+  add_spectral_tiles(power);
+  screen_straddles(pupil_diameter_mm);
+  refine_straddles(power);
+
+  const int m_px = display_px_;
+  const std::size_t plane = static_cast<std::size_t>(m_px) * m_px;
+  const std::vector<double>& total = totals_;
   Psf psf;
   psf.size_px = m_px;
   psf.channels = 3;

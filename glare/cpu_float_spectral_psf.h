@@ -76,6 +76,11 @@ class CpuFloatSpectralPsf {
   // + segment.offset + i], each channel's rows contiguous so that the loops along them vectorise.
   void spectral_block(const float* power, const std::vector<BlockSegment>& segments, int width_px,
                       const std::vector<PsfOverlap>& ys, std::vector<float>& rgb) const;
+  // compute()'s steps: W_i F W_i^T of every wavelength summed into totals_, the screen that marks
+  // straddles_, and the marked display pixels summed again from their PSF pixels, clamped.
+  void add_spectral_tiles(const float* power);
+  void screen_straddles(double pupil_diameter_mm);
+  void refine_straddles(const float* power);
   // Rows of W_i F made at a time, then transposed so that the pass along them (W_i F W_i^T) takes a
   // vector of kTile rows a step (compute()).
   static constexpr int kTile = 8;

@@ -2,7 +2,6 @@
 // Every error names file:line:column and the dotted key so the experimenter can jump to it.
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +15,7 @@
 #include "core/number_text.h"
 #include "protocols/adjustment_procedure.h"
 #include "protocols/block_config.h"
+#include "protocols/condition_rows.h"
 #include "protocols/csv_table.h"
 #include "protocols/forced_choice.h"
 #include "protocols/generated_scene_config.h"
@@ -368,82 +368,6 @@ ObserverEye read_observer_section(TableReader& top, Experiment& experiment) {
   return eye;
 }
 
-// A condition row together with where each of its values was written, for error messages.
-struct LocatedRow {
-  ConditionRow row;
-  std::vector<SourceLocation> value_where;  // parallel to row.fields
-  std::vector<SourceLocation> key_where;    // the CSV header cell or the TOML key
-};
-
-std::vector<LocatedRow> rows_from_csv(const CsvTable& table) {
-  std::vector<LocatedRow> rows;
-  for (const std::vector<CsvCell>& cells : table.rows) {
-    LocatedRow located;
-    located.row.where = SourceLocation{table.file, cells.front().where.line, 1};
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-      located.row.fields.emplace_back(table.header[c].text, cells[c].text);
-      located.value_where.push_back(cells[c].where);
-      located.key_where.push_back(table.header[c].where);
-    }
-    rows.push_back(std::move(located));
-  }
-  return rows;
-}
-
-std::vector<LocatedRow> rows_from_toml(const toml::array& array, const std::string& key, const std::string& file) {
-  std::vector<LocatedRow> rows;
-  for (std::size_t i = 0; i < array.size(); ++i) {
-    const toml::node& element = *array.get(i);
-    const std::string row_key = key + "[" + std::to_string(i) + "]";
-    if (!element.is_table()) {
-      throw ConfigError(to_location(element.source(), file), row_key,
-                        "expected a table such as { name = \"...\", scene_a = \"...\", scene_b = \"...\" }, found " +
-                            describe_toml_type(element));
-    }
-    const toml::table& table = *element.as_table();
-    // toml::table keeps keys sorted; the columns' meaning does not depend on order, but the
-    // condition_json written with every trial should read in the order the experimenter wrote.
-    std::vector<const toml::key*> keys;
-    for (const auto& entry : table) keys.push_back(&entry.first);
-    std::sort(keys.begin(), keys.end(),
-              [](const toml::key* a, const toml::key* b) { return a->source().begin < b->source().begin; });
-    LocatedRow located;
-    located.row.where = to_location(table.source(), file);
-    for (const toml::key* column : keys) {
-      const toml::node& value = *table.get(column->str());
-      const std::string cell_key = row_key + "." + std::string(column->str());
-      std::string text;
-      // Condition values are text (as in a CSV table); numbers and booleans are accepted and kept
-      // in their TOML spelling so `contrast = 0.5` needs no quotes.
-      if (value.is_string()) {
-        text = value.as_string()->get();
-      } else if (value.is_integer()) {
-        text = std::to_string(value.as_integer()->get());
-      } else if (value.is_floating_point()) {
-        // Shortest text that reads back as the same double, as the experimenter likely wrote it.
-        char buffer[64];
-        const auto written = std::to_chars(buffer, buffer + sizeof buffer, value.as_floating_point()->get());
-        text.assign(buffer, written.ptr);
-      } else if (value.is_boolean()) {
-        text = value.as_boolean()->get() ? "true" : "false";
-      } else {
-        throw ConfigError(to_location(value.source(), file), cell_key,
-                          "expected a string, number or boolean, found " + describe_toml_type(value));
-      }
-      located.row.fields.emplace_back(std::string(column->str()), std::move(text));
-      located.value_where.push_back(to_location(value.source(), file));
-      located.key_where.push_back(to_location(column->source(), file));
-    }
-    rows.push_back(std::move(located));
-  }
-  return rows;
-}
-
-struct ConditionSource {
-  std::vector<LocatedRow> rows;
-  std::optional<CsvTable> csv;  // when the rows came from a CSV file
-};
-
 ConditionSource read_conditions_section(TableReader& top, const std::string& base_dir) {
   TableReader reader(require_table(top, "conditions"), "conditions", top.file());
   const toml::node* file_node = reader.node("file");
@@ -475,130 +399,6 @@ ConditionSource read_conditions_section(TableReader& top, const std::string& bas
   }
   for (std::size_t i = 0; i < rows.size(); ++i) rows[i].row.number = static_cast<int>(i + 1);
   return source;
-}
-
-// design = "all_pairs" writes the condition rows and blocks itself: a [conditions] table or
-// [[blocks]] beside it would be a second, conflicting design.
-ConditionSource generated_conditions(TableReader& top, const GeneratedDesign& generated, Experiment& experiment) {
-  for (const char* section : {"conditions", "blocks"}) {
-    if (top.node(section) != nullptr)
-      top.fail_at_key(section, section == std::string("blocks")
-                                   ? "design = \"all_pairs\" generates the blocks (one per instruction); remove "
-                                     "[[blocks]] or the design key at " + generated.where.to_string()
-                                   : "design = \"all_pairs\" generates the condition rows; remove [conditions] or "
-                                     "the design key at " + generated.where.to_string());
-  }
-  ConditionSource source;
-  for (const ConditionRow& row : generated.rows) {
-    LocatedRow located;
-    located.row = row;
-    located.value_where.assign(row.fields.size(), generated.where);
-    located.key_where.assign(row.fields.size(), generated.where);
-    source.rows.push_back(std::move(located));
-  }
-  experiment.design.blocks = generated.blocks;
-  return source;
-}
-
-// A row whose scene column names a physical object ("real:desk lamp", core/real_stimulus.h): only
-// a rating presents one (the observer looks at the object, then answers); the other procedures
-// show images side by side, scale a comparison or let the observer adjust one, none of which a
-// real object can be. The object must have a name (the instruction names it), and nothing that
-// renders an image (glare, perception stages) can apply to it.
-void check_real_stimulus(const LocatedRow& located, std::size_t field, const Experiment& experiment) {
-  const ConditionRow& row = located.row;
-  const auto& [column, scene] = row.fields[field];
-  if (experiment.procedure != "rating") {
-    const std::string procedure = experiment.procedure == "forced_choice" ? std::string("forced choice")
-                                                                           : experiment.procedure;
-    throw ConfigError(located.value_where[field], column,
-                      "condition '" + row.name() + "' shows a real stimulus ('" + scene + "'), which " + procedure +
-                          " cannot present: a real object can only be rated (procedure type = \"rating\"), since " +
-                          procedure + " shows, scales or adjusts images");
-  }
-  if (real_stimulus_object(scene).empty())
-    throw ConfigError(located.value_where[field], column,
-                      "condition '" + row.name() + "': '" + scene +
-                          "' names no object; write the object after 'real:', e.g. \"real:desk lamp\"");
-  for (std::size_t f = 0; f < row.fields.size(); ++f) {
-    const auto& [key, value] = row.fields[f];
-    const bool renders = (key == "glare" && !value.empty() && value != "control") ||
-                         (key == "perception" && !value.empty() && value != "none") ||
-                         (key == "glare_model" && !value.empty()) || (key == "glare_gain" && !value.empty());
-    if (renders)
-      throw ConfigError(located.value_where[f], key,
-                        "condition '" + row.name() + "' shows a real stimulus ('" + scene + "'): no image is rendered, "
-                            "so '" + key + " = " + value + "' cannot apply (leave it empty" +
-                            (key == "glare" ? ", or control" : key == "perception" ? ", or none" : "") + ")");
-  }
-}
-
-// Every row names an existing scene in each of `columns` (forced choice: scene_a and scene_b;
-// staircase and QUEST: reference and comparison).
-void check_scene_columns(const std::vector<LocatedRow>& rows, const Experiment& experiment,
-                         const std::optional<CsvTable>& csv, const std::vector<std::string>& columns) {
-  std::vector<std::string> scene_names;
-  for (const auto& entry : experiment.scenes) scene_names.push_back(entry.first);
-  for (const std::string& column : columns) {
-    if (csv) csv->require_column(column);
-  }
-  const std::string needs = (experiment.procedure == "forced_choice" ? std::string("forced choice")
-                                                                      : experiment.procedure) +
-                            " needs " + columns[0] + (columns.size() > 1 ? " and " + columns[1] : std::string());
-  for (const LocatedRow& located : rows) {
-    const ConditionRow& row = located.row;
-    for (const std::string& column : columns) {
-      std::size_t f = 0;
-      while (f < row.fields.size() && row.fields[f].first != column) ++f;
-      if (f == row.fields.size()) {
-        throw ConfigError(row.where, column, "condition row " + std::to_string(row.number) +
-                                                 " has no '" + column + "' (" + needs + ")");
-      }
-      const std::string& scene = row.fields[f].second;
-      if (is_real_stimulus(scene)) {
-        check_real_stimulus(located, f, experiment);
-        continue;
-      }
-      if (experiment.scenes.count(scene) == 0) {
-        throw ConfigError(located.value_where[f], column,
-                          "unknown scene '" + scene + "' (scenes in [scenes]: " + join_quoted(scene_names) + ")");
-      }
-    }
-  }
-}
-
-// Forced choice shows the scenes named in columns scene_a and scene_b of every row.
-void check_forced_choice_rows(const std::vector<LocatedRow>& rows, const Experiment& experiment,
-                              const std::optional<CsvTable>& csv) {
-  for (const LocatedRow& located : rows) {
-    const ConditionRow& row = located.row;
-    for (std::size_t f = 0; f < row.fields.size(); ++f) {
-      const std::string& column = row.fields[f].first;
-      const std::vector<std::string>& reserved = forced_choice_positions(experiment.forced_choice);
-      if (std::find(reserved.begin(), reserved.end(), column) != reserved.end()) {
-        throw ConfigError(located.key_where[f], column,
-                          "column name '" + column + "' is reserved (forced-choice trials record the scene "
-                          "shown at each position under '" + reserved[0] + "' and '" + reserved[1] + "')");
-      }
-    }
-  }
-  check_scene_columns(rows, experiment, csv, {"scene_a", "scene_b"});
-}
-
-// A rating shows the scene named in column scene of every row (an image, or a real object). Its
-// trials record the category rated and, for a real object, "stimulus": "real" beside the row's
-// columns in trials.condition: a row's own column of either name would be recorded twice.
-void check_rating_rows(const std::vector<LocatedRow>& rows, const Experiment& experiment,
-                       const std::optional<CsvTable>& csv) {
-  for (const LocatedRow& located : rows)
-    for (std::size_t f = 0; f < located.row.fields.size(); ++f) {
-      const std::string& column = located.row.fields[f].first;
-      if (column == "category" || column == "stimulus")
-        throw ConfigError(located.key_where[f], column,
-                          "column name '" + column + "' is reserved (rating trials record the category rated under "
-                          "'category' and a real stimulus under 'stimulus')");
-    }
-  check_scene_columns(rows, experiment, csv, {"scene"});
 }
 
 }  // namespace
@@ -640,11 +440,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   experiment.perception = read_perception_section(top);
   experiment.presentation = read_presentation_section(top, experiment);
 
-  if (experiment.procedure == "forced_choice") check_forced_choice_rows(conditions.rows, experiment, conditions.csv);
-  else if (experiment.procedure == "rating") check_rating_rows(conditions.rows, experiment, conditions.csv);
-  else if (experiment.procedure == "adjustment")
-    check_scene_columns(conditions.rows, experiment, conditions.csv, {"target", "comparison"});
-  else check_scene_columns(conditions.rows, experiment, conditions.csv, {"reference", "comparison"});
+  check_condition_scenes(conditions, experiment);
   for (LocatedRow& located : conditions.rows) {
     glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here
     glare_model_for(experiment.glare, located.row);  // so do an unknown 'glare_model' and a bad 'glare_gain'

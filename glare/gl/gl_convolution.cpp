@@ -147,6 +147,147 @@ struct GlConvolution::ImageSpectrum {
   bool split = false;
 };
 
+// The sizes of one call: the image, the padded grid, the PSF.
+struct GlConvolution::Grid {
+  int width = 0, height = 0;                // the image, pixels
+  int padded_width = 0, padded_height = 0;  // the FFT grid, pixels
+  int kernel_px = 0;                        // the PSF's side, K
+  int kernel_layers = 0;                    // the PSF's channels (1 or 3)
+  std::size_t layer = 0;                    // padded_width x padded_height
+};
+
+std::unique_ptr<GlConvolution::ImageSpectrum> GlConvolution::split_image(const ImageRGBA& image,
+                                                                         const GlConvolutionOptions& options) {
+  const int width = image.width_px, height = image.height_px;
+  const NonFiniteReport pixels = inspect_pixels(image);
+  if (!pixels.clean()) throw std::invalid_argument("GL convolution: the image has " + pixels.describe());
+  auto spectrum = std::make_unique<ImageSpectrum>();
+  spectrum->image = image;
+  spectrum->options = options;
+  // Split into bright (summed directly) and dim (by FFT) parts. The threshold is found here (the
+  // median); the pad pass on the GPU leaves the bright pixels out by the same comparison.
+  if (options.split_bright) {
+    std::vector<float> maxima;
+    maxima.reserve(static_cast<std::size_t>(width) * height);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) maxima.push_back(max_channel(image.pixel(x, y)));
+    std::nth_element(maxima.begin(), maxima.begin() + static_cast<std::ptrdiff_t>(maxima.size() / 2), maxima.end());
+    const double median = maxima[maxima.size() / 2];
+    spectrum->bright_threshold = options.split_dynamic_range * median;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const float* p = image.pixel(x, y);
+        if (max_channel(p) > spectrum->bright_threshold) spectrum->bright.add(x, y, p);
+      }
+    spectrum->split = spectrum->bright.count() > 0 && spectrum->bright.count() <= options.max_direct_bright_pixels;
+  }
+  return spectrum;
+}
+
+void GlConvolution::pad_image(const ImageRGBA& image, const ImageSpectrum& scene, const Grid& grid) {
+  const float pad_threshold =
+      scene.split ? float_at_or_below(scene.bright_threshold) : std::numeric_limits<float>::max();
+  write_buffer(image_.get(), image_bytes_, image.rgba.size() * sizeof(float), image.rgba.data());
+  const GLuint program = pad_image_program_.get();
+  glUseProgram(program);
+  set_grid_uniforms(program, grid.width, grid.height, grid.padded_width, grid.padded_height);
+  glUniform1f(glGetUniformLocation(program, "uBrightThreshold"), pad_threshold);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
+  glDispatchCompute(groups_of(grid.padded_width, kPadTile), groups_of(grid.padded_height, kPadTile), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  if (scene.split) {
+    const BrightPixels& bright = scene.bright;
+    write_buffer(bright_.get(), bright_bytes_, bright.positions.size() * sizeof(float), bright.positions.data());
+    write_buffer(bright_values_.get(), bright_values_bytes_, bright.values.size() * sizeof(float), bright.values.data());
+  }
+}
+
+void GlConvolution::transform_psf(const Psf& psf, const Grid& grid) {
+  // The PSF in float: the pad pass reads it, and the bright sum of any image later with this PSF.
+  const std::vector<float> psf_values(psf.values.begin(), psf.values.end());
+  write_buffer(kernel_.get(), kernel_bytes_, psf_values.size() * sizeof(float), psf_values.data());
+  const GLuint pad_kernel = pad_kernel_program_.get();
+  glUseProgram(pad_kernel);
+  glUniform1i(glGetUniformLocation(pad_kernel, "uPaddedWidth"), grid.padded_width);
+  glUniform1i(glGetUniformLocation(pad_kernel, "uPaddedHeight"), grid.padded_height);
+  glUniform1i(glGetUniformLocation(pad_kernel, "uKernelSize"), grid.kernel_px);
+  glUniform1i(glGetUniformLocation(pad_kernel, "uKernelLayers"), psf.channels);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->kernel.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, kernel_.get());
+  glDispatchCompute(groups_of(grid.padded_width, kPadTile), groups_of(grid.padded_height, kPadTile), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  ffts_->kernel.transform(FftDirection::forward);
+}
+
+void GlConvolution::multiply_spectra(const Grid& grid) {
+  const GLuint multiply = multiply_program_.get();
+  glUseProgram(multiply);
+  glUniform1ui(glGetUniformLocation(multiply, "uLayerSize"), static_cast<GLuint>(grid.layer));
+  glUniform1ui(glGetUniformLocation(multiply, "uImageLayers"), 3u);
+  glUniform1ui(glGetUniformLocation(multiply, "uKernelLayers"), static_cast<GLuint>(grid.kernel_layers));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ffts_->kernel.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ffts_->product.data());
+  glDispatchCompute(std::min((static_cast<GLuint>(3 * grid.layer) + kMultiplyGroup - 1) / kMultiplyGroup, kMaxMultiplyGroups), 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void GlConvolution::add_bright_pixels(const ImageSpectrum& scene, const Grid& grid) {
+  const BrightPixels& bright = scene.bright;
+  const int width = grid.width, height = grid.height, k = grid.kernel_px;
+  const GLuint splat = splat_program_.get();
+  glUseProgram(splat);
+  glUniform1i(glGetUniformLocation(splat, "uWidth"), width);
+  glUniform1i(glGetUniformLocation(splat, "uHeight"), height);
+  glUniform1i(glGetUniformLocation(splat, "uPaddedWidth"), grid.padded_width);
+  glUniform1i(glGetUniformLocation(splat, "uLayerSize"), static_cast<GLint>(grid.layer));
+  glUniform1i(glGetUniformLocation(splat, "uKernelSize"), k);
+  glUniform1i(glGetUniformLocation(splat, "uKernelLayers"), grid.kernel_layers);
+  glUniform1i(glGetUniformLocation(splat, "uBrightCount"), static_cast<GLint>(bright.count()));
+  // Only pixels within the PSF's reach of a bright pixel receive anything: the bright pixels'
+  // bounding box grown by the reach: bright_splat.comp's offset pixel - bright + K/2 lies in
+  // [0, K), so K/2 on the low side and K - 1 - K/2 on the high side.
+  const int x0 = std::max(0, bright.x0 - k / 2), y0 = std::max(0, bright.y0 - k / 2);
+  const int x1 = std::min(width - 1, bright.x1 + (k - 1 - k / 2));
+  const int y1 = std::min(height - 1, bright.y1 + (k - 1 - k / 2));
+  glUniform2i(glGetUniformLocation(splat, "uOrigin"), x0, y0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->product.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bright_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, bright_values_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, kernel_.get());
+  glDispatchCompute(groups_of(x1 - x0 + 1, kTile), groups_of(y1 - y0 + 1, kTile), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void GlConvolution::crop(const Grid& grid, std::size_t image_bytes) {
+  if (result_bytes_ != image_bytes) {
+    result_bytes_ = image_bytes;
+    glNamedBufferData(result_.get(), static_cast<GLsizeiptr>(result_bytes_), nullptr, GL_DYNAMIC_READ);
+  }
+  const GLuint program = crop_program_.get();
+  glUseProgram(program);
+  set_grid_uniforms(program, grid.width, grid.height, grid.padded_width, grid.padded_height);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->product.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, result_.get());
+  glDispatchCompute(groups_of(grid.width, kPadTile), groups_of(grid.height, kPadTile), 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glUseProgram(0);
+}
+
+void GlConvolution::read_gpu_stages(GlConvolutionReport& report) const {
+  std::vector<GLuint64> stamps_ns(timestamps_.size(), 0);
+  for (std::size_t s = 0; s < timestamps_.size(); ++s)
+    glGetQueryObjectui64v(timestamps_[s].get(), GL_QUERY_RESULT, &stamps_ns[s]);
+  const auto seconds_between = [](GLuint64 from_ns, GLuint64 to_ns) {
+    return to_ns > from_ns ? 1e-9 * static_cast<double>(to_ns - from_ns) : 0.0;
+  };
+  report.gpu_s = seconds_between(stamps_ns.front(), stamps_ns.back());
+  for (std::size_t s = 0; s + 1 < stamps_ns.size(); ++s)
+    report.gpu_stages_s.emplace_back(kStageNames[s], seconds_between(stamps_ns[s], stamps_ns[s + 1]));
+}
+
 ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options,
                                   GlConvolutionReport* report) {
   validate_psf(psf);
@@ -166,6 +307,7 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     image_spectrum_.reset();
   }
   const std::size_t layer = static_cast<std::size_t>(padded_width) * padded_height;
+  const Grid grid{width, height, padded_width, padded_height, k, psf.channels, layer};
 
   // The image's spectrum is kept while the same image comes again with the same split (a static
   // scene under dynamic glare: only the PSF changes from frame to frame).
@@ -174,29 +316,7 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
                             image_spectrum_->image.rgba == image.rgba;
   std::unique_ptr<ImageSpectrum> fresh_spectrum;
   if (!image_cached) {
-    const NonFiniteReport pixels = inspect_pixels(image);
-    if (!pixels.clean()) throw std::invalid_argument("GL convolution: the image has " + pixels.describe());
-    auto spectrum = std::make_unique<ImageSpectrum>();
-    spectrum->image = image;
-    spectrum->options = options;
-    // Split into bright (summed directly) and dim (by FFT) parts. The threshold is found here (the
-    // median); the pad pass on the GPU leaves the bright pixels out by the same comparison.
-    if (options.split_bright) {
-      std::vector<float> maxima;
-      maxima.reserve(static_cast<std::size_t>(width) * height);
-      for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) maxima.push_back(max_channel(image.pixel(x, y)));
-      std::nth_element(maxima.begin(), maxima.begin() + static_cast<std::ptrdiff_t>(maxima.size() / 2), maxima.end());
-      const double median = maxima[maxima.size() / 2];
-      spectrum->bright_threshold = options.split_dynamic_range * median;
-      for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-          const float* p = image.pixel(x, y);
-          if (max_channel(p) > spectrum->bright_threshold) spectrum->bright.add(x, y, p);
-        }
-      spectrum->split = spectrum->bright.count() > 0 && spectrum->bright.count() <= options.max_direct_bright_pixels;
-    }
-    fresh_spectrum = std::move(spectrum);
+    fresh_spectrum = split_image(image, options);
     // The kept spectrum is overwritten below: it is kept again (as this image's) only once the
     // call has gone through.
     image_spectrum_.reset();
@@ -209,49 +329,18 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   local_report.bright_pixels = scene.bright.count();
   local_report.split = scene.split;
   local_report.image_spectrum_reused = image_cached;
-  const BrightPixels& bright = scene.bright;
-  const float pad_threshold =
-      scene.split ? float_at_or_below(scene.bright_threshold) : std::numeric_limits<float>::max();
 
   std::size_t stamp = 0;
   const auto stage_done = [&] { glQueryCounter(timestamps_[stamp++].get(), GL_TIMESTAMP); };
   stage_done();
-  const GLuint groups_x = groups_of(padded_width, kPadTile), groups_y = groups_of(padded_height, kPadTile);
-  if (!image_cached) {
-    write_buffer(image_.get(), image_bytes_, image.rgba.size() * sizeof(float), image.rgba.data());
-    const GLuint pad_image = pad_image_program_.get();
-    glUseProgram(pad_image);
-    set_grid_uniforms(pad_image, width, height, padded_width, padded_height);
-    glUniform1f(glGetUniformLocation(pad_image, "uBrightThreshold"), pad_threshold);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
-    glDispatchCompute(groups_x, groups_y, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    if (scene.split) {
-      write_buffer(bright_.get(), bright_bytes_, bright.positions.size() * sizeof(float), bright.positions.data());
-      write_buffer(bright_values_.get(), bright_values_bytes_, bright.values.size() * sizeof(float), bright.values.data());
-    }
-  }
+  if (!image_cached) pad_image(image, scene, grid);
   stage_done();
 
   // The PSF's spectrum is kept while the same PSF comes again on the same padded grid (static
   // glare, successive frames).
   const bool kernel_cached = kernel_ready_ && cached_psf_size_ == k && cached_psf_values_ == psf.values;
   if (!kernel_cached) {
-    // The PSF in float: the pad pass reads it, and the bright sum of any image later with this PSF.
-    const std::vector<float> psf_values(psf.values.begin(), psf.values.end());
-    write_buffer(kernel_.get(), kernel_bytes_, psf_values.size() * sizeof(float), psf_values.data());
-    const GLuint pad_kernel = pad_kernel_program_.get();
-    glUseProgram(pad_kernel);
-    glUniform1i(glGetUniformLocation(pad_kernel, "uPaddedWidth"), padded_width);
-    glUniform1i(glGetUniformLocation(pad_kernel, "uPaddedHeight"), padded_height);
-    glUniform1i(glGetUniformLocation(pad_kernel, "uKernelSize"), k);
-    glUniform1i(glGetUniformLocation(pad_kernel, "uKernelLayers"), psf.channels);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->kernel.data());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, kernel_.get());
-    glDispatchCompute(groups_x, groups_y, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    ffts_->kernel.transform(FftDirection::forward);
+    transform_psf(psf, grid);
     // Kept as this PSF's once the call has gone through (below).
     kernel_ready_ = false;
   }
@@ -260,59 +349,13 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
 
   if (!image_cached) ffts_->image.transform(FftDirection::forward);
   stage_done();
-  const GLuint multiply = multiply_program_.get();
-  glUseProgram(multiply);
-  glUniform1ui(glGetUniformLocation(multiply, "uLayerSize"), static_cast<GLuint>(layer));
-  glUniform1ui(glGetUniformLocation(multiply, "uImageLayers"), 3u);
-  glUniform1ui(glGetUniformLocation(multiply, "uKernelLayers"), static_cast<GLuint>(psf.channels));
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ffts_->kernel.data());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ffts_->product.data());
-  glDispatchCompute(std::min((static_cast<GLuint>(3 * layer) + kMultiplyGroup - 1) / kMultiplyGroup, kMaxMultiplyGroups), 1, 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  multiply_spectra(grid);
   stage_done();
   ffts_->product.transform(FftDirection::inverse);
   stage_done();
-
-  if (scene.split) {
-    const GLuint splat = splat_program_.get();
-    glUseProgram(splat);
-    glUniform1i(glGetUniformLocation(splat, "uWidth"), width);
-    glUniform1i(glGetUniformLocation(splat, "uHeight"), height);
-    glUniform1i(glGetUniformLocation(splat, "uPaddedWidth"), padded_width);
-    glUniform1i(glGetUniformLocation(splat, "uLayerSize"), static_cast<GLint>(layer));
-    glUniform1i(glGetUniformLocation(splat, "uKernelSize"), k);
-    glUniform1i(glGetUniformLocation(splat, "uKernelLayers"), psf.channels);
-    glUniform1i(glGetUniformLocation(splat, "uBrightCount"), static_cast<GLint>(local_report.bright_pixels));
-    // Only pixels within the PSF's reach of a bright pixel receive anything: the bright pixels'
-    // bounding box grown by the reach: bright_splat.comp's offset pixel - bright + K/2 lies in
-    // [0, K), so K/2 on the low side and K - 1 - K/2 on the high side.
-    const int x0 = std::max(0, bright.x0 - k / 2), y0 = std::max(0, bright.y0 - k / 2);
-    const int x1 = std::min(width - 1, bright.x1 + (k - 1 - k / 2));
-    const int y1 = std::min(height - 1, bright.y1 + (k - 1 - k / 2));
-    glUniform2i(glGetUniformLocation(splat, "uOrigin"), x0, y0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->product.data());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, bright_.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, bright_values_.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, kernel_.get());
-    glDispatchCompute(groups_of(x1 - x0 + 1, kTile), groups_of(y1 - y0 + 1, kTile), 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  }
+  if (scene.split) add_bright_pixels(scene, grid);
   stage_done();
-
-  if (result_bytes_ != image.rgba.size() * sizeof(float)) {
-    result_bytes_ = image.rgba.size() * sizeof(float);
-    glNamedBufferData(result_.get(), static_cast<GLsizeiptr>(result_bytes_), nullptr, GL_DYNAMIC_READ);
-  }
-  const GLuint crop = crop_program_.get();
-  glUseProgram(crop);
-  set_grid_uniforms(crop, width, height, padded_width, padded_height);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->product.data());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, image_.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, result_.get());
-  glDispatchCompute(groups_of(width, kPadTile), groups_of(height, kPadTile), 1);
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  glUseProgram(0);
+  crop(grid, image.rgba.size() * sizeof(float));
   stage_done();
   ImageRGBA output(width, height);
   glGetNamedBufferSubData(result_.get(), 0, static_cast<GLsizeiptr>(output.rgba.size() * sizeof(float)), output.rgba.data());
@@ -324,15 +367,7 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
     kernel_ready_ = true;
   }
   if (!image_cached) image_spectrum_ = std::move(fresh_spectrum);
-  std::vector<GLuint64> stamps_ns(timestamps_.size(), 0);
-  for (std::size_t s = 0; s < timestamps_.size(); ++s)
-    glGetQueryObjectui64v(timestamps_[s].get(), GL_QUERY_RESULT, &stamps_ns[s]);
-  const auto seconds_between = [](GLuint64 from_ns, GLuint64 to_ns) {
-    return to_ns > from_ns ? 1e-9 * static_cast<double>(to_ns - from_ns) : 0.0;
-  };
-  local_report.gpu_s = seconds_between(stamps_ns.front(), stamps_ns.back());
-  for (std::size_t s = 0; s + 1 < stamps_ns.size(); ++s)
-    local_report.gpu_stages_s.emplace_back(kStageNames[s], seconds_between(stamps_ns[s], stamps_ns[s + 1]));
+  read_gpu_stages(local_report);
   if (report != nullptr) *report = local_report;
   return output;
 }

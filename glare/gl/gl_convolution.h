@@ -73,6 +73,17 @@ class GlConvolution {
  private:
   struct Ffts;
   struct ImageSpectrum;
+  struct Grid;
+  // convolve()'s steps, in its order: the image checked and split into bright and dim parts (on
+  // the CPU), the dim part padded onto the grid, the PSF padded and transformed, the spectra
+  // multiplied, the bright pixels added directly, the result cropped; then the stages' GPU times.
+  static std::unique_ptr<ImageSpectrum> split_image(const ImageRGBA& image, const GlConvolutionOptions& options);
+  void pad_image(const ImageRGBA& image, const ImageSpectrum& scene, const Grid& grid);
+  void transform_psf(const Psf& psf, const Grid& grid);
+  void multiply_spectra(const Grid& grid);
+  void add_bright_pixels(const ImageSpectrum& scene, const Grid& grid);
+  void crop(const Grid& grid, std::size_t image_bytes);
+  void read_gpu_stages(GlConvolutionReport& report) const;
   std::unique_ptr<Ffts> ffts_;  // reused while the padded size and PSF channel count stay the same
   std::unique_ptr<ImageSpectrum> image_spectrum_;  // what ffts_->image holds; null when nothing
   Program multiply_program_, splat_program_, pad_image_program_, pad_kernel_program_, crop_program_;

@@ -34,6 +34,32 @@ void end_failed_session(ResultStore& store, std::int64_t session_id, double now_
   }
 }
 
+// A virtual clock cannot stamp what happens in real time: a window's flips, a live tracker's
+// samples, a response device's presses.
+void check_virtual_clock(const RunOptions& options, const TrackerSession& tracker, const ResponseDeviceSession& device) {
+  if (options.clock == "virtual" && (options.display == "window" || tracker.live() || device.configured()))
+    throw ConfigError({}, "--clock",
+                      std::string("virtual is for offscreen runs without live devices; this run has ") +
+                          (options.display == "window" ? "a window" : tracker.live() ? "a live tracker" : "a response device") +
+                          ", whose times are real");
+}
+
+// The session's line on the progress stream, and for a person at the keys the first trial's
+// question with the keys that answer it.
+void announce_session(std::ostream& progress, const RunResult& result, PreparedSession& prepared,
+                      const std::string& display_kind) {
+  progress << "Session " << result.session_id << " of '" << prepared.experiment.name << "' ("
+           << result.trials_in_design << " trials, " << display_kind << ", " << prepared.observer_description
+           << " observer) -> " << result.db_path << "\n";
+  if (!prepared.observer && !prepared.procedure->finished()) {
+    const TrialPlan first = prepared.procedure->next_trial();
+    progress << first.question << " "
+             << (first.adjustment_start_cd_m2.empty() ? describe_response_keys(first.allowed_responses)
+                                                     : describe_adjustment_keys(prepared.experiment.adjustment))
+             << "\n";
+  }
+}
+
 }  // namespace
 
 RunResult run_session(const RunOptions& options, std::ostream& progress) {
@@ -53,13 +79,7 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   // --- end tracker ---
   ResponseDeviceSession device(options.response_device);  // bad --response-device/--buttons: exit 2
 
-  // A virtual clock cannot stamp what happens in real time: a window's flips, a live tracker's
-  // samples, a response device's presses.
-  if (options.clock == "virtual" && (options.display == "window" || tracker.live() || device.configured()))
-    throw ConfigError({}, "--clock",
-                      std::string("virtual is for offscreen runs without live devices; this run has ") +
-                          (options.display == "window" ? "a window" : tracker.live() ? "a live tracker" : "a response device") +
-                          ", whose times are real");
+  check_virtual_clock(options, tracker, device);
 
   // 2. The display (a device failure is reported before a session exists).
   auto display = create_display(options.display, display_request(prepared.experiment));
@@ -109,16 +129,7 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
       store.log_event(result.session_id, clock->now_s(), "refresh_rate", refresh_warning);
     }
 
-    progress << "Session " << result.session_id << " of '" << prepared.experiment.name << "' ("
-             << result.trials_in_design << " trials, " << display->kind() << ", " << prepared.observer_description
-             << " observer) -> " << result.db_path << "\n";
-    if (!prepared.observer && !prepared.procedure->finished()) {
-      const TrialPlan first = prepared.procedure->next_trial();
-      progress << first.question << " "
-               << (first.adjustment_start_cd_m2.empty() ? describe_response_keys(first.allowed_responses)
-                                                       : describe_adjustment_keys(prepared.experiment.adjustment))
-               << "\n";
-    }
+    announce_session(progress, result, prepared, display->kind());
 
     // --- tracker: logged from here on; calibration before the trials ---
     if (tracker_note) store.log_event(result.session_id, clock->now_s(), "tracker_absent", *tracker_note);

@@ -1,0 +1,48 @@
+#pragma once
+// The condition rows of an experiment file: those of [conditions] (a CSV table, or inline
+// [[conditions.rows]]) or those design = "all_pairs" generates, each value with where it was
+// written, and their checks against the scenes the procedure shows (protocols/experiment_file.cpp
+// reads the rest of the file).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "core/errors.h"
+#include "protocols/csv_table.h"
+#include "protocols/experiment.h"
+#include "protocols/pair_design.h"
+#include "protocols/toml_table_reader.h"
+
+namespace glarelab {
+
+// A condition row together with where each of its values was written, for error messages.
+struct LocatedRow {
+  ConditionRow row;
+  std::vector<SourceLocation> value_where;  // parallel to row.fields
+  std::vector<SourceLocation> key_where;    // the CSV header cell or the TOML key
+};
+
+struct ConditionSource {
+  std::vector<LocatedRow> rows;
+  std::optional<CsvTable> csv;  // when the rows came from a CSV file
+};
+
+// The rows of a CSV condition table, in file order.
+std::vector<LocatedRow> rows_from_csv(const CsvTable& table);
+
+// The rows of [[conditions.rows]] (`key` its dotted name), each row's columns in the order written.
+std::vector<LocatedRow> rows_from_toml(const toml::array& array, const std::string& key, const std::string& file);
+
+// design = "all_pairs" writes the condition rows and blocks itself: a [conditions] table or
+// [[blocks]] beside it would be a second, conflicting design.
+ConditionSource generated_conditions(TableReader& top, const GeneratedDesign& generated, Experiment& experiment);
+
+// Every row names the scenes its procedure shows, in existing [scenes] or as a real object a
+// rating can present (forced choice: scene_a and scene_b; rating: scene; adjustment: target and
+// comparison; staircase, QUEST, QUEST+ and Psi: reference and comparison), and uses no column the
+// procedure records under its own name.
+void check_condition_scenes(const ConditionSource& conditions, const Experiment& experiment);
+
+}  // namespace glarelab
