@@ -12,7 +12,7 @@
 #include "glare/fftw_wisdom.h"
 #include "glare/gl/gl_fft.h"
 #include "glare/lit_regions.h"
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 #include "glare/psf_cpu.h"
 #include "glare/psf_scale.h"
 #include "stimuli/display_model.h"

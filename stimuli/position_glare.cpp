@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/parallel_for.h"
 #include "glare/fftw_float_plan.h"
-#include "glare/parallel_rows.h"
 
 namespace glarelab {
 
