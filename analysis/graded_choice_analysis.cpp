@@ -6,7 +6,7 @@
 #include <map>
 #include <set>
 
-#include "analysis/parallel_jobs.h"
+#include "core/parallel_for.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -176,7 +176,7 @@ GradedChoiceAnalysis analyse_graded_choice(const LoadedData& data, const GradedC
     analysis.groups.push_back(std::move(group));
   }
   std::vector<PsychometricFit> fits(analysis.groups.size());
-  run_parallel_jobs(analysis.groups.size(), options.threads, [&](std::size_t g) {
+  parallel_for(analysis.groups.size(), options.threads, [&](std::size_t g) {
     PsychometricFitOptions fit_options;
     fit_options.shape = PsychometricShape::cumulative_normal;
     fit_options.guess_rate = 0.0;
@@ -192,7 +192,7 @@ GradedChoiceAnalysis analyse_graded_choice(const LoadedData& data, const GradedC
                                     [](const GradedChoiceGroup& g) { return g.name == "control"; });
   const GradedChoiceGroup& baseline = control != analysis.groups.end() ? *control : analysis.groups.front();
   analysis.baseline = baseline.name;
-  run_parallel_jobs(analysis.groups.size(), options.threads, [&](std::size_t g) {
+  parallel_for(analysis.groups.size(), options.threads, [&](std::size_t g) {
     GradedChoiceGroup& group = analysis.groups[g];
     if (&group == &baseline || !group.pse() || !baseline.pse()) return;
     group.shift = *group.pse() - *baseline.pse();

@@ -8,7 +8,7 @@
 
 #include <boost/math/distributions/students_t.hpp>
 
-#include "analysis/parallel_jobs.h"
+#include "core/parallel_for.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -107,7 +107,7 @@ PseAnalysis analyse_pse(const LoadedData& data, const PseOptions& options) {
     levels[t] = levels_from_trials(named);
   }
   std::vector<PsychometricFit> fits(analysis.tracks.size());
-  run_parallel_jobs(analysis.tracks.size(), options.threads, [&](std::size_t t) {
+  parallel_for(analysis.tracks.size(), options.threads, [&](std::size_t t) {
     PsychometricFitOptions fit_options;
     fit_options.shape = PsychometricShape::cumulative_normal;
     fit_options.guess_rate = 0.0;  // P(comparison brighter) runs from 0 to 1

@@ -5,9 +5,9 @@
 #include <optional>
 #include <string>
 
-#include "analysis/parallel_jobs.h"
 #include "analysis/pse_analysis.h"
 #include "analysis/stored_procedure.h"
+#include "core/parallel_for.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -112,8 +112,8 @@ std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const St
     }
   }
   std::vector<PsychometricFit> fits(jobs.size());
-  run_parallel_jobs(jobs.size(), options.threads,
-                    [&](std::size_t j) { fits[j] = fit_psychometric(jobs[j].levels, jobs[j].options); });
+  parallel_for(jobs.size(), options.threads,
+               [&](std::size_t j) { fits[j] = fit_psychometric(jobs[j].levels, jobs[j].options); });
   for (std::size_t j = 0; j < jobs.size(); ++j) results[jobs[j].result].fits.push_back(std::move(fits[j]));
   return results;
 }

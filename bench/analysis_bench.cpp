@@ -12,8 +12,8 @@
 #include <filesystem>
 
 #include "analysis/analysis_report.h"
-#include "analysis/parallel_jobs.h"
 #include "analysis/report_output.h"
+#include "core/parallel_for.h"
 #include "core/random.h"
 #include "runner/store/result_store.h"
 
@@ -133,7 +133,7 @@ void BM_AnalyzeHundredSessions(benchmark::State& state) {
   state.counters["load_cpu_s"] = load_cpu_s / runs;
   state.counters["analyse_cpu_s"] = analyse_cpu_s / runs;
   state.counters["write_cpu_s"] = write_cpu_s / runs;
-  state.counters["threads"] = glarelab::analysis::worker_threads(0, 300);
+  state.counters["threads"] = glarelab::resolved_threads(0);
   state.counters["sessions"] = kSessions;
   state.counters["trials"] = kSessions * (kTrialsPerSession + 20);
   state.counters["frames"] = static_cast<double>(kSessions) * (kTrialsPerSession + 20) * kFramesPerTrial;

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 
 namespace glarelab {
 

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 
 namespace glarelab {
 namespace {

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "core/fft_size.h"
 #include "glare/psf_scale.h"
 
 namespace glarelab {

@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/parallel_for.h"
 #include "glare/astigmatic_phase.h"
 #include "glare/chromatic_eye.h"
-#include "glare/parallel_rows.h"
 #include "glare/psf_cpu.h"
 
 namespace glarelab {

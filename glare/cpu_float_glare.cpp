@@ -83,20 +83,13 @@ ImageRGBA CpuFloatGlare::convolve(const ImageRGBA& image, const Psf& display_psf
 
 namespace {
 
-// Whether `pixels` holds the RGBA rows of `box` in `frame`, bit for bit.
-bool same_pixels(const std::vector<float>& pixels, const ImageRGBA& frame, const PixelBox& box) {
-  const std::size_t row_floats = 4 * static_cast<std::size_t>(box.width);
-  if (pixels.size() != row_floats * box.height) return false;
-  for (int y = 0; y < box.height; ++y)
-    if (std::memcmp(pixels.data() + row_floats * y, frame.pixel(box.x0, box.y0 + y), row_floats * sizeof(float)) != 0)
-      return false;
+// Whether `kept` (a box cropped from an earlier frame) holds the RGBA of `box` in `frame`, bit for bit.
+bool same_pixels(const ImageRGBA& kept, const ImageRGBA& frame, const PixelRect& box) {
+  if (kept.width_px != box.width_px || kept.height_px != box.height_px) return false;
+  const std::size_t row_bytes = 4 * sizeof(float) * static_cast<std::size_t>(box.width_px);
+  for (int y = 0; y < box.height_px; ++y)
+    if (std::memcmp(kept.pixel(0, y), frame.pixel(box.x_px, box.y_px + y), row_bytes) != 0) return false;
   return true;
-}
-
-void keep_pixels(std::vector<float>& pixels, const ImageRGBA& frame, const PixelBox& box) {
-  const std::size_t row_floats = 4 * static_cast<std::size_t>(box.width);
-  pixels.resize(row_floats * box.height);
-  for (int y = 0; y < box.height; ++y) std::copy_n(frame.pixel(box.x0, box.y0 + y), row_floats, pixels.data() + row_floats * y);
 }
 
 // Plans kept for this many box sizes at most (a session shows few layouts; past it they are made again).
@@ -104,7 +97,7 @@ constexpr std::size_t kRegionPlans = 8;
 
 }  // namespace
 
-void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<PixelBox>& boxes, const Psf& display_psf,
+void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
                                      ImageRGBA& out) {
   if (out.width_px != frame.width_px || out.height_px != frame.height_px)
     throw std::invalid_argument("glare/cpu_float_glare: the output is not the frame's size");
@@ -113,12 +106,11 @@ void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<P
     region_kernel_px_ = display_psf.size_px;
   }
   // The boxes of each size, in list order: their slots.
-  std::map<std::pair<int, int>, std::vector<const PixelBox*>> by_size;
-  for (const PixelBox& box : boxes) {
-    if (box.width <= 0 || box.height <= 0 || box.x0 < 0 || box.y0 < 0 || box.x0 + box.width > frame.width_px ||
-        box.y0 + box.height > frame.height_px)
+  std::map<std::pair<int, int>, std::vector<const PixelRect*>> by_size;
+  for (const PixelRect& box : boxes) {
+    if (box.empty() || !image_rect(frame).contains(box))
       throw std::invalid_argument("glare/cpu_float_glare: a region does not lie inside the frame");
-    by_size[{box.width, box.height}].push_back(&box);
+    by_size[{box.width_px, box.height_px}].push_back(&box);
   }
   reused_scene_ = true;
   for (const auto& [size, sized] : by_size) {
@@ -134,18 +126,18 @@ void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<P
     }
     RegionPlan& plan = found->second;
     for (int slot = 0; slot < slots; ++slot) {
-      const PixelBox& box = *sized[static_cast<std::size_t>(slot)];
-      std::vector<float>& kept = plan.pixels[static_cast<std::size_t>(slot)];
+      const PixelRect& box = *sized[static_cast<std::size_t>(slot)];
+      ImageRGBA& kept = plan.pixels[static_cast<std::size_t>(slot)];
       if (same_pixels(kept, frame, box)) continue;
       reused_scene_ = false;
-      kept.clear();  // a refused scene leaves no stale match behind
-      plan.convolution->set_scene(frame, box.x0, box.y0, slot);
-      keep_pixels(kept, frame, box);
+      kept = ImageRGBA();  // a refused scene leaves no stale match behind
+      plan.convolution->set_scene(frame, box.x_px, box.y_px, slot);
+      kept = crop(frame, box);
     }
     plan.convolution->set_kernel(display_psf);
     for (int slot = 0; slot < slots; ++slot) {
-      const PixelBox& box = *sized[static_cast<std::size_t>(slot)];
-      plan.convolution->write_full(slot, out, box.x0, box.y0);
+      const PixelRect& box = *sized[static_cast<std::size_t>(slot)];
+      plan.convolution->write_full(slot, out, box.x_px, box.y_px);
     }
   }
 }

@@ -13,12 +13,12 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/pixel_rect.h"
 #include "glare/aperture_geometry.h"
 #include "glare/cpu_float_convolution.h"
 #include "glare/cpu_float_chromatic_psf.h"
 #include "glare/cpu_float_psf.h"
 #include "glare/cpu_float_spectral_psf.h"
-#include "glare/lit_regions.h"
 #include "glare/psf.h"
 
 namespace glarelab {
@@ -53,7 +53,7 @@ class CpuFloatGlare {
   // alpha untouched. Boxes of one size share one transform of the PSF, and each box's spectrum is
   // kept while the same pixels come again at that place in the list (a static scene). Refuses NaN,
   // Inf and negative pixels in the boxes (std::invalid_argument).
-  void convolve_regions(const ImageRGBA& frame, const std::vector<PixelBox>& boxes, const Psf& display_psf,
+  void convolve_regions(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
                         ImageRGBA& out);
   // The phase sampling check of the last display_psf() (the eye's whole power error, defocus plus
   // refraction; cpu_float_psf.h): the aliasing warning, or empty. With LCA, that of the most aliased
@@ -74,10 +74,10 @@ class CpuFloatGlare {
   ImageRGBA scene_;  // the frame whose spectrum the convolution holds
   bool reused_scene_ = false;
   // convolve_regions(): per box size, a `full` convolution with a slot per box of that size, and
-  // the pixels (RGBA rows) each slot's spectrum was made from.
+  // the pixels each slot's spectrum was made from (the box cropped from its frame).
   struct RegionPlan {
     std::unique_ptr<CpuFloatConvolution> convolution;
-    std::vector<std::vector<float>> pixels;
+    std::vector<ImageRGBA> pixels;
   };
   std::map<std::pair<int, int>, RegionPlan> region_plans_;
   int region_kernel_px_ = 0;

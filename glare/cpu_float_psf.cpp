@@ -5,9 +5,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/parallel_for.h"
 #include "glare/astigmatic_phase.h"
 #include "glare/complex_transpose.h"
-#include "glare/parallel_rows.h"
 #include "glare/psf_cpu.h"
 
 namespace glarelab {

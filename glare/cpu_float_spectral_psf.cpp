@@ -12,8 +12,8 @@
 #include <immintrin.h>
 #endif
 
+#include "core/parallel_for.h"
 #include "glare/cie_cmf.h"
-#include "glare/parallel_rows.h"
 #include "glare/psf_scale.h"
 
 namespace glarelab {

@@ -11,7 +11,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 
 namespace glarelab {
 

@@ -4,8 +4,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/fft_size.h"
+#include "core/parallel_for.h"
 #include "glare/fft_cpu.h"
-#include "glare/parallel_rows.h"
 
 namespace glarelab {
 

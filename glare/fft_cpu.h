@@ -22,11 +22,4 @@ void fft2d_real_inverse(std::vector<std::complex<double>>& spectrum, std::vector
 std::vector<std::complex<float>> fft2d_real_forward(std::vector<float>& real, int rows, int cols);
 void fft2d_real_inverse(std::vector<std::complex<float>>& spectrum, std::vector<float>& real, int rows, int cols);
 
-// Smallest n' >= n whose prime factors are 2, 3, 5 and 7 (sizes FFTW handles fastest).
-int good_fft_size(int n);
-// Smallest n' >= n whose prime factors are 2, 3 and 5: without 7, whose codelets FFTW runs slower
-// per value, more than its share (docs/PERFORMANCE.md, "Measurements behind the code's
-// choices").
-int smooth_fft_size(int n);
-
 }  // namespace glarelab

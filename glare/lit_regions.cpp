@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "core/parallel_for.h"
 #include "glare/fftw_float_plan.h"
-#include "glare/parallel_rows.h"
 
 namespace glarelab {
 namespace {
@@ -33,33 +33,41 @@ struct Tiles {
   bool at(int tx, int ty) const { return lit[static_cast<std::size_t>(ty) * tiles_x + tx] != 0; }
 };
 
-struct TileBox {
-  int x0, y0, x1, y1;  // tiles [x0, x1) x [y0, y1)
-};
+// Boxes of whole tiles are PixelRects on the tile grid: corner and size multiples of kTilePx (a
+// box's last column or row of tiles may reach past the image's edge, by less than a tile).
+PixelRect tile_box(int tx0, int ty0, int tx1, int ty1) {
+  return PixelRect{tx0 * kTilePx, ty0 * kTilePx, (tx1 - tx0) * kTilePx, (ty1 - ty0) * kTilePx};
+}
+// A tile box's tiles along x (columns) or y: [first_tile, last_tile).
+int first_tile(const PixelRect& box, bool columns) { return (columns ? box.x_px : box.y_px) / kTilePx; }
+int last_tile(const PixelRect& box, bool columns) { return (columns ? box.right_px() : box.bottom_px()) / kTilePx; }
 
-// The occupied part of `box`; x1 <= x0 when nothing in it is lit.
-TileBox shrink(const Tiles& tiles, TileBox box) {
-  TileBox tight{box.x1, box.y1, box.x0, box.y0};
-  for (int ty = box.y0; ty < box.y1; ++ty)
-    for (int tx = box.x0; tx < box.x1; ++tx)
+// The occupied part of a tile box; empty when nothing in it is lit.
+PixelRect shrink(const Tiles& tiles, const PixelRect& box) {
+  const int tx0 = first_tile(box, true), tx1 = last_tile(box, true);
+  const int ty0 = first_tile(box, false), ty1 = last_tile(box, false);
+  int x0 = tx1, y0 = ty1, x1 = tx0, y1 = ty0;  // tiles [x0, x1) x [y0, y1)
+  for (int ty = ty0; ty < ty1; ++ty)
+    for (int tx = tx0; tx < tx1; ++tx)
       if (tiles.at(tx, ty)) {
-        tight.x0 = std::min(tight.x0, tx), tight.x1 = std::max(tight.x1, tx + 1);
-        tight.y0 = std::min(tight.y0, ty), tight.y1 = std::max(tight.y1, ty + 1);
+        x0 = std::min(x0, tx), x1 = std::max(x1, tx + 1);
+        y0 = std::min(y0, ty), y1 = std::max(y1, ty + 1);
       }
-  return tight;
+  if (x1 <= x0) return PixelRect{};
+  return tile_box(x0, y0, x1, y1);
 }
 
 // The X-Y cut: the widest empty band of columns (then rows) of at least gap_tiles splits the box.
-void cut(const Tiles& tiles, TileBox box, int gap_tiles, std::vector<TileBox>& out) {
+void cut(const Tiles& tiles, PixelRect box, int gap_tiles, std::vector<PixelRect>& out) {
   box = shrink(tiles, box);
-  if (box.x1 <= box.x0) return;
+  if (box.empty()) return;
   for (const bool columns : {true, false}) {
-    const int first = columns ? box.x0 : box.y0, last = columns ? box.x1 : box.y1;
+    const int first = first_tile(box, columns), last = last_tile(box, columns);
+    const int across_first = first_tile(box, !columns), across_last = last_tile(box, !columns);
     int best_start = -1, best_length = 0, run_start = -1;
     for (int k = first; k <= last; ++k) {
       bool empty = k < last;
-      for (int j = columns ? box.y0 : box.x0; empty && j < (columns ? box.y1 : box.x1); ++j)
-        empty = !(columns ? tiles.at(k, j) : tiles.at(j, k));
+      for (int j = across_first; empty && j < across_last; ++j) empty = !(columns ? tiles.at(k, j) : tiles.at(j, k));
       if (empty && run_start < 0) run_start = k;
       if (!empty && run_start >= 0) {
         if (k - run_start > best_length) best_start = run_start, best_length = k - run_start;
@@ -67,9 +75,10 @@ void cut(const Tiles& tiles, TileBox box, int gap_tiles, std::vector<TileBox>& o
       }
     }
     if (best_length >= gap_tiles) {  // a shrunk box starts and ends lit: the band is interior
-      TileBox before = box, after = box;
-      (columns ? before.x1 : before.y1) = best_start;
-      (columns ? after.x0 : after.y0) = best_start + best_length;
+      PixelRect before = box, after = box;  // the tiles before the band and after it
+      (columns ? before.width_px : before.height_px) = (best_start - first) * kTilePx;
+      (columns ? after.x_px : after.y_px) = (best_start + best_length) * kTilePx;
+      (columns ? after.width_px : after.height_px) = (last - best_start - best_length) * kTilePx;
       cut(tiles, before, gap_tiles, out);
       cut(tiles, after, gap_tiles, out);
       return;
@@ -79,9 +88,9 @@ void cut(const Tiles& tiles, TileBox box, int gap_tiles, std::vector<TileBox>& o
 }
 
 // The tight pixel box of the lit pixels in a tile box (its edge tiles hold some).
-PixelBox tighten(const ImageRGBA& image, const TileBox& box) {
-  const int px0 = box.x0 * kTilePx, py0 = box.y0 * kTilePx;
-  const int px1 = std::min(image.width_px, box.x1 * kTilePx), py1 = std::min(image.height_px, box.y1 * kTilePx);
+PixelRect tighten(const ImageRGBA& image, const PixelRect& box) {
+  const int px0 = box.x_px, py0 = box.y_px;
+  const int px1 = std::min(image.width_px, box.right_px()), py1 = std::min(image.height_px, box.bottom_px());
   const auto row_lit = [&](int y) {
     for (int x = px0; x < px1; ++x)
       if (lit(image.pixel(x, y))) return true;
@@ -97,12 +106,12 @@ PixelBox tighten(const ImageRGBA& image, const TileBox& box) {
   while (y1 > y0 && !row_lit(y1 - 1)) --y1;
   while (x0 < x1 && !column_lit(x0, y0, y1)) ++x0;
   while (x1 > x0 && !column_lit(x1 - 1, y0, y1)) --x1;
-  return PixelBox{x0, y0, x1 - x0, y1 - y0};
+  return PixelRect{x0, y0, x1 - x0, y1 - y0};
 }
 
 }  // namespace
 
-std::vector<PixelBox> lit_regions(const ImageRGBA& image, int gap_px, int max_boxes) {
+std::vector<PixelRect> lit_regions(const ImageRGBA& image, int gap_px, int max_boxes) {
   Tiles tiles;
   tiles.tiles_x = (image.width_px + kTilePx - 1) / kTilePx;
   tiles.tiles_y = (image.height_px + kTilePx - 1) / kTilePx;
@@ -120,19 +129,14 @@ std::vector<PixelBox> lit_regions(const ImageRGBA& image, int gap_px, int max_bo
         }
       }
   });
-  std::vector<TileBox> boxes;
+  std::vector<PixelRect> boxes;
   // A band of k empty tiles holds at least k kTilePx empty pixels.
   const int gap_tiles = std::max(1, (gap_px + kTilePx - 1) / kTilePx);
-  cut(tiles, TileBox{0, 0, tiles.tiles_x, tiles.tiles_y}, gap_tiles, boxes);
+  cut(tiles, tile_box(0, 0, tiles.tiles_x, tiles.tiles_y), gap_tiles, boxes);
   if (boxes.empty()) return {};
-  if (static_cast<int>(boxes.size()) > max_boxes) {
-    TileBox all = boxes.front();
-    for (const TileBox& box : boxes)
-      all = TileBox{std::min(all.x0, box.x0), std::min(all.y0, box.y0), std::max(all.x1, box.x1), std::max(all.y1, box.y1)};
-    boxes = {all};
-  }
-  std::vector<PixelBox> out;
-  for (const TileBox& box : boxes) out.push_back(tighten(image, box));
+  if (static_cast<int>(boxes.size()) > max_boxes) boxes = {bounding_rect(boxes)};
+  std::vector<PixelRect> out;
+  for (const PixelRect& box : boxes) out.push_back(tighten(image, box));
   return out;
 }
 

@@ -9,18 +9,14 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/pixel_rect.h"
 
 namespace glarelab {
-
-struct PixelBox {
-  int x0 = 0, y0 = 0, width = 0, height = 0;
-  bool operator==(const PixelBox&) const = default;
-};
 
 // The boxes, each tight around its pixels, in no particular order but always the same for the
 // same image; none when the image is all black. Separating bands are found on 8 x 8 pixel tiles,
 // so a gap is only cut when at least gap_px empty columns (rows) are certain; more than
 // max_boxes boxes give the one bounding box instead (many tiny lights: one convolution is cheaper).
-std::vector<PixelBox> lit_regions(const ImageRGBA& image, int gap_px, int max_boxes = 16);
+std::vector<PixelRect> lit_regions(const ImageRGBA& image, int gap_px, int max_boxes = 16);
 
 }  // namespace glarelab

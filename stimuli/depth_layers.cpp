@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 #include "stimuli/scene_depth.h"
 
 namespace glarelab {

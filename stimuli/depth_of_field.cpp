@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 #include "stimuli/depth_of_field_blur.h"
 #include "stimuli/scene_depth.h"
 

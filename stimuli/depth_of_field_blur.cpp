@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "glare/fft_cpu.h"
+#include "core/fft_size.h"
+#include "core/parallel_for.h"
 #include "glare/fftw_float_plan.h"
-#include "glare/parallel_rows.h"
 
 namespace glarelab {
 namespace {

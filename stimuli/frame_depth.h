@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/pixel_rect.h"
 #include "glare/spectacle_lens.h"
-#include "stimuli/layout.h"
 #include "stimuli/spectacle_warp.h"
 
 namespace glarelab {

@@ -58,17 +58,7 @@ SceneTexture FrameRenderer::upload(const ImageRGBA& image) const {
 }
 
 void FrameRenderer::mark_unencoded(const PixelRect& rect) {
-  const PixelRect in_frame = intersection(rect, PixelRect{0, 0, width_px_, height_px_});
-  if (in_frame.empty()) return;
-  if (unencoded_.empty()) {
-    unencoded_ = in_frame;
-    return;
-  }
-  // The bounding box of both.
-  const int x0 = std::min(in_frame.x_px, unencoded_.x_px), y0 = std::min(in_frame.y_px, unencoded_.y_px);
-  const int x1 = std::max(in_frame.x_px + in_frame.width_px, unencoded_.x_px + unencoded_.width_px);
-  const int y1 = std::max(in_frame.y_px + in_frame.height_px, unencoded_.y_px + unencoded_.height_px);
-  unencoded_ = PixelRect{x0, y0, x1 - x0, y1 - y0};
+  unencoded_ = bounding_rect(unencoded_, intersection(rect, PixelRect{0, 0, width_px_, height_px_}));
 }
 
 void FrameRenderer::compose(const std::vector<Placement>& placements, double background_cd_m2) {

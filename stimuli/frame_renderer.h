@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "core/gl/gl_objects.h"
-#include "stimuli/display_model.h"
 #include "core/image.h"
-#include "stimuli/layout.h"
+#include "core/pixel_rect.h"
+#include "stimuli/display_model.h"
 
 namespace glarelab {
 

@@ -12,7 +12,7 @@
 #include "glare/fftw_wisdom.h"
 #include "glare/gl/gl_fft.h"
 #include "glare/lit_regions.h"
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 #include "glare/psf_cpu.h"
 #include "glare/psf_scale.h"
 #include "stimuli/display_model.h"
@@ -279,22 +279,22 @@ ImageRGBA GlareStage::convolve_with_backend(const ImageRGBA& image, const Psf& d
 // zero-padded FFT convolution of the box alone equals that of the whole frame, because everything
 // else within reach is black. A stimulus on a black background (the demo: two 256 px scenes on a
 // 1024 x 512 display) costs two small convolutions.
-ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelBox>* changed,
+ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelRect>* changed,
                                      FrameFacts* facts) {
-  std::vector<PixelBox> found;
+  std::vector<PixelRect> found;
   if (facts == nullptr) found = lit_regions(frame, display_psf.size_px);
   else if (!facts->lit_boxes.contains(display_psf.size_px))
     facts->lit_boxes.emplace(display_psf.size_px, lit_regions(frame, display_psf.size_px));
-  const std::vector<PixelBox>& boxes = facts == nullptr ? found : facts->lit_boxes.at(display_psf.size_px);
+  const std::vector<PixelRect>& boxes = facts == nullptr ? found : facts->lit_boxes.at(display_psf.size_px);
   // Each box grown by the PSF's reach (M/2 before, M - 1 - M/2 <= M/2 after), clipped to the
   // frame: where its glare lands. The planned path writes exactly there
   // (CpuFloatConvolution::write_full), the backend path convolves these crops.
   const int reach = display_psf.size_px / 2;
-  std::vector<PixelBox> reached;
-  for (const PixelBox& box : boxes) {
-    const int x0 = std::max(0, box.x0 - reach), y0 = std::max(0, box.y0 - reach);
-    const int x1 = std::min(frame.width_px, box.x0 + box.width + reach);
-    const int y1 = std::min(frame.height_px, box.y0 + box.height + reach);
+  std::vector<PixelRect> reached;
+  for (const PixelRect& box : boxes) {
+    const int x0 = std::max(0, box.x_px - reach), y0 = std::max(0, box.y_px - reach);
+    const int x1 = std::min(frame.width_px, box.x_px + box.width_px + reach);
+    const int y1 = std::min(frame.height_px, box.y_px + box.height_px + reach);
     reached.push_back({x0, y0, x1 - x0, y1 - y0});
   }
   if (changed != nullptr) *changed = reached;
@@ -307,13 +307,15 @@ ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_
     planned_->convolve_regions(frame, boxes, display_psf, out);
     return out;
   }
-  for (const PixelBox& area : reached) {
-    if (reached.size() == 1 && area == PixelBox{0, 0, frame.width_px, frame.height_px} && frame.depth.empty())
+  for (const PixelRect& area : reached) {
+    if (reached.size() == 1 && area == PixelRect{0, 0, frame.width_px, frame.height_px} && frame.depth.empty())
       return convolve_with_backend(frame, display_psf);
-    ImageRGBA crop(area.width, area.height);
-    for (int y = 0; y < area.height; ++y) std::copy_n(frame.pixel(area.x0, area.y0 + y), 4 * area.width, crop.pixel(0, y));
+    ImageRGBA crop(area.width_px, area.height_px);
+    for (int y = 0; y < area.height_px; ++y)
+      std::copy_n(frame.pixel(area.x_px, area.y_px + y), 4 * area.width_px, crop.pixel(0, y));
     const ImageRGBA glared = convolve_with_backend(crop, display_psf);
-    for (int y = 0; y < area.height; ++y) std::copy_n(glared.pixel(0, y), 4 * area.width, out.pixel(area.x0, area.y0 + y));
+    for (int y = 0; y < area.height_px; ++y)
+      std::copy_n(glared.pixel(0, y), 4 * area.width_px, out.pixel(area.x_px, area.y_px + y));
   }
   return out;
 }
@@ -504,7 +506,7 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     // The frame as its own source at gain 1: the glared frame is convolve_frame's, so it changes
     // only where that says.
     const bool confined = condition_gain_ == 1.0 && !excess;
-    std::vector<PixelBox> changed;
+    std::vector<PixelRect> changed;
     // The frame's facts hold for the source only when the source is the frame.
     ImageRGBA glared = convolve_frame(source, *psf, confined ? &changed : nullptr, excess ? nullptr : facts);
     if (confined) r.changed_boxes = std::move(changed);

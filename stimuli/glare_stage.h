@@ -64,7 +64,7 @@ struct GlareFrameReport {
   // outside these boxes (its lit boxes grown by the PSF's reach, clipped to the frame; none when
   // nothing changed). Not set: it may differ anywhere (analytic and hybrid glare, a gaze window,
   // a gain other than 1, source = "excess").
-  std::optional<std::vector<PixelBox>> changed_boxes;
+  std::optional<std::vector<PixelRect>> changed_boxes;
 };
 
 // What GlareStage::apply finds out about a frame before it glares it, kept for the frames that bring
@@ -73,7 +73,7 @@ struct GlareFrameReport {
 // are kept: one FrameFacts per image, made anew with it.
 struct FrameFacts {
   std::optional<std::pair<double, double>> luminance_range_cd_m2;  // smallest and largest Rec.709 luminance
-  std::map<int, std::vector<PixelBox>> lit_boxes;                   // glare/lit_regions.h, by gap (the PSF's size)
+  std::map<int, std::vector<PixelRect>> lit_boxes;                  // glare/lit_regions.h, by gap (the PSF's size)
 };
 
 // A gaze point in normalised display coordinates (0..1 from the left and from the top).
@@ -166,7 +166,7 @@ class GlareStage {
   EyeModel& eye_for(GlareMode mode, double field_luminance_cd_m2);
   // `changed`, when given, receives the boxes outside which the result is the frame itself.
   // `facts`: the frame's, for its lit boxes (nothing: found afresh).
-  ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelBox>* changed = nullptr,
+  ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelRect>* changed = nullptr,
                            FrameFacts* facts = nullptr);
   ImageRGBA convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window);
   ImageRGBA convolve_with_backend(const ImageRGBA& image, const Psf& display_psf);

@@ -23,12 +23,4 @@ std::vector<PixelRect> side_by_side_layout(int screen_width_px, int screen_heigh
   return placed;
 }
 
-PixelRect intersection(const PixelRect& a, const PixelRect& b) {
-  const int x0 = std::max(a.x_px, b.x_px), y0 = std::max(a.y_px, b.y_px);
-  const int x1 = std::min(a.x_px + a.width_px, b.x_px + b.width_px);
-  const int y1 = std::min(a.y_px + a.height_px, b.y_px + b.height_px);
-  if (x1 <= x0 || y1 <= y0) return PixelRect{a.x_px, a.y_px, 0, 0};
-  return PixelRect{x0, y0, x1 - x0, y1 - y0};
-}
-
 }  // namespace glarelab

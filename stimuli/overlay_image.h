@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "stimuli/layout.h"
+#include "core/pixel_rect.h"
 
 namespace glarelab {
 

@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/parallel_for.h"
 #include "glare/fftw_float_plan.h"
-#include "glare/parallel_rows.h"
 
 namespace glarelab {
 
@@ -27,7 +27,7 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
   std::vector<ImageRGBA> glared(layers.size());
   std::vector<const ImageRGBA*> glare_of(layers.size(), nullptr);  // each glaring layer's glare, computed or kept
   // Where each glaring layer's glare changed it (GlareFrameReport::changed_boxes); nothing: anywhere.
-  std::vector<std::optional<std::vector<PixelBox>>> changed_of(layers.size());
+  std::vector<std::optional<std::vector<PixelRect>>> changed_of(layers.size());
   if (kept != nullptr && kept->layers.size() != layers.size()) kept->layers.assign(layers.size(), std::nullopt);
   const auto same_gaze = [](const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
     return a.has_value() == b.has_value() && (!a || (a->x == b->x && a->y == b->y));
@@ -91,14 +91,14 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
   // those boxes each glared layer is its layer, which is 0 outside its lit boxes, so the sum is the
   // composed value itself (composed - 0 + 0), copied. The demo's two lamps change a tenth of its frame.
   if (std::all_of(glaring.begin(), glaring.end(), [&](std::size_t l) { return changed_of[l].has_value(); })) {
-    std::vector<PixelBox> boxes;
+    std::vector<PixelRect> boxes;
     for (const std::size_t l : glaring) boxes.insert(boxes.end(), changed_of[l]->begin(), changed_of[l]->end());
     parallel_chunks(result.height_px, kGlareCpuThreads, [&](int first, int last) {
       std::vector<std::pair<int, int>> spans;  // [x0, x1) of the boxes on a row, by x0; overlaps summed once
       for (int y = first; y < last; ++y) {
         spans.clear();
-        for (const PixelBox& box : boxes)
-          if (y >= box.y0 && y < box.y0 + box.height) spans.emplace_back(box.x0, box.x0 + box.width);
+        for (const PixelRect& box : boxes)
+          if (y >= box.y_px && y < box.bottom_px()) spans.emplace_back(box.x_px, box.right_px());
         std::sort(spans.begin(), spans.end());
         const std::size_t row = static_cast<std::size_t>(y) * width;
         int x = 0;

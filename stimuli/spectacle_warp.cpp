@@ -14,7 +14,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 
 namespace glarelab {
 namespace {

@@ -80,24 +80,18 @@ PixelRect moved_into_view(const PixelRect& rect, const DisplaySpec& display, con
 }
 
 ImageRGBA crop_view(const ImageRGBA& frame, const PixelRect& viewport) {
-  if (viewport.x_px < 0 || viewport.y_px < 0 || viewport.x_px + viewport.width_px > frame.width_px ||
-      viewport.y_px + viewport.height_px > frame.height_px)
+  if (!image_rect(frame).contains(viewport))
     throw std::invalid_argument("stereo layout: the eye's view lies outside the frame");
-  ImageRGBA view(viewport.width_px, viewport.height_px);
-  for (int y = 0; y < viewport.height_px; ++y)
-    std::copy_n(frame.pixel(viewport.x_px, viewport.y_px + y), 4 * static_cast<std::size_t>(viewport.width_px),
-                view.pixel(0, y));
+  ImageRGBA view = crop(frame, viewport);
+  view.depth.clear();  // colour only (stereo_layout.h)
   return view;
 }
 
 void paste_view(ImageRGBA& frame, const ImageRGBA& view_image, const PixelRect& viewport) {
   if (view_image.width_px != viewport.width_px || view_image.height_px != viewport.height_px ||
-      viewport.x_px < 0 || viewport.y_px < 0 || viewport.x_px + viewport.width_px > frame.width_px ||
-      viewport.y_px + viewport.height_px > frame.height_px)
+      !image_rect(frame).contains(viewport))
     throw std::invalid_argument("stereo layout: the eye's image does not match its view in the frame");
-  for (int y = 0; y < viewport.height_px; ++y)
-    std::copy_n(view_image.pixel(0, y), 4 * static_cast<std::size_t>(viewport.width_px),
-                frame.pixel(viewport.x_px, viewport.y_px + y));
+  paste(frame, view_image, viewport);
 }
 
 }  // namespace glarelab

@@ -50,7 +50,9 @@ std::string stereo_misfit(const DisplaySpec& display, const std::vector<PixelRec
 // of the view's centre from the display's centre: where it goes in that eye's view.
 PixelRect moved_into_view(const PixelRect& rect, const DisplaySpec& display, const EyeView& view);
 
-// The view's pixels of a whole frame, and the way back (same size as the view).
+// The view's pixels of a whole frame, and the way back (same size as the view), both refusing a
+// view that does not lie inside the frame (std::invalid_argument). The view is cropped in colour
+// only, without the frame's depth channel; the way back is core/pixel_rect.h's paste.
 ImageRGBA crop_view(const ImageRGBA& frame, const PixelRect& viewport);
 void paste_view(ImageRGBA& frame, const ImageRGBA& view_image, const PixelRect& viewport);
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "analysis/analysis_report.h"
-#include "analysis/parallel_jobs.h"
+#include "core/parallel_for.h"
 #include "tests/analysis_synthetic.h"
 #include "tests/scratch_dir.h"
 
@@ -21,14 +21,14 @@ TEST(AnalysisParallel, EveryJobRunsExactlyOnceForAnyThreadCount) {
   for (const std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{7}, std::size_t{100}}) {
     for (const unsigned threads : {1u, 2u, 3u, 8u}) {
       std::vector<std::atomic<int>> runs(count);
-      run_parallel_jobs(count, threads, [&](std::size_t i) { ++runs[i]; });
+      parallel_for(count, threads, [&](std::size_t i) { ++runs[i]; });
       for (std::size_t i = 0; i < count; ++i) EXPECT_EQ(runs[i].load(), 1) << count << " jobs, " << threads << " threads";
     }
   }
 }
 
 TEST(AnalysisParallel, AJobsExceptionReachesTheCaller) {
-  EXPECT_THROW(run_parallel_jobs(50, 3,
+  EXPECT_THROW(parallel_for(50, 3,
                                  [](std::size_t i) {
                                    if (i == 17) throw std::runtime_error("job 17");
                                  }),

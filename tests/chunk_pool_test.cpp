@@ -1,4 +1,4 @@
-// The worker pool behind parallel_chunks (glare/chunk_pool.h): every chunk runs once, the chunks
+// The worker pool behind parallel_chunks (core/chunk_pool.h): every chunk runs once, the chunks
 // are the serial loop's, nested and concurrent calls finish, a chunk's exception reaches the
 // caller, and the workers are started once, not per call.
 #include <gtest/gtest.h>
@@ -10,8 +10,8 @@
 #include <thread>
 #include <vector>
 
-#include "glare/chunk_pool.h"
-#include "glare/parallel_rows.h"
+#include "core/chunk_pool.h"
+#include "core/parallel_for.h"
 
 namespace glarelab {
 namespace {

@@ -266,7 +266,7 @@ TEST(GlareCpuFloat, RegionsConvolvedOnTheirOwnEqualTheWholeFrameInDouble) {
   for (const int m : {17, 18}) {  // odd and even: the reach before and after the centre differ
     ImageRGBA frame = three_region_frame();
     const Psf psf = test::lopsided_psf(m);
-    const std::vector<PixelBox> boxes = lit_regions(frame, m);
+    const std::vector<PixelRect> boxes = lit_regions(frame, m);
     ASSERT_EQ(boxes.size(), 3u);
     const ImageRGBA reference = convolve_image_cpu(frame, psf, ConvolutionOptions{});
     ImageRGBA out = frame;
@@ -353,8 +353,8 @@ TEST(GlareCpuFloat, RegionConvolutionRefusesBadInputAndMisuse) {
     return settings;
   }());
   ImageRGBA small(20, 20, 1.0f);
-  EXPECT_THROW(glare.convolve_regions(frame, {PixelBox{90, 0, 20, 10}}, test::lopsided_psf(9), out), std::invalid_argument);
-  EXPECT_THROW(glare.convolve_regions(frame, {PixelBox{0, 0, 10, 10}}, test::lopsided_psf(9), small), std::invalid_argument);
+  EXPECT_THROW(glare.convolve_regions(frame, {PixelRect{90, 0, 20, 10}}, test::lopsided_psf(9), out), std::invalid_argument);
+  EXPECT_THROW(glare.convolve_regions(frame, {PixelRect{0, 0, 10, 10}}, test::lopsided_psf(9), small), std::invalid_argument);
 }
 
 TEST(GlareCpuFloat, ClosedApertureAndDisplayTooFineAreRefused) {

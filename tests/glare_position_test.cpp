@@ -213,9 +213,9 @@ TEST(PositionGlare, TheSumIsMadeWhereTheGlareChangedAndIsTheWholeSumEverywhere) 
   for (const GlareFrameReport& report : reports) {
     ASSERT_TRUE(report.changed_boxes.has_value());
     ASSERT_EQ(report.changed_boxes->size(), 1u);
-    const PixelBox& box = report.changed_boxes->front();
-    EXPECT_LT(box.width * box.height, 128 * 64 / 2);
-    EXPECT_GT(box.width, 8);
+    const PixelRect& box = report.changed_boxes->front();
+    EXPECT_LT(box.width_px * box.height_px, 128 * 64 / 2);
+    EXPECT_GT(box.width_px, 8);
   }
   // Outside the reports' boxes the result is the composed frame, bit for bit: what a session takes
   // as given when it looks for the changed rectangle only inside them (runner/session/trial_glare.cpp).
@@ -224,8 +224,8 @@ TEST(PositionGlare, TheSumIsMadeWhereTheGlareChangedAndIsTheWholeSumEverywhere) 
     for (int x = 0; x < composed.width_px; ++x) {
       bool inside = false;
       for (const GlareFrameReport& report : reports)
-        for (const PixelBox& box : *report.changed_boxes)
-          inside |= x >= box.x0 && x < box.x0 + box.width && y >= box.y0 && y < box.y0 + box.height;
+        for (const PixelRect& box : *report.changed_boxes)
+          inside |= x >= box.x_px && x < box.x_px + box.width_px && y >= box.y_px && y < box.y_px + box.height_px;
       if (inside) continue;
       ++outside;
       for (int c = 0; c < 4; ++c) ASSERT_EQ(result.pixel(x, y)[c], composed.pixel(x, y)[c]) << x << ", " << y;

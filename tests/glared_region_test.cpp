@@ -79,7 +79,7 @@ TEST(GlaredRegion, ABoxTheDifferencesLieInGivesTheSameRegion) {
     ASSERT_EQ(whole.y0_px, 7);
     ASSERT_EQ(whole.width_px, 22);
     ASSERT_EQ(whole.height_px, 23);
-    for (const PixelBox box : {PixelBox{10, 7, 22, 23}, PixelBox{2, 3, 50, 40}, PixelBox{-20, -5, 200, 100}}) {
+    for (const PixelRect box : {PixelRect{10, 7, 22, 23}, PixelRect{2, 3, 50, 40}, PixelRect{-20, -5, 200, 100}}) {
       const GlaredRegion bounded = changed_region(composed, glared, precision, box);
       EXPECT_EQ(bounded.x0_px, whole.x0_px);
       EXPECT_EQ(bounded.y0_px, whole.y0_px);
@@ -90,9 +90,9 @@ TEST(GlaredRegion, ABoxTheDifferencesLieInGivesTheSameRegion) {
     }
   }
   // The box is what is compared: a difference left outside it is not looked for.
-  EXPECT_EQ(changed_region(composed, glared, RegionPrecision::exact, PixelBox{0, 0, 20, 20}).width_px, 1);
-  EXPECT_TRUE(changed_region(composed, glared, RegionPrecision::exact, PixelBox{0, 0, 0, 0}).empty());
-  EXPECT_TRUE(changed_region(composed, composed, RegionPrecision::exact, PixelBox{10, 7, 22, 23}).empty());
+  EXPECT_EQ(changed_region(composed, glared, RegionPrecision::exact, PixelRect{0, 0, 20, 20}).width_px, 1);
+  EXPECT_TRUE(changed_region(composed, glared, RegionPrecision::exact, PixelRect{0, 0, 0, 0}).empty());
+  EXPECT_TRUE(changed_region(composed, composed, RegionPrecision::exact, PixelRect{10, 7, 22, 23}).empty());
 }
 
 // Each region changed_region() makes has its own serial (a flip of the region the framebuffer

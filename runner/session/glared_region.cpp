@@ -11,16 +11,12 @@
 namespace glarelab {
 
 GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
-                            const std::optional<PixelBox>& differs_within) {
+                            const std::optional<PixelRect>& differs_within) {
   const auto pixel_bytes = 4 * sizeof(float);
-  // The pixels compared: the whole frame, or the box the caller knows the differences lie in.
-  int left = 0, top = 0, right = glared.width_px, bottom = glared.height_px;  // [left, right) x [top, bottom)
-  if (differs_within) {
-    left = std::clamp(differs_within->x0, 0, glared.width_px);
-    top = std::clamp(differs_within->y0, 0, glared.height_px);
-    right = std::clamp(differs_within->x0 + differs_within->width, left, glared.width_px);
-    bottom = std::clamp(differs_within->y0 + differs_within->height, top, glared.height_px);
-  }
+  // The pixels compared: the whole frame, or its part in the box the caller knows the differences
+  // lie in (0 x 0 when they share none).
+  const PixelRect compared = differs_within ? intersection(*differs_within, image_rect(glared)) : image_rect(glared);
+  const int left = compared.x_px, top = compared.y_px, right = compared.right_px(), bottom = compared.bottom_px();
   int x0 = glared.width_px, y0 = glared.height_px, x1 = -1, y1 = -1;
   for (int y = top; y < bottom && left < right; ++y) {
     const float* a = composed.pixel(0, y);

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "glare/lit_regions.h"
+#include "core/pixel_rect.h"
 
 namespace glarelab {
 
@@ -48,7 +48,7 @@ struct GlaredRegion {
 // which finds the same rectangle without reading the rest of two whole frames (a small stimulus
 // on a 1920 x 1080 display changes a small part of it). A box reaching past the frame is clipped.
 GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
-                            const std::optional<PixelBox>& differs_within = std::nullopt);
+                            const std::optional<PixelRect>& differs_within = std::nullopt);
 
 // The linear cd/m2 a region holds (float32 RGBA, row 0 at the top; a half region's alpha is 1).
 ImageRGBA region_pixels(const GlaredRegion& region);

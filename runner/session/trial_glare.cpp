@@ -37,20 +37,13 @@ std::string describe_glare_window(const GazeWindow& window, const std::optional<
 // report's changed boxes (GlareFrameReport::changed_boxes: the frame is the same bit for bit
 // outside them); nothing when a report does not say. No report at all (every layer control): the
 // frame is unchanged, and the box is empty.
-std::optional<PixelBox> changed_bound(const std::vector<GlareFrameReport>& reports) {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1)
-  bool any = false;
+std::optional<PixelRect> changed_bound(const std::vector<GlareFrameReport>& reports) {
+  PixelRect bound;
   for (const GlareFrameReport& report : reports) {
     if (!report.changed_boxes) return std::nullopt;
-    for (const PixelBox& box : *report.changed_boxes) {
-      if (box.width <= 0 || box.height <= 0) continue;
-      if (!any) x0 = box.x0, y0 = box.y0, x1 = box.x0 + box.width, y1 = box.y0 + box.height;
-      x0 = std::min(x0, box.x0), y0 = std::min(y0, box.y0);
-      x1 = std::max(x1, box.x0 + box.width), y1 = std::max(y1, box.y0 + box.height);
-      any = true;
-    }
+    bound = bounding_rect(bound, bounding_rect(*report.changed_boxes));
   }
-  return PixelBox{x0, y0, x1 - x0, y1 - y0};
+  return bound;
 }
 
 }  // namespace
@@ -307,7 +300,7 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
     const ImageRGBA glared = glare_of(glare.seen_cd_m2(), std::nullopt);
     // Where the glare changed the seen frame; it is the composed frame itself unless seen through
     // spectacles, and then the comparison takes the whole frame.
-    const std::optional<PixelBox> differs_within =
+    const std::optional<PixelRect> differs_within =
         &glare.seen_cd_m2() == &glare.composed_cd_m2 ? changed_bound(reports) : std::nullopt;
     glare.frames.push_back(changed_region(glare.composed_cd_m2, glared, kept_at, differs_within));
   }

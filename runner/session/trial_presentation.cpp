@@ -30,10 +30,6 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
 
 namespace {
 
-bool same_rect(const PixelRect& a, const PixelRect& b) {
-  return a.x_px == b.x_px && a.y_px == b.y_px && a.width_px == b.width_px && a.height_px == b.height_px;
-}
-
 // The overlays that draw into `box` (each draws its rectangle within its clip), clipped to it.
 std::vector<Placement> overlays_within(const std::vector<Placement>& overlays, const PixelRect& box) {
   std::vector<Placement> within;
@@ -48,8 +44,8 @@ std::vector<Placement> overlays_within(const std::vector<Placement>& overlays, c
 bool same_placements(const std::vector<Placement>& a, const std::vector<Placement>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (a[i].scene != b[i].scene || a[i].scale_cd_m2 != b[i].scale_cd_m2 || !same_rect(a[i].rect, b[i].rect) ||
-        !same_rect(a[i].clip, b[i].clip))
+    if (a[i].scene != b[i].scene || a[i].scale_cd_m2 != b[i].scale_cd_m2 || a[i].rect != b[i].rect ||
+        a[i].clip != b[i].clip)
       return false;
   return true;
 }
@@ -88,7 +84,7 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   // already holds them, and blending twice would darken it). The encode then redoes only the
   // rectangle where the display keeps its frame (FrameRenderer::encode_changes_to_display).
   if (glared != nullptr && glared_serial != 0 && stereo_eyes_.empty() && drawn_ && drawn_->glared_serial != 0 &&
-      drawn_->generation == renderer_.stimulus_generation() && same_rect(drawn_->glared_box, glared_box) &&
+      drawn_->generation == renderer_.stimulus_generation() && drawn_->glared_box == glared_box &&
       same_placements(drawn_->placements, placements) && same_placements(drawn_->overlays, overlays)) {
     replace_region();
     const std::vector<Placement> within = overlays_within(overlays, glared_box);

@@ -1,4 +1,4 @@
-#include "glare/chunk_pool.h"
+#include "core/chunk_pool.h"
 
 #include <algorithm>
 #include <atomic>

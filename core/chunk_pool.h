@@ -1,5 +1,5 @@
 #pragma once
-// Worker threads started once per process that run the chunks of parallel_chunks (parallel_rows.h).
+// Worker threads started once per process that run the chunks of parallel_chunks (parallel_for.h).
 //
 // run_chunks(chunks, run_chunk) calls run_chunk(0) .. run_chunk(chunks - 1), each exactly once,
 // and returns when all have returned. The caller takes chunks as the workers do, so the call
