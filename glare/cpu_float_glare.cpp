@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
 #include "glare/fftw_float_plan.h"
 #include "glare/psf_scale.h"
@@ -34,7 +35,8 @@ CpuFloatSpectralSettings spectral_settings(const CpuFloatGlareSettings& settings
 }  // namespace
 
 CpuFloatGlare::CpuFloatGlare(const CpuFloatGlareSettings& settings)
-    : psf_(psf_settings(settings)),
+    : settings_(settings),
+      psf_(psf_settings(settings)),
       spectral_(spectral_settings(settings, psf_.degrees_per_pixel())),
       display_degrees_per_pixel_(settings.display_degrees_per_pixel) {
   if (settings.longitudinal_chromatic_aberration) {
@@ -59,6 +61,32 @@ Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry) {
   // phase as before, bit for bit; astigmatic: glare/astigmatic_phase.h's phase).
   psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
   return spectral_.compute(psf_.power_column_major(), geometry.pupil_diameter_mm);
+}
+
+void CpuFloatGlare::check_layout(const PsfOptions& options, std::optional<double> display_degrees_per_pixel) const {
+  if (options.grid_px != settings_.grid_px || options.aperture_width_mm != settings_.aperture_width_mm ||
+      options.supersampling != settings_.supersampling || options.wavelength_nm != settings_.reference_wavelength_nm ||
+      options.phase != PhaseForm::defocus ||
+      (display_degrees_per_pixel && (options.wavelength_samples != settings_.wavelength_samples ||
+                                     *display_degrees_per_pixel != settings_.display_degrees_per_pixel)))
+    throw std::invalid_argument("glare backend cpu float32 planned: asked for another grid, aperture, wavelength, "
+                                "phase or display scale than its plans were made for");
+}
+
+Psf CpuFloatGlare::psf(const ApertureGeometry& geometry, const PsfOptions& options) {
+  if (options.spectral)
+    throw std::invalid_argument("glare backend cpu float32 planned: its spectral PSF is made at the display's pixel "
+                                "scale (display_psf), not on the aperture grid");
+  check_layout(options, std::nullopt);
+  psf_.rasterise(geometry);
+  psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
+  return psf_.monochromatic_psf();
+}
+
+Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry, const PsfOptions& options,
+                               double display_degrees_per_pixel) {
+  check_layout(options, display_degrees_per_pixel);
+  return display_psf(geometry);
 }
 
 ImageRGBA CpuFloatGlare::convolve(const ImageRGBA& image, const Psf& display_psf) {

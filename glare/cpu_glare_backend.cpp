@@ -13,7 +13,9 @@ CpuGlareBackend::CpuGlareBackend(FftPrecision precision, double bright_threshold
   convolution_.bright_threshold = bright_threshold;
 }
 
-std::string CpuGlareBackend::name() const { return std::string("cpu ") + fft_precision_name(precision_); }
+GlareBackendKind CpuGlareBackend::kind() const {
+  return precision_ == FftPrecision::float64 ? GlareBackendKind::cpu_float64 : GlareBackendKind::cpu_float32;
+}
 
 namespace {
 

@@ -11,7 +11,7 @@ namespace glarelab {
 class CpuGlareBackend : public GlareBackend {
  public:
   explicit CpuGlareBackend(FftPrecision precision = FftPrecision::float64, double bright_threshold = 0.0);
-  std::string name() const override;
+  GlareBackendKind kind() const override;
   Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) override;
   ImageRGBA convolve(const ImageRGBA& image, const Psf& psf) override;
   std::string last_warning() const override { return last_warning_; }

@@ -1,20 +1,28 @@
 #pragma once
 // The glare engine's compute seam (DESIGN.md: "GL compute shaders and a CPU double-precision path
-// behind one interface, so each checks the other"). Both backends take the same aperture geometry
-// and options and return the same Psf (glare/psf.h) and ImageRGBA; tests compare them.
+// behind one interface, so each checks the other"). Every backend takes the same aperture geometry
+// and options and returns the same Psf (glare/psf.h) and ImageRGBA; tests compare them.
 //
-// Choosing: create_glare_backend("cpu" | "gl" | "auto"). On a hardware GPU the GL path is the fast
-// one; on a software rasteriser (Mesa llvmpipe/softpipe/swrast, VMware SVGA3D) the GL path runs on
-// the same CPU cores and is slower than FFTW there (3x for the PSF, 15x for the convolution at
-// N = 1024 on llvmpipe, docs/PERFORMANCE.md), so `auto` takes the CPU.
+// Kinds (glare/glare_backend_kind.h): cpu float64, the reference that tests and `psf --backend cpu`
+// use; cpu float32; cpu float32 planned, a session's frames on the CPU (glare/cpu_float_glare.h:
+// plans and buffers kept, PSFs made at the display's pixel scale); gl, OpenGL 4.5 compute.
+//
+// Choosing: create_glare_backend, one table of candidates in glare_backend.cpp. On a hardware GPU
+// the GL path is the fast one; on a software rasteriser (Mesa llvmpipe/softpipe/swrast, VMware
+// SVGA3D) the GL path runs on the same CPU cores and is slower than FFTW there (3x for the PSF, 15x
+// for the convolution at N = 1024 on llvmpipe, docs/PERFORMANCE.md), so `auto` takes the CPU.
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "core/gl/gl_context.h"
 #include "core/image.h"
 #include "glare/aperture_geometry.h"
 #include "glare/fft_cpu.h"
 #include "glare/fresnel.h"
+#include "glare/glare_backend_kind.h"
+#include "glare/lit_regions.h"
 #include "glare/psf.h"
 
 namespace glarelab {
@@ -30,15 +38,17 @@ struct PsfOptions {
   PhaseForm phase = PhaseForm::defocus;
   // The observer's refraction is modelled (docs/REFRACTION.md): a spectral PSF takes one FFT per
   // wavelength with the eye's longitudinal chromatic aberration (glare/chromatic_psf.h) even when
-  // geometry.refraction_error is zero. A non-zero refraction_error alone does the same on the CPU.
-  // Only the CPU backend computes it (a GL or planned path ignoring it is not used for it).
+  // geometry.refraction_error is zero. A non-zero refraction_error alone does the same. The CPU
+  // FFTW backends and the GL backend (GlPsf::chromatic) compute it; the planned float32 path does
+  // not (carries_refraction), and a session computes such PSFs with the float64 reference.
   bool observer_refraction = false;
 };
 
 class GlareBackend {
  public:
   virtual ~GlareBackend() = default;
-  virtual std::string name() const = 0;  // "cpu float64", "cpu float32", "gl"
+  virtual GlareBackendKind kind() const = 0;
+  std::string name() const { return std::string(spelling(kind())); }  // "cpu float64", ..., "gl"
   // Throws std::invalid_argument naming the backend for options it cannot take.
   virtual Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) = 0;
   // Linear convolution (no wrap-around) of R, G, B with the PSF at the image's pixel scale; alpha
@@ -46,17 +56,50 @@ class GlareBackend {
   virtual ImageRGBA convolve(const ImageRGBA& image, const Psf& psf) = 0;
   // A non-empty warning from the last psf() call (an aliased phase), else empty.
   virtual std::string last_warning() const { return {}; }
+  // The PSF on the pixels of a display whose centre pixel subtends display_degrees_per_pixel:
+  // psf() mapped onto them (psf_scale.h). The planned path computes it at that scale directly.
+  virtual Psf display_psf(const ApertureGeometry& geometry, const PsfOptions& options, double display_degrees_per_pixel);
+  // The glare of the lit boxes of `frame` (glare/lit_regions.h: every pixel outside them black, no
+  // two nearer than the PSF's size) written into `out` (frame's size, holding frame), alpha
+  // untouched: outside the boxes grown by the PSF's reach the exact result is 0, what the frame
+  // holds. Here each grown box (boxes_reached) is cropped and convolved; the planned path
+  // convolves each box's whole linear convolution into place (CpuFloatGlare::convolve_regions).
+  virtual void convolve_regions(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
+                                ImageRGBA& out);
+};
+
+// Whether PSFs of this kind carry the observer's refraction (PsfOptions::observer_refraction): the
+// FFTW and GL backends do; the planned float32 path's display PSF does not.
+bool carries_refraction(GlareBackendKind kind);
+
+// Each box grown by the reach of a PSF psf_size_px across (M/2 before, M - 1 - M/2 <= M/2 after),
+// clipped to a frame of width_px x height_px: where the box's glare lands.
+std::vector<PixelRect> boxes_reached(const std::vector<PixelRect>& boxes, int psf_size_px, int width_px, int height_px);
+
+// What a session's frames need of the planned float32 path: the PSFs' layout and the display's scale.
+struct GlareFrameLayout {
+  PsfOptions psf;  // grid, aperture width, supersampling, reference wavelength, wavelength samples
+  double display_degrees_per_pixel = 0.0;  // at the display's centre (psf_scale.h)
 };
 
 struct GlareBackendSettings {
-  FftPrecision cpu_precision = FftPrecision::float64;  // float32 for speed, float64 for reference
+  FftPrecision cpu_precision = FftPrecision::float64;  // "cpu": float32 for speed, float64 for reference
   // Makes the OpenGL context the GL path works in (runner/display/compute_context.h gives the
   // program's). Empty: no GL here; "gl" is refused and "auto" takes the CPU.
   GlContextFactory gl_context;
+  // The PSF grid to come: "auto" takes GL only for the GL FFT's sizes (powers of two from 16 to
+  // 4096). 0: not known, not checked (the GL path refuses other sizes when it computes).
+  int grid_px = 0;
+  // A session's frames: "auto" on the CPU takes the planned float32 path for this layout. Nothing:
+  // the float64 reference.
+  std::optional<GlareFrameLayout> frames = std::nullopt;
+  // false: the request is the caller's default, no backend was named (the reason says so).
+  bool named = true;
 };
 
 struct GlareBackendChoice {
   std::unique_ptr<GlareBackend> backend;
+  GlareBackendKind kind = GlareBackendKind::cpu_float64;
   std::string reason;  // one sentence: what was picked and why
 };
 
@@ -64,10 +107,12 @@ struct GlareBackendChoice {
 // and swrast, and VMware's SVGA3D).
 bool is_software_renderer(const std::string& gl_renderer);
 
-// "cpu", "gl" or "auto"; throws std::invalid_argument for another name, and DisplayError (from the
-// GL context factory) when "gl" is asked for and no OpenGL 4.5 context can be made. "auto" never
-// throws for want of GL: without a context it takes the CPU and says so.
-GlareBackendChoice create_glare_backend(const std::string& name, const GlareBackendSettings& settings = {});
+// The one place a backend is chosen. "cpu" and "gl" make that backend (cpu: of settings.cpu_precision);
+// "gl" throws DisplayError (from the GL context factory) when no OpenGL 4.5 context can be made.
+// "auto" takes the first candidate that can run here (gl, then the planned path for a session's
+// frames, then cpu float64) and never throws for want of GL: the reason says why each one before
+// it could not.
+GlareBackendChoice create_glare_backend(GlareBackendRequest request, const GlareBackendSettings& settings = {});
 
 // Applies one glare condition to an image whose pixels subtend image_degrees_per_pixel: the control
 // condition (geometry.glare_enabled false) returns the image itself, bit for bit, without calling the

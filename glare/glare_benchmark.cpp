@@ -104,7 +104,7 @@ struct CpuRun {
 CpuRun run_cpu(const ApertureGeometry& geometry, int n, FftPrecision precision, const GlareBenchmarkOptions& options) {
   CpuRun run;
   run.row.grid_px = n;
-  run.row.backend = std::string("cpu ") + fft_precision_name(precision);
+  run.row.backend = precision == FftPrecision::float64 ? GlareBackendKind::cpu_float64 : GlareBackendKind::cpu_float32;
   ApertureRasterOptions raster;
   raster.grid_px = n;
   raster.aperture_width_mm = kApertureWidthMm;
@@ -185,7 +185,7 @@ struct PlannedPath {
 PlannedRun run_cpu_planned(const ApertureGeometry& geometry, int n, const GlareBenchmarkOptions& options) {
   PlannedRun run;
   run.row.grid_px = n;
-  run.row.backend = "cpu float32 planned";
+  run.row.backend = GlareBackendKind::cpu_float32_planned;
   PlannedPath path(n, options);
   path.frame(geometry, true, run.frame);  // warm-up
   run.row.aperture_s = fastest(options.repeats, [&] { path.psf.rasterise(geometry); });
@@ -250,7 +250,7 @@ struct GlRun {
 GlRun run_gl(const ApertureGeometry& geometry, int n, const GlareBenchmarkOptions& options) {
   GlRun run;
   run.row.grid_px = n;
-  run.row.backend = "gl";
+  run.row.backend = GlareBackendKind::gl;
   gl::GlAperture aperture(n, kApertureWidthMm, 2);
   gl::GlPsf psf(n, kApertureWidthMm, 2);
   // Warm-up: llvmpipe compiles each shader at its first dispatch.
@@ -400,7 +400,7 @@ std::string format_glare_benchmark_table(const GlareBenchmarkResult& result) {
            "| PSF error vs 2N reference |\n";
   table << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const GlareBenchmarkRow& row : result.rows)
-    table << "| " << row.grid_px << " | " << row.backend << " | " << milliseconds(row.aperture_s) << " | "
+    table << "| " << row.grid_px << " | " << spelling(row.backend) << " | " << milliseconds(row.aperture_s) << " | "
           << milliseconds(row.psf_s) << " | " << milliseconds(row.spectral_s) << " | " << milliseconds(row.convolution_s)
           << " | " << milliseconds(row.total_s()) << " | " << scientific(row.psf_error) << " | "
           << scientific(row.spectral_error) << " | " << scientific(row.frame_error) << " | "
@@ -416,7 +416,7 @@ std::string format_gl_frame_table(const GlareBenchmarkResult& result) {
   };
   std::ostringstream table;
   for (const GlareBenchmarkRow& row : result.rows) {
-    if (row.backend != "gl") continue;
+    if (row.backend != GlareBackendKind::gl) continue;
     if (table.tellp() == 0)
       table << "| N | scene | aperture ms | FFT+PSF ms | spectral ms | convolution GPU ms | convolution wall ms "
                "| frame GPU ms | frame wall ms |\n|---|---|---|---|---|---|---|---|---|\n";
@@ -430,7 +430,7 @@ std::string format_gl_frame_table(const GlareBenchmarkResult& result) {
     }
   }
   for (const GlareBenchmarkRow& row : result.rows)
-    if (row.backend == "gl" && !row.convolution_gpu_stages.empty())
+    if (row.backend == GlareBackendKind::gl && !row.convolution_gpu_stages.empty())
       table << "\nN = " << row.grid_px << ", GL convolution's GPU time by stage, new scene: " << row.convolution_gpu_stages
             << "; static scene: " << row.static_convolution_gpu_stages << "\n";
   return table.str();

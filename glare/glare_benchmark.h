@@ -22,6 +22,7 @@
 
 #include "core/gl/gl_context.h"
 #include "glare/dioptric_power.h"
+#include "glare/glare_backend_kind.h"
 
 namespace glarelab {
 
@@ -44,7 +45,7 @@ struct GlareBenchmarkOptions {
 
 struct GlareBenchmarkRow {
   int grid_px = 0;
-  std::string backend;  // "cpu float64", "cpu float32", "gl"
+  GlareBackendKind backend = GlareBackendKind::cpu_float64;  // the table prints its words
   double aperture_s = 0.0;
   double psf_s = 0.0;          // FFT + |F|^2 + normalisation, without the aperture
   double spectral_s = 0.0;     // chromatic blur from the reference PSF

@@ -2,13 +2,41 @@
 // How a session's glare is computed and shown: the plain parameters of the glare engine and its
 // stage (stimuli/glare_stage.h), with their defaults. The experiment file's [glare] table is read
 // into this struct by protocols/glare_config.h; nothing here knows about experiment files.
-#include <string>
+#include <span>
 
+#include "core/spelling.h"
 #include "glare/analytic_psf.h"
 #include "glare/eye_parameters.h"
+#include "glare/glare_backend_kind.h"
 #include "glare/spencer_psf.h"
 
 namespace glarelab {
+
+// The choices below in the experiment file's words, one table each (core/spelling.h): the file is
+// read and the resolved experiment and the log are written through them.
+enum class PupilSource { tracker, model };
+inline constexpr Spelling<PupilSource> kPupilSourceSpellings[] = {{PupilSource::tracker, "tracker"},
+                                                                  {PupilSource::model, "model"}};
+constexpr std::span<const Spelling<PupilSource>> spellings(PupilSource) { return kPupilSourceSpellings; }
+
+enum class BlinkSource { model, tracker };
+inline constexpr Spelling<BlinkSource> kBlinkSourceSpellings[] = {{BlinkSource::model, "model"},
+                                                                  {BlinkSource::tracker, "tracker"}};
+constexpr std::span<const Spelling<BlinkSource>> spellings(BlinkSource) { return kBlinkSourceSpellings; }
+
+enum class GlarePresentationRequest { automatic, live, prepared };
+inline constexpr Spelling<GlarePresentationRequest> kGlarePresentationRequestSpellings[] = {
+    {GlarePresentationRequest::automatic, "auto"},
+    {GlarePresentationRequest::live, "live"},
+    {GlarePresentationRequest::prepared, "prepared"}};
+constexpr std::span<const Spelling<GlarePresentationRequest>> spellings(GlarePresentationRequest) {
+  return kGlarePresentationRequestSpellings;
+}
+
+enum class GlareSource { all, excess };
+inline constexpr Spelling<GlareSource> kGlareSourceSpellings[] = {{GlareSource::all, "all"},
+                                                                  {GlareSource::excess, "excess"}};
+constexpr std::span<const Spelling<GlareSource>> spellings(GlareSource) { return kGlareSourceSpellings; }
 
 struct GlareSpec {
   // Mode of conditions without a "glare" column value. Control by default: an experiment that does
@@ -27,9 +55,10 @@ struct GlareSpec {
   // changes of a black pixel are meaningless); 0.01 cd/m2 is near the bottom of mesopic vision.
   double visibility_floor_cd_m2 = 0.01;
   bool skip_invisible = true;         // false: always convolve (for measuring the skip error)
-  // Compute backend (glare/glare_backend.h): "auto" (gl on a hardware GPU, else the CPU), "cpu"
-  // (FFTW double) or "gl" (OpenGL 4.5 compute; needs grid_px a power of two from 16 to 4096).
-  std::string backend = "auto";
+  // Compute backend (glare/glare_backend.h): "auto" (gl on a hardware GPU, else the planned float32
+  // CPU path), "cpu" (FFTW double) or "gl" (OpenGL 4.5 compute; needs grid_px a power of two from 16
+  // to 4096).
+  GlareBackendRequest backend = GlareBackendRequest::automatic;
   // Gaze-contingent glare (Luidolt 2020, 5.2.3): 0 convolves the whole frame; a power of two
   // convolves that square window around the gaze and blends it in with a Gaussian falloff.
   int gaze_window_px = 0;
@@ -39,14 +68,14 @@ struct GlareSpec {
   bool gaze_latency_compensation = false;
   // The dynamic eye's pupil: "tracker" takes the tracker's filtered pupil when a tracker runs (the
   // model's Eq. 1-2 pupil otherwise), "model" always the model's.
-  std::string pupil_source = "tracker";
+  PupilSource pupil_source = PupilSource::tracker;
   // The dynamic eye's blinks: "model" its own schedule (eyelids.h), "tracker" the blinks the
   // tracker detects (Luidolt 2020, 7.2: a detected blink may drive the eyelids instead).
-  std::string blink_source = "model";
+  BlinkSource blink_source = BlinkSource::model;
   // How a session presents glare trials (runner/session/trial_glare.cpp): "auto" measures the
   // first glare trial (prepared before onset) and computes every later frame live, just before its
   // flip, when that fits the refresh period; "live" always; "prepared" never.
-  std::string presentation = "auto";
+  GlarePresentationRequest presentation = GlarePresentationRequest::automatic;
 
   // Which glare model makes the glare of conditions without a "glare_model" column value
   // (glare/analytic_psf.h): "ritschel" (the wave-optics eye, the default), "spencer", "cie" or
@@ -64,7 +93,7 @@ struct GlareSpec {
   // What light the glare spreads (Spencer 1995, section 3.2 end): "all" of the frame, or only the
   // "excess" above the display's peak (the viewer's own eye already scatters what the display
   // shows), added to the frame clipped at the peak.
-  std::string source = "all";
+  GlareSource source = GlareSource::all;
   // The observer's eye for the analytic models (Spencer Eq. 10, CIE 146): `[observer]` age_years
   // and pigmentation in the experiment file.
   ObserverEye observer_eye;

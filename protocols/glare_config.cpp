@@ -40,6 +40,16 @@ std::string read_choice(TableReader& reader, std::string_view key, const std::st
   reader.fail(key, "unknown value '" + *value + "' (supported: " + listed + ")");
 }
 
+// A choice spelt by its enumeration's table (core/spelling.h); another text stops the run at the
+// value, listing the accepted ones.
+template <typename Enum>
+Enum read_choice(TableReader& reader, std::string_view key, Enum fallback) {
+  const std::optional<std::string> value = reader.string(key);
+  if (!value) return fallback;
+  if (const std::optional<Enum> parsed = parse_spelling<Enum>(*value)) return *parsed;
+  reader.fail(key, "unknown value '" + *value + "' (supported: " + spelling_list<Enum>() + ")");
+}
+
 GlareMode parse_mode_at(const std::string& name, const SourceLocation& where, const std::string& key) {
   if (name == "dynamic") return GlareMode::dynamic;
   if (name == "static") return GlareMode::static_eye;
@@ -73,9 +83,9 @@ GlareSpec read_glare_section(TableReader& top) {
       reader.positive_number("visibility_weber_fraction", spec.visibility_weber_fraction);
   spec.visibility_floor_cd_m2 = reader.positive_number("visibility_floor_cd_m2", spec.visibility_floor_cd_m2);
   spec.skip_invisible = reader.boolean("skip_invisible").value_or(spec.skip_invisible);
-  spec.backend = read_choice(reader, "backend", spec.backend, {"auto", "cpu", "gl"});
+  spec.backend = read_choice(reader, "backend", spec.backend);
   // The GL FFT takes powers of two from 16 to 4096 (glare/gl/gl_fft.h): refused here, not mid-session.
-  if (spec.backend == "gl" && (spec.grid_px > 4096 || !std::has_single_bit(static_cast<unsigned>(spec.grid_px))))
+  if (spec.backend == GlareBackendRequest::gl && (spec.grid_px > 4096 || !std::has_single_bit(static_cast<unsigned>(spec.grid_px))))
     reader.fail("backend", "'gl' needs grid_px a power of two from 16 to 4096, found grid_px = " +
                                std::to_string(spec.grid_px) + " (use \"cpu\" or change grid_px)");
   if (const std::optional<std::int64_t> window = reader.integer("gaze_window_px")) {
@@ -85,15 +95,15 @@ GlareSpec read_glare_section(TableReader& top) {
     spec.gaze_window_px = static_cast<int>(*window);
   }
   spec.gaze_latency_compensation = reader.boolean("gaze_latency_compensation").value_or(spec.gaze_latency_compensation);
-  spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source, {"tracker", "model"});
-  spec.blink_source = read_choice(reader, "blink_source", spec.blink_source, {"model", "tracker"});
-  spec.presentation = read_choice(reader, "presentation", spec.presentation, {"auto", "live", "prepared"});
+  spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source);
+  spec.blink_source = read_choice(reader, "blink_source", spec.blink_source);
+  spec.presentation = read_choice(reader, "presentation", spec.presentation);
   spec.model = parse_glare_model(read_choice(reader, "model", to_string(spec.model), {"ritschel", "spencer", "cie", "hybrid"}));
   spec.spencer_regime = parse_spencer_regime(
       read_choice(reader, "regime", to_string(spec.spencer_regime), {"adaptive", "photopic", "mesopic", "scotopic"}));
   spec.hybrid_far_field =
       parse_glare_model(read_choice(reader, "hybrid_far_field", to_string(spec.hybrid_far_field), {"spencer", "cie"}));
-  spec.source = read_choice(reader, "source", spec.source, {"all", "excess"});
+  spec.source = read_choice(reader, "source", spec.source);
   // The hand-over annulus: both or neither (0: the default for the grid's reach).
   const bool inner_given = reader.node("hybrid_handover_inner_deg") != nullptr,
              outer_given = reader.node("hybrid_handover_outer_deg") != nullptr;
@@ -125,16 +135,16 @@ toml::table glare_section_toml(const GlareSpec& spec) {
                      {"visibility_weber_fraction", spec.visibility_weber_fraction},
                      {"visibility_floor_cd_m2", spec.visibility_floor_cd_m2},
                      {"skip_invisible", spec.skip_invisible},
-                     {"backend", spec.backend},
+                     {"backend", std::string(spelling(spec.backend))},
                      {"gaze_window_px", spec.gaze_window_px},
                      {"gaze_latency_compensation", spec.gaze_latency_compensation},
-                     {"pupil_source", spec.pupil_source},
-                     {"blink_source", spec.blink_source},
-                     {"presentation", spec.presentation},
+                     {"pupil_source", std::string(spelling(spec.pupil_source))},
+                     {"blink_source", std::string(spelling(spec.blink_source))},
+                     {"presentation", std::string(spelling(spec.presentation))},
                      {"model", to_string(spec.model)},
                      {"regime", to_string(spec.spencer_regime)},
                      {"hybrid_far_field", to_string(spec.hybrid_far_field)},
-                     {"source", spec.source}};
+                     {"source", std::string(spelling(spec.source))}};
   if (spec.hybrid_handover_outer_deg > 0.0) {
     table.insert("hybrid_handover_inner_deg", spec.hybrid_handover_inner_deg);
     table.insert("hybrid_handover_outer_deg", spec.hybrid_handover_outer_deg);

@@ -9,10 +9,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "glare/fftw_wisdom.h"
-#include "glare/gl/gl_fft.h"
 #include "glare/lit_regions.h"
-#include "core/parallel_for.h"
+#include "glare/parallel_rows.h"
 #include "glare/psf_cpu.h"
 #include "glare/psf_scale.h"
 #include "stimuli/display_model.h"
@@ -88,24 +86,22 @@ void GlareStage::set_condition(GlareModel model, double gain) {
 void GlareStage::set_refraction(std::optional<DioptricPower> residual_error) { refraction_ = residual_error; }
 
 GlareBackend& GlareStage::refraction_psf_backend() {
-  GlareBackend& chosen = backend();
-  // Both carry the refraction's phase and the eye's LCA: the CPU float64 reference and the GL
-  // backend (GlPsf::chromatic). The planned float32 path's display-scale PSF does not.
-  if (!planned_ && (chosen.name() == "cpu float64" || chosen.name() == "gl")) return chosen;
-  if (!refraction_backend_) refraction_backend_ = std::make_unique<CpuGlareBackend>(FftPrecision::float64);
-  return *refraction_backend_;
+  GlareBackend& frames = backend();
+  if (carries_refraction(backend_kind_)) return frames;
+  // The frames' backend does not carry the refraction: the float64 reference computes these PSFs.
+  if (!reference_) reference_ = create_glare_backend(GlareBackendRequest::cpu).backend;
+  return *reference_;
 }
 
 std::string GlareStage::refraction_backend_reason() {
-  const bool gl = !planned_ && backend().name() == "gl";
-  const std::string chosen = planned_ || (backend().name() != "cpu float64" && !gl)
-                                 ? std::string(planned_ ? "cpu float32 planned" : backend().name())
-                                 : std::string();
-  std::string text = std::string("PSFs with the observer's refraction: ") + (gl ? "gl" : "cpu float64") +
+  backend();
+  const bool carried = carries_refraction(backend_kind_);
+  const std::string frames = std::string(spelling(backend_kind_));
+  std::string text = std::string("PSFs with the observer's refraction: ") + (carried ? frames : "cpu float64") +
                      ", one FFT per wavelength (" + std::to_string(spec_.wavelength_samples) +
                      ") with the eye's longitudinal chromatic aberration (Thibos et al. 1992)";
-  if (!chosen.empty())
-    text += "; [glare] backend \"" + spec_.backend + "\" (" + chosen +
+  if (!carried)
+    text += "; [glare] backend \"" + std::string(spelling(spec_.backend)) + "\" (" + frames +
             ") does not carry the refraction's phase yet, so it convolves but does not compute these PSFs";
   return text;
 }
@@ -137,39 +133,29 @@ GlareStage::~GlareStage() = default;
 
 GlareBackend& GlareStage::backend() {
   if (backend_) return *backend_;
-  GlareBackendChoice choice;
-  if (spec_.backend == "auto" && !gl::is_supported_fft_length(spec_.grid_px)) {
-    // The GL FFT takes powers of two 16..4096; "gl" by name is refused for such grids when the
-    // experiment is read (protocols/glare_config.cpp), "auto" takes the CPU without asking GL.
-    choice = create_glare_backend("cpu");
-    choice.reason = "glare backend auto picked " + choice.backend->name() + ": grid_px " +
-                    std::to_string(spec_.grid_px) + " is not a power of two from 16 to 4096, which the GL path needs.";
-  } else {
-    choice = create_glare_backend(spec_.backend, {.gl_context = gl_context_});
-  }
+  GlareBackendSettings settings;
+  settings.gl_context = gl_context_;
+  settings.grid_px = spec_.grid_px;
+  // "auto" on the CPU takes the planned float32 path (glare/cpu_float_glare.h) for the frames: the
+  // float64 backend stays the reference that "cpu" asks for by name.
+  settings.frames = GlareFrameLayout{psf_options(), DisplayModel(display_).degrees_per_pixel_at_centre()};
+  GlareBackendChoice choice = create_glare_backend(spec_.backend, settings);
   backend_ = std::move(choice.backend);
+  backend_kind_ = choice.kind;
   backend_reason_ = std::move(choice.reason);
-  if (spec_.backend == "auto" && backend_->name().rfind("cpu", 0) == 0) {
-    // "auto" on the CPU takes the planned float32 path (glare/cpu_float_glare.h) for the frames: the
-    // float64 backend stays the reference that "cpu" asks for by name.
-    CpuFloatGlareSettings settings;
-    settings.grid_px = spec_.grid_px;
-    settings.aperture_width_mm = spec_.aperture_width_mm;
-    settings.supersampling = spec_.supersampling;
-    settings.reference_wavelength_nm = kReferenceWavelengthNm;
-    settings.wavelength_samples = spec_.wavelength_samples;
-    settings.display_degrees_per_pixel = DisplayModel(display_).degrees_per_pixel_at_centre();
-    planned_ = std::make_unique<CpuFloatGlare>(settings);
-    // "glare backend auto picked cpu float64: WHY" -> the same reason for the planned path.
-    const std::size_t why = backend_reason_.find(": ");
-    backend_reason_ = "glare backend auto picked cpu float32 planned" +
-                      (why == std::string::npos ? std::string(".") : backend_reason_.substr(why)) +
-                      " Planned: " + fftw_wisdom_place().describe() +
-                      ", a trial's frame spectrum kept; frame error against the float64 "
-                      "reference (backend = \"cpu\") about 2e-7 relative L2 at 32 wavelengths, 4e-6 at 16 "
-                      "(tests/glare_stage_test.cpp).";
-  }
   return *backend_;
+}
+
+PsfOptions GlareStage::psf_options() const {
+  PsfOptions options;
+  options.grid_px = spec_.grid_px;
+  options.aperture_width_mm = spec_.aperture_width_mm;
+  options.supersampling = spec_.supersampling;
+  options.wavelength_nm = kReferenceWavelengthNm;
+  options.spectral = true;
+  options.wavelength_samples = spec_.wavelength_samples;
+  options.phase = PhaseForm::defocus;
+  return options;
 }
 
 const std::string& GlareStage::backend_reason() {
@@ -230,46 +216,18 @@ std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double
   EyeModel& eye = eye_for(mode, field_luminance_cd_m2);
   if (mode == GlareMode::dynamic) record_dynamic_luminance(time_s, field_luminance_cd_m2);
   if (state != nullptr) *state = eye.state_at(time_s);
-  PsfOptions options;
-  options.grid_px = spec_.grid_px;
-  options.aperture_width_mm = spec_.aperture_width_mm;
-  options.supersampling = spec_.supersampling;
-  options.wavelength_nm = kReferenceWavelengthNm;
-  options.spectral = true;
-  options.wavelength_samples = spec_.wavelength_samples;
-  options.phase = PhaseForm::defocus;
-  backend();  // made now, with the planned path when it applies
+  PsfOptions options = psf_options();
+  ApertureGeometry geometry = eye.geometry_at(time_s);
   if (refraction_) {
-    ApertureGeometry geometry = eye.geometry_at(time_s);
     geometry.refraction_error = *refraction_;
     options.observer_refraction = true;
-    Psf psf;
-    try {
-      psf = refraction_psf_backend().psf(geometry, options);
-    } catch (const ClosedApertureError&) {
-      return std::nullopt;
-    }
-    return resample_psf_to_display(psf, DisplayModel(display_).degrees_per_pixel_at_centre());
   }
-  if (planned_) {
-    try {
-      return planned_->display_psf(eye.geometry_at(time_s));
-    } catch (const ClosedApertureError&) {
-      return std::nullopt;
-    }
-  }
-  Psf psf;
+  GlareBackend& computing = refraction_ ? refraction_psf_backend() : backend();
   try {
-    psf = backend().psf(eye.geometry_at(time_s), options);
+    return computing.display_psf(geometry, options, DisplayModel(display_).degrees_per_pixel_at_centre());
   } catch (const ClosedApertureError&) {
     return std::nullopt;  // the lids cover the whole pupil: no light, no PSF
   }
-  return resample_psf_to_display(psf, DisplayModel(display_).degrees_per_pixel_at_centre());
-}
-
-ImageRGBA GlareStage::convolve_with_backend(const ImageRGBA& image, const Psf& display_psf) {
-  backend();
-  return planned_ ? planned_->convolve(image, display_psf) : backend().convolve(image, display_psf);
 }
 
 // Convolves only the parts of the frame that glare can change: the boxes around its lit pixels
@@ -286,37 +244,13 @@ ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_
   else if (!facts->lit_boxes.contains(display_psf.size_px))
     facts->lit_boxes.emplace(display_psf.size_px, lit_regions(frame, display_psf.size_px));
   const std::vector<PixelRect>& boxes = facts == nullptr ? found : facts->lit_boxes.at(display_psf.size_px);
-  // Each box grown by the PSF's reach (M/2 before, M - 1 - M/2 <= M/2 after), clipped to the
-  // frame: where its glare lands. The planned path writes exactly there
-  // (CpuFloatConvolution::write_full), the backend path convolves these crops.
-  const int reach = display_psf.size_px / 2;
-  std::vector<PixelRect> reached;
-  for (const PixelRect& box : boxes) {
-    const int x0 = std::max(0, box.x_px - reach), y0 = std::max(0, box.y_px - reach);
-    const int x1 = std::min(frame.width_px, box.x_px + box.width_px + reach);
-    const int y1 = std::min(frame.height_px, box.y_px + box.height_px + reach);
-    reached.push_back({x0, y0, x1 - x0, y1 - y0});
-  }
-  if (changed != nullptr) *changed = reached;
+  // Where each box's glare lands (boxes_reached: grown by the PSF's reach, clipped to the frame);
+  // the planned path writes exactly there (CpuFloatConvolution::write_full), the others convolve
+  // these crops (GlareBackend::convolve_regions).
+  if (changed != nullptr) *changed = boxes_reached(boxes, display_psf.size_px, frame.width_px, frame.height_px);
   if (boxes.empty()) return frame;  // all black: so is its glare
-  backend();
   ImageRGBA out = frame;
-  if (planned_) {
-    // Each box's whole linear convolution (FFT of box + M - 1, not of the box grown by the reach
-    // and padded again), one PSF transform for the boxes of one size.
-    planned_->convolve_regions(frame, boxes, display_psf, out);
-    return out;
-  }
-  for (const PixelRect& area : reached) {
-    if (reached.size() == 1 && area == PixelRect{0, 0, frame.width_px, frame.height_px} && frame.depth.empty())
-      return convolve_with_backend(frame, display_psf);
-    ImageRGBA crop(area.width_px, area.height_px);
-    for (int y = 0; y < area.height_px; ++y)
-      std::copy_n(frame.pixel(area.x_px, area.y_px + y), 4 * area.width_px, crop.pixel(0, y));
-    const ImageRGBA glared = convolve_with_backend(crop, display_psf);
-    for (int y = 0; y < area.height_px; ++y)
-      std::copy_n(glared.pixel(0, y), 4 * area.width_px, out.pixel(area.x_px, area.y_px + y));
-  }
+  backend().convolve_regions(frame, boxes, display_psf, out);
   return out;
 }
 
@@ -330,7 +264,7 @@ ImageRGBA GlareStage::convolve_gaze_window(const ImageRGBA& frame, const Psf& di
   const int cy1 = std::min(frame.height_px, window.y0_px + window.height_px + window.apron_px);
   ImageRGBA crop(cx1 - cx0, cy1 - cy0);
   for (int y = cy0; y < cy1; ++y) std::copy_n(frame.pixel(cx0, y), 4 * crop.width_px, crop.pixel(0, y - cy0));
-  const ImageRGBA glared = convolve_with_backend(crop, display_psf);
+  const ImageRGBA glared = backend().convolve(crop, display_psf);
   ImageRGBA out = frame;
   for (int y = window.y0_px; y < window.y0_px + window.height_px; ++y)
     for (int x = window.x0_px; x < window.x0_px + window.width_px; ++x) {
@@ -358,7 +292,7 @@ ImageRGBA GlareStage::glare_excess(const ImageRGBA& frame) const {
 ImageRGBA GlareStage::with_gain(const ImageRGBA& frame, const ImageRGBA& source, ImageRGBA glared) const {
   // gain 1 and the whole frame as source: the glared frame itself, not frame + (glared - frame)
   // rounded in float.
-  if (condition_gain_ == 1.0 && spec_.source != "excess") return glared;
+  if (condition_gain_ == 1.0 && spec_.source != GlareSource::excess) return glared;
   ImageRGBA out = frame;
   for (std::size_t i = 0; i < out.rgba.size(); i += 4)
     for (int c = 0; c < 3; ++c) {
@@ -468,7 +402,7 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   const double mean_cd_m2 = field_luminance_cd_m2 ? *field_luminance_cd_m2 : mean_luminance(frame_cd_m2);
   // The light the glare spreads: the frame itself (no copy), or its excess over the display's peak.
   std::optional<ImageRGBA> excess;
-  if (spec_.source == "excess") excess = glare_excess(frame_cd_m2);
+  if (spec_.source == GlareSource::excess) excess = glare_excess(frame_cd_m2);
   const ImageRGBA& source = excess ? *excess : frame_cd_m2;
   if (excess && all_black(source)) {
     // Nothing above the display's peak: the frame is shown as it is, bit for bit.

@@ -4,7 +4,8 @@
 // dynamic the eye of glare/eye_model.h at the frame's time. The glare itself is Ritschel et al. 2009
 // sections 4-5: aperture -> monochromatic PSF at 575 nm -> spectral PSF (chromatic blur) -> mapped
 // onto the display's pixels (glare/psf_scale.h) -> FFT convolution, the PSF and the convolution both
-// by the compute backend GlareSpec::backend picks (glare/glare_backend.h: cpu, gl or auto).
+// by the compute backend GlareSpec::backend picks (glare/glare_backend.h: cpu, gl or auto, which
+// on the CPU is the planned float32 path).
 //
 // "Model only what a scene needs": the convolution is skipped when the glare cannot be visible
 // anywhere in the frame (bound below), and the report says when the fibre gratings are behind the
@@ -15,7 +16,7 @@
 // falloff (glare/gaze_window_convolution.h); without a gaze the window is centred on the display.
 //
 // Tracker inputs (dynamic eye only): a measured pupil replaces the model's (record_measured_pupil)
-// and, with blink_source "tracker", detected blinks drive the lids (set_detected_blinks).
+// and, with blink_source tracker, detected blinks drive the lids (set_detected_blinks).
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -28,9 +29,7 @@
 #include "core/display_spec.h"
 #include "core/gl/gl_context.h"
 #include "glare/analytic_glare.h"
-#include "glare/cpu_glare_backend.h"
 #include "glare/dioptric_power.h"
-#include "glare/cpu_float_glare.h"
 #include "glare/eye_model.h"
 #include "glare/gaze_window_convolution.h"
 #include "glare/glare_backend.h"
@@ -129,8 +128,9 @@ class GlareStage {
   // PSF (static, dynamic, the hybrid's near field) takes it as geometry.refraction_error, its
   // spectral PSF with one FFT per wavelength and the eye's LCA (glare/chromatic_psf.h). Nothing (the
   // default): the observer's optics are not modelled, and every PSF is computed as before.
-  // Until the GL and planned float32 paths carry the refraction, such a PSF is computed on the CPU
-  // in float64 whatever [glare] backend says; the chosen backend still convolves.
+  // The CPU float64 and GL backends compute such a PSF themselves; the planned float32 path does
+  // not carry the refraction yet (carries_refraction), so with it these PSFs are computed by the
+  // float64 reference, made then, and the planned path still convolves.
   void set_refraction(std::optional<DioptricPower> residual_error);
   // One sentence for the record: how PSFs with a refraction are computed, and by what.
   std::string refraction_backend_reason();
@@ -169,7 +169,8 @@ class GlareStage {
   ImageRGBA convolve_frame(const ImageRGBA& frame, const Psf& display_psf, std::vector<PixelRect>* changed = nullptr,
                            FrameFacts* facts = nullptr);
   ImageRGBA convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window);
-  ImageRGBA convolve_with_backend(const ImageRGBA& image, const Psf& display_psf);
+  // The spectral PSF's options of every frame (the backend's layout).
+  PsfOptions psf_options() const;
   // The wave-optics PSF of a frame (Ritschel, and the hybrid's near part), with blinks held; nothing
   // when the eye is closed and no open frame came before (r.skip_reason says so).
   std::optional<Psf> wave_psf(GlareMode mode, double time_s, double mean_cd_m2, GlareFrameReport& r);
@@ -187,14 +188,14 @@ class GlareStage {
   DisplaySpec display_;
   std::uint64_t seed_;
   GlContextFactory gl_context_;
+  // The frames' backend (create_glare_backend: "auto" on the CPU is the planned float32 path).
   std::unique_ptr<GlareBackend> backend_;
-  // "auto" on the CPU: the planned float32 path does the frames' PSF and convolution.
-  std::unique_ptr<CpuFloatGlare> planned_;
+  GlareBackendKind backend_kind_ = GlareBackendKind::cpu_float64;
   std::string backend_reason_;
-  // The PSF of a condition with the observer's refraction (set_refraction): the float64 CPU backend,
-  // the one path that carries the refraction and the LCA today (backend_ itself when it is that).
+  // The backend of the PSFs of a condition with the observer's refraction (set_refraction): the
+  // frames' own when it carries the refraction and the LCA, else the float64 reference, made then.
   GlareBackend& refraction_psf_backend();
-  std::unique_ptr<CpuGlareBackend> refraction_backend_;
+  std::unique_ptr<GlareBackend> reference_;
   std::optional<DioptricPower> refraction_;
   // Dynamic: one eye for the whole session, starting adapted to the first frame it sees, recording
   // every frame's mean luminance (its pupil follows the field luminance).

@@ -8,10 +8,12 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "glare/cpu_float_glare.h"
 #include "glare/cpu_glare_backend.h"
 #include "glare/eye_model.h"
 #include "glare/gl/gl_glare_backend.h"
 #include "glare/glare_backend.h"
+#include "glare/psf_cpu.h"
 #include "glare/psf_scale.h"
 #include "glare_psf_test_support.h"
 #include "runner/display/compute_context.h"
@@ -63,8 +65,8 @@ GlareBackendSettings with_gl() { return {.gl_context = gl::compute_context_facto
 
 TEST(GlareBackendChoice, WithoutAContextFactoryGlIsRefusedAndAutoTakesTheCpu) {
   // The glare layer makes no context of its own: it is handed a factory (core/gl/gl_context.h).
-  EXPECT_THROW(create_glare_backend("gl"), DisplayError);
-  const GlareBackendChoice choice = create_glare_backend("auto");
+  EXPECT_THROW(create_glare_backend(GlareBackendRequest::gl), DisplayError);
+  const GlareBackendChoice choice = create_glare_backend(GlareBackendRequest::automatic);
   EXPECT_EQ(choice.backend->name(), "cpu float64");
   EXPECT_NE(choice.reason.find("no OpenGL 4.5 context"), std::string::npos) << choice.reason;
   EXPECT_NE(choice.reason.find("no context factory"), std::string::npos) << choice.reason;
@@ -81,23 +83,23 @@ TEST(GlareBackendChoice, SoftwareRenderersAreRecognised) {
 
 TEST(GlareBackendChoice, AutoTakesTheCpuOnThisMachinesSoftwareRenderer) {
   // This machine renders with Mesa llvmpipe (docs/PERFORMANCE.md); a context made here says so.
-  const GlareBackendChoice gl = create_glare_backend("gl", with_gl());
+  const GlareBackendChoice gl = create_glare_backend(GlareBackendRequest::gl, with_gl());
   const std::string renderer = dynamic_cast<gl::GlGlareBackend&>(*gl.backend).gl_info().renderer;
   if (!is_software_renderer(renderer)) GTEST_SKIP() << "hardware renderer " << renderer << ": auto takes gl here";
-  const GlareBackendChoice choice = create_glare_backend("auto", with_gl());
+  const GlareBackendChoice choice = create_glare_backend(GlareBackendRequest::automatic, with_gl());
   std::cout << "auto: " << choice.reason << "\n";
   EXPECT_EQ(choice.backend->name(), "cpu float64");
   EXPECT_NE(choice.reason.find("llvmpipe"), std::string::npos) << choice.reason;
   EXPECT_NE(choice.reason.find("software rasteriser"), std::string::npos) << choice.reason;
   GlareBackendSettings float32;
   float32.cpu_precision = FftPrecision::float32;
-  EXPECT_EQ(create_glare_backend("cpu", float32).backend->name(), "cpu float32");
-  EXPECT_THROW(create_glare_backend("cuda"), std::invalid_argument);
+  EXPECT_EQ(create_glare_backend(GlareBackendRequest::cpu, float32).backend->name(), "cpu float32");
+  EXPECT_FALSE(parse_spelling<GlareBackendRequest>("cuda").has_value());
 }
 
 class GlareBackendAgreement : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { gl_ = create_glare_backend("gl", with_gl()).backend; }
+  static void SetUpTestSuite() { gl_ = create_glare_backend(GlareBackendRequest::gl, with_gl()).backend; }
   static void TearDownTestSuite() { gl_.reset(); }
   static std::unique_ptr<GlareBackend> gl_;
 };
@@ -300,7 +302,7 @@ TEST_F(GlareBackendAgreement, ClosedEyeIsRefusedByTypeOnBothBackends) {
 // A backend that fails the test when used: the control condition must not reach it.
 class UntouchableBackend : public GlareBackend {
  public:
-  std::string name() const override { return "untouchable"; }
+  GlareBackendKind kind() const override { return GlareBackendKind::cpu_float64; }
   Psf psf(const ApertureGeometry&, const PsfOptions&) override { throw std::logic_error("psf called for control"); }
   ImageRGBA convolve(const ImageRGBA&, const Psf&) override { throw std::logic_error("convolve called for control"); }
 };
@@ -317,6 +319,70 @@ TEST(GlareCondition, ControlReturnsTheInputExactly) {
   EXPECT_EQ(out.width_px, frame.width_px);
   // The dynamic eye does reach the backend.
   EXPECT_THROW(apply_glare(untouchable, frame, 0.05, eye_aperture(1.0, 3), PsfOptions{}), std::logic_error);
+}
+
+// A session's frames on a CPU: "auto" takes the planned float32 path, says why GL was passed over,
+// and the planned path answers through the same interface: its display PSF is CpuFloatGlare's own,
+// bit for bit, and its grid PSF is the float64 reference's within float rounding.
+TEST(GlareBackendChoice, AutoForASessionsFramesOnTheCpuTakesThePlannedPath) {
+  GlareFrameLayout layout;
+  layout.psf.grid_px = 64;
+  layout.psf.aperture_width_mm = 10.0;
+  layout.psf.wavelength_samples = 8;
+  layout.psf.spectral = true;
+  layout.display_degrees_per_pixel = 4.0 * psf_degrees_per_pixel(layout.psf.wavelength_nm, layout.psf.aperture_width_mm);
+  GlareBackendSettings settings;
+  settings.grid_px = 64;
+  settings.frames = layout;
+  const GlareBackendChoice choice = create_glare_backend(GlareBackendRequest::automatic, settings);
+  EXPECT_EQ(choice.kind, GlareBackendKind::cpu_float32_planned);
+  EXPECT_EQ(choice.backend->name(), "cpu float32 planned");
+  EXPECT_EQ(choice.reason.rfind("glare backend auto picked cpu float32 planned: no OpenGL 4.5 context (", 0), 0u)
+      << choice.reason;
+  EXPECT_NE(choice.reason.find(". Planned: "), std::string::npos) << choice.reason;
+  EXPECT_FALSE(carries_refraction(choice.kind));
+  EXPECT_TRUE(carries_refraction(GlareBackendKind::cpu_float64));
+  EXPECT_TRUE(carries_refraction(GlareBackendKind::gl));
+  // Asked for by name, "cpu" is the reference whatever the frames.
+  EXPECT_EQ(create_glare_backend(GlareBackendRequest::cpu, settings).kind, GlareBackendKind::cpu_float64);
+
+  const ApertureGeometry eye = eye_aperture(1.5, 7);
+  CpuFloatGlareSettings direct_settings;
+  direct_settings.grid_px = 64;
+  direct_settings.wavelength_samples = 8;
+  direct_settings.display_degrees_per_pixel = layout.display_degrees_per_pixel;
+  CpuFloatGlare direct(direct_settings);
+  EXPECT_EQ(choice.backend->display_psf(eye, layout.psf, layout.display_degrees_per_pixel).values,
+            direct.display_psf(eye).values);
+  PsfOptions mono = layout.psf;
+  mono.spectral = false;
+  const Psf planned_mono = choice.backend->psf(eye, mono);
+  const Psf reference_mono = CpuGlareBackend(FftPrecision::float64).psf(eye, mono);
+  ASSERT_EQ(planned_mono.values.size(), reference_mono.values.size());
+  EXPECT_LT(relative_l2(planned_mono.values, reference_mono.values), 1e-5);
+  EXPECT_GT(relative_l2(planned_mono.values, reference_mono.values), 0.0);  // float32, not the reference itself
+  // Its spectral PSF exists at the display's scale only, and only for the layout it was planned for.
+  EXPECT_THROW(choice.backend->psf(eye, layout.psf), std::invalid_argument);
+  PsfOptions other = layout.psf;
+  other.grid_px = 128;
+  EXPECT_THROW(choice.backend->display_psf(eye, other, layout.display_degrees_per_pixel), std::invalid_argument);
+}
+
+// "auto" passes GL over for a grid the GL FFT cannot take without making a context at all.
+TEST(GlareBackendChoice, AutoPassesGlOverForAGridItsFftCannotTake) {
+  GlareBackendSettings settings;
+  bool context_made = false;
+  settings.gl_context = [&]() -> std::unique_ptr<GlContext> {
+    context_made = true;
+    return gl::compute_context_factory()();
+  };
+  settings.grid_px = 100;
+  const GlareBackendChoice choice = create_glare_backend(GlareBackendRequest::automatic, settings);
+  EXPECT_EQ(choice.kind, GlareBackendKind::cpu_float64);
+  EXPECT_EQ(choice.reason,
+            "glare backend auto picked cpu float64: grid_px 100 is not a power of two from 16 to 4096, which the GL "
+            "path needs.");
+  EXPECT_FALSE(context_made);
 }
 
 }  // namespace

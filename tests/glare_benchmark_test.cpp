@@ -30,16 +30,16 @@ TEST(GlareBenchmark, TinyGridsGiveOneRowPerBackendWithErrorsAndATable) {
   for (std::size_t k = 0; k < result.rows.size(); ++k) {
     const GlareBenchmarkRow& row = result.rows[k];
     EXPECT_EQ(row.grid_px, k < 4 ? 32 : 64);
-    EXPECT_EQ(row.backend, backends[k % 4]);
+    EXPECT_EQ(spelling(row.backend), backends[k % 4]);
     EXPECT_GT(row.total_s(), 0.0);
     if (k % 4 == 0) {
       EXPECT_EQ(row.psf_error, 0.0);  // the reference itself
     } else {
       // float32 (CPU or GPU) against double: rounding only, far below the discretisation error.
       EXPECT_GT(row.psf_error, 0.0);
-      EXPECT_LT(row.psf_error, 1e-5) << row.backend;
-      EXPECT_LT(row.spectral_error, 1e-4) << row.backend;
-      EXPECT_LT(row.frame_error, 1e-5) << row.backend;
+      EXPECT_LT(row.psf_error, 1e-5) << spelling(row.backend);
+      EXPECT_LT(row.spectral_error, 1e-4) << spelling(row.backend);
+      EXPECT_LT(row.frame_error, 1e-5) << spelling(row.backend);
     }
     // Against the 2N grid: the coarse grid's sampling error, the same for every backend to 1e-4.
     EXPECT_GT(row.discretisation_error, 1e-4);

@@ -55,27 +55,27 @@ TEST(GlareConfig, BadValuesNameTheirKeyAndLine) {
 
 TEST(GlareConfig, BackendGazeWindowAndTrackerInputsAreReadStrictlyAndRoundTrip) {
   const Experiment defaults = parse_experiment_text(experiment_with("[glare]\nmode = \"dynamic\"", ""), "g.toml", "/tmp");
-  EXPECT_EQ(defaults.glare.backend, "auto");
+  EXPECT_EQ(spelling(defaults.glare.backend), "auto");
   EXPECT_EQ(defaults.glare.gaze_window_px, 0);
-  EXPECT_EQ(defaults.glare.pupil_source, "tracker");
-  EXPECT_EQ(defaults.glare.blink_source, "model");
+  EXPECT_EQ(spelling(defaults.glare.pupil_source), "tracker");
+  EXPECT_EQ(spelling(defaults.glare.blink_source), "model");
   const Experiment e = parse_experiment_text(
       experiment_with("[glare]\nbackend = \"gl\"\ngrid_px = 512\ngaze_window_px = 256\npupil_source = \"model\"\n"
                       "blink_source = \"tracker\"",
                       ""),
       "g.toml", "/tmp");
-  EXPECT_EQ(e.glare.backend, "gl");
+  EXPECT_EQ(spelling(e.glare.backend), "gl");
   EXPECT_EQ(e.glare.gaze_window_px, 256);
-  EXPECT_EQ(e.glare.pupil_source, "model");
-  EXPECT_EQ(e.glare.blink_source, "tracker");
+  EXPECT_EQ(spelling(e.glare.pupil_source), "model");
+  EXPECT_EQ(spelling(e.glare.blink_source), "tracker");
   const std::string resolved = resolved_config_toml(e);
   EXPECT_NE(resolved.find("backend = 'gl'"), std::string::npos) << resolved;
   const Experiment reread = parse_experiment_text(resolved, "<stored config>", "/");
   EXPECT_EQ(resolved_config_toml(reread), resolved);
-  EXPECT_EQ(reread.glare.backend, "gl");
+  EXPECT_EQ(spelling(reread.glare.backend), "gl");
   EXPECT_EQ(reread.glare.gaze_window_px, 256);
-  EXPECT_EQ(reread.glare.pupil_source, "model");
-  EXPECT_EQ(reread.glare.blink_source, "tracker");
+  EXPECT_EQ(spelling(reread.glare.pupil_source), "model");
+  EXPECT_EQ(spelling(reread.glare.blink_source), "tracker");
   EXPECT_FALSE(reread.glare.gaze_latency_compensation);  // off unless asked for
   const Experiment compensated = parse_experiment_text(
       experiment_with("[glare]\ngaze_window_px = 256\ngaze_latency_compensation = true", ""), "g.toml", "/tmp");
@@ -122,7 +122,7 @@ TEST(GlareConfig, ModelsRegimeSourceAndHandOverAreReadStrictlyAndRoundTrip) {
   EXPECT_EQ(e.glare.model, GlareModel::hybrid);
   EXPECT_EQ(e.glare.spencer_regime, SpencerRegime::scotopic);
   EXPECT_EQ(e.glare.hybrid_far_field, GlareModel::cie);
-  EXPECT_EQ(e.glare.source, "excess");
+  EXPECT_EQ(spelling(e.glare.source), "excess");
   EXPECT_EQ(glare_model_for(e.glare, e.conditions[0]), GlareModel::hybrid);
   EXPECT_EQ(glare_model_for(e.glare, e.conditions[1]), GlareModel::spencer);
   EXPECT_EQ(glare_gain_for(e.conditions[0]), 1.0);
@@ -137,7 +137,7 @@ TEST(GlareConfig, ModelsRegimeSourceAndHandOverAreReadStrictlyAndRoundTrip) {
   const Experiment plain = parse_experiment_text(experiment_with("", ""), "g.toml", "/tmp");
   EXPECT_EQ(plain.glare.model, GlareModel::ritschel);
   EXPECT_EQ(plain.glare.spencer_regime, SpencerRegime::adaptive);
-  EXPECT_EQ(plain.glare.source, "all");
+  EXPECT_EQ(spelling(plain.glare.source), "all");
 }
 
 TEST(GlareConfig, BadModelsGainsAndHandOversNameTheirKeyAndLine) {

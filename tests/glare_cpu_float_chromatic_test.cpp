@@ -213,12 +213,12 @@ TEST(GlareBenchmarkRefraction, EveryCpuPathTimesThePhaseOfTheWholePowerError) {
   double worst = 0.0;
   for (const GlareBenchmarkRow& row : result.rows) {
     std::printf("bench with -0.25 / -0.5 x 30: %-20s discretisation %.2e, PSF error %.2e, frame error %.2e\n",
-                row.backend.c_str(), row.discretisation_error, row.psf_error, row.frame_error);
+                std::string(spelling(row.backend)).c_str(), row.discretisation_error, row.psf_error, row.frame_error);
     worst = std::max(worst, row.discretisation_error);
-    EXPECT_LT(row.psf_error, 1e-5) << row.backend;
+    EXPECT_LT(row.psf_error, 1e-5) << spelling(row.backend);
     // The planned path's display-scale clamp (cpu_float_spectral_psf.h) is a screen, not a bound: on
     // this defocused, astigmatic PSF its frame error is 1.6e-5 (below 1e-6 on the eye model alone).
-    EXPECT_LT(row.frame_error, 1e-4) << row.backend;
+    EXPECT_LT(row.frame_error, 1e-4) << spelling(row.backend);
   }
   ASSERT_EQ(result.frames.size(), 1u);
   EXPECT_EQ(result.frames[0].discretisation_error, result.rows[2].discretisation_error);

@@ -12,7 +12,7 @@ namespace {
 
 GlareSpec small_spec() {
   GlareSpec spec;
-  spec.backend = "cpu";
+  spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;
   spec.wavelength_samples = 8;
   return spec;

@@ -29,7 +29,7 @@ DisplaySpec small_display() {
 GlareSpec spec_for(GlareModel model) {
   GlareSpec spec;
   spec.model = model;
-  spec.backend = "cpu";
+  spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;
   spec.wavelength_samples = 8;
   spec.spencer_regime = SpencerRegime::mesopic;
@@ -76,7 +76,7 @@ TEST(GlareStageModels, SpencerAndCieFramesAreTheKernelConvolution) {
 
 TEST(GlareStageModels, ExcessSourceLeavesAFrameBelowThePeakUnchangedBitForBit) {
   GlareSpec spec = spec_for(GlareModel::spencer);
-  spec.source = "excess";
+  spec.source = GlareSource::excess;
   GlareStage stage(spec, small_display(), 1);
   const ImageRGBA below = lamp_frame(3.0f, 199.9f);  // peak 200
   GlareFrameReport report;
@@ -88,7 +88,7 @@ TEST(GlareStageModels, ExcessSourceLeavesAFrameBelowThePeakUnchangedBitForBit) {
 
 TEST(GlareStageModels, ExcessSourceSpreadsOnlyWhatTheDisplayCannotShow) {
   GlareSpec spec = spec_for(GlareModel::cie);
-  spec.source = "excess";
+  spec.source = GlareSource::excess;
   GlareStage stage(spec, small_display(), 1);
   const ImageRGBA frame = lamp_frame(3.0f, 2200.0f);
   const ImageRGBA out = stage.apply(frame, GlareMode::static_eye, 0.0);

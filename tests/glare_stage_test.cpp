@@ -31,7 +31,7 @@ namespace {
 
 GlareSpec small_spec() {
   GlareSpec spec;
-  spec.backend = "cpu";
+  spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;  // PSF 128 px of lambda / 10 mm = 0.0033 deg: 17 display pixels across
   spec.wavelength_samples = 8;
   return spec;
@@ -275,7 +275,7 @@ TEST(GlareStage, AutoOnTheCpuTakesThePlannedFloatPathWithinOneMillionthOfTheRefe
   reference_spec.wavelength_samples = 32;
   reference_spec.skip_invisible = false;
   GlareSpec planned_spec = reference_spec;
-  planned_spec.backend = "auto";
+  planned_spec.backend = GlareBackendRequest::automatic;
   GlareStage reference(reference_spec, small_display(), 4);
   GlareStage planned(planned_spec, small_display(), 4);  // no GL context factory: the CPU
   EXPECT_EQ(planned.backend_reason().rfind("glare backend auto picked cpu float32 planned: ", 0), 0u)
@@ -313,7 +313,7 @@ TEST(GlareStage, RoomsConvolvedApartEqualTheWholeFrameConvolution) {
   display.width_px = 1024;
   display.height_px = 512;
   const ImageRGBA frame = demo_frame();
-  for (const char* backend : {"cpu", "auto"}) {
+  for (const GlareBackendRequest backend : {GlareBackendRequest::cpu, GlareBackendRequest::automatic}) {
     GlareSpec spec;
     spec.backend = backend;
     spec.wavelength_samples = 16;
@@ -329,8 +329,8 @@ TEST(GlareStage, RoomsConvolvedApartEqualTheWholeFrameConvolution) {
     ASSERT_TRUE(report.convolved) << report.skip_reason;
     const double error = relative_l2(got, reference);
     // float64: only the rounding of other FFT sizes; the planned float32 path: its frame budget.
-    EXPECT_LT(error, std::string(backend) == "cpu" ? 1e-12 : 1e-6) << backend;
-    std::printf("%s: rooms apart vs whole frame, relative L2 %.3g\n", backend, error);
+    EXPECT_LT(error, backend == GlareBackendRequest::cpu ? 1e-12 : 1e-6) << spelling(backend);
+    std::printf("%s: rooms apart vs whole frame, relative L2 %.3g\n", std::string(spelling(backend)).c_str(), error);
     EXPECT_EQ(got.pixel(512, 256)[1], 0.0f) << "between the rooms, beyond the PSF's reach";
     EXPECT_GT(got.pixel(128 - 5, 200)[1], 0.0f) << "glare spills past a room's edge";
   }
@@ -340,7 +340,7 @@ TEST(GlareStage, GlBackendAgreesWithTheCpuBackendOnASessionFrame) {
   // Small grid and frame: the GL path runs on llvmpipe here.
   GlareSpec spec = small_spec();
   GlareStage cpu(spec, small_display(), 21);
-  spec.backend = "gl";
+  spec.backend = GlareBackendRequest::gl;
   GlareStage gl(spec, small_display(), 21, gl::compute_context_factory());
   EXPECT_NE(gl.backend_reason().find("glare backend gl"), std::string::npos) << gl.backend_reason();
   ImageRGBA frame = lamp_frame(0.5f, 2000.0f);
@@ -397,7 +397,7 @@ TEST(GlareStage, GazeWindowInADemoSizedSessionFrameIsExactInsideAndCheaper) {
         for (int c = 0; c < 3; ++c) frame.pixel(x, y)[c] = lamp ? 100.0f : 0.5f;
       }
   GlareSpec spec;
-  spec.backend = "cpu";
+  spec.backend = GlareBackendRequest::cpu;
   spec.wavelength_samples = 16;
   GlareStage full(spec, display, 2);
   spec.gaze_window_px = 256;

@@ -13,7 +13,7 @@ TEST(GlareStaticCache, AFieldLuminanceMetAgainAfterManyOthersGivesTheSameGlare) 
   display.width_px = 96;
   display.height_px = 64;
   GlareSpec spec;
-  spec.backend = "cpu";
+  spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;
   spec.wavelength_samples = 8;
   spec.skip_invisible = false;

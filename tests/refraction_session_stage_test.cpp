@@ -178,7 +178,7 @@ TEST(RefractionSessionStage, NoRefractionIsBitIdentical) {
   DisplaySpec display;
   display.width_px = 96;
   display.height_px = 64;
-  for (const std::string backend : {"cpu", "auto"}) {
+  for (const GlareBackendRequest backend : {GlareBackendRequest::cpu, GlareBackendRequest::automatic}) {
     GlareSpec spec;
     spec.backend = backend;
     spec.grid_px = 128;
@@ -191,8 +191,8 @@ TEST(RefractionSessionStage, NoRefractionIsBitIdentical) {
       const ImageRGBA refracted = toggled.apply(dot_frame(), mode, 0.25);
       toggled.set_refraction(std::nullopt);
       const ImageRGBA after = toggled.apply(dot_frame(), mode, 0.25);
-      EXPECT_TRUE(same_bits(before, after)) << backend << " " << to_string(mode);
-      EXPECT_FALSE(same_bits(before, refracted)) << backend << " " << to_string(mode);
+      EXPECT_TRUE(same_bits(before, after)) << spelling(backend) << " " << to_string(mode);
+      EXPECT_FALSE(same_bits(before, refracted)) << spelling(backend) << " " << to_string(mode);
     }
   }
 }
@@ -204,7 +204,7 @@ TEST(RefractionSessionStage, HybridNearFieldCarriesTheRefraction) {
   display.width_px = 96;
   display.height_px = 64;
   GlareSpec spec;
-  spec.backend = "cpu";
+  spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;
   spec.wavelength_samples = 8;
   spec.skip_invisible = false;
@@ -233,13 +233,13 @@ TEST(RefractionSessionStage, PsfWithARefractionOnEveryBackend) {
   spec.grid_px = 128;
   spec.wavelength_samples = 8;
   const DioptricPower residual = DioptricPower::from_prescription({-0.5, -1.0, 120.0});
-  spec.backend = "cpu";
+  spec.backend = GlareBackendRequest::cpu;
   GlareStage reference(spec, display, 5);
   reference.set_refraction(residual);
   const Psf expected = *reference.display_psf(GlareMode::static_eye, 0.0, 20.0);
   const double peak = *std::max_element(expected.values.begin(), expected.values.end());
 
-  spec.backend = "gl";
+  spec.backend = GlareBackendRequest::gl;
   GlareStage gl(spec, display, 5, gl::compute_context_factory());
   gl.set_refraction(residual);
   const Psf on_gl = *gl.display_psf(GlareMode::static_eye, 0.0, 20.0);
@@ -252,7 +252,7 @@ TEST(RefractionSessionStage, PsfWithARefractionOnEveryBackend) {
   EXPECT_NE(gl.refraction_backend_reason().find("refraction: gl,"), std::string::npos) << gl.refraction_backend_reason();
   EXPECT_EQ(gl.refraction_backend_reason().find("does not carry"), std::string::npos);
 
-  spec.backend = "auto";
+  spec.backend = GlareBackendRequest::automatic;
   GlareStage planned(spec, display, 5, gl::compute_context_factory());
   planned.set_refraction(residual);
   EXPECT_EQ(planned.display_psf(GlareMode::static_eye, 0.0, 20.0)->values, expected.values);

@@ -42,7 +42,7 @@ PerceptionSettings only(bool adaptation) {
 TEST(SessionPerception, AdaptationDrivesTheGlaresFieldLuminance) {
   const DisplaySpec display = small_display();
   GlareSpec spec;
-  spec.backend = "cpu";
+  spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;
   spec.wavelength_samples = 8;
   spec.skip_invisible = false;

@@ -19,7 +19,7 @@ class GlGlareBackend : public GlareBackend {
   // context: the context to work in, made current for every call (DisplayError when null).
   explicit GlGlareBackend(std::unique_ptr<GlContext> context);
   ~GlGlareBackend() override;
-  std::string name() const override { return "gl"; }
+  GlareBackendKind kind() const override { return GlareBackendKind::gl; }
   Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) override;
   ImageRGBA convolve(const ImageRGBA& image, const Psf& psf) override;
   const GlInfo& gl_info() const { return context_->gl_info(); }

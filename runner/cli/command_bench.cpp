@@ -230,7 +230,7 @@ Action add_bench_command(CLI::App& app) {
                    "nine padded real transforms, 3 forward image, 3 forward PSF, 3 inverse). A static scene keeps its "
                    "spectrum; a new scene transforms its R, G, B again.\n\n"
                 << format_glare_frame_table(result);
-      if (!args->no_gl) std::cout << "\n" << create_glare_backend("auto", {.gl_context = gl::compute_context_factory()}).reason << "\n";
+      if (!args->no_gl) std::cout << "\n" << create_glare_backend(GlareBackendRequest::automatic, {.gl_context = gl::compute_context_factory()}).reason << "\n";
       if (!args->no_analytic) {
         std::cout << "\n";
         print_analytic_rows(*args);

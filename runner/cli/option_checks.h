@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <string>
 
+#include "core/spelling.h"
 #include "glare/dioptric_power.h"
 
 namespace glarelab::cli {
@@ -23,6 +24,26 @@ CLI::Validator finite_positive_number(const std::string& unit);
 CLI::Validator eye_model_time_s();
 // A file name ending in one of `extensions` (".exr", ".png"; compared without case).
 CLI::Validator file_extension_in(std::initializer_list<const char*> extensions, const std::string& what);
+
+// An option whose text is one of Enum's words (core/spelling.h), parsed into `value` where the flag
+// is read: another text is refused naming the flag and the words it takes ("--backend: unknown value
+// 'cuda' (supported: 'auto', 'cpu', 'gl')"). Help shows the words ("{auto,cpu,gl}") and `value`'s
+// word as the default.
+template <typename Enum>
+CLI::Option* add_choice_option(CLI::App* command, const std::string& name, Enum& value, const std::string& description) {
+  CLI::Option* option = command->add_option_function<std::string>(
+      name, [&value](const std::string& text) { value = *parse_spelling<Enum>(text); }, description);
+  std::string words;
+  for (const Spelling<Enum>& entry : spellings(Enum{})) words += (words.empty() ? "{" : ",") + std::string(entry.text);
+  option->check(CLI::Validator(
+      [](const std::string& text) {
+        return parse_spelling<Enum>(text) ? std::string()
+                                          : "unknown value '" + text + "' (supported: " + spelling_list<Enum>() + ")";
+      },
+      words + "}"));
+  option->default_str(std::string(spelling(value)));
+  return option;
+}
 
 // Sphero-cylinders on the command line (prescriptions, spectacle lenses): sphere and cylinder in
 // dioptres, axis in TABO degrees. The bounds take every prescription a clinic writes.

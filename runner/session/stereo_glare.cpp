@@ -40,10 +40,10 @@ void SessionLoop::log_stereo_setup() {
             std::to_string(eye->seed) + ";";
   text += " each eye its own glare stage and perception eye; pupil: ";
   const bool tracked = tracker_.active();
-  text += tracked && spec.pupil_source == "tracker" ? "each eye's own filtered pupil from the tracker"
+  text += tracked && spec.pupil_source == PupilSource::tracker ? "each eye's own filtered pupil from the tracker"
                                                     : "each eye model's own (Eq. 1-2)";
   text += "; blinks: ";
-  text += tracked && spec.blink_source == "tracker" ? "each eye's own, detected by the tracker"
+  text += tracked && spec.blink_source == BlinkSource::tracker ? "each eye's own, detected by the tracker"
                                                     : "each eye model's own schedule";
   text += "; gaze: ";
   text += tracked ? "each eye's own samples, normalised in its view" : "each view's centre (no tracker)";
@@ -76,10 +76,10 @@ void SessionLoop::feed_stereo_tracker_inputs() {
   const GlareSpec& spec = prepared_.experiment.glare;
   for (const std::unique_ptr<StereoEye>& eye : stereo_eyes_) {
     const int id = eye->view.tracker_eye;
-    if (spec.pupil_source == "tracker")
+    if (spec.pupil_source == PupilSource::tracker)
       if (const std::optional<double> pupil_mm = tracker_.measured_eye_pupil_mm(id))
         eye->glare.record_measured_pupil(clock_.now_s(), *pupil_mm);
-    if (spec.blink_source == "tracker") {
+    if (spec.blink_source == BlinkSource::tracker) {
       std::vector<DetectedBlink> blinks;
       for (const TrackerBlinkInterval& blink : tracker_.detected_eye_blinks(id)) blinks.push_back({blink.onset_s, blink.offset_s});
       eye->glare.set_detected_blinks(blinks);

@@ -171,8 +171,8 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   const GlareSpec& spec = prepared_.experiment.glare;
   if (tracker_.active()) {
     const std::optional<double> pupil_mm = tracker_.measured_pupil_mm();
-    if (spec.pupil_source == "tracker" && pupil_mm) glare_.record_measured_pupil(clock_.now_s(), *pupil_mm);
-    if (spec.blink_source == "tracker") {
+    if (spec.pupil_source == PupilSource::tracker && pupil_mm) glare_.record_measured_pupil(clock_.now_s(), *pupil_mm);
+    if (spec.blink_source == BlinkSource::tracker) {
       std::vector<DetectedBlink> blinks;
       for (const TrackerBlinkInterval& blink : tracker_.detected_blinks()) blinks.push_back({blink.onset_s, blink.offset_s});
       glare_.set_detected_blinks(blinks);
@@ -404,15 +404,15 @@ std::string glare_layout(const IntervalGlare& glare) {
 }  // namespace
 
 SessionLoop::GlarePresentation SessionLoop::presentation_for(const IntervalGlare& glare) const {
-  const std::string& asked = prepared_.experiment.glare.presentation;
-  if (asked == "live") return GlarePresentation::live;
-  if (asked == "prepared") return GlarePresentation::prepared;
+  const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
+  if (asked == GlarePresentationRequest::live) return GlarePresentation::live;
+  if (asked == GlarePresentationRequest::prepared) return GlarePresentation::prepared;
   const auto settled = settled_presentations_.find(glare_layout(glare));
   return settled == settled_presentations_.end() ? GlarePresentation::prepared : settled->second;
 }
 
 void SessionLoop::review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
-  if (prepared_.experiment.glare.presentation != "auto" || glare.live_frames_dropped == 0) return;
+  if (prepared_.experiment.glare.presentation != GlarePresentationRequest::automatic || glare.live_frames_dropped == 0) return;
   const std::string layout = glare_layout(glare);
   const auto settled = settled_presentations_.find(layout);
   if (settled == settled_presentations_.end() || settled->second != GlarePresentation::live) return;
@@ -434,8 +434,8 @@ void SessionLoop::review_live_presentation(const TrialPlan& plan, const Interval
 }
 
 bool SessionLoop::presentation_settled(const IntervalGlare& glare) const {
-  const std::string& asked = prepared_.experiment.glare.presentation;
-  if (asked != "auto") return presentation_logged_;
+  const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
+  if (asked != GlarePresentationRequest::automatic) return presentation_logged_;
   return settled_presentations_.count(glare_layout(glare)) > 0;
 }
 
@@ -448,12 +448,12 @@ bool SessionLoop::presentation_settled(const IntervalGlare& glare) const {
 void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
   // Perception intervals are always prepared: their cost is the perception_stages event's.
   if (!glare.active || glare.perceived || glare.frame_compute_s.empty() || presentation_settled(glare)) return;
-  const std::string& asked = prepared_.experiment.glare.presentation;
+  const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
   // The first frame of a session also makes the FFTW plans and buffers: the steady cost is the
   // median of the frames after it, so "auto" waits for an interval of two frames or more (a dynamic
   // one; a static interval computes one frame).
   const std::size_t measured = glare.frame_compute_s.size();
-  if (asked == "auto" && measured < 2) return;
+  if (asked == GlarePresentationRequest::automatic && measured < 2) return;
   const double compute_s = steady_median_s(glare.frame_compute_s);
   // Drawing a glare flip (the region, the overlays, the encode) is the rest of a live frame's
   // cost: on a GPU a fraction of a millisecond, on a software renderer one or more.
@@ -466,10 +466,10 @@ void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const Interva
                            ") against a refresh period of " + ms_text(period_s_) + " ms";
   const std::string layout = glare_layout(glare);
   std::string message;
-  if (asked == "live") {
+  if (asked == GlarePresentationRequest::live) {
     message = "glare trials: live, each frame computed just before its flip ([glare] presentation = \"live\"); " +
               cost + (per_frame_s > period_s_ ? ": longer than a period, so a real-time display drops frames" : "");
-  } else if (asked == "prepared") {
+  } else if (asked == GlarePresentationRequest::prepared) {
     message = "glare trials: frames prepared before onset ([glare] presentation = \"prepared\"); " + cost;
   } else if (per_frame_s <= kLiveBudgetFraction * period_s_) {
     settled_presentations_[layout] = GlarePresentation::live;
@@ -533,11 +533,11 @@ void SessionLoop::log_glare_setup() {
   }
   const bool tracked = tracker_.active();
   std::string inputs = std::string("pupil: ") +
-                       (tracked && spec.pupil_source == "tracker" ? "the tracker's filtered pupil (model's until its first sample)"
+                       (tracked && spec.pupil_source == PupilSource::tracker ? "the tracker's filtered pupil (model's until its first sample)"
                                                                   : "the eye model's (Eq. 1-2)") +
                        "; blinks: " +
-                       (tracked && spec.blink_source == "tracker" ? "detected by the tracker" : "the eye model's schedule");
-  if (!tracked && (spec.blink_source == "tracker" || spec.pupil_source == "tracker"))
+                       (tracked && spec.blink_source == BlinkSource::tracker ? "detected by the tracker" : "the eye model's schedule");
+  if (!tracked && (spec.blink_source == BlinkSource::tracker || spec.pupil_source == PupilSource::tracker))
     inputs += " (no tracker: the model's)";
   if (spec.gaze_window_px > 0)
     inputs += "; gaze window " + std::to_string(spec.gaze_window_px) + " px around " +
