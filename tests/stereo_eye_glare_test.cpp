@@ -1,4 +1,4 @@
-// Each eye of a stereo session has its own PSF (runner/session/stereo_eyes.h): the eyes' glare
+// Each eye of a stereo session has its own PSF (runner/session/session_eyes.h): the eyes' glare
 // stages see their own pupils, so a point source's halo in each eye's half is that eye's own
 // display PSF (a second computation of the same glare) and not the other eye's; the same inputs
 // give the same half bit for bit.
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "protocols/experiment.h"
-#include "runner/session/stereo_eyes.h"
+#include "runner/session/session_eyes.h"
 
 namespace glarelab {
 namespace {
@@ -73,7 +73,7 @@ struct EyeGlare {
   Psf psf;
 };
 
-EyeGlare glare_with_pupil(StereoEye& eye, double pupil_mm) {
+EyeGlare glare_with_pupil(SessionEye& eye, double pupil_mm) {
   eye.glare.record_measured_pupil(0.0, pupil_mm);
   EyeGlare out;
   const ImageRGBA frame = point_source();
@@ -84,7 +84,7 @@ EyeGlare glare_with_pupil(StereoEye& eye, double pupil_mm) {
 
 TEST(StereoEyeGlareTest, EachEyesPupilGivesItsHalfItsOwnPsf) {
   const Experiment experiment = stereo_experiment();
-  auto eyes = make_stereo_eyes(experiment, {});
+  auto eyes = make_session_eyes(experiment, experiment.display.width_px, experiment.display.height_px, {});
   ASSERT_EQ(eyes.size(), 2u);
   EXPECT_NE(eyes[0]->seed, eyes[1]->seed);
   const EyeGlare left = glare_with_pupil(*eyes[0], 3.0);
@@ -112,13 +112,13 @@ TEST(StereoEyeGlareTest, EachEyesPupilGivesItsHalfItsOwnPsf) {
 TEST(StereoEyeGlareTest, TheSameInputsGiveTheSameHalfBitForBit) {
   // Both eyes with one seed (an experiment whose eyes are the same eye) and one pupil.
   const Experiment experiment = stereo_experiment();
-  StereoEye a(stereo_eye_views(experiment.display)[0], experiment, {});
-  StereoEye b(stereo_eye_views(experiment.display)[0], experiment, {});
+  SessionEye a(stereo_eye_views(experiment.display)[0], experiment, {});
+  SessionEye b(stereo_eye_views(experiment.display)[0], experiment, {});
   const EyeGlare first = glare_with_pupil(a, 4.0);
   const EyeGlare second = glare_with_pupil(b, 4.0);
   EXPECT_EQ(first.glared.rgba, second.glared.rgba);
   // The other eye's seed gives another eye: its particles differ, so its glare does.
-  StereoEye other(stereo_eye_views(experiment.display)[1], experiment, {});
+  SessionEye other(stereo_eye_views(experiment.display)[1], experiment, {});
   EXPECT_NE(glare_with_pupil(other, 4.0).glared.rgba, first.glared.rgba);
 }
 

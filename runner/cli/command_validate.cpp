@@ -6,7 +6,7 @@
 #include "runner/cli/commands.h"
 #include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
-#include "runner/session/stereo_eyes.h"
+#include "runner/session/session_eyes.h"
 #include "stimuli/scene_library.h"
 
 namespace glarelab::cli {

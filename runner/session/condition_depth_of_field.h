@@ -16,7 +16,8 @@
 // exactly, the geometric blur convolved with the focused PSF (docs/REFRACTION.md, "Measured").
 //
 // The eye: the observer looks at the display centre, so the eye accommodates (Eq. 13, clamped to
-// [0, amplitude]) on the depth seen at the centre pixel (width / 2, height / 2) through the lens'
+// [0, amplitude]) on the depth seen at the centre pixel (width / 2, height / 2) of `display` (in
+// stereo each eye's view, a display of its own: runner/session/session_eyes.h) through the lens'
 // power on that line of sight; every other point keeps that accommodation. Through spectacles each
 // pixel's line of sight has its own lens power (glare/spectacle_power.h, lens_power_at_gaze at the
 // vertex sphere: oblique astigmatism, a progressive lens' near zone below the fitting cross), added

@@ -17,63 +17,73 @@
 
 namespace glarelab {
 
-// One eye of a stereo interval (runner/session/stereo_glare.cpp): its gaze in its own view and
-// what its frames reported, for the interval's stereo_eyes event.
+// One eye's part of an interval (runner/session/eye_glare.cpp): what it sees of the interval's
+// frame, its gaze in its own view, and what its frames reported.
 struct EyeIntervalGlare {
-  std::optional<GazePoint> gaze;
-  std::optional<TrackerGaze> tracked;
+  // The composed frame's part in the eye's view; unset where the view is the whole frame (mono).
+  std::optional<ImageRGBA> view_cd_m2;
+  // That part as it reaches the eye through the condition's spectacles (the frame warped by the
+  // lens, runner/session/condition_refraction.h) and blurred by the depth of its points, the eye
+  // accommodated on its own view's centre (runner/session/condition_depth_of_field.h); unset
+  // without either.
+  std::optional<ImageRGBA> through_spectacles;
+  std::vector<GlareLayer> layers;  // one per position when the sides differ (its view); else empty
+  StaticLayerGlare static_layers;  // the static layers' glare, kept from frame to frame
+  double field_cd_m2 = 0.0;  // the seen frame's mean luminance, what the eye adapts to (once, not per frame)
+  FrameFacts seen_facts;     // the seen frame's, found on its first glared frame (stimuli/glare_stage.h)
+  std::optional<GazePoint> gaze;       // normalised in the eye's view
+  std::optional<TrackerGaze> tracked;  // the tracker's gaze the eye's window is placed at
   double pupil_sum_mm = 0.0;  // over the eye's wave-optics frames (report.pupil_diameter_mm > 0)
   int pupil_frames = 0;
-  std::vector<double> adapted_cd_m2;  // perception: each frame's adapted luminance
+  std::vector<double> adapted_cd_m2;  // perception: each frame's adapted luminance (Eq. 5.2)
+
+  // What the eye sees of the interval's frame (its part of `composed_cd_m2`, through the optics).
+  const ImageRGBA& seen_cd_m2(const ImageRGBA& composed_cd_m2) const {
+    return through_spectacles ? *through_spectacles : view_cd_m2 ? *view_cd_m2 : composed_cd_m2;
+  }
 };
 
+// What computing an interval's frames takes, in the order a reader meets it:
+//   active     the interval has frames to compute; false: every position control and no
+//              perception stage, or a preview passing by: the composed frame is shown as it is.
+//   glared     some position's glare mode is not control (a perceived interval may have none).
+//   perceived  some perception stage is on: every frame goes through them, the glare between
+//              adaptation and acuity.
+//   dynamic    the eye moves from frame to frame (a dynamic mode on a model with a moving eye).
 struct IntervalGlare {
-  // false: control everywhere and no perception stage (or a preview passing by): no frames, the
-  // composed frame is shown as it is.
   bool active = false;
-  // The condition's perception stages (stimuli/session_perception.h); `perceived` when any is on:
-  // every frame then goes through them, the glare between adaptation and acuity.
+  // The condition's perception stages (stimuli/session_perception.h).
   PerceptionSettings perception;
   bool perceived = false;
-  bool glared = false;  // some position's glare mode is not control
+  bool glared = false;
   GlareMode mode = GlareMode::control;
-  std::vector<GlareLayer> layers;  // one per position when the sides differ; else empty
-  StaticLayerGlare static_layers;  // the static layers' glare, kept from frame to frame
+  std::vector<GlareMode> layer_modes;  // each position's mode when the sides differ; else empty
   ImageRGBA composed_cd_m2;
-  // The composed frame as it reaches the eye through the condition's spectacles (the frame
-  // warped by the lens, runner/session/condition_refraction.h) and blurred by the depth of its
-  // points (runner/session/condition_depth_of_field.h); unset without either.
-  std::optional<ImageRGBA> through_spectacles;
-  const ImageRGBA& seen_cd_m2() const { return through_spectacles ? *through_spectacles : composed_cd_m2; }
-  double field_cd_m2 = 0.0;  // its mean luminance, what the eye adapts to (once, not per frame)
-  FrameFacts seen_facts;     // the seen frame's, found on its first glared frame (stimuli/glare_stage.h)
   bool dynamic = false;
   int frames_needed = 1;      // dynamic (or adapting): every stimulus frame; static: one serves all
   int stimulus_frames = 1;    // the interval's stimulus frames
   double first_flip_s = 0.0;  // session time of the interval's first stimulus flip
   double period_s = 0.0;
   std::string modes_label;    // "dynamic", or "left dynamic, right control"
-  std::optional<GazePoint> gaze;
-  std::optional<TrackerGaze> tracked;  // the tracker's gaze the window is placed at
   // Computed so far (frame k at index k): frame 0 exact, the others at half precision
   // (runner/session/glared_region.h).
   std::vector<GlaredRegion> frames;
-  // Live with a tracker: the session time of the gaze sample frame k's window was placed at.
+  // Live with a tracker: the session time of the gaze sample frame k's window was placed at (its
+  // oldest eye's).
   std::vector<std::optional<double>> gaze_time_s;
 
   // Reports, for the trial's glare_skipped / glare_window / gaze_latency events.
   int applications = 0, skipped = 0, gratings_hidden = 0, closed = 0;
   std::string skip_reason;
   double smallest_pupil_mm = 1e9;
-  std::optional<GazeWindow> window;
+  std::optional<GazeWindow> window;  // the first eye's
   std::vector<double> gaze_to_flip_s;  // live: each frame's flip time minus its gaze sample's time
   int live_frames_shown = 0, live_frames_dropped = 0;  // live: stimulus flips, and those that came late
   std::vector<double> frame_compute_s;  // wall time spent computing each frame
   // Until the session has settled how glare is presented: wall time drawing each glare flip (the
   // region put in, overlays, the encode, the GL work finished), the rest of a live frame's cost.
   std::vector<double> frame_draw_s;
-  std::vector<double> adapted_cd_m2;    // perception: each frame's adapted luminance (Eq. 5.2)
-  std::vector<EyeIntervalGlare> eyes;   // stereo: left eye, right eye; empty on a mono display
+  std::vector<EyeIntervalGlare> eyes;  // one per eye of the session (runner/session/session_eyes.h)
 
   double frame_time_s(int k) const { return first_flip_s + k * period_s; }
   std::optional<double> gaze_time_of(int k) const {

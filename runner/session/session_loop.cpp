@@ -18,13 +18,11 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       renderer_(display.width_px(), display.height_px()),
       period_s_(1.0 / display.refresh_hz()),
       timing_(display.refresh_hz()),
-      glare_(prepared.experiment.glare, prepared.experiment.display, prepared.experiment.seed,
-             gl::compute_context_factory()),
-      perception_(prepared.experiment.perception.adaptation_time_constants, prepared.experiment.display),
+      eyes_(make_session_eyes(prepared.experiment, display.width_px(), display.height_px(),
+                              gl::compute_context_factory())),
       overlays_(renderer_, prepared.experiment),
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
-  stereo_eyes_ = make_stereo_eyes(prepared.experiment, gl::compute_context_factory());
   for (const ConditionRefraction& refraction : condition_refractions(prepared_.experiment))
     condition_refractions_.emplace(refraction.condition, refraction);
   log_glare_setup();

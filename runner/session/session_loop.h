@@ -4,6 +4,7 @@
 // above each group below.
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -17,8 +18,8 @@
 #include "runner/session/interval_glare.h"
 #include "runner/session/presentation_overlays.h"
 #include "runner/session/response_device_input.h"
+#include "runner/session/session_eyes.h"
 #include "runner/session/session_setup.h"
-#include "runner/session/stereo_eyes.h"
 #include "runner/session/stimulus_preview.h"
 #include "runner/session/trial_schedule.h"
 #include "runner/store/result_store.h"
@@ -122,6 +123,24 @@ class SessionLoop {
   void after_flip(double flip_s) { tracker_.on_frame(flip_s); }
 
   // runner/session/trial_run.cpp
+  // A trial's intervals set up before the fixation: each one's plan as shown, placements and glare
+  // (frames prepared before onset where so presented), and where its stimuli lie (the question
+  // goes above them). False when the session was interrupted meanwhile.
+  struct TrialIntervals {
+    std::vector<TrialPlan> shown_plans;
+    std::vector<std::vector<Placement>> placements;
+    std::vector<IntervalGlare> glare;
+    std::vector<PixelRect> stimulus_rects;
+  };
+  bool begin_intervals(const TrialPlan& plan, const TrialSchedule& schedule, int flips_after, bool prepare_in_interval,
+                       TrialIntervals& intervals);
+  // The timed sequence (fixation, interval 1 [, inter-stimulus interval, interval 2]), flip by
+  // flip; false when the session was aborted (or a preview captured its frame).
+  bool run_timed_sequence(const TrialPlan& plan, const TrialSchedule& schedule, TrialIntervals& intervals,
+                          const std::vector<Placement>& question, TrialRun& run);
+  // The answer: the observer's, an adjustment, or keys on the response screen until the window
+  // closes; false when the session was aborted.
+  bool collect_response(const TrialPlan& plan, const std::vector<Placement>& question, TrialRun& run);
   // "correct" / "wrong" for scored trials, the timeout text for a timeout; empty without feedback
   // or for an answer that has no right or wrong (preference questions, equal sources, ratings).
   std::string feedback_text(const TrialOutcome& outcome) const;
@@ -150,20 +169,29 @@ class SessionLoop {
   // --- glare (stimuli/glare_stage.h) ---
   // runner/session/trial_glare.cpp
   // An interval's glare set up before the fixation (see the definition): modes, composed frame,
-  // layers and tracker inputs. `flips_before`: timed flips between now and the interval's first
-  // stimulus frame (fixation, interval 1).
+  // what each eye sees of it, and tracker inputs. `flips_before`: timed flips between now and the
+  // interval's first stimulus frame (fixation, interval 1).
   IntervalGlare begin_glare(const TrialPlan& plan, const std::vector<Placement>& placements, int flips_before = 0);
-  void update_glare_gaze(IntervalGlare& glare, double flip_s);
-  // Section 5.1's adaptation luminance of an interval's composed frame at its gaze (the display
-  // centre without one), and the session's eye seeing the interval's frames shown without stages.
-  double adaptation_luminance(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2) const;
-  void see_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2);
-  // Frame k of the interval, computed for its flip time if it is needed and not yet there.
-  void compute_glare_frame(IntervalGlare& glare, int k);
+  // A condition's optics in an interval: its refraction (nullptr when the observer's optics are not
+  // modelled), whether its spectacles warp the frame and whether the depth of field blurs it.
+  struct ConditionOptics {
+    const ConditionRefraction* refraction = nullptr;
+    bool spectacles = false;
+    bool depth_of_field = false;
+  };
+  ConditionOptics condition_optics(const TrialPlan& plan) const;
+  // The interval's composed frame and, for each eye, its view of it (and of each position's layer
+  // when the sides differ, `position_modes`) as it reaches that eye through the optics.
+  void see_through_optics(IntervalGlare& glare, const TrialPlan& plan, const std::vector<Placement>& placements,
+                          const ConditionOptics& optics, const std::vector<GlareMode>& position_modes);
   // Every frame of the interval before onset (prepared presentation); stops on an interrupt.
   void prepare_glare_frames(IntervalGlare& glare);
   // The interval's glare_skipped, glare_window and gaze_latency events.
   void log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare);
+  const ConditionRow& condition_row(const TrialPlan& plan) const;
+  bool previewed(const TrialPlan& plan) const { return preview_ != nullptr && plan.condition_name == preview_->condition; }
+
+  // runner/session/glare_presentation.cpp
   // Once, after the first glare interval: prepared or live from then on, with the measured cost.
   void settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare);
   // Once per session: the glare backend (what and why), where the eye's inputs come from and, when
@@ -172,8 +200,34 @@ class SessionLoop {
   // Once, after the first interval with perception stages: a 'perception_stages' event with the
   // settings and the measured cost per frame.
   void log_perception_stages(const TrialPlan& plan, const IntervalGlare& glare);
-  const ConditionRow& condition_row(const TrialPlan& plan) const;
-  bool previewed(const TrialPlan& plan) const { return preview_ != nullptr && plan.condition_name == preview_->condition; }
+
+  // runner/session/eye_glare.cpp: each eye's part, on its own view, with its own glare stage,
+  // perception eye and tracker samples (runner/session/session_eyes.h); a frame is every eye's
+  // part joined.
+  std::vector<EyeView> eye_views() const;
+  // Overlays placed for the whole display, repeated in each eye's view (clipped to it).
+  std::vector<Placement> eye_overlays(const std::vector<Placement>& overlays) const;
+  // Each eye's pupil and blinks from the tracker, for its glare stage.
+  void feed_tracker_inputs();
+  // Each eye's gaze for a frame flipping at flip_s, normalised in its view: the latest, or with
+  // latency compensation the gaze extrapolated to that flip.
+  void update_glare_gaze(IntervalGlare& glare, double flip_s);
+  // Section 5.1's adaptation luminance of eye `e`'s part of a frame at its gaze (its view's centre
+  // without one).
+  double adaptation_luminance(std::size_t e, const IntervalGlare& glare, const ImageRGBA& eye_part_cd_m2) const;
+  // The eyes seeing the interval's frames shown without stages: their parts of `composed_cd_m2`, or
+  // with nullptr what each sees of the interval's frame through the optics.
+  void see_interval(const IntervalGlare& glare, const ImageRGBA* composed_cd_m2);
+  // A preview passing by: each eye sees the interval's frames as computing them would have made it.
+  void record_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2);
+  // Frame k of the interval, computed for its flip time if it is needed and not yet there: each
+  // eye's part (eye_frame), joined.
+  void compute_glare_frame(IntervalGlare& glare, int k);
+  ImageRGBA eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports);
+  // Once per session, stereo only: a 'stereo' event with each eye's view, seed and inputs.
+  void log_stereo_setup();
+  // Stereo only: the interval's stereo_eyes event (each eye's pupil, gaze and adapted luminance).
+  void log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare);
   // --- end glare ---
 
   // runner/session/real_stimulus_trial.cpp: a trial showing a physical object (TrialPlan::
@@ -181,27 +235,6 @@ class SessionLoop {
   // other), and the instruction to look at the object, centred (empty for an image).
   IntervalGlare begin_real_stimulus(const TrialPlan& plan, int flips_before);
   std::vector<Placement> real_stimulus_instruction_overlay(const TrialPlan& plan);
-  // --- stereo (runner/session/stereo_eyes.h, stimuli/stereo_layout.h) ---
-  // runner/session/stereo_glare.cpp: the per-eye halves of what the glare functions above do on a
-  // mono display, each eye with its own view, glare stage, perception eye and tracker samples.
-  std::vector<EyeView> stereo_views() const;
-  // Once per session: a 'stereo' event with each eye's view, seed and where its inputs come from.
-  void log_stereo_setup();
-  // Overlays placed for the whole display, repeated in each eye's view (clipped to it).
-  std::vector<Placement> stereo_overlays(const std::vector<Placement>& overlays) const;
-  // Each eye's own pupil and blinks from the tracker, for its glare stage.
-  void feed_stereo_tracker_inputs();
-  // Each eye's own gaze for a frame flipping at flip_s, normalised in its view.
-  void update_stereo_gaze(IntervalGlare& glare, double flip_s);
-  double eye_adaptation_luminance(const StereoEye& eye, const IntervalGlare& glare, std::size_t e,
-                                  const ImageRGBA& composed_cd_m2) const;
-  void see_stereo_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2);
-  // A preview passing by: each eye sees the interval's frames as computing them would have made it.
-  void record_stereo_interval(IntervalGlare& glare, const ImageRGBA& composed_cd_m2, int frames);
-  void compute_stereo_glare_frame(IntervalGlare& glare, int k);
-  // The interval's stereo_eyes event: each eye's pupil, gaze and adapted luminance.
-  void log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare);
-  // --- end stereo ---
 
   // runner/session/trial_run.cpp: at an interval's first flip, before it is presented: the frame
   // saved (--save-frames) and, for the previewed trial, captured. True when the preview is done.
@@ -237,10 +270,10 @@ class SessionLoop {
   void review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare);
   std::map<std::string, GlarePresentation> settled_presentations_;  // by glare_layout()
   bool presentation_logged_ = false;  // "live" / "prepared" as asked: said once
-  GlareStage glare_;
-  // The perception stages' eye over the session (stimuli/session_perception.h); `adapts_`: some
-  // condition has adaptation on, so every interval's frames are shown to the eye.
-  SessionPerception perception_;
+  // The session's eyes (runner/session/session_eyes.h): one on a mono display, left and right in
+  // stereo, each with its glare stage and perception eye.
+  std::vector<std::unique_ptr<SessionEye>> eyes_;
+  // Some condition has adaptation on, so every interval's frames are shown to the eyes.
   bool adapts_ = false;
   bool perception_logged_ = false;
   PresentationOverlays overlays_;
@@ -257,8 +290,6 @@ class SessionLoop {
   // when the experiment does not model the observer's optics.
   std::map<std::string, ConditionRefraction> condition_refractions_;
   std::string save_frames_dir_;
-  // Stereo: the eyes, left first (empty on a mono display, where glare_ and perception_ serve).
-  std::vector<std::unique_ptr<StereoEye>> stereo_eyes_;
   // What draw() last composed into the stimulus framebuffer (scenes, the glared region's serial or
   // 0 for none, overlays), and the renderer's write count after it: a flip of the same frame only
   // re-encodes.

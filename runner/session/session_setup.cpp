@@ -14,7 +14,7 @@
 #include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
 #include "runner/session/slow_flip_clock.h"
-#include "runner/session/stereo_eyes.h"
+#include "runner/session/session_eyes.h"
 #include "stimuli/glare_stage.h"
 #include "core/software_version.h"
 
@@ -197,7 +197,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   // The observer's refraction in every condition: computable, and sampled by the [glare] grid at
   // the eye's largest pupil (runner/session/condition_refraction.h).
   check_condition_refractions(prepared.experiment);
-  // A stereo layout that does not fit each eye's half of the display (runner/session/stereo_eyes.h).
+  // A stereo layout that does not fit each eye's half of the display (runner/session/session_eyes.h).
   check_stereo_layout(prepared.experiment, *prepared.scenes);
   check_depth_of_field(prepared.experiment, *prepared.scenes);
   // --- response device (docs/DEVICES.md): the person answers with it, in a window or offscreen ---

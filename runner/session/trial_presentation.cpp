@@ -16,9 +16,9 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
     sizes.push_back({0, 0, scene.image_cd_m2.width_px, scene.image_cd_m2.height_px});
   }
   std::vector<PixelRect> columns;
-  // Stereo: the scenes in each eye's view, the left eye's placements first.
-  const auto rects = stereo_eyes_.empty() ? side_by_side_layout(display_.width_px(), display_.height_px(), sizes, &columns)
-                                          : stereo_layout(stereo_views(), sizes, &columns);
+  // The scenes in each eye's view as on a display of its size (a mono display's one eye: the
+  // whole frame), the first eye's placements first.
+  const auto rects = stereo_layout(eye_views(), sizes, &columns);
   std::vector<Placement> placements;
   for (std::size_t r = 0; r < rects.size(); ++r) {
     const std::size_t i = r % plan.scenes.size();
@@ -29,6 +29,10 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
 }
 
 namespace {
+
+bool same_rect(const PixelRect& a, const PixelRect& b) {
+  return a.x_px == b.x_px && a.y_px == b.y_px && a.width_px == b.width_px && a.height_px == b.height_px;
+}
 
 // The overlays that draw into `box` (each draws its rectangle within its clip), clipped to it.
 std::vector<Placement> overlays_within(const std::vector<Placement>& overlays, const PixelRect& box) {
@@ -44,8 +48,8 @@ std::vector<Placement> overlays_within(const std::vector<Placement>& overlays, c
 bool same_placements(const std::vector<Placement>& a, const std::vector<Placement>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (a[i].scene != b[i].scene || a[i].scale_cd_m2 != b[i].scale_cd_m2 || a[i].rect != b[i].rect ||
-        a[i].clip != b[i].clip)
+    if (a[i].scene != b[i].scene || a[i].scale_cd_m2 != b[i].scale_cd_m2 || !same_rect(a[i].rect, b[i].rect) ||
+        !same_rect(a[i].clip, b[i].clip))
       return false;
   return true;
 }
@@ -83,11 +87,13 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   // out, and the overlays are blended again inside the rectangle only (outside it the frame
   // already holds them, and blending twice would darken it). The encode then redoes only the
   // rectangle where the display keeps its frame (FrameRenderer::encode_changes_to_display).
-  if (glared != nullptr && glared_serial != 0 && stereo_eyes_.empty() && drawn_ && drawn_->glared_serial != 0 &&
-      drawn_->generation == renderer_.stimulus_generation() && drawn_->glared_box == glared_box &&
+  // Overlays placed for the display, repeated in each eye's view.
+  const std::vector<Placement> placed_overlays = eye_overlays(overlays);
+  if (glared != nullptr && glared_serial != 0 && drawn_ && drawn_->glared_serial != 0 &&
+      drawn_->generation == renderer_.stimulus_generation() && same_rect(drawn_->glared_box, glared_box) &&
       same_placements(drawn_->placements, placements) && same_placements(drawn_->overlays, overlays)) {
     replace_region();
-    const std::vector<Placement> within = overlays_within(overlays, glared_box);
+    const std::vector<Placement> within = overlays_within(placed_overlays, glared_box);
     if (!within.empty()) renderer_.compose_overlay(within);
     drawn_->generation = renderer_.stimulus_generation();
     drawn_->glared_serial = glared_serial;
@@ -97,7 +103,7 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   drawn_.reset();
   renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   if (glared != nullptr) replace_region();
-  if (!overlays.empty()) renderer_.compose_overlay(stereo_eyes_.empty() ? overlays : stereo_overlays(overlays));
+  if (!placed_overlays.empty()) renderer_.compose_overlay(placed_overlays);
   if (glared == nullptr || glared_serial != 0)
     drawn_ = DrawnFrame{renderer_.stimulus_generation(), placements, overlays, glared_serial, glared_box};
   encode();

@@ -43,35 +43,9 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     if (!show_screen(plan, screen, run)) return false;
 
   // Each interval's placements and glare, prepared before the fixation so the timed sequence
-  // runs flip after flip; glare frame k of an interval is computed for the time it will flip.
-  std::vector<std::vector<Placement>> placements;
-  std::vector<IntervalGlare> glare;
-  std::vector<PixelRect> stimulus_rects;
-  std::vector<TrialPlan> shown_plans;
-  for (int interval = 0; interval < schedule.intervals; ++interval) {
-    const TrialPlan& shown = shown_plans.emplace_back(interval_plan(plan, interval));
-    std::size_t first_flip = 0;
-    while (schedule.timed[first_flip].interval != interval) ++first_flip;
-    if (!shown.real_stimulus.empty()) {
-      // A physical object: the instruction to look at it (below) instead of an image.
-      placements.emplace_back();
-      glare.push_back(begin_real_stimulus(shown, static_cast<int>(first_flip) + interval_flips_after));
-      continue;
-    }
-    placements.push_back(layout(shown));
-    for (const Placement& placement : placements.back()) stimulus_rects.push_back(placement.rect);
-    glare.push_back(begin_glare(shown, placements.back(), static_cast<int>(first_flip) + interval_flips_after));
-    // Perception stages are prepared before onset whatever the glare's presentation: the session's
-    // eye then sees its frames in the order they flip.
-    if (presentation_for(glare.back()) == GlarePresentation::prepared || glare.back().perceived)
-      prepare_glare_frames(glare.back());
-    else if (prepare_in_interval)
-      // A live interval's first frame is computed in the inter-trial interval too (without a
-      // tracker a frame is a function of its time): the onset flip, which also composes the
-      // scenes, then only draws, and comes on time.
-      compute_glare_frame(glare.back(), 0);
-    if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
-  }
+  // runs flip after flip.
+  TrialIntervals intervals;
+  if (!begin_intervals(plan, schedule, interval_flips_after, prepare_in_interval, intervals)) return false;
   if (prepare_in_interval) {
     // The interval's flips were planned one a period after its first; those whose boundary passed
     // while the frames were prepared are left out (none on the virtual clock, where now is the
@@ -85,10 +59,71 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   // The question above the stimuli; a real stimulus's instruction stands where its image would,
   // and stays up with the question until the answer.
   const std::vector<Placement> instruction = real_stimulus_instruction_overlay(plan);
-  for (const Placement& placement : instruction) stimulus_rects.push_back(placement.rect);
+  for (const Placement& placement : instruction) intervals.stimulus_rects.push_back(placement.rect);
   std::vector<Placement> question = instruction;
-  for (const Placement& placement : overlays_.question(plan.question, stimulus_rects)) question.push_back(placement);
+  for (const Placement& placement : overlays_.question(plan.question, intervals.stimulus_rects)) question.push_back(placement);
 
+  if (!run_timed_sequence(plan, schedule, intervals, question, run)) return false;
+  for (const IntervalGlare& interval_glare : intervals.glare) {
+    log_interval_glare(plan, interval_glare);
+    settle_glare_presentation(plan, interval_glare);
+    review_live_presentation(plan, interval_glare);
+    log_perception_stages(plan, interval_glare);
+    log_stereo_eyes(plan, interval_glare);
+  }
+
+  if (!collect_response(plan, question, run)) return false;
+  // The answer is in: scored now, shown as feedback, then committed with every flip. An abort
+  // during the feedback still commits the answered trial.
+  const TrialOutcome outcome = prepared_.procedure->record_response(plan, *run.response);
+  const std::string feedback = feedback_text(outcome);
+  if (!feedback.empty())
+    present_timed_blank(plan, run, FlipPhase::feedback, presentation.feedback_duration.frames,
+                        overlays_.centred_text(feedback));
+  commit(plan, run, outcome);
+  store_.log_event(session_id_, clock_.now_s(), "trial_phases", describe_trial_phases(plan.trial_index, run.phases));
+  if (aborted_) return false;
+  const int total = prepared_.procedure->planned_trials();
+  if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
+    progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
+  return true;
+}
+
+// Glare frame k of an interval is computed for the time it will flip. Returns false when the
+// session was interrupted while the frames were prepared.
+bool SessionLoop::begin_intervals(const TrialPlan& plan, const TrialSchedule& schedule, int flips_after,
+                                  bool prepare_in_interval, TrialIntervals& intervals) {
+  for (int interval = 0; interval < schedule.intervals; ++interval) {
+    const TrialPlan& shown = intervals.shown_plans.emplace_back(interval_plan(plan, interval));
+    std::size_t first_flip = 0;
+    while (schedule.timed[first_flip].interval != interval) ++first_flip;
+    if (!shown.real_stimulus.empty()) {
+      // A physical object: the instruction to look at it (below) instead of an image.
+      intervals.placements.emplace_back();
+      intervals.glare.push_back(begin_real_stimulus(shown, static_cast<int>(first_flip) + flips_after));
+      continue;
+    }
+    intervals.placements.push_back(layout(shown));
+    for (const Placement& placement : intervals.placements.back()) intervals.stimulus_rects.push_back(placement.rect);
+    intervals.glare.push_back(
+        begin_glare(shown, intervals.placements.back(), static_cast<int>(first_flip) + flips_after));
+    // Perception stages are prepared before onset whatever the glare's presentation: the session's
+    // eye then sees its frames in the order they flip.
+    if (presentation_for(intervals.glare.back()) == GlarePresentation::prepared || intervals.glare.back().perceived)
+      prepare_glare_frames(intervals.glare.back());
+    else if (prepare_in_interval)
+      // A live interval's first frame is computed in the inter-trial interval too (without a
+      // tracker a frame is a function of its time): the onset flip, which also composes the
+      // scenes, then only draws, and comes on time.
+      compute_glare_frame(intervals.glare.back(), 0);
+    if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
+  }
+  return true;
+}
+
+bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule& schedule, TrialIntervals& intervals,
+                                     const std::vector<Placement>& question, TrialRun& run) {
+  const bool interactive = prepared_.observer == nullptr;
   // The timed sequence: fixation, interval 1 [, inter-stimulus interval, interval 2].
   double sequence_start_s = 0.0;
   for (std::size_t i = 0; i < schedule.timed.size(); ++i) {
@@ -100,7 +135,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     } else if (flip.phase == FlipPhase::fixation) {
       draw({}, nullptr, overlays_.fixation());
     } else if (flip.phase == FlipPhase::interval) {
-      IntervalGlare& shown_glare = glare[static_cast<std::size_t>(flip.interval)];
+      IntervalGlare& shown_glare = intervals.glare[static_cast<std::size_t>(flip.interval)];
       // Live: this frame's glare now, with the gaze of this moment (nothing when already there).
       compute_glare_frame(shown_glare, flip.frame_in_interval);
       // Until the presentation is settled, each glare flip's drawing is timed (with its GL work
@@ -108,13 +143,15 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
       const bool timed = shown_glare.active && !shown_glare.perceived && shown_glare.frames_needed > 1 &&
                          !presentation_settled(shown_glare);
       const auto draw_start = std::chrono::steady_clock::now();
-      draw(placements[static_cast<std::size_t>(flip.interval)], shown_glare.shown(flip.frame_in_interval), question);
+      draw(intervals.placements[static_cast<std::size_t>(flip.interval)], shown_glare.shown(flip.frame_in_interval),
+           question);
       if (timed && !fast_forward_) {
         renderer_.finish();
         shown_glare.frame_draw_s.push_back(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - draw_start).count());
       }
-      if (flip.frame_in_interval == 0 && capture_first_frame(shown_plans[static_cast<std::size_t>(flip.interval)], flip.interval)) {
+      if (flip.frame_in_interval == 0 &&
+          capture_first_frame(intervals.shown_plans[static_cast<std::size_t>(flip.interval)], flip.interval)) {
         aborted_ = true;
         abort_reason_ = "preview captured";
         return false;
@@ -133,7 +170,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
       const bool dropped = timing_.on_flip(flip_s, plan.trial_index, flip.stimulus_frame);
       if (dropped)
         log_late_flip(plan, flip_s, "frame " + std::to_string(flip.stimulus_frame), timing_.dropped().back().interval_s);
-      IntervalGlare& shown_glare = glare[static_cast<std::size_t>(flip.interval)];
+      IntervalGlare& shown_glare = intervals.glare[static_cast<std::size_t>(flip.interval)];
       // A live glare frame that came late: "auto" takes its layout back to prepared frames.
       if (shown_glare.active && !shown_glare.perceived && presentation_for(shown_glare) == GlarePresentation::live) {
         ++shown_glare.live_frames_shown;
@@ -162,16 +199,12 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
       check_interrupt();
     if (aborted_) return false;
   }
+  return true;
+}
 
-  for (const IntervalGlare& interval_glare : glare) {
-    log_interval_glare(plan, interval_glare);
-    settle_glare_presentation(plan, interval_glare);
-    review_live_presentation(plan, interval_glare);
-    log_perception_stages(plan, interval_glare);
-    log_stereo_eyes(plan, interval_glare);
-  }
-
-  const double window_s = presentation.response_window_s;
+bool SessionLoop::collect_response(const TrialPlan& plan, const std::vector<Placement>& question, TrialRun& run) {
+  const bool interactive = prepared_.observer == nullptr;
+  const double window_s = prepared_.experiment.presentation.response_window_s;
   if (!interactive) {
     run.response = prepared_.observer->respond(plan);
     // A script's "abort" ends the session as Escape would; it is not an answer to record.
@@ -207,19 +240,6 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   check_interrupt();
   if (aborted_) return false;
 
-  // The answer is in: scored now, shown as feedback, then committed with every flip. An abort
-  // during the feedback still commits the answered trial.
-  const TrialOutcome outcome = prepared_.procedure->record_response(plan, *run.response);
-  const std::string feedback = feedback_text(outcome);
-  if (!feedback.empty())
-    present_timed_blank(plan, run, FlipPhase::feedback, presentation.feedback_duration.frames,
-                        overlays_.centred_text(feedback));
-  commit(plan, run, outcome);
-  store_.log_event(session_id_, clock_.now_s(), "trial_phases", describe_trial_phases(plan.trial_index, run.phases));
-  if (aborted_) return false;
-  const int total = prepared_.procedure->planned_trials();
-  if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
-    progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
   return true;
 }
 

@@ -1,4 +1,4 @@
-#include "runner/session/stereo_eyes.h"
+#include "runner/session/session_eyes.h"
 
 #include <string>
 #include <utility>
@@ -9,17 +9,28 @@
 
 namespace glarelab {
 
-StereoEye::StereoEye(const EyeView& eye_view, const Experiment& experiment, GlContextFactory gl_context)
+SessionEye::SessionEye(const EyeView& eye_view, const Experiment& experiment, GlContextFactory gl_context)
     : view(eye_view),
+      own_tracker_samples(true),
       display(eye_display(experiment.display, eye_view)),
       seed(eye_seed(experiment.seed, eye_view.tracker_eye)),
       glare(experiment.glare, display, seed, std::move(gl_context)),
       perception(experiment.perception.adaptation_time_constants, display) {}
 
-std::vector<std::unique_ptr<StereoEye>> make_stereo_eyes(const Experiment& experiment, GlContextFactory gl_context) {
-  std::vector<std::unique_ptr<StereoEye>> eyes;
+SessionEye::SessionEye(const Experiment& experiment, int frame_width_px, int frame_height_px,
+                       GlContextFactory gl_context)
+    : view{0, "", {0, 0, frame_width_px, frame_height_px}},
+      display(experiment.display),
+      seed(experiment.seed),
+      glare(experiment.glare, display, seed, std::move(gl_context)),
+      perception(experiment.perception.adaptation_time_constants, display) {}
+
+std::vector<std::unique_ptr<SessionEye>> make_session_eyes(const Experiment& experiment, int frame_width_px,
+                                                           int frame_height_px, GlContextFactory gl_context) {
+  std::vector<std::unique_ptr<SessionEye>> eyes;
   for (const EyeView& view : stereo_eye_views(experiment.display))
-    eyes.push_back(std::make_unique<StereoEye>(view, experiment, gl_context));
+    eyes.push_back(std::make_unique<SessionEye>(view, experiment, gl_context));
+  if (eyes.empty()) eyes.push_back(std::make_unique<SessionEye>(experiment, frame_width_px, frame_height_px, gl_context));
   return eyes;
 }
 
