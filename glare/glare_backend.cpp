@@ -5,9 +5,9 @@
 #include <stdexcept>
 
 #include "core/errors.h"
-#include "glare/cpu_glare_backend.h"
-#include "glare/gl/gl_glare_backend.h"
-#include "glare/psf_scale.h"
+#include "glare/cpu/backend.h"
+#include "glare/gl/backend.h"
+#include "glare/wave/psf_scale.h"
 
 namespace glarelab {
 

@@ -1,7 +1,7 @@
 #pragma once
 // The glare engine's compute seam (DESIGN.md: "GL compute shaders and a CPU double-precision path
 // behind one interface, so each checks the other"). Both backends take the same aperture geometry
-// and options and return the same Psf (glare/psf.h) and ImageRGBA; tests compare them.
+// and options and return the same Psf (glare/wave/psf.h) and ImageRGBA; tests compare them.
 //
 // Choosing: create_glare_backend("cpu" | "gl" | "auto"). On a hardware GPU the GL path is the fast
 // one; on a software rasteriser (Mesa llvmpipe/softpipe/swrast, VMware SVGA3D) the GL path runs on
@@ -12,10 +12,10 @@
 
 #include "core/gl/gl_context.h"
 #include "core/image.h"
-#include "glare/aperture_geometry.h"
-#include "glare/fft_cpu.h"
-#include "glare/fresnel.h"
-#include "glare/psf.h"
+#include "glare/eye/aperture_geometry.h"
+#include "glare/cpu/fft.h"
+#include "glare/wave/fresnel.h"
+#include "glare/wave/psf.h"
 
 namespace glarelab {
 
@@ -29,7 +29,7 @@ struct PsfOptions {
   // Phase before the FFT. The GL backend has none and defocus; "paper" (Eq. 3, d = 24 mm) is CPU only.
   PhaseForm phase = PhaseForm::defocus;
   // The observer's refraction is modelled (docs/REFRACTION.md): a spectral PSF takes one FFT per
-  // wavelength with the eye's longitudinal chromatic aberration (glare/chromatic_psf.h) even when
+  // wavelength with the eye's longitudinal chromatic aberration (glare/wave/chromatic_psf.h) even when
   // geometry.refraction_error is zero. A non-zero refraction_error alone does the same on the CPU.
   // Only the CPU backend computes it (a GL or planned path ignoring it is not used for it).
   bool observer_refraction = false;
@@ -71,7 +71,7 @@ GlareBackendChoice create_glare_backend(const std::string& name, const GlareBack
 
 // Applies one glare condition to an image whose pixels subtend image_degrees_per_pixel: the control
 // condition (geometry.glare_enabled false) returns the image itself, bit for bit, without calling the
-// backend; otherwise the PSF is computed, mapped onto the image's pixel scale (psf_scale.h) and
+// backend; otherwise the PSF is computed, mapped onto the image's pixel scale (glare/wave/psf_scale.h) and
 // convolved.
 ImageRGBA apply_glare(GlareBackend& backend, const ImageRGBA& image, double image_degrees_per_pixel,
                       const ApertureGeometry& geometry, const PsfOptions& options);

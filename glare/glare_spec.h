@@ -4,9 +4,9 @@
 // into this struct by protocols/glare_config.h; nothing here knows about experiment files.
 #include <string>
 
-#include "glare/analytic_psf.h"
-#include "glare/eye_parameters.h"
-#include "glare/spencer_psf.h"
+#include "glare/analytic/analytic_psf.h"
+#include "glare/eye/eye_parameters.h"
+#include "glare/analytic/spencer_psf.h"
 
 namespace glarelab {
 
@@ -40,7 +40,7 @@ struct GlareSpec {
   // The dynamic eye's pupil: "tracker" takes the tracker's filtered pupil when a tracker runs (the
   // model's Eq. 1-2 pupil otherwise), "model" always the model's.
   std::string pupil_source = "tracker";
-  // The dynamic eye's blinks: "model" its own schedule (eyelids.h), "tracker" the blinks the
+  // The dynamic eye's blinks: "model" its own schedule (glare/eye/eyelids.h), "tracker" the blinks the
   // tracker detects (Luidolt 2020, 7.2: a detected blink may drive the eyelids instead).
   std::string blink_source = "model";
   // How a session presents glare trials (runner/session/trial_glare.cpp): "auto" measures the
@@ -49,8 +49,8 @@ struct GlareSpec {
   std::string presentation = "auto";
 
   // Which glare model makes the glare of conditions without a "glare_model" column value
-  // (glare/analytic_psf.h): "ritschel" (the wave-optics eye, the default), "spencer", "cie" or
-  // "hybrid" (the wave-optics eye near the source, the analytic far field beyond: hybrid_psf.h).
+  // (glare/analytic/analytic_psf.h): "ritschel" (the wave-optics eye, the default), "spencer", "cie" or
+  // "hybrid" (the wave-optics eye near the source, the analytic far field beyond: glare/analytic/hybrid_psf.h).
   GlareModel model = GlareModel::ritschel;
   // Spencer's mixture: photopic, mesopic, scotopic, or adaptive (default: by the frame's adaptation
   // luminance, blended smoothly across the band edges at 0.01 and 3 cd/m2).
@@ -58,7 +58,7 @@ struct GlareSpec {
   // The analytic far field of the hybrid eye: spencer or cie.
   GlareModel hybrid_far_field = GlareModel::spencer;
   // The hybrid's hand-over annulus in degrees from the source; 0: the default for the wave PSF's
-  // reach (hybrid_psf.h, default_handover). The outer radius must lie within the reach.
+  // reach (glare/analytic/hybrid_psf.h, default_handover). The outer radius must lie within the reach.
   double hybrid_handover_inner_deg = 0.0;
   double hybrid_handover_outer_deg = 0.0;
   // What light the glare spreads (Spencer 1995, section 3.2 end): "all" of the frame, or only the

@@ -11,8 +11,8 @@
 #include <string_view>
 
 #include "core/number_text.h"
-#include "glare/eye_parameters.h"
-#include "glare/hybrid_handover.h"
+#include "glare/eye/eye_parameters.h"
+#include "glare/analytic/hybrid_handover.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -57,7 +57,7 @@ GlareSpec read_glare_section(TableReader& top) {
   if (const std::optional<std::string> mode = reader.string("mode"))
     spec.mode = parse_mode_at(*mode, reader.value_location("mode"), reader.key_path("mode"));
   spec.static_time_s = reader.non_negative_number("static_time_s", spec.static_time_s);
-  // The eye model answers up to 24 h (glare/eye_parameters.h): a larger instant is a mistake.
+  // The eye model answers up to 24 h (glare/eye/eye_parameters.h): a larger instant is a mistake.
   if (spec.static_time_s > kMaxEyeModelTime_s) {
     std::ostringstream found;
     found << spec.static_time_s;
@@ -74,7 +74,7 @@ GlareSpec read_glare_section(TableReader& top) {
   spec.visibility_floor_cd_m2 = reader.positive_number("visibility_floor_cd_m2", spec.visibility_floor_cd_m2);
   spec.skip_invisible = reader.boolean("skip_invisible").value_or(spec.skip_invisible);
   spec.backend = read_choice(reader, "backend", spec.backend, {"auto", "cpu", "gl"});
-  // The GL FFT takes powers of two from 16 to 4096 (glare/gl/gl_fft.h): refused here, not mid-session.
+  // The GL FFT takes powers of two from 16 to 4096 (glare/gl/fft.h): refused here, not mid-session.
   if (spec.backend == "gl" && (spec.grid_px > 4096 || !std::has_single_bit(static_cast<unsigned>(spec.grid_px))))
     reader.fail("backend", "'gl' needs grid_px a power of two from 16 to 4096, found grid_px = " +
                                std::to_string(spec.grid_px) + " (use \"cpu\" or change grid_px)");

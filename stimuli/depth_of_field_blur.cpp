@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "glare/fft_cpu.h"
-#include "glare/fftw_float_plan.h"
+#include "glare/cpu/fft.h"
+#include "glare/cpu/fftw_float_plan.h"
 #include "glare/parallel_rows.h"
 
 namespace glarelab {

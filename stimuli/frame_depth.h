@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "glare/spectacle_lens.h"
+#include "glare/refraction/spectacle_lens.h"
 #include "stimuli/layout.h"
 #include "stimuli/spectacle_warp.h"
 

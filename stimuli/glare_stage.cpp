@@ -9,12 +9,12 @@
 #include <limits>
 #include <stdexcept>
 
-#include "glare/fftw_wisdom.h"
-#include "glare/gl/gl_fft.h"
-#include "glare/lit_regions.h"
+#include "glare/cpu/fftw_wisdom.h"
+#include "glare/gl/fft.h"
+#include "glare/cpu/lit_regions.h"
 #include "glare/parallel_rows.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_scale.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
 #include "stimuli/display_model.h"
 
 namespace glarelab {
@@ -150,7 +150,7 @@ GlareBackend& GlareStage::backend() {
   backend_ = std::move(choice.backend);
   backend_reason_ = std::move(choice.reason);
   if (spec_.backend == "auto" && backend_->name().rfind("cpu", 0) == 0) {
-    // "auto" on the CPU takes the planned float32 path (glare/cpu_float_glare.h) for the frames: the
+    // "auto" on the CPU takes the planned float32 path (glare/cpu/float_glare.h) for the frames: the
     // float64 backend stays the reference that "cpu" asks for by name.
     CpuFloatGlareSettings settings;
     settings.grid_px = spec_.grid_px;
@@ -273,7 +273,7 @@ ImageRGBA GlareStage::convolve_with_backend(const ImageRGBA& image, const Psf& d
 }
 
 // Convolves only the parts of the frame that glare can change: the boxes around its lit pixels
-// (glare/lit_regions.h), split where at least the PSF's size of black runs between them, so that
+// (glare/cpu/lit_regions.h), split where at least the PSF's size of black runs between them, so that
 // one box's glare cannot reach another's. Outside the boxes grown by the PSF's reach the exact
 // result is 0 (no light within reach), which is what the frame already holds; inside each, the
 // zero-padded FFT convolution of the box alone equals that of the whole frame, because everything
@@ -319,7 +319,7 @@ ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_
 }
 
 // The window and its apron (the PSF's reach, so the window is exact) convolved by the backend,
-// then blended into the unconvolved frame: the computation of glare/gaze_window_convolution.h with
+// then blended into the unconvolved frame: the computation of glare/cpu/gaze_window_convolution.h with
 // the backend's convolution in place of the CPU one.
 ImageRGBA GlareStage::convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window) {
   const int cx0 = std::max(0, window.x0_px - window.apron_px);

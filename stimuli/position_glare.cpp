@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "glare/fftw_float_plan.h"
+#include "glare/cpu/fftw_float_plan.h"
 #include "glare/parallel_rows.h"
 
 namespace glarelab {

@@ -8,11 +8,11 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "glare/cpu_glare_backend.h"
-#include "glare/eye_model.h"
-#include "glare/gl/gl_glare_backend.h"
+#include "glare/cpu/backend.h"
+#include "glare/eye/eye_model.h"
+#include "glare/gl/backend.h"
 #include "glare/glare_backend.h"
-#include "glare/psf_scale.h"
+#include "glare/wave/psf_scale.h"
 #include "glare_psf_test_support.h"
 #include "runner/display/compute_context.h"
 
@@ -243,7 +243,7 @@ TEST_F(GlareBackendAgreement, NonPowerOfTwoImageWithSourcesAtTheEdgesDoesNotWrap
 
 TEST_F(GlareBackendAgreement, ConvolutionLargerThanOneDispatchAgreesWithCpuDouble) {
   // 400 x 200 padded to 512 x 256: three layers of 131 072 values, more than the 262 144
-  // invocations one complex-multiply dispatch runs, so every invocation strides (gl_convolution.cpp).
+  // invocations one complex-multiply dispatch runs, so every invocation strides (glare/gl/convolution.cpp).
   ImageRGBA image(400, 200, 0.0f);
   for (int y = 0; y < image.height_px; ++y)
     for (int x = 0; x < image.width_px; ++x) {

@@ -7,22 +7,22 @@
 #include <optional>
 #include <sstream>
 
-#include "glare/analytic_psf.h"
-#include "glare/aperture_components.h"
-#include "glare/astigmatic_phase.h"
-#include "glare/chromatic_eye.h"
-#include "glare/chromatic_psf.h"
-#include "glare/cie_cmf.h"
-#include "glare/display_psf_image.h"
-#include "glare/eye_model.h"
-#include "glare/eye_refraction.h"
-#include "glare/fibre_gratings.h"
+#include "glare/analytic/analytic_psf.h"
+#include "glare/eye/aperture_components.h"
+#include "glare/refraction/astigmatic_phase.h"
+#include "glare/refraction/chromatic_eye.h"
+#include "glare/wave/chromatic_psf.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/analytic/display_psf_image.h"
+#include "glare/eye/eye_model.h"
+#include "glare/refraction/eye_refraction.h"
+#include "glare/eye/fibre_gratings.h"
 #include "glare/glare_backend.h"
-#include "glare/hybrid_psf.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_exr.h"
-#include "glare/psf_profile.h"
-#include "glare/psf_scale.h"
+#include "glare/analytic/hybrid_psf.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_exr.h"
+#include "glare/wave/psf_profile.h"
+#include "glare/wave/psf_scale.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
@@ -150,7 +150,7 @@ struct ObserverRefraction {
 };
 
 // The wavelengths whose phase the PSF computes, and each one's power error: one for a monochromatic
-// PSF; with --spectral, Ritschel's samples with the eye's LCA (glare/chromatic_psf.h).
+// PSF; with --spectral, Ritschel's samples with the eye's LCA (glare/wave/chromatic_psf.h).
 std::vector<std::pair<double, DioptricPower>> errors_by_wavelength(const ApertureGeometry& geometry,
                                                                    const PsfOptions& options) {
   if (!options.spectral) return {{options.wavelength_nm, geometry.total_power_error()}};
@@ -163,7 +163,7 @@ std::vector<std::pair<double, DioptricPower>> errors_by_wavelength(const Apertur
 }
 
 // check_grid's defocus refusal for the refraction's sphero-cylindrical phase: the phase of its
-// strongest meridian (glare/astigmatic_phase.h) at every wavelength computed must be sampled by the
+// strongest meridian (glare/refraction/astigmatic_phase.h) at every wavelength computed must be sampled by the
 // largest grid, else no grid the program has can take it.
 void check_refraction_sampling(const ApertureGeometry& geometry, const PsfOptions& options, const std::string& flags) {
   const double radius_mm = 0.5 * geometry.pupil_diameter_mm, width_mm = options.aperture_width_mm;
@@ -192,8 +192,8 @@ BlurEllipse geometry_blur(const ApertureGeometry& geometry) {
   return geometric_blur_ellipse(geometry.total_power_error(), 0.5e-3 * geometry.pupil_diameter_mm);
 }
 
-// The PSF of an eye with a refraction on the CPU in double: the astigmatic phase (psf_cpu.h); with
-// --spectral, one FFT per wavelength with the eye's LCA (chromatic_psf.h) instead of the scaled
+// The PSF of an eye with a refraction on the CPU in double: the astigmatic phase (glare/cpu/psf.h); with
+// --spectral, one FFT per wavelength with the eye's LCA (glare/wave/chromatic_psf.h) instead of the scaled
 // reference PSF, which only holds for a phase that does not depend on wavelength.
 Psf refraction_psf(const ApertureGeometry& geometry, const PsfOptions& options, std::string& warning) {
   ApertureRasterOptions raster;
@@ -228,7 +228,7 @@ std::string prescription_text(const SpheroCylinder& rx) {
 }
 
 // The angle the wave-optics PSF image holds in every channel: the chromatic blur's reach
-// (hybrid_psf.h, its 380 nm copy on the grid) for a spectral PSF, else half the grid less one pixel.
+// (glare/analytic/hybrid_psf.h, its 380 nm copy on the grid) for a spectral PSF, else half the grid less one pixel.
 double wave_reach_deg(const PsfOptions& options) {
   const double dpp = psf_degrees_per_pixel(options.wavelength_nm, options.aperture_width_mm);
   if (!options.spectral) return (0.5 * options.grid_px - 1.0) * dpp;
@@ -386,7 +386,7 @@ Action add_psf_command(CLI::App& app) {
                       "Output EXR file (unit sum per channel; for spencer, cie and hybrid the sum counts only the "
                       "light within the image). --out, --profile-csv or both.")
       ->check(file_extension_in({".exr"}, "the PSF file"));
-  // The observer's refraction (glare/eye_refraction.h, docs/REFRACTION.md).
+  // The observer's refraction (glare/refraction/eye_refraction.h, docs/REFRACTION.md).
   CLI::Option* sphere_option =
       command->add_option("--sphere-dioptres", args->sphere_dioptres,
                           "The eye's refractive error as its correcting prescription: sphere (dioptres, at "
@@ -497,7 +497,7 @@ Action add_psf_command(CLI::App& app) {
       }
       if (refraction.active) {
         // The eye's error, the lenses worn and the fixation distance give the residual error E at the
-        // retina (glare/eye_refraction.h), the pupil phase's sphero-cylindrical part.
+        // retina (glare/refraction/eye_refraction.h), the pupil phase's sphero-cylindrical part.
         if (cylinder_option->count() > 0 && args->cylinder_dioptres != 0.0 && axis_option->count() == 0)
           throw ConfigError(kWhere, "--axis-deg", "a cylinder needs its axis (TABO degrees, 0 to 180)");
         if (args->fresnel != "defocus")

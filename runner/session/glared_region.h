@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "glare/lit_regions.h"
+#include "glare/cpu/lit_regions.h"
 
 namespace glarelab {
 
