@@ -1,4 +1,4 @@
-// Gaze-contingent glare window (glare/gaze_window_convolution.h) against the full-frame CPU
+// Gaze-contingent glare window (glare/cpu/gaze_window_convolution.h) against the full-frame CPU
 // convolution: a 1024 x 1024 frame (one channel, double path), a 255 x 255 glare-like PSF (core
 // plus 1/r^2 tail, reach 127 px), windows of 256 and 512 px around a gaze at (0.4, 0.45), with
 // the exact apron (127 px) and with none. Counters: the FFT side, and the error of the blended
@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "glare/gaze_window_convolution.h"
+#include "glare/cpu/gaze_window_convolution.h"
 #include "core/random.h"
 
 namespace glarelab {

@@ -2,7 +2,7 @@
 // double (reference) and float; and the FFT alone.
 #include <benchmark/benchmark.h>
 
-#include "glare/psf_cpu.h"
+#include "glare/cpu/psf.h"
 
 namespace glarelab {
 namespace {

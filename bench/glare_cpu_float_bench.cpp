@@ -1,5 +1,5 @@
 // The planned float32 CPU glare path (glare/cpu_float_*.h) stage by stage, and the FFTW floor it is
-// measured against (glare/fftw_floor.h), per grid size N on the eye model's aperture (default
+// measured against (glare/cpu/fftw_floor.h), per grid size N on the eye model's aperture (default
 // parameters, seed 1) with an N x 3N/4 frame and the PSF at N/4 display pixels, as `glarelab bench`.
 // Each iteration of the stages that depend on the eye takes it at a new time (1/60 s later, blinks
 // skipped), as in dynamic glare.
@@ -7,11 +7,11 @@
 
 #include <vector>
 
-#include "glare/cpu_float_convolution.h"
-#include "glare/cpu_float_psf.h"
-#include "glare/cpu_float_spectral_psf.h"
-#include "glare/eye_model.h"
-#include "glare/fftw_floor.h"
+#include "glare/cpu/float_convolution.h"
+#include "glare/cpu/float_psf.h"
+#include "glare/cpu/float_spectral_psf.h"
+#include "glare/eye/eye_model.h"
+#include "glare/cpu/fftw_floor.h"
 
 namespace glarelab {
 namespace {

@@ -17,15 +17,15 @@
 #include <string>
 #include <vector>
 
-#include "glare/chromatic_psf.h"
-#include "glare/cie_cmf.h"
-#include "glare/cpu_float_glare.h"
+#include "glare/wave/chromatic_psf.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/cpu/float_glare.h"
 #include "runner/display/compute_context.h"
-#include "glare/gl/gl_convolution.h"
-#include "glare/gl/gl_fft.h"
-#include "glare/gl/gl_psf.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_scale.h"
+#include "glare/gl/convolution.h"
+#include "glare/gl/fft.h"
+#include "glare/gl/psf.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
 #include "core/random.h"
 
 namespace glarelab {

@@ -13,7 +13,7 @@
 #include <utility>
 
 #include "core/random.h"
-#include "glare/spectacle_lens.h"
+#include "glare/refraction/spectacle_lens.h"
 #include "stimuli/spectacle_warp.h"
 
 namespace glarelab {

@@ -12,7 +12,7 @@ pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
 # FFTW3 double (reference) and float (speed) FFTs, with their thread libraries (libfftw3-dev).
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
 pkg_check_modules(FFTW3F REQUIRED IMPORTED_TARGET fftw3f)
-# The planned float path runs its transforms on FFTW's threads (glare/fftw_float_plan.h); pkg-config
+# The planned float path runs its transforms on FFTW's threads (glare/cpu/fftw_float_plan.h); pkg-config
 # does not name the thread library, which the same package installs beside libfftw3f.
 find_library(FFTW3F_THREADS_LIBRARY fftw3f_threads HINTS ${FFTW3F_LIBRARY_DIRS} REQUIRED)
 # Analysis: Boost.Math distributions (header-only), NLopt for maximum-likelihood fits,

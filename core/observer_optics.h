@@ -2,7 +2,7 @@
 // The observer's refraction and the spectacles worn, as an experiment file states them
 // ([observer.refraction], [spectacles.NAME], [observer] spectacles and the per-condition column
 // "spectacles"; docs/EXPERIMENT_FILES.md). Plain data below glare/ (which models the eye and the
-// lenses from it: glare/dioptric_power.h and the refraction and lens models) and protocols/ (which
+// lenses from it: glare/refraction/dioptric_power.h and the refraction and lens models) and protocols/ (which
 // reads the file), as core/perception_settings.h is for the perception stages.
 #include <optional>
 #include <string>
@@ -12,7 +12,7 @@ namespace glarelab {
 
 // A sphero-cylinder as clinics write it: sphere, cylinder in minus-cylinder form (<= 0), and the
 // cylinder axis in TABO degrees (counterclockwise from the horizontal as the examiner facing the
-// patient sees it, 0 on the examiner's right; glare/dioptric_power.h maps it into the observer's
+// patient sees it, 0 on the examiner's right; glare/refraction/dioptric_power.h maps it into the observer's
 // frame). Dioptres.
 struct SpheroCylinder {
   double sphere_dioptres = 0.0;

@@ -116,7 +116,7 @@ GlareBackendChoice create_glare_backend(GlareBackendRequest request, const Glare
 
 // Applies one glare condition to an image whose pixels subtend image_degrees_per_pixel: the control
 // condition (geometry.glare_enabled false) returns the image itself, bit for bit, without calling the
-// backend; otherwise the PSF is computed, mapped onto the image's pixel scale (psf_scale.h) and
+// backend; otherwise the PSF is computed, mapped onto the image's pixel scale (glare/wave/psf_scale.h) and
 // convolved.
 ImageRGBA apply_glare(GlareBackend& backend, const ImageRGBA& image, double image_degrees_per_pixel,
                       const ApertureGeometry& geometry, const PsfOptions& options);

@@ -8,20 +8,20 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "glare/aperture_raster.h"
-#include "glare/convolution_cpu.h"
-#include "glare/cpu_float_convolution.h"
-#include "glare/cpu_float_psf.h"
-#include "glare/cpu_float_spectral_psf.h"
-#include "glare/eye_model.h"
-#include "glare/fftw_floor.h"
-#include "glare/gl/gl_aperture.h"
-#include "glare/gl/gl_convolution.h"
-#include "glare/gl/gl_fft.h"
-#include "glare/gl/gl_psf.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_scale.h"
-#include "glare/spectral_psf.h"
+#include "glare/eye/aperture_raster.h"
+#include "glare/cpu/convolution.h"
+#include "glare/cpu/float_convolution.h"
+#include "glare/cpu/float_psf.h"
+#include "glare/cpu/float_spectral_psf.h"
+#include "glare/eye/eye_model.h"
+#include "glare/cpu/fftw_floor.h"
+#include "glare/gl/aperture.h"
+#include "glare/gl/convolution.h"
+#include "glare/gl/fft.h"
+#include "glare/gl/psf.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
+#include "glare/wave/spectral_psf.h"
 
 namespace glarelab {
 namespace {
@@ -115,7 +115,7 @@ CpuRun run_cpu(const ApertureGeometry& geometry, int n, FftPrecision precision, 
   mono.wavelength_nm = kWavelengthNm;
   mono.precision = precision;
   // The eye's whole power error (defocus plus refraction), as a session's PSF takes it; a spherical
-  // one is the defocus phase bit for bit (psf_cpu.h).
+  // one is the defocus phase bit for bit (glare/cpu/psf.h).
   const DioptricPower error = geometry.total_power_error();
   (void)compute_monochromatic_psf(grid, geometry.pupil_diameter_mm, error, mono);  // FFTW plans
   run.row.psf_s = fastest(options.repeats, [&] {

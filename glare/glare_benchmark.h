@@ -11,7 +11,7 @@
 //
 // Beside the stages, the whole dynamic frame of the planned float32 CPU path (cpu_float_*.h:
 // aperture, PSF, spectral PSF at the display scale, RGB convolution) against the FFTW floor
-// (fftw_floor.h: one N x N complex FFT and nine padded real transforms, FFTW float, plans made once,
+// (glare/cpu/fftw_floor.h: one N x N complex FFT and nine padded real transforms, FFTW float, plans made once,
 // the same threads), measured in the same run. Every timed frame takes the eye at a new
 // time (1/60 s apart, blinks skipped), so nothing computed for one frame's PSF can serve the next.
 // Two frames: a new scene (the image's R, G, B transformed too) and a static scene (its spectrum
@@ -35,7 +35,7 @@ struct GlareBenchmarkOptions {
   int frames = 5;   // whole frames timed per N and scene kind (each at a new eye time), fastest kept
   double time_s = 1.0;
   unsigned long long seed = 1;
-  // The observer's residual refraction error (dioptres, observer frame; glare/dioptric_power.h) put
+  // The observer's residual refraction error (dioptres, observer frame; glare/refraction/dioptric_power.h) put
   // into every eye-model geometry (ApertureGeometry::refraction_error): every path then times and
   // checks the phase of the whole power error, defocus plus refraction, as a session computes it.
   // Zero: the eye model's defocus alone.

@@ -78,8 +78,8 @@ struct GlareSpec {
   GlarePresentationRequest presentation = GlarePresentationRequest::automatic;
 
   // Which glare model makes the glare of conditions without a "glare_model" column value
-  // (glare/analytic_psf.h): "ritschel" (the wave-optics eye, the default), "spencer", "cie" or
-  // "hybrid" (the wave-optics eye near the source, the analytic far field beyond: hybrid_psf.h).
+  // (glare/analytic/analytic_psf.h): "ritschel" (the wave-optics eye, the default), "spencer", "cie" or
+  // "hybrid" (the wave-optics eye near the source, the analytic far field beyond: glare/analytic/hybrid_psf.h).
   GlareModel model = GlareModel::ritschel;
   // Spencer's mixture: photopic, mesopic, scotopic, or adaptive (default: by the frame's adaptation
   // luminance, blended smoothly across the band edges at 0.01 and 3 cd/m2).
@@ -87,7 +87,7 @@ struct GlareSpec {
   // The analytic far field of the hybrid eye: spencer or cie.
   GlareModel hybrid_far_field = GlareModel::spencer;
   // The hybrid's hand-over annulus in degrees from the source; 0: the default for the wave PSF's
-  // reach (hybrid_psf.h, default_handover). The outer radius must lie within the reach.
+  // reach (glare/analytic/hybrid_psf.h, default_handover). The outer radius must lie within the reach.
   double hybrid_handover_inner_deg = 0.0;
   double hybrid_handover_outer_deg = 0.0;
   // What light the glare spreads (Spencer 1995, section 3.2 end): "all" of the frame, or only the

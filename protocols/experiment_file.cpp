@@ -67,7 +67,7 @@ constexpr std::int64_t kMaxMonitorIndex = 63;
 // Pixel values times scale_cd_m2 are luminances: a scale outside this range turns any float image
 // into zeros or overflows (1e-300 made every scene black).
 constexpr double kMinSceneScale = 1e-9, kMaxSceneScale = 1e9;
-// The ages the analytic glare models are given for (glare/analytic_psf.h, check_observer_eye).
+// The ages the analytic glare models are given for (glare/analytic/analytic_psf.h, check_observer_eye).
 constexpr double kMinObserverAgeYears = 1.0, kMaxObserverAgeYears = 100.0;
 
 // The experiment name names the default database (results/NAME.db) and the analysis folders, so it

@@ -11,8 +11,8 @@
 #include <string_view>
 
 #include "core/number_text.h"
-#include "glare/eye_parameters.h"
-#include "glare/hybrid_handover.h"
+#include "glare/eye/eye_parameters.h"
+#include "glare/analytic/hybrid_handover.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -67,7 +67,7 @@ GlareSpec read_glare_section(TableReader& top) {
   if (const std::optional<std::string> mode = reader.string("mode"))
     spec.mode = parse_mode_at(*mode, reader.value_location("mode"), reader.key_path("mode"));
   spec.static_time_s = reader.non_negative_number("static_time_s", spec.static_time_s);
-  // The eye model answers up to 24 h (glare/eye_parameters.h): a larger instant is a mistake.
+  // The eye model answers up to 24 h (glare/eye/eye_parameters.h): a larger instant is a mistake.
   if (spec.static_time_s > kMaxEyeModelTime_s) {
     std::ostringstream found;
     found << spec.static_time_s;

@@ -33,7 +33,7 @@
 #include <functional>
 #include <vector>
 
-#include "glare/dioptric_power.h"
+#include "glare/refraction/dioptric_power.h"
 #include "stimuli/elliptical_kernel.h"
 
 namespace glarelab {

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "core/display_spec.h"
-#include "glare/dioptric_power.h"
+#include "glare/refraction/dioptric_power.h"
 #include "stimuli/display_model.h"
 
 namespace glarelab {

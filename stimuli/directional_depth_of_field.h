@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "glare/dioptric_power.h"
+#include "glare/refraction/dioptric_power.h"
 #include "stimuli/depth_of_field.h"
 
 namespace glarelab {

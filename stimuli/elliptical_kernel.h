@@ -3,13 +3,13 @@
 // ellipse (Kakimoto et al. 2007, Eq. 8: the pupil disc mapped by the error, section of Sturm's
 // conoid), antialiased by supersampled pixel coverage and normalised to unit sum.
 //
-// Frames: glare/dioptric_power.h gives the ellipse in the observer frame (x right, y UP); image
+// Frames: glare/refraction/dioptric_power.h gives the ellipse in the observer frame (x right, y UP); image
 // rows run DOWN, so a direction at angle phi in the observer frame is drawn at -phi on the image
 // (the y component changes sign). The scale from the visual field to the image is Kakimoto's s_h
 // and s_v of Eq. 9, here 1 / radians_per_pixel in both directions (square pixels, small angles).
 #include <vector>
 
-#include "glare/dioptric_power.h"
+#include "glare/refraction/dioptric_power.h"
 
 namespace glarelab {
 

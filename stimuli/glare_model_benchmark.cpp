@@ -5,11 +5,11 @@
 #include <cmath>
 #include <sstream>
 
-#include "glare/analytic_glare.h"
-#include "glare/analytic_two_level_benchmark.h"
-#include "glare/dioptric_power.h"
-#include "glare/display_kernel_convolution.h"
-#include "glare/fftw_floor.h"
+#include "glare/analytic/analytic_glare.h"
+#include "glare/analytic/analytic_two_level_benchmark.h"
+#include "glare/refraction/dioptric_power.h"
+#include "glare/analytic/display_kernel_convolution.h"
+#include "glare/cpu/fftw_floor.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {
@@ -19,7 +19,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The FFTW floor of an RGB FFT convolution of this padded size (glare/fftw_floor.h), the fastest
+// The FFTW floor of an RGB FFT convolution of this padded size (glare/cpu/fftw_floor.h), the fastest
 // of `runs`.
 double fftw_floor_s(int rows, int cols, int runs) {
   FftwRgbConvolutionFloor floor(rows, cols);
@@ -52,7 +52,7 @@ AnalyticBenchmarkResult run_analytic_benchmark(const AnalyticBenchmarkOptions& o
   auto say = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };
-  // A dim room with five lamps and a bright window (glare/analytic_two_level_benchmark.h).
+  // A dim room with five lamps and a bright window (glare/analytic/analytic_two_level_benchmark.h).
   const ImageRGBA frame = analytic_benchmark_frame(options.width_px, options.height_px);
   struct Case {
     std::string label;
@@ -73,7 +73,7 @@ AnalyticBenchmarkResult run_analytic_benchmark(const AnalyticBenchmarkOptions& o
     glare_options.width_px = options.width_px;
     glare_options.height_px = options.height_px;
     // These rows time the full-resolution convolution against the FFTW floor of its own transforms;
-    // the two-level path has its own rows (glare/analytic_two_level_benchmark.h).
+    // the two-level path has its own rows (glare/analytic/analytic_two_level_benchmark.h).
     glare_options.convolution = AnalyticConvolution::full;
     AnalyticGlare glare(glare_options);
     glare.adapt(c.adaptation_cd_m2);

@@ -11,8 +11,8 @@
 
 #include "glare/lit_regions.h"
 #include "glare/parallel_rows.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_scale.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
 #include "stimuli/display_model.h"
 
 namespace glarelab {
@@ -231,7 +231,7 @@ std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double
 }
 
 // Convolves only the parts of the frame that glare can change: the boxes around its lit pixels
-// (glare/lit_regions.h), split where at least the PSF's size of black runs between them, so that
+// (glare/cpu/lit_regions.h), split where at least the PSF's size of black runs between them, so that
 // one box's glare cannot reach another's. Outside the boxes grown by the PSF's reach the exact
 // result is 0 (no light within reach), which is what the frame already holds; inside each, the
 // zero-padded FFT convolution of the box alone equals that of the whole frame, because everything
@@ -255,7 +255,7 @@ ImageRGBA GlareStage::convolve_frame(const ImageRGBA& frame, const Psf& display_
 }
 
 // The window and its apron (the PSF's reach, so the window is exact) convolved by the backend,
-// then blended into the unconvolved frame: the computation of glare/gaze_window_convolution.h with
+// then blended into the unconvolved frame: the computation of glare/cpu/gaze_window_convolution.h with
 // the backend's convolution in place of the CPU one.
 ImageRGBA GlareStage::convolve_gaze_window(const ImageRGBA& frame, const Psf& display_psf, const GazeWindow& window) {
   const int cx0 = std::max(0, window.x0_px - window.apron_px);

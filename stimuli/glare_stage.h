@@ -1,7 +1,7 @@
 #pragma once
 // Applies a glare condition to a composed HDR stimulus frame (cd/m2, linear Rec.709) at a session
 // time: control returns the frame unchanged; static uses the eye frozen at GlareSpec::static_time_s;
-// dynamic the eye of glare/eye_model.h at the frame's time. The glare itself is Ritschel et al. 2009
+// dynamic the eye of glare/eye/eye_model.h at the frame's time. The glare itself is Ritschel et al. 2009
 // sections 4-5: aperture -> monochromatic PSF at 575 nm -> spectral PSF (chromatic blur) -> mapped
 // onto the display's pixels (glare/psf_scale.h) -> FFT convolution, the PSF and the convolution both
 // by the compute backend GlareSpec::backend picks (glare/glare_backend.h: cpu, gl or auto, which
@@ -13,7 +13,7 @@
 //
 // Gaze-contingent glare (GlareSpec::gaze_window_px > 0; Luidolt 2020, 5.2.3): the convolution is
 // done in a power-of-two window around the gaze (exact there) and blended in with a Gaussian
-// falloff (glare/gaze_window_convolution.h); without a gaze the window is centred on the display.
+// falloff (glare/cpu/gaze_window_convolution.h); without a gaze the window is centred on the display.
 //
 // Tracker inputs (dynamic eye only): a measured pupil replaces the model's (record_measured_pupil)
 // and, with blink_source tracker, detected blinks drive the lids (set_detected_blinks).
@@ -33,9 +33,9 @@
 #include "glare/eye_model.h"
 #include "glare/gaze_window_convolution.h"
 #include "glare/glare_backend.h"
-#include "glare/psf.h"
+#include "glare/wave/psf.h"
 #include "glare/glare_spec.h"
-#include "glare/lit_regions.h"
+#include "glare/cpu/lit_regions.h"
 #include "core/image.h"
 
 namespace glarelab {
@@ -96,7 +96,7 @@ double psf_wing_fraction(const Psf& display_psf);
 double visibility_bound(double peak_cd_m2, double min_cd_m2, double wing_fraction, double floor_cd_m2);
 
 
-// Throws PsfScaleError (glare/psf_scale.h) when this glare cannot be shown at this display's pixel
+// Throws PsfScaleError (glare/wave/psf_scale.h) when this glare cannot be shown at this display's pixel
 // scale (a PSF narrower than two display pixels, or coarser than one): found before a session
 // writes anything, not at its first glare trial.
 void check_glare_fits_display(const GlareSpec& spec, const DisplaySpec& display);
@@ -126,7 +126,7 @@ class GlareStage {
   // The observer's residual refraction error of the frames to come (a trial's condition:
   // runner/session/condition_refraction.h; docs/REFRACTION.md, "In a session"): every wave-optics
   // PSF (static, dynamic, the hybrid's near field) takes it as geometry.refraction_error, its
-  // spectral PSF with one FFT per wavelength and the eye's LCA (glare/chromatic_psf.h). Nothing (the
+  // spectral PSF with one FFT per wavelength and the eye's LCA (glare/wave/chromatic_psf.h). Nothing (the
   // default): the observer's optics are not modelled, and every PSF is computed as before.
   // The CPU float64 and GL backends compute such a PSF themselves; the planned float32 path does
   // not carry the refraction yet (carries_refraction), so with it these PSFs are computed by the

@@ -1,5 +1,5 @@
 #pragma once
-// A frame as seen through a spectacle lens (glare/spectacle_lens.h; docs/SPECTACLES.md): each
+// A frame as seen through a spectacle lens (glare/refraction/spectacle_lens.h; docs/SPECTACLES.md): each
 // output pixel is the visual direction the eye turns to, and shows the scene where the lens sends
 // that line of sight. Per colour channel at its own wavelength, so the lens' transverse chromatic
 // aberration follows from its Abbe number.
@@ -26,7 +26,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/image.h"
-#include "glare/spectacle_lens.h"
+#include "glare/refraction/spectacle_lens.h"
 
 namespace glarelab {
 

@@ -1,5 +1,5 @@
 #pragma once
-// The coverage rule of glare/aperture_raster.h, one sub-sample at a time over the whole grid,
+// The coverage rule of glare/eye/aperture_raster.h, one sub-sample at a time over the whole grid,
 // without the rasteriser's shortcuts (pupil bounding square, row spans of discs and lines, scanline
 // polygon crossings, threads): the same expressions, products and sums in the same order, so the
 // rasteriser must equal it bit for bit. Each sub-sample adds value * (1 / s^2), as the rasteriser
@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "glare/aperture_geometry.h"
+#include "glare/eye/aperture_geometry.h"
 
 namespace glarelab::test {
 

@@ -11,7 +11,7 @@
 
 #include "cli_process.h"
 #include "core/exr_io.h"
-#include "glare/fresnel.h"
+#include "glare/wave/fresnel.h"
 #include "scratch_dir.h"
 
 namespace glarelab {

@@ -6,7 +6,7 @@
 #include <complex>
 #include <vector>
 
-#include "glare/eye_model.h"
+#include "glare/eye/eye_model.h"
 
 namespace glarelab {
 namespace {

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "glare/eyelids.h"
+#include "glare/eye/eyelids.h"
 
 namespace glarelab {
 namespace {

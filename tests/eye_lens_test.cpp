@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "glare/eye_model.h"
-#include "glare/lens_model.h"
+#include "glare/eye/eye_model.h"
+#include "glare/eye/lens_model.h"
 
 namespace glarelab {
 namespace {

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "cli_process.h"
-#include "glare/eye_model.h"
+#include "glare/eye/eye_model.h"
 #include "core/errors.h"
 #include "scratch_dir.h"
 

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "glare/eye_model.h"
-#include "glare/pupil_model.h"
+#include "glare/eye/eye_model.h"
+#include "glare/eye/pupil_model.h"
 
 namespace glarelab {
 namespace {

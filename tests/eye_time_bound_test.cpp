@@ -1,5 +1,5 @@
 // Times given to the eye model cost no time in proportion to their value: the vitreous forgets its
-// past (glare/vitreous_model.h), and every entry point that takes a time refuses one past 24 h
+// past (glare/eye/vitreous_model.h), and every entry point that takes a time refuses one past 24 h
 // (kMaxEyeModelTime_s) with exit 2, naming the flag or the file, line, column and key, before it
 // writes anything; a time at the bound still works.
 #include <gtest/gtest.h>
@@ -14,8 +14,8 @@
 #include "cli_process.h"
 #include "core/errors.h"
 #include "core/exr_io.h"
-#include "glare/eye_model.h"
-#include "glare/vitreous_model.h"
+#include "glare/eye/eye_model.h"
+#include "glare/eye/vitreous_model.h"
 #include "scratch_dir.h"
 
 namespace glarelab {

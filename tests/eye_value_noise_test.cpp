@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "glare/value_noise.h"
+#include "glare/eye/value_noise.h"
 
 namespace glarelab {
 namespace {
@@ -24,7 +24,7 @@ TEST(EyeValueNoise, RangeMeanAndStandardDeviationMatchTheory) {
   }
   const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
   EXPECT_NEAR(mean, 0.0, 0.01);
-  // sd = sqrt((1/3)(26/35)(1 + 1/4 + 1/16)) / 1.75 = 0.3258 (derived in value_noise.h).
+  // sd = sqrt((1/3)(26/35)(1 + 1/4 + 1/16)) / 1.75 = 0.3258 (derived in glare/eye/value_noise.h).
   EXPECT_NEAR(ValueNoise::standard_deviation(), 0.32576, 1e-4);
   EXPECT_NEAR(sd / ValueNoise::standard_deviation(), 1.0, 0.03);
 }

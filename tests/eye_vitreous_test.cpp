@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "glare/vitreous_model.h"
+#include "glare/eye/vitreous_model.h"
 
 namespace glarelab {
 namespace {

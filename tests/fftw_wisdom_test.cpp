@@ -1,4 +1,4 @@
-// Measured FFTW plans kept in a wisdom file (glare/fftw_wisdom.h): the planned float32 convolution
+// Measured FFTW plans kept in a wisdom file (glare/cpu/fftw_wisdom.h): the planned float32 convolution
 // measures its plans once, writes them to the file and reads them back in every later planning, in
 // this process or another, for the same bits; where no file can be kept its plans are estimated.
 // Every result is checked against the float64 convolution (convolve_image_cpu).
@@ -13,11 +13,11 @@
 
 #include "cli_process.h"
 #include "core/exr_io.h"
-#include "glare/convolution_cpu.h"
-#include "glare/cpu_float_convolution.h"
-#include "glare/fft_cpu.h"
-#include "glare/fftw_float_plan.h"
-#include "glare/fftw_wisdom.h"
+#include "glare/cpu/convolution.h"
+#include "glare/cpu/float_convolution.h"
+#include "glare/cpu/fft.h"
+#include "glare/cpu/fftw_float_plan.h"
+#include "glare/cpu/fftw_wisdom.h"
 #include "glare_psf_test_support.h"
 #include "scratch_dir.h"
 #include "session_events.h"
@@ -164,7 +164,7 @@ TEST_F(FftwWisdom, SessionsShareTheFileNamedByTheEnvironmentAndGiveTheSameFrames
   EXPECT_EQ(wisdom[1], wisdom[0]);  // the second run measured nothing
   // Wisdom carries the planner's configuration as its signature (its first line), and a process
   // reads only wisdom of its own configuration. This test process planned a per-call float FFT
-  // (fft_cpu.h) before any kept plan, the sessions did not: the same signature, so each can read
+  // (glare/cpu/fft.h) before any kept plan, the sessions did not: the same signature, so each can read
   // what the other wrote.
   const std::string first_line = wisdom[0].substr(0, wisdom[0].find('\n'));
   EXPECT_EQ(in_process_wisdom.substr(0, in_process_wisdom.find('\n')), first_line);

@@ -1,4 +1,4 @@
-// The analytic glare on images (glare/display_kernel_convolution.h, glare/analytic_glare.h): a
+// The analytic glare on images (glare/analytic/display_kernel_convolution.h, glare/analytic/analytic_glare.h): a
 // point source convolved gives the PSF integrated per pixel, energy is what the kernel keeps on
 // the frame, the planned float32 path agrees with the float64 reference, and a Spencer mixture
 // made from component spectra equals the mixture's own kernel.
@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "core/random.h"
-#include "glare/analytic_glare.h"
-#include "glare/display_kernel_convolution.h"
+#include "glare/analytic/analytic_glare.h"
+#include "glare/analytic/display_kernel_convolution.h"
 
 namespace glarelab {
 namespace {

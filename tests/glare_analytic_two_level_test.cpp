@@ -1,4 +1,4 @@
-// The two-level analytic glare convolution (glare/analytic_two_level.h) against the float64
+// The two-level analytic glare convolution (glare/analytic/analytic_two_level.h) against the float64
 // convolution with the whole kernel (convolve_with_kernel_float64): a scene of point sources, a
 // bright disc and a dim extended field within the stated budget (1e-3 of the peak at any pixel,
 // 1e-4 relative L2); energy kept to float precision; a split whose near part is the whole kernel
@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "glare/analytic_glare.h"
-#include "glare/analytic_two_level.h"
-#include "glare/analytic_two_level_benchmark.h"
-#include "glare/display_kernel_convolution.h"
+#include "glare/analytic/analytic_glare.h"
+#include "glare/analytic/analytic_two_level.h"
+#include "glare/analytic/analytic_two_level_benchmark.h"
+#include "glare/analytic/display_kernel_convolution.h"
 
 namespace glarelab {
 namespace {

@@ -1,4 +1,4 @@
-// The aperture coverage rule (aperture_raster.h) on hand-checked cases.
+// The aperture coverage rule (glare/eye/aperture_raster.h) on hand-checked cases.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -6,8 +6,8 @@
 #include <numbers>
 #include <random>
 
-#include "glare/aperture_raster.h"
-#include "glare/eye_model.h"
+#include "glare/eye/aperture_raster.h"
+#include "glare/eye/eye_model.h"
 #include "tests/aperture_rule.h"
 
 namespace glarelab {

@@ -1,11 +1,11 @@
-// The astigmatic pupil phase against fresnel.h's spherical defocus and a hand-worked oblique case.
+// The astigmatic pupil phase against glare/wave/fresnel.h's spherical defocus and a hand-worked oblique case.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "glare/aperture_raster.h"
-#include "glare/astigmatic_phase.h"
+#include "glare/eye/aperture_raster.h"
+#include "glare/refraction/astigmatic_phase.h"
 
 namespace glarelab {
 namespace {

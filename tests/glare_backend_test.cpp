@@ -245,7 +245,7 @@ TEST_F(GlareBackendAgreement, NonPowerOfTwoImageWithSourcesAtTheEdgesDoesNotWrap
 
 TEST_F(GlareBackendAgreement, ConvolutionLargerThanOneDispatchAgreesWithCpuDouble) {
   // 400 x 200 padded to 512 x 256: three layers of 131 072 values, more than the 262 144
-  // invocations one complex-multiply dispatch runs, so every invocation strides (gl_convolution.cpp).
+  // invocations one complex-multiply dispatch runs, so every invocation strides (glare/gl/convolution.cpp).
   ImageRGBA image(400, 200, 0.0f);
   for (int y = 0; y < image.height_px; ++y)
     for (int x = 0; x < image.width_px; ++x) {

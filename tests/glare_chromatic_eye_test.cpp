@@ -1,10 +1,10 @@
-// Longitudinal chromatic aberration (glare/chromatic_eye.h): Thibos et al. 1992's fit against the
+// Longitudinal chromatic aberration (glare/refraction/chromatic_eye.h): Thibos et al. 1992's fit against the
 // same paper's reduced eye (its water-like index and 5.55 mm corneal radius), and hand-worked values.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
-#include "glare/chromatic_eye.h"
+#include "glare/refraction/chromatic_eye.h"
 
 namespace glarelab {
 namespace {

@@ -1,4 +1,4 @@
-// The spectral PSF with a refraction and longitudinal chromatic aberration (glare/chromatic_psf.h):
+// The spectral PSF with a refraction and longitudinal chromatic aberration (glare/wave/chromatic_psf.h):
 // one FFT per wavelength. Without a phase it must be Ritschel's scaled-reference spectral PSF (the
 // scaling is exact in the Fraunhofer case); with a myope's error its R and B blur must differ as
 // Thibos' formula says.
@@ -7,11 +7,11 @@
 #include <cmath>
 #include <numbers>
 
-#include "glare/chromatic_eye.h"
-#include "glare/chromatic_psf.h"
-#include "glare/cie_cmf.h"
-#include "glare/psf_cpu.h"
-#include "glare/spectral_psf.h"
+#include "glare/refraction/chromatic_eye.h"
+#include "glare/wave/chromatic_psf.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/spectral_psf.h"
 #include "glare_refraction_test_support.h"
 
 namespace glarelab {
@@ -64,7 +64,7 @@ TEST(GlareChromaticPsf, MyopeBlursBlueMoreThanRedAsThibosSays) {
   // is a disc of radius |E(lambda)| r with <x^2> = (E r)^2 / 4. The PSF's second moment is that plus
   // the in-focus (diffraction) PSF's: for a real pupil A, |grad(A exp(i phi))|^2 = |grad A|^2 +
   // A^2 |grad phi|^2, so the two add. A channel mixes the wavelengths with its CMF weights in Rec.709
-  // (w_c(lambda), cie_cmf.h), so its geometric part is predicted as sum w_c <x^2>_lambda / sum w_c
+  // (w_c(lambda), glare/wave/cie_cmf.h), so its geometric part is predicted as sum w_c <x^2>_lambda / sum w_c
   // (negative weights included; the clamping of negative pixels moves it a little), and its
   // diffraction part is measured on the same eye in focus.
   ApertureGeometry geometry;

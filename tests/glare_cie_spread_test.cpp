@@ -1,11 +1,11 @@
-// The CIE 146:2002 glare spread function (glare/cie_glare_spread.h) against values computed by
-// hand from the formula, and its PSF (glare/analytic_psf.h): scattered light plus peak is 1.
+// The CIE 146:2002 glare spread function (glare/analytic/cie_glare_spread.h) against values computed by
+// hand from the formula, and its PSF (glare/analytic/analytic_psf.h): scattered light plus peak is 1.
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "glare/analytic_psf.h"
-#include "glare/cie_glare_spread.h"
+#include "glare/analytic/analytic_psf.h"
+#include "glare/analytic/cie_glare_spread.h"
 
 namespace glarelab {
 namespace {

@@ -6,8 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "glare/convolution_cpu.h"
-#include "glare/psf_cpu.h"
+#include "glare/cpu/convolution.h"
+#include "glare/cpu/psf.h"
 #include "stimuli/display_model.h"
 
 namespace glarelab {

@@ -1,6 +1,6 @@
-// The float32 CPU PSF (glare/cpu_float_psf.h, cpu_float_glare.h) with an astigmatic
+// The float32 CPU PSF (glare/cpu/float_psf.h, glare/cpu/float_glare.h) with an astigmatic
 // (sphero-cylindrical) power error: the pupil function and the PSF against a CPU double reference
-// built here from glare/astigmatic_phase.h's apply_power_error_phase and psf_cpu.h's
+// built here from glare/refraction/astigmatic_phase.h's apply_power_error_phase and glare/cpu/psf.h's
 // shifted_power_spectrum on the same rasterised aperture; the display-scale spectral PSF against the
 // double spectral path; the second moments against the geometric blur E (r^2 / 4) E^T; a spherical
 // error bit for bit as a defocus; the sampling check on the strongest meridian.
@@ -13,14 +13,14 @@
 #include <numbers>
 #include <vector>
 
-#include "glare/aperture_raster.h"
-#include "glare/astigmatic_phase.h"
-#include "glare/cpu_float_glare.h"
-#include "glare/cpu_float_psf.h"
-#include "glare/eye_model.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_scale.h"
-#include "glare/spectral_psf.h"
+#include "glare/eye/aperture_raster.h"
+#include "glare/refraction/astigmatic_phase.h"
+#include "glare/cpu/float_glare.h"
+#include "glare/cpu/float_psf.h"
+#include "glare/eye/eye_model.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
+#include "glare/wave/spectral_psf.h"
 #include "psf_agreement.h"
 
 namespace glarelab {
@@ -54,7 +54,7 @@ CpuFloatPsfSettings float_settings(int n, double wavelength_nm, int supersamplin
   return settings;
 }
 
-// The double reference: the same aperture (aperture_raster.h, which CpuFloatPsf uses bit for bit),
+// The double reference: the same aperture (glare/eye/aperture_raster.h, which CpuFloatPsf uses bit for bit),
 // apply_power_error_phase, FFTW double, normalised to sum 1.
 Psf reference_psf(const ApertureGeometry& geometry, int n, double wavelength_nm, int supersampling = 2) {
   ApertureRasterOptions raster;

@@ -1,6 +1,6 @@
 // The float32 CPU spectral PSF with the eye's longitudinal chromatic aberration
-// (glare/cpu_float_chromatic_psf.h, and CpuFloatGlare with longitudinal_chromatic_aberration) against
-// the CPU float64 reference compute_chromatic_psf (glare/chromatic_psf.h), per channel, relative to
+// (glare/cpu/float_chromatic_psf.h, and CpuFloatGlare with longitudinal_chromatic_aberration) against
+// the CPU float64 reference compute_chromatic_psf (glare/wave/chromatic_psf.h), per channel, relative to
 // the peak and in L2, for a myope, an oblique astigmat with scatterers and an emmetrope; the blue and
 // red widths against the reference; the per-wavelength transform at the settings' wavelength bit for
 // bit as the two-argument one; the refusals.
@@ -12,14 +12,14 @@
 #include <stdexcept>
 #include <vector>
 
-#include "glare/chromatic_psf.h"
-#include "glare/cpu_float_chromatic_psf.h"
-#include "glare/cpu_float_glare.h"
-#include "glare/cpu_float_psf.h"
-#include "glare/eye_model.h"
-#include "glare/psf_cpu.h"
+#include "glare/wave/chromatic_psf.h"
+#include "glare/cpu/float_chromatic_psf.h"
+#include "glare/cpu/float_glare.h"
+#include "glare/cpu/float_psf.h"
+#include "glare/eye/eye_model.h"
+#include "glare/cpu/psf.h"
 #include "glare/glare_benchmark.h"
-#include "glare/psf_scale.h"
+#include "glare/wave/psf_scale.h"
 #include "psf_agreement.h"
 
 namespace glarelab {

@@ -1,10 +1,10 @@
-// Dioptric power matrices against hand-worked prescriptions (glare/dioptric_power.h).
+// Dioptric power matrices against hand-worked prescriptions (glare/refraction/dioptric_power.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <stdexcept>
 
-#include "glare/dioptric_power.h"
+#include "glare/refraction/dioptric_power.h"
 
 namespace glarelab {
 namespace {

@@ -1,4 +1,4 @@
-// Analytic PSFs on display pixels (glare/display_glare_kernel.h): each pixel's energy against an
+// Analytic PSFs on display pixels (glare/analytic/display_glare_kernel.h): each pixel's energy against an
 // independent adaptive Gauss-Kronrod integration over the pixel in the display plane, and the
 // kernel's total against the PSF's energy over the display rectangle by a 1D integral over
 // directions of the radial energy (no pixels involved).
@@ -7,7 +7,7 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
 
-#include "glare/display_glare_kernel.h"
+#include "glare/analytic/display_glare_kernel.h"
 
 namespace glarelab {
 namespace {

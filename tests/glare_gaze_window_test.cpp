@@ -1,11 +1,11 @@
 // Gaze-contingent glare window (Luidolt 2020, 5.2.3): the windowed convolution against the
-// full-frame convolution (glare/convolution_cpu.h) inside the window, the Gaussian blend weights
+// full-frame convolution (glare/cpu/convolution.h) inside the window, the Gaussian blend weights
 // against the formula, and windows clamped at the image corners.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "glare/gaze_window_convolution.h"
+#include "glare/cpu/gaze_window_convolution.h"
 #include "core/random.h"
 
 namespace glarelab {

@@ -1,5 +1,5 @@
 // The GPU aperture rasteriser against an independent CPU double implementation of the same coverage
-// rule (written here from the rule's statement in glare/aperture_raster.h): every subsample must
+// rule (written here from the rule's statement in glare/eye/aperture_raster.h): every subsample must
 // agree, except subsamples whose point lies within a hair of some edge, where float and double
 // coordinates may round to different sides.
 #include <gtest/gtest.h>
@@ -12,8 +12,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "glare/aperture_raster.h"
-#include "glare/gl/gl_aperture.h"
+#include "glare/eye/aperture_raster.h"
+#include "glare/gl/aperture.h"
 #include "runner/display/compute_context.h"
 #include "core/random.h"
 
@@ -114,7 +114,7 @@ TEST_F(GlApertureTest, EverySubsampleMatchesTheCpuCoverageRule) {
   int mismatches = 0, near_edge_mismatches = 0, partially_covered = 0;
   for (int b = 0; b < across; ++b)
     for (int a = 0; a < across; ++a) {
-      // aperture_raster.h: sub-sample a' of pixel i at x = (i - N/2 - 1/2 + (a' + 1/2) / s) dx, so with
+      // glare/eye/aperture_raster.h: sub-sample a' of pixel i at x = (i - N/2 - 1/2 + (a' + 1/2) / s) dx, so with
       // a = s i + a' the point is (a + 1/2 - (S + s) / 2) h; rows alike, y pointing up.
       const double axis = (across + s) / 2.0;
       const double x = (a + 0.5 - axis) * h, y = (axis - b - 0.5) * h;
@@ -149,7 +149,7 @@ TEST_F(GlApertureTest, EverySubsampleMatchesTheCpuCoverageRule) {
 }
 
 TEST_F(GlApertureTest, PupilsMatchTheCpuRasteriserPixelForPixel) {
-  // The CPU rasteriser (glare/aperture_raster.cpp) is the other backend's aperture: the two must put
+  // The CPU rasteriser (glare/eye/aperture_raster.cpp) is the other backend's aperture: the two must put
   // the optical axis on the same pixel centre, or the PSFs differ by a half-pixel shift (error ~1/N).
   for (const int n : {256, 1024})
     for (const double pupil_mm : {1.5, 2.42649, 9.0}) {

@@ -1,6 +1,6 @@
 // The GL PSF with an astigmatic (sphero-cylindrical) power error: the pupil function and the PSF
-// against a CPU double reference built here from glare/astigmatic_phase.h's apply_power_error_phase
-// and psf_cpu.h's shifted_power_spectrum on the same rasterised aperture; the PSF's second moments
+// against a CPU double reference built here from glare/refraction/astigmatic_phase.h's apply_power_error_phase
+// and glare/cpu/psf.h's shifted_power_spectrum on the same rasterised aperture; the PSF's second moments
 // against the geometric blur E (r^2 / 4) E^T; a spherical error bit for bit as a defocus.
 #include <gtest/gtest.h>
 
@@ -13,11 +13,11 @@
 #include <stdexcept>
 #include <vector>
 
-#include "glare/astigmatic_phase.h"
+#include "glare/refraction/astigmatic_phase.h"
 #include "glare/gl/cross_phase_turns.h"
-#include "glare/gl/gl_glare_backend.h"
-#include "glare/gl/gl_psf.h"
-#include "glare/psf_cpu.h"
+#include "glare/gl/backend.h"
+#include "glare/gl/psf.h"
+#include "glare/cpu/psf.h"
 #include "runner/display/compute_context.h"
 #include "psf_agreement.h"
 
@@ -181,7 +181,7 @@ TEST_F(GlAstigmaticTest, LargeCrossPhasesAreReducedExactly) {
 
 TEST_F(GlAstigmaticTest, SecondMomentsAreThePupilMappedByThePowerError) {
   // Geometric optics: the ray through pupil point p leaves at angle E p, so the PSF is the pupil
-  // disc mapped by E (glare/dioptric_power.h, geometric_blur_ellipse), with covariance
+  // disc mapped by E (glare/refraction/dioptric_power.h, geometric_blur_ellipse), with covariance
   // E (r^2 / 4 I) E^T for a uniform disc of radius r. Diffraction adds a term that is isotropic for
   // a round pupil (the disc is symmetric under x <-> y and x -> -x on the grid), so xy and xx - yy
   // are the geometric ones. Dropping the cross term would give E' = diag(E_xx, E_yy) and xy = 0.

@@ -1,7 +1,7 @@
 // The GL spectral PSF with the eye's longitudinal chromatic aberration (GlPsf::chromatic) against
-// the CPU float64 reference compute_chromatic_psf (glare/chromatic_psf.h: one FFT per wavelength
+// the CPU float64 reference compute_chromatic_psf (glare/wave/chromatic_psf.h: one FFT per wavelength
 // with E + [LCA(lambda) - LCA(lambda_ref)] I, resampled and CMF-weighted by
-// glare/spectral_accumulation.h), per channel, relative to the peak and in L2, for a myope, an
+// glare/wave/spectral_accumulation.h), per channel, relative to the peak and in L2, for a myope, an
 // oblique astigmat and an emmetrope; and the emmetrope's blue and red channel widths, which the
 // scaled-reference spectral PSF gets the wrong way round.
 #include <gtest/gtest.h>
@@ -13,8 +13,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "glare/chromatic_psf.h"
-#include "glare/gl/gl_psf.h"
+#include "glare/wave/chromatic_psf.h"
+#include "glare/gl/psf.h"
 #include "runner/display/compute_context.h"
 #include "psf_agreement.h"
 
@@ -41,7 +41,7 @@ constexpr double kWidthMm = 8.0, kPupilMm = 4.0, kReferenceNm = 575.0;
 constexpr int kWavelengths = 16;
 
 // An uncorrected eye looking far: its residual error is minus its correcting prescription (positive
-// = too much power, glare/eye_refraction.h), here without vertex distance.
+// = too much power, glare/refraction/eye_refraction.h), here without vertex distance.
 ApertureGeometry eye_with_prescription(const SpheroCylinder& prescription) {
   ApertureGeometry geometry;
   geometry.pupil_diameter_mm = kPupilMm;

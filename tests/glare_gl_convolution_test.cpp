@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "runner/display/compute_context.h"
-#include "glare/gl/gl_convolution.h"
+#include "glare/gl/convolution.h"
 #include "core/random.h"
 
 namespace glarelab {

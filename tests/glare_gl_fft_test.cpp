@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "runner/display/compute_context.h"
-#include "glare/gl/gl_fft.h"
+#include "glare/gl/fft.h"
 #include "core/random.h"
 
 namespace glarelab {

@@ -12,9 +12,9 @@
 #include <sstream>
 #include <vector>
 
-#include "glare/cie_cmf.h"
+#include "glare/wave/cie_cmf.h"
 #include "runner/display/compute_context.h"
-#include "glare/gl/gl_psf.h"
+#include "glare/gl/psf.h"
 
 namespace glarelab {
 namespace {
@@ -55,7 +55,7 @@ std::vector<double> reference_psf(const std::vector<float>& aperture, int n, dou
   std::vector<std::complex<double>> field(aperture.size());
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      // Pixel centres of glare/aperture_raster.h: the optical axis at the centre of pixel (n/2, n/2).
+      // Pixel centres of glare/eye/aperture_raster.h: the optical axis at the centre of pixel (n/2, n/2).
       const double x = (i - n / 2) * dx_mm, y = (n / 2 - j) * dx_mm;
       const double phase = std::numbers::pi * defocus_dioptres * (x * x + y * y) * 1e-6 / (wavelength_nm * 1e-9);
       field[static_cast<std::size_t>(j) * n + i] = double(aperture[static_cast<std::size_t>(j) * n + i]) * std::polar(1.0, phase);

@@ -1,4 +1,4 @@
-// The hybrid eye (glare/hybrid_psf.h) with a real wave-optics PSF (the eye model's aperture through
+// The hybrid eye (glare/analytic/hybrid_psf.h) with a real wave-optics PSF (the eye model's aperture through
 // the CPU backend, mapped to display pixels): its energy against the analytic light beyond the
 // display (energy_within_rectangle, a 1D integral independent of the pixels), its two pure regions
 // bit for bit, its continuity across the hand-over by the measure the header states, and its
@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "glare/cpu_glare_backend.h"
-#include "glare/eye_model.h"
-#include "glare/hybrid_psf.h"
-#include "glare/psf_scale.h"
+#include "glare/cpu/backend.h"
+#include "glare/eye/eye_model.h"
+#include "glare/analytic/hybrid_psf.h"
+#include "glare/wave/psf_scale.h"
 
 namespace glarelab {
 namespace {

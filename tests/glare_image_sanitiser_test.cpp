@@ -10,7 +10,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "glare/cpu_glare_backend.h"
+#include "glare/cpu/backend.h"
 #include "glare/image_sanitiser.h"
 #include "core/exr_io.h"
 

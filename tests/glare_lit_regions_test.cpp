@@ -1,4 +1,4 @@
-// glare/lit_regions.h: the boxes around a frame's lit pixels, checked on hand-drawn frames whose
+// glare/cpu/lit_regions.h: the boxes around a frame's lit pixels, checked on hand-drawn frames whose
 // boxes are known by construction.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "glare/lit_regions.h"
+#include "glare/cpu/lit_regions.h"
 
 namespace glarelab {
 namespace {

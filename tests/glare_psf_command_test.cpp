@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "cli_process.h"
-#include "glare/aperture_components.h"
-#include "glare/eye_model.h"
-#include "glare/psf_exr.h"
+#include "glare/eye/aperture_components.h"
+#include "glare/eye/eye_model.h"
+#include "glare/wave/psf_exr.h"
 #include "glare_psf_test_support.h"
 #include "scratch_dir.h"
 

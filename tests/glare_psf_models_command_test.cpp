@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "cli_process.h"
-#include "glare/psf_exr.h"
-#include "glare/psf_scale.h"
+#include "glare/wave/psf_exr.h"
+#include "glare/wave/psf_scale.h"
 #include "glare_psf_test_support.h"
 #include "scratch_dir.h"
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "cli_process.h"
-#include "glare/psf_exr.h"
+#include "glare/wave/psf_exr.h"
 #include "glare_refraction_test_support.h"
 #include "scratch_dir.h"
 

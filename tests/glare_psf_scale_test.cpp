@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "glare/psf_scale.h"
+#include "glare/wave/psf_scale.h"
 #include "glare_psf_test_support.h"
 
 namespace glarelab {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "glare/fibre_gratings.h"
-#include "glare/psf_cpu.h"
+#include "glare/eye/fibre_gratings.h"
+#include "glare/cpu/psf.h"
 #include "glare_psf_test_support.h"
 
 namespace glarelab {

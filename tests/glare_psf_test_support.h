@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "glare/psf.h"
+#include "glare/wave/psf.h"
 
 namespace glarelab::test {
 

@@ -1,4 +1,4 @@
-// The wave-optics PSF of an eye with a refraction (glare/psf_cpu.h with ApertureGeometry's
+// The wave-optics PSF of an eye with a refraction (glare/cpu/psf.h with ApertureGeometry's
 // refraction_error): its second moments against the geometric blur of the residual error, the
 // Sturm-conoid ellipse, for defocus and for astigmatism at regular and oblique axes.
 #include <gtest/gtest.h>
@@ -10,8 +10,8 @@
 
 #include <glm/mat2x2.hpp>
 
-#include "glare/eye_refraction.h"
-#include "glare/psf_cpu.h"
+#include "glare/refraction/eye_refraction.h"
+#include "glare/cpu/psf.h"
 #include "glare_refraction_test_support.h"
 
 namespace glarelab {

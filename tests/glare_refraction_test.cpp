@@ -1,4 +1,4 @@
-// The observer's refraction (glare/eye_refraction.h): Kakimoto et al. 2007, Eqs. 8-15 and Table 2,
+// The observer's refraction (glare/refraction/eye_refraction.h): Kakimoto et al. 2007, Eqs. 8-15 and Table 2,
 // against hand-worked vergences and the paper's own Sturm-conoid section.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "glare/eye_refraction.h"
+#include "glare/refraction/eye_refraction.h"
 
 namespace glarelab {
 namespace {

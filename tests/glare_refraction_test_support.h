@@ -7,7 +7,7 @@
 #include <limits>
 #include <numbers>
 
-#include "glare/psf.h"
+#include "glare/wave/psf.h"
 
 namespace glarelab::test {
 

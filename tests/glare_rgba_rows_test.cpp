@@ -1,4 +1,4 @@
-// The RGBA row copies of the planned convolution (glare/rgba_rows.h) against the per-value rule
+// The RGBA row copies of the planned convolution (glare/cpu/rgba_rows.h) against the per-value rule
 // they implement: each R, G, B >= 0 and finite, alpha unchecked; the copies exact to the bit.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "glare/rgba_rows.h"
+#include "glare/cpu/rgba_rows.h"
 
 namespace glarelab {
 namespace {

@@ -1,4 +1,4 @@
-// Spectacle lenses traced as real thick lenses (glare/spectacle_lens.h, glare/spectacle_power.h)
+// Spectacle lenses traced as real thick lenses (glare/refraction/spectacle_lens.h, glare/refraction/spectacle_power.h)
 // against the thick-lens formulas, Prentice's rule, the Abbe number's definition and hand-worked
 // values.
 #include <gtest/gtest.h>
@@ -14,8 +14,8 @@
 #include <glm/geometric.hpp>
 #include <glm/mat2x2.hpp>
 
-#include "glare/spectacle_lens.h"
-#include "glare/spectacle_power.h"
+#include "glare/refraction/spectacle_lens.h"
+#include "glare/refraction/spectacle_power.h"
 
 namespace glarelab {
 namespace {
@@ -333,7 +333,7 @@ void expect_refused(SpectacleLensSpec spec, const std::string& parameter) {
     ADD_FAILURE() << "accepted a lens with bad " << parameter;
   } catch (const std::invalid_argument& error) {
     const std::string message = error.what();
-    EXPECT_NE(message.find("glare/spectacle_lens: "), std::string::npos) << message;
+    EXPECT_NE(message.find("glare/refraction/spectacle_lens: "), std::string::npos) << message;
     EXPECT_NE(message.find(parameter), std::string::npos) << message;
   }
 }

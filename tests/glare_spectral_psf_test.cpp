@@ -5,9 +5,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "glare/cie_cmf.h"
-#include "glare/psf_cpu.h"
-#include "glare/spectral_psf.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/spectral_psf.h"
 #include "glare_psf_test_support.h"
 
 namespace glarelab {

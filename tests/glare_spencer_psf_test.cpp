@@ -1,4 +1,4 @@
-// Spencer et al. 1995's analytic PSF (glare/spencer_psf.h, glare/analytic_psf.h) against the
+// Spencer et al. 1995's analytic PSF (glare/analytic/spencer_psf.h, glare/analytic/analytic_psf.h) against the
 // paper's own numbers: unit volume of every component and mixture by Eq. 4, P_p(3 deg) = 1.462,
 // the scattered fraction beyond 0.05 degrees at ages 20 and 60 (section 3.1.2), the halo's peak
 // at 3 lambda / 568 degrees, and the 19.75 that the printed Eq. 7 drops.
@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "glare/analytic_psf.h"
-#include "glare/spencer_psf.h"
+#include "glare/analytic/analytic_psf.h"
+#include "glare/analytic/spencer_psf.h"
 
 namespace glarelab {
 namespace {

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstring>
 
-#include "glare/display_kernel_convolution.h"
-#include "glare/hybrid_psf.h"
-#include "glare/psf_cpu.h"
+#include "glare/analytic/display_kernel_convolution.h"
+#include "glare/analytic/hybrid_psf.h"
+#include "glare/cpu/psf.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {

@@ -13,17 +13,17 @@
 #include <utility>
 #include <cstdio>
 
-#include "glare/aperture_raster.h"
-#include "glare/convolution_cpu.h"
-#include "glare/eye_model.h"
-#include "glare/eyelids.h"
-#include "glare/gaze_window_convolution.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_scale.h"
-#include "glare/spectral_psf.h"
+#include "glare/eye/aperture_raster.h"
+#include "glare/cpu/convolution.h"
+#include "glare/eye/eye_model.h"
+#include "glare/eye/eyelids.h"
+#include "glare/cpu/gaze_window_convolution.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
+#include "glare/wave/spectral_psf.h"
 #include "stimuli/display_model.h"
 #include "runner/display/compute_context.h"
-#include "glare/lit_regions.h"
+#include "glare/cpu/lit_regions.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {
@@ -267,7 +267,7 @@ TEST(GlareStage, CpuBackendGivesTheDirectCpuComputationBitForBit) {
 }
 
 // "auto" without a GL context takes the CPU and its planned float32 path for the frames
-// (glare/cpu_float_glare.h): within 1e-6 relative L2 of the float64 reference ("cpu") on static and
+// (glare/cpu/float_glare.h): within 1e-6 relative L2 of the float64 reference ("cpu") on static and
 // dynamic frames, and a second frame of the same scene reuses its spectrum with the same result.
 TEST(GlareStage, AutoOnTheCpuTakesThePlannedFloatPathWithinOneMillionthOfTheReference) {
   GlareSpec reference_spec = small_spec();
@@ -307,7 +307,7 @@ ImageRGBA demo_frame() {
 }
 
 TEST(GlareStage, RoomsConvolvedApartEqualTheWholeFrameConvolution) {
-  // The stage convolves each lit region on its own (glare/lit_regions.h); the reference convolves
+  // The stage convolves each lit region on its own (glare/cpu/lit_regions.h); the reference convolves
   // the whole 1024 x 512 frame at once in float64 with the same display PSF.
   DisplaySpec display;
   display.width_px = 1024;

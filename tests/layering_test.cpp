@@ -38,7 +38,7 @@ const std::map<std::string, std::set<std::string>>& allowed_layers() {
 
 // What protocols may read of glare: the plain parameter types its experiment files fill in.
 const std::set<std::string>& glare_parameter_headers() {
-  static const std::set<std::string> headers = {"glare/eye_parameters.h", "glare/glare_spec.h", "glare/hybrid_handover.h"};
+  static const std::set<std::string> headers = {"glare/eye/eye_parameters.h", "glare/glare_spec.h", "glare/analytic/hybrid_handover.h"};
   return headers;
 }
 
@@ -101,18 +101,18 @@ TEST(Layering, APlantedUpwardIncludeIsNamedWithFileAndLine) {
   test::ScratchDir scratch;
   const fs::path root = scratch.path();
   write_file(root / "core/image.h", "#pragma once\n#include <vector>\n");
-  write_file(root / "glare/psf.cpp", "#include \"glare/psf.h\"\n#include \"core/image.h\"\n#include \"runner/random.h\"\n");
-  write_file(root / "stimuli/frame.cpp", "// frame\n#include \"glare/psf.h\"\n#include \"protocols/experiment.h\"\n");
+  write_file(root / "glare/wave/psf.cpp", "#include \"glare/wave/psf.h\"\n#include \"core/image.h\"\n#include \"runner/random.h\"\n");
+  write_file(root / "stimuli/frame.cpp", "// frame\n#include \"glare/wave/psf.h\"\n#include \"protocols/experiment.h\"\n");
   write_file(root / "protocols/glare_config.h",
-             "#include \"glare/glare_spec.h\"\n#include \"glare/psf.h\"\n#include <toml++/toml.h>\n");
+             "#include \"glare/glare_spec.h\"\n#include \"glare/wave/psf.h\"\n#include <toml++/toml.h>\n");
   write_file(root / "analysis/report.cpp", "#include \"analysis/report.h\"\n  #  include \"stimuli/image.h\"\n");
-  write_file(root / "core/gl/owner.h", "#include \"glare/gl/gl_fft.h\"\n");
+  write_file(root / "core/gl/owner.h", "#include \"glare/gl/fft.h\"\n");
   write_file(root / "runner/main.cpp", "#include \"stimuli/frame.h\"\n#include \"analysis/report.h\"\n");
   const std::vector<std::string> expected = {
-      "core/gl/owner.h:1: core may not include glare/gl/gl_fft.h",
-      "glare/psf.cpp:3: glare may not include runner/random.h",
+      "core/gl/owner.h:1: core may not include glare/gl/fft.h",
+      "glare/wave/psf.cpp:3: glare may not include runner/random.h",
       "stimuli/frame.cpp:3: stimuli may not include protocols/experiment.h",
-      "protocols/glare_config.h:2: protocols may not include glare/psf.h",
+      "protocols/glare_config.h:2: protocols may not include glare/wave/psf.h",
       "analysis/report.cpp:2: analysis may not include stimuli/image.h",
   };
   EXPECT_EQ(layering_violations(root), expected) << joined(layering_violations(root));

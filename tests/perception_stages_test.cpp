@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "glare/pupil_model.h"
+#include "glare/eye/pupil_model.h"
 #include "stimuli/perception/perception_stages.h"
 
 namespace glarelab {

@@ -26,7 +26,7 @@ TEST(PrewriteChecks, GlareADisplayCannotShowIsRefusedBeforeTheSessionExists) {
   const auto run = run_variant(scratch, {{"viewing_distance_mm", "viewing_distance_mm = 10.0"},
                                          {"pixel_pitch_mm", "pixel_pitch_mm = 100.0"}});
   EXPECT_EQ(run.exit_code, 2) << run.output;
-  EXPECT_NE(run.output.find("key 'glare': the glare cannot be shown on this [display]: glare/psf_scale: the PSF spans"),
+  EXPECT_NE(run.output.find("key 'glare': the glare cannot be shown on this [display]: glare/wave/psf_scale: the PSF spans"),
             std::string::npos)
       << run.output;
   EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));

@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "glare/psf.h"
+#include "glare/wave/psf.h"
 
 namespace glarelab::test {
 

@@ -14,8 +14,8 @@
 
 #include "cli_process.h"
 #include "core/exr_io.h"
-#include "glare/pupil_model.h"
-#include "glare/spectacle_lens.h"
+#include "glare/eye/pupil_model.h"
+#include "glare/refraction/spectacle_lens.h"
 #include "runner/session/condition_depth_of_field.h"
 #include "stimuli/depth_of_field.h"
 #include "stimuli/scene_library.h"
@@ -101,7 +101,7 @@ TEST(RefractionSessionDepthOfField, ProgressiveNearZoneSetsTheBlurBelowTheCentre
 // powers (3.7877 and 3.7819 D at the vertex sphere, which Kakimoto's wavefront tracing, Eq. 4 as
 // Coddington's equations, gives too: docs/SPECTACLES.md) carried to the cornea, meridian by
 // meridian; straight ahead, the prescription as a thin lens at 12 mm (the session's thin-lens
-// refraction, glare/eye_refraction.h).
+// refraction, glare/refraction/eye_refraction.h).
 TEST(RefractionSessionDepthOfField, ObliqueGazeTakesTheLensPowerAlongIt) {
   SpectacleLensSpec spec;
   spec.prescription.sphere_dioptres = 4.0;

@@ -12,11 +12,11 @@
 #include <numbers>
 #include <string>
 
-#include "glare/chromatic_psf.h"
-#include "glare/cie_cmf.h"
-#include "glare/cpu_glare_backend.h"
-#include "glare/eye_model.h"
-#include "glare/spectral_psf.h"
+#include "glare/wave/chromatic_psf.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/cpu/backend.h"
+#include "glare/eye/eye_model.h"
+#include "glare/wave/spectral_psf.h"
 #include "protocols/experiment.h"
 #include "runner/display/compute_context.h"
 #include "runner/session/condition_refraction.h"

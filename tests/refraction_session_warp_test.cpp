@@ -18,7 +18,7 @@
 
 #include "core/display_spec.h"
 #include "core/image.h"
-#include "glare/spectacle_lens.h"
+#include "glare/refraction/spectacle_lens.h"
 #include "runner/session/condition_refraction.h"
 
 namespace glarelab {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <set>
 
-#include "glare/spectacle_lens.h"
+#include "glare/refraction/spectacle_lens.h"
 #include "stimuli/frame_depth.h"
 #include "stimuli/spectacle_warp.h"
 

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <vector>
 
-#include "glare/eye_model.h"
+#include "glare/eye/eye_model.h"
 #include "core/clock.h"
 #include "runner/tracker/simulated_tracker.h"
 #include "runner/tracker/tracker_session.h"

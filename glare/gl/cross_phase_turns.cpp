@@ -7,7 +7,7 @@
 namespace glarelab::gl {
 
 double cross_phase_turns_per_index(double xy_dioptres, double pixel_mm, double wavelength_nm) {
-  // Phase 2 pi E_xy x y / lambda (glare/astigmatic_phase.h's cross term) with x y = k dx^2: in turns
+  // Phase 2 pi E_xy x y / lambda (glare/refraction/astigmatic_phase.h's cross term) with x y = k dx^2: in turns
   // per unit k, E_xy dx^2 / lambda, with dx in m and lambda in m.
   const double dx_m = pixel_mm * 1e-3;
   return xy_dioptres * dx_m * dx_m / (wavelength_nm * 1e-9);

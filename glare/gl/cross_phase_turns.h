@@ -1,7 +1,7 @@
 #pragma once
 // The astigmatic cross term of the pupil phase on the GL aperture grid, prepared for the exact
 // integer reduction of glare/shaders/psf_load_aperture_astigmatic.comp. On the grid of
-// glare/aperture_raster.h, pixel (i, j) sits at x = (i - N/2) dx, y = (N/2 - j) dx, so
+// glare/eye/aperture_raster.h, pixel (i, j) sits at x = (i - N/2) dx, y = (N/2 - j) dx, so
 //   2 pi E_xy x y / lambda = 2 pi b k,   b = E_xy dx^2 / lambda (turns),   k = (i - N/2)(N/2 - j),
 // k an exact integer. Only frac(b) matters (k is an integer); it is handed to the shader as a
 // 64-bit fixed-point fraction, frac(b) 2^64 rounded, so that |k| frac(b) modulo 1 is formed in

@@ -1,12 +1,12 @@
 #version 450
-// Draws the eye's aperture (glare/aperture_geometry.h) at one sample per texel of the supersampled
+// Draws the eye's aperture (glare/eye/aperture_geometry.h) at one sample per texel of the supersampled
 // grid: the pupil disc, then the product of the transmittances of every disc, line and polygon whose
 // region contains the sample point (Ritschel et al. 2009, section 4: parts attenuate in series).
 // Coverage rule, shared with the CPU rasteriser: a sample belongs to a primitive when its point is
 // inside it - disc: distance <= radius; line: distance to the segment <= width / 2; polygon: even-odd.
 // Texel (a, b): a to the right, b down from the top row; its point in millimetres is
 //   x = (a + 0.5 - c) h, y = (c - b - 0.5) h, with S = N s samples across, h = width / S and
-//   c = (S + s) / 2 the axis in sample units: the centre of pixel (N/2, N/2), as aperture_raster.h
+//   c = (S + s) / 2 the axis in sample units: the centre of pixel (N/2, N/2), as glare/eye/aperture_raster.h
 //   states (sub-sample a' of pixel i at x = (i - N/2 - 1/2 + (a' + 1/2) / s) dx).
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(r32f, binding = 0) uniform writeonly image2D uSamples;

@@ -2,7 +2,7 @@
 // The image's R, G, B into the three complex layers of the padded FFT grid (real parts; zero beyond
 // the image and in the imaginary parts), on the GPU so that only the image itself crosses the bus.
 // Pixels brighter than the split threshold are left out: bright_splat.comp adds them directly
-// (gl_convolution.h, "Dynamic range").
+// (glare/gl/convolution.h, "Dynamic range").
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(std430, binding = 0) writeonly buffer Padded { vec2 padded[]; };  // 3 layers, row-major
 layout(std430, binding = 1) readonly buffer Image { vec4 image[]; };      // width x height RGBA

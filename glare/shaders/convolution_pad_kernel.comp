@@ -2,7 +2,7 @@
 // The PSF into the padded FFT grid with its centre (K/2, K/2) at index (0, 0), wrapping: grid
 // (x, y) holds PSF (u, v) = ((x + K/2) mod W, (y + K/2) mod H) where that lies inside the K x K PSF,
 // else zero. Circular convolution then equals linear convolution on the image window because the
-// padding is at least K - 1 (gl_convolution.cpp).
+// padding is at least K - 1 (glare/gl/convolution.cpp).
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(std430, binding = 0) writeonly buffer Padded { vec2 padded[]; };  // uKernelLayers layers
 layout(std430, binding = 1) readonly buffer Kernel { float kernel[]; };  // K x K per channel, row-major

@@ -12,7 +12,7 @@
 // (GLSL's single-precision sin and cos alone are accurate to only about 1e-3 after log2 L stages).
 // Same sign convention as FFTW; uConjugate = -1 gives the inverse, uScale scales the written result.
 //
-// LENGTH, LINES and THREADS are defined by gl_fft.cpp when it builds the program (LENGTH x LINES
+// LENGTH, LINES and THREADS are defined by glare/gl/fft.cpp when it builds the program (LENGTH x LINES
 // complex values fit the 32 KiB of shared memory OpenGL 4.5 guarantees: at most 4096); the values
 // below only let the build's validator compile the file alone.
 #ifndef LENGTH

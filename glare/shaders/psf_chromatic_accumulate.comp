@@ -1,9 +1,9 @@
 #version 450
 // One wavelength of the spectral PSF with longitudinal chromatic aberration (docs/REFRACTION.md,
-// glare/chromatic_psf.h): the power spectrum |F|^2 of this wavelength's own pupil function (its own
+// glare/wave/chromatic_psf.h): the power spectrum |F|^2 of this wavelength's own pupil function (its own
 // error E + [LCA(lambda) - LCA(lambda_ref)] I), read straight from the FFT's unshifted output with
 // the zero frequency moved to pixel (N/2, N/2) (psf_power_shift.comp), resampled onto the reference
-// grid and added, weighted, into R, G, B. As glare/spectral_accumulation.cpp: a PSF computed at lambda
+// grid and added, weighted, into R, G, B. As glare/wave/spectral_accumulation.cpp: a PSF computed at lambda
 // has pixels of lambda / W, the reference grid pixels of lambda_ref / W, so reference pixel x reads
 // source pixel (x - N/2) uScale + N/2, uScale = lambda_ref / lambda, by bilinear interpolation (zero
 // outside the grid), times the Jacobian uScale^2 (folded into uWeight with the CIE 1931 CMF weight

@@ -1,6 +1,6 @@
 #version 450
 // Pupil function for the FFT: aperture transmittance times the defocus phase exp(i phi),
-// phi(x, y) = pi D (x^2 + y^2) / lambda (thin-lens focus error; glare/aperture_geometry.h).
+// phi(x, y) = pi D (x^2 + y^2) / lambda (thin-lens focus error; glare/eye/aperture_geometry.h).
 // The phase separates, exp(i a (x^2 + y^2)) = exp(i a x^2) exp(i a y^2), so the CPU evaluates it
 // in double precision once per column and once per row and the shader only multiplies.
 layout(local_size_x = 8, local_size_y = 8) in;

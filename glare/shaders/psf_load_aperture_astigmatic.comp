@@ -1,5 +1,5 @@
 #version 450
-// Pupil function for the FFT with a sphero-cylindrical power error E (glare/astigmatic_phase.h):
+// Pupil function for the FFT with a sphero-cylindrical power error E (glare/refraction/astigmatic_phase.h):
 //   phi(x, y) = (pi / lambda) (E_xx x^2 + 2 E_xy x y + E_yy y^2).
 // The x^2 and y^2 terms separate, as in psf_load_aperture.comp: exp(i pi E_xx x_i^2 / lambda) per
 // column and exp(i pi E_yy y_j^2 / lambda) per row, computed on the CPU in double. The cross term

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "glare/glare_backend.h"
-#include "glare/analytic_two_level_benchmark.h"
+#include "glare/analytic/analytic_two_level_benchmark.h"
 #include "glare/glare_benchmark.h"
-#include "glare/gl/gl_fft.h"
+#include "glare/gl/fft.h"
 #include "core/errors.h"
 #include "stimuli/depth_of_field_benchmark.h"
 #include "stimuli/glare_model_benchmark.h"

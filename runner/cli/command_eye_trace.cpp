@@ -7,7 +7,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "glare/eye_model.h"
+#include "glare/eye/eye_model.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"

@@ -16,11 +16,11 @@
 #include "glare/eye_model.h"
 #include "glare/fibre_gratings.h"
 #include "glare/glare_backend.h"
-#include "glare/hybrid_psf.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_exr.h"
-#include "glare/psf_profile.h"
-#include "glare/psf_scale.h"
+#include "glare/analytic/hybrid_psf.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_exr.h"
+#include "glare/wave/psf_profile.h"
+#include "glare/wave/psf_scale.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
@@ -100,7 +100,7 @@ void check_grid(const ApertureGeometry& geometry, const PsfOptions& options, con
 }
 
 // The angle the wave-optics PSF image holds in every channel: the chromatic blur's reach
-// (hybrid_psf.h, its 380 nm copy on the grid) for a spectral PSF, else half the grid less one pixel.
+// (glare/analytic/hybrid_psf.h, its 380 nm copy on the grid) for a spectral PSF, else half the grid less one pixel.
 double wave_reach_deg(const PsfOptions& options) {
   const double dpp = psf_degrees_per_pixel(options.wavelength_nm, options.aperture_width_mm);
   if (!options.spectral) return (0.5 * options.grid_px - 1.0) * dpp;

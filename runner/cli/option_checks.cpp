@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/number_text.h"
-#include "glare/eye_parameters.h"
+#include "glare/eye/eye_parameters.h"
 
 namespace glarelab::cli {
 namespace {

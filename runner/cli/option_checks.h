@@ -20,7 +20,7 @@ CLI::Validator finite_number();
 CLI::Validator finite_number_in(double low, double high, const std::string& unit);
 // A finite number > 0.
 CLI::Validator finite_positive_number(const std::string& unit);
-// A time the eye model answers for: finite, from 0 to kMaxEyeModelTime_s (24 h, glare/eye_parameters.h).
+// A time the eye model answers for: finite, from 0 to kMaxEyeModelTime_s (24 h, glare/eye/eye_parameters.h).
 CLI::Validator eye_model_time_s();
 // A file name ending in one of `extensions` (".exr", ".png"; compared without case).
 CLI::Validator file_extension_in(std::initializer_list<const char*> extensions, const std::string& what);

@@ -8,8 +8,8 @@
 
 #include "core/errors.h"
 #include "core/exr_io.h"
-#include "glare/psf.h"
-#include "glare/psf_scale.h"
+#include "glare/wave/psf.h"
+#include "glare/wave/psf_scale.h"
 #include "runner/cli/commands.h"
 #include "runner/devices/hid_device.h"
 #include "runner/display/display_backend.h"

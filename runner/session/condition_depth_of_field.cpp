@@ -10,9 +10,9 @@
 
 #include "core/errors.h"
 #include "core/number_text.h"
-#include "glare/eye_refraction.h"
-#include "glare/pupil_model.h"
-#include "glare/spectacle_power.h"
+#include "glare/refraction/eye_refraction.h"
+#include "glare/eye/pupil_model.h"
+#include "glare/refraction/spectacle_power.h"
 #include "protocols/observer_optics_config.h"
 #include "stimuli/display_model.h"
 #include "stimuli/frame_depth.h"

@@ -19,7 +19,7 @@
 // [0, amplitude]) on the depth seen at the centre pixel (width / 2, height / 2) of `display` (in
 // stereo each eye's view, a display of its own: runner/session/session_eyes.h) through the lens'
 // power on that line of sight; every other point keeps that accommodation. Through spectacles each
-// pixel's line of sight has its own lens power (glare/spectacle_power.h, lens_power_at_gaze at the
+// pixel's line of sight has its own lens power (glare/refraction/spectacle_power.h, lens_power_at_gaze at the
 // vertex sphere: oblique astigmatism, a progressive lens' near zone below the fitting cross), added
 // to the point's vergence at the lens and carried to the cornea (Eq. 1); the blur uses it per display
 // region (stimuli/directional_depth_of_field.h). Pupil: Ritschel et al. 2009 Eq. 2 (Moon and
@@ -29,7 +29,7 @@
 
 #include "core/display_spec.h"
 #include "core/image.h"
-#include "glare/dioptric_power.h"
+#include "glare/refraction/dioptric_power.h"
 #include "protocols/experiment.h"
 #include "runner/session/condition_refraction.h"
 #include "stimuli/depth_layers.h"

@@ -8,12 +8,12 @@
 #include <utility>
 
 #include "core/number_text.h"
-#include "glare/astigmatic_phase.h"
-#include "glare/chromatic_psf.h"
-#include "glare/cie_cmf.h"
-#include "glare/eye_parameters.h"
-#include "glare/fresnel.h"
-#include "glare/psf.h"
+#include "glare/refraction/astigmatic_phase.h"
+#include "glare/wave/chromatic_psf.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/eye/eye_parameters.h"
+#include "glare/wave/fresnel.h"
+#include "glare/wave/psf.h"
 #include "stimuli/display_model.h"
 #include "stimuli/spectacle_warp.h"
 #include "protocols/glare_config.h"
@@ -160,7 +160,7 @@ void check_condition_refractions(const Experiment& experiment) {
                         "but glare_model '" + to_string(model) +
                             "' has no pupil to carry it: use \"ritschel\" or \"hybrid\" for this condition, or leave "
                             "the refraction and spectacles out of the experiment");
-    // Every wavelength of the spectral PSF carries its own error (the LCA, glare/chromatic_psf.h);
+    // Every wavelength of the spectral PSF carries its own error (the LCA, glare/wave/chromatic_psf.h);
     // the message names the one that needs the finest grid.
     std::optional<std::pair<SpectralSample, PhaseSamplingReport>> worst;
     DioptricPower worst_error;

@@ -2,7 +2,7 @@
 // The observer's refraction in each condition of a session (docs/REFRACTION.md, "In a session"):
 // [observer.refraction] (the eye, its accommodation amplitude from the table or from [observer]
 // age_years by Hofstetter's formula) and the spectacles the condition wears (column "spectacles",
-// else [observer] spectacles) give, through glare/eye_refraction.h (Kakimoto et al. 2007, section
+// else [observer] spectacles) give, through glare/refraction/eye_refraction.h (Kakimoto et al. 2007, section
 // 4.4), the residual power error at the display: the observer looks at the display, so the eye
 // accommodates on it (Eq. 13) and what accommodation cannot reach is left as defocus and
 // astigmatism. The glare stage puts that residual into every wave-optics PSF of the condition.
@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "glare/dioptric_power.h"
-#include "glare/eye_refraction.h"
+#include "glare/refraction/dioptric_power.h"
+#include "glare/refraction/eye_refraction.h"
 #include "core/display_spec.h"
 #include "core/image.h"
-#include "glare/spectacle_lens.h"
+#include "glare/refraction/spectacle_lens.h"
 #include "glare/glare_spec.h"
 #include "protocols/experiment.h"
 
@@ -26,7 +26,7 @@ struct ConditionRefraction {
   std::string spectacles = "none";     // the [spectacles.NAME] worn, or "none"
   std::optional<ThinSpectacleLens> lens;   // the lens at its vertex distance (none: the naked eye)
   // The same lens as a real lens (index, Abbe number, decentration, progressive add; glare/
-  // spectacle_lens.h), through which the frame is warped (stimuli/spectacle_warp.h): magnification,
+  // glare/refraction/spectacle_lens.h), through which the frame is warped (stimuli/spectacle_warp.h): magnification,
   // distortion, prism and transverse chromatic aberration. Shared: the lens is immutable.
   std::shared_ptr<const SpectacleLens> traced_lens;
   double accommodation_amplitude_dioptres = 0.0;
@@ -63,9 +63,9 @@ ImageRGBA frame_through_spectacles(const ConditionRefraction& refraction, const 
 // Refusals before anything is written (ConfigError, exit 2), for each condition that shows
 // wave-optics glare (ritschel, or the hybrid's near field) when the optics are modelled: a residual
 // whose pupil phase the [glare] grid_px cannot sample at the largest pupil, at any of the spectral
-// PSF's wavelengths with the eye's LCA (check_power_error_sampling, glare/astigmatic_phase.h);
+// PSF's wavelengths with the eye's LCA (check_power_error_sampling, glare/refraction/astigmatic_phase.h);
 // a glare condition of the analytic models (spencer, cie), which have no pupil to carry it; and
-// spectacles whose lens cannot be built (glare/spectacle_lens.h's refusals) or does not cover the
+// spectacles whose lens cannot be built (glare/refraction/spectacle_lens.h's refusals) or does not cover the
 // display (a line of sight to a corner misses the lens).
 void check_condition_refractions(const Experiment& experiment);
 

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "core/number_text.h"
-#include "glare/psf_scale.h"
+#include "glare/wave/psf_scale.h"
 #include "protocols/stimulus_duration.h"
 #include "runner/display/display_info.h"
 #include "runner/session/condition_depth_of_field.h"

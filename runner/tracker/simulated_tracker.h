@@ -4,14 +4,14 @@
 // (confidence 0, diameter 0), saccades between fixations, and measurement noise. Every value is a
 // pure function of (seed, time): poll(t) returns exactly the samples up to t, in order.
 //
-// One blink schedule: the blinks are the glare engine's eyelid model's (glare/eyelids.h) with the
+// One blink schedule: the blinks are the glare engine's eyelid model's (glare/eye/eyelids.h) with the
 // same seed, so a session's simulated tracker blinks exactly when its dynamic eye's lids move (the
 // tracker loses the pupil for the whole lid movement, blink closure > 0).
 #include <cstdint>
 #include <vector>
 
-#include "glare/eyelids.h"
-#include "glare/pupil_model.h"
+#include "glare/eye/eyelids.h"
+#include "glare/eye/pupil_model.h"
 #include "core/random.h"
 #include "runner/tracker/tracker_source.h"
 

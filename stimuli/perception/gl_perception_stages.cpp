@@ -4,7 +4,7 @@
 #include <utility>
 #include <vector>
 
-#include "glare/pupil_model.h"
+#include "glare/eye/pupil_model.h"
 
 namespace glarelab::gl {
 

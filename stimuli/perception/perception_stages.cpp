@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "glare/pupil_model.h"
+#include "glare/eye/pupil_model.h"
 
 namespace glarelab {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "core/gl/shader_program.h"
 #include "core/random.h"
-#include "glare/pupil_model.h"
+#include "glare/eye/pupil_model.h"
 #include "stimuli/perception/gl_perception_stages.h"
 #include "stimuli/perception/perception_stages.h"
 

@@ -7,7 +7,7 @@
 // (frame_adaptation_luminance.h) and ft the time the frame is shown. Eq. 5.2 is the exact solution
 // of dL/dt = (Y - L) / tau(Y) for a luminance held for ft, so the adapted luminance after a stretch
 // of constant input is the same at 60, 90 or 144 Hz, or for irregular frame times. The formulas are
-// glare/pupil_model.h's (the pupil's field luminance is the same filter), called, not repeated.
+// glare/eye/pupil_model.h's (the pupil's field luminance is the same filter), called, not repeated.
 #include "core/perception_settings.h"
 
 namespace glarelab {

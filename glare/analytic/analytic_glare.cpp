@@ -1,0 +1,167 @@
+#include "glare/analytic/analytic_glare.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace glarelab {
+
+namespace {
+
+// The components of a Spencer kernel: f0, f1, f2, f3 each alone.
+std::vector<spencer::Mixture> spencer_components() {
+  return {{1.0, 0.0, 0.0, 0.0}, {0.0, 1.0, 0.0, 0.0}, {0.0, 0.0, 1.0, 0.0}, {0.0, 0.0, 0.0, 1.0}};
+}
+
+}  // namespace
+
+AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
+    : options_(options) {
+  if (options.model != GlareModel::spencer && options.model != GlareModel::cie)
+    throw std::invalid_argument("glare/analytic/analytic_glare: the model must be spencer or cie");
+  const bool full = options.convolution == AnalyticConvolution::full ||
+                    (options.convolution == AnalyticConvolution::automatic &&
+                     static_cast<long long>(options.width_px) * options.height_px < kTwoLevelMinimumPixels);
+  if (full)
+    full_ = std::make_unique<DisplayKernelConvolution>(options.width_px, options.height_px, options.width_px - 1,
+                                                       options.height_px - 1, threads);
+  else
+    two_level_ = std::make_unique<TwoLevelConvolution>(options.width_px, options.height_px, options.split, threads);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<AnalyticPsf> psfs;
+  if (options.model == GlareModel::cie) {
+    psfs.push_back(AnalyticPsf::cie(options.eye));
+  } else if (options.regime == SpencerRegime::adaptive) {
+    adaptive_ = true;
+    for (const spencer::Mixture& m : spencer_components()) psfs.push_back(AnalyticPsf::spencer(m));
+  } else {
+    psfs.push_back(AnalyticPsf::spencer(options.regime, 0.0, options.eye));
+    mixture_ = psfs.back().mixture();
+  }
+  std::vector<DisplayKernel> kernels;
+  for (const AnalyticPsf& psf : psfs) {
+    DisplayKernel kernel = analytic_display_kernel(psf, options.geometry, options.width_px - 1, options.height_px - 1, threads);
+    std::array<double, 3> inside{0.0, 0.0, 0.0}, centre{0.0, 0.0, 0.0};
+    for (int c = 0; c < 3; ++c) centre[c] = kernel.at(kernel.channels == 3 ? c : 0, 0, 0);
+    centre_.push_back(centre);
+    if (options.handover) {
+      inside = analytic_energy_inside(kernel, *options.handover);
+      kernel = hybrid_far_kernel(kernel, *options.handover);
+    }
+    inside_.push_back(inside);
+    kernels.push_back(std::move(kernel));
+  }
+  if (full_) full_->set_components(kernels);
+  else two_level_->set_components(kernels);
+  // The kernels themselves are kept only for small frames (tests, the profile); a full-screen set
+  // would hold hundreds of MB in double that the convolution no longer needs.
+  std::size_t bytes = 0;
+  for (const DisplayKernel& k : kernels) bytes += k.values.size() * sizeof(double);
+  if (bytes <= kKeptKernelBytes) components_ = std::move(kernels);
+  if (!adaptive_) {
+    set_convolution_weights({1.0});
+    adapted_ = true;
+  }
+  build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string to_string(AnalyticConvolution convolution) {
+  switch (convolution) {
+    case AnalyticConvolution::automatic: return "automatic";
+    case AnalyticConvolution::full: return "full";
+    case AnalyticConvolution::two_level: return "two-level";
+  }
+  return "unknown";
+}
+
+void AnalyticGlare::convolve(const ImageRGBA& source, ImageRGBA& out) {
+  if (full_) full_->convolve(source, out);
+  else two_level_->convolve(source, out);
+}
+
+void AnalyticGlare::set_convolution_weights(const std::vector<double>& weights) {
+  if (full_) full_->set_weights(weights);
+  else two_level_->set_weights(weights);
+}
+
+std::size_t AnalyticGlare::memory_bytes() const { return full_ ? full_->spectrum_bytes() : two_level_->spectrum_bytes(); }
+int AnalyticGlare::fft_rows() const { return full_ ? full_->fft_rows() : two_level_->near_fft_rows(); }
+int AnalyticGlare::fft_cols() const { return full_ ? full_->fft_cols() : two_level_->near_fft_cols(); }
+
+std::vector<double> AnalyticGlare::weights_for(const spencer::Mixture& m) const { return {m.f0, m.f1, m.f2, m.f3}; }
+
+std::vector<double> AnalyticGlare::current_weights() const {
+  return adaptive_ ? weights_for(mixture_) : std::vector<double>{1.0};
+}
+
+void AnalyticGlare::adapt(double adaptation_cd_m2) {
+  if (!adaptive_) return;
+  const spencer::Mixture m =
+      spencer::with_age(spencer::regime_mixture(SpencerRegime::adaptive, adaptation_cd_m2), options_.eye.age_years);
+  // The weights move smoothly with luminance; a change below 1e-6 in every weight is not worth a
+  // recombination of the spectra (it changes no displayed value).
+  if (adapted_ && std::abs(m.f0 - mixture_.f0) < 1e-6 && std::abs(m.f2 - mixture_.f2) < 1e-6 &&
+      std::abs(m.f3 - mixture_.f3) < 1e-6)
+    return;
+  mixture_ = m;
+  set_convolution_weights(weights_for(m));
+  adapted_ = true;
+}
+
+std::array<double, 3> AnalyticGlare::energy_inside_handover() const {
+  std::array<double, 3> sum{0.0, 0.0, 0.0};
+  const std::vector<double> weights = current_weights();
+  for (std::size_t i = 0; i < inside_.size(); ++i)
+    for (int c = 0; c < 3; ++c) sum[c] += weights[i] * inside_[i][c];
+  return sum;
+}
+
+double AnalyticGlare::wing_fraction() const {
+  const std::vector<double> weights = current_weights();
+  double wing = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    double centre = 0.0;
+    for (std::size_t i = 0; i < centre_.size(); ++i) centre += weights[i] * centre_[i][c];
+    wing = std::max(wing, 1.0 - centre);
+  }
+  return wing;
+}
+
+DisplayKernel AnalyticGlare::current_kernel() const {
+  if (components_.empty()) throw std::logic_error("glare/analytic/analytic_glare: the kernels of a frame this large are not kept");
+  const std::vector<double> weights = current_weights();
+  DisplayKernel sum;
+  sum.half_width_px = components_.front().half_width_px;
+  sum.half_height_px = components_.front().half_height_px;
+  sum.channels = 1;
+  for (const DisplayKernel& k : components_) sum.channels = std::max(sum.channels, k.channels);
+  const std::size_t n = static_cast<std::size_t>(sum.width_px()) * sum.height_px();
+  sum.values.assign(static_cast<std::size_t>(sum.channels) * n, 0.0);
+  for (std::size_t i = 0; i < components_.size(); ++i)
+    for (int c = 0; c < sum.channels; ++c) {
+      const int kc = components_[i].channels == 3 ? c : 0;
+      for (std::size_t j = 0; j < n; ++j) sum.values[c * n + j] += weights[i] * components_[i].values[kc * n + j];
+    }
+  return sum;
+}
+
+std::string AnalyticGlare::describe() const {
+  std::ostringstream out;
+  out.precision(3);
+  out << to_string(options_.model);
+  if (options_.model == GlareModel::spencer) out << " " << to_string(options_.regime);
+  out << " (age " << options_.eye.age_years << " years";
+  if (options_.model == GlareModel::cie) out << ", pigmentation " << options_.eye.pigmentation;
+  out << "), kernel " << 2 * options_.width_px - 1 << " x " << 2 * options_.height_px - 1 << " px integrated in "
+      << build_s_ << " s, FFT " << fft_cols() << " x " << fft_rows();
+  if (two_level_ && two_level_->has_far_level())
+    out << " near (radius " << options_.split.near_inner_px << "-" << options_.split.near_outer_px << " px) + "
+        << two_level_->far_fft_cols() << " x " << two_level_->far_fft_rows() << " far at 1/" << options_.split.factor;
+  out << ", "
+      << static_cast<double>(memory_bytes()) / (1024.0 * 1024.0) << " MiB of spectra";
+  return out.str();
+}
+
+}  // namespace glarelab

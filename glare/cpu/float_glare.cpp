@@ -1,0 +1,173 @@
+#include "glare/cpu/float_glare.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include "glare/cpu/fftw_float_plan.h"
+#include "glare/wave/psf_scale.h"
+
+namespace glarelab {
+namespace {
+
+CpuFloatPsfSettings psf_settings(const CpuFloatGlareSettings& settings) {
+  CpuFloatPsfSettings psf;
+  psf.raster.grid_px = settings.grid_px;
+  psf.raster.aperture_width_mm = settings.aperture_width_mm;
+  psf.raster.supersampling = settings.supersampling;
+  psf.wavelength_nm = settings.reference_wavelength_nm;
+  psf.phase = PhaseForm::defocus;
+  return psf;
+}
+
+CpuFloatSpectralSettings spectral_settings(const CpuFloatGlareSettings& settings, double psf_degrees_per_pixel) {
+  CpuFloatSpectralSettings spectral;
+  spectral.grid_px = settings.grid_px;
+  spectral.psf_degrees_per_pixel = psf_degrees_per_pixel;
+  spectral.display_degrees_per_pixel = settings.display_degrees_per_pixel;
+  spectral.wavelength_samples = settings.wavelength_samples;
+  spectral.reference_wavelength_nm = settings.reference_wavelength_nm;
+  spectral.aperture_width_mm = settings.aperture_width_mm;
+  spectral.threads = kGlareCpuThreads;
+  return spectral;
+}
+
+}  // namespace
+
+CpuFloatGlare::CpuFloatGlare(const CpuFloatGlareSettings& settings)
+    : settings_(settings),
+      psf_(psf_settings(settings)),
+      spectral_(spectral_settings(settings, psf_.degrees_per_pixel())),
+      display_degrees_per_pixel_(settings.display_degrees_per_pixel) {
+  if (settings.longitudinal_chromatic_aberration) {
+    CpuFloatChromaticSettings chromatic;
+    chromatic.grid_px = settings.grid_px;
+    chromatic.aperture_width_mm = settings.aperture_width_mm;
+    chromatic.reference_wavelength_nm = settings.reference_wavelength_nm;
+    chromatic.wavelength_samples = settings.wavelength_samples;
+    chromatic_ = std::make_unique<CpuFloatChromaticPsf>(chromatic);
+  }
+}
+
+Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry) {
+  psf_.rasterise(geometry);
+  if (chromatic_) {
+    // One FFT per wavelength on the N x N grid, then the box resampling the float64 path applies to
+    // compute_chromatic_psf's result (glare/wave/psf_scale.h), each channel keeping its unit sum.
+    const SpectralPsfResult spectral = chromatic_->compute(psf_, geometry.pupil_diameter_mm, geometry.total_power_error());
+    return resample_psf_to_display(spectral.psf, display_degrees_per_pixel_);
+  }
+  // The whole power error: defocus plus the observer's refraction error (spherical: the defocus
+  // phase as before, bit for bit; astigmatic: glare/refraction/astigmatic_phase.h's phase).
+  psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
+  return spectral_.compute(psf_.power_column_major(), geometry.pupil_diameter_mm);
+}
+
+void CpuFloatGlare::check_layout(const PsfOptions& options, std::optional<double> display_degrees_per_pixel) const {
+  if (options.grid_px != settings_.grid_px || options.aperture_width_mm != settings_.aperture_width_mm ||
+      options.supersampling != settings_.supersampling || options.wavelength_nm != settings_.reference_wavelength_nm ||
+      options.phase != PhaseForm::defocus ||
+      (display_degrees_per_pixel && (options.wavelength_samples != settings_.wavelength_samples ||
+                                     *display_degrees_per_pixel != settings_.display_degrees_per_pixel)))
+    throw std::invalid_argument("glare backend cpu float32 planned: asked for another grid, aperture, wavelength, "
+                                "phase or display scale than its plans were made for");
+}
+
+Psf CpuFloatGlare::psf(const ApertureGeometry& geometry, const PsfOptions& options) {
+  if (options.spectral)
+    throw std::invalid_argument("glare backend cpu float32 planned: its spectral PSF is made at the display's pixel "
+                                "scale (display_psf), not on the aperture grid");
+  check_layout(options, std::nullopt);
+  psf_.rasterise(geometry);
+  psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
+  return psf_.monochromatic_psf();
+}
+
+Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry, const PsfOptions& options,
+                               double display_degrees_per_pixel) {
+  check_layout(options, display_degrees_per_pixel);
+  return display_psf(geometry);
+}
+
+ImageRGBA CpuFloatGlare::convolve(const ImageRGBA& image, const Psf& display_psf) {
+  if (!convolution_ || convolution_width_px_ != image.width_px || convolution_height_px_ != image.height_px ||
+      convolution_kernel_px_ != display_psf.size_px) {
+    convolution_ = std::make_unique<CpuFloatConvolution>(image.width_px, image.height_px, display_psf.size_px);
+    convolution_width_px_ = image.width_px;
+    convolution_height_px_ = image.height_px;
+    convolution_kernel_px_ = display_psf.size_px;
+    scene_ = ImageRGBA();
+  }
+  reused_scene_ = scene_.width_px == image.width_px && scene_.height_px == image.height_px && scene_.rgba == image.rgba &&
+                  scene_.depth == image.depth;
+  if (!reused_scene_) {
+    convolution_->set_scene(image);
+    scene_ = image;
+  }
+  ImageRGBA out;
+  convolution_->convolve(display_psf, out);
+  return out;
+}
+
+namespace {
+
+// Whether `kept` (a box cropped from an earlier frame) holds the RGBA of `box` in `frame`, bit for bit.
+bool same_pixels(const ImageRGBA& kept, const ImageRGBA& frame, const PixelRect& box) {
+  if (kept.width_px != box.width_px || kept.height_px != box.height_px) return false;
+  const std::size_t row_bytes = 4 * sizeof(float) * static_cast<std::size_t>(box.width_px);
+  for (int y = 0; y < box.height_px; ++y)
+    if (std::memcmp(kept.pixel(0, y), frame.pixel(box.x_px, box.y_px + y), row_bytes) != 0) return false;
+  return true;
+}
+
+// Plans kept for this many box sizes at most (a session shows few layouts; past it they are made again).
+constexpr std::size_t kRegionPlans = 8;
+
+}  // namespace
+
+void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
+                                     ImageRGBA& out) {
+  if (out.width_px != frame.width_px || out.height_px != frame.height_px)
+    throw std::invalid_argument("glare/cpu/float_glare: the output is not the frame's size");
+  if (region_kernel_px_ != display_psf.size_px) {
+    region_plans_.clear();
+    region_kernel_px_ = display_psf.size_px;
+  }
+  // The boxes of each size, in list order: their slots.
+  std::map<std::pair<int, int>, std::vector<const PixelRect*>> by_size;
+  for (const PixelRect& box : boxes) {
+    if (box.empty() || !image_rect(frame).contains(box))
+      throw std::invalid_argument("glare/cpu_float_glare: a region does not lie inside the frame");
+    by_size[{box.width_px, box.height_px}].push_back(&box);
+  }
+  reused_scene_ = true;
+  for (const auto& [size, sized] : by_size) {
+    auto found = region_plans_.find(size);
+    const int slots = static_cast<int>(sized.size());
+    if (found == region_plans_.end() || found->second.convolution->slots() < slots) {
+      if (found == region_plans_.end() && region_plans_.size() >= kRegionPlans) region_plans_.clear();
+      RegionPlan plan;
+      plan.convolution = std::make_unique<CpuFloatConvolution>(size.first, size.second, display_psf.size_px,
+                                                                kGlareCpuThreads, ConvolutionOutput::full, slots);
+      plan.pixels.resize(static_cast<std::size_t>(slots));
+      found = region_plans_.insert_or_assign(size, std::move(plan)).first;
+    }
+    RegionPlan& plan = found->second;
+    for (int slot = 0; slot < slots; ++slot) {
+      const PixelRect& box = *sized[static_cast<std::size_t>(slot)];
+      ImageRGBA& kept = plan.pixels[static_cast<std::size_t>(slot)];
+      if (same_pixels(kept, frame, box)) continue;
+      reused_scene_ = false;
+      kept = ImageRGBA();  // a refused scene leaves no stale match behind
+      plan.convolution->set_scene(frame, box.x_px, box.y_px, slot);
+      kept = crop(frame, box);
+    }
+    plan.convolution->set_kernel(display_psf);
+    for (int slot = 0; slot < slots; ++slot) {
+      const PixelRect& box = *sized[static_cast<std::size_t>(slot)];
+      plan.convolution->write_full(slot, out, box.x_px, box.y_px);
+    }
+  }
+}
+
+}  // namespace glarelab

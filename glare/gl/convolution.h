@@ -1,0 +1,102 @@
+#pragma once
+// Convolution of an HDR image (core/image.h, R, G, B) with a PSF (glare/psf.h) on the GPU by FFT
+// (Ritschel et al. 2009, section 5): both zero-padded to powers of two at least image + PSF - 1 in
+// each direction, so nothing wraps around an edge and any image size works; pointwise complex
+// product; inverse FFT; the image-sized window read back. Alpha is passed through. Both spectra
+// are kept for the next call: an image that comes again (a static scene under dynamic glare) is
+// neither checked, split, uploaded nor transformed again, nor is a PSF that comes again. The padding and
+// the window are made on the GPU (convolution_pad_image.comp, convolution_pad_kernel.comp,
+// convolution_crop.comp): only the image and the PSF go to the GPU and only the result comes back,
+// not the padded complex layers (6 x 8 bytes per padded pixel each way).
+//
+// Dynamic range: the float32 FFT spreads rounding noise of about 1e-7 of the brightest pixel's
+// energy over the whole frame, which swamps a 1e-2 cd/m2 surround next to a 1e8 cd/m2 source. So
+// pixels brighter than split_dynamic_range times the median pixel are taken out of the FFT and added
+// by direct summation (bright_splat.comp); convolution is linear, so the sum is the same function.
+// Requires a current OpenGL 4.5 context; not thread-safe.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "glare/gl/fft.h"
+#include "glare/wave/psf.h"
+#include "core/image.h"
+
+namespace glarelab::gl {
+
+struct GlConvolutionOptions {
+  bool split_bright = true;
+  double split_dynamic_range = 1e4;          // bright: max(R, G, B) > this x median over pixels of max(R, G, B)
+  std::size_t max_direct_bright_pixels = 4096;  // beyond this the split is not made (cost: pixels x bright pixels)
+};
+
+struct GlConvolutionReport {
+  int padded_width_px = 0;
+  int padded_height_px = 0;
+  bool split = false;
+  std::size_t bright_pixels = 0;
+  double bright_threshold = 0.0;  // in the image's units (cd/m2 for a calibrated image)
+  bool psf_spectrum_reused = false;  // the same PSF as the previous call: its FFT was not redone
+  // The same image (and split) as the previous call: its checks, split, upload and FFT were not redone.
+  bool image_spectrum_reused = false;
+  // The GPU's time from the image's upload to the result's read-back (GL timestamp queries): the
+  // convolution without the host's checks and split, which the call's wall time adds.
+  double gpu_s = 0.0;
+  // gpu_s by stage, in the order they run (GL timestamp queries between them): "image up + pad",
+  // "PSF spectrum" (up, pad, FFT; 0 when reused), "image FFT", "product", "inverse FFT",
+  // "bright sum" (0 without a split), "crop", "read back".
+  std::vector<std::pair<std::string, double>> gpu_stages_s;
+  std::string describe() const;
+  std::string describe_gpu_stages() const;  // e.g. "image up + pad 0.31 ms, PSF spectrum 0.52 ms, ..."
+};
+
+class GlConvolution {
+ public:
+  GlConvolution();
+  ~GlConvolution();
+  GlConvolution(const GlConvolution&) = delete;
+  GlConvolution& operator=(const GlConvolution&) = delete;
+
+  // Throws std::invalid_argument("GL convolution: ...") for an empty image, NaN/Inf/negative pixels
+  // (with their counts), a malformed PSF, or a padded size above 4096.
+  ImageRGBA convolve(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options = {},
+                     GlConvolutionReport* report = nullptr);
+  // Drops the kept PSF spectrum, so the next call transforms its PSF again (as for a new PSF each
+  // frame in dynamic glare; the benchmark times that case).
+  void forget_psf() { kernel_ready_ = false; }
+  // Drops the kept image spectrum, so the next call checks, splits and transforms its image again
+  // (a new scene; the benchmark times both).
+  void forget_image();
+
+ private:
+  struct Ffts;
+  struct ImageSpectrum;
+  struct Grid;
+  // convolve()'s steps, in its order: the image checked and split into bright and dim parts (on
+  // the CPU), the dim part padded onto the grid, the PSF padded and transformed, the spectra
+  // multiplied, the bright pixels added directly, the result cropped; then the stages' GPU times.
+  static std::unique_ptr<ImageSpectrum> split_image(const ImageRGBA& image, const GlConvolutionOptions& options);
+  void pad_image(const ImageRGBA& image, const ImageSpectrum& scene, const Grid& grid);
+  void transform_psf(const Psf& psf, const Grid& grid);
+  void multiply_spectra(const Grid& grid);
+  void add_bright_pixels(const ImageSpectrum& scene, const Grid& grid);
+  void crop(const Grid& grid, std::size_t image_bytes);
+  void read_gpu_stages(GlConvolutionReport& report) const;
+  std::unique_ptr<Ffts> ffts_;  // reused while the padded size and PSF channel count stay the same
+  std::unique_ptr<ImageSpectrum> image_spectrum_;  // what ffts_->image holds; null when nothing
+  Program multiply_program_, splat_program_, pad_image_program_, pad_kernel_program_, crop_program_;
+  Buffer image_, result_;  // the image in and the convolved image out, RGBA, width x height
+  std::vector<Query> timestamps_;  // one before the first stage and one after each
+  Buffer bright_, bright_values_, kernel_;
+  std::size_t image_bytes_ = 0, result_bytes_ = 0, bright_bytes_ = 0, bright_values_bytes_ = 0, kernel_bytes_ = 0;
+  bool kernel_ready_ = false;  // ffts_->kernel holds the spectrum of the PSF below
+  int cached_psf_size_ = 0;
+  std::vector<double> cached_psf_values_;
+};
+
+// Smallest supported FFT length >= length (at least kFftMinLength); 0 when above kFftMaxLength.
+int padded_fft_length(int length);
+
+}  // namespace glarelab::gl

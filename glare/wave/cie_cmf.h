@@ -1,0 +1,35 @@
+#pragma once
+// CIE 1931 2-degree colour matching functions by the multi-lobe piecewise-Gaussian fit of
+// Wyman, Sloan and Shirley, "Simple Analytic Approximations to the CIE XYZ Color Matching
+// Functions", JCGT 2(2), 2013, section 2.1 (Eq. 2 and its table). Chosen over shipping the CIE
+// table: Debian packages no CMF table for C++, and the fit is within a few percent of the peak,
+// far below what the PSF's spectral sampling (32 samples) resolves.
+#include <vector>
+
+namespace glarelab {
+
+struct Xyz {
+  double x = 0.0, y = 0.0, z = 0.0;
+};
+
+Xyz cie1931_cmf(double wavelength_nm);
+
+struct LinearRgb {
+  double r = 0.0, g = 0.0, b = 0.0;
+};
+
+// XYZ (D65 white) to linear Rec.709 / sRGB primaries: IEC 61966-2-1:1999, section 5.2 matrix.
+LinearRgb xyz_to_linear_rec709(const Xyz& xyz);
+
+// One wavelength of the chromatic blur with its CMF weight in linear Rec.709. Both compute backends
+// (glare/wave/spectral_psf.cpp, glare/gl/psf.cpp) take their wavelengths and weights from here.
+struct SpectralSample {
+  double wavelength_nm = 0.0;
+  LinearRgb weight;
+};
+
+// Ritschel et al. 2009, section 5: lambda_i = 380 nm + i (770 nm - 380 nm) / n, i = 0..n-1, for an
+// equal-energy spectrum s(lambda) = 1. Throws std::invalid_argument for n < 1.
+std::vector<SpectralSample> spectral_samples(int wavelength_count);
+
+}  // namespace glarelab
