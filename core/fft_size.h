@@ -1,6 +1,6 @@
 #pragma once
 // FFT lengths with small prime factors only: what a padded FFT convolution rounds its grid up to,
-// glare's (glare/convolution_cpu.*, glare/cpu_float_convolution.*) and the depth of field's
+// glare's (glare/cpu/convolution.*, glare/cpu/float_convolution.*) and the depth of field's
 // (stimuli/depth_of_field_blur.*) alike. FFTW transforms any length, but one with a large prime
 // factor falls back to slower codelets.
 

@@ -5,12 +5,12 @@
 #include <stdexcept>
 
 #include "core/errors.h"
-#include "glare/cpu_float_glare.h"
-#include "glare/cpu_glare_backend.h"
-#include "glare/fftw_wisdom.h"
-#include "glare/gl/gl_fft.h"
-#include "glare/gl/gl_glare_backend.h"
-#include "glare/psf_scale.h"
+#include "glare/cpu/float_glare.h"
+#include "glare/cpu/backend.h"
+#include "glare/cpu/fftw_wisdom.h"
+#include "glare/gl/fft.h"
+#include "glare/gl/backend.h"
+#include "glare/wave/psf_scale.h"
 
 namespace glarelab {
 

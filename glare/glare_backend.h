@@ -1,10 +1,10 @@
 #pragma once
 // The glare engine's compute seam (DESIGN.md: "GL compute shaders and a CPU double-precision path
 // behind one interface, so each checks the other"). Every backend takes the same aperture geometry
-// and options and returns the same Psf (glare/psf.h) and ImageRGBA; tests compare them.
+// and options and returns the same Psf (glare/wave/psf.h) and ImageRGBA; tests compare them.
 //
 // Kinds (glare/glare_backend_kind.h): cpu float64, the reference that tests and `psf --backend cpu`
-// use; cpu float32; cpu float32 planned, a session's frames on the CPU (glare/cpu_float_glare.h:
+// use; cpu float32; cpu float32 planned, a session's frames on the CPU (glare/cpu/float_glare.h:
 // plans and buffers kept, PSFs made at the display's pixel scale); gl, OpenGL 4.5 compute.
 //
 // Choosing: create_glare_backend, one table of candidates in glare_backend.cpp. On a hardware GPU
@@ -18,12 +18,12 @@
 
 #include "core/gl/gl_context.h"
 #include "core/image.h"
-#include "glare/aperture_geometry.h"
-#include "glare/fft_cpu.h"
-#include "glare/fresnel.h"
+#include "glare/eye/aperture_geometry.h"
+#include "glare/cpu/fft.h"
+#include "glare/wave/fresnel.h"
 #include "glare/glare_backend_kind.h"
-#include "glare/lit_regions.h"
-#include "glare/psf.h"
+#include "glare/cpu/lit_regions.h"
+#include "glare/wave/psf.h"
 
 namespace glarelab {
 
@@ -37,7 +37,7 @@ struct PsfOptions {
   // Phase before the FFT. The GL backend has none and defocus; "paper" (Eq. 3, d = 24 mm) is CPU only.
   PhaseForm phase = PhaseForm::defocus;
   // The observer's refraction is modelled (docs/REFRACTION.md): a spectral PSF takes one FFT per
-  // wavelength with the eye's longitudinal chromatic aberration (glare/chromatic_psf.h) even when
+  // wavelength with the eye's longitudinal chromatic aberration (glare/wave/chromatic_psf.h) even when
   // geometry.refraction_error is zero. A non-zero refraction_error alone does the same. The CPU
   // FFTW backends and the GL backend (GlPsf::chromatic) compute it; the planned float32 path does
   // not (carries_refraction), and a session computes such PSFs with the float64 reference.
@@ -57,9 +57,9 @@ class GlareBackend {
   // A non-empty warning from the last psf() call (an aliased phase), else empty.
   virtual std::string last_warning() const { return {}; }
   // The PSF on the pixels of a display whose centre pixel subtends display_degrees_per_pixel:
-  // psf() mapped onto them (psf_scale.h). The planned path computes it at that scale directly.
+  // psf() mapped onto them (glare/wave/psf_scale.h). The planned path computes it at that scale directly.
   virtual Psf display_psf(const ApertureGeometry& geometry, const PsfOptions& options, double display_degrees_per_pixel);
-  // The glare of the lit boxes of `frame` (glare/lit_regions.h: every pixel outside them black, no
+  // The glare of the lit boxes of `frame` (glare/cpu/lit_regions.h: every pixel outside them black, no
   // two nearer than the PSF's size) written into `out` (frame's size, holding frame), alpha
   // untouched: outside the boxes grown by the PSF's reach the exact result is 0, what the frame
   // holds. Here each grown box (boxes_reached) is cropped and convolved; the planned path
@@ -79,7 +79,7 @@ std::vector<PixelRect> boxes_reached(const std::vector<PixelRect>& boxes, int ps
 // What a session's frames need of the planned float32 path: the PSFs' layout and the display's scale.
 struct GlareFrameLayout {
   PsfOptions psf;  // grid, aperture width, supersampling, reference wavelength, wavelength samples
-  double display_degrees_per_pixel = 0.0;  // at the display's centre (psf_scale.h)
+  double display_degrees_per_pixel = 0.0;  // at the display's centre (glare/wave/psf_scale.h)
 };
 
 struct GlareBackendSettings {

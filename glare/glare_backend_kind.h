@@ -15,9 +15,9 @@ constexpr std::span<const Spelling<GlareBackendRequest>> spellings(GlareBackendR
   return kGlareBackendRequestSpellings;
 }
 
-// What computes: the FFTW paths in double (the reference) and float (glare/cpu_glare_backend.h), the
-// planned float32 path of a session's frames (glare/cpu_float_glare.h) and OpenGL 4.5 compute
-// (glare/gl/gl_glare_backend.h). The words are those the log, `psf` and `bench` print.
+// What computes: the FFTW paths in double (the reference) and float (glare/cpu/backend.h), the
+// planned float32 path of a session's frames (glare/cpu/float_glare.h) and OpenGL 4.5 compute
+// (glare/gl/backend.h). The words are those the log, `psf` and `bench` print.
 enum class GlareBackendKind { cpu_float64, cpu_float32, cpu_float32_planned, gl };
 inline constexpr Spelling<GlareBackendKind> kGlareBackendKindSpellings[] = {
     {GlareBackendKind::cpu_float64, "cpu float64"},

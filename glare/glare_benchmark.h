@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "core/gl/gl_context.h"
-#include "glare/dioptric_power.h"
+#include "glare/refraction/dioptric_power.h"
 #include "glare/glare_backend_kind.h"
 
 namespace glarelab {

@@ -5,10 +5,10 @@
 #include <span>
 
 #include "core/spelling.h"
-#include "glare/analytic_psf.h"
-#include "glare/eye_parameters.h"
+#include "glare/analytic/analytic_psf.h"
+#include "glare/eye/eye_parameters.h"
 #include "glare/glare_backend_kind.h"
-#include "glare/spencer_psf.h"
+#include "glare/analytic/spencer_psf.h"
 
 namespace glarelab {
 
@@ -69,7 +69,7 @@ struct GlareSpec {
   // The dynamic eye's pupil: "tracker" takes the tracker's filtered pupil when a tracker runs (the
   // model's Eq. 1-2 pupil otherwise), "model" always the model's.
   PupilSource pupil_source = PupilSource::tracker;
-  // The dynamic eye's blinks: "model" its own schedule (eyelids.h), "tracker" the blinks the
+  // The dynamic eye's blinks: "model" its own schedule (glare/eye/eyelids.h), "tracker" the blinks the
   // tracker detects (Luidolt 2020, 7.2: a detected blink may drive the eyelids instead).
   BlinkSource blink_source = BlinkSource::model;
   // How a session presents glare trials (runner/session/trial_glare.cpp): "auto" measures the

@@ -84,7 +84,7 @@ GlareSpec read_glare_section(TableReader& top) {
   spec.visibility_floor_cd_m2 = reader.positive_number("visibility_floor_cd_m2", spec.visibility_floor_cd_m2);
   spec.skip_invisible = reader.boolean("skip_invisible").value_or(spec.skip_invisible);
   spec.backend = read_choice(reader, "backend", spec.backend);
-  // The GL FFT takes powers of two from 16 to 4096 (glare/gl/gl_fft.h): refused here, not mid-session.
+  // The GL FFT takes powers of two from 16 to 4096 (glare/gl/fft.h): refused here, not mid-session.
   if (spec.backend == GlareBackendRequest::gl && (spec.grid_px > 4096 || !std::has_single_bit(static_cast<unsigned>(spec.grid_px))))
     reader.fail("backend", "'gl' needs grid_px a power of two from 16 to 4096, found grid_px = " +
                                std::to_string(spec.grid_px) + " (use \"cpu\" or change grid_px)");

@@ -10,7 +10,7 @@
 
 #include "core/fft_size.h"
 #include "core/parallel_for.h"
-#include "glare/fftw_float_plan.h"
+#include "glare/cpu/fftw_float_plan.h"
 
 namespace glarelab {
 namespace {

@@ -14,7 +14,7 @@
 
 #include "core/image.h"
 #include "core/pixel_rect.h"
-#include "glare/spectacle_lens.h"
+#include "glare/refraction/spectacle_lens.h"
 #include "stimuli/spectacle_warp.h"
 
 namespace glarelab {

@@ -9,7 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "glare/lit_regions.h"
+#include "glare/cpu/lit_regions.h"
 #include "glare/parallel_rows.h"
 #include "glare/cpu/psf.h"
 #include "glare/wave/psf_scale.h"
@@ -136,7 +136,7 @@ GlareBackend& GlareStage::backend() {
   GlareBackendSettings settings;
   settings.gl_context = gl_context_;
   settings.grid_px = spec_.grid_px;
-  // "auto" on the CPU takes the planned float32 path (glare/cpu_float_glare.h) for the frames: the
+  // "auto" on the CPU takes the planned float32 path (glare/cpu/float_glare.h) for the frames: the
   // float64 backend stays the reference that "cpu" asks for by name.
   settings.frames = GlareFrameLayout{psf_options(), DisplayModel(display_).degrees_per_pixel_at_centre()};
   GlareBackendChoice choice = create_glare_backend(spec_.backend, settings);

@@ -3,7 +3,7 @@
 // time: control returns the frame unchanged; static uses the eye frozen at GlareSpec::static_time_s;
 // dynamic the eye of glare/eye/eye_model.h at the frame's time. The glare itself is Ritschel et al. 2009
 // sections 4-5: aperture -> monochromatic PSF at 575 nm -> spectral PSF (chromatic blur) -> mapped
-// onto the display's pixels (glare/psf_scale.h) -> FFT convolution, the PSF and the convolution both
+// onto the display's pixels (glare/wave/psf_scale.h) -> FFT convolution, the PSF and the convolution both
 // by the compute backend GlareSpec::backend picks (glare/glare_backend.h: cpu, gl or auto, which
 // on the CPU is the planned float32 path).
 //
@@ -28,10 +28,10 @@
 
 #include "core/display_spec.h"
 #include "core/gl/gl_context.h"
-#include "glare/analytic_glare.h"
-#include "glare/dioptric_power.h"
-#include "glare/eye_model.h"
-#include "glare/gaze_window_convolution.h"
+#include "glare/analytic/analytic_glare.h"
+#include "glare/refraction/dioptric_power.h"
+#include "glare/eye/eye_model.h"
+#include "glare/cpu/gaze_window_convolution.h"
 #include "glare/glare_backend.h"
 #include "glare/wave/psf.h"
 #include "glare/glare_spec.h"
@@ -72,7 +72,7 @@ struct GlareFrameReport {
 // are kept: one FrameFacts per image, made anew with it.
 struct FrameFacts {
   std::optional<std::pair<double, double>> luminance_range_cd_m2;  // smallest and largest Rec.709 luminance
-  std::map<int, std::vector<PixelRect>> lit_boxes;                  // glare/lit_regions.h, by gap (the PSF's size)
+  std::map<int, std::vector<PixelRect>> lit_boxes;                  // glare/cpu/lit_regions.h, by gap (the PSF's size)
 };
 
 // A gaze point in normalised display coordinates (0..1 from the left and from the top).

@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "core/parallel_for.h"
-#include "glare/fftw_float_plan.h"
+#include "glare/cpu/fftw_float_plan.h"
 
 namespace glarelab {
 

@@ -8,13 +8,13 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "glare/cpu_float_glare.h"
-#include "glare/cpu_glare_backend.h"
-#include "glare/eye_model.h"
-#include "glare/gl/gl_glare_backend.h"
+#include "glare/cpu/float_glare.h"
+#include "glare/cpu/backend.h"
+#include "glare/eye/eye_model.h"
+#include "glare/gl/backend.h"
 #include "glare/glare_backend.h"
-#include "glare/psf_cpu.h"
-#include "glare/psf_scale.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
 #include "glare_psf_test_support.h"
 #include "runner/display/compute_context.h"
 

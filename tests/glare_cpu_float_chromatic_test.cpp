@@ -216,7 +216,7 @@ TEST(GlareBenchmarkRefraction, EveryCpuPathTimesThePhaseOfTheWholePowerError) {
                 std::string(spelling(row.backend)).c_str(), row.discretisation_error, row.psf_error, row.frame_error);
     worst = std::max(worst, row.discretisation_error);
     EXPECT_LT(row.psf_error, 1e-5) << spelling(row.backend);
-    // The planned path's display-scale clamp (cpu_float_spectral_psf.h) is a screen, not a bound: on
+    // The planned path's display-scale clamp (glare/cpu/float_spectral_psf.h) is a screen, not a bound: on
     // this defocused, astigmatic PSF its frame error is 1.6e-5 (below 1e-6 on the eye model alone).
     EXPECT_LT(row.frame_error, 1e-4) << spelling(row.backend);
   }

@@ -6,7 +6,7 @@
 
 #include "core/fft_size.h"
 #include "core/parallel_for.h"
-#include "glare/fft_cpu.h"
+#include "glare/cpu/fft.h"
 
 namespace glarelab {
 

@@ -1,5 +1,5 @@
 #pragma once
-// The CPU glare backend: aperture_raster + FFTW (psf_cpu.h), spectral_psf.h, convolution_cpu.h.
+// The CPU glare backend: aperture_raster + FFTW (glare/cpu/psf.h), glare/wave/spectral_psf.h, glare/cpu/convolution.h.
 // float64 is the reference the GL path is checked against; float32 the faster (docs/PERFORMANCE.md).
 // With the observer's refraction (geometry.refraction_error, PsfOptions::observer_refraction) a
 // spectral PSF is glare/wave/chromatic_psf.h's, one FFT per wavelength with the eye's LCA.

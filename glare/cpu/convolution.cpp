@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "core/fft_size.h"
-#include "glare/psf_scale.h"
+#include "glare/wave/psf_scale.h"
 
 namespace glarelab {
 namespace {

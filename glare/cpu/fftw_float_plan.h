@@ -34,7 +34,7 @@ std::mutex& fftw_planner_mutex();
 // far from that: docs/PERFORMANCE.md, "Measurements behind the code's choices"). Measured
 // plans leave wisdom that later estimate plans of the same problems would follow; whoever makes
 // measured plans calls forget_fftw_float_wisdom() after them, while no other thread plans.
-// kept: FFTW_MEASURE with the wisdom kept in a file (fftw_wisdom.h), or FFTW_ESTIMATE where none can
+// kept: FFTW_MEASURE with the wisdom kept in a file (glare/cpu/fftw_wisdom.h), or FFTW_ESTIMATE where none can
 // be kept. Measured and kept plans overwrite their arrays while they are made: data (zero padding
 // included) is written after planning.
 enum class FftwPlanning { estimate, measure, kept };
@@ -122,7 +122,7 @@ class FftwFloatPlan {
                                          FftwPlanning planning = FftwPlanning::estimate);
   // The column pass of spectra stored transposed, column by column: value (row r, frequency k) of
   // array c at (c (cols/2 + 1) + k) rows + r. The row passes then write and read a column's values
-  // together (cpu_float_convolution.h) and the column pass runs over contiguous columns, which FFTW
+  // together (glare/cpu/float_convolution.h) and the column pass runs over contiguous columns, which FFTW
   // does faster than strided ones (docs/PERFORMANCE.md, "Measurements behind the code's
   // choices").
   // In place, sign FFTW_FORWARD (-1) or FFTW_BACKWARD (+1), over the count (cols/2 + 1) columns

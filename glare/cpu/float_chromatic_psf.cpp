@@ -7,9 +7,9 @@
 #include <string>
 
 #include "core/parallel_for.h"
-#include "glare/astigmatic_phase.h"
-#include "glare/chromatic_eye.h"
-#include "glare/psf_cpu.h"
+#include "glare/refraction/astigmatic_phase.h"
+#include "glare/refraction/chromatic_eye.h"
+#include "glare/cpu/psf.h"
 
 namespace glarelab {
 namespace {

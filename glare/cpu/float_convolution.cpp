@@ -7,8 +7,8 @@
 
 #include "core/fft_size.h"
 #include "core/parallel_for.h"
-#include "glare/complex_transpose.h"
-#include "glare/rgba_rows.h"
+#include "glare/cpu/complex_transpose.h"
+#include "glare/cpu/rgba_rows.h"
 
 namespace glarelab {
 

@@ -137,7 +137,7 @@ void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<P
   std::map<std::pair<int, int>, std::vector<const PixelRect*>> by_size;
   for (const PixelRect& box : boxes) {
     if (box.empty() || !image_rect(frame).contains(box))
-      throw std::invalid_argument("glare/cpu_float_glare: a region does not lie inside the frame");
+      throw std::invalid_argument("glare/cpu/float_glare: a region does not lie inside the frame");
     by_size[{box.width_px, box.height_px}].push_back(&box);
   }
   reused_scene_ = true;

@@ -16,14 +16,14 @@
 #include <vector>
 
 #include "core/image.h"
-#include "glare/aperture_geometry.h"
-#include "glare/cpu_float_convolution.h"
-#include "glare/cpu_float_chromatic_psf.h"
-#include "glare/cpu_float_psf.h"
-#include "glare/cpu_float_spectral_psf.h"
+#include "glare/eye/aperture_geometry.h"
+#include "glare/cpu/float_convolution.h"
+#include "glare/cpu/float_chromatic_psf.h"
+#include "glare/cpu/float_psf.h"
+#include "glare/cpu/float_spectral_psf.h"
 #include "glare/glare_backend.h"
-#include "glare/lit_regions.h"
-#include "glare/psf.h"
+#include "glare/cpu/lit_regions.h"
+#include "glare/wave/psf.h"
 
 namespace glarelab {
 
@@ -61,7 +61,7 @@ class CpuFloatGlare : public GlareBackend {
   // Linear convolution of R, G, B with a display-scale PSF (display_psf's size); alpha passes
   // through. Refuses NaN, Inf and negative pixels (std::invalid_argument), as convolve_image_cpu.
   ImageRGBA convolve(const ImageRGBA& image, const Psf& display_psf) override;
-  // The glare of the lit boxes of `frame` (glare/lit_regions.h: every pixel outside them black, no
+  // The glare of the lit boxes of `frame` (glare/cpu/lit_regions.h: every pixel outside them black, no
   // two nearer than the PSF's size) written into `out` (frame's size, holding frame): each box's
   // whole linear convolution with `display_psf`, the box grown by the PSF's reach, over R, G, B;
   // alpha untouched. Boxes of one size share one transform of the PSF, and each box's spectrum is

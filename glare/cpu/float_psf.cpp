@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "core/parallel_for.h"
-#include "glare/astigmatic_phase.h"
-#include "glare/complex_transpose.h"
-#include "glare/psf_cpu.h"
+#include "glare/refraction/astigmatic_phase.h"
+#include "glare/cpu/complex_transpose.h"
+#include "glare/cpu/psf.h"
 
 namespace glarelab {
 

@@ -13,8 +13,8 @@
 #endif
 
 #include "core/parallel_for.h"
-#include "glare/cie_cmf.h"
-#include "glare/psf_scale.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/wave/psf_scale.h"
 
 namespace glarelab {
 
@@ -330,7 +330,7 @@ void CpuFloatSpectralPsf::screen_straddles(double pupil_diameter_mm) {
   const int m_px = display_px_;
   const std::size_t plane = static_cast<std::size_t>(m_px) * m_px;
   const std::vector<double>& total = totals_;
-  // The clamp. spectral_psf.cpp clamps negative R, G, B on PSF pixels, before the box resampling;
+  // The clamp. glare/wave/spectral_psf.cpp clamps negative R, G, B on PSF pixels, before the box resampling;
   // clamping the box means instead differs wherever a display pixel's PSF pixels do not all have
   // the same sign (1e-5 of the frame on the eye model's PSFs). Where a channel's sign can change
   // inside a display pixel, the pixel is computed as the double path does, from the PSF pixels it
@@ -458,7 +458,7 @@ void CpuFloatSpectralPsf::refine_straddles(const float* power) {
 }
 
 Psf CpuFloatSpectralPsf::compute(const float* power, double pupil_diameter_mm) {
-  if (!(pupil_diameter_mm > 0.0)) throw std::invalid_argument("glare/cpu_float_spectral_psf: pupil diameter must be > 0 mm");
+  if (!(pupil_diameter_mm > 0.0)) throw std::invalid_argument("glare/cpu/float_spectral_psf: pupil diameter must be > 0 mm");
   // `power` is column-major (CpuFloatPsf's layout): its rows are the PSF's columns. Every step below
   // treats the two axes alike (one W and one box for both, the screen and the core disk symmetric),
   // so it is written as for a row-major PSF: "rows", "y" and "display rows" are the input's rows

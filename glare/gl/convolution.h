@@ -1,5 +1,5 @@
 #pragma once
-// Convolution of an HDR image (core/image.h, R, G, B) with a PSF (glare/psf.h) on the GPU by FFT
+// Convolution of an HDR image (core/image.h, R, G, B) with a PSF (glare/wave/psf.h) on the GPU by FFT
 // (Ritschel et al. 2009, section 5): both zero-padded to powers of two at least image + PSF - 1 in
 // each direction, so nothing wraps around an edge and any image size works; pointwise complex
 // product; inverse FFT; the image-sized window read back. Alpha is passed through. Both spectra

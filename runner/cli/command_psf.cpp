@@ -9,12 +9,12 @@
 #include <optional>
 #include <sstream>
 
-#include "glare/analytic_psf.h"
-#include "glare/aperture_components.h"
-#include "glare/chromatic_eye.h"
-#include "glare/display_psf_image.h"
-#include "glare/eye_model.h"
-#include "glare/fibre_gratings.h"
+#include "glare/analytic/analytic_psf.h"
+#include "glare/eye/aperture_components.h"
+#include "glare/refraction/chromatic_eye.h"
+#include "glare/analytic/display_psf_image.h"
+#include "glare/eye/eye_model.h"
+#include "glare/eye/fibre_gratings.h"
 #include "glare/glare_backend.h"
 #include "glare/analytic/hybrid_psf.h"
 #include "glare/cpu/psf.h"
@@ -337,7 +337,7 @@ int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
   options.wavelength_samples = args.wavelength_samples;
   options.phase = parse_phase_form(args.fresnel);
   // With the refraction, a spectral PSF takes one FFT per wavelength with the eye's LCA even where the
-  // residual is zero (glare/chromatic_psf.h).
+  // residual is zero (glare/wave/chromatic_psf.h).
   options.observer_refraction = refraction.active;
   check_grid(geometry, options,
              args.mode.empty() || handles.pupil->count() > 0 ? "--pupil-diameter-mm" : "the eye model at --time-s");

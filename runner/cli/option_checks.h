@@ -10,7 +10,7 @@
 #include <string>
 
 #include "core/spelling.h"
-#include "glare/dioptric_power.h"
+#include "glare/refraction/dioptric_power.h"
 
 namespace glarelab::cli {
 

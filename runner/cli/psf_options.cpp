@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "glare/aperture_components.h"
+#include "glare/eye/aperture_components.h"
 #include "runner/cli/option_checks.h"
 
 namespace glarelab::cli {
@@ -123,7 +123,7 @@ void add_model_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& 
       ->check(file_extension_in({".exr"}, "the PSF file"));
 }
 
-// The observer's refraction (glare/eye_refraction.h, docs/REFRACTION.md).
+// The observer's refraction (glare/refraction/eye_refraction.h, docs/REFRACTION.md).
 void add_refraction_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& handles) {
   CLI::Option* sphere =
       command->add_option("--sphere-dioptres", args.refraction.sphere_dioptres,

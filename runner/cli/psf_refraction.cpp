@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "core/errors.h"
-#include "glare/astigmatic_phase.h"
-#include "glare/chromatic_psf.h"
-#include "glare/cie_cmf.h"
-#include "glare/fresnel.h"
+#include "glare/refraction/astigmatic_phase.h"
+#include "glare/wave/chromatic_psf.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/wave/fresnel.h"
 #include "runner/cli/option_checks.h"
 
 namespace glarelab::cli {
@@ -34,7 +34,7 @@ std::string prescription_text(const SpheroCylinder& rx) {
 }
 
 // The wavelengths whose phase the PSF computes, and each one's power error: one for a monochromatic
-// PSF; with --spectral, Ritschel's samples with the eye's LCA (glare/chromatic_psf.h).
+// PSF; with --spectral, Ritschel's samples with the eye's LCA (glare/wave/chromatic_psf.h).
 std::vector<std::pair<double, DioptricPower>> errors_by_wavelength(const ApertureGeometry& geometry,
                                                                    const PsfOptions& options) {
   if (!options.spectral) return {{options.wavelength_nm, geometry.total_power_error()}};

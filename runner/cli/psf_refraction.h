@@ -6,8 +6,8 @@
 #include <limits>
 #include <string>
 
-#include "glare/aperture_geometry.h"
-#include "glare/eye_refraction.h"
+#include "glare/eye/aperture_geometry.h"
+#include "glare/refraction/eye_refraction.h"
 #include "glare/glare_backend.h"
 
 namespace glarelab::cli {
@@ -38,16 +38,16 @@ struct ObserverRefraction {
 };
 
 // The eye's error, the lenses worn and the fixation distance give the residual error E at the
-// retina (glare/eye_refraction.h), the pupil phase's sphero-cylindrical part: fills `refraction`
+// retina (glare/refraction/eye_refraction.h), the pupil phase's sphero-cylindrical part: fills `refraction`
 // (active, with its flags) and geometry.refraction_error. The amplitude is the one given, else
 // Hofstetter's for the age given, else the schematic eye's. Plus cylinders are transposed and said
 // so on stderr. Throws ConfigError naming the flag for spectacles not in front of the fixated point
-// and for what glare/eye_refraction.h refuses.
+// and for what glare/refraction/eye_refraction.h refuses.
 void read_observer_refraction(const RefractionArguments& args, bool amplitude_given, bool age_given, double age_years,
                               ObserverRefraction& refraction, ApertureGeometry& geometry);
 
 // check_grid's defocus refusal for the refraction's sphero-cylindrical phase: the phase of its
-// strongest meridian (glare/astigmatic_phase.h) at every wavelength computed must be sampled by the
+// strongest meridian (glare/refraction/astigmatic_phase.h) at every wavelength computed must be sampled by the
 // largest grid, else no grid the program has can take it (ConfigError naming `flags`).
 void check_refraction_sampling(const ApertureGeometry& geometry, const PsfOptions& options, const std::string& flags);
 

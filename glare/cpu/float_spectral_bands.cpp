@@ -1,23 +1,23 @@
 // CpuFloatSpectralPsf's matrices, built once per settings: per wavelength the bilinear neighbours
-// of each scaled PSF position (spectral_psf.cpp's interpolation) and the band rows of W_i = R B_i
-// (cpu_float_spectral_psf.h), and the buffers compute() works in (cpu_float_spectral_psf.cpp).
+// of each scaled PSF position (glare/wave/spectral_psf.cpp's interpolation) and the band rows of W_i = R B_i
+// (glare/cpu/float_spectral_psf.h), and the buffers compute() works in (glare/cpu/float_spectral_psf.cpp).
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
-#include "glare/cie_cmf.h"
-#include "glare/cpu_float_spectral_psf.h"
-#include "glare/psf_scale.h"
+#include "glare/wave/cie_cmf.h"
+#include "glare/cpu/float_spectral_psf.h"
+#include "glare/wave/psf_scale.h"
 
 namespace glarelab {
 
 CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& settings) : settings_(settings) {
   const int n = settings.grid_px;
-  if (n < 2 || n % 2 != 0) throw std::invalid_argument("glare/cpu_float_spectral_psf: grid size must be even and >= 2");
+  if (n < 2 || n % 2 != 0) throw std::invalid_argument("glare/cpu/float_spectral_psf: grid size must be even and >= 2");
   if (!(settings.reference_wavelength_nm > 0.0))
-    throw std::invalid_argument("glare/cpu_float_spectral_psf: reference wavelength must be > 0");
+    throw std::invalid_argument("glare/cpu/float_spectral_psf: reference wavelength must be > 0");
   check_psf_fits_display(n, settings.psf_degrees_per_pixel, settings.display_degrees_per_pixel);
   display_px_ = display_psf_size_px(n, settings.psf_degrees_per_pixel, settings.display_degrees_per_pixel);
   const int m_px = display_px_;
@@ -27,7 +27,7 @@ CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& setting
   std::vector<double> dense(static_cast<std::size_t>(n), 0.0);
   for (const SpectralSample& sample : spectral_samples(settings.wavelength_samples)) {
     Wavelength wavelength;
-    // spectral_psf.cpp: x_i = (x - c) lambda_ref / lambda + c, value times the Jacobian scale^2.
+    // glare/wave/spectral_psf.cpp: x_i = (x - c) lambda_ref / lambda + c, value times the Jacobian scale^2.
     const double scale = settings.reference_wavelength_nm / sample.wavelength_nm;
     const double jacobian = scale * scale;
     wavelength.rgb_weight[0] = jacobian * sample.weight.r;
@@ -61,7 +61,7 @@ CpuFloatSpectralPsf::CpuFloatSpectralPsf(const CpuFloatSpectralSettings& setting
         const double floor_position = std::floor(position);
         const int x0 = static_cast<int>(floor_position);
         const double fraction = position - floor_position;
-        // Out-of-grid neighbours read 0, as spectral_psf.cpp's bilinear does.
+        // Out-of-grid neighbours read 0, as glare/wave/spectral_psf.cpp's bilinear does.
         if (x0 >= 0 && x0 < n) {
           dense[static_cast<std::size_t>(x0)] += overlap.fraction * (1.0 - fraction);
           first = std::min(first, x0);
