@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "glare/cpu/lit_regions.h"
-#include "glare/parallel_rows.h"
+#include "core/parallel_for.h"
 #include "glare/cpu/psf.h"
 #include "glare/wave/psf_scale.h"
 #include "stimuli/display_model.h"
