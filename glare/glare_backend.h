@@ -1,6 +1,6 @@
 #pragma once
-// The glare engine's compute seam (DESIGN.md: "GL compute shaders and a CPU double-precision path
-// behind one interface, so each checks the other"). Every backend takes the same aperture geometry
+// The glare engine's compute seam (docs/ARCHITECTURE.md, "Seams": GL compute shaders and a CPU
+// double-precision path behind one interface, so that each checks the other). Every backend takes the same aperture geometry
 // and options and returns the same Psf (glare/wave/psf.h) and ImageRGBA; tests compare them.
 //
 // Kinds (glare/glare_backend_kind.h): cpu float64, the reference that tests and `psf --backend cpu`
@@ -9,8 +9,8 @@
 //
 // Choosing: create_glare_backend, one table of candidates in glare_backend.cpp. On a hardware GPU
 // the GL path is the fast one; on a software rasteriser (Mesa llvmpipe/softpipe/swrast, VMware
-// SVGA3D) the GL path runs on the same CPU cores and is slower than FFTW there (3x for the PSF, 15x
-// for the convolution at N = 1024 on llvmpipe, docs/PERFORMANCE.md), so `auto` takes the CPU.
+// SVGA3D) the GL path runs on the same CPU cores and is slower than FFTW there (docs/PERFORMANCE.md,
+// "Measurements behind the code's choices"), so `auto` takes the CPU.
 #include <memory>
 #include <optional>
 #include <string>

@@ -127,7 +127,7 @@ class GlareStage {
   // runner/session/condition_refraction.h; docs/REFRACTION.md, "In a session"): every wave-optics
   // PSF (static, dynamic, the hybrid's near field) takes it as geometry.refraction_error, its
   // spectral PSF with one FFT per wavelength and the eye's LCA (glare/wave/chromatic_psf.h). Nothing (the
-  // default): the observer's optics are not modelled, and every PSF is computed as before.
+  // default): the observer's optics are not modelled, and every PSF is the eye's without a refraction.
   // The CPU float64 and GL backends compute such a PSF themselves; the planned float32 path does
   // not carry the refraction yet (carries_refraction), so with it these PSFs are computed by the
   // float64 reference, made then, and the planned path still convolves.

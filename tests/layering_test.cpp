@@ -77,6 +77,66 @@ std::vector<std::string> layering_violations(const fs::path& root) {
   return violations;
 }
 
+// The public faces (docs/ARCHITECTURE.md, "Public faces"): for each layer with a line there, the
+// headers other layers may include. The lines run from the paragraph that starts
+// "**Public faces.**" to the next paragraph that starts with "**"; a line "- `glare/`: ..." starts a
+// layer's list, and every backticked name ending in ".h" after it joins that list.
+std::map<std::string, std::set<std::string>> public_faces(const fs::path& document) {
+  static const std::regex layer_line(R"(^- `([a-z]+)/`:)");
+  static const std::regex header_name(R"(`([A-Za-z0-9_./]+\.h)`)");
+  std::map<std::string, std::set<std::string>> faces;
+  std::ifstream in(document);
+  std::string line, layer;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("**Public faces.**", 0) == 0) {
+      inside = true;
+      continue;
+    }
+    if (!inside) continue;
+    if (line.rfind("**", 0) == 0) break;
+    std::smatch match;
+    if (std::regex_search(line, match, layer_line)) layer = match[1];
+    if (layer.empty()) continue;
+    for (auto it = std::sregex_iterator(line.begin(), line.end(), header_name); it != std::sregex_iterator(); ++it)
+      faces[layer].insert((*it)[1]);
+  }
+  return faces;
+}
+
+// Every include, in a layer's file, of another layer's header that is not on that layer's public
+// face, as "FILE:LINE: TARGET is not on LAYER's public face" (FILE relative to root), in path
+// order. core/ has no line: it is public whole.
+std::vector<std::string> public_face_violations(const fs::path& root,
+                                                const std::map<std::string, std::set<std::string>>& faces) {
+  static const std::regex include_line(R"(^\s*#\s*include\s*"([^"]+)\")");
+  std::vector<std::string> violations;
+  for (const std::string& layer : kLayers) {
+    if (!fs::is_directory(root / layer)) continue;
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::recursive_directory_iterator(root / layer)) {
+      const std::string extension = entry.path().extension().string();
+      if (entry.is_regular_file() && (extension == ".h" || extension == ".cpp")) files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const fs::path& file : files) {
+      std::ifstream in(file);
+      std::string line;
+      for (int number = 1; std::getline(in, line); ++number) {
+        std::smatch match;
+        if (!std::regex_search(line, match, include_line)) continue;
+        const std::string target = match[1];
+        const std::string target_layer = target.substr(0, target.find('/'));
+        const auto face = faces.find(target_layer);
+        if (target_layer == layer || face == faces.end() || face->second.contains(target)) continue;
+        violations.push_back(fs::relative(file, root).string() + ":" + std::to_string(number) + ": " + target +
+                             " is not on " + target_layer + "'s public face");
+      }
+    }
+  }
+  return violations;
+}
+
 std::string joined(const std::vector<std::string>& lines) {
   std::string text;
   for (const std::string& line : lines) text += line + "\n";
@@ -116,6 +176,40 @@ TEST(Layering, APlantedUpwardIncludeIsNamedWithFileAndLine) {
       "analysis/report.cpp:2: analysis may not include stimuli/image.h",
   };
   EXPECT_EQ(layering_violations(root), expected) << joined(layering_violations(root));
+}
+
+TEST(Layering, IncludesAcrossLayersStayOnThePublicFaces) {
+  const fs::path root = GLARELAB_SOURCE_DIR;
+  const auto faces = public_faces(root / "docs/ARCHITECTURE.md");
+  for (const std::string layer : {"glare", "stimuli", "protocols", "analysis"})
+    ASSERT_TRUE(faces.contains(layer)) << "docs/ARCHITECTURE.md, \"Public faces\", has no line for " << layer;
+  for (const auto& [layer, headers] : faces)
+    for (const std::string& header : headers) EXPECT_TRUE(fs::is_regular_file(root / header)) << header;
+  const std::vector<std::string> violations = public_face_violations(root, faces);
+  EXPECT_TRUE(violations.empty()) << "includes of headers that docs/ARCHITECTURE.md does not list as public:\n"
+                                  << joined(violations);
+}
+
+TEST(Layering, AnIncludeBehindAPublicFaceIsNamedWithFileAndLine) {
+  test::ScratchDir scratch;
+  const fs::path root = scratch.path();
+  write_file(root / "docs/ARCHITECTURE.md",
+             "# A\n\n**Public faces.** Lines:\n- `glare/`: `glare/glare_spec.h`,\n  `glare/wave/psf.h`.\n"
+             "- `stimuli/`: `stimuli/frame.h`.\n\n**Why.** `glare/cpu/fft.h` is not a face.\n");
+  write_file(root / "glare/wave/psf.cpp", "#include \"glare/cpu/fft.h\"\n");
+  write_file(root / "stimuli/frame.cpp",
+             "#include \"glare/wave/psf.h\"\n#include \"glare/cpu/fft.h\"\n#include \"core/image.h\"\n");
+  write_file(root / "runner/main.cpp",
+             "#include \"stimuli/frame.h\"\n#include \"stimuli/inner.h\"\n#include \"protocols/any.h\"\n");
+  const auto faces = public_faces(root / "docs/ARCHITECTURE.md");
+  const std::map<std::string, std::set<std::string>> expected_faces = {
+      {"glare", {"glare/glare_spec.h", "glare/wave/psf.h"}}, {"stimuli", {"stimuli/frame.h"}}};
+  EXPECT_EQ(faces, expected_faces);
+  const std::vector<std::string> expected = {
+      "stimuli/frame.cpp:2: glare/cpu/fft.h is not on glare's public face",
+      "runner/main.cpp:2: stimuli/inner.h is not on stimuli's public face",
+  };
+  EXPECT_EQ(public_face_violations(root, faces), expected) << joined(public_face_violations(root, faces));
 }
 
 }  // namespace
