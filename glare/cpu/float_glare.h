@@ -92,10 +92,10 @@ class CpuFloatGlare : public GlareBackend {
   ImageRGBA scene_;  // the frame whose spectrum the convolution holds
   bool reused_scene_ = false;
   // convolve_regions(): per box size, a `full` convolution with a slot per box of that size, and
-  // the pixels (RGBA rows) each slot's spectrum was made from.
+  // the pixels each slot's spectrum was made from (the box cropped from its frame).
   struct RegionPlan {
     std::unique_ptr<CpuFloatConvolution> convolution;
-    std::vector<std::vector<float>> pixels;
+    std::vector<ImageRGBA> pixels;
   };
   std::map<std::pair<int, int>, RegionPlan> region_plans_;
   int region_kernel_px_ = 0;

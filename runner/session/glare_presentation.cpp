@@ -176,11 +176,11 @@ void SessionLoop::log_glare_setup() {
   }
   const bool tracked = tracker_.active();
   std::string inputs = std::string("pupil: ") +
-                       (tracked && spec.pupil_source == "tracker" ? "the tracker's filtered pupil (model's until its first sample)"
+                       (tracked && spec.pupil_source == PupilSource::tracker ? "the tracker's filtered pupil (model's until its first sample)"
                                                                   : "the eye model's (Eq. 1-2)") +
                        "; blinks: " +
-                       (tracked && spec.blink_source == "tracker" ? "detected by the tracker" : "the eye model's schedule");
-  if (!tracked && (spec.blink_source == "tracker" || spec.pupil_source == "tracker"))
+                       (tracked && spec.blink_source == BlinkSource::tracker ? "detected by the tracker" : "the eye model's schedule");
+  if (!tracked && (spec.blink_source == BlinkSource::tracker || spec.pupil_source == PupilSource::tracker))
     inputs += " (no tracker: the model's)";
   if (spec.gaze_window_px > 0)
     inputs += "; gaze window " + std::to_string(spec.gaze_window_px) + " px around " +
