@@ -3,13 +3,13 @@
 // violation reported as "FILE:LINE: message":
 //
 // 1. Every source module of the layers is listed under its folder's heading. A module is a .h/.cpp
-//    stem (`glare/wave/psf` for glare/wave/psf.h and glare/wave/psf.cpp) or a shader file (.comp, .frag, .vert) anywhere under
+//    stem (`glare/wave/spectral_psf` for spectral_psf.h and spectral_psf.cpp) or a shader file (.comp, .frag, .vert) anywhere under
 //    core/, glare/, stimuli/, runner/, protocols/ or analysis/. Only these six folders have a
 //    heading ("### `glare/`"); a subfolder (glare/gl/, runner/session/) is listed under its layer's
 //    heading. The module is listed when the heading's section (up to the next heading of level 3
 //    or above) names one of its files in backticks, by its path from the root, by its path below
-//    the layer's folder (`session/trial_run.cpp`, `gl/gl_fft.*`) or by a tail of that path after a
-//    '/' (`glare/gl/fft.*`, written inside the bullet that introduces the subfolder), ".*" standing for
+//    the layer's folder (`session/trial_run.cpp`, `gl/fft.*`) or by a tail of that path after a
+//    '/' (`fft.*`, written inside the bullet that introduces the subfolder), ".*" standing for
 //    any extension.
 //    Reported at the heading's line.
 // 2. Every file or folder the document names in backticks exists. A backticked text names one when
@@ -434,9 +434,9 @@ TEST(ArchitectureDocs, EveryRepositoryPathACommentCitesExists) {
 // A small tree: two layers' headings, modules in folders and subfolders, shaders.
 void write_small_tree(const fs::path& root) {
   for (const std::string_view layer : kLayers) fs::create_directories(root / layer);
-  write_file(root / "glare/wave/psf.h", "#pragma once\n");
-  write_file(root / "glare/wave/psf.cpp", "#include \"glare/wave/psf.h\"\n");
-  write_file(root / "glare/gl/fft.h", "#pragma once\n");
+  write_file(root / "glare/psf.h", "#pragma once\n");
+  write_file(root / "glare/psf.cpp", "#include \"glare/psf.h\"\n");
+  write_file(root / "glare/gl/gl_fft.h", "#pragma once\n");
   write_file(root / "glare/shaders/sum_reduce.comp", "#version 450\n");
   write_file(root / "runner/session/trial_run.cpp", "\n");
   write_file(root / "runner/session/trial_record.h", "#pragma once\n");
@@ -460,11 +460,11 @@ TEST(ArchitectureDocs, AnUnlistedModuleIsNamedWithItsHeadingsLine) {
              "### `runner/`\n"                                                    // 4
              "- `main.cpp`, `session/trial_run.cpp`; `stimuli/layout.h` is not runner's.\n"  // 5
              "### `stimuli/`\n"                                                   // 6
-             "- `shaders/`: the renderer's shaders. `glare/wave/psf.*` is glare's.\n"        // 7
+             "- `shaders/`: the renderer's shaders. `psf.*` is glare's.\n"        // 7
              "### `protocols/`\n"                                                 // 8
              "### `analysis/`\n"                                                  // 9
              "### `glare/`\n"                                                     // 10
-             "- `glare/wave/psf.h`, `gl/` (`glare/gl/fft.*`), `shaders/sum_reduce.comp`\n"         // 11
+             "- `psf.h`, `gl/` (`gl_fft.*`), `shaders/sum_reduce.comp`\n"         // 11
              "## Elsewhere\n"                                                     // 12
              "- `report.*` is not under analysis' heading.\n");                   // 13
   // In the layers' order (core, glare, stimuli, runner, protocols, analysis), then by path.
@@ -490,12 +490,12 @@ TEST(ArchitectureDocs, ANamedFileThatDoesNotExistIsNamedWithItsLine) {
   write_small_tree(root);
   write_file(root / kDocument,
              "# Architecture\n"                                                                  // 1
-             "`glare/wave/psf.h` and `docs/STEREO.md` exist; `frames.dropped` and `[glare] a.h` are no file names.\n"  // 2
+             "`glare/psf.h` and `docs/STEREO.md` exist; `frames.dropped` and `[glare] a.h` are no file names.\n"  // 2
              "```\n"                                                                             // 3
              "`glare/in_a_fence.h`\n"                                                            // 4
              "```\n"                                                                             // 5
              "### `glare/`\n"                                                                    // 6
-             "- `glare/wave/psf.*`, `gl/gl_fft.h`, `glare/gl/fft.h`, `psf_gone.*`, `shaders/`, `kernels/`\n"      // 7
+             "- `psf.*`, `gl/gl_fft.h`, `gl_fft.h`, `psf_gone.*`, `shaders/`, `kernels/`\n"      // 7
              "- `trial_run.cpp` is runner's, `runner/session/trial_run.cpp` is from the root\n"   // 8
              "### `runner/`\n"                                                                   // 9
              "- `session/trial_record.h`, `trial_run.cpp`, `cli/`\n"                             // 10
@@ -516,25 +516,25 @@ TEST(ArchitectureDocs, ACitedPathThatDoesNotExistIsNamedWithFileAndLine) {
   const fs::path root = scratch.path();
   write_small_tree(root);
   write_file(root / "README.md", "# glarelab\n");
-  write_file(root / "glare/wave/psf.h",
+  write_file(root / "glare/psf.h",
              "#pragma once\n"
-             "// The image contract (DESIGN.md), see glare/wave/psf.cpp and docs/STEREO.md.\n"
+             "// The image contract (DESIGN.md), see glare/psf.cpp and docs/STEREO.md.\n"
              "int f();  // tests/psf_test.cpp checks it; tests/glare_*_test.cpp are patterns.\n"
-             "const char* url = \"see glare/not_a_comment.h // nor glare/in_a_string.h\";  // '\"' glare/wave/psf.h\n");
+             "const char* url = \"see glare/not_a_comment.h // nor glare/in_a_string.h\";  // '\"' glare/psf.h\n");
   write_file(root / "runner/store/result_store.h", "// Contract (docs/DATABASE.md, ../DESIGN.md, README.md).\n");
-  write_file(root / "tests/layering_test.cpp", "// Reads glare/wave/psf.*, stimuli/layout.h and glare/gone.*.\n");
+  write_file(root / "tests/layering_test.cpp", "// Reads glare/psf.*, stimuli/layout.h and glare/gone.*.\n");
   write_file(root / "stimuli/shaders/blur.comp", "#version 450\n// the weights of glare/gl/gl_blur.h.\n");
   write_file(root / "scripts/setup.sh", "#!/bin/sh\necho $# # runs scripts/build.sh, then docs/STEREO.md.\n");
   write_file(root / "CMakeLists.txt", "# Layers (docs/LAYERS.md).\nset(x a#glare/hash.h)\n");
-  write_file(root / "examples/demo.toml", "# The eye of glare/eye/eye_model.h.\nname = \"glare/x.h\"\n");
+  write_file(root / "examples/demo.toml", "# The eye of glare/eye_model.h.\nname = \"glare/x.h\"\n");
   write_file(root / "examples/notes.txt", "// glare/not_a_source_file.h\n");
-  write_file(root / kDocument, "# Architecture\nAs runner/cli/gone.cpp says, `glare/wave/psf.h` is here.\n");
+  write_file(root / kDocument, "# Architecture\nAs runner/cli/gone.cpp says, `glare/psf.h` is here.\n");
   const std::vector<std::string> expected = {
       "CMakeLists.txt:1: cites docs/LAYERS.md, which is not in the repository",
       "docs/ARCHITECTURE.md:2: cites runner/cli/gone.cpp, which is not in the repository",
-      "examples/demo.toml:1: cites glare/eye/eye_model.h, which is not in the repository",
-      "glare/wave/psf.h:2: cites DESIGN.md, which is not in the repository",
-      "glare/wave/psf.h:3: cites tests/psf_test.cpp, which is not in the repository",
+      "examples/demo.toml:1: cites glare/eye_model.h, which is not in the repository",
+      "glare/psf.h:2: cites DESIGN.md, which is not in the repository",
+      "glare/psf.h:3: cites tests/psf_test.cpp, which is not in the repository",
       "runner/store/result_store.h:1: cites docs/DATABASE.md, which is not in the repository",
       "runner/store/result_store.h:1: cites DESIGN.md, which is not in the repository",
       "scripts/setup.sh:2: cites scripts/build.sh, which is not in the repository",
