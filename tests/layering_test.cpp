@@ -42,11 +42,20 @@ const std::set<std::string>& glare_parameter_headers() {
   return headers;
 }
 
-// Every upward include under `root`, as "FILE:LINE: LAYER may not include TARGET" (FILE relative
-// to root), in path order.
-std::vector<std::string> layering_violations(const fs::path& root) {
+// One include of the tree: the including file (relative to root), its layer, the line number and
+// the included path.
+struct TreeInclude {
+  std::string file;
+  std::string layer;
+  int line = 0;
+  std::string target;
+};
+
+// Every `#include "..."` of the layers' .h and .cpp files under `root`, layer by layer in kLayers'
+// order, files in path order, lines in order.
+std::vector<TreeInclude> tree_includes(const fs::path& root) {
   static const std::regex include_line(R"(^\s*#\s*include\s*"([^"]+)\")");
-  std::vector<std::string> violations;
+  std::vector<TreeInclude> includes;
   for (const std::string& layer : kLayers) {
     if (!fs::is_directory(root / layer)) continue;
     std::vector<fs::path> files;
@@ -60,19 +69,34 @@ std::vector<std::string> layering_violations(const fs::path& root) {
       std::string line;
       for (int number = 1; std::getline(in, line); ++number) {
         std::smatch match;
-        if (!std::regex_search(line, match, include_line)) continue;
-        const std::string target = match[1];
-        const std::string target_layer = target.substr(0, target.find('/'));
-        if (target.find('/') == std::string::npos ||
-            std::find(kLayers.begin(), kLayers.end(), target_layer) == kLayers.end())
-          continue;  // a generated or system header, not one of the layers
-        bool allowed = allowed_layers().at(layer).contains(target_layer);
-        if (layer == "protocols" && target_layer == "glare") allowed = glare_parameter_headers().contains(target);
-        if (!allowed)
-          violations.push_back(fs::relative(file, root).string() + ":" + std::to_string(number) + ": " + layer +
-                               " may not include " + target);
+        if (std::regex_search(line, match, include_line))
+          includes.push_back({fs::relative(file, root).string(), layer, number, match[1]});
       }
     }
+  }
+  return includes;
+}
+
+// The layer an included path belongs to, or empty for a generated or system header.
+std::string layer_of(const std::string& target) {
+  if (target.find('/') == std::string::npos) return {};
+  const std::string folder = target.substr(0, target.find('/'));
+  return std::find(kLayers.begin(), kLayers.end(), folder) == kLayers.end() ? std::string() : folder;
+}
+
+// Every upward include under `root`, as "FILE:LINE: LAYER may not include TARGET" (FILE relative
+// to root), in path order.
+std::vector<std::string> layering_violations(const fs::path& root) {
+  std::vector<std::string> violations;
+  for (const TreeInclude& include : tree_includes(root)) {
+    const std::string target_layer = layer_of(include.target);
+    if (target_layer.empty()) continue;
+    bool allowed = allowed_layers().at(include.layer).contains(target_layer);
+    if (include.layer == "protocols" && target_layer == "glare")
+      allowed = glare_parameter_headers().contains(include.target);
+    if (!allowed)
+      violations.push_back(include.file + ":" + std::to_string(include.line) + ": " + include.layer +
+                           " may not include " + include.target);
   }
   return violations;
 }
@@ -109,30 +133,13 @@ std::map<std::string, std::set<std::string>> public_faces(const fs::path& docume
 // order. core/ has no line: it is public whole.
 std::vector<std::string> public_face_violations(const fs::path& root,
                                                 const std::map<std::string, std::set<std::string>>& faces) {
-  static const std::regex include_line(R"(^\s*#\s*include\s*"([^"]+)\")");
   std::vector<std::string> violations;
-  for (const std::string& layer : kLayers) {
-    if (!fs::is_directory(root / layer)) continue;
-    std::vector<fs::path> files;
-    for (const auto& entry : fs::recursive_directory_iterator(root / layer)) {
-      const std::string extension = entry.path().extension().string();
-      if (entry.is_regular_file() && (extension == ".h" || extension == ".cpp")) files.push_back(entry.path());
-    }
-    std::sort(files.begin(), files.end());
-    for (const fs::path& file : files) {
-      std::ifstream in(file);
-      std::string line;
-      for (int number = 1; std::getline(in, line); ++number) {
-        std::smatch match;
-        if (!std::regex_search(line, match, include_line)) continue;
-        const std::string target = match[1];
-        const std::string target_layer = target.substr(0, target.find('/'));
-        const auto face = faces.find(target_layer);
-        if (target_layer == layer || face == faces.end() || face->second.contains(target)) continue;
-        violations.push_back(fs::relative(file, root).string() + ":" + std::to_string(number) + ": " + target +
-                             " is not on " + target_layer + "'s public face");
-      }
-    }
+  for (const TreeInclude& include : tree_includes(root)) {
+    const std::string target_layer = layer_of(include.target);
+    const auto face = faces.find(target_layer);
+    if (target_layer == include.layer || face == faces.end() || face->second.contains(include.target)) continue;
+    violations.push_back(include.file + ":" + std::to_string(include.line) + ": " + include.target + " is not on " +
+                         target_layer + "'s public face");
   }
   return violations;
 }
