@@ -168,14 +168,20 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
 // interval, which is shortened by the time they took: the time from a trial's last stimulus flip
 // to the next trial's first is the same whether the next trial's glare is prepared, static or
 // absent (within the pacing's few periods), not longer by the preparation (20 frames of dynamic
-// glare: about a dozen periods here).
+// glare: about a dozen periods here). The host may stall (a loaded machine stops the process for
+// 100 ms and more now and then); every flip that came late is logged as late (frames.dropped, more
+// than 1.5 periods after the flip before it), so what a stall adds is read from the log: each
+// gap less the lateness of the late flips within it must stay within the pacing's few periods of
+// the others. Preparation the interval did not absorb would stay in the gap unexplained, since the
+// flip that follows the preparation is not a late flip. The interval is 1.5 s, several times what
+// the preparation takes here even when other work shares the cores, so that it can absorb it all.
 TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) {
   const test::ScratchDir scratch;
   const auto dir = scratch.path();
   const auto experiment = test::demo_variant(
       dir, {{"stimulus_frames", "stimulus_frames = 20"},
             {"grid_px", "grid_px = 256\npresentation = \"prepared\""},
-            {"dynamic", "dynamic = 0.25\n\n[presentation]\nisi_duration_s = 0.5"}});
+            {"dynamic", "dynamic = 0.25\n\n[presentation]\nisi_duration_s = 1.5"}});
   const auto db = dir / "paced.db";
   const auto run = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
                                        "--db", db.string(), "--clock", "real", "--stop-after", "6"},
@@ -185,25 +191,45 @@ TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) 
   const ResultStore store(db.string());
   const std::vector<TrialRecord> trials = store.load_trials(store.load_sessions().at(0).id);
   ASSERT_EQ(trials.size(), 6u);
-  std::vector<double> gaps_s;
+  std::vector<double> gaps_s, unexplained_s;
   std::string described;
   bool dynamic_seen = false;
   for (std::size_t t = 1; t < trials.size(); ++t) {
     // Stimulus flips only (frame_index >= 0; the inter-trial flips are numbered -1, -2, ...).
+    const std::vector<FrameRecord> before = store.load_frames(trials[t - 1].id);
+    const std::vector<FrameRecord> after = store.load_frames(trials[t].id);
     double last_s = -1e9, first_s = 1e9;
-    for (const FrameRecord& frame : store.load_frames(trials[t - 1].id))
+    for (const FrameRecord& frame : before)
       if (frame.frame_index >= 0) last_s = std::max(last_s, frame.flip_s);
-    for (const FrameRecord& frame : store.load_frames(trials[t].id))
+    for (const FrameRecord& frame : after)
       if (frame.frame_index >= 0) first_s = std::min(first_s, frame.flip_s);
     ASSERT_GT(last_s, -1e9);
     ASSERT_LT(first_s, 1e9);
+    // The flips between (the answer, feedback, inter-trial and fixation flips, and the first
+    // stimulus flip), in flip order: a late one adds its interval's excess over one period.
+    std::vector<FrameRecord> between;
+    for (const FrameRecord& frame : before)
+      if (frame.flip_s > last_s) between.push_back(frame);
+    for (const FrameRecord& frame : after)
+      if (frame.flip_s <= first_s) between.push_back(frame);
+    std::sort(between.begin(), between.end(),
+              [](const FrameRecord& a, const FrameRecord& b) { return a.flip_s < b.flip_s; });
+    double late_excess_s = 0.0, previous_s = last_s;
+    int late_flips = 0;
+    for (const FrameRecord& frame : between) {
+      if (frame.dropped) late_excess_s += frame.flip_s - previous_s - period_s, ++late_flips;
+      previous_s = frame.flip_s;
+    }
     gaps_s.push_back(first_s - last_s);
+    unexplained_s.push_back(gaps_s.back() - late_excess_s);
     dynamic_seen = dynamic_seen || trials[t].condition.find("\"glare_a\":\"dynamic\"") != std::string::npos;
-    described += " " + std::to_string(1000.0 * gaps_s.back()) + " ms (" + trials[t].condition.substr(0, 24) + ")";
+    described += " " + std::to_string(1000.0 * gaps_s.back()) + " ms, " + std::to_string(late_flips) +
+                 " late flip(s) adding " + std::to_string(1000.0 * late_excess_s) + " ms (" +
+                 trials[t].condition.substr(0, 24) + ");";
   }
   ASSERT_TRUE(dynamic_seen) << described;
-  const auto [shortest, longest] = std::minmax_element(gaps_s.begin(), gaps_s.end());
-  EXPECT_GE(*shortest, 0.5);  // the inter-trial interval itself
+  EXPECT_GE(*std::min_element(gaps_s.begin(), gaps_s.end()), 1.5);  // the inter-trial interval itself
+  const auto [shortest, longest] = std::minmax_element(unexplained_s.begin(), unexplained_s.end());
   EXPECT_LE(*longest - *shortest, 4.0 * period_s) << "gaps:" << described;
 }
 
