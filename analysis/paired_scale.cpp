@@ -6,16 +6,12 @@
 #include <map>
 #include <sstream>
 
+#include "analysis/report_numbers.h"
+
 namespace glarelab::analysis {
 namespace {
 
 constexpr double kCharWidth_px = 7.0;  // a generous average advance of 11 px sans-serif
-
-std::string fixed(double value, int digits) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
 
 // White to a colour-blind-safe end (ColorBrewer PuOr: orange below 1/2, purple above), at most 70 %
 // of the way so the black text on it stays legible.

@@ -3,16 +3,11 @@
 #include <cstdio>
 #include <sstream>
 
+#include "analysis/report_numbers.h"
 #include "analysis/svg_plot.h"
 
 namespace glarelab::analysis {
 namespace {
-
-std::string fixed(double value, int digits = 3) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
 
 std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
 

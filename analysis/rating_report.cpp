@@ -5,24 +5,13 @@
 #include <sstream>
 #include <vector>
 
+#include "analysis/report_numbers.h"
 #include "analysis/statistics.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
 
 namespace glarelab::analysis {
 namespace {
-
-std::string fixed(double value, int digits = 3) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
-std::string general(double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.4g", value);
-  return text;
-}
 
 std::string distribution_text(const RatingDistribution& r) {
   std::string text;

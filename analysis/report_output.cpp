@@ -10,6 +10,7 @@
 #include "analysis/graded_choice_report.h"
 #include "analysis/paired_scale_report.h"
 #include "analysis/rating_report.h"
+#include "analysis/report_numbers.h"
 #include "analysis/session_observer_eye.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
@@ -18,18 +19,6 @@
 
 namespace glarelab::analysis {
 namespace {
-
-std::string fixed(double value, int digits = 3) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
-std::string general(double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.4g", value);
-  return text;
-}
 
 std::string describe(const TestResult& test, const char* symbol) {
   if (!test.ok()) return "not computed: " + test.unavailable;
