@@ -399,17 +399,6 @@ std::vector<std::string> missing_cited_paths(const Tree& tree) {
   return violations;
 }
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string text;
-  for (const std::string& line : lines) text += line + "\n";
-  return text;
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << text;
-}
-
 const Tree& repository() {
   static const Tree tree = read_tree(GLARELAB_SOURCE_DIR);
   return tree;
@@ -418,42 +407,42 @@ const Tree& repository() {
 TEST(ArchitectureDocs, EveryModuleIsListedUnderItsFolderHeading) {
   for (const std::string_view layer : kLayers) ASSERT_TRUE(repository().top_folders.contains(std::string(layer))) << layer;
   const std::vector<std::string> violations = unlisted_modules(repository());
-  EXPECT_TRUE(violations.empty()) << "modules missing from docs/ARCHITECTURE.md:\n" << joined(violations);
+  EXPECT_TRUE(violations.empty()) << "modules missing from docs/ARCHITECTURE.md:\n" << test::joined(violations);
 }
 
 TEST(ArchitectureDocs, EveryFileTheDocumentNamesExists) {
   const std::vector<std::string> violations = missing_named_files(repository());
-  EXPECT_TRUE(violations.empty()) << joined(violations);
+  EXPECT_TRUE(violations.empty()) << test::joined(violations);
 }
 
 TEST(ArchitectureDocs, EveryRepositoryPathACommentCitesExists) {
   const std::vector<std::string> violations = missing_cited_paths(repository());
-  EXPECT_TRUE(violations.empty()) << joined(violations);
+  EXPECT_TRUE(violations.empty()) << test::joined(violations);
 }
 
 // A small tree: two layers' headings, modules in folders and subfolders, shaders.
 void write_small_tree(const fs::path& root) {
   for (const std::string_view layer : kLayers) fs::create_directories(root / layer);
-  write_file(root / "glare/psf.h", "#pragma once\n");
-  write_file(root / "glare/psf.cpp", "#include \"glare/psf.h\"\n");
-  write_file(root / "glare/gl/gl_fft.h", "#pragma once\n");
-  write_file(root / "glare/shaders/sum_reduce.comp", "#version 450\n");
-  write_file(root / "runner/session/trial_run.cpp", "\n");
-  write_file(root / "runner/session/trial_record.h", "#pragma once\n");
-  write_file(root / "runner/main.cpp", "\n");
-  write_file(root / "stimuli/layout.h", "#pragma once\n");
-  write_file(root / "tests/layering_test.cpp", "\n");
-  write_file(root / "docs/STEREO.md", "# Stereo\n");
+  test::write_file(root / "glare/psf.h", "#pragma once\n");
+  test::write_file(root / "glare/psf.cpp", "#include \"glare/psf.h\"\n");
+  test::write_file(root / "glare/gl/gl_fft.h", "#pragma once\n");
+  test::write_file(root / "glare/shaders/sum_reduce.comp", "#version 450\n");
+  test::write_file(root / "runner/session/trial_run.cpp", "\n");
+  test::write_file(root / "runner/session/trial_record.h", "#pragma once\n");
+  test::write_file(root / "runner/main.cpp", "\n");
+  test::write_file(root / "stimuli/layout.h", "#pragma once\n");
+  test::write_file(root / "tests/layering_test.cpp", "\n");
+  test::write_file(root / "docs/STEREO.md", "# Stereo\n");
 }
 
 TEST(ArchitectureDocs, AnUnlistedModuleIsNamedWithItsHeadingsLine) {
   test::ScratchDir scratch;
   const fs::path root = scratch.path();
   write_small_tree(root);
-  write_file(root / "analysis/report.cpp", "\n");
-  write_file(root / "core/image.h", "#pragma once\n");
-  write_file(root / "stimuli/shaders/fullscreen.vert", "#version 450\n");
-  write_file(root / kDocument,
+  test::write_file(root / "analysis/report.cpp", "\n");
+  test::write_file(root / "core/image.h", "#pragma once\n");
+  test::write_file(root / "stimuli/shaders/fullscreen.vert", "#version 450\n");
+  test::write_file(root / kDocument,
              "# Architecture\n"                                                   // 1
              "### `core/`\n"                                                      // 2
              "- `image.*`: images.\n"                                             // 3
@@ -475,10 +464,10 @@ TEST(ArchitectureDocs, AnUnlistedModuleIsNamedWithItsHeadingsLine) {
       "docs/ARCHITECTURE.md:4: ### `runner/` does not list runner/session/trial_record (runner/session/trial_record.h)",
       "docs/ARCHITECTURE.md:9: ### `analysis/` does not list analysis/report (analysis/report.cpp)",
   };
-  EXPECT_EQ(unlisted_modules(read_tree(root)), expected) << joined(unlisted_modules(read_tree(root)));
+  EXPECT_EQ(unlisted_modules(read_tree(root)), expected) << test::joined(unlisted_modules(read_tree(root)));
 
   // A missing heading is named too.
-  write_file(root / kDocument, "### `core/`\n- `image.h`\n");
+  test::write_file(root / kDocument, "### `core/`\n- `image.h`\n");
   const std::vector<std::string> violations = unlisted_modules(read_tree(root));
   ASSERT_FALSE(violations.empty());
   EXPECT_EQ(violations.front(), "docs/ARCHITECTURE.md:1: no heading ### `glare/`");
@@ -488,7 +477,7 @@ TEST(ArchitectureDocs, ANamedFileThatDoesNotExistIsNamedWithItsLine) {
   test::ScratchDir scratch;
   const fs::path root = scratch.path();
   write_small_tree(root);
-  write_file(root / kDocument,
+  test::write_file(root / kDocument,
              "# Architecture\n"                                                                  // 1
              "`glare/psf.h` and `docs/STEREO.md` exist; `frames.dropped` and `[glare] a.h` are no file names.\n"  // 2
              "```\n"                                                                             // 3
@@ -508,27 +497,27 @@ TEST(ArchitectureDocs, ANamedFileThatDoesNotExistIsNamedWithItsLine) {
       "docs/ARCHITECTURE.md:10: names `cli/`, which is not in the repository",
       "docs/ARCHITECTURE.md:12: names `test_support.h`, which is not in the repository",
   };
-  EXPECT_EQ(missing_named_files(read_tree(root)), expected) << joined(missing_named_files(read_tree(root)));
+  EXPECT_EQ(missing_named_files(read_tree(root)), expected) << test::joined(missing_named_files(read_tree(root)));
 }
 
 TEST(ArchitectureDocs, ACitedPathThatDoesNotExistIsNamedWithFileAndLine) {
   test::ScratchDir scratch;
   const fs::path root = scratch.path();
   write_small_tree(root);
-  write_file(root / "README.md", "# glarelab\n");
-  write_file(root / "glare/psf.h",
+  test::write_file(root / "README.md", "# glarelab\n");
+  test::write_file(root / "glare/psf.h",
              "#pragma once\n"
              "// The image contract (DESIGN.md), see glare/psf.cpp and docs/STEREO.md.\n"
              "int f();  // tests/psf_test.cpp checks it; tests/glare_*_test.cpp are patterns.\n"
              "const char* url = \"see glare/not_a_comment.h // nor glare/in_a_string.h\";  // '\"' glare/psf.h\n");
-  write_file(root / "runner/store/result_store.h", "// Contract (docs/DATABASE.md, ../DESIGN.md, README.md).\n");
-  write_file(root / "tests/layering_test.cpp", "// Reads glare/psf.*, stimuli/layout.h and glare/gone.*.\n");
-  write_file(root / "stimuli/shaders/blur.comp", "#version 450\n// the weights of glare/gl/gl_blur.h.\n");
-  write_file(root / "scripts/setup.sh", "#!/bin/sh\necho $# # runs scripts/build.sh, then docs/STEREO.md.\n");
-  write_file(root / "CMakeLists.txt", "# Layers (docs/LAYERS.md).\nset(x a#glare/hash.h)\n");
-  write_file(root / "examples/demo.toml", "# The eye of glare/eye_model.h.\nname = \"glare/x.h\"\n");
-  write_file(root / "examples/notes.txt", "// glare/not_a_source_file.h\n");
-  write_file(root / kDocument, "# Architecture\nAs runner/cli/gone.cpp says, `glare/psf.h` is here.\n");
+  test::write_file(root / "runner/store/result_store.h", "// Contract (docs/DATABASE.md, ../DESIGN.md, README.md).\n");
+  test::write_file(root / "tests/layering_test.cpp", "// Reads glare/psf.*, stimuli/layout.h and glare/gone.*.\n");
+  test::write_file(root / "stimuli/shaders/blur.comp", "#version 450\n// the weights of glare/gl/gl_blur.h.\n");
+  test::write_file(root / "scripts/setup.sh", "#!/bin/sh\necho $# # runs scripts/build.sh, then docs/STEREO.md.\n");
+  test::write_file(root / "CMakeLists.txt", "# Layers (docs/LAYERS.md).\nset(x a#glare/hash.h)\n");
+  test::write_file(root / "examples/demo.toml", "# The eye of glare/eye_model.h.\nname = \"glare/x.h\"\n");
+  test::write_file(root / "examples/notes.txt", "// glare/not_a_source_file.h\n");
+  test::write_file(root / kDocument, "# Architecture\nAs runner/cli/gone.cpp says, `glare/psf.h` is here.\n");
   const std::vector<std::string> expected = {
       "CMakeLists.txt:1: cites docs/LAYERS.md, which is not in the repository",
       "docs/ARCHITECTURE.md:2: cites runner/cli/gone.cpp, which is not in the repository",
@@ -541,7 +530,7 @@ TEST(ArchitectureDocs, ACitedPathThatDoesNotExistIsNamedWithFileAndLine) {
       "stimuli/shaders/blur.comp:2: cites glare/gl/gl_blur.h, which is not in the repository",
       "tests/layering_test.cpp:1: cites glare/gone.*, which is not in the repository",
   };
-  EXPECT_EQ(missing_cited_paths(read_tree(root)), expected) << joined(missing_cited_paths(read_tree(root)));
+  EXPECT_EQ(missing_cited_paths(read_tree(root)), expected) << test::joined(missing_cited_paths(read_tree(root)));
 }
 
 }  // namespace

@@ -144,22 +144,11 @@ std::vector<std::string> public_face_violations(const fs::path& root,
   return violations;
 }
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string text;
-  for (const std::string& line : lines) text += line + "\n";
-  return text;
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << text;
-}
-
 TEST(Layering, EveryIncludeOfTheTreeRunsDownTheLayers) {
   const fs::path root = GLARELAB_SOURCE_DIR;
   for (const std::string& layer : kLayers) ASSERT_TRUE(fs::is_directory(root / layer)) << layer;
   const std::vector<std::string> violations = layering_violations(root);
-  EXPECT_TRUE(violations.empty()) << "includes that run against docs/ARCHITECTURE.md:\n" << joined(violations);
+  EXPECT_TRUE(violations.empty()) << "includes that run against docs/ARCHITECTURE.md:\n" << test::joined(violations);
 }
 
 TEST(Layering, APlantedUpwardIncludeIsNamedWithFileAndLine) {
@@ -167,14 +156,14 @@ TEST(Layering, APlantedUpwardIncludeIsNamedWithFileAndLine) {
   // each forbidden kind, planted at known lines.
   test::ScratchDir scratch;
   const fs::path root = scratch.path();
-  write_file(root / "core/image.h", "#pragma once\n#include <vector>\n");
-  write_file(root / "glare/wave/psf.cpp", "#include \"glare/wave/psf.h\"\n#include \"core/image.h\"\n#include \"runner/random.h\"\n");
-  write_file(root / "stimuli/frame.cpp", "// frame\n#include \"glare/wave/psf.h\"\n#include \"protocols/experiment.h\"\n");
-  write_file(root / "protocols/glare_config.h",
+  test::write_file(root / "core/image.h", "#pragma once\n#include <vector>\n");
+  test::write_file(root / "glare/wave/psf.cpp", "#include \"glare/wave/psf.h\"\n#include \"core/image.h\"\n#include \"runner/random.h\"\n");
+  test::write_file(root / "stimuli/frame.cpp", "// frame\n#include \"glare/wave/psf.h\"\n#include \"protocols/experiment.h\"\n");
+  test::write_file(root / "protocols/glare_config.h",
              "#include \"glare/glare_spec.h\"\n#include \"glare/wave/psf.h\"\n#include <toml++/toml.h>\n");
-  write_file(root / "analysis/report.cpp", "#include \"analysis/report.h\"\n  #  include \"stimuli/image.h\"\n");
-  write_file(root / "core/gl/owner.h", "#include \"glare/gl/fft.h\"\n");
-  write_file(root / "runner/main.cpp", "#include \"stimuli/frame.h\"\n#include \"analysis/report.h\"\n");
+  test::write_file(root / "analysis/report.cpp", "#include \"analysis/report.h\"\n  #  include \"stimuli/image.h\"\n");
+  test::write_file(root / "core/gl/owner.h", "#include \"glare/gl/fft.h\"\n");
+  test::write_file(root / "runner/main.cpp", "#include \"stimuli/frame.h\"\n#include \"analysis/report.h\"\n");
   const std::vector<std::string> expected = {
       "core/gl/owner.h:1: core may not include glare/gl/fft.h",
       "glare/wave/psf.cpp:3: glare may not include runner/random.h",
@@ -182,7 +171,7 @@ TEST(Layering, APlantedUpwardIncludeIsNamedWithFileAndLine) {
       "protocols/glare_config.h:2: protocols may not include glare/wave/psf.h",
       "analysis/report.cpp:2: analysis may not include stimuli/image.h",
   };
-  EXPECT_EQ(layering_violations(root), expected) << joined(layering_violations(root));
+  EXPECT_EQ(layering_violations(root), expected) << test::joined(layering_violations(root));
 }
 
 TEST(Layering, IncludesAcrossLayersStayOnThePublicFaces) {
@@ -194,19 +183,19 @@ TEST(Layering, IncludesAcrossLayersStayOnThePublicFaces) {
     for (const std::string& header : headers) EXPECT_TRUE(fs::is_regular_file(root / header)) << header;
   const std::vector<std::string> violations = public_face_violations(root, faces);
   EXPECT_TRUE(violations.empty()) << "includes of headers that docs/ARCHITECTURE.md does not list as public:\n"
-                                  << joined(violations);
+                                  << test::joined(violations);
 }
 
 TEST(Layering, AnIncludeBehindAPublicFaceIsNamedWithFileAndLine) {
   test::ScratchDir scratch;
   const fs::path root = scratch.path();
-  write_file(root / "docs/ARCHITECTURE.md",
+  test::write_file(root / "docs/ARCHITECTURE.md",
              "# A\n\n**Public faces.** Lines:\n- `glare/`: `glare/glare_spec.h`,\n  `glare/wave/psf.h`.\n"
              "- `stimuli/`: `stimuli/frame.h`.\n\n**Why.** `glare/cpu/fft.h` is not a face.\n");
-  write_file(root / "glare/wave/psf.cpp", "#include \"glare/cpu/fft.h\"\n");
-  write_file(root / "stimuli/frame.cpp",
+  test::write_file(root / "glare/wave/psf.cpp", "#include \"glare/cpu/fft.h\"\n");
+  test::write_file(root / "stimuli/frame.cpp",
              "#include \"glare/wave/psf.h\"\n#include \"glare/cpu/fft.h\"\n#include \"core/image.h\"\n");
-  write_file(root / "runner/main.cpp",
+  test::write_file(root / "runner/main.cpp",
              "#include \"stimuli/frame.h\"\n#include \"stimuli/inner.h\"\n#include \"protocols/any.h\"\n");
   const auto faces = public_faces(root / "docs/ARCHITECTURE.md");
   const std::map<std::string, std::set<std::string>> expected_faces = {
@@ -216,7 +205,7 @@ TEST(Layering, AnIncludeBehindAPublicFaceIsNamedWithFileAndLine) {
       "stimuli/frame.cpp:2: glare/cpu/fft.h is not on glare's public face",
       "runner/main.cpp:2: stimuli/inner.h is not on stimuli's public face",
   };
-  EXPECT_EQ(public_face_violations(root, faces), expected) << joined(public_face_violations(root, faces));
+  EXPECT_EQ(public_face_violations(root, faces), expected) << test::joined(public_face_violations(root, faces));
 }
 
 }  // namespace

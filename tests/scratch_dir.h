@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 namespace glarelab::test {
 
@@ -54,6 +55,20 @@ class ScratchDir {
 inline void write_bytes(const std::string& path, const std::string& bytes) {
   std::ofstream stream(path, std::ios::binary | std::ios::trunc);
   stream << bytes;
+}
+
+// Writes `text` to `path`, making the folders above it: a file of a small tree planted in a scratch
+// directory (the tests that read the source tree plant their violations so).
+inline void write_file(const std::filesystem::path& path, const std::string& text) {
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// The lines, each ended by a newline: a list of findings in a failure message.
+inline std::string joined(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  return text;
 }
 
 inline std::string read_bytes(const std::string& path) {

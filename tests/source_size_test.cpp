@@ -383,17 +383,6 @@ std::vector<std::string> size_violations(const fs::path& root) {
   return violations;
 }
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string text;
-  for (const std::string& line : lines) text += line + "\n";
-  return text;
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path, std::ios::binary) << text;
-}
-
 // `count` lines of `line`.
 std::string lines_of(int count, const std::string& line) {
   std::string text;
@@ -406,7 +395,7 @@ TEST(SourceSize, NoFileOrFunctionOfTheTreeIsTooLong) {
   for (const std::string& folder : kFolders) ASSERT_TRUE(fs::is_directory(root / folder)) << folder;
   const std::vector<std::string> violations = size_violations(root);
   EXPECT_TRUE(violations.empty()) << "split these by concept (static helpers, or a second file):\n"
-                                  << joined(violations);
+                                  << test::joined(violations);
 }
 
 TEST(SourceSize, PlantedLongFilesAndFunctionsAreNamedWithFileAndLine) {
@@ -414,15 +403,15 @@ TEST(SourceSize, PlantedLongFilesAndFunctionsAreNamedWithFileAndLine) {
   const fs::path root = scratch.path();
   // Files: one line over and one at the limit; the limit does not apply to tests/, to folders
   // outside kFolders or to other extensions.
-  write_file(root / "core/long.h", lines_of(501, "// a line"));
-  write_file(root / "core/at_limit.h", lines_of(500, "// a line"));
-  write_file(root / "scripts/unterminated.cpp", lines_of(500, "// a line") + "// the 501st, with no newline");
-  write_file(root / "tests/long_test.cpp", lines_of(900, "// a line"));
-  write_file(root / "examples/long.cpp", lines_of(900, "// a line"));
-  write_file(root / "glare/notes.txt", lines_of(900, "a line"));
+  test::write_file(root / "core/long.h", lines_of(501, "// a line"));
+  test::write_file(root / "core/at_limit.h", lines_of(500, "// a line"));
+  test::write_file(root / "scripts/unterminated.cpp", lines_of(500, "// a line") + "// the 501st, with no newline");
+  test::write_file(root / "tests/long_test.cpp", lines_of(900, "// a line"));
+  test::write_file(root / "examples/long.cpp", lines_of(900, "// a line"));
+  test::write_file(root / "glare/notes.txt", lines_of(900, "a line"));
 
   // Functions. Line 1 is the name's line, the body's lines follow, then the closing brace.
-  write_file(root / "glare/free.cpp",
+  test::write_file(root / "glare/free.cpp",
              "#include <vector>\n"                                                       // 1
              "namespace glarelab {\n"                                                    // 2
              "int at_limit(int x) {\n" + lines_of(148, "  x += 1;") + "  return x; }\n"  // 3..152: 150 lines
@@ -431,7 +420,7 @@ TEST(SourceSize, PlantedLongFilesAndFunctionsAreNamedWithFileAndLine) {
              "}  // namespace glarelab\n");
   // A member function in its class, a constructor whose initialiser list ends in a brace, and a
   // const noexcept member with a trailing return type; the class itself is longer than 150 lines.
-  write_file(root / "stimuli/members.h",
+  test::write_file(root / "stimuli/members.h",
              "#pragma once\n"                                                          // 1
              "struct Frame {\n"                                                        // 2
              "  Frame(int w, int h)\n"                                                 // 3
@@ -439,14 +428,14 @@ TEST(SourceSize, PlantedLongFilesAndFunctionsAreNamedWithFileAndLine) {
              "  auto area() const noexcept -> long {\n" + lines_of(150, "    ;") + "    return w_; }\n"  // 154..305
              "  int w_;\n  int h_;\n};\n");
   // A lambda's lines count in the function that holds it, and a table of braces is no function.
-  write_file(root / "runner/lambda.cpp",
+  test::write_file(root / "runner/lambda.cpp",
              "const int kTable[] = {\n" + lines_of(200, "  1,") + "};\n"              // 1..202
              "void run() {\n"                                                          // 203
              "  const auto step = [&](int k) {\n" + lines_of(150, "    (void)k;") + "  };\n"  // 204..355
              "  step(1);\n}\n");                                                        // 356..357
   // Braces in comments, strings, raw strings and character literals, a digit separator and a
   // preprocessor line: read literally, they would end the function early or leave it unbalanced.
-  write_file(root / "protocols/literals.cpp",
+  test::write_file(root / "protocols/literals.cpp",
              "int parse() {\n"                                                         // 1
              "  // } a brace in a comment\n"                                           // 2
              "  /* } and in a block\n  comment } */\n"                                 // 3-4
@@ -456,13 +445,13 @@ TEST(SourceSize, PlantedLongFilesAndFunctionsAreNamedWithFileAndLine) {
              "  const int million = 1'000'000;\n"                                      // 9
              "#define CLOSE }\n" + lines_of(150, "  ;") + "  return million + c + q + *s + *r;\n}\n");  // 10..162
   // A shader's main.
-  write_file(root / "glare/shaders/long.comp",
+  test::write_file(root / "glare/shaders/long.comp",
              "#version 450\nlayout(local_size_x = 8) in;\nvoid main() {\n" + lines_of(150, "  ;") + "}\n");  // 3..154
   // Control blocks and a local lambda without parameters stay inside their function, which is short.
-  write_file(root / "analysis/short.cpp",
+  test::write_file(root / "analysis/short.cpp",
              "int f(int x) {\n  if (x > 0) {\n    x = 1;\n  }\n  auto g = [] { return 2; };\n  return x + g();\n}\n");
   // Unbalanced once stripped: named, not silently mis-measured.
-  write_file(root / "bench/broken.cpp", "void f() {\n  if (true) {\n}\n");
+  test::write_file(root / "bench/broken.cpp", "void f() {\n  if (true) {\n}\n");
 
   const std::vector<std::string> expected_violations = {
       "bench/broken.cpp: brackets unbalanced outside comments and strings, functions unmeasured",
@@ -475,7 +464,7 @@ TEST(SourceSize, PlantedLongFilesAndFunctionsAreNamedWithFileAndLine) {
       "stimuli/members.h:3: Frame is 151 lines (over 150)",
       "stimuli/members.h:154: area is 152 lines (over 150)",
   };
-  EXPECT_EQ(size_violations(root), expected_violations) << joined(size_violations(root));
+  EXPECT_EQ(size_violations(root), expected_violations) << test::joined(size_violations(root));
 }
 
 }  // namespace
