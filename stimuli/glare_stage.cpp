@@ -119,14 +119,26 @@ AnalyticGlare& GlareStage::analytic_for(GlareModel model, int width_px, int heig
   auto found = analytic_.find(key);
   if (found != analytic_.end()) return *found->second;
   AnalyticGlareOptions options;
-  options.model = model == GlareModel::hybrid ? spec_.hybrid_far_field : model;
+  // The human eye's far field is CIE 146:2002 for the observer (glare/analytic/hybrid_psf.h).
+  options.model = model == GlareModel::hybrid ? spec_.hybrid_far_field : model == GlareModel::human ? GlareModel::cie : model;
   options.regime = spec_.spencer_regime;
   options.eye = spec_.observer_eye;
   options.geometry = DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm};
   options.width_px = width_px;
   options.height_px = height_px;
-  if (model == GlareModel::hybrid) options.handover = hybrid_handover();
+  if (model == GlareModel::hybrid || model == GlareModel::human) options.handover = hybrid_handover();
   return *analytic_.emplace(key, std::make_unique<AnalyticGlare>(options)).first->second;
+}
+
+const DisplayKernel& GlareStage::human_near_kernel() {
+  if (human_near_kernel_) return *human_near_kernel_;
+  // The unweighted CIE kernel out to the hand-over's outer radius: the rings the near part is
+  // calibrated on (a few hundred pixels, once per session).
+  const int reach = static_cast<int>(std::ceil(hybrid_handover().outer_px)) + 1;
+  human_near_kernel_ = analytic_display_kernel(AnalyticPsf::cie(spec_.observer_eye),
+                                               DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
+                                               reach, reach);
+  return *human_near_kernel_;
 }
 
 GlareStage::~GlareStage() = default;
@@ -372,12 +384,15 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
   if (!wave) return frame;
   r.wing_fraction = psf_wing_fraction(*wave);
-  AnalyticGlare& far = analytic_for(GlareModel::hybrid, frame.width_px, frame.height_px);
+  const bool human = condition_model_ == GlareModel::human;
+  AnalyticGlare& far = analytic_for(condition_model_, frame.width_px, frame.height_px);
   far.adapt(mean_cd_m2);
-  if (spec_.hybrid_far_field == GlareModel::spencer) r.spencer_mixture = far.mixture();
-  // The near part, s w P_wave, convolved as the wave-optics PSF is (cropped to where light reaches);
-  // the far part by the analytic engine; their sum is the hybrid kernel's convolution.
-  const Psf near = hybrid_near_psf(*wave, far.energy_inside_handover(), hybrid_handover());
+  if (!human && spec_.hybrid_far_field == GlareModel::spencer) r.spencer_mixture = far.mixture();
+  // The near part (s w P_wave, or the human eye's g_k w P_wave ring by ring), convolved as the
+  // wave-optics PSF is (cropped to where light reaches); the far part by the analytic engine; their
+  // sum is the hybrid kernel's convolution.
+  const Psf near = human ? calibrated_near_psf(*wave, human_near_kernel(), hybrid_handover())
+                         : hybrid_near_psf(*wave, far.energy_inside_handover(), hybrid_handover());
   ImageRGBA glared = convolve_frame(source, near);
   ImageRGBA far_glare;
   far.convolve(source, far_glare);
@@ -418,7 +433,8 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   }
   if (condition_model_ == GlareModel::spencer || condition_model_ == GlareModel::cie)
     return apply_analytic(frame_cd_m2, source, mean_cd_m2, r);
-  if (condition_model_ == GlareModel::hybrid) return apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
+  if (condition_model_ == GlareModel::hybrid || condition_model_ == GlareModel::human)
+    return apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
 
   std::optional<Psf> psf = wave_psf(mode, time_s, mean_cd_m2, r);
   if (!psf) return frame_cd_m2;

@@ -52,7 +52,7 @@ struct GlareFrameReport {
   bool eye_closed = false;
   GlareModel model = GlareModel::ritschel;
   double gain = 1.0;
-  // Spencer's mixture used (spencer, and the hybrid's Spencer far field).
+  // Spencer's mixture used (spencer, and the hybrid's Spencer far field; the human eye's is CIE's).
   std::optional<spencer::Mixture> spencer_mixture;
   // Upper bound of max_x |glare(x) - frame(x)| / max(frame(x), floor) (see visibility_bound()).
   double visibility_bound = 0.0;
@@ -183,6 +183,9 @@ class GlareStage {
   ImageRGBA apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
                          double mean_cd_m2, GlareFrameReport& r);
   HandoverPixels hybrid_handover() const;
+  // The human eye's CIE kernel near the source, unweighted (calibrated_near_psf's rings), made once.
+  const DisplayKernel& human_near_kernel();
+  std::optional<DisplayKernel> human_near_kernel_;
 
   GlareSpec spec_;
   DisplaySpec display_;

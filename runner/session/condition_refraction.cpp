@@ -158,7 +158,7 @@ void check_condition_refractions(const Experiment& experiment) {
       throw ConfigError(row.where, "condition '" + row.name() + "' glare_model",
                         "the observer's refraction ([observer.refraction] or spectacles) blurs the wave-optics PSF, "
                         "but glare_model '" + to_string(model) +
-                            "' has no pupil to carry it: use \"ritschel\" or \"hybrid\" for this condition, or leave "
+                            "' has no pupil to carry it: use \"human\", \"ritschel\" or \"hybrid\" for this condition, or leave "
                             "the refraction and spectacles out of the experiment");
     // Every wavelength of the spectral PSF carries its own error (the LCA, glare/wave/chromatic_psf.h);
     // the message names the one that needs the finest grid.

@@ -44,12 +44,12 @@ std::unique_ptr<Observer> make_observer(const std::string& spec, const Experimen
                     "unknown observer '" + spec + "' (choose keyboard, simulated or script:FILE)");
 }
 
-// True when a condition with glare uses the wave-optics eye (Ritschel or the hybrid's near part):
+// True when a condition with glare uses the wave-optics eye (Ritschel, or the hybrid's or the human eye's near part):
 // only that PSF has to fit the display's pixel scale; the analytic models integrate over any pixel.
 bool uses_wave_optics_glare(const Experiment& experiment) {
   for (const ConditionRow& row : experiment.conditions) {
     const GlareModel model = glare_model_for(experiment.glare, row);
-    if (model != GlareModel::ritschel && model != GlareModel::hybrid) continue;
+    if (!uses_wave_optics(model)) continue;
     const auto sides = position_glare_modes(row);
     if (sides ? (sides->first != GlareMode::control || sides->second != GlareMode::control)
               : glare_mode_for(experiment.glare, row) != GlareMode::control)
