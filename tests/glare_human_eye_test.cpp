@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -228,6 +229,46 @@ TEST(HumanEye, TheStageFrameIsTheCalibratedNearPartPlusTheCieFarPart) {
   for (std::size_t i = 0; i < glared.rgba.size(); ++i)
     if (i % 4 != 3) worst = std::max(worst, std::abs(static_cast<double>(glared.rgba[i]) - expected.rgba[i]));
   EXPECT_LT(worst, 2e-6 * 5000.0);
+}
+
+// `glarelab psf` with no --model writes the default eye: its profile CSV is the GSF from 0.2 to 5
+// degrees within 0.1 log10 (the image is normalised within itself, so the level is CIE's over the
+// light the image holds); --field-luminance-cd-m2 sets the eye model's pupil, and is refused where
+// no eye model is used.
+TEST(HumanEye, PsfWithoutAModelWritesTheDefaultEye) {
+  test::ScratchDir dir;
+  const auto csv = dir.path() / "human.csv";
+  const auto run = test::run_glarelab({"psf", "--grid", "512", "--degrees-per-pixel", "0.025", "--age-years", "80",
+                                       "--pigmentation", "1", "--field-luminance-cd-m2", "0.01", "--profile-csv",
+                                       csv.string()},
+                                      dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("eye model dynamic at 0.01 cd/m2"), std::string::npos) << run.output;
+  const std::string text = test::read_bytes(csv.string());
+  std::istringstream lines(text);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "angle_deg,psf_per_sr");
+  int checked = 0;
+  while (std::getline(lines, line)) {
+    const double angle = std::stod(line.substr(0, line.find(','))), density = std::stod(line.substr(line.find(',') + 1));
+    if (angle < 0.2 || angle > 5.0) continue;
+    EXPECT_LT(std::abs(std::log10(density / cie146_gsf(angle, 80.0, 1.0))), 0.1) << line;
+    ++checked;
+  }
+  EXPECT_GT(checked, 25);
+  // A brighter field narrows the pupil (Eq. 1-2): the printed pupil differs.
+  const auto bright = test::run_glarelab({"psf", "--grid", "512", "--field-luminance-cd-m2", "1000", "--profile-csv",
+                                          (dir.path() / "bright.csv").string()},
+                                         dir.path());
+  ASSERT_EQ(bright.exit_code, 0) << bright.output;
+  const auto pupil = [](const std::string& output) { return output.substr(output.find(": pupil "), 20); };
+  EXPECT_NE(pupil(bright.output), pupil(run.output));
+  const auto refused = test::run_glarelab({"psf", "--model", "ritschel", "--field-luminance-cd-m2", "10", "--out",
+                                           (dir.path() / "x.exr").string()},
+                                          dir.path());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("--field-luminance-cd-m2"), std::string::npos) << refused.output;
 }
 
 // A session with a 2 x 2 px lamp of 1e6 cd/m2 on a black display 0.095 degrees per pixel: the lamp
