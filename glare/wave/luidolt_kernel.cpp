@@ -215,12 +215,21 @@ LuidoltKernel luidolt_kernel(double pupil_diameter_mm, std::uint64_t seed, const
   kernel.monochromatic_dc_per_m2 = m[dc];
   m[dc] = 0.0;  // Eq. 5.10: pixel (0, 0) belongs to the bright centre
 
+  const double degrees_per_pixel = psf_degrees_per_pixel(options.wavelength_nm, options.aperture_width_mm);
+  if (kernel.covered_fraction == 0.0) {
+    // Nothing scattered: the scattered part has weight 0, and the kernel is its bright centre alone.
+    kernel.psf.size_px = n;
+    kernel.psf.channels = 3;
+    kernel.psf.degrees_per_pixel = degrees_per_pixel;
+    kernel.psf.values.assign(3 * static_cast<std::size_t>(n) * n, 0.0);
+    for (int ch = 0; ch < 3; ++ch) kernel.psf.at(ch, n / 2, n / 2) = 1.0;
+    return kernel;
+  }
   XyzPlanes sum(n);
   sum.values = luidolt_spectral_xyz(m, n, options.wavelength_nm, options.wavelength_count);
   m.clear();
   m.shrink_to_fit();
-  SpectralPsfResult rgb = rec709_psf_from_xyz(sum, psf_degrees_per_pixel(options.wavelength_nm, options.aperture_width_mm),
-                                              kSubsystem);
+  SpectralPsfResult rgb = rec709_psf_from_xyz(sum, degrees_per_pixel, kSubsystem);
   for (int ch = 0; ch < 3; ++ch) kernel.clamped_negative_fraction[ch] = rgb.clamped_negative_fraction[ch];
   kernel.psf = std::move(rgb.psf);
   // The scattered part holds the covered fraction, the added centre the rest (section 6.3.2).
