@@ -18,7 +18,8 @@ GlareModel parse_glare_model(const std::string& name) {
   if (name == "spencer") return GlareModel::spencer;
   if (name == "cie") return GlareModel::cie;
   if (name == "hybrid") return GlareModel::hybrid;
-  throw std::invalid_argument("unknown glare model '" + name + "' (ritschel, spencer, cie or hybrid)");
+  if (name == "luidolt") return GlareModel::luidolt;
+  throw std::invalid_argument("unknown glare model '" + name + "' (ritschel, spencer, cie, hybrid or luidolt)");
 }
 
 std::string to_string(GlareModel model) {
@@ -27,6 +28,7 @@ std::string to_string(GlareModel model) {
     case GlareModel::spencer: return "spencer";
     case GlareModel::cie: return "cie";
     case GlareModel::hybrid: return "hybrid";
+    case GlareModel::luidolt: return "luidolt";
   }
   return "ritschel";
 }

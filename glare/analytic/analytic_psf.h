@@ -21,9 +21,10 @@
 namespace glarelab {
 
 // Which model makes the glare of a frame (glare_spec.h, `[glare] model`): Ritschel et al. 2009's
-// wave-optics eye, Spencer's or the CIE's analytic PSF, or the hybrid of the wave-optics eye near
-// the source and an analytic far field (glare/analytic/hybrid_psf.h).
-enum class GlareModel { ritschel, spencer, cie, hybrid };
+// wave-optics eye, Spencer's or the CIE's analytic PSF, the hybrid of the wave-optics eye near
+// the source and an analytic far field (glare/analytic/hybrid_psf.h), or Luidolt 2020's glare kernel
+// (glare/wave/luidolt_kernel.h).
+enum class GlareModel { ritschel, spencer, cie, hybrid, luidolt };
 GlareModel parse_glare_model(const std::string& name);  // std::invalid_argument naming the choices
 std::string to_string(GlareModel model);
 

@@ -23,6 +23,7 @@
 #include "glare/wave/psf_scale.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
+#include "runner/cli/command_psf_luidolt.h"
 #include "runner/cli/option_checks.h"
 #include "runner/cli/psf_options.h"
 #include "runner/cli/psf_refraction.h"
@@ -308,6 +309,7 @@ int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
   if (args.out.empty() && args.profile_csv.empty())
     throw ConfigError({"--out", 0, 0}, "out", "nothing to write: give --out FILE.exr, --profile-csv FILE.csv or both");
   const GlareModel model = parse_glare_model(args.model);
+  if (model == GlareModel::luidolt) return run_luidolt_psf(args, handles);
   const bool analytic = model == GlareModel::spencer || model == GlareModel::cie;
   const GlareModel far_model = model == GlareModel::hybrid ? parse_glare_model(args.far_field) : model;
   bool refraction_given = false;

@@ -75,8 +75,9 @@ void add_wave_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& h
 void add_model_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& handles) {
   command->add_option("--model", args.model,
                           "Glare model: ritschel (the wave-optics eye above), spencer (Spencer et al. 1995), cie (CIE "
-                          "146:2002), hybrid (the wave-optics eye near the source, an analytic far field beyond)")
-          ->check(CLI::IsMember({"ritschel", "spencer", "cie", "hybrid"}))
+                          "146:2002), hybrid (the wave-optics eye near the source, an analytic far field beyond), "
+                          "luidolt (Luidolt 2020's glare kernel: static particles, the Fresnel term of Eq. 5.6)")
+          ->check(CLI::IsMember({"ritschel", "spencer", "cie", "hybrid", "luidolt"}))
           ->capture_default_str();
   handles.regime =
       command->add_option("--regime", args.regime, "Spencer's mixture: photopic (Eq. 5), mesopic (Eq. 8), scotopic (Eq. 9)")

@@ -154,11 +154,13 @@ void check_condition_refractions(const Experiment& experiment) {
     }
     if (!shows_glare(experiment, row)) continue;
     const GlareModel model = glare_model_for(spec, row);
-    if (model == GlareModel::spencer || model == GlareModel::cie)
+    // Luidolt's kernel has a pupil, but its only phase is Eq. 5.6's fixed Fresnel term: no defocus.
+    if (model == GlareModel::spencer || model == GlareModel::cie || model == GlareModel::luidolt)
       throw ConfigError(row.where, "condition '" + row.name() + "' glare_model",
                         "the observer's refraction ([observer.refraction] or spectacles) blurs the wave-optics PSF, "
                         "but glare_model '" + to_string(model) +
-                            "' has no pupil to carry it: use \"ritschel\" or \"hybrid\" for this condition, or leave "
+                            (model == GlareModel::luidolt ? "' has no defocus phase to carry it" : "' has no pupil to carry it") +
+                            ": use \"ritschel\" or \"hybrid\" for this condition, or leave "
                             "the refraction and spectacles out of the experiment");
     // Every wavelength of the spectral PSF carries its own error (the LCA, glare/wave/chromatic_psf.h);
     // the message names the one that needs the finest grid.

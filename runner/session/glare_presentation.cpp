@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/number_text.h"
+#include "glare/wave/luidolt_kernel.h"
 #include "runner/session/session_glare.h"
 #include "stimuli/position_glare.h"
 
@@ -164,8 +165,18 @@ void SessionGlare::log_glare_setup() {
   // The analytic models' kernels are integrated over the display's pixels now, before the first
   // trial (seconds for a full screen), not at the first glare trial's onset.
   std::set<GlareModel> analytic_models;
-  for (const ConditionRow& row : prepared_.experiment.conditions)
-    if (const GlareModel model = glare_model_for(spec, row); model != GlareModel::ritschel) analytic_models.insert(model);
+  bool luidolt = false;
+  for (const ConditionRow& row : prepared_.experiment.conditions) {
+    const GlareModel model = glare_model_for(spec, row);
+    luidolt = luidolt || model == GlareModel::luidolt;
+    if (model != GlareModel::ritschel && model != GlareModel::luidolt) analytic_models.insert(model);
+  }
+  if (luidolt) {
+    LuidoltKernelOptions options;
+    options.grid_px = spec.grid_px;
+    options.wavelength_count = spec.wavelength_samples;
+    store_.log_event(session_id_, clock_.now_s(), "glare_model", "luidolt: " + luidolt_description(options));
+  }
   for (const GlareModel model : analytic_models) {
     // Each eye's kernel for its view (the first eye's described).
     for (std::size_t e = 1; e < eyes_.size(); ++e)
