@@ -97,6 +97,10 @@ struct GlareSpec {
   // The observer's eye for the analytic models (Spencer Eq. 10, CIE 146): `[observer]` age_years
   // and pigmentation in the experiment file.
   ObserverEye observer_eye;
+  // The eye model's parameters ([glare.eye], protocols/eye_parameters_config.h): every dynamic and
+  // static eye of the session is built from them (mode, static instant and first field luminance
+  // set per eye by the glare stage).
+  EyeParameters eye;
 };
 
 }  // namespace glarelab

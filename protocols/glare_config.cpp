@@ -13,6 +13,7 @@
 #include "core/number_text.h"
 #include "glare/eye/eye_parameters.h"
 #include "glare/analytic/hybrid_handover.h"
+#include "protocols/eye_parameters_config.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -120,6 +121,7 @@ GlareSpec read_glare_section(TableReader& top) {
       reader.fail("hybrid_handover_outer_deg", error.what());
     }
   }
+  read_glare_eye(reader, spec.eye);
   reader.report_unused();
   return spec;
 }
@@ -149,6 +151,7 @@ toml::table glare_section_toml(const GlareSpec& spec) {
     table.insert("hybrid_handover_inner_deg", spec.hybrid_handover_inner_deg);
     table.insert("hybrid_handover_outer_deg", spec.hybrid_handover_outer_deg);
   }
+  table.insert("eye", glare_eye_toml(spec.eye));
   return table;
 }
 

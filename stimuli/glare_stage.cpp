@@ -178,7 +178,7 @@ void GlareStage::set_detected_blinks(const std::vector<DetectedBlink>& blinks) {
 }
 
 EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
-  EyeParameters parameters;
+  EyeParameters parameters = spec_.eye;  // [glare.eye]; the mode, instant and luminance are this eye's
   parameters.initial_field_luminance_cd_m2 = std::max(field_luminance_cd_m2, kMinimumFieldLuminance_cd_m2);
   if (mode == GlareMode::dynamic) {
     parameters.mode = GlareMode::dynamic;

@@ -295,7 +295,7 @@ void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare
                      trial + "lens fibre gratings left out on " + std::to_string(glare.gratings_hidden) + of_frames +
                          ": pupil (smallest " + std::to_string(glare.smallest_pupil_mm) +
                          " mm) inside the clear lens centre (cortex annulus from " +
-                         std::to_string(2.0 * EyeParameters{}.lens_cortex_inner_radius_mm) + " mm diameter)");
+                         std::to_string(2.0 * prepared_.experiment.glare.eye.lens_cortex_inner_radius_mm) + " mm diameter)");
   if (glare.window)
     store_.log_event(session_id_, now_s, "glare_window",
                      trial + describe_glare_window(*glare.window, glare.eyes.front().tracked));
