@@ -202,7 +202,7 @@ TEST(SpencerFlareLines, FramesOfLargerSourcesShowFainterLines) {
     EXPECT_LT(measured, previous) << diameter_deg;
     previous = measured;
     if (diameter_deg > 0.1) {
-      EXPECT_NEAR(measured, predicted, 0.25 * predicted) << diameter_deg;
+      EXPECT_NEAR(measured, predicted, 0.05 * predicted) << diameter_deg;
     }
   }
 }
