@@ -104,6 +104,7 @@ GlareSpec read_glare_section(TableReader& top) {
       read_choice(reader, "regime", to_string(spec.spencer_regime), {"adaptive", "photopic", "mesopic", "scotopic"}));
   spec.hybrid_far_field =
       parse_glare_model(read_choice(reader, "hybrid_far_field", to_string(spec.hybrid_far_field), {"spencer", "cie"}));
+  spec.spencer_flare_lines = reader.boolean("spencer_flare_lines").value_or(spec.spencer_flare_lines);
   spec.source = read_choice(reader, "source", spec.source);
   // The hand-over annulus: both or neither (0: the default for the grid's reach).
   const bool inner_given = reader.node("hybrid_handover_inner_deg") != nullptr,
@@ -145,6 +146,7 @@ toml::table glare_section_toml(const GlareSpec& spec) {
                      {"presentation", std::string(spelling(spec.presentation))},
                      {"model", to_string(spec.model)},
                      {"regime", to_string(spec.spencer_regime)},
+                     {"spencer_flare_lines", spec.spencer_flare_lines},
                      {"hybrid_far_field", to_string(spec.hybrid_far_field)},
                      {"source", std::string(spelling(spec.source))}};
   if (spec.hybrid_handover_outer_deg > 0.0) {

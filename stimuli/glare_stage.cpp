@@ -127,6 +127,8 @@ AnalyticGlare& GlareStage::analytic_for(GlareModel model, int width_px, int heig
   options.width_px = width_px;
   options.height_px = height_px;
   if (model == GlareModel::hybrid) options.handover = hybrid_handover();
+  options.flare_lines = spec_.spencer_flare_lines && model == GlareModel::spencer;
+  options.flare_seed = seed_;
   return *analytic_.emplace(key, std::make_unique<AnalyticGlare>(options)).first->second;
 }
 
