@@ -5,10 +5,24 @@
 // lenses from it: glare/refraction/dioptric_power.h and the refraction and lens models) and protocols/ (which
 // reads the file), as core/perception_settings.h is for the perception stages.
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "core/spelling.h"
+
 namespace glarelab {
+
+// How the eye accommodates over a scene with depth ([observer] accommodation; docs/DEPTH_OF_FIELD.md,
+// "Accommodation"). fixation: once, on the depth at its view's centre (Kakimoto et al. 2007 Eq. 13
+// for that point), every other depth blurred by its defocus from there. range: each scene point
+// with its own Eq. 13 (Kakimoto's Table 1 runs the accommodation step per voxel), so every point
+// within the accommodation range (far point to near point) is sharp and one outside it blurs by its
+// defocus from the nearer end.
+enum class AccommodationRule { fixation, range };
+inline constexpr Spelling<AccommodationRule> kAccommodationRuleSpellings[] = {{AccommodationRule::fixation, "fixation"},
+                                                                              {AccommodationRule::range, "range"}};
+constexpr std::span<const Spelling<AccommodationRule>> spellings(AccommodationRule) { return kAccommodationRuleSpellings; }
 
 // A sphero-cylinder as clinics write it: sphere, cylinder in minus-cylinder form (<= 0), and the
 // cylinder axis in TABO degrees (counterclockwise from the horizontal as the examiner facing the
@@ -52,6 +66,8 @@ struct ObserverOptics {
   // modelled and a scene shown carries a Z channel. Where it was written ("file:line:column").
   std::optional<bool> depth_of_field;
   std::string depth_of_field_where;
+  // [observer] accommodation (fixation by default).
+  AccommodationRule accommodation = AccommodationRule::fixation;
 
   // The spectacles called `name`, or nullptr for "none" or a name not defined.
   const SpectaclesSettings* find_spectacles(const std::string& name) const {

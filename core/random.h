@@ -23,6 +23,7 @@ enum class RandomStream : std::uint32_t {
   block_trial_order = 11,    // trial orders within blocks, one seed per participant and block
   fuzz_mutation = 12,        // deterministic input mutations of the fuzz targets' replay runs (fuzz/)
   stereo_eye = 13,           // the seed of each eye's model in a stereo session (stimuli/stereo_layout.h)
+  spencer_flare_lines = 14,  // Spencer's flare lines: azimuth and intensity of each line (glare/analytic/spencer_flare_lines.h)
 };
 
 class CounterRandom {

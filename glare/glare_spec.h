@@ -87,6 +87,11 @@ struct GlareSpec {
   // Spencer's mixture: photopic, mesopic, scotopic, or adaptive (default: by the frame's adaptation
   // luminance, blended smoothly across the band edges at 0.01 and 3 cd/m2).
   SpencerRegime spencer_regime = SpencerRegime::adaptive;
+  // Spencer's flare lines (section 3.2; glare/analytic/spencer_flare_lines.h): random radial lines
+  // multiplied into the corona (f1, f2) and the halo (f3), drawn from the session's seed. Off by
+  // default, so a file that does not ask for them keeps its smooth P; rows of the hybrid keep a
+  // smooth far field (their near field is the wave-optics eye's own corona).
+  bool spencer_flare_lines = false;
   // The analytic far field of the hybrid eye: spencer or cie.
   GlareModel hybrid_far_field = GlareModel::spencer;
   // The hybrid's hand-over annulus in degrees from the source; 0: the default for the wave PSF's
@@ -100,6 +105,10 @@ struct GlareSpec {
   // The observer's eye for the analytic models (Spencer Eq. 10, CIE 146): `[observer]` age_years
   // and pigmentation in the experiment file.
   ObserverEye observer_eye;
+  // The eye model's parameters ([glare.eye], protocols/eye_parameters_config.h): every dynamic and
+  // static eye of the session is built from them (mode, static instant and first field luminance
+  // set per eye by the glare stage).
+  EyeParameters eye;
 };
 
 }  // namespace glarelab

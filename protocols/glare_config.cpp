@@ -13,6 +13,7 @@
 #include "core/number_text.h"
 #include "glare/eye/eye_parameters.h"
 #include "glare/analytic/hybrid_handover.h"
+#include "protocols/eye_parameters_config.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -98,11 +99,13 @@ GlareSpec read_glare_section(TableReader& top) {
   spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source);
   spec.blink_source = read_choice(reader, "blink_source", spec.blink_source);
   spec.presentation = read_choice(reader, "presentation", spec.presentation);
-  spec.model = parse_glare_model(read_choice(reader, "model", to_string(spec.model), {"human", "ritschel", "spencer", "cie", "hybrid"}));
+  spec.model = parse_glare_model(
+      read_choice(reader, "model", to_string(spec.model), {"human", "ritschel", "spencer", "cie", "hybrid", "luidolt"}));
   spec.spencer_regime = parse_spencer_regime(
       read_choice(reader, "regime", to_string(spec.spencer_regime), {"adaptive", "photopic", "mesopic", "scotopic"}));
   spec.hybrid_far_field =
       parse_glare_model(read_choice(reader, "hybrid_far_field", to_string(spec.hybrid_far_field), {"spencer", "cie"}));
+  spec.spencer_flare_lines = reader.boolean("spencer_flare_lines").value_or(spec.spencer_flare_lines);
   spec.source = read_choice(reader, "source", spec.source);
   // The hand-over annulus: both or neither (0: the default for the grid's reach).
   const bool inner_given = reader.node("hybrid_handover_inner_deg") != nullptr,
@@ -120,6 +123,7 @@ GlareSpec read_glare_section(TableReader& top) {
       reader.fail("hybrid_handover_outer_deg", error.what());
     }
   }
+  read_glare_eye(reader, spec.eye);
   reader.report_unused();
   return spec;
 }
@@ -143,12 +147,14 @@ toml::table glare_section_toml(const GlareSpec& spec) {
                      {"presentation", std::string(spelling(spec.presentation))},
                      {"model", to_string(spec.model)},
                      {"regime", to_string(spec.spencer_regime)},
+                     {"spencer_flare_lines", spec.spencer_flare_lines},
                      {"hybrid_far_field", to_string(spec.hybrid_far_field)},
                      {"source", std::string(spelling(spec.source))}};
   if (spec.hybrid_handover_outer_deg > 0.0) {
     table.insert("hybrid_handover_inner_deg", spec.hybrid_handover_inner_deg);
     table.insert("hybrid_handover_outer_deg", spec.hybrid_handover_outer_deg);
   }
+  table.insert("eye", glare_eye_toml(spec.eye));
   return table;
 }
 

@@ -118,9 +118,21 @@ void read_spectacles_worn(TableReader& observer, ObserverOptics& optics) {
 
 void read_depth_of_field(TableReader& observer, ObserverOptics& optics) {
   const std::optional<bool> on = observer.boolean("depth_of_field");
-  if (!on) return;
-  optics.depth_of_field = *on;
-  optics.depth_of_field_where = observer.value_location("depth_of_field").to_string();
+  if (on) {
+    optics.depth_of_field = *on;
+    optics.depth_of_field_where = observer.value_location("depth_of_field").to_string();
+  }
+  const std::optional<std::string> rule = observer.string("accommodation");
+  if (!rule) return;
+  const std::optional<AccommodationRule> parsed = parse_spelling<AccommodationRule>(*rule);
+  if (!parsed)
+    observer.fail("accommodation", "unknown value '" + *rule + "' (supported: " + spelling_list<AccommodationRule>() + ")");
+  // The rule says how the depth of field blurs each depth; a flat display has one depth, which both
+  // rules bring into focus alike, so "range" without the depth of field would change nothing.
+  if (*parsed == AccommodationRule::range && on == false)
+    observer.fail("accommodation", "\"range\" accommodates each depth of the scene, but depth_of_field = false turns "
+                                   "the depth of field off: remove one of the two");
+  optics.accommodation = *parsed;
 }
 
 const SpectaclesSettings* spectacles_for(const ObserverOptics& optics, const ConditionRow& row) {

@@ -8,6 +8,8 @@
 //                           decentration_x_mm, decentration_y_mm
 //   [observer] spectacles   the pair worn by default ("none" unless given)
 //   [observer] depth_of_field   blur by the scene's depth (true / false; absent: automatic)
+//   [observer] accommodation    "fixation" (the view's centre, default) or "range" (every depth
+//                               within the accommodation range is sharp)
 //   column "spectacles"     the pair worn in a condition, or "none"
 // Cylinders are written in minus-cylinder form unless the table says cylinder_form = "plus", in
 // which case they are transposed, (S, +C, axis) -> (S + C, -C, axis + 90), the same lens.
@@ -28,7 +30,8 @@ void read_observer_refraction(TableReader& observer, ObserverOptics& optics);
 void read_spectacles_section(TableReader& top, ObserverOptics& optics);
 // [observer] spectacles: the name must be "none" or a [spectacles] table's.
 void read_spectacles_worn(TableReader& observer, ObserverOptics& optics);
-// [observer] depth_of_field (a boolean), if present.
+// [observer] depth_of_field (a boolean) and accommodation ("fixation" or "range"), if present;
+// "range" with depth_of_field = false is refused at the accommodation value.
 void read_depth_of_field(TableReader& observer, ObserverOptics& optics);
 // The spectacles of one condition: its "spectacles" column, else [observer] spectacles; nullptr for
 // "none". ConfigError at the row for a name no [spectacles] table defines.

@@ -271,6 +271,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
                              {"spectacles", experiment.observer_optics.spectacles_worn}, {"simulated", std::move(simulated)}};
   if (experiment.observer_optics.depth_of_field)
     observer_table.insert("depth_of_field", *experiment.observer_optics.depth_of_field);
+  observer_table.insert("accommodation", std::string(spelling(experiment.observer_optics.accommodation)));
   if (experiment.observer_optics.refraction_stated)
     observer_table.insert("refraction", refraction_toml(experiment.observer_optics.refraction));
   print_section(out, "observer", std::move(observer_table));

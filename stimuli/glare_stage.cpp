@@ -12,6 +12,7 @@
 #include "glare/cpu/lit_regions.h"
 #include "core/parallel_for.h"
 #include "glare/cpu/psf.h"
+#include "glare/wave/luidolt_kernel.h"
 #include "glare/wave/psf_scale.h"
 #include "stimuli/display_model.h"
 
@@ -127,6 +128,8 @@ AnalyticGlare& GlareStage::analytic_for(GlareModel model, int width_px, int heig
   options.width_px = width_px;
   options.height_px = height_px;
   if (model == GlareModel::hybrid || model == GlareModel::human) options.handover = hybrid_handover();
+  options.flare_lines = spec_.spencer_flare_lines && model == GlareModel::spencer;
+  options.flare_seed = seed_;
   return *analytic_.emplace(key, std::make_unique<AnalyticGlare>(options)).first->second;
 }
 
@@ -189,7 +192,7 @@ void GlareStage::set_detected_blinks(const std::vector<DetectedBlink>& blinks) {
 }
 
 EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
-  EyeParameters parameters;
+  EyeParameters parameters = spec_.eye;  // [glare.eye]; the mode, instant and luminance are this eye's
   parameters.initial_field_luminance_cd_m2 = std::max(field_luminance_cd_m2, kMinimumFieldLuminance_cd_m2);
   if (mode == GlareMode::dynamic) {
     parameters.mode = GlareMode::dynamic;
@@ -355,6 +358,27 @@ std::optional<Psf> GlareStage::wave_psf(GlareMode mode, double time_s, double me
   return psf;
 }
 
+Psf GlareStage::luidolt_psf(GlareMode mode, double time_s, double mean_cd_m2, GlareFrameReport& r) {
+  EyeModel& eye = eye_for(mode, mean_cd_m2);
+  if (mode == GlareMode::dynamic) record_dynamic_luminance(time_s, mean_cd_m2);
+  // Luidolt 2020, 5.2.1 ii: the tracked pupil is mapped onto 2-8 mm; the thesis has no lids or
+  // gratings (Table 5.1), so a blink changes nothing here.
+  const double pupil_mm = std::clamp(eye.state_at(time_s).pupil_diameter_mm, 2.0, 8.0);
+  r.pupil_diameter_mm = pupil_mm;
+  auto found = luidolt_psfs_.find(pupil_mm);
+  if (found == luidolt_psfs_.end()) {
+    if (luidolt_psfs_.size() >= kStaticCacheEntries) luidolt_psfs_.clear();
+    LuidoltKernelOptions options;
+    options.grid_px = spec_.grid_px;
+    options.wavelength_count = spec_.wavelength_samples;
+    LuidoltKernel kernel = luidolt_kernel(pupil_mm, seed_, options);
+    Psf display = resample_psf_to_display(kernel.psf, DisplayModel(display_).degrees_per_pixel_at_centre());
+    found = luidolt_psfs_.emplace(pupil_mm, std::pair{std::move(display), std::move(kernel.sampling_note)}).first;
+  }
+  r.sampling_note = found->second.second;
+  return found->second.first;
+}
+
 namespace {
 
 bool all_black(const ImageRGBA& image) {
@@ -436,7 +460,8 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   if (condition_model_ == GlareModel::hybrid || condition_model_ == GlareModel::human)
     return apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
 
-  std::optional<Psf> psf = wave_psf(mode, time_s, mean_cd_m2, r);
+  std::optional<Psf> psf = condition_model_ == GlareModel::luidolt ? luidolt_psf(mode, time_s, mean_cd_m2, r)
+                                                                    : wave_psf(mode, time_s, mean_cd_m2, r);
   if (!psf) return frame_cd_m2;
   r.wing_fraction = psf_wing_fraction(*psf);
   // One pass for both when the frame is its own source.

@@ -64,6 +64,8 @@ struct GlareFrameReport {
   // nothing changed). Not set: it may differ anywhere (analytic and hybrid glare, a gaze window,
   // a gain other than 1, source = "excess").
   std::optional<std::vector<PixelRect>> changed_boxes;
+  // Luidolt's kernel (model luidolt): how its grid was enlarged to sample Eq. 5.6, when it was.
+  std::string sampling_note;
 };
 
 // What GlareStage::apply finds out about a frame before it glares it, kept for the frames that bring
@@ -174,6 +176,10 @@ class GlareStage {
   // The wave-optics PSF of a frame (Ritschel, and the hybrid's near part), with blinks held; nothing
   // when the eye is closed and no open frame came before (r.skip_reason says so).
   std::optional<Psf> wave_psf(GlareMode mode, double time_s, double mean_cd_m2, GlareFrameReport& r);
+  // Luidolt 2020's kernel (glare/wave/luidolt_kernel.h) on the display's pixels for the eye's pupil at
+  // time_s: static particles from the session seed; the pupil frozen (static) or the eye's (dynamic,
+  // the thesis' tracked pupil), clamped to the thesis' 2-8 mm. Kept per pupil diameter.
+  Psf luidolt_psf(GlareMode mode, double time_s, double mean_cd_m2, GlareFrameReport& r);
   // The light the glare spreads with GlareSpec::source "excess": the frame's excess over the display
   // peak ("frame": the frame itself, used without a copy).
   ImageRGBA glare_excess(const ImageRGBA& frame) const;
@@ -227,6 +233,7 @@ class GlareStage {
   GlareModel condition_model_;
   double condition_gain_ = 1.0;
   std::map<std::tuple<int, int, int>, std::unique_ptr<AnalyticGlare>> analytic_;
+  std::map<double, std::pair<Psf, std::string>> luidolt_psfs_;  // by pupil diameter: display PSF, sampling note
 };
 
 }  // namespace glarelab

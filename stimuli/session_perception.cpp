@@ -20,7 +20,7 @@ TemporalAdaptation& SessionPerception::eye_at(double flip_s, double first_lumina
 
 PerceptionResult SessionPerception::process(const ImageRGBA& composed_cd_m2, const PerceptionSettings& settings,
                                             double flip_s, double frame_time_s, double gaze_x, double gaze_y,
-                                            const FieldGlare& glare) {
+                                            const FieldGlare& glare, const PerceptionStagesRun& stages) {
   const double frame_luminance_cd_m2 =
       frame_adaptation_luminance_cd_m2(composed_cd_m2, gaze_x, gaze_y, settings.adaptation_weighting);
   TemporalAdaptation& eye = eye_at(flip_s, frame_luminance_cd_m2);
@@ -37,7 +37,8 @@ PerceptionResult SessionPerception::process(const ImageRGBA& composed_cd_m2, con
   input.gaze_x = gaze_x;
   input.gaze_y = gaze_y;
   input.frame_time_s = frame_time_s;
-  PerceptionResult result = run_perception_stages(composed_cd_m2, input, eye, settings, display_, stage_glare);
+  PerceptionResult result = stages ? stages(composed_cd_m2, input, eye, settings, display_, stage_glare)
+                                   : run_perception_stages(composed_cd_m2, input, eye, settings, display_, stage_glare);
   if (!settings.adaptation) eye.advance(result.frame_luminance_cd_m2, frame_time_s);
   seen_until_s_ = std::max(seen_until_s_, flip_s + frame_time_s);
   return result;

@@ -24,6 +24,13 @@ namespace glarelab {
 // takes the frame's mean luminance, as without perception stages).
 using FieldGlare = std::function<ImageRGBA(const ImageRGBA&, std::optional<double> field_luminance_cd_m2)>;
 
+// What runs the stages of one frame: run_perception_stages (the CPU's) or an engine's
+// (stimuli/frame_engine.h), with its arguments and result.
+using PerceptionStagesRun =
+    std::function<PerceptionResult(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
+                                   const PerceptionSettings& settings, const DisplaySpec& display,
+                                   const PerceptionGlare& glare)>;
+
 class SessionPerception {
  public:
   // `time_constants` are the experiment's (every condition shares the one eye).
@@ -31,11 +38,12 @@ class SessionPerception {
 
   // A frame of the session shown from flip_s for frame_time_s through the stages `settings`
   // switches on; `gaze` in normalised display coordinates (the display centre without a tracker).
-  // `glare` may be empty (a control condition). The eye is advanced whether or not adaptation is
+  // `glare` may be empty (a control condition); `stages` runs them (empty: on the CPU). The eye is advanced whether or not adaptation is
   // on: with adaptation off the frame is tone mapped for its own adaptation luminance (the eye
   // adapting instantly), but the session's eye still saw it.
   PerceptionResult process(const ImageRGBA& composed_cd_m2, const PerceptionSettings& settings, double flip_s,
-                           double frame_time_s, double gaze_x, double gaze_y, const FieldGlare& glare = {});
+                           double frame_time_s, double gaze_x, double gaze_y, const FieldGlare& glare = {},
+                           const PerceptionStagesRun& stages = {});
 
   // Frames from_frame .. to_frame - 1 of an interval, frame k flipping at first_flip_s + k
   // frame_time_s, shown without stages (or not computed: a preview passing by), all of adaptation

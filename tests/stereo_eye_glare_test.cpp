@@ -75,11 +75,11 @@ struct EyeGlare {
 };
 
 EyeGlare glare_with_pupil(SessionEye& eye, double pupil_mm) {
-  eye.glare.record_measured_pupil(0.0, pupil_mm);
+  eye.engine.glare().record_measured_pupil(0.0, pupil_mm);
   EyeGlare out;
   const ImageRGBA frame = point_source();
-  out.glared = eye.glare.apply(frame, GlareMode::dynamic, kTimeS, &out.report, std::nullopt, mean_luminance(frame));
-  out.psf = *eye.glare.display_psf(GlareMode::dynamic, kTimeS, mean_luminance(frame));
+  out.glared = eye.engine.glare().apply(frame, GlareMode::dynamic, kTimeS, &out.report, std::nullopt, mean_luminance(frame));
+  out.psf = *eye.engine.glare().display_psf(GlareMode::dynamic, kTimeS, mean_luminance(frame));
   return out;
 }
 

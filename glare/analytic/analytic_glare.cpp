@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "glare/analytic/spencer_flare_lines.h"
+
 namespace glarelab {
 
 namespace {
@@ -15,15 +17,25 @@ std::vector<spencer::Mixture> spencer_components() {
   return {{1.0, 0.0, 0.0, 0.0}, {0.0, 1.0, 0.0, 0.0}, {0.0, 0.0, 1.0, 0.0}, {0.0, 0.0, 0.0, 1.0}};
 }
 
+double component_weight(const spencer::Mixture& m, int i) { return i == 0 ? m.f0 : i == 1 ? m.f1 : i == 2 ? m.f2 : m.f3; }
+
 }  // namespace
 
 AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
     : options_(options) {
   if (options.model != GlareModel::spencer && options.model != GlareModel::cie)
     throw std::invalid_argument("glare/analytic/analytic_glare: the model must be spencer or cie");
+  if (options.flare_lines && options.model != GlareModel::spencer)
+    throw std::invalid_argument("glare/analytic/analytic_glare: flare lines are Spencer's (section 3.2), not the CIE's");
+  // The two-level path convolves the far field at a quarter of the resolution, which would blur the
+  // lines there: with lines the far field is not smooth.
+  if (options.flare_lines && options.convolution == AnalyticConvolution::two_level)
+    throw std::invalid_argument("glare/analytic/analytic_glare: the two-level convolution takes the far field as smooth; "
+                                "with flare lines it is not (use the full convolution)");
   const bool full = options.convolution == AnalyticConvolution::full ||
                     (options.convolution == AnalyticConvolution::automatic &&
-                     static_cast<long long>(options.width_px) * options.height_px < kTwoLevelMinimumPixels);
+                     (options.flare_lines ||
+                      static_cast<long long>(options.width_px) * options.height_px < kTwoLevelMinimumPixels));
   if (full)
     full_ = std::make_unique<DisplayKernelConvolution>(options.width_px, options.height_px, options.width_px - 1,
                                                        options.height_px - 1, threads);
@@ -33,16 +45,28 @@ AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
   std::vector<AnalyticPsf> psfs;
   if (options.model == GlareModel::cie) {
     psfs.push_back(AnalyticPsf::cie(options.eye));
-  } else if (options.regime == SpencerRegime::adaptive) {
-    adaptive_ = true;
-    for (const spencer::Mixture& m : spencer_components()) psfs.push_back(AnalyticPsf::spencer(m));
+  } else if (options.regime == SpencerRegime::adaptive || options.flare_lines) {
+    // One kernel per component: the adaptive mixture recombines them, and the lines multiply each
+    // by its own set. A fixed regime keeps only the components it weighs.
+    per_component_ = true;
+    adaptive_ = options.regime == SpencerRegime::adaptive;
+    if (!adaptive_) mixture_ = AnalyticPsf::spencer(options.regime, 0.0, options.eye).mixture();
+    const std::vector<spencer::Mixture> units = spencer_components();
+    for (int i = 0; i < 4; ++i)
+      if (adaptive_ || component_weight(mixture_, i) != 0.0) {
+        component_index_.push_back(i);
+        psfs.push_back(AnalyticPsf::spencer(units[static_cast<std::size_t>(i)]));
+      }
   } else {
     psfs.push_back(AnalyticPsf::spencer(options.regime, 0.0, options.eye));
     mixture_ = psfs.back().mixture();
   }
   std::vector<DisplayKernel> kernels;
-  for (const AnalyticPsf& psf : psfs) {
-    DisplayKernel kernel = analytic_display_kernel(psf, options.geometry, options.width_px - 1, options.height_px - 1, threads);
+  for (std::size_t j = 0; j < psfs.size(); ++j) {
+    DisplayKernel kernel = analytic_display_kernel(psfs[j], options.geometry, options.width_px - 1, options.height_px - 1, threads);
+    if (options.flare_lines)
+      if (const std::optional<FlareLineSet> set = flare_line_set_of_component(component_index_[j]))
+        apply_flare_lines(kernel, FlareLines(*set, options.flare_seed), options.geometry, threads);
     std::array<double, 3> inside{0.0, 0.0, 0.0}, centre{0.0, 0.0, 0.0};
     for (int c = 0; c < 3; ++c) centre[c] = kernel.at(kernel.channels == 3 ? c : 0, 0, 0);
     centre_.push_back(centre);
@@ -61,7 +85,7 @@ AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
   for (const DisplayKernel& k : kernels) bytes += k.values.size() * sizeof(double);
   if (bytes <= kKeptKernelBytes) components_ = std::move(kernels);
   if (!adaptive_) {
-    set_convolution_weights({1.0});
+    set_convolution_weights(current_weights());
     adapted_ = true;
   }
   build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -90,10 +114,14 @@ std::size_t AnalyticGlare::memory_bytes() const { return full_ ? full_->spectrum
 int AnalyticGlare::fft_rows() const { return full_ ? full_->fft_rows() : two_level_->near_fft_rows(); }
 int AnalyticGlare::fft_cols() const { return full_ ? full_->fft_cols() : two_level_->near_fft_cols(); }
 
-std::vector<double> AnalyticGlare::weights_for(const spencer::Mixture& m) const { return {m.f0, m.f1, m.f2, m.f3}; }
+std::vector<double> AnalyticGlare::weights_for(const spencer::Mixture& m) const {
+  std::vector<double> weights;
+  for (int i : component_index_) weights.push_back(component_weight(m, i));
+  return weights;
+}
 
 std::vector<double> AnalyticGlare::current_weights() const {
-  return adaptive_ ? weights_for(mixture_) : std::vector<double>{1.0};
+  return per_component_ ? weights_for(mixture_) : std::vector<double>{1.0};
 }
 
 void AnalyticGlare::adapt(double adaptation_cd_m2) {
@@ -152,6 +180,7 @@ std::string AnalyticGlare::describe() const {
   out.precision(3);
   out << to_string(options_.model);
   if (options_.model == GlareModel::spencer) out << " " << to_string(options_.regime);
+  if (options_.flare_lines) out << " with flare lines (seed " << options_.flare_seed << ")";
   out << " (age " << options_.eye.age_years << " years";
   if (options_.model == GlareModel::cie) out << ", pigmentation " << options_.eye.pigmentation;
   out << "), kernel " << 2 * options_.width_px - 1 << " x " << 2 * options_.height_px - 1 << " px integrated in "

@@ -14,7 +14,13 @@
 // 1e-3 of the peak and 1e-4 L2 of the float64 full convolution (docs/PERFORMANCE.md), below what a
 // 10-bit display shows. `automatic` (the default) takes two_level for frames of at least
 // kTwoLevelMinimumPixels and full below, where the full FFT is at most 1280 x 960 and exact.
+//
+// Spencer's flare lines (glare/analytic/spencer_flare_lines.h, `flare_lines`): the kernels of f1
+// and f2 are multiplied by the corona's lines and f3's by the halo's, each ring keeping its energy;
+// a fixed regime then also keeps its components (weighted by its mixture). The far field is no
+// longer smooth, so `automatic` takes the full convolution and `two_level` is refused.
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -40,6 +46,8 @@ struct AnalyticGlareOptions {
   std::optional<HandoverPixels> handover;  // set: the hybrid's far part
   AnalyticConvolution convolution = AnalyticConvolution::automatic;
   TwoLevelSplit split;  // the two-level path's near radii and decimation
+  bool flare_lines = false;        // Spencer only: the flare lines of section 3.2
+  std::uint64_t flare_seed = 0;    // their draws (the session's seed)
 };
 
 class AnalyticGlare {
@@ -80,6 +88,8 @@ class AnalyticGlare {
 
   AnalyticGlareOptions options_;
   bool adaptive_ = false;
+  bool per_component_ = false;  // the kernels are Spencer's components (adaptive, or with flare lines)
+  std::vector<int> component_index_;  // per kernel, its component (0 f0 .. 3 f3) when per_component_
   std::vector<DisplayKernel> components_;  // kept only while small enough; see constructor
   std::vector<std::array<double, 3>> inside_;  // per component, sum(w K) per channel
   std::vector<std::array<double, 3>> centre_;  // per component, K(0, 0) per channel

@@ -18,8 +18,9 @@ GlareModel parse_glare_model(const std::string& name) {
   if (name == "spencer") return GlareModel::spencer;
   if (name == "cie") return GlareModel::cie;
   if (name == "hybrid") return GlareModel::hybrid;
+  if (name == "luidolt") return GlareModel::luidolt;
   if (name == "human") return GlareModel::human;
-  throw std::invalid_argument("unknown glare model '" + name + "' (human, ritschel, spencer, cie or hybrid)");
+  throw std::invalid_argument("unknown glare model '" + name + "' (human, ritschel, spencer, cie, hybrid or luidolt)");
 }
 
 std::string to_string(GlareModel model) {
@@ -28,6 +29,7 @@ std::string to_string(GlareModel model) {
     case GlareModel::spencer: return "spencer";
     case GlareModel::cie: return "cie";
     case GlareModel::hybrid: return "hybrid";
+    case GlareModel::luidolt: return "luidolt";
     case GlareModel::human: return "human";
   }
   return "ritschel";

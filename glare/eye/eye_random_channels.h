@@ -20,6 +20,7 @@ enum class EyeChannel : std::uint32_t {
   retina_particles = 10,
   blinks = 11,                     // blink onsets
   eyelashes = 12,                  // lash roots, tilt and overhang
+  luidolt_particles = 13,          // Luidolt 2020's static particle pattern (glare/wave/luidolt_kernel.h)
 };
 
 inline constexpr std::uint32_t kEyeChannelStride = 16;

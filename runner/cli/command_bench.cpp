@@ -15,6 +15,7 @@
 #include "stimuli/glare_model_benchmark.h"
 #include "stimuli/perception/stage_timing.h"
 #include "runner/cli/bench_memory.h"
+#include "stimuli/frame_engine_benchmark.h"
 #include "runner/cli/commands.h"
 #include "runner/display/compute_context.h"
 
@@ -60,6 +61,20 @@ void print_perception_rows(const BenchArguments& args) {
                "is the largest per-pixel error of GL against the CPU, relative to the CPU pixel.\n\n"
             << format_perception_timing(time_perception_stages(options));
   print_load_average("the perception rows");
+}
+
+// One eye's whole frame (static glare and every perception stage) through each frame engine
+// (stimuli/frame_engine_benchmark.h).
+void print_frame_engine_rows(const BenchArguments& args) {
+  FrameEngineBenchmarkOptions options;
+  options.repeats = args.repeats > 0 ? args.repeats : (args.quick ? 1 : 3);
+  if (!args.no_gl) options.gl_context = gl::compute_context_factory();
+  options.progress = [](const std::string& line) { std::cerr << line << std::endl; };
+  std::cout << "Frame engines: one eye's frame, static Ritschel glare (N = 256, 16 wavelengths) between adaptation "
+               "and acuity and every perception stage, on the perception rows' frame; each frame against the CPU "
+               "engine's with the float64 glare by the perception rows' metric.\n\n"
+            << format_frame_engine_benchmark(run_frame_engine_benchmark(options));
+  print_load_average("the frame engine rows");
 }
 
 // Kakimoto 2007's depth of field over a 1024 x 768 frame with Z on 2 threads, beside its error
@@ -148,7 +163,7 @@ Action add_bench_command(CLI::App& app) {
       ->expected(2)
       ->check(CLI::Range(16, 8192));
   command->add_flag("--perception-only", args->perception_only,
-                    "Only the perception stages (Luidolt 2020) at 1920 x 1080, CPU and GL");
+                    "Only the perception stages (Luidolt 2020) at 1920 x 1080, CPU and GL, and each frame engine's whole frame");
   command->add_flag("--depth-of-field-only", args->depth_of_field_only,
                     "Only the depth-of-field stage (Kakimoto 2007) on a 1024 x 768 frame with Z");
   command->add_flag("--memory-only", args->memory_only,
@@ -182,6 +197,8 @@ Action add_bench_command(CLI::App& app) {
       }
       if (args->perception_only) {
         print_perception_rows(*args);
+        std::cout << "\n";
+        print_frame_engine_rows(*args);
         return 0;
       }
       if (args->depth_of_field_only) {
@@ -237,6 +254,8 @@ Action add_bench_command(CLI::App& app) {
       }
       std::cout << "\n";
       print_perception_rows(*args);
+      std::cout << "\n";
+      print_frame_engine_rows(*args);
       std::cout << "\n";
       print_depth_of_field_rows(*args);
       std::cout << "\n";

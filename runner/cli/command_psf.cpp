@@ -17,12 +17,14 @@
 #include "glare/eye/fibre_gratings.h"
 #include "glare/glare_backend.h"
 #include "glare/analytic/hybrid_psf.h"
+#include "glare/analytic/spencer_flare_lines.h"
 #include "glare/cpu/psf.h"
 #include "glare/wave/psf_exr.h"
 #include "glare/wave/psf_profile.h"
 #include "glare/wave/psf_scale.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
+#include "runner/cli/command_psf_luidolt.h"
 #include "runner/cli/option_checks.h"
 #include "runner/cli/psf_options.h"
 #include "runner/cli/psf_refraction.h"
@@ -268,10 +270,13 @@ Psf wave_psf(const PsfArguments& args, bool backend_named, const ObserverRefract
 int write_analytic(GlareModel model, const PsfArguments& args) {
   const AnalyticPsf psf = analytic_model(model, args);
   if (!args.out.empty()) {
-    const Psf image = analytic_psf_image(psf, args.degrees_per_pixel, args.grid_px);
+    const Psf image = args.flare_lines
+                          ? spencer_flare_psf_image(psf.mixture(), args.degrees_per_pixel, args.grid_px, args.flare_seed)
+                          : analytic_psf_image(psf, args.degrees_per_pixel, args.grid_px);
     write_psf_exr(args.out, image);
     std::cout << "psf: wrote " << args.out << ": " << args.model << " (age " << args.age_years << " years"
               << (model == GlareModel::spencer ? ", " + args.regime : ", pigmentation " + psf_text(args.pigmentation))
+              << (args.flare_lines ? ", flare lines of seed " + std::to_string(args.flare_seed) : std::string())
               << "), " << image.size_px << "x" << image.size_px << " px, " << (image.channels == 1 ? "Y" : "R,G,B")
               << ", " << image.degrees_per_pixel << " deg/px at the centre, unit sum within the image\n";
   }
@@ -316,6 +321,7 @@ int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
   if (args.out.empty() && args.profile_csv.empty())
     throw ConfigError({"--out", 0, 0}, "out", "nothing to write: give --out FILE.exr, --profile-csv FILE.csv or both");
   const GlareModel model = parse_glare_model(args.model);
+  if (model == GlareModel::luidolt) return run_luidolt_psf(args, handles);
   const bool analytic = model == GlareModel::spencer || model == GlareModel::cie;
   const bool human = model == GlareModel::human;
   const GlareModel far_model = model == GlareModel::hybrid ? parse_glare_model(args.far_field) : human ? GlareModel::cie : model;
@@ -328,6 +334,7 @@ int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
        "the analytic models (--model human, spencer, cie or hybrid) and the observer's refraction (--sphere-dioptres, "
        "--cylinder-dioptres, --spectacles, --viewing-distance-m, ...)"},
       {handles.regime, far_model == GlareModel::spencer, "Spencer's PSF (--model spencer, or hybrid with --far-field spencer)"},
+      {handles.flare_lines, model == GlareModel::spencer, "Spencer's PSF (--model spencer)"},
       // --age-years also sets the refraction's accommodation amplitude, so it applies to every model.
       {handles.pigmentation, far_model == GlareModel::cie, "the CIE PSF (--model human or cie, or hybrid with --far-field cie)"},
       {handles.far_field, model == GlareModel::hybrid, "--model hybrid"},

@@ -84,13 +84,22 @@ void add_model_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& 
                           "dynamic unless given, at the light CIE 146:2002 gives the observer on every ring around the "
                           "source, CIE beyond), ritschel (the wave-optics eye above), spencer (Spencer et al. 1995), "
                           "cie (CIE 146:2002), hybrid (the wave-optics eye near the source, an analytic far field "
-                          "beyond, joined by one energy rule)")
-          ->check(CLI::IsMember({"human", "ritschel", "spencer", "cie", "hybrid"}))
+                          "beyond, joined by one energy rule), luidolt (Luidolt 2020's glare kernel: static particles, "
+                          "the Fresnel term of Eq. 5.6)")
+          ->check(CLI::IsMember({"human", "ritschel", "spencer", "cie", "hybrid", "luidolt"}))
           ->capture_default_str();
   handles.regime =
       command->add_option("--regime", args.regime, "Spencer's mixture: photopic (Eq. 5), mesopic (Eq. 8), scotopic (Eq. 9)")
           ->check(CLI::IsMember({"photopic", "mesopic", "scotopic"}))
           ->capture_default_str();
+  handles.flare_lines =
+      command->add_flag("--flare-lines", args.flare_lines,
+                        "Spencer's flare lines (section 3.2): random radial lines multiplied into the corona (f1, f2) "
+                        "and the halo (f3), each ring keeping its energy, so --profile-csv is unchanged");
+  command->add_option("--flare-seed", args.flare_seed, "Seed of the flare lines (a session uses its own seed)")
+      ->check(seed_check())
+      ->needs(handles.flare_lines)
+      ->capture_default_str();
   handles.age =
       command->add_option("--age-years", args.age_years, "Observer's age (years): Spencer Eq. 10, CIE 146, and with a refraction flag the accommodation "
                           "amplitude (Hofstetter 1950: 18.5 - 0.3 age D)")

@@ -33,6 +33,8 @@ struct PsfArguments {
   std::string model = "human";
   double field_luminance_cd_m2 = 100.0;  // the eye model's field luminance (its pupil, Eq. 1-2)
   std::string regime = "photopic";
+  bool flare_lines = false;        // Spencer's flare lines (section 3.2) in the image
+  std::uint64_t flare_seed = 1;    // their draws
   double age_years = 25.0;
   double pigmentation = 0.5;
   std::string far_field = "spencer";
@@ -50,6 +52,7 @@ struct PsfOptionHandles {
   CLI::Option* defocus = nullptr;
   CLI::Option* backend = nullptr;
   CLI::Option* regime = nullptr;
+  CLI::Option* flare_lines = nullptr;
   CLI::Option* age = nullptr;
   CLI::Option* pigmentation = nullptr;
   CLI::Option* far_field = nullptr;

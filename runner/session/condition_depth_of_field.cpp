@@ -110,6 +110,23 @@ FrameEye frame_eye(const ConditionRefraction& refraction, const DisplaySpec& dis
   out.accommodation_dioptres = eye.accommodation_dioptres(out.fixation_vergence.mean_dioptres());
   out.residual_at_fixation = eye.residual_error(out.fixation_vergence, out.accommodation_dioptres);
   const double accommodation = out.accommodation_dioptres;
+  out.rule = refraction.accommodation;
+  // Eq. 13 brings mean(E) to zero for mean(V) from mean(K) - amplitude (the near point) to mean(K)
+  // (the far point).
+  out.range_far_vergence_dioptres = eye.ocular_refraction().mean_dioptres();
+  out.range_near_vergence_dioptres = out.range_far_vergence_dioptres - refraction.eye.accommodation_amplitude_dioptres;
+  if (refraction.accommodation == AccommodationRule::range) {
+    // Kakimoto's Table 1 order: each point's own Eq. 13 accommodation, so E's mean is zero for every
+    // vergence the amplitude reaches, and beyond it E is the defocus from the nearer end.
+    out.error = [eye, vergence_along](double x_px, double y_px) {
+      const std::function<DioptricPower(double)> vergence = vergence_along(x_px, y_px);
+      return EyeErrorAtDistance([eye, vergence](double distance_m) {
+        const DioptricPower v = vergence(distance_m);
+        return eye.residual_error(v, eye.accommodation_dioptres(v.mean_dioptres()));
+      });
+    };
+    return out;
+  }
   out.error = [eye, vergence_along, accommodation](double x_px, double y_px) {
     const std::function<DioptricPower(double)> vergence = vergence_along(x_px, y_px);
     return EyeErrorAtDistance(
@@ -150,11 +167,17 @@ std::string describe_frame_depth_of_field(const FrameDepthOfField& frame) {
   // A cylinder that rounds to 0 has no axis (1e-17 D of matrix dust would otherwise name one).
   if (std::abs(residual.cylinder_dioptres) < 5e-4) residual.axis_deg = 0.0;
   const DirectionalDepthOfFieldReport& r = frame.report;
-  return "depth of field: accommodated " + rounded(frame.eye.accommodation_dioptres, 1e-3) + " D on the centre at " +
-         rounded(frame.eye.fixation_distance_m, 1e-3) + " m (residual " + rounded(residual.sphere_dioptres, 1e-3) + " / " +
-         rounded(residual.cylinder_dioptres, 1e-3) + " x " + rounded(residual.axis_deg, 1e-3) + " D), pupil " +
-         rounded(frame.pupil_diameter_mm, 0.01) + " mm, " + std::to_string(r.layers) + " layer(s) in " +
-         std::to_string(r.regions_x) + " x " + std::to_string(r.regions_y) + " region(s)";
+  const std::string accommodated =
+      frame.eye.rule == AccommodationRule::range
+          ? "accommodated on each depth whose mean vergence at the cornea lies in the range " +
+                rounded(frame.eye.range_near_vergence_dioptres, 1e-3) + " to " +
+                rounded(frame.eye.range_far_vergence_dioptres, 1e-3) + " D, the centre at "
+          : "accommodated " + rounded(frame.eye.accommodation_dioptres, 1e-3) + " D on the centre at ";
+  return "depth of field: " + accommodated + rounded(frame.eye.fixation_distance_m, 1e-3) + " m (residual " +
+         rounded(residual.sphere_dioptres, 1e-3) + " / " + rounded(residual.cylinder_dioptres, 1e-3) + " x " +
+         rounded(residual.axis_deg, 1e-3) + " D), pupil " + rounded(frame.pupil_diameter_mm, 0.01) + " mm, " +
+         std::to_string(r.layers) + " layer(s) in " + std::to_string(r.regions_x) + " x " + std::to_string(r.regions_y) +
+         " region(s)";
 }
 
 }  // namespace glarelab

@@ -15,10 +15,15 @@
 // depth is the depth-of-field blur, and the PSF of a defocused eye is, to its second moments
 // exactly, the geometric blur convolved with the focused PSF (docs/REFRACTION.md, "Measured").
 //
-// The eye: the observer looks at the display centre, so the eye accommodates (Eq. 13, clamped to
-// [0, amplitude]) on the depth seen at the centre pixel (width / 2, height / 2) of `display` (in
-// stereo each eye's view, a display of its own: runner/session/session_eyes.h) through the lens'
-// power on that line of sight; every other point keeps that accommodation. Through spectacles each
+// The eye ([observer] accommodation = "fixation", the default): the observer looks at the display
+// centre, so the eye accommodates (Eq. 13, clamped to [0, amplitude]) on the depth seen at the
+// centre pixel (width / 2, height / 2) of `display` (in stereo each eye's view, a display of its
+// own: runner/session/session_eyes.h) through the lens' power on that line of sight; every other
+// point keeps that accommodation. With "range" each point gets its own Eq. 13 accommodation, as
+// Kakimoto's Table 1 computes it per voxel: every point whose mean vergence at the cornea lies in the
+// accommodation range [mean(K) - amplitude, mean(K)] (near point to far point) has no mean error (a
+// sharp point for an eye without astigmatism), and one outside keeps the error of the nearer end,
+// plus the vergence beyond it. Through spectacles each
 // pixel's line of sight has its own lens power (glare/refraction/spectacle_power.h, lens_power_at_gaze at the
 // vertex sphere: oblique astigmatism, a progressive lens' near zone below the fitting cross), added
 // to the point's vergence at the lens and carried to the cornea (Eq. 1); the blur uses it per display
@@ -48,13 +53,19 @@ bool depth_of_field_applies(const Experiment& experiment, const std::vector<cons
 void check_depth_of_field(const Experiment& experiment, const SceneLibrary& scenes);
 
 // The eye's error along each line of sight of the frame, accommodated on `fixation_distance_m`
-// seen along the centre pixel's line of sight (see above).
+// seen along the centre pixel's line of sight, or on each depth within the range, as
+// refraction.accommodation says (see above).
 struct FrameEye {
   double fixation_distance_m = 0.0;
   DioptricPower fixation_vergence;      // at the cornea
-  double accommodation_dioptres = 0.0;  // Eq. 13
+  double accommodation_dioptres = 0.0;  // Eq. 13 at the fixation
   DioptricPower residual_at_fixation;   // E there
   EyeErrorAlongSightLine error;         // E for each line of sight and distance
+  AccommodationRule rule = AccommodationRule::fixation;
+  // The accommodation range as mean vergences at the cornea: mean(K) (far point) and
+  // mean(K) - amplitude (near point).
+  double range_far_vergence_dioptres = 0.0;
+  double range_near_vergence_dioptres = 0.0;
 };
 FrameEye frame_eye(const ConditionRefraction& refraction, const DisplaySpec& display, double fixation_distance_m);
 

@@ -70,6 +70,7 @@ std::optional<ConditionRefraction> condition_refraction(const Experiment& experi
   }
   out.accommodation_amplitude_dioptres = eye.accommodation_amplitude_dioptres;
   out.eye = eye;
+  out.accommodation = optics.accommodation;
   if (const SpectaclesSettings* pair = spectacles_for(optics, row)) {
     out.spectacles = pair->name;
     out.lens = ThinSpectacleLens{pair->prescription, 1e-3 * pair->vertex_distance_mm};
@@ -128,12 +129,12 @@ std::vector<ConditionRefraction> condition_refractions(const Experiment& experim
   return all;
 }
 
-double largest_session_pupil_diameter_mm() { return EyeParameters{}.pupil_max_diameter_mm; }
+double largest_session_pupil_diameter_mm(const GlareSpec& spec) { return spec.eye.pupil_max_diameter_mm; }
 
 void check_condition_refractions(const Experiment& experiment) {
   if (!models_observer_optics(experiment)) return;
   const GlareSpec& spec = experiment.glare;
-  const double pupil_mm = largest_session_pupil_diameter_mm();
+  const double pupil_mm = largest_session_pupil_diameter_mm(spec);
   const double radius_mm = 0.5 * pupil_mm, width_mm = spec.aperture_width_mm;
   const double pixel_mm = width_mm / spec.grid_px;
   ChromaticPsfOptions chromatic;
@@ -154,11 +155,13 @@ void check_condition_refractions(const Experiment& experiment) {
     }
     if (!shows_glare(experiment, row)) continue;
     const GlareModel model = glare_model_for(spec, row);
-    if (model == GlareModel::spencer || model == GlareModel::cie)
+    // Luidolt's kernel has a pupil, but its only phase is Eq. 5.6's fixed Fresnel term: no defocus.
+    if (model == GlareModel::spencer || model == GlareModel::cie || model == GlareModel::luidolt)
       throw ConfigError(row.where, "condition '" + row.name() + "' glare_model",
                         "the observer's refraction ([observer.refraction] or spectacles) blurs the wave-optics PSF, "
                         "but glare_model '" + to_string(model) +
-                            "' has no pupil to carry it: use \"human\", \"ritschel\" or \"hybrid\" for this condition, or leave "
+                            (model == GlareModel::luidolt ? "' has no defocus phase to carry it" : "' has no pupil to carry it") +
+                            ": use \"human\", \"ritschel\" or \"hybrid\" for this condition, or leave "
                             "the refraction and spectacles out of the experiment");
     // Every wavelength of the spectral PSF carries its own error (the LCA, glare/wave/chromatic_psf.h);
     // the message names the one that needs the finest grid.

@@ -35,6 +35,9 @@ struct ConditionRefraction {
   DioptricPower ocular_refraction;     // K: the eye's error at the cornea
   double viewing_distance_m = 0.0;     // the display, from the cornea
   FixationRefraction fixation;         // V, Delta P and the residual E at the display
+  // [observer] accommodation: how the depth of field accommodates over the scene's depths
+  // (runner/session/condition_depth_of_field.h).
+  AccommodationRule accommodation = AccommodationRule::fixation;
 };
 
 // True when the experiment models the observer's optics: [observer.refraction] is present, some
@@ -50,9 +53,10 @@ std::optional<ConditionRefraction> condition_refraction(const Experiment& experi
 // Every condition's (empty when the optics are not modelled), in condition order.
 std::vector<ConditionRefraction> condition_refractions(const Experiment& experiment);
 
-// The largest pupil the session's eye can have (mm): the eye model's clamp, which a measured
-// (tracker) pupil is also clamped to. The sampling check is made for it, so no frame aliases.
-double largest_session_pupil_diameter_mm();
+// The largest pupil the session's eye can have (mm): the eye model's clamp ([glare.eye]
+// pupil_max_diameter_mm), which a measured (tracker) pupil is also clamped to. The sampling check is
+// made for it, so no frame aliases.
+double largest_session_pupil_diameter_mm(const GlareSpec& spec);
 
 // The frame seen through the condition's spectacles (stimuli/spectacle_warp.h): the display as a
 // flat scene at its viewing distance, the primary line of sight through its centre, each channel at

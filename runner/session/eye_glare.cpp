@@ -14,7 +14,7 @@
 
 #include "core/number_text.h"
 #include "core/pixel_rect.h"
-#include "runner/session/session_loop.h"
+#include "runner/session/session_glare.h"
 #include "stimuli/perception/frame_adaptation_luminance.h"
 #include "stimuli/position_glare.h"
 
@@ -40,13 +40,13 @@ std::optional<PixelRect> changed_bound(const std::vector<GlareFrameReport>& repo
 
 }  // namespace
 
-std::vector<EyeView> SessionLoop::eye_views() const {
+std::vector<EyeView> SessionGlare::eye_views() const {
   std::vector<EyeView> views;
   for (const std::unique_ptr<SessionEye>& eye : eyes_) views.push_back(eye->view);
   return views;
 }
 
-void SessionLoop::log_stereo_setup() {
+void SessionGlare::log_stereo_setup() {
   if (prepared_.experiment.display.stereo == StereoMode::none) return;
   const GlareSpec& spec = prepared_.experiment.glare;
   std::string text = "side_by_side:";
@@ -67,7 +67,7 @@ void SessionLoop::log_stereo_setup() {
   store_.log_event(session_id_, clock_.now_s(), "stereo", text);
 }
 
-std::vector<Placement> SessionLoop::eye_overlays(const std::vector<Placement>& overlays) const {
+std::vector<Placement> SessionGlare::eye_overlays(const std::vector<Placement>& overlays) const {
   std::vector<Placement> repeated;
   const DisplaySpec& display = prepared_.experiment.display;
   for (const std::unique_ptr<SessionEye>& eye : eyes_) {
@@ -85,24 +85,24 @@ std::vector<Placement> SessionLoop::eye_overlays(const std::vector<Placement>& o
   return repeated;
 }
 
-void SessionLoop::feed_tracker_inputs() {
+void SessionGlare::feed_tracker_inputs() {
   const GlareSpec& spec = prepared_.experiment.glare;
   for (const std::unique_ptr<SessionEye>& eye : eyes_) {
     const int id = eye->view.tracker_eye;
     const bool own = eye->own_tracker_samples;
     if (spec.pupil_source == PupilSource::tracker)
       if (const std::optional<double> pupil_mm = own ? tracker_.measured_eye_pupil_mm(id) : tracker_.measured_pupil_mm())
-        eye->glare.record_measured_pupil(clock_.now_s(), *pupil_mm);
+        eye->engine.glare().record_measured_pupil(clock_.now_s(), *pupil_mm);
     if (spec.blink_source == BlinkSource::tracker) {
       std::vector<DetectedBlink> blinks;
       for (const TrackerBlinkInterval& blink : own ? tracker_.detected_eye_blinks(id) : tracker_.detected_blinks())
         blinks.push_back({blink.onset_s, blink.offset_s});
-      eye->glare.set_detected_blinks(blinks);
+      eye->engine.glare().set_detected_blinks(blinks);
     }
   }
 }
 
-void SessionLoop::update_glare_gaze(IntervalGlare& glare, double flip_s) {
+void SessionGlare::update_glare_gaze(IntervalGlare& glare, double flip_s) {
   const bool predicted = prepared_.experiment.glare.gaze_latency_compensation;
   for (std::size_t e = 0; e < eyes_.size(); ++e) {
     const int id = eyes_[e]->view.tracker_eye;
@@ -116,18 +116,18 @@ void SessionLoop::update_glare_gaze(IntervalGlare& glare, double flip_s) {
   }
 }
 
-double SessionLoop::adaptation_luminance(std::size_t e, const IntervalGlare& glare,
+double SessionGlare::adaptation_luminance(std::size_t e, const IntervalGlare& glare,
                                          const ImageRGBA& eye_part_cd_m2) const {
   const GazePoint gaze = glare.eyes[e].gaze.value_or(GazePoint{});
   return frame_adaptation_luminance_cd_m2(eye_part_cd_m2, gaze.x, gaze.y,
                                           prepared_.experiment.perception.adaptation_weighting);
 }
 
-void SessionLoop::see_interval(const IntervalGlare& glare, const ImageRGBA* composed_cd_m2) {
+void SessionGlare::see_interval(const IntervalGlare& glare, const ImageRGBA* composed_cd_m2) {
   for (std::size_t e = 0; e < eyes_.size(); ++e) {
     SessionEye& eye = *eyes_[e];
     const auto see = [&](const ImageRGBA& seen_cd_m2) {
-      eye.perception.see(adaptation_luminance(e, glare, seen_cd_m2), glare.first_flip_s, period_s_, 0,
+      eye.engine.perception().see(adaptation_luminance(e, glare, seen_cd_m2), glare.first_flip_s, period_s_, 0,
                          glare.stimulus_frames);
     };
     if (composed_cd_m2 == nullptr) {
@@ -139,18 +139,18 @@ void SessionLoop::see_interval(const IntervalGlare& glare, const ImageRGBA* comp
   }
 }
 
-void SessionLoop::record_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2) {
+void SessionGlare::record_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2) {
   for (std::size_t e = 0; e < eyes_.size(); ++e) {
     SessionEye& eye = *eyes_[e];
     const ViewPart part(composed_cd_m2, eye.view.viewport);
     const double mean_cd_m2 = mean_luminance(part.image());
     const double adaptation_cd_m2 = adapts_ ? adaptation_luminance(e, glare, part.image()) : 0.0;
-    const bool adapted = glare.perceived && glare.perception.adaptation;
+    const bool adapted = glare.perception.adaptation;
     for (int k = 0; k < glare.stimulus_frames; ++k) {
-      if (adapts_) eye.perception.see(adaptation_cd_m2, glare.first_flip_s, period_s_, k, k + 1);
-      if (glare.dynamic)
-        eye.glare.record_dynamic_frame(glare.frame_time_s(k),
-                                       adapted ? *eye.perception.adapted_luminance_cd_m2() : mean_cd_m2);
+      if (adapts_) eye.engine.perception().see(adaptation_cd_m2, glare.first_flip_s, period_s_, k, k + 1);
+      if (glare.motion == IntervalGlareMotion::moving)
+        eye.engine.glare().record_dynamic_frame(glare.frame_time_s(k),
+                                       adapted ? *eye.engine.perception().adapted_luminance_cd_m2() : mean_cd_m2);
     }
   }
 }
@@ -158,40 +158,33 @@ void SessionLoop::record_interval(const IntervalGlare& glare, const ImageRGBA& c
 // Eye e's part of frame k: what it sees of the interval's frame through its perception stages
 // (Fig. 6.1: adaptation -> glare -> acuity -> tone mapping -> scotopic colour, at its gaze or its
 // view's centre) or through its glare alone.
-ImageRGBA SessionLoop::eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports) {
+ImageRGBA SessionGlare::eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports) {
   SessionEye& eye = *eyes_[e];
   EyeIntervalGlare& part = glare.eyes[e];
-  const double time_s = glare.frame_time_s(k);
-  const ImageRGBA& seen = part.seen_cd_m2(glare.composed_cd_m2);
-  // The glare of an image on the eye adapted to `field_cd_m2` (nothing: the image's mean
-  // luminance); `facts`: the interval's seen frame's, kept from frame to frame, for that frame only.
-  const auto glare_of = [&](const ImageRGBA& image_cd_m2, std::optional<double> field_cd_m2, FrameFacts* facts) {
-    if (!part.layers.empty())
-      return apply_layered_glare(eye.glare, image_cd_m2, part.layers, time_s, part.gaze, &reports, field_cd_m2,
-                                 &part.static_layers);
-    GlareFrameReport report;
-    ImageRGBA glared = eye.glare.apply(image_cd_m2, glare.mode, time_s, &report, part.gaze,
-                                       field_cd_m2.value_or(part.field_cd_m2), facts);
-    reports.push_back(report);
-    return glared;
-  };
-  if (!glare.perceived) return glare_of(seen, part.field_cd_m2, &part.seen_facts);
-  const GazePoint gaze = part.gaze.value_or(GazePoint{});
-  const FieldGlare stage_glare = [&](const ImageRGBA& adapted_cd_m2, std::optional<double> field_cd_m2) {
-    return glare_of(adapted_cd_m2, field_cd_m2, nullptr);
-  };
-  PerceptionResult result = eye.perception.process(seen, glare.perception, time_s, period_s_, gaze.x, gaze.y,
-                                                   glare.glared ? stage_glare : FieldGlare());
-  part.adapted_cd_m2.push_back(result.adapted_luminance_cd_m2);
+  EyeFrameRequest request{part.seen_cd_m2(glare.composed_cd_m2)};
+  request.mode = glare.mode;
+  request.layers = &part.layers;
+  request.static_layers = &part.static_layers;
+  request.glared = glare.glared();
+  request.perception = glare.perceived() ? &glare.perception : nullptr;
+  request.time_s = glare.frame_time_s(k);
+  request.frame_time_s = period_s_;
+  request.gaze = part.gaze;
+  request.field_cd_m2 = part.field_cd_m2;
+  request.facts = &part.seen_facts;
+  EyeFrame frame = eye.engine.frame(request);
+  reports.insert(reports.end(), frame.reports.begin(), frame.reports.end());
+  if (!glare.perceived()) return std::move(frame.image_cd_m2);
+  part.adapted_cd_m2.push_back(*frame.adapted_luminance_cd_m2);
   // One frame serving the interval: the eye still sees the rest of it.
   if (k + 1 == glare.frames_needed)
-    eye.perception.see(result.frame_luminance_cd_m2, glare.first_flip_s, period_s_, glare.frames_needed,
-                       glare.stimulus_frames);
-  return std::move(result.image);
+    eye.engine.perception().see(*frame.frame_luminance_cd_m2, glare.first_flip_s, period_s_, glare.frames_needed,
+                                glare.stimulus_frames);
+  return std::move(frame.image_cd_m2);
 }
 
-void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
-  if (!glare.active || k >= glare.frames_needed || static_cast<int>(glare.frames.size()) > k) return;
+void SessionGlare::compute_frame(IntervalGlare& glare, int k) {
+  if (!glare.computed() || k >= glare.frames_needed || static_cast<int>(glare.frames.size()) > k) return;
   const auto start = std::chrono::steady_clock::now();
   std::optional<double> gaze_time_s;
   if (presentation_for(glare) == GlarePresentation::live && tracker_.active()) {
@@ -212,7 +205,7 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
     ImageRGBA part = eye_frame(e, glare, k, eye_reports);
     const PixelRect& view = eyes_[e]->view.viewport;
     const std::optional<PixelRect> bound = changed_bound(eye_reports);
-    if (glare.perceived || glare.eyes[e].through_spectacles || !bound)
+    if (glare.perceived() || glare.eyes[e].through_spectacles || !bound)
       differs_within.reset();
     else if (differs_within)
       differs_within = bounding_rect(*differs_within, PixelRect{bound->x_px + view.x_px, bound->y_px + view.y_px,
@@ -235,14 +228,14 @@ void SessionLoop::compute_glare_frame(IntervalGlare& glare, int k) {
   // (runner/session/glared_region.h: the codes shown stay within one of the exact frame's).
   const RegionPrecision kept_at = k == 0 ? RegionPrecision::exact : RegionPrecision::half_rgb;
   glare.frames.push_back(changed_region(glare.composed_cd_m2, *shown, kept_at, differs_within));
-  if (k == 0 && preview_frame_ && preview_frame_->reports.empty()) preview_frame_->reports = reports;
+  if (k == 0 && capture_.frame && capture_.frame->reports.empty()) capture_.frame->reports = reports;
   count_glare_reports(glare, reports);
   glare.frame_compute_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   display_.make_current();  // a GL glare backend works in a context of its own
 }
 
-void SessionLoop::log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare) {
-  if (prepared_.experiment.display.stereo == StereoMode::none || !glare.active) return;
+void SessionGlare::log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare) {
+  if (prepared_.experiment.display.stereo == StereoMode::none || !glare.computed()) return;
   std::string text = "trial " + std::to_string(plan.trial_index) + " (" + glare.modes_label + "):";
   for (std::size_t e = 0; e < eyes_.size() && e < glare.eyes.size(); ++e) {
     const EyeIntervalGlare& eye = glare.eyes[e];

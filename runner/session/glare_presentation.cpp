@@ -9,7 +9,8 @@
 #include <vector>
 
 #include "core/number_text.h"
-#include "runner/session/session_loop.h"
+#include "glare/wave/luidolt_kernel.h"
+#include "runner/session/session_glare.h"
 #include "stimuli/position_glare.h"
 
 namespace glarelab {
@@ -46,7 +47,7 @@ std::string glare_layout(const IntervalGlare& glare) {
 
 }  // namespace
 
-SessionLoop::GlarePresentation SessionLoop::presentation_for(const IntervalGlare& glare) const {
+SessionGlare::GlarePresentation SessionGlare::presentation_for(const IntervalGlare& glare) const {
   const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
   if (asked == GlarePresentationRequest::live) return GlarePresentation::live;
   if (asked == GlarePresentationRequest::prepared) return GlarePresentation::prepared;
@@ -54,7 +55,7 @@ SessionLoop::GlarePresentation SessionLoop::presentation_for(const IntervalGlare
   return settled == settled_presentations_.end() ? GlarePresentation::prepared : settled->second;
 }
 
-void SessionLoop::review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
+void SessionGlare::review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
   if (prepared_.experiment.glare.presentation != GlarePresentationRequest::automatic || glare.live_frames_dropped == 0) return;
   const std::string layout = glare_layout(glare);
   const auto settled = settled_presentations_.find(layout);
@@ -76,7 +77,7 @@ void SessionLoop::review_live_presentation(const TrialPlan& plan, const Interval
                        " glare frame(s)" + cost + "; " + kPreparedEqualsLive);
 }
 
-bool SessionLoop::presentation_settled(const IntervalGlare& glare) const {
+bool SessionGlare::presentation_settled(const IntervalGlare& glare) const {
   const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
   if (asked != GlarePresentationRequest::automatic) return presentation_logged_;
   return settled_presentations_.count(glare_layout(glare)) > 0;
@@ -88,9 +89,9 @@ bool SessionLoop::presentation_settled(const IntervalGlare& glare) const {
 // the overlays, the encode), and presents that layout live from then on when the two together
 // fit kLiveBudgetFraction of the refresh period (the rest is the flip's margin). Each settled
 // layout is logged as a 'presentation_mode' event.
-void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
+void SessionGlare::settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
   // Perception intervals are always prepared: their cost is the perception_stages event's.
-  if (!glare.active || glare.perceived || glare.frame_compute_s.empty() || presentation_settled(glare)) return;
+  if (glare.made != IntervalFrames::glare || glare.frame_compute_s.empty() || presentation_settled(glare)) return;
   const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
   // The first frame of a session also makes the FFTW plans and buffers: the steady cost is the
   // median of the frames after it, so "auto" waits for an interval of two frames or more (a dynamic
@@ -132,7 +133,7 @@ void SessionLoop::settle_glare_presentation(const TrialPlan& plan, const Interva
   store_.log_event(session_id_, clock_.now_s(), "presentation_mode", message + "; control trials: composed live at every refresh");
 }
 
-void SessionLoop::log_glare_setup() {
+void SessionGlare::log_glare_setup() {
   const GlareSpec& spec = prepared_.experiment.glare;
   bool any_glare = false;
   for (const ConditionRow& row : prepared_.experiment.conditions) {
@@ -154,21 +155,32 @@ void SessionLoop::log_glare_setup() {
     return;
   }
   // Every eye's stage picks its backend as the first eye's does.
-  GlareStage& stage = eyes_.front()->glare;
+  GlareStage& stage = eyes_.front()->engine.glare();
   const DisplaySpec& stage_display = eyes_.front()->display;
   std::string backend_reason = stage.backend_reason();
   if (!condition_refractions_.empty()) backend_reason += " " + stage.refraction_backend_reason() + ".";
+  backend_reason += " " + eyes_.front()->engine.reason();
   store_.log_event(session_id_, clock_.now_s(), "glare_backend", backend_reason);
   display_.make_current();  // making a GL backend (or asking GL for auto) changed the current context
   // The analytic models' kernels are integrated over the display's pixels now, before the first
   // trial (seconds for a full screen), not at the first glare trial's onset.
   std::set<GlareModel> analytic_models;
-  for (const ConditionRow& row : prepared_.experiment.conditions)
-    if (const GlareModel model = glare_model_for(spec, row); model != GlareModel::ritschel) analytic_models.insert(model);
+  bool luidolt = false;
+  for (const ConditionRow& row : prepared_.experiment.conditions) {
+    const GlareModel model = glare_model_for(spec, row);
+    luidolt = luidolt || model == GlareModel::luidolt;
+    if (model != GlareModel::ritschel && model != GlareModel::luidolt) analytic_models.insert(model);
+  }
+  if (luidolt) {
+    LuidoltKernelOptions options;
+    options.grid_px = spec.grid_px;
+    options.wavelength_count = spec.wavelength_samples;
+    store_.log_event(session_id_, clock_.now_s(), "glare_model", "luidolt: " + luidolt_description(options));
+  }
   for (const GlareModel model : analytic_models) {
     // Each eye's kernel for its view (the first eye's described).
     for (std::size_t e = 1; e < eyes_.size(); ++e)
-      eyes_[e]->glare.analytic_for(model, eyes_[e]->display.width_px, eyes_[e]->display.height_px);
+      eyes_[e]->engine.glare().analytic_for(model, eyes_[e]->display.width_px, eyes_[e]->display.height_px);
     const AnalyticGlare& analytic = stage.analytic_for(model, stage_display.width_px, stage_display.height_px);
     store_.log_event(session_id_, clock_.now_s(), "glare_model",
                      to_string(model) + (model == GlareModel::hybrid || model == GlareModel::human ? " (far field " + analytic.describe() + ")"
@@ -191,8 +203,8 @@ void SessionLoop::log_glare_setup() {
   store_.log_event(session_id_, clock_.now_s(), "glare_inputs", inputs);
 }
 
-void SessionLoop::log_perception_stages(const TrialPlan& plan, const IntervalGlare& glare) {
-  if (!glare.active || !glare.perceived || glare.frame_compute_s.empty() || perception_logged_) return;
+void SessionGlare::log_perception_stages(const TrialPlan& plan, const IntervalGlare& glare) {
+  if (!glare.perceived() || glare.frame_compute_s.empty() || perception_logged_) return;
   perception_logged_ = true;
   // As for the glare: the first frame of a session also makes buffers and plans, so the steady
   // cost is the median of the frames after it when there are any.
@@ -202,7 +214,7 @@ void SessionLoop::log_perception_stages(const TrialPlan& plan, const IntervalGla
   const PerceptionSettings& shown = glare.perception;
   std::string text = "Fig. 6.1 order on the CPU (double precision), frames prepared before onset; [perception] " +
                      perception_stages_label(s) + "; trial " + std::to_string(plan.trial_index) + " ran " +
-                     perception_stages_label(shown) + (glare.glared ? " with its glare after adaptation" : "") + ": " +
+                     perception_stages_label(shown) + (glare.glared() ? " with its glare after adaptation" : "") + ": " +
                      ms_text(per_frame_s) + " ms per frame (median of " +
                      std::to_string(measured - (measured > 1 ? 1 : 0)) + " frame(s)" +
                      (measured > 1 ? ", the first left out" : "") + ") against a refresh period of " +

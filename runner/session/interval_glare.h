@@ -43,23 +43,33 @@ struct EyeIntervalGlare {
   }
 };
 
-// What computing an interval's frames takes, in the order a reader meets it:
-//   active     the interval has frames to compute; false: every position control and no
-//              perception stage, or a preview passing by: the composed frame is shown as it is.
-//   glared     some position's glare mode is not control (a perceived interval may have none).
-//   perceived  some perception stage is on: every frame goes through them, the glare between
-//              adaptation and acuity.
-//   dynamic    the eye moves from frame to frame (a dynamic mode on a model with a moving eye).
+// What an interval's frames are made through, decided once when it begins.
+enum class IntervalFrames {
+  // None computed: the composed frame is shown as it is (every position control and no perception
+  // stage, or a preview passing by).
+  composed,
+  glare,       // the glare alone
+  perception,  // the perception stages, the glare (when there is any) between adaptation and acuity
+};
+
+// The glare in an interval.
+enum class IntervalGlareMotion {
+  none,    // every position control
+  still,   // a frozen eye or an analytic model: alike on every frame
+  moving,  // the eye moves from frame to frame (a dynamic mode on a model with a moving eye)
+};
+
 struct IntervalGlare {
-  bool active = false;
+  IntervalFrames made = IntervalFrames::composed;
+  IntervalGlareMotion motion = IntervalGlareMotion::none;
+  bool computed() const { return made != IntervalFrames::composed; }
+  bool perceived() const { return made == IntervalFrames::perception; }
+  bool glared() const { return motion != IntervalGlareMotion::none; }
   // The condition's perception stages (stimuli/session_perception.h).
   PerceptionSettings perception;
-  bool perceived = false;
-  bool glared = false;
   GlareMode mode = GlareMode::control;
   std::vector<GlareMode> layer_modes;  // each position's mode when the sides differ; else empty
   ImageRGBA composed_cd_m2;
-  bool dynamic = false;
   int frames_needed = 1;      // dynamic (or adapting): every stimulus frame; static: one serves all
   int stimulus_frames = 1;    // the interval's stimulus frames
   double first_flip_s = 0.0;  // session time of the interval's first stimulus flip
@@ -92,7 +102,7 @@ struct IntervalGlare {
   }
   // The frame shown at stimulus frame k of the interval: frame k, or the last one computed.
   const GlaredRegion* shown(int k) const {
-    if (!active || frames.empty()) return nullptr;
+    if (!computed() || frames.empty()) return nullptr;
     return &frames[std::min<std::size_t>(static_cast<std::size_t>(k), frames.size() - 1)];
   }
 };

@@ -16,11 +16,11 @@ IntervalGlare SessionLoop::begin_real_stimulus(const TrialPlan& plan, int flips_
   interval.first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
   interval.stimulus_frames = plan.stimulus_frames;
   interval.modes_label = "real stimulus '" + plan.real_stimulus + "'";
-  if (previewed(plan) && !preview_frame_) {
-    preview_frame_.emplace();
-    preview_frame_->plan = plan;
-    preview_frame_->time_s = interval.first_flip_s;
-    preview_frame_->glare_label = interval.modes_label;
+  if (capture_.captures(plan) && !capture_.frame) {
+    capture_.frame.emplace();
+    capture_.frame->plan = plan;
+    capture_.frame->time_s = interval.first_flip_s;
+    capture_.frame->glare_label = interval.modes_label;
   }
   return interval;
 }

@@ -1,8 +1,8 @@
 #pragma once
 // The eyes of a session, each with what it sees of the display and the stages that make its image:
 // its view (on a mono display the whole frame; with [display] stereo = "side_by_side" its half,
-// stimuli/stereo_layout.h, docs/STEREO.md), its own glare stage (its own eye model and seed) and
-// perception eye (its own adaptation), fed from its own tracker samples. A mono session is a
+// stimuli/stereo_layout.h, docs/STEREO.md) and its own frame engine (stimuli/frame_engine.h: its own
+// glare stage, eye model and seed, and perception eye), fed from its own tracker samples. A mono session is a
 // session with one eye; the session loop's per-eye work is in runner/session/eye_glare.cpp.
 #include <cstdint>
 #include <memory>
@@ -11,6 +11,7 @@
 
 #include "core/gl/gl_context.h"
 #include "protocols/experiment.h"
+#include "stimuli/frame_engine.h"
 #include "stimuli/glare_stage.h"
 #include "stimuli/scene_library.h"
 #include "stimuli/session_perception.h"
@@ -31,8 +32,7 @@ struct SessionEye {
   bool own_tracker_samples = false;
   DisplaySpec display;  // the eye's view as a display of its own
   std::uint64_t seed = 0;
-  GlareStage glare;
-  SessionPerception perception;
+  FrameEngine engine;
 };
 
 // A session's eyes: one per stereo view, left first, or the one eye of a mono display whose frame

@@ -2,7 +2,6 @@
 // pupil calibration before its first trial.
 #include "runner/session/session_loop.h"
 
-#include "runner/display/compute_context.h"
 
 namespace glarelab {
 
@@ -18,17 +17,10 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       renderer_(display.width_px(), display.height_px()),
       period_s_(1.0 / display.refresh_hz()),
       timing_(display.refresh_hz()),
-      eyes_(make_session_eyes(prepared.experiment, display.width_px(), display.height_px(),
-                              gl::compute_context_factory())),
+      glare_(prepared, renderer_, display, clock, store, session_id, tracker, capture_),
       overlays_(renderer_, prepared.experiment),
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
-  for (const ConditionRefraction& refraction : condition_refractions(prepared_.experiment))
-    condition_refractions_.emplace(refraction.condition, refraction);
-  log_glare_setup();
-  log_stereo_setup();
-  for (const ConditionRow& row : prepared_.experiment.conditions)
-    adapts_ = adapts_ || perception_for(prepared_.experiment.perception, row).adaptation;
   for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
 }
 

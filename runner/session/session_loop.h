@@ -16,6 +16,7 @@
 #include "runner/session/condition_refraction.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interval_glare.h"
+#include "runner/session/session_glare.h"
 #include "runner/session/presentation_overlays.h"
 #include "runner/session/response_device_input.h"
 #include "runner/session/session_eyes.h"
@@ -58,8 +59,8 @@ class SessionLoop {
   // A preview (glarelab render, runner/session/stimulus_preview.h): trials of other conditions
   // run with their glare recorded, not computed; the first trial of the condition ends the loop
   // once its first stimulus frame is captured (aborted() is then true).
-  void attach_preview(const StimulusPreview& preview) { preview_ = &preview; }
-  std::optional<PreviewFrame> take_preview_frame() { return std::move(preview_frame_); }
+  void attach_preview(const StimulusPreview& preview) { capture_.preview = &preview; }
+  std::optional<PreviewFrame> take_preview_frame() { return std::move(capture_.frame); }
   // Each interval's first stimulus frame (after glare, with overlays; linear cd/m2) written to
   // `directory` as trial_NNNN.exr (a second interval: trial_NNNN_interval_2.exr).
   void save_first_frames_to(const std::string& directory) { save_frames_dir_ = directory; }
@@ -166,69 +167,6 @@ class SessionLoop {
   // or the session is ended; either way the trial in progress ends uncommitted.
   void pause_for_response_device(int trial_index);
 
-  // --- glare (stimuli/glare_stage.h) ---
-  // runner/session/trial_glare.cpp
-  // An interval's glare set up before the fixation (see the definition): modes, composed frame,
-  // what each eye sees of it, and tracker inputs. `flips_before`: timed flips between now and the
-  // interval's first stimulus frame (fixation, interval 1).
-  IntervalGlare begin_glare(const TrialPlan& plan, const std::vector<Placement>& placements, int flips_before = 0);
-  // A condition's optics in an interval: its refraction (nullptr when the observer's optics are not
-  // modelled), whether its spectacles warp the frame and whether the depth of field blurs it.
-  struct ConditionOptics {
-    const ConditionRefraction* refraction = nullptr;
-    bool spectacles = false;
-    bool depth_of_field = false;
-  };
-  ConditionOptics condition_optics(const TrialPlan& plan) const;
-  // The interval's composed frame and, for each eye, its view of it (and of each position's layer
-  // when the sides differ, `position_modes`) as it reaches that eye through the optics.
-  void see_through_optics(IntervalGlare& glare, const TrialPlan& plan, const std::vector<Placement>& placements,
-                          const ConditionOptics& optics, const std::vector<GlareMode>& position_modes);
-  // Every frame of the interval before onset (prepared presentation); stops on an interrupt.
-  void prepare_glare_frames(IntervalGlare& glare);
-  // The interval's glare_skipped, glare_window and gaze_latency events.
-  void log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare);
-  const ConditionRow& condition_row(const TrialPlan& plan) const;
-  bool previewed(const TrialPlan& plan) const { return preview_ != nullptr && plan.condition_name == preview_->condition; }
-
-  // runner/session/glare_presentation.cpp
-  // Once, after the first glare interval: prepared or live from then on, with the measured cost.
-  void settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare);
-  // Once per session: the glare backend (what and why), where the eye's inputs come from and, when
-  // the observer's optics are modelled, an 'observer_refraction' event per condition.
-  void log_glare_setup();
-  // Once, after the first interval with perception stages: a 'perception_stages' event with the
-  // settings and the measured cost per frame.
-  void log_perception_stages(const TrialPlan& plan, const IntervalGlare& glare);
-
-  // runner/session/eye_glare.cpp: each eye's part, on its own view, with its own glare stage,
-  // perception eye and tracker samples (runner/session/session_eyes.h); a frame is every eye's
-  // part joined.
-  std::vector<EyeView> eye_views() const;
-  // Overlays placed for the whole display, repeated in each eye's view (clipped to it).
-  std::vector<Placement> eye_overlays(const std::vector<Placement>& overlays) const;
-  // Each eye's pupil and blinks from the tracker, for its glare stage.
-  void feed_tracker_inputs();
-  // Each eye's gaze for a frame flipping at flip_s, normalised in its view: the latest, or with
-  // latency compensation the gaze extrapolated to that flip.
-  void update_glare_gaze(IntervalGlare& glare, double flip_s);
-  // Section 5.1's adaptation luminance of eye `e`'s part of a frame at its gaze (its view's centre
-  // without one).
-  double adaptation_luminance(std::size_t e, const IntervalGlare& glare, const ImageRGBA& eye_part_cd_m2) const;
-  // The eyes seeing the interval's frames shown without stages: their parts of `composed_cd_m2`, or
-  // with nullptr what each sees of the interval's frame through the optics.
-  void see_interval(const IntervalGlare& glare, const ImageRGBA* composed_cd_m2);
-  // A preview passing by: each eye sees the interval's frames as computing them would have made it.
-  void record_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2);
-  // Frame k of the interval, computed for its flip time if it is needed and not yet there: each
-  // eye's part (eye_frame), joined.
-  void compute_glare_frame(IntervalGlare& glare, int k);
-  ImageRGBA eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports);
-  // Once per session, stereo only: a 'stereo' event with each eye's view, seed and inputs.
-  void log_stereo_setup();
-  // Stereo only: the interval's stereo_eyes event (each eye's pupil, gaze and adapted luminance).
-  void log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare);
-  // --- end glare ---
 
   // runner/session/real_stimulus_trial.cpp: a trial showing a physical object (TrialPlan::
   // real_stimulus): its interval without glare or perception stages (captured by a preview like any
@@ -255,27 +193,9 @@ class SessionLoop {
   double period_s_;
   std::map<std::string, SceneTexture> textures_;
   FrameTimingMonitor timing_;
-  // Live glare needs a frame's glare computed and drawn within this fraction of the refresh
-  // period; the rest is the margin for the flip and the machine's other work.
-  static constexpr double kLiveBudgetFraction = 0.75;
-  enum class GlarePresentation { prepared, live };
-  // How glare intervals are presented (runner/session/trial_glare.cpp): [glare] presentation
-  // "live" or "prepared" for all; "auto" settles each glare layout (the interval's glare modes,
-  // whatever their sides: a dynamic source beside a static one costs more than one beside a
-  // control) on the first interval of it, prepared until then.
-  GlarePresentation presentation_for(const IntervalGlare& glare) const;
-  bool presentation_settled(const IntervalGlare& glare) const;
-  // "auto": a layout settled live whose trial dropped a glare frame is prepared from the next
-  // trial on, and a presentation_mode event says so, with the frames' measured costs.
-  void review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare);
-  std::map<std::string, GlarePresentation> settled_presentations_;  // by glare_layout()
-  bool presentation_logged_ = false;  // "live" / "prepared" as asked: said once
-  // The session's eyes (runner/session/session_eyes.h): one on a mono display, left and right in
-  // stereo, each with its glare stage and perception eye.
-  std::vector<std::unique_ptr<SessionEye>> eyes_;
-  // Some condition has adaptation on, so every interval's frames are shown to the eyes.
-  bool adapts_ = false;
-  bool perception_logged_ = false;
+  PreviewCapture capture_;
+  // The session's glare and perception (runner/session/session_glare.h).
+  SessionGlare glare_;
   PresentationOverlays overlays_;
   bool sequential_;
   bool aborted_ = false;
@@ -283,12 +203,7 @@ class SessionLoop {
   ResponseDeviceInput* device_ = nullptr;
   bool rerun_trial_ = false;
   std::optional<SceneTexture> pause_message_;
-  const StimulusPreview* preview_ = nullptr;
   bool fast_forward_ = false;
-  std::optional<PreviewFrame> preview_frame_;  // filled in by prepare_glare, then captured
-  // Each condition's refraction by condition name (runner/session/condition_refraction.h); empty
-  // when the experiment does not model the observer's optics.
-  std::map<std::string, ConditionRefraction> condition_refractions_;
   std::string save_frames_dir_;
   // What draw() last composed into the stimulus framebuffer (scenes, the glared region's serial or
   // 0 for none, overlays), and the renderer's write count after it: a flip of the same frame only

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -12,7 +13,7 @@
 #include <vector>
 
 #include "runner/session/condition_depth_of_field.h"
-#include "runner/session/session_loop.h"
+#include "runner/session/session_glare.h"
 #include "core/number_text.h"
 #include "stimuli/frame_depth.h"
 #include "stimuli/position_glare.h"
@@ -74,7 +75,7 @@ std::string modes_label(const TrialPlan& plan, GlareMode mode, const std::vector
 // is shown untouched). Static: one frame serves all. Tracker inputs (when a tracker runs): the
 // filtered pupil and detected blinks known at the interval's start; the gaze known then
 // (prepared), or at each frame (live).
-IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<Placement>& placements,
+IntervalGlare SessionGlare::begin_interval(const TrialPlan& plan, const std::vector<Placement>& placements,
                                        int flips_before) {
   IntervalGlare glare;
   glare.eyes.resize(eyes_.size());
@@ -82,8 +83,8 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   glare.first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
   // A preview (stimulus_preview.h) computes the glare of its own trial's first frame only; other
   // trials' frames are recorded by the dynamic eye, not computed.
-  const bool captured = previewed(plan);
-  const bool record_only = preview_ != nullptr && !captured;
+  const bool captured = capture_.captures(plan);
+  const bool record_only = capture_.preview != nullptr && !captured;
   glare.mode = glare_mode_for(prepared_.experiment.glare, condition_row(plan));
   const GlareModel model = glare_model_for(prepared_.experiment.glare, condition_row(plan));
   const double gain = glare_gain_for(condition_row(plan));
@@ -96,34 +97,34 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
       : optics.depth_of_field      ? std::optional(DioptricPower{})
                                    : std::optional(optics.refraction->fixation.residual);
   for (const std::unique_ptr<SessionEye>& eye : eyes_) {
-    eye->glare.set_condition(model, gain);
-    eye->glare.set_refraction(residual_error);
+    eye->engine.glare().set_condition(model, gain);
+    eye->engine.glare().set_refraction(residual_error);
   }
   // A mode per position (stimuli/position_glare.h): one layer per placement.
   std::vector<GlareMode> position_modes;
   if (plan.position_glare.size() == plan.scenes.size())
     for (const std::string& name : plan.position_glare) position_modes.push_back(parse_glare_mode(name));
-  if (captured && preview_->glare) {
-    glare.mode = *preview_->glare;
+  if (captured && capture_.preview->glare) {
+    glare.mode = *capture_.preview->glare;
     position_modes.clear();
   }
-  if (captured && preview_->time_s) glare.first_flip_s = *preview_->time_s;
+  if (captured && capture_.preview->time_s) glare.first_flip_s = *capture_.preview->time_s;
   glare.modes_label = modes_label(plan, glare.mode, position_modes, model, gain, optics.refraction);
   glare.perception = perception_for(prepared_.experiment.perception, condition_row(plan));
-  glare.perceived = any_perception_stage(glare.perception);
+  const bool perceived = any_perception_stage(glare.perception);
   glare.stimulus_frames = plan.stimulus_frames;
-  if (glare.perceived) glare.modes_label += ", perception " + perception_stages_label(glare.perception);
-  const bool labels_preview = captured && !preview_frame_;
+  if (perceived) glare.modes_label += ", perception " + perception_stages_label(glare.perception);
+  const bool labels_preview = captured && !capture_.frame;
   if (labels_preview) {
-    preview_frame_.emplace();
-    preview_frame_->plan = plan;
-    preview_frame_->time_s = glare.first_flip_s;
-    preview_frame_->glare_label = glare.modes_label;
+    capture_.frame.emplace();
+    capture_.frame->plan = plan;
+    capture_.frame->time_s = glare.first_flip_s;
+    capture_.frame->glare_label = glare.modes_label;
   }
   const auto is_control = [](GlareMode m) { return m == GlareMode::control; };
-  glare.glared = !(position_modes.empty() ? glare.mode == GlareMode::control
-                                          : std::all_of(position_modes.begin(), position_modes.end(), is_control));
-  if (!glare.glared && !glare.perceived) {
+  const bool glared = !(position_modes.empty() ? glare.mode == GlareMode::control
+                                               : std::all_of(position_modes.begin(), position_modes.end(), is_control));
+  if (!glared && !perceived) {
     // Composed live at every refresh; the session's adapting eyes still see it.
     if (adapts_) {
       if (tracker_.active()) update_glare_gaze(glare, glare.first_flip_s);
@@ -136,15 +137,18 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
   }
   const auto is_dynamic = [](GlareMode m) { return m == GlareMode::dynamic; };
   // The analytic models have no moving eye: a dynamic condition's frames are all alike, so one
-  // serves the interval (the adaptation luminance of a trial's frames is the same).
-  const bool moving_eye = uses_wave_optics(model);
-  glare.dynamic = glare.glared && moving_eye &&
-                  (position_modes.empty() ? glare.mode == GlareMode::dynamic
-                                          : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic));
+  // serves the interval (the adaptation luminance of a trial's frames is the same). Luidolt's
+  // kernel follows the eye's pupil.
+  const bool moving_eye = uses_wave_optics(model) || model == GlareModel::luidolt;
+  const bool dynamic = position_modes.empty() ? glare.mode == GlareMode::dynamic
+                                              : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic);
+  glare.motion = !glared                  ? IntervalGlareMotion::none
+                 : moving_eye && dynamic ? IntervalGlareMotion::moving
+                                         : IntervalGlareMotion::still;
   if (record_only) {
     // The eyes see these frames (their pupils adapt to them, and the perception stages' eyes) at
     // the times they flip, as computing them would have made it.
-    if (glare.dynamic || adapts_) {
+    if (glare.motion == IntervalGlareMotion::moving || adapts_) {
       if (tracker_.active()) update_glare_gaze(glare, glare.first_flip_s);
       renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
       record_interval(glare, renderer_.read_stimulus());
@@ -152,25 +156,25 @@ IntervalGlare SessionLoop::begin_glare(const TrialPlan& plan, const std::vector<
     display_.make_current();
     return glare;
   }
-  glare.active = true;
+  glare.made = perceived ? IntervalFrames::perception : IntervalFrames::glare;
   // Adaptation changes every frame (Eq. 5.2), so each is computed; otherwise a static eye's frame
   // serves the whole interval.
-  const bool every_frame = glare.dynamic || (glare.perceived && glare.perception.adaptation);
+  const bool every_frame = glare.motion == IntervalGlareMotion::moving || glare.perception.adaptation;
   glare.frames_needed = captured ? 1 : every_frame ? plan.stimulus_frames : 1;
   if (tracker_.active()) {
     feed_tracker_inputs();
     update_glare_gaze(glare, glare.first_flip_s);
   }
   see_through_optics(glare, plan, placements, optics, position_modes);
-  if (labels_preview) preview_frame_->glare_label = glare.modes_label;  // with the depth of field's part
+  if (labels_preview) capture_.frame->glare_label = glare.modes_label;  // with the depth of field's part
   // Glare alone: the frames are the eyes' all the same (the perception stages' frames advance
   // them as they are computed).
-  if (adapts_ && !glare.perceived) see_interval(glare, nullptr);
+  if (adapts_ && !perceived) see_interval(glare, nullptr);
   display_.make_current();
   return glare;
 }
 
-SessionLoop::ConditionOptics SessionLoop::condition_optics(const TrialPlan& plan) const {
+SessionGlare::ConditionOptics SessionGlare::condition_optics(const TrialPlan& plan) const {
   ConditionOptics optics;
   const auto found = condition_refractions_.find(plan.condition_name);
   if (found == condition_refractions_.end()) return optics;
@@ -186,7 +190,7 @@ SessionLoop::ConditionOptics SessionLoop::condition_optics(const TrialPlan& plan
 // (every layer alike), then blurred by the depth of each of its points, accommodated on the depth
 // at its own view's centre (each eye a display of its view's size, runner/session/session_eyes.h);
 // the glare and the perception stages act on what reaches the eye.
-void SessionLoop::see_through_optics(IntervalGlare& glare, const TrialPlan& plan,
+void SessionGlare::see_through_optics(IntervalGlare& glare, const TrialPlan& plan,
                                      const std::vector<Placement>& placements, const ConditionOptics& optics,
                                      const std::vector<GlareMode>& position_modes) {
   const DisplaySpec& display = prepared_.experiment.display;
@@ -262,18 +266,18 @@ void count_glare_reports(IntervalGlare& glare, const std::vector<GlareFrameRepor
   }
 }
 
-void SessionLoop::prepare_glare_frames(IntervalGlare& glare) {
+bool SessionGlare::prepare_frames(IntervalGlare& glare, const std::function<bool()>& interrupted) {
   for (int k = 0; k < glare.frames_needed; ++k) {
     // Preparing a trial's frames can take many seconds on a CPU: Ctrl-C and SIGTERM are honoured
     // within one frame's work, not after the whole trial's.
-    check_interrupt();
-    if (aborted_) return;
-    compute_glare_frame(glare, k);
+    if (interrupted()) return false;
+    compute_frame(glare, k);
   }
+  return true;
 }
 
-void SessionLoop::log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare) {
-  if (!glare.active) return;
+void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare) {
+  if (!glare.computed()) return;
   const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + glare.modes_label + "): ";
   const std::string of_frames = " of " + std::to_string(glare.applications) +
                                 (glare.layer_modes.empty() ? " glare frame(s)" : " glare layer frame(s)");
@@ -291,7 +295,7 @@ void SessionLoop::log_interval_glare(const TrialPlan& plan, const IntervalGlare&
                      trial + "lens fibre gratings left out on " + std::to_string(glare.gratings_hidden) + of_frames +
                          ": pupil (smallest " + std::to_string(glare.smallest_pupil_mm) +
                          " mm) inside the clear lens centre (cortex annulus from " +
-                         std::to_string(2.0 * EyeParameters{}.lens_cortex_inner_radius_mm) + " mm diameter)");
+                         std::to_string(2.0 * prepared_.experiment.glare.eye.lens_cortex_inner_radius_mm) + " mm diameter)");
   if (glare.window)
     store_.log_event(session_id_, now_s, "glare_window",
                      trial + describe_glare_window(*glare.window, glare.eyes.front().tracked));
@@ -309,7 +313,7 @@ void SessionLoop::log_interval_glare(const TrialPlan& plan, const IntervalGlare&
   }
 }
 
-const ConditionRow& SessionLoop::condition_row(const TrialPlan& plan) const {
+const ConditionRow& SessionGlare::condition_row(const TrialPlan& plan) const {
   for (const ConditionRow& row : prepared_.experiment.conditions)
     if (row.name() == plan.condition_name) return row;
   throw std::logic_error("session: trial " + std::to_string(plan.trial_index) + " names condition '" +

@@ -18,7 +18,7 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
   std::vector<PixelRect> columns;
   // The scenes in each eye's view as on a display of its size (a mono display's one eye: the
   // whole frame), the first eye's placements first.
-  const auto rects = stereo_layout(eye_views(), sizes, &columns);
+  const auto rects = stereo_layout(glare_.eye_views(), sizes, &columns);
   std::vector<Placement> placements;
   for (std::size_t r = 0; r < rects.size(); ++r) {
     const std::size_t i = r % plan.scenes.size();
@@ -88,7 +88,7 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   // already holds them, and blending twice would darken it). The encode then redoes only the
   // rectangle where the display keeps its frame (FrameRenderer::encode_changes_to_display).
   // Overlays placed for the display, repeated in each eye's view.
-  const std::vector<Placement> placed_overlays = eye_overlays(overlays);
+  const std::vector<Placement> placed_overlays = glare_.eye_overlays(overlays);
   if (glared != nullptr && glared_serial != 0 && drawn_ && drawn_->glared_serial != 0 &&
       drawn_->generation == renderer_.stimulus_generation() && same_rect(drawn_->glared_box, glared_box) &&
       same_placements(drawn_->placements, placements) && same_placements(drawn_->overlays, overlays)) {

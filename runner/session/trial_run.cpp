@@ -22,7 +22,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   const PresentationSpec& presentation = prepared_.experiment.presentation;
   const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_);
   TrialRun run;
-  fast_forward_ = preview_ != nullptr && !previewed(plan);
+  fast_forward_ = capture_.preview != nullptr && !capture_.captures(plan);
   const bool interactive = prepared_.observer == nullptr;
   // Keys pressed before the trial (late repeats of the previous answer) must not answer it.
   if (interactive) ignore_keys(plan, "pressed before onset");
@@ -64,13 +64,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   for (const Placement& placement : overlays_.question(plan.question, intervals.stimulus_rects)) question.push_back(placement);
 
   if (!run_timed_sequence(plan, schedule, intervals, question, run)) return false;
-  for (const IntervalGlare& interval_glare : intervals.glare) {
-    log_interval_glare(plan, interval_glare);
-    settle_glare_presentation(plan, interval_glare);
-    review_live_presentation(plan, interval_glare);
-    log_perception_stages(plan, interval_glare);
-    log_stereo_eyes(plan, interval_glare);
-  }
+  for (const IntervalGlare& interval_glare : intervals.glare) glare_.report_interval(plan, interval_glare);
 
   if (!collect_response(plan, question, run)) return false;
   // The answer is in: scored now, shown as feedback, then committed with every flip. An abort
@@ -106,16 +100,18 @@ bool SessionLoop::begin_intervals(const TrialPlan& plan, const TrialSchedule& sc
     intervals.placements.push_back(layout(shown));
     for (const Placement& placement : intervals.placements.back()) intervals.stimulus_rects.push_back(placement.rect);
     intervals.glare.push_back(
-        begin_glare(shown, intervals.placements.back(), static_cast<int>(first_flip) + flips_after));
-    // Perception stages are prepared before onset whatever the glare's presentation: the session's
-    // eye then sees its frames in the order they flip.
-    if (presentation_for(intervals.glare.back()) == GlarePresentation::prepared || intervals.glare.back().perceived)
-      prepare_glare_frames(intervals.glare.back());
+        glare_.begin_interval(shown, intervals.placements.back(), static_cast<int>(first_flip) + flips_after));
+    const auto interrupted = [this] {
+      check_interrupt();
+      return aborted_;
+    };
+    if (glare_.prepared_before_onset(intervals.glare.back()))
+      glare_.prepare_frames(intervals.glare.back(), interrupted);
     else if (prepare_in_interval)
       // A live interval's first frame is computed in the inter-trial interval too (without a
       // tracker a frame is a function of its time): the onset flip, which also composes the
       // scenes, then only draws, and comes on time.
-      compute_glare_frame(intervals.glare.back(), 0);
+      glare_.compute_frame(intervals.glare.back(), 0);
     if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
   }
   return true;
@@ -137,11 +133,11 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
     } else if (flip.phase == FlipPhase::interval) {
       IntervalGlare& shown_glare = intervals.glare[static_cast<std::size_t>(flip.interval)];
       // Live: this frame's glare now, with the gaze of this moment (nothing when already there).
-      compute_glare_frame(shown_glare, flip.frame_in_interval);
+      glare_.compute_frame(shown_glare, flip.frame_in_interval);
       // Until the presentation is settled, each glare flip's drawing is timed (with its GL work
       // finished): with the glare's own cost it is what a live frame takes.
-      const bool timed = shown_glare.active && !shown_glare.perceived && shown_glare.frames_needed > 1 &&
-                         !presentation_settled(shown_glare);
+      const bool timed = shown_glare.made == IntervalFrames::glare && shown_glare.frames_needed > 1 &&
+                         !glare_.presentation_settled(shown_glare);
       const auto draw_start = std::chrono::steady_clock::now();
       draw(intervals.placements[static_cast<std::size_t>(flip.interval)], shown_glare.shown(flip.frame_in_interval),
            question);
@@ -172,7 +168,7 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
         log_late_flip(plan, flip_s, "frame " + std::to_string(flip.stimulus_frame), timing_.dropped().back().interval_s);
       IntervalGlare& shown_glare = intervals.glare[static_cast<std::size_t>(flip.interval)];
       // A live glare frame that came late: "auto" takes its layout back to prepared frames.
-      if (shown_glare.active && !shown_glare.perceived && presentation_for(shown_glare) == GlarePresentation::live) {
+      if (glare_.shown_live(shown_glare)) {
         ++shown_glare.live_frames_shown;
         if (dropped) ++shown_glare.live_frames_dropped;
       }
@@ -250,9 +246,9 @@ bool SessionLoop::capture_first_frame(const TrialPlan& plan, int interval) {
                   interval + 1);
     write_exr((std::filesystem::path(save_frames_dir_) / name).string(), renderer_.read_stimulus());
   }
-  if (!previewed(plan) || interval != 0 || !preview_frame_) return false;
-  preview_frame_->stimulus_cd_m2 = renderer_.read_stimulus();
-  preview_frame_->display_drive = renderer_.read_display();
+  if (!capture_.captures(plan) || interval != 0 || !capture_.frame) return false;
+  capture_.frame->stimulus_cd_m2 = renderer_.read_stimulus();
+  capture_.frame->display_drive = renderer_.read_display();
   return true;
 }
 

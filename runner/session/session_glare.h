@@ -1,0 +1,158 @@
+#pragma once
+// A session's glare and perception: each trial's inputs (the condition's glare modes, model, gain,
+// optics and perception stages, the tracker's gaze, pupil and blinks), its intervals' frames made
+// by each eye's frame engine (stimuli/frame_engine.h) and joined, how they are presented (prepared
+// before onset or live) with the measured cost, and the events that report them. The session loop
+// (runner/session/session_loop.h) keeps the schedule: it asks for an interval's glare before the
+// fixation, for each frame before its flip, and for the reports after the timed sequence.
+//
+// Its member functions are defined by concern: runner/session/trial_glare.cpp (an interval's
+// inputs and frames, their events), runner/session/eye_glare.cpp (each eye's part), and
+// runner/session/glare_presentation.cpp (prepared or live, and the once-only records).
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/clock.h"
+#include "runner/display/display_backend.h"
+#include "runner/session/condition_refraction.h"
+#include "runner/session/interval_glare.h"
+#include "runner/session/session_eyes.h"
+#include "runner/session/session_setup.h"
+#include "runner/session/stimulus_preview.h"
+#include "runner/store/result_store.h"
+#include "runner/tracker/tracker_session.h"
+#include "stimuli/frame_renderer.h"
+
+namespace glarelab {
+
+// A preview (glarelab render, runner/session/stimulus_preview.h) attached to a session, and the
+// frame it captures.
+struct PreviewCapture {
+  const StimulusPreview* preview = nullptr;
+  std::optional<PreviewFrame> frame;  // labelled when its interval begins, then captured
+  // Whether `plan` is a trial of the previewed condition.
+  bool captures(const TrialPlan& plan) const { return preview != nullptr && plan.condition_name == preview->condition; }
+};
+
+class SessionGlare {
+ public:
+  // Logs the glare setup (backend and frame engine, the eye's inputs, the observer's optics per
+  // condition, stereo eyes). `renderer` composes the scenes the glare is applied to.
+  SessionGlare(const PreparedSession& prepared, FrameRenderer& renderer, DisplayBackend& display, SessionClock& clock,
+               ResultStore& store, std::int64_t session_id, TrackerSession& tracker, PreviewCapture& capture);
+
+  // --- an interval's inputs and frames (runner/session/trial_glare.cpp) ---
+  // The interval's glare set up before the fixation: modes, composed frame, what each eye sees of
+  // it, and tracker inputs. `flips_before`: timed flips between now and the interval's first
+  // stimulus frame (fixation, interval 1).
+  IntervalGlare begin_interval(const TrialPlan& plan, const std::vector<Placement>& placements, int flips_before);
+  // Whether the interval's frames are all computed before onset (prepared presentation, or the
+  // perception stages, whose eye sees its frames in the order they flip).
+  bool prepared_before_onset(const IntervalGlare& glare) const;
+  // Every frame of the interval before onset; stops, returning false, when `interrupted` says so
+  // (checked before each frame: preparing a trial's frames can take seconds on a CPU).
+  bool prepare_frames(IntervalGlare& glare, const std::function<bool()>& interrupted);
+  // Frame k of the interval, computed for its flip time if it is needed and not yet there: each
+  // eye's part, joined.
+  void compute_frame(IntervalGlare& glare, int k);
+  // Whether interval frames count as live ones (their late flips reviewed) and whether glare
+  // flips' drawing is still timed for the presentation to settle.
+  bool shown_live(const IntervalGlare& glare) const;
+  bool presentation_settled(const IntervalGlare& glare) const;
+  // After the timed sequence: the interval's events (skips, gaze window, gaze latency, stereo
+  // eyes), the presentation settled or reviewed, the perception stages' cost.
+  void report_interval(const TrialPlan& plan, const IntervalGlare& glare);
+
+  // --- each eye's view (runner/session/eye_glare.cpp) ---
+  std::vector<EyeView> eye_views() const;
+  // Overlays placed for the whole display, repeated in each eye's view (clipped to it).
+  std::vector<Placement> eye_overlays(const std::vector<Placement>& overlays) const;
+
+ private:
+  // runner/session/trial_glare.cpp
+  // A condition's optics in an interval: its refraction (nullptr when the observer's optics are not
+  // modelled), whether its spectacles warp the frame and whether the depth of field blurs it.
+  struct ConditionOptics {
+    const ConditionRefraction* refraction = nullptr;
+    bool spectacles = false;
+    bool depth_of_field = false;
+  };
+  ConditionOptics condition_optics(const TrialPlan& plan) const;
+  // The interval's composed frame and, for each eye, its view of it (and of each position's layer
+  // when the sides differ, `position_modes`) as it reaches that eye through the optics.
+  void see_through_optics(IntervalGlare& glare, const TrialPlan& plan, const std::vector<Placement>& placements,
+                          const ConditionOptics& optics, const std::vector<GlareMode>& position_modes);
+  void log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare);
+  const ConditionRow& condition_row(const TrialPlan& plan) const;
+
+  // runner/session/glare_presentation.cpp
+  enum class GlarePresentation { prepared, live };
+  // How glare intervals are presented: [glare] presentation "live" or "prepared" for all; "auto"
+  // settles each glare layout (the interval's glare modes, whatever their sides: a dynamic source
+  // beside a static one costs more than one beside a control) on the first interval of it,
+  // prepared until then.
+  GlarePresentation presentation_for(const IntervalGlare& glare) const;
+  // Once, after the first glare interval: prepared or live from then on, with the measured cost.
+  void settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare);
+  // "auto": a layout settled live whose trial dropped a glare frame is prepared from the next
+  // trial on, and a presentation_mode event says so, with the frames' measured costs.
+  void review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare);
+  // Once per session: the glare backend and frame engine (what and why), where the eye's inputs
+  // come from and, when the observer's optics are modelled, an 'observer_refraction' event per
+  // condition.
+  void log_glare_setup();
+  // Once, after the first interval with perception stages: a 'perception_stages' event with the
+  // settings and the measured cost per frame.
+  void log_perception_stages(const TrialPlan& plan, const IntervalGlare& glare);
+
+  // runner/session/eye_glare.cpp
+  // Each eye's pupil and blinks from the tracker, for its glare stage.
+  void feed_tracker_inputs();
+  // Each eye's gaze for a frame flipping at flip_s, normalised in its view: the latest, or with
+  // latency compensation the gaze extrapolated to that flip.
+  void update_glare_gaze(IntervalGlare& glare, double flip_s);
+  // Section 5.1's adaptation luminance of eye `e`'s part of a frame at its gaze (its view's centre
+  // without one).
+  double adaptation_luminance(std::size_t e, const IntervalGlare& glare, const ImageRGBA& eye_part_cd_m2) const;
+  // The eyes seeing the interval's frames shown without stages: their parts of `composed_cd_m2`, or
+  // with nullptr what each sees of the interval's frame through the optics.
+  void see_interval(const IntervalGlare& glare, const ImageRGBA* composed_cd_m2);
+  // A preview passing by: each eye sees the interval's frames as computing them would have made it.
+  void record_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2);
+  ImageRGBA eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports);
+  // Once per session, stereo only: a 'stereo' event with each eye's view, seed and inputs.
+  void log_stereo_setup();
+  // Stereo only: the interval's stereo_eyes event (each eye's pupil, gaze and adapted luminance).
+  void log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare);
+
+  const PreparedSession& prepared_;
+  FrameRenderer& renderer_;
+  DisplayBackend& display_;
+  SessionClock& clock_;
+  ResultStore& store_;
+  std::int64_t session_id_;
+  TrackerSession& tracker_;
+  PreviewCapture& capture_;
+  double period_s_;
+  // Live glare needs a frame's glare computed and drawn within this fraction of the refresh
+  // period; the rest is the margin for the flip and the machine's other work.
+  static constexpr double kLiveBudgetFraction = 0.75;
+  std::map<std::string, GlarePresentation> settled_presentations_;  // by glare_layout()
+  bool presentation_logged_ = false;  // "live" / "prepared" as asked: said once
+  // The session's eyes (runner/session/session_eyes.h): one on a mono display, left and right in
+  // stereo, each with its frame engine.
+  std::vector<std::unique_ptr<SessionEye>> eyes_;
+  // Some condition has adaptation on, so every interval's frames are shown to the eyes.
+  bool adapts_ = false;
+  bool perception_logged_ = false;
+  // Each condition's refraction by condition name (runner/session/condition_refraction.h); empty
+  // when the experiment does not model the observer's optics.
+  std::map<std::string, ConditionRefraction> condition_refractions_;
+};
+
+}  // namespace glarelab

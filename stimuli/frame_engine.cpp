@@ -1,0 +1,142 @@
+#include "stimuli/frame_engine.h"
+
+#include <utility>
+
+#include "core/errors.h"
+#include "stimuli/perception/gl_perception_stages.h"
+
+namespace glarelab {
+
+// How an engine runs the perception stages of a frame.
+class FrameEngine::Stages {
+ public:
+  virtual ~Stages() = default;
+  virtual PerceptionResult run(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
+                               const PerceptionSettings& settings, const DisplaySpec& display,
+                               const PerceptionGlare& glare) = 0;
+};
+
+namespace {
+
+class CpuStages final : public FrameEngine::Stages {
+ public:
+  PerceptionResult run(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
+                       const PerceptionSettings& settings, const DisplaySpec& display,
+                       const PerceptionGlare& glare) override {
+    return run_perception_stages(scene, input, eye, settings, display, glare);
+  }
+};
+
+// The stages in a GL context of their own. The glare between adaptation and acuity may be the GL
+// glare backend's, which makes its own context current: the stages' is made current again after it.
+class GlStages final : public FrameEngine::Stages {
+ public:
+  explicit GlStages(const GlContextFactory& gl_context) : context_(gl_context()) {
+    if (!context_) throw DisplayError("OpenGL: the GL frame engine's perception stages were given no context");
+  }
+  PerceptionResult run(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
+                       const PerceptionSettings& settings, const DisplaySpec& display,
+                       const PerceptionGlare& glare) override {
+    context_->make_current();
+    PerceptionGlare in_context;
+    if (glare)
+      in_context = [&](const ImageRGBA& adapted_cd_m2) {
+        ImageRGBA glared = glare(adapted_cd_m2);
+        context_->make_current();
+        return glared;
+      };
+    return stages_.run(scene, input, eye, settings, display, in_context);
+  }
+
+ private:
+  std::unique_ptr<GlContext> context_;
+  gl::GlPerceptionStages stages_;
+};
+
+// The engines, in the order they are tried: each takes the frames of the compute backends it
+// serves (the one choice of compute, create_glare_backend).
+struct EngineCandidate {
+  FrameEngineKind kind;
+  bool (*serves)(GlareBackendKind);
+  const char* why;
+};
+constexpr EngineCandidate kEngines[] = {
+    {FrameEngineKind::gl, [](GlareBackendKind kind) { return kind == GlareBackendKind::gl; },
+     "the glare runs on OpenGL, so the perception stages do too (stimuli/perception/gl_perception_stages.h)"},
+    {FrameEngineKind::cpu, [](GlareBackendKind) { return true; },
+     "the glare runs on the CPU, so the perception stages do too (stimuli/perception/perception_stages.h)"},
+};
+
+}  // namespace
+
+FrameEngine::FrameEngine(const GlareSpec& glare, const AdaptationTimeConstants& time_constants,
+                         const DisplaySpec& display, std::uint64_t seed, GlContextFactory gl_context)
+    : gl_context_(gl_context), glare_(glare, display, seed, std::move(gl_context)), perception_(time_constants, display) {}
+
+FrameEngine::~FrameEngine() = default;
+
+FrameEngine::Stages& FrameEngine::stages() {
+  if (stages_) return *stages_;
+  const GlareBackendKind backend = glare_.backend().kind();
+  for (const EngineCandidate& candidate : kEngines) {
+    if (!candidate.serves(backend)) continue;
+    if (candidate.kind == FrameEngineKind::gl)
+      stages_ = std::make_unique<GlStages>(gl_context_);
+    else
+      stages_ = std::make_unique<CpuStages>();
+    kind_ = candidate.kind;
+    reason_ = "frame engine " + std::string(spelling(kind_)) + ": glare backend " + std::string(spelling(backend)) +
+              "; " + candidate.why + ".";
+    break;
+  }
+  return *stages_;
+}
+
+FrameEngineKind FrameEngine::kind() {
+  stages();
+  return kind_;
+}
+
+const std::string& FrameEngine::reason() {
+  stages();
+  return reason_;
+}
+
+EyeFrame FrameEngine::frame(const EyeFrameRequest& request) {
+  EyeFrame result;
+  // The glare of an image on the eye adapted to `field_cd_m2` (nothing: the image's mean
+  // luminance); `facts`: the seen image's, for that image only.
+  const auto glare_of = [&](const ImageRGBA& image_cd_m2, std::optional<double> field_cd_m2, FrameFacts* facts) {
+    if (request.layers != nullptr && !request.layers->empty())
+      return apply_layered_glare(glare_, image_cd_m2, *request.layers, request.time_s, request.gaze, &result.reports,
+                                 field_cd_m2, request.static_layers);
+    GlareFrameReport report;
+    ImageRGBA glared = glare_.apply(image_cd_m2, request.mode, request.time_s, &report, request.gaze,
+                                    field_cd_m2.value_or(request.field_cd_m2), facts);
+    result.reports.push_back(report);
+    return glared;
+  };
+  if (request.perception == nullptr) {
+    result.image_cd_m2 = glare_of(request.seen_cd_m2, request.field_cd_m2, request.facts);
+    return result;
+  }
+  const GazePoint gaze = request.gaze.value_or(GazePoint{});
+  const FieldGlare stage_glare = [&](const ImageRGBA& adapted_cd_m2, std::optional<double> field_cd_m2) {
+    return glare_of(adapted_cd_m2, field_cd_m2, nullptr);
+  };
+  Stages& engine = stages();
+  const PerceptionStagesRun run = [&](const ImageRGBA& scene, const PerceptionFrameInput& input,
+                                      TemporalAdaptation& eye, const PerceptionSettings& settings,
+                                      const DisplaySpec& display, const PerceptionGlare& glare) {
+    return engine.run(scene, input, eye, settings, display, glare);
+  };
+  PerceptionResult stages_result =
+      perception_.process(request.seen_cd_m2, *request.perception, request.time_s, request.frame_time_s, gaze.x, gaze.y,
+                          request.glared ? stage_glare : FieldGlare(), run);
+  result.image_cd_m2 = std::move(stages_result.image);
+  result.frame_luminance_cd_m2 = stages_result.frame_luminance_cd_m2;
+  result.adapted_luminance_cd_m2 = stages_result.adapted_luminance_cd_m2;
+  return result;
+}
+
+}  // namespace glarelab

@@ -1,0 +1,102 @@
+#pragma once
+// The frame engine seam (docs/ARCHITECTURE.md, "Seams"): what makes one eye's frame. A session
+// (run, and render's preview of it) asks it for each eye's frame with that eye's view as it
+// reaches the eye (the scene layers in cd/m2 through the condition's spectacles and depth of
+// field), the glare mode and the condition's model and refraction (set on its glare stage), the
+// perception stages, the gaze and the field luminance; it answers with the composed frame and the
+// stages' reports.
+//
+// Inside, one eye: its glare stage (stimuli/glare_stage.h: its eye model, pupil and blinks) and its
+// perception eye (stimuli/session_perception.h: its adaptation), run in the order of Luidolt 2020's
+// Fig. 6.1 (adaptation -> glare -> acuity -> tone mapping -> scotopic colour), or the glare alone.
+//
+// Engines: the CPU engine runs the perception stages on the CPU; the GL engine runs them with
+// OpenGL 4.5 (stimuli/perception/gl_perception_stages.h) beside the GL glare backend. Which one
+// follows from the one compute choice (create_glare_backend's table, glare/glare_backend.h, asked
+// by [glare] backend): a GL glare backend brings the GL engine, every CPU backend the CPU engine
+// (frame_engine.cpp's table). The choice is made when the first frame needs it, so a session whose
+// frames are all shown as composed never makes a GL context for it.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/display_spec.h"
+#include "core/gl/gl_context.h"
+#include "core/image.h"
+#include "core/perception_settings.h"
+#include "core/spelling.h"
+#include "glare/glare_spec.h"
+#include "stimuli/glare_stage.h"
+#include "stimuli/position_glare.h"
+#include "stimuli/session_perception.h"
+
+namespace glarelab {
+
+enum class FrameEngineKind { cpu, gl };
+inline constexpr Spelling<FrameEngineKind> kFrameEngineKindSpellings[] = {{FrameEngineKind::cpu, "cpu"},
+                                                                          {FrameEngineKind::gl, "gl"}};
+constexpr std::span<const Spelling<FrameEngineKind>> spellings(FrameEngineKind) { return kFrameEngineKindSpellings; }
+
+// One eye's frame to make. The references must outlive the call.
+struct EyeFrameRequest {
+  explicit EyeFrameRequest(const ImageRGBA& seen) : seen_cd_m2(seen) {}
+  const ImageRGBA& seen_cd_m2;  // the eye's view as it reaches the eye (cd/m2, linear Rec.709)
+  GlareMode mode = GlareMode::control;
+  // One layer per position when the positions' glare modes differ (stimuli/position_glare.h), with
+  // their static glare kept from frame to frame in `static_layers`; empty: `mode` for the frame.
+  const std::vector<GlareLayer>* layers = nullptr;
+  StaticLayerGlare* static_layers = nullptr;
+  bool glared = false;  // false: no glare (a perceived frame may have none)
+  // The perception stages; nullptr: the glare alone.
+  const PerceptionSettings* perception = nullptr;
+  double time_s = 0.0;        // the frame's flip on the session clock
+  double frame_time_s = 0.0;  // how long it is shown (Eq. 5.2's ft)
+  std::optional<GazePoint> gaze;  // normalised in the eye's view; nothing: its centre
+  double field_cd_m2 = 0.0;       // what the eye adapts to without the perception stages
+  FrameFacts* facts = nullptr;    // the seen image's, kept from frame to frame (nothing: found afresh)
+};
+
+struct EyeFrame {
+  ImageRGBA image_cd_m2;
+  std::vector<GlareFrameReport> reports;  // one per glared image (a layer each when the sides differ)
+  // With the perception stages: this frame's adaptation luminance (section 5.1) and L_i (Eq. 5.2).
+  std::optional<double> frame_luminance_cd_m2;
+  std::optional<double> adapted_luminance_cd_m2;
+};
+
+class FrameEngine {
+ public:
+  // `seed` seeds the eye model; `gl_context` makes the context GL work runs in (empty: no GL).
+  FrameEngine(const GlareSpec& glare, const AdaptationTimeConstants& time_constants, const DisplaySpec& display,
+              std::uint64_t seed, GlContextFactory gl_context);
+  ~FrameEngine();
+  FrameEngine(const FrameEngine&) = delete;
+  FrameEngine& operator=(const FrameEngine&) = delete;
+
+  EyeFrame frame(const EyeFrameRequest& request);
+
+  // The engine, chosen now if not yet (this makes the glare backend), and one sentence why.
+  FrameEngineKind kind();
+  const std::string& reason();
+
+  // The eye's stages, for what is not a frame: the condition's model and refraction, the tracker's
+  // pupil and blinks, frames the eye sees without their glare being computed.
+  GlareStage& glare() { return glare_; }
+  SessionPerception& perception() { return perception_; }
+
+  class Stages;  // how the perception stages run (frame_engine.cpp)
+
+ private:
+  Stages& stages();
+  GlContextFactory gl_context_;
+  GlareStage glare_;
+  SessionPerception perception_;
+  std::unique_ptr<Stages> stages_;
+  FrameEngineKind kind_ = FrameEngineKind::cpu;
+  std::string reason_;
+};
+
+}  // namespace glarelab
