@@ -58,12 +58,17 @@ class GlStages final : public FrameEngine::Stages {
 struct EngineCandidate {
   FrameEngineKind kind;
   bool (*serves)(GlareBackendKind);
+  std::unique_ptr<FrameEngine::Stages> (*make)(const GlContextFactory&);
   const char* why;
 };
 constexpr EngineCandidate kEngines[] = {
     {FrameEngineKind::gl, [](GlareBackendKind kind) { return kind == GlareBackendKind::gl; },
+     [](const GlContextFactory& gl_context) -> std::unique_ptr<FrameEngine::Stages> {
+       return std::make_unique<GlStages>(gl_context);
+     },
      "the glare runs on OpenGL, so the perception stages do too (stimuli/perception/gl_perception_stages.h)"},
     {FrameEngineKind::cpu, [](GlareBackendKind) { return true; },
+     [](const GlContextFactory&) -> std::unique_ptr<FrameEngine::Stages> { return std::make_unique<CpuStages>(); },
      "the glare runs on the CPU, so the perception stages do too (stimuli/perception/perception_stages.h)"},
 };
 
@@ -80,10 +85,7 @@ FrameEngine::Stages& FrameEngine::stages() {
   const GlareBackendKind backend = glare_.backend().kind();
   for (const EngineCandidate& candidate : kEngines) {
     if (!candidate.serves(backend)) continue;
-    if (candidate.kind == FrameEngineKind::gl)
-      stages_ = std::make_unique<GlStages>(gl_context_);
-    else
-      stages_ = std::make_unique<CpuStages>();
+    stages_ = candidate.make(gl_context_);
     kind_ = candidate.kind;
     reason_ = "frame engine " + std::string(spelling(kind_)) + ": glare backend " + std::string(spelling(backend)) +
               "; " + candidate.why + ".";
