@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli_process.h"
+#include "energy_convolution_reference.h"
 #include "core/exr_io.h"
 #include "glare/analytic/display_kernel_convolution.h"
 #include "glare/analytic/hybrid_psf.h"
@@ -224,7 +225,8 @@ TEST(HumanEye, TheStageFrameIsTheCalibratedNearPartPlusTheCieFarPart) {
   for (int c = 0; c < 3; ++c)
     for (int y = 0; y < near.size_px; ++y)
       for (int x = 0; x < near.size_px; ++x) whole.at(c, x - near.size_px / 2, y - near.size_px / 2) += near.at(c, x, y);
-  const ImageRGBA expected = convolve_with_kernel_float64(frame, whole);
+  // The kernel carries energy per pixel: the frame's luminance to energy in, the glare back out.
+  const ImageRGBA expected = test::convolve_as_energy_float64(frame, whole, display);
   double worst = 0.0;
   for (std::size_t i = 0; i < glared.rgba.size(); ++i)
     if (i % 4 != 3) worst = std::max(worst, std::abs(static_cast<double>(glared.rgba[i]) - expected.rgba[i]));
@@ -271,12 +273,12 @@ TEST(HumanEye, PsfWithoutAModelWritesTheDefaultEye) {
   EXPECT_NE(refused.output.find("--field-luminance-cd-m2"), std::string::npos) << refused.output;
 }
 
-// A session with a 2 x 2 px lamp of 1e6 cd/m2 on a black display 0.095 degrees per pixel: the lamp
-// 10 degrees left of the line of sight, so that 20 degrees from it lies on the display, 10 degrees
-// right. Glare minus control at 1, 2, 5, 10 and 20 degrees to the lamp's right equals the lamp's
+// A session with a 2 x 2 px lamp of 1e6 cd/m2 on a black display 0.095 degrees per pixel (21.8
+// degrees to each side): the lamp on the line of sight, or 10 degrees left of it, so that 20 degrees
+// from it lies on the display either way. Glare minus control at 1, 2, 5, 10 and 20 degrees to the lamp's right equals the lamp's
 // illuminance at the eye times the GSF there: the sum over its pixels of L x the pixel's solid
 // angle x GSF(the angle between that pixel and the measured one, both as seen from the eye).
-constexpr int kSessionWidth = 256, kSessionHeight = 32;
+constexpr int kSessionWidth = 480, kSessionHeight = 32;
 constexpr double kDistanceMm = 300.0, kPitchMm = 0.5;
 constexpr float kLampCdM2 = 1e6f;
 
@@ -286,8 +288,8 @@ name = "human-eye-lamp"
 seed = 3
 
 [display]
-width_px = 256
-height_px = 32
+width_px = )" + std::to_string(kSessionWidth) + R"(
+height_px = )" + std::to_string(kSessionHeight) + R"(
 viewing_distance_mm = 300.0
 pixel_pitch_mm = 0.5
 peak_luminance_cd_m2 = 250.0
@@ -373,13 +375,17 @@ void expect_veil_is_illuminance_times_gsf(const ImageRGBA& glare, const ImageRGB
   }
 }
 
+// The lamp's columns: on the line of sight (the display's centre), or 10 degrees left of it (300 mm x
+// tan(10 deg) / 0.5 mm = 105.8 px, its centre 106 px left of the display's).
+enum class LampAt { line_of_sight, ten_degrees_left };
+
 class HumanEyeSession : public ::testing::Test {
  protected:
-  void SetUp() override {
-    // The lamp 10 degrees left of the line of sight: 300 mm x tan(10 deg) / 0.5 mm = 105.8 px.
+  void place_lamp(LampAt at) {
+    const int right_column = kSessionWidth / 2 - (at == LampAt::line_of_sight ? 0 : 106);
     ImageRGBA scene(kSessionWidth, kSessionHeight, 0.0f);
     for (int y = 15; y < 17; ++y)
-      for (int x = 21; x < 23; ++x)
+      for (int x = right_column - 1; x <= right_column; ++x)
         for (int c = 0; c < 3; ++c) scene.pixel(x, y)[c] = kLampCdM2;
     write_exr((dir.path() / "lamp.exr").string(), scene);
     experiment = dir.write("experiment.toml", session_experiment());
@@ -388,7 +394,23 @@ class HumanEyeSession : public ::testing::Test {
   std::string experiment;
 };
 
+// A pixel's luminance is its energy over its own solid angle (glare/analytic/pixel_solid_angle.h):
+// on the line of sight the veil is E x GSF at every angle; without that reading it would be cos^3
+// low (17 % at 20 degrees).
+TEST_F(HumanEyeSession, RenderedGlareOfALampOnTheLineOfSightIsTheIlluminanceTimesTheGsf) {
+  place_lamp(LampAt::line_of_sight);
+  const auto render = [&](const std::string& condition) {
+    const auto out = dir.path() / (condition + ".exr");
+    const auto run = test::run_glarelab({"render", experiment, "--condition", condition, "--time", "0.5", "--out", out.string()},
+                                        dir.path());
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    return read_exr(out.string()).image;
+  };
+  expect_veil_is_illuminance_times_gsf(render("glare"), render("control"), "render, lamp on the line of sight");
+}
+
 TEST_F(HumanEyeSession, RenderedGlareIsTheIlluminanceTimesTheGsf) {
+  place_lamp(LampAt::ten_degrees_left);
   const auto render = [&](const std::string& condition) {
     const auto out = dir.path() / (condition + ".exr");
     const auto run = test::run_glarelab({"render", experiment, "--condition", condition, "--time", "0.5", "--out", out.string()},
@@ -400,6 +422,7 @@ TEST_F(HumanEyeSession, RenderedGlareIsTheIlluminanceTimesTheGsf) {
 }
 
 TEST_F(HumanEyeSession, SavedSessionFramesAreTheIlluminanceTimesTheGsf) {
+  place_lamp(LampAt::ten_degrees_left);
   const auto frames = dir.path() / "frames";
   const auto db = dir.path() / "session.db";
   const auto run = test::run_glarelab({"run", experiment, "--display", "offscreen", "--observer", "simulated", "--db",
