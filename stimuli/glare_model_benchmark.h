@@ -45,7 +45,9 @@ struct AnalyticBenchmarkResult {
   double ritschel_frame_s = 0.0;  // plain Ritschel dynamic frame through the glare stage
   double hybrid_frame_s = 0.0;    // hybrid (Spencer far field) dynamic frame
   double hybrid_setup_s = 0.0;    // the hybrid's far kernel, once per session
-  double human_frame_s = 0.0;     // the default eye ("human": calibrated near field, CIE far field)
+  double human_frame_s = 0.0;     // the default eye ("human": calibrated near field, CIE far field), one
+                                  // composed frame again and again as in a dynamic interval (far glare kept)
+  double human_new_frame_s = 0.0; // the same with a different composed frame every time (far glare computed)
   double human_setup_s = 0.0;     // its far kernel and near rings, once per session
   int wavelength_samples = 0;     // of the stage's spectral PSFs
   double refraction_dynamic_frame_s = 0.0;  // Ritschel dynamic frame with a refraction
