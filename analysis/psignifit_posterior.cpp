@@ -123,6 +123,7 @@ struct EtaAxis {
   std::vector<double> eta, v, rising_total;
   std::vector<char> binomial, fast;
   std::vector<std::size_t> fast_indices;
+  std::vector<double> fast_v;  // v of the fast etas, in fast_indices' order
 };
 
 EtaAxis eta_axis(const std::vector<PsignifitBlock>& blocks, const std::vector<double>& etas) {
@@ -134,37 +135,37 @@ EtaAxis eta_axis(const std::vector<PsignifitBlock>& blocks, const std::vector<do
     axis.v.push_back(variance < kBinomialVariance ? 1.0 : 1.0 / variance - 1.0);
     axis.rising_total.push_back(log_rising_v_total(blocks, etas[i]));
     axis.fast.push_back(fast_products(blocks, etas[i]) ? 1 : 0);
-    if (!axis.binomial.back() && axis.fast.back()) axis.fast_indices.push_back(i);
+    if (!axis.binomial.back() && axis.fast.back()) {
+      axis.fast_indices.push_back(i);
+      axis.fast_v.push_back(axis.v.back());
+    }
   }
   return axis;
 }
 
 // log likelihood at every eta of the axis for one set of predicted probabilities, into out.
-// The fast etas run side by side, factor by factor: their product chains are independent, so the
-// processor overlaps them instead of waiting on one long chain of multiplications per eta.
+// Per block, the rising factorials of psi v and (1 - psi) v are two independent product chains,
+// and the etas are independent of each other, so the processor overlaps them.
 void log_likelihood_row(const std::vector<PsignifitBlock>& blocks, const std::vector<double>& psi, const EtaAxis& axis,
-                        std::vector<double>& log_sum, std::vector<double>& product, double* out) {
+                        double* out) {
   const std::size_t count = axis.fast_indices.size();
-  log_sum.assign(count, 0.0);
-  product.assign(count, 1.0);
-  std::vector<double> v(count);
-  for (std::size_t f = 0; f < count; ++f) v[f] = axis.v[axis.fast_indices[f]];
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const double p = psi[b], q = 1.0 - psi[b];
-    const long k = blocks[b].correct, wrong = blocks[b].trials - blocks[b].correct;
-    for (long j = 0; j < k; ++j)
-      for (std::size_t f = 0; f < count; ++f) product[f] *= p * v[f] + static_cast<double>(j);
-    for (long j = 0; j < wrong; ++j)
-      for (std::size_t f = 0; f < count; ++f) product[f] *= q * v[f] + static_cast<double>(j);
-    for (std::size_t f = 0; f < count; ++f) {
-      if (product[f] > 1e150 || product[f] < 1e-150) {
-        log_sum[f] += std::log(product[f]);
-        product[f] = 1.0;
+  for (std::size_t f = 0; f < count; ++f) {
+    const double v = axis.fast_v[f];
+    double log_sum = 0.0, product = 1.0;
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      const double a = psi[b] * v, c = (1.0 - psi[b]) * v;
+      const long k = blocks[b].correct, wrong = blocks[b].trials - blocks[b].correct;
+      double rising_a = 1.0, rising_c = 1.0;
+      for (long j = 0; j < k; ++j) rising_a *= a + static_cast<double>(j);
+      for (long j = 0; j < wrong; ++j) rising_c *= c + static_cast<double>(j);
+      product *= rising_a * rising_c;
+      if (product > 1e150 || product < 1e-150) {
+        log_sum += std::log(product);
+        product = 1.0;
       }
     }
+    out[axis.fast_indices[f]] = log_sum + std::log(product) - axis.rising_total[axis.fast_indices[f]];
   }
-  for (std::size_t f = 0; f < count; ++f)
-    out[axis.fast_indices[f]] = log_sum[f] + std::log(product[f]) - axis.rising_total[axis.fast_indices[f]];
   double binomial = 0.0;
   bool binomial_done = false;
   for (std::size_t i = 0; i < axis.eta.size(); ++i) {
@@ -284,7 +285,7 @@ PsignifitGrid psignifit_grid(const PsignifitModel& model, const PsignifitAxes& a
   // Threshold slices are independent and each is evaluated exactly as the serial loop would, so
   // the grid does not depend on the thread count (core/parallel_for.h).
   parallel_chunks(static_cast<int>(size[0]), static_cast<int>(resolved_threads(0)), [&](int first, int last) {
-    std::vector<double> sigmoid(blocks), psi(blocks), log_sum, product, row(size[4]);
+    std::vector<double> sigmoid(blocks), psi(blocks), row(size[4]);
     for (std::size_t i0 = static_cast<std::size_t>(first); i0 < static_cast<std::size_t>(last); ++i0) {
       std::size_t index = i0 * slice;
       for (std::size_t i1 = 0; i1 < size[1]; ++i1) {
@@ -300,7 +301,7 @@ PsignifitGrid psignifit_grid(const PsignifitModel& model, const PsignifitAxes& a
               continue;
             }
             fill_psi(sigmoid, lambda, gamma, psi);
-            log_likelihood_row(model.blocks, psi, eta, log_sum, product, row.data());
+            log_likelihood_row(model.blocks, psi, eta, row.data());
             for (std::size_t i4 = 0; i4 < size[4]; ++i4, ++index)
               if (std::isfinite(log_prior[4][i4])) grid.posterior[index] = base + log_prior[4][i4] + row[i4];
           }
