@@ -53,10 +53,8 @@ double log_rising(double a, long count) {
 // binomial coefficients, the same for every parameter, are left out as psignifit does). A block
 // without correct (or without wrong) answers contributes nothing through psi (or 1 - psi), so a
 // prediction of exactly 0 or 1 costs nothing where the answers agree with it (0 log 0 = 0).
-// `fast`: every block's rising factorials stay inside double's range as plain products
-// (n log10(v + n) <= 150, see psignifit_grid), so a block needs one log instead of a check per factor.
 double log_likelihood(const std::vector<PsignifitBlock>& blocks, const std::vector<double>& psi, double eta,
-                      double log_rising_v_total, bool fast) {
+                      double log_rising_v_total) {
   const double variance = eta * eta;
   if (variance < kBinomialVariance) {
     double sum = 0.0;
@@ -70,20 +68,6 @@ double log_likelihood(const std::vector<PsignifitBlock>& blocks, const std::vect
   // Beta-binomial with a = psi v, b = (1 - psi) v, v = 1/eta^2 - 1:
   //   log B(k + a, n - k + b) / B(a, b) = log rising(a, k) + log rising(b, n - k) - log rising(v, n).
   const double v = 1.0 / variance - 1.0;
-  if (fast) {
-    double log_sum = 0.0, product = 1.0;
-    for (std::size_t b = 0; b < blocks.size(); ++b) {
-      const double a = psi[b] * v, c = (1.0 - psi[b]) * v;
-      const long k = blocks[b].correct, wrong = blocks[b].trials - blocks[b].correct;
-      for (long j = 0; j < k; ++j) product *= a + static_cast<double>(j);
-      for (long j = 0; j < wrong; ++j) product *= c + static_cast<double>(j);
-      if (product > 1e150 || product < 1e-150) {
-        log_sum += std::log(product);
-        product = 1.0;
-      }
-    }
-    return log_sum + std::log(product) - log_rising_v_total;
-  }
   LogProduct product;
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     product.rising(psi[b] * v, blocks[b].correct);
@@ -92,7 +76,8 @@ double log_likelihood(const std::vector<PsignifitBlock>& blocks, const std::vect
   return product.value() - log_rising_v_total;
 }
 
-// Whether the plain products of log_likelihood stay in range for every block at this eta.
+// Whether plain products of a block's rising factorials stay in double's range at this eta
+// ((v + n)^n <= 1e150), so that log_likelihood_row needs no check per factor.
 bool fast_products(const std::vector<PsignifitBlock>& blocks, double eta) {
   const double variance = eta * eta;
   if (variance < kBinomialVariance) return true;
@@ -170,11 +155,11 @@ void log_likelihood_row(const std::vector<PsignifitBlock>& blocks, const std::ve
   bool binomial_done = false;
   for (std::size_t i = 0; i < axis.eta.size(); ++i) {
     if (axis.binomial[i]) {
-      if (!binomial_done) binomial = log_likelihood(blocks, psi, 0.0, 0.0, true);
+      if (!binomial_done) binomial = log_likelihood(blocks, psi, 0.0, 0.0);
       binomial_done = true;
       out[i] = binomial;
     } else if (!axis.fast[i]) {
-      out[i] = log_likelihood(blocks, psi, axis.eta[i], axis.rising_total[i], false);
+      out[i] = log_likelihood(blocks, psi, axis.eta[i], axis.rising_total[i]);
     }
   }
 }
@@ -251,7 +236,7 @@ double psignifit_log_posterior(const PsignifitModel& model, const PsignifitParam
   for (std::size_t b = 0; b < model.blocks.size(); ++b) sigmoid[b] = model.curve(model.blocks[b].level, theta[0], theta[1]);
   std::vector<double> psi(model.blocks.size());
   fill_psi(sigmoid, lambda, gamma, psi);
-  return log_prior + log_likelihood(model.blocks, psi, eta, log_rising_v_total(model.blocks, eta), false);
+  return log_prior + log_likelihood(model.blocks, psi, eta, log_rising_v_total(model.blocks, eta));
 }
 
 std::vector<double> psignifit_axis_weights(const std::vector<double>& axis) {

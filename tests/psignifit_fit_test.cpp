@@ -243,6 +243,44 @@ TEST(PsignifitSigmoid, ThresholdAndWidthMeanWhatThePaperSays) {
   EXPECT_NEAR(PsignifitSigmoidCurve(PsignifitSigmoid::norm, 0.5, 0.05)(1.5, 1.0, 1.0), 0.95, 1e-12);
 }
 
+// The beta-binomial likelihood (paper Eq. 4-5) against log-gamma written out here, for blocks
+// small enough for the grid's plain products and large enough (500 trials) for the checked ones;
+// the grid's posterior ratios against the point evaluation.
+TEST(PsignifitPosterior, BetaBinomialAgreesWithLogGamma) {
+  for (long trials : {10L, 500L}) {
+    std::vector<PsignifitBlock> blocks;
+    for (int i = 0; i < 6; ++i) blocks.push_back({0.2 * i, trials * (i + 1) / 7, trials});
+    PsignifitModel model{PsignifitSigmoidCurve(PsignifitSigmoid::logistic, 0.5, 0.05), PsignifitExperiment::yes_no, blocks, {}};
+    model.prior.range_low = 0.0;
+    model.prior.range_high = 1.0;
+    model.prior.width_min = 0.2;
+    model.prior.normalise({{{-0.5, 1.5}, {0.2, 3.0}, {0.0, 0.5}, {0.0, 0.5}, {0.0, 1.0}}});
+    const auto log_likelihood = [&](const PsignifitParameters& t) {
+      const double v = 1.0 / (t[4] * t[4]) - 1.0;
+      double sum = 0.0;
+      for (const PsignifitBlock& block : blocks) {
+        const double f = 1.0 / (1.0 + std::exp(-2.0 * std::log(19.0) / t[1] * (block.level - t[0])));
+        const double psi = t[3] + (1.0 - t[3] - t[2]) * f;
+        const double k = static_cast<double>(block.correct), n = static_cast<double>(block.trials);
+        const double a = psi * v, b = (1.0 - psi) * v;
+        sum += std::lgamma(k + a) + std::lgamma(n - k + b) - std::lgamma(n + v) - std::lgamma(a) - std::lgamma(b) + std::lgamma(v);
+      }
+      return sum;
+    };
+    // Two thresholds inside the flat part of the threshold prior: the priors cancel.
+    const PsignifitParameters first{0.4, 1.0, 0.03, 0.05, 0.3}, second{0.6, 1.0, 0.03, 0.05, 0.3};
+    EXPECT_NEAR(psignifit_log_posterior(model, first) - psignifit_log_posterior(model, second),
+                log_likelihood(first) - log_likelihood(second), 1e-8 * std::max(1.0, std::abs(log_likelihood(first))))
+        << trials << " trials per block";
+    // The grid at two nodes against the point evaluation.
+    PsignifitAxes axes = {std::vector<double>{0.4, 0.6}, {1.0}, {0.03}, {0.05}, {0.3}};
+    const PsignifitGrid grid = psignifit_grid(model, axes);
+    EXPECT_NEAR(std::log(grid.posterior[0] / grid.posterior[1]),
+                psignifit_log_posterior(model, first) - psignifit_log_posterior(model, second), 1e-8 * std::max(1.0, std::abs(log_likelihood(first))))
+        << trials << " trials per block";
+  }
+}
+
 // A uniform marginal on [0, 1]: its central 95 % interval is [0.025, 0.975].
 TEST(PsignifitPosterior, PercentileIntervalOfAUniformMarginalIsItsQuantiles) {
   std::vector<double> axis, marginal(11, 1.0);
