@@ -47,6 +47,9 @@ int run_fit(const FitArguments& arguments) {
                 << result.options.credibility[0];
     std::cout << "\n";
   }
+  if (analysis::psignifit_log_space(result.options.sigmoid))
+    std::cout << "  (threshold and width on natural-log levels; threshold level "
+              << analysis::psignifit_threshold(result.options, result.fit, result.options.thresh_pc) << ")\n";
   std::cout << "  deviance " << result.deviance << "\n";
   return kExitOk;
 }
