@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
       {"render", glarelab::cli::add_render_command(app)},
       {"calibrate", glarelab::cli::add_calibrate_command(app)},
       {"timing-test", glarelab::cli::add_timing_test_command(app)},
+      {"fit", glarelab::cli::add_fit_command(app)},
   };
   try {
     app.parse(argc, argv);
