@@ -243,5 +243,19 @@ TEST(HostileInput, ThePrintedFinishCommandRunsAsPrintedWhenPastedIntoAShell) {
   EXPECT_FALSE(std::filesystem::exists(scratch.path() / "pwned"));
 }
 
+TEST(HostileInput, ATrackerAddressThatIsNoHostIsBadInputBeforeAnythingIsWritten) {
+  const ScratchDir scratch;
+  const std::string demo = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
+  for (const std::string host : {"a b", "*"}) {
+    const auto db = scratch.path() / "tracked.db";
+    const auto result = run_glarelab({"run", demo, "--display", "offscreen", "--observer", "simulated", "--db",
+                                      db.string(), "--tracker", "pupil-labs://" + host + ":50020"},
+                                     scratch.path());
+    EXPECT_EQ(result.exit_code, 2) << result.output;  // was 1, "internal error" from ZeroMQ
+    EXPECT_NE(result.output.find("'" + host + "' is not a host"), std::string::npos) << result.output;
+    EXPECT_FALSE(std::filesystem::exists(db));
+  }
+}
+
 }  // namespace
 }  // namespace glarelab
