@@ -15,6 +15,8 @@
 #include <string>
 
 #include "cli_process.h"
+#include "core/exr_io.h"
+#include "core/image.h"
 
 namespace glarelab {
 namespace {
@@ -255,6 +257,29 @@ TEST(HostileInput, ATrackerAddressThatIsNoHostIsBadInputBeforeAnythingIsWritten)
     EXPECT_NE(result.output.find("'" + host + "' is not a host"), std::string::npos) << result.output;
     EXPECT_FALSE(std::filesystem::exists(db));
   }
+}
+
+TEST(HostileInput, AScenePastTheSunByOrdersOfMagnitudeIsRefusedNotGlaredToNaN) {
+  const ScratchDir scratch;
+  // 3e38 cd/m2 (float's top) in one pixel of an otherwise dark scene: glare summed it to inf and NaN.
+  ImageRGBA hot(64, 64);
+  for (float& value : hot.rgba) value = 0.5f;
+  for (int c = 0; c < 3; ++c) hot.rgba[static_cast<std::size_t>(4 * (32 * 64 + 32) + c)] = 3e38f;
+  const std::string file = scratch.file("hot.exr");
+  write_exr(file, hot);
+  const auto experiment = demo_variant(scratch.path(), {{"lamp_100", "lamp_100 = { file = \"" + file + "\" }"}});
+  const auto db = scratch.path() / "hot.db";
+  for (const std::vector<std::string>& command :
+       {std::vector<std::string>{"validate", experiment.string()},
+        {"run", experiment.string(), "--display", "offscreen", "--observer", "simulated", "--db", db.string()}}) {
+    const auto result = run_glarelab(command, scratch.path());
+    EXPECT_EQ(result.exit_code, 2) << result.output;
+    EXPECT_NE(result.output.find(file + ": scene 'lamp_100' peaks at 3"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("e+38 cd/m2 (pixel values times scale_cd_m2); glarelab takes scenes up to 1e12 cd/m2"),
+              std::string::npos)
+        << result.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(db));
 }
 
 }  // namespace
