@@ -7,9 +7,12 @@
 #include <vector>
 
 #include "runner/cli/commands.h"
+#include "runner/cli/terminal_stream.h"
 #include "core/software_version.h"
 
 int main(int argc, char** argv) {
+  // Everything printed from here on has its control characters escaped (runner/cli/terminal_stream.h).
+  static glarelab::cli::TerminalTextGuard terminal_text;
   CLI::App app{"glarelab: psychophysics experiments with HDR stimuli and glare"};
   app.set_version_flag("--version", std::string("glarelab ") + glarelab::software_version());
   app.require_subcommand(1);

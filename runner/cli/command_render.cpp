@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/exr_io.h"
 #include "core/png_io.h"
 #include "protocols/experiment.h"
@@ -92,6 +93,7 @@ std::string describe(const PreviewFrame& frame) {
 }
 
 int render(const RenderOptions& options) {
+  refuse_symbolic_link(options.out, "--out");  // before the session: a link is refused, not written through
   const Experiment experiment = load_experiment(options.experiment_path);
   check_condition(experiment, options.condition);
   if (!options.intensity_cd_m2.empty() && !options.settings_cd_m2.empty())
@@ -121,9 +123,10 @@ int render(const RenderOptions& options) {
   if (extension == ".png") {
     ImageRGBA encoded = frame.display_drive;
     for (std::size_t i = 3; i < encoded.rgba.size(); i += 4) encoded.rgba[i] = 1.0f;
-    write_png_encoded(options.out, encoded);
+    // Beside --out, then renamed into place: a preview stopped mid-write leaves no half an image.
+    write_through_temporary(options.out, [&](const std::string& temporary) { write_png_encoded(temporary, encoded); });
   } else {
-    write_exr(options.out, frame.stimulus_cd_m2);
+    write_through_temporary(options.out, [&](const std::string& temporary) { write_exr(temporary, frame.stimulus_cd_m2); });
   }
   std::cout << "render: condition '" << options.condition << "', " << describe(frame) << " -> " << options.out << " ("
             << frame.stimulus_cd_m2.width_px << "x" << frame.stimulus_cd_m2.height_px << ")\n";

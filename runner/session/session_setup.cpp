@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <stdexcept>
 #include <utility>
 
+#include "core/atomic_file.h"
 #include "core/number_text.h"
 #include "glare/wave/psf_scale.h"
 #include "protocols/stimulus_duration.h"
@@ -161,6 +164,10 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
 // cannot take the frames stops the run before the session row exists.
 static void prepare_frame_directory(const std::string& directory) {
   namespace fs = std::filesystem;
+  // A file given as the folder (or on its way) is the user's mistake (exit 2), said as such.
+  if (const std::optional<std::string> file = file_in_the_way_of_folder(directory))
+    throw std::invalid_argument("--save-frames: " + (*file == directory ? directory : directory + ": " + *file) +
+                                " is a file, not a directory");
   fs::create_directories(directory);
   if (!fs::is_directory(directory))
     throw fs::filesystem_error("--save-frames: not a directory", fs::path(directory),
