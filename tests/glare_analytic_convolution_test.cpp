@@ -76,13 +76,19 @@ TEST(AnalyticConvolution, PlannedFloatPathAgreesWithFloat64OnAnHdrFrame) {
   for (std::size_t i = 0; i < fast.rgba.size(); ++i) EXPECT_NEAR(fast.rgba[i], exact.rgba[i], 1e-6 * 1e5);
 }
 
-TEST(AnalyticConvolution, AdaptiveMixtureFromComponentSpectraEqualsTheRegimesOwnKernel) {
+// Spencer's adaptive regime for a 40-year-old on the test's frames.
+AnalyticGlareOptions adaptive_spencer_options() {
   AnalyticGlareOptions options;
   options.model = GlareModel::spencer;
   options.eye = ObserverEye{40.0, 0.5};
   options.width_px = kWidth;
   options.height_px = kHeight;
   options.regime = SpencerRegime::adaptive;
+  return options;
+}
+
+TEST(AnalyticConvolution, AdaptiveMixtureFromComponentSpectraEqualsTheRegimesOwnKernel) {
+  AnalyticGlareOptions options = adaptive_spencer_options();
   AnalyticGlare adaptive(options, 2);
   options.regime = SpencerRegime::scotopic;
   AnalyticGlare scotopic(options, 2);
@@ -104,12 +110,7 @@ TEST(AnalyticConvolution, AdaptiveMixtureFromComponentSpectraEqualsTheRegimesOwn
 // A frame brought again under the same kernel gets the kept glare, bit for bit what a new engine
 // computes; a changed pixel or a moved mixture computes anew.
 TEST(AnalyticConvolution, AFrameBroughtAgainGetsTheKeptGlareAndAChangedOneANewConvolution) {
-  AnalyticGlareOptions options;
-  options.model = GlareModel::spencer;
-  options.eye = ObserverEye{40.0, 0.5};
-  options.width_px = kWidth;
-  options.height_px = kHeight;
-  options.regime = SpencerRegime::adaptive;
+  AnalyticGlareOptions options = adaptive_spencer_options();
   AnalyticGlare engine(options, 2);
   ImageRGBA frame = black_frame(), first, again;
   channel(frame, 20, 10, 1) = 500.0f;

@@ -217,14 +217,7 @@ TEST(HumanEye, TheStageFrameIsTheCalibratedNearPartPlusTheCieFarPart) {
   const HandoverPixels handover = handover_pixels(default_handover(reach), geometry);
   const DisplayKernel cie = analytic_display_kernel(AnalyticPsf::cie(spec.observer_eye), geometry, kWidth - 1, kHeight - 1, 2);
   const Psf near = calibrated_near_psf(*wave, cie, handover);
-  DisplayKernel whole = hybrid_far_kernel(cie, handover);
-  whole.channels = 3;
-  whole.values.resize(3 * whole.values.size(), 0.0);
-  const std::size_t plane = static_cast<std::size_t>(whole.width_px()) * whole.height_px();
-  for (int c = 1; c < 3; ++c) std::copy_n(whole.values.begin(), plane, whole.values.begin() + c * plane);
-  for (int c = 0; c < 3; ++c)
-    for (int y = 0; y < near.size_px; ++y)
-      for (int x = 0; x < near.size_px; ++x) whole.at(c, x - near.size_px / 2, y - near.size_px / 2) += near.at(c, x, y);
+  const DisplayKernel whole = test::far_plus_near_kernel(hybrid_far_kernel(cie, handover), near);
   // The kernel carries energy per pixel: the frame's luminance to energy in, the glare back out.
   const ImageRGBA expected = test::convolve_as_energy_float64(frame, whole, display);
   double worst = 0.0;
@@ -390,6 +383,14 @@ class HumanEyeSession : public ::testing::Test {
     write_exr((dir.path() / "lamp.exr").string(), scene);
     experiment = dir.write("experiment.toml", session_experiment());
   }
+  // The frame `render` shows for a condition row at 0.5 s.
+  ImageRGBA render(const std::string& condition) {
+    const auto out = dir.path() / (condition + ".exr");
+    const auto run = test::run_glarelab({"render", experiment, "--condition", condition, "--time", "0.5", "--out", out.string()},
+                                        dir.path());
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    return read_exr(out.string()).image;
+  }
   test::ScratchDir dir;
   std::string experiment;
 };
@@ -399,25 +400,11 @@ class HumanEyeSession : public ::testing::Test {
 // low (17 % at 20 degrees).
 TEST_F(HumanEyeSession, RenderedGlareOfALampOnTheLineOfSightIsTheIlluminanceTimesTheGsf) {
   place_lamp(LampAt::line_of_sight);
-  const auto render = [&](const std::string& condition) {
-    const auto out = dir.path() / (condition + ".exr");
-    const auto run = test::run_glarelab({"render", experiment, "--condition", condition, "--time", "0.5", "--out", out.string()},
-                                        dir.path());
-    EXPECT_EQ(run.exit_code, 0) << run.output;
-    return read_exr(out.string()).image;
-  };
   expect_veil_is_illuminance_times_gsf(render("glare"), render("control"), "render, lamp on the line of sight");
 }
 
 TEST_F(HumanEyeSession, RenderedGlareIsTheIlluminanceTimesTheGsf) {
   place_lamp(LampAt::ten_degrees_left);
-  const auto render = [&](const std::string& condition) {
-    const auto out = dir.path() / (condition + ".exr");
-    const auto run = test::run_glarelab({"render", experiment, "--condition", condition, "--time", "0.5", "--out", out.string()},
-                                        dir.path());
-    EXPECT_EQ(run.exit_code, 0) << run.output;
-    return read_exr(out.string()).image;
-  };
   expect_veil_is_illuminance_times_gsf(render("glare"), render("control"), "render");
 }
 

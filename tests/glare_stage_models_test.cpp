@@ -147,14 +147,7 @@ TEST(GlareStageModels, HybridIsTheNearWaveOpticsPartPlusTheFarAnalyticPart) {
   const HandoverPixels handover = handover_pixels(default_handover(reach), geometry);
   const DisplayKernel analytic = kernel_for(AnalyticPsf::cie(ObserverEye{45.0, 0.7}));
   const Psf near = hybrid_near_psf(*wave, analytic_energy_inside(analytic, handover), handover);
-  DisplayKernel whole = hybrid_far_kernel(analytic, handover);
-  whole.channels = 3;
-  whole.values.resize(3 * whole.values.size(), 0.0);
-  const std::size_t plane = static_cast<std::size_t>(whole.width_px()) * whole.height_px();
-  for (int c = 1; c < 3; ++c) std::copy_n(whole.values.begin(), plane, whole.values.begin() + c * plane);
-  for (int c = 0; c < 3; ++c)
-    for (int y = 0; y < near.size_px; ++y)
-      for (int x = 0; x < near.size_px; ++x) whole.at(c, x - near.size_px / 2, y - near.size_px / 2) += near.at(c, x, y);
+  const DisplayKernel whole = test::far_plus_near_kernel(hybrid_far_kernel(analytic, handover), near);
   const ImageRGBA expected = test::convolve_as_energy_float64(frame, whole, small_display());
   EXPECT_LT(max_abs_difference(hybrid, expected), 2e-6 * 4000.0);
 }
