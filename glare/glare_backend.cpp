@@ -22,7 +22,10 @@ bool is_software_renderer(const std::string& gl_renderer) {
   return false;
 }
 
-bool carries_refraction(GlareBackendKind kind) { return kind != GlareBackendKind::cpu_float32_planned; }
+bool takes_chromatic_psf(const ApertureGeometry& geometry, const PsfOptions& options) {
+  const DioptricPower& e = geometry.refraction_error;
+  return options.spectral && (options.observer_refraction || e.xx() != 0.0 || e.xy() != 0.0 || e.yy() != 0.0);
+}
 
 std::vector<PixelRect> boxes_reached(const std::vector<PixelRect>& boxes, int psf_size_px, int width_px,
                                      int height_px) {
@@ -141,10 +144,13 @@ std::string no_note() { return {}; }
 constexpr Candidate kCandidates[] = {
     {GlareBackendKind::gl, GlareBackendRequest::gl, [](const GlareBackendSettings&) { return true; }, gl_unavailable,
      make_gl, gl_taken, no_note},
-    // Only "auto" reaches it, and only for a session's frames.
+    // Only "auto" reaches it, and only for frames (a session's, `psf`'s) of the defocus phase, the
+    // one its plans take.
     {GlareBackendKind::cpu_float32_planned, GlareBackendRequest::automatic,
-     [](const GlareBackendSettings& settings) { return settings.frames.has_value(); }, always_available, make_planned,
-     cpu_taken, planned_note},
+     [](const GlareBackendSettings& settings) {
+       return settings.frames.has_value() && settings.frames->psf.phase == PhaseForm::defocus;
+     },
+     always_available, make_planned, cpu_taken, planned_note},
     {GlareBackendKind::cpu_float64, GlareBackendRequest::cpu,
      [](const GlareBackendSettings& settings) { return settings.cpu_precision == FftPrecision::float64; },
      always_available, make_cpu, cpu_taken, no_note},

@@ -38,9 +38,10 @@ struct PsfOptions {
   PhaseForm phase = PhaseForm::defocus;
   // The observer's refraction is modelled (docs/REFRACTION.md): a spectral PSF takes one FFT per
   // wavelength with the eye's longitudinal chromatic aberration (glare/wave/chromatic_psf.h) even when
-  // geometry.refraction_error is zero. A non-zero refraction_error alone does the same. The CPU
-  // FFTW backends and the GL backend (GlPsf::chromatic) compute it; the planned float32 path does
-  // not (carries_refraction), and a session computes such PSFs with the float64 reference.
+  // geometry.refraction_error is zero. A non-zero refraction_error alone does the same
+  // (takes_chromatic_psf). Every backend computes it: the CPU FFTW backends
+  // (glare/wave/chromatic_psf.h), the planned float32 path (glare/cpu/float_chromatic_psf.h) and the GL
+  // backend (GlPsf::chromatic).
   bool observer_refraction = false;
 };
 
@@ -68,9 +69,12 @@ class GlareBackend {
                                 ImageRGBA& out);
 };
 
-// Whether PSFs of this kind carry the observer's refraction (PsfOptions::observer_refraction): the
-// FFTW and GL backends do; the planned float32 path's display PSF does not.
-bool carries_refraction(GlareBackendKind kind);
+// Whether a spectral PSF of this aperture takes one FFT per wavelength with the eye's LCA
+// (glare/wave/chromatic_psf.h) instead of the scaled reference (glare/wave/spectral_psf.h), which is
+// exact only for a phase that does not depend on wavelength: the observer's refraction is modelled
+// (options.observer_refraction) or the aperture carries a refraction error. Every backend decides
+// by this one rule.
+bool takes_chromatic_psf(const ApertureGeometry& geometry, const PsfOptions& options);
 
 // Each box grown by the reach of a PSF psf_size_px across (M/2 before, M - 1 - M/2 <= M/2 after),
 // clipped to a frame of width_px x height_px: where the box's glare lands.

@@ -74,6 +74,16 @@ constexpr EngineCandidate kEngines[] = {
 
 }  // namespace
 
+GlareBackendChoice engine_glare_backend(GlareBackendRequest request, const GlareFrameLayout& layout,
+                                        GlContextFactory gl_context, bool named) {
+  GlareBackendSettings settings;
+  settings.gl_context = std::move(gl_context);
+  settings.grid_px = layout.psf.grid_px;
+  settings.frames = layout;
+  settings.named = named;
+  return create_glare_backend(request, settings);
+}
+
 FrameEngine::FrameEngine(const GlareSpec& glare, const AdaptationTimeConstants& time_constants,
                          const DisplaySpec& display, std::uint64_t seed, GlContextFactory gl_context)
     : gl_context_(gl_context), glare_(glare, display, seed, std::move(gl_context)), perception_(time_constants, display) {}

@@ -12,10 +12,12 @@
 //
 // Engines: the CPU engine runs the perception stages on the CPU; the GL engine runs them with
 // OpenGL 4.5 (stimuli/perception/gl_perception_stages.h) beside the GL glare backend. Which one
-// follows from the one compute choice (create_glare_backend's table, glare/glare_backend.h, asked
-// by [glare] backend): a GL glare backend brings the GL engine, every CPU backend the CPU engine
-// (frame_engine.cpp's table). The choice is made when the first frame needs it, so a session whose
-// frames are all shown as composed never makes a GL context for it.
+// follows from the one compute choice (engine_glare_backend below: create_glare_backend's table,
+// glare/glare_backend.h, asked by [glare] backend or `psf --backend`): a GL glare backend brings the
+// GL engine, every CPU backend the CPU engine (frame_engine.cpp's table). The choice is made when
+// the first frame needs it, so a session whose frames are all shown as composed never makes a GL
+// context for it. On a CPU "auto" gives the planned float32 path (glare/cpu/float_glare.h), PSFs
+// with the observer's refraction included; "cpu" the float64 reference.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -66,6 +68,14 @@ struct EyeFrame {
   std::optional<double> frame_luminance_cd_m2;
   std::optional<double> adapted_luminance_cd_m2;
 };
+
+// The compute choice behind every frame engine: what computes the eye's PSFs and convolves its
+// frames for a request, frames of this PSF layout at this display scale (create_glare_backend with
+// the frames' layout: "auto" takes GL on a hardware GPU, else the planned float32 path). A session's
+// glare stage makes its backend by it, and `glarelab psf` its one PSF, so that the two never differ.
+// `named`: false when the request is the caller's default (the reason says so).
+GlareBackendChoice engine_glare_backend(GlareBackendRequest request, const GlareFrameLayout& layout,
+                                        GlContextFactory gl_context, bool named = true);
 
 class FrameEngine {
  public:

@@ -15,6 +15,7 @@
 #include "glare/wave/luidolt_kernel.h"
 #include "glare/wave/psf_scale.h"
 #include "stimuli/display_model.h"
+#include "stimuli/frame_engine.h"
 #include "stimuli/luminance_range.h"
 
 namespace glarelab {
@@ -58,25 +59,13 @@ void GlareStage::set_condition(GlareModel model, double gain) {
 
 void GlareStage::set_refraction(std::optional<DioptricPower> residual_error) { refraction_ = residual_error; }
 
-GlareBackend& GlareStage::refraction_psf_backend() {
-  GlareBackend& frames = backend();
-  if (carries_refraction(backend_kind_)) return frames;
-  // The frames' backend does not carry the refraction: the float64 reference computes these PSFs.
-  if (!reference_) reference_ = create_glare_backend(GlareBackendRequest::cpu).backend;
-  return *reference_;
-}
-
 std::string GlareStage::refraction_backend_reason() {
   backend();
-  const bool carried = carries_refraction(backend_kind_);
-  const std::string frames = std::string(spelling(backend_kind_));
-  std::string text = std::string("PSFs with the observer's refraction: ") + (carried ? frames : "cpu float64") +
-                     ", one FFT per wavelength (" + std::to_string(spec_.wavelength_samples) +
-                     ") with the eye's longitudinal chromatic aberration (Thibos et al. 1992)";
-  if (!carried)
-    text += "; [glare] backend \"" + std::string(spelling(spec_.backend)) + "\" (" + frames +
-            ") does not carry the refraction's phase yet, so it convolves but does not compute these PSFs";
-  return text;
+  // Every backend computes these PSFs itself (takes_chromatic_psf): the planned float32 path with
+  // float32 FFTs (glare/cpu/float_chromatic_psf.h), the float64 reference and GL with theirs.
+  return std::string("PSFs with the observer's refraction: ") + std::string(spelling(backend_kind_)) +
+         ", one FFT per wavelength (" + std::to_string(spec_.wavelength_samples) +
+         ") with the eye's longitudinal chromatic aberration (Thibos et al. 1992)";
 }
 
 HandoverPixels GlareStage::hybrid_handover() const {
@@ -126,13 +115,11 @@ GlareStage::~GlareStage() = default;
 
 GlareBackend& GlareStage::backend() {
   if (backend_) return *backend_;
-  GlareBackendSettings settings;
-  settings.gl_context = gl_context_;
-  settings.grid_px = spec_.grid_px;
-  // "auto" on the CPU takes the planned float32 path (glare/cpu/float_glare.h) for the frames: the
-  // float64 backend stays the reference that "cpu" asks for by name.
-  settings.frames = GlareFrameLayout{psf_options(), DisplayModel(display_).degrees_per_pixel_at_centre()};
-  GlareBackendChoice choice = create_glare_backend(spec_.backend, settings);
+  // The frame engine's one compute choice (stimuli/frame_engine.h): "auto" on the CPU takes the
+  // planned float32 path (glare/cpu/float_glare.h) for the frames; the float64 backend stays the
+  // reference that "cpu" asks for by name.
+  GlareBackendChoice choice = engine_glare_backend(
+      spec_.backend, GlareFrameLayout{psf_options(), DisplayModel(display_).degrees_per_pixel_at_centre()}, gl_context_);
   backend_ = std::move(choice.backend);
   backend_kind_ = choice.kind;
   backend_reason_ = std::move(choice.reason);
@@ -215,9 +202,8 @@ std::optional<Psf> GlareStage::display_psf(GlareMode mode, double time_s, double
     geometry.refraction_error = *refraction_;
     options.observer_refraction = true;
   }
-  GlareBackend& computing = refraction_ ? refraction_psf_backend() : backend();
   try {
-    return computing.display_psf(geometry, options, DisplayModel(display_).degrees_per_pixel_at_centre());
+    return backend().display_psf(geometry, options, DisplayModel(display_).degrees_per_pixel_at_centre());
   } catch (const ClosedApertureError&) {
     return std::nullopt;  // the lids cover the whole pupil: no light, no PSF
   }

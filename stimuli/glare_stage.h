@@ -131,9 +131,8 @@ class GlareStage {
   // PSF (static, dynamic, the hybrid's near field) takes it as geometry.refraction_error, its
   // spectral PSF with one FFT per wavelength and the eye's LCA (glare/wave/chromatic_psf.h). Nothing (the
   // default): the observer's optics are not modelled, and every PSF is the eye's without a refraction.
-  // The CPU float64 and GL backends compute such a PSF themselves; the planned float32 path does
-  // not carry the refraction yet (carries_refraction), so with it these PSFs are computed by the
-  // float64 reference, made then, and the planned path still convolves.
+  // The frames' backend computes such a PSF itself (takes_chromatic_psf, glare/glare_backend.h): the
+  // planned float32 path of "auto" on a CPU with float32 FFTs, "cpu" and "gl" with theirs.
   void set_refraction(std::optional<DioptricPower> residual_error);
   // One sentence for the record: how PSFs with a refraction are computed, and by what.
   std::string refraction_backend_reason();
@@ -205,10 +204,6 @@ class GlareStage {
   std::unique_ptr<GlareBackend> backend_;
   GlareBackendKind backend_kind_ = GlareBackendKind::cpu_float64;
   std::string backend_reason_;
-  // The backend of the PSFs of a condition with the observer's refraction (set_refraction): the
-  // frames' own when it carries the refraction and the LCA, else the float64 reference, made then.
-  GlareBackend& refraction_psf_backend();
-  std::unique_ptr<GlareBackend> reference_;
   std::optional<DioptricPower> refraction_;
   // Dynamic: one eye for the whole session, starting adapted to the first frame it sees, recording
   // every frame's mean luminance (its pupil follows the field luminance).

@@ -340,9 +340,18 @@ TEST(GlareBackendChoice, AutoForASessionsFramesOnTheCpuTakesThePlannedPath) {
   EXPECT_EQ(choice.reason.rfind("glare backend auto picked cpu float32 planned: no OpenGL 4.5 context (", 0), 0u)
       << choice.reason;
   EXPECT_NE(choice.reason.find(". Planned: "), std::string::npos) << choice.reason;
-  EXPECT_FALSE(carries_refraction(choice.kind));
-  EXPECT_TRUE(carries_refraction(GlareBackendKind::cpu_float64));
-  EXPECT_TRUE(carries_refraction(GlareBackendKind::gl));
+  // Which spectral PSFs take one FFT per wavelength, the rule every backend follows.
+  ApertureGeometry refracted;
+  PsfOptions spectral;
+  spectral.spectral = true;
+  EXPECT_FALSE(takes_chromatic_psf(refracted, spectral));
+  refracted.refraction_error = DioptricPower::spherical(-0.5);
+  EXPECT_TRUE(takes_chromatic_psf(refracted, spectral));
+  spectral.spectral = false;
+  EXPECT_FALSE(takes_chromatic_psf(refracted, spectral));
+  spectral.spectral = true;
+  spectral.observer_refraction = true;
+  EXPECT_TRUE(takes_chromatic_psf(ApertureGeometry{}, spectral));
   // Asked for by name, "cpu" is the reference whatever the frames.
   EXPECT_EQ(create_glare_backend(GlareBackendRequest::cpu, settings).kind, GlareBackendKind::cpu_float64);
 
@@ -361,8 +370,16 @@ TEST(GlareBackendChoice, AutoForASessionsFramesOnTheCpuTakesThePlannedPath) {
   ASSERT_EQ(planned_mono.values.size(), reference_mono.values.size());
   EXPECT_LT(relative_l2(planned_mono.values, reference_mono.values), 1e-5);
   EXPECT_GT(relative_l2(planned_mono.values, reference_mono.values), 0.0);  // float32, not the reference itself
-  // Its spectral PSF exists at the display's scale only, and only for the layout it was planned for.
-  EXPECT_THROW(choice.backend->psf(eye, layout.psf), std::invalid_argument);
+  // Its spectral PSF on the aperture grid (`glarelab psf`'s) is the reference's scaling of its float32
+  // PSF; it answers only for the layout it was planned for.
+  const Psf planned_spectral = choice.backend->psf(eye, layout.psf);
+  const Psf reference_spectral = CpuGlareBackend(FftPrecision::float64).psf(eye, layout.psf);
+  ASSERT_EQ(planned_spectral.values.size(), reference_spectral.values.size());
+  EXPECT_LT(relative_l2(planned_spectral.values, reference_spectral.values), 1e-5);
+  EXPECT_GT(relative_l2(planned_spectral.values, reference_spectral.values), 0.0);
+  PsfOptions other_samples = layout.psf;
+  other_samples.wavelength_samples = 16;
+  EXPECT_THROW(choice.backend->psf(eye, other_samples), std::invalid_argument);
   PsfOptions other = layout.psf;
   other.grid_px = 128;
   EXPECT_THROW(choice.backend->display_psf(eye, other, layout.display_degrees_per_pixel), std::invalid_argument);

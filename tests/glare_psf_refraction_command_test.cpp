@@ -4,7 +4,9 @@
 // EXR it writes is checked against the closed forms; bad input exits 2 naming the flag, nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 #include <string>
@@ -142,7 +144,6 @@ TEST(GlarePsfRefractionCommand, BadInputExitsTwoNamingTheFlagAndWritesNothing) {
       {{"--sphere-dioptres", "nan"}, "--sphere-dioptres"},
       {{"--sphere-dioptres", "-40"}, "--sphere-dioptres"},
       {{"--age-years", "50", "--accommodation-amplitude-dioptres", "2"}, "--accommodation-amplitude-dioptres"},
-      {{"--sphere-dioptres", "-2", "--backend", "gl"}, "--backend"},
       {{"--sphere-dioptres", "-2", "--fresnel", "paper"}, "--fresnel"},
       {{"--spectacles", "-2,0,0", "--viewing-distance-m", "0.01"}, "--viewing-distance-m"},
       {{"--viewing-distance-m", "0"}, "--viewing-distance-m"},
@@ -167,6 +168,50 @@ TEST(GlarePsfRefractionCommand, BadInputExitsTwoNamingTheFlagAndWritesNothing) {
   // The sampling refusal names the grid it needs.
   const auto aliased = test::run_glarelab(psf_arguments(cases.back().arguments, out), dir.path());
   EXPECT_NE(aliased.output.find("needs a grid of"), std::string::npos) << aliased.output;
+}
+
+// Every --backend computes the refraction itself, as a session's frame engine does
+// (stimuli/frame_engine.h, engine_glare_backend): "auto" (the planned float32 path on a CPU, GL on a
+// hardware GPU) and "gl" within 1e-5 of the float64 reference's peak ("cpu", the default), on the
+// aperture grid (--model ritschel) and at the display's scale (--model human, whose near field is the
+// wave-optics PSF).
+TEST(GlarePsfRefractionCommand, EveryBackendComputesTheRefractionWithinTheReference) {
+  test::ScratchDir dir;
+  const auto path = [&](const std::string& name) { return (dir.path() / name).string(); };
+  const std::vector<std::vector<std::string>> models = {
+      {"psf", "--model", "ritschel", "--pupil-diameter-mm", "4", "--aperture-width-mm", "8", "--grid", "256"},
+      {"psf", "--model", "human", "--mode", "static", "--aperture-width-mm", "10", "--grid", "256"}};
+  for (const std::vector<std::string>& model : models) {
+    Psf reference;
+    for (const std::string backend : {"cpu", "auto", "gl"}) {
+      std::vector<std::string> arguments = model;
+      for (const char* extra : {"--spectral", "--wavelength-samples", "8", "--sphere-dioptres", "-0.5", "--backend"})
+        arguments.push_back(extra);
+      arguments.push_back(backend);
+      arguments.push_back("--out");
+      arguments.push_back(path(model[2] + "_" + backend + ".exr"));
+      const auto run = test::run_glarelab(arguments, dir.path());
+      ASSERT_EQ(run.exit_code, 0) << model[2] << " " << backend << "\n" << run.output;
+      EXPECT_NE(run.output.find("computes the observer's refraction"), std::string::npos) << run.output;
+      EXPECT_EQ(run.output.find("aliased"), std::string::npos) << run.output;  // a grid that samples every wavelength
+      const Psf psf = read_psf_exr(path(model[2] + "_" + backend + ".exr"));
+      if (backend == std::string("cpu")) {
+        EXPECT_NE(run.output.find("glare backend cpu float64"), std::string::npos) << run.output;
+        reference = psf;
+        continue;
+      }
+      ASSERT_EQ(psf.values.size(), reference.values.size());
+      double largest = 0.0, peak = 0.0;
+      for (std::size_t i = 0; i < psf.values.size(); ++i) {
+        largest = std::max(largest, std::abs(psf.values[i] - reference.values[i]));
+        peak = std::max(peak, reference.values[i]);
+      }
+      std::printf("psf --model %s --backend %s with a refraction: max |difference| / peak %.3g\n", model[2].c_str(),
+                  backend.c_str(), largest / peak);
+      EXPECT_LT(largest, 1e-5 * peak) << model[2] << " " << backend;
+      EXPECT_NE(psf.values, reference.values) << model[2] << " " << backend;  // computed, not handed over
+    }
+  }
 }
 
 }  // namespace

@@ -17,17 +17,8 @@ GlareBackendKind CpuGlareBackend::kind() const {
   return precision_ == FftPrecision::float64 ? GlareBackendKind::cpu_float64 : GlareBackendKind::cpu_float32;
 }
 
-namespace {
-
-bool has_refraction(const ApertureGeometry& geometry, const PsfOptions& options) {
-  const DioptricPower& e = geometry.refraction_error;
-  return options.observer_refraction || e.xx() != 0.0 || e.xy() != 0.0 || e.yy() != 0.0;
-}
-
-}  // namespace
-
 Psf CpuGlareBackend::psf(const ApertureGeometry& geometry, const PsfOptions& options) {
-  if (options.spectral && has_refraction(geometry, options)) {
+  if (takes_chromatic_psf(geometry, options)) {
     // The scaled reference PSF (glare/wave/spectral_psf.h) holds only for a phase that does not depend on
     // wavelength; the refraction's phase pi p^T E p / lambda and the eye's LCA do, so every
     // wavelength gets its own FFT (Thibos et al. 1992 LCA; docs/REFRACTION.md).

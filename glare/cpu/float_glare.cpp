@@ -6,6 +6,7 @@
 
 #include "glare/cpu/fftw_float_plan.h"
 #include "glare/wave/psf_scale.h"
+#include "glare/wave/spectral_psf.h"
 
 namespace glarelab {
 namespace {
@@ -37,56 +38,81 @@ CpuFloatSpectralSettings spectral_settings(const CpuFloatGlareSettings& settings
 CpuFloatGlare::CpuFloatGlare(const CpuFloatGlareSettings& settings)
     : settings_(settings),
       psf_(psf_settings(settings)),
-      spectral_(spectral_settings(settings, psf_.degrees_per_pixel())),
       display_degrees_per_pixel_(settings.display_degrees_per_pixel) {
-  if (settings.longitudinal_chromatic_aberration) {
-    CpuFloatChromaticSettings chromatic;
-    chromatic.grid_px = settings.grid_px;
-    chromatic.aperture_width_mm = settings.aperture_width_mm;
-    chromatic.reference_wavelength_nm = settings.reference_wavelength_nm;
-    chromatic.wavelength_samples = settings.wavelength_samples;
-    chromatic_ = std::make_unique<CpuFloatChromaticPsf>(chromatic);
-  }
+  // The display scale's refusals now (glare/wave/psf_scale.h), not at the first frame.
+  check_psf_fits_display(settings.grid_px, psf_.degrees_per_pixel(), settings.display_degrees_per_pixel);
+  if (settings.longitudinal_chromatic_aberration) chromatic_psf();  // its refusals now, not at the first frame
 }
 
-Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry) {
+CpuFloatChromaticPsf& CpuFloatGlare::chromatic_psf() {
+  if (!chromatic_) {
+    CpuFloatChromaticSettings chromatic;
+    chromatic.grid_px = settings_.grid_px;
+    chromatic.aperture_width_mm = settings_.aperture_width_mm;
+    chromatic.reference_wavelength_nm = settings_.reference_wavelength_nm;
+    chromatic.wavelength_samples = settings_.wavelength_samples;
+    chromatic_ = std::make_unique<CpuFloatChromaticPsf>(chromatic);
+  }
+  return *chromatic_;
+}
+
+Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry, bool chromatic) {
   psf_.rasterise(geometry);
-  if (chromatic_) {
+  last_chromatic_ = chromatic;
+  if (chromatic) {
     // One FFT per wavelength on the N x N grid, then the box resampling the float64 path applies to
     // compute_chromatic_psf's result (glare/wave/psf_scale.h), each channel keeping its unit sum.
-    const SpectralPsfResult spectral = chromatic_->compute(psf_, geometry.pupil_diameter_mm, geometry.total_power_error());
+    const SpectralPsfResult spectral =
+        chromatic_psf().compute(psf_, geometry.pupil_diameter_mm, geometry.total_power_error());
     return resample_psf_to_display(spectral.psf, display_degrees_per_pixel_);
   }
   // The whole power error: defocus plus the observer's refraction error (spherical: the defocus
-  // phase as before, bit for bit; astigmatic: glare/refraction/astigmatic_phase.h's phase).
+  // phase; astigmatic: glare/refraction/astigmatic_phase.h's phase).
   psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
-  return spectral_.compute(psf_.power_column_major(), geometry.pupil_diameter_mm);
+  if (!spectral_) spectral_ = std::make_unique<CpuFloatSpectralPsf>(spectral_settings(settings_, psf_.degrees_per_pixel()));
+  return spectral_->compute(psf_.power_column_major(), geometry.pupil_diameter_mm);
+}
+
+std::string CpuFloatGlare::last_warning() const {
+  const std::string& warning = sampling_warning();
+  if (warning.empty() || !last_chromatic_) return warning;
+  return warning + "; " + std::to_string(chromatic_->aliased_wavelengths()) + " of " +
+         std::to_string(settings_.wavelength_samples) + " wavelengths aliased";
 }
 
 void CpuFloatGlare::check_layout(const PsfOptions& options, std::optional<double> display_degrees_per_pixel) const {
   if (options.grid_px != settings_.grid_px || options.aperture_width_mm != settings_.aperture_width_mm ||
       options.supersampling != settings_.supersampling || options.wavelength_nm != settings_.reference_wavelength_nm ||
       options.phase != PhaseForm::defocus ||
-      (display_degrees_per_pixel && (options.wavelength_samples != settings_.wavelength_samples ||
-                                     *display_degrees_per_pixel != settings_.display_degrees_per_pixel)))
+      ((display_degrees_per_pixel || options.spectral) && options.wavelength_samples != settings_.wavelength_samples) ||
+      (display_degrees_per_pixel && (!options.spectral || *display_degrees_per_pixel != settings_.display_degrees_per_pixel)))
     throw std::invalid_argument("glare backend cpu float32 planned: asked for another grid, aperture, wavelength, "
-                                "phase or display scale than its plans were made for");
+                                "phase or display scale than its plans were made for, or for a monochromatic PSF at "
+                                "the display's scale");
 }
 
 Psf CpuFloatGlare::psf(const ApertureGeometry& geometry, const PsfOptions& options) {
-  if (options.spectral)
-    throw std::invalid_argument("glare backend cpu float32 planned: its spectral PSF is made at the display's pixel "
-                                "scale (display_psf), not on the aperture grid");
   check_layout(options, std::nullopt);
   psf_.rasterise(geometry);
+  last_chromatic_ = takes_chromatic_psf(geometry, options);
+  // On the aperture grid (`glarelab psf`): with the observer's refraction the per-wavelength PSF, as
+  // display_psf takes it before its resampling; else the float32 transform's PSF, and the spectral
+  // PSF scaled from it by the reference's operator (glare/wave/spectral_psf.h), as CpuGlareBackend
+  // scales its own.
+  if (last_chromatic_)
+    return chromatic_psf().compute(psf_, geometry.pupil_diameter_mm, geometry.total_power_error()).psf;
   psf_.transform(geometry.pupil_diameter_mm, geometry.total_power_error());
-  return psf_.monochromatic_psf();
+  if (!options.spectral) return psf_.monochromatic_psf();
+  SpectralPsfOptions spectral;
+  spectral.wavelength_samples = options.wavelength_samples;
+  spectral.reference_wavelength_nm = options.wavelength_nm;
+  return spectral_psf_from_reference(psf_.monochromatic_psf(), spectral).psf;
 }
 
 Psf CpuFloatGlare::display_psf(const ApertureGeometry& geometry, const PsfOptions& options,
                                double display_degrees_per_pixel) {
   check_layout(options, display_degrees_per_pixel);
-  return display_psf(geometry);
+  return display_psf(geometry, settings_.longitudinal_chromatic_aberration || takes_chromatic_psf(geometry, options));
 }
 
 ImageRGBA CpuFloatGlare::convolve(const ImageRGBA& image, const Psf& display_psf) {

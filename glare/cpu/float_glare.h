@@ -7,7 +7,10 @@
 // of 9). Its frame error against the float64 reference is below 1e-6 relative L2 (glarelab bench;
 // tests/glare_cpu_float_test.cpp and tests/glare_stage_test.cpp check it through this class).
 // It is the GlareBackend of kind cpu float32 planned (glare/glare_backend.h), which "auto" picks for
-// a session's frames on the CPU.
+// a session's frames on the CPU. A PSF with the observer's refraction (takes_chromatic_psf) takes one
+// float32 FFT per wavelength with the eye's LCA (glare/cpu/float_chromatic_psf.h), the float64
+// reference's operator (glare/wave/chromatic_psf.h) within 1e-5 of its peak
+// (tests/refraction_float_engine_test.cpp).
 #include <map>
 #include <memory>
 #include <optional>
@@ -35,9 +38,10 @@ struct CpuFloatGlareSettings {
   int wavelength_samples = 32;
   double display_degrees_per_pixel = 0.0;  // at the display's centre (glare/wave/psf_scale.h)
   // false: the scaled-reference spectral PSF (glare/cpu/float_spectral_psf.h), one FFT at the reference
-  // wavelength, bit for bit as before. true: the eye's longitudinal chromatic aberration, one FFT per
-  // wavelength with its own power error (glare/cpu/float_chromatic_psf.h), box-resampled onto the display
-  // (glare/wave/psf_scale.h) as the float64 path resamples compute_chromatic_psf.
+  // wavelength, for every PSF the backend interface does not ask with a refraction
+  // (takes_chromatic_psf). true: every PSF with the eye's longitudinal chromatic aberration, one FFT
+  // per wavelength with its own power error (glare/cpu/float_chromatic_psf.h), box-resampled onto the
+  // display (glare/wave/psf_scale.h) as the float64 path resamples compute_chromatic_psf.
   bool longitudinal_chromatic_aberration = false;
 };
 
@@ -46,18 +50,25 @@ class CpuFloatGlare : public GlareBackend {
   // Throws PsfScaleError when the PSF cannot be shown at this display scale (glare/wave/psf_scale.h).
   explicit CpuFloatGlare(const CpuFloatGlareSettings& settings);
   GlareBackendKind kind() const override { return GlareBackendKind::cpu_float32_planned; }
-  // The monochromatic PSF on the aperture grid (float32, the defocus phase of the whole power
-  // error). Its spectral PSF is made at the display's pixel scale only (display_psf): a spectral
-  // `options`, or a layout other than the settings' (grid, aperture width, supersampling,
-  // reference wavelength, defocus phase), throws std::invalid_argument.
+  // The PSF on the aperture grid (float32 transforms, the defocus phase of the whole power error):
+  // monochromatic; spectral by the reference's scaling (glare/wave/spectral_psf.h) of the float32
+  // PSF; with the observer's refraction (takes_chromatic_psf) one float32 FFT per wavelength with the
+  // eye's LCA. A session's frames take their spectral PSF at the display's scale (display_psf); this
+  // is `glarelab psf`'s. A layout other than the settings' (grid, aperture width, supersampling,
+  // reference wavelength, defocus phase, and for a spectral PSF the wavelengths) throws
+  // std::invalid_argument.
   Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) override;
   // display_psf(geometry) for `options` and a display scale that are the settings' (else
-  // std::invalid_argument): the interface the frames of a session go through.
+  // std::invalid_argument): the interface the frames of a session go through. With the observer's
+  // refraction (takes_chromatic_psf) the PSF is the per-wavelength one whatever the settings say.
   Psf display_psf(const ApertureGeometry& geometry, const PsfOptions& options, double display_degrees_per_pixel) override;
-  std::string last_warning() const override { return sampling_warning(); }
+  // The last PSF's sampling warning; per wavelength with how many aliased, as CpuGlareBackend says it.
+  std::string last_warning() const override;
   // R, G, B at the display scale, each summing to 1. Throws ClosedApertureError when the lids
   // cover the whole pupil.
-  Psf display_psf(const ApertureGeometry& geometry);
+  Psf display_psf(const ApertureGeometry& geometry) { return display_psf(geometry, settings_.longitudinal_chromatic_aberration); }
+  // The same, per wavelength with the eye's LCA when `chromatic`, else by the scaled reference.
+  Psf display_psf(const ApertureGeometry& geometry, bool chromatic);
   // Linear convolution of R, G, B with a display-scale PSF (display_psf's size); alpha passes
   // through. Refuses NaN, Inf and negative pixels (std::invalid_argument), as convolve_image_cpu.
   ImageRGBA convolve(const ImageRGBA& image, const Psf& display_psf) override;
@@ -73,19 +84,24 @@ class CpuFloatGlare : public GlareBackend {
   // refraction; glare/cpu/float_psf.h): the aliasing warning, or empty. With LCA, that of the most aliased
   // wavelength (glare/cpu/float_chromatic_psf.h).
   const std::string& sampling_warning() const {
-    return chromatic_ ? chromatic_->sampling_warning() : psf_.sampling_warning();
+    return last_chromatic_ ? chromatic_->sampling_warning() : psf_.sampling_warning();
   }
   // Whether the last convolve() (convolve_regions(): every box) reused the kept frame spectrum.
   bool reused_scene() const { return reused_scene_; }
 
  private:
+  CpuFloatChromaticPsf& chromatic_psf();
   // Refuses options (and a display scale, when given) other than those it was made for.
   void check_layout(const PsfOptions& options, std::optional<double> display_degrees_per_pixel) const;
 
   CpuFloatGlareSettings settings_;
   CpuFloatPsf psf_;
-  CpuFloatSpectralPsf spectral_;
-  std::unique_ptr<CpuFloatChromaticPsf> chromatic_;  // only with longitudinal_chromatic_aberration
+  // The spectral PSF at the display's scale, made with the first such PSF (`psf`'s grid PSFs never need
+  // its M x M sums).
+  std::unique_ptr<CpuFloatSpectralPsf> spectral_;
+  // Made with the first per-wavelength PSF (its per-wavelength tables), then kept.
+  std::unique_ptr<CpuFloatChromaticPsf> chromatic_;
+  bool last_chromatic_ = false;  // the last PSF was chromatic_'s
   double display_degrees_per_pixel_ = 0.0;
   std::unique_ptr<CpuFloatConvolution> convolution_;
   int convolution_width_px_ = 0, convolution_height_px_ = 0, convolution_kernel_px_ = 0;

@@ -51,9 +51,7 @@ Psf GlGlareBackend::psf(const ApertureGeometry& geometry, const PsfOptions& opti
   // The observer's refraction (as CpuGlareBackend decides it): one FFT per wavelength with the
   // eye's longitudinal chromatic aberration, GlPsf::chromatic (glare/wave/chromatic_psf.h on the GPU),
   // instead of the scaled reference, which is exact only for a wavelength-independent phase.
-  const DioptricPower& refraction = drawn.refraction_error;
-  if (options.spectral && options.phase != PhaseForm::none &&
-      (options.observer_refraction || refraction.xx() != 0.0 || refraction.xy() != 0.0 || refraction.yy() != 0.0)) {
+  if (options.phase != PhaseForm::none && takes_chromatic_psf(drawn, options)) {
     Psf chromatic = psf_->chromatic(drawn, options.wavelength_samples, options.wavelength_nm);
     last_warning_ = psf_->chromatic_sampling_warning();
     return chromatic;

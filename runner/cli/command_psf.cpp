@@ -1,7 +1,8 @@
 // glarelab psf: the eye's point-spread function (the human eye of sessions by default; Ritschel et
 // al. 2009's wave-optics eye, with the observer's refraction of runner/cli/psf_refraction.h), or
-// Spencer's, the CIE's or the hybrid's kernel, written as EXR and as a radial profile. The wave-optics PSF is computed by the backend
-// glare/glare_backend.h chooses (cpu, the float64 reference, by default).
+// Spencer's, the CIE's or the hybrid's kernel, written as EXR and as a radial profile. The wave-optics
+// PSF is computed by what a frame engine chooses for --backend (stimuli/frame_engine.h,
+// engine_glare_backend; cpu, the float64 reference, by default).
 #include <cmath>
 #include <cstdint>
 #include <iostream>
@@ -29,6 +30,7 @@
 #include "runner/cli/psf_options.h"
 #include "runner/cli/psf_refraction.h"
 #include "runner/display/compute_context.h"
+#include "stimuli/frame_engine.h"
 
 namespace glarelab::cli {
 namespace {
@@ -36,8 +38,6 @@ namespace {
 // The chromatic blur's reference wavelength that wave_psf_reach_deg takes its 380 / 575 from.
 constexpr double kBlurReferenceNm = 575.0;
 
-// The control condition has no glare: its PSF is the identity of convolution, a unit pixel at the
-// centre, on the grid and angular scale the glare PSF would have.
 // The control condition has no glare: its PSF is the identity of convolution, a unit pixel at the
 // centre, on the grid and angular scale the glare PSF would have.
 Psf delta_psf(const PsfOptions& options) {
@@ -52,9 +52,6 @@ Psf delta_psf(const PsfOptions& options) {
 
 const SourceLocation kWhere{"psf", 0, 0};
 
-// Refuses a pupil the grid cannot hold or whose PSF it cannot sample, and a defocus no grid can
-// sample; warns where the PSF is computed but its core crowds the grid. The numbers are those of
-// docs/GLARE_OPTICS.md "Grid limits".
 // Refuses a pupil the grid cannot hold or whose PSF it cannot sample, and a defocus no grid can
 // sample; warns where the PSF is computed but its core crowds the grid. The numbers are those of
 // docs/GLARE_OPTICS.md "Grid limits".
@@ -195,11 +192,6 @@ ObserverRefraction observer_refraction(const PsfArguments& args, const PsfOption
   if (args.fresnel != "defocus")
     throw ConfigError(kWhere, "--fresnel",
                       "the observer's refraction (" + refraction.flags + ") is a defocus phase; it needs --fresnel defocus");
-  if (args.backend == GlareBackendRequest::gl)
-    throw ConfigError(kWhere, "--backend",
-                      "the observer's refraction (" + refraction.flags +
-                          ": an astigmatic phase and, with --spectral, one FFT per wavelength) is computed on the "
-                          "CPU; use --backend cpu or auto");
   read_observer_refraction(args.refraction, handles.amplitude->count() > 0, handles.age->count() > 0, args.age_years,
                            refraction, geometry);
   return refraction;
@@ -225,33 +217,36 @@ HybridHandover hybrid_handover(const PsfArguments& args, const PsfOptions& optio
   return handover;
 }
 
-// The wave-optics PSF by the backend create_glare_backend chooses; with the observer's refraction
-// always the float64 reference (the CPU computes it: psf has no convolution to share with GL).
-// `backend_name` receives what computed it.
+// The wave-optics PSF as a frame engine computes it: the compute choice of a session's frames
+// (engine_glare_backend, stimuli/frame_engine.h), so that psf and sessions never choose apart.
+// "cpu", psf's default, is the float64 reference; "auto" GL on a hardware GPU, else the planned
+// float32 path; "gl" GL. Every one computes the observer's refraction itself. With
+// `display_degrees_per_pixel` (the hybrid and human models) the spectral PSF comes at the display's
+// scale as a session's frames take it; without, on the aperture grid. `backend_name` receives what
+// computed it.
 Psf wave_psf(const PsfArguments& args, bool backend_named, const ObserverRefraction& refraction,
-             const ApertureGeometry& geometry, const PsfOptions& options, std::string& backend_name) {
-  GlareBackendSettings settings;
-  settings.grid_px = options.grid_px;
-  settings.named = backend_named;
-  GlareBackendChoice choice;
-  if (refraction.active) {
-    choice = create_glare_backend(GlareBackendRequest::cpu, settings);
-    std::cout << "psf: cpu float64: the observer's refraction is computed on the CPU (its astigmatic phase"
+             const ApertureGeometry& geometry, const PsfOptions& options, std::optional<double> display_degrees_per_pixel,
+             std::string& backend_name) {
+  const double grid_degrees_per_pixel = psf_degrees_per_pixel(options.wavelength_nm, options.aperture_width_mm);
+  const GlareFrameLayout layout{options, display_degrees_per_pixel.value_or(grid_degrees_per_pixel)};
+  const GlareBackendChoice choice =
+      engine_glare_backend(args.backend, layout, gl::compute_context_factory(), backend_named);
+  std::cout << "psf: " << choice.reason << "\n";
+  if (refraction.active)
+    std::cout << "psf: " << choice.backend->name() << " computes the observer's refraction (its astigmatic phase"
               << (options.spectral ? ", and one FFT per wavelength with the eye's longitudinal chromatic aberration)\n"
                                    : ")\n");
-  } else {
-    settings.gl_context = gl::compute_context_factory();
-    choice = create_glare_backend(args.backend, settings);
-    std::cout << "psf: " << choice.reason << "\n";
-  }
   backend_name = choice.backend->name();
   if (!geometry.glare_enabled) {
     std::cout << "psf: control condition: no glare, a delta PSF (the image passes through unchanged)\n";
-    return delta_psf(options);
+    return display_degrees_per_pixel ? resample_psf_to_display(delta_psf(options), *display_degrees_per_pixel)
+                                     : delta_psf(options);
   }
   Psf psf;
   try {
-    psf = choice.backend->psf(geometry, options);
+    if (!display_degrees_per_pixel) psf = choice.backend->psf(geometry, options);
+    else if (options.spectral) psf = choice.backend->display_psf(geometry, options, *display_degrees_per_pixel);
+    else psf = resample_psf_to_display(choice.backend->psf(geometry, options), *display_degrees_per_pixel);
   } catch (const ClosedApertureError& error) {
     // A closed eye (a blink at --time-s, or only lids kept) lets no light through: no PSF exists.
     throw ConfigError({"psf", 0, 0}, args.mode.empty() && args.model != "human" ? "--pupil-diameter-mm" : "--time-s",
@@ -286,8 +281,8 @@ int write_analytic(GlareModel model, const PsfArguments& args) {
 
 // --model hybrid: the wave PSF on the display's pixels near the source, the analytic far field beyond;
 // --model human: the same join with the near part calibrated ring by ring to CIE 146 (calibrated_near_psf).
-int write_hybrid(const PsfArguments& args, const Psf& psf, const HybridHandover& handover, bool human) {
-  const Psf wave_display = resample_psf_to_display(psf, args.degrees_per_pixel);
+// `wave_display`: the wave-optics PSF at the display's scale (wave_psf).
+int write_hybrid(const PsfArguments& args, const Psf& wave_display, const HybridHandover& handover, bool human) {
   const DisplayGeometry display = flat_display_geometry(args.degrees_per_pixel);
   const AnalyticPsf far_psf = analytic_model(human ? GlareModel::cie : parse_glare_model(args.far_field), args);
   const int half = args.grid_px / 2;
@@ -366,7 +361,8 @@ int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
       model == GlareModel::hybrid || human ? std::optional(hybrid_handover(args, options, reach_deg)) : std::nullopt;
   std::cout << refraction.summary;
   std::string backend_name;
-  const Psf psf = wave_psf(args, handles.backend->count() > 0, refraction, geometry, options, backend_name);
+  const Psf psf = wave_psf(args, handles.backend->count() > 0, refraction, geometry, options,
+                           handover ? std::optional(args.degrees_per_pixel) : std::nullopt, backend_name);
   if (handover) return write_hybrid(args, psf, *handover, human);
   if (!args.out.empty()) write_psf_exr(args.out, psf);
   if (!args.out.empty()) std::cout << "psf: wrote " << args.out << ": " << psf.size_px << "x" << psf.size_px << " px, "
