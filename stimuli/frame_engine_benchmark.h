@@ -6,10 +6,15 @@
 // stages, the frame uploaded and read back), each frame's error against the reference (the CPU
 // engine with the float64 glare, `[glare] backend = "cpu"`) by max_relative_pixel_error at the
 // chain's floor, 1e-4 of the display peak (the worst pixel), and as a relative L2 norm (the pixels
-// weighed by their light). The stages' and the
-// glare's own rows, with their floors, are printed beside it by the bench.
+// weighed by their light). Beside each frame, the FFTW floor measured in the same run
+// (glare/cpu/fftw_floor.h, as the other glare rows): the transforms no CPU frame can do without, 3
+// forward and 3 inverse real 2D transforms of each lit box's padded convolution (the glare's
+// input changes with the eye's adaptation every frame; the static PSF's spectrum could be kept), in
+// FFTW float with plans made once and the planned path's threads. The stages' and the glare's own
+// rows, with their floors, are printed beside it by the bench.
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/gl/gl_context.h"
@@ -30,17 +35,35 @@ struct FrameEngineBenchmarkRow {
   double fastest_frame_s = 0.0;
   double max_relative_error = 0.0;  // against the reference frame, per pixel at the floor
   double relative_l2_error = 0.0;   // against the reference frame, over all pixels
+  double floor_s = 0.0;             // the FFTW floor, measured right after this engine's frames
+  double ratio() const { return floor_s > 0.0 ? fastest_frame_s / floor_s : 0.0; }
+};
+
+// The display PSF of the static eye with the observer's refraction (-1 D, N = 256, 16 wavelengths:
+// one FFT per wavelength with the eye's LCA), what a frame of a condition with a refraction adds to
+// the glare: the reference (cpu float64) and the CPU engine's (the planned float32 path), the fastest
+// of the repeats, beside its FFTW floor (16 N x N complex float transforms, one measured plan) and
+// its largest difference from the reference PSF over the reference's peak.
+struct RefractionPsfBenchmarkRow {
+  std::string backend;  // the glare backend's kind
+  double psf_s = 0.0;
+  double floor_s = 0.0;
+  double max_error_over_peak = 0.0;
+  double ratio() const { return floor_s > 0.0 ? psf_s / floor_s : 0.0; }
 };
 
 struct FrameEngineBenchmarkResult {
   int width_px = 0, height_px = 0;
   double floor_cd_m2 = 0.0;
   double reference_s = 0.0;  // the reference frame's time
+  // The convolutions the floor transforms: one padded size (rows x cols) per lit box.
+  std::vector<std::pair<int, int>> floor_sizes;
   std::vector<FrameEngineBenchmarkRow> rows;
+  std::vector<RefractionPsfBenchmarkRow> refraction_rows;  // the reference first
 };
 
 FrameEngineBenchmarkResult run_frame_engine_benchmark(const FrameEngineBenchmarkOptions& options);
-// A Markdown table: engine, first frame ms, fastest ms, error against the reference.
+// A Markdown table: engine, first frame ms, fastest ms, floor ms, ratio, error against the reference.
 std::string format_frame_engine_benchmark(const FrameEngineBenchmarkResult& result);
 
 }  // namespace glarelab

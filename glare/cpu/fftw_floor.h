@@ -45,4 +45,17 @@ class FftwRgbConvolutionFloor {
   FftwFloatPlan forward_, inverse_;
 };
 
+// The floor of a PSF with the observer's refraction (glare/cpu/float_chromatic_psf.h): one N x N
+// complex FFT per wavelength, here one measured plan (FFTW_MEASURE, its wisdom forgotten after it as
+// FftwFloatFloor's) timed once; the caller multiplies by the wavelengths.
+class FftwComplexFloor {
+ public:
+  explicit FftwComplexFloor(int grid_px, int threads = kGlareCpuThreads);
+  double run_s();  // one transform, seconds
+
+ private:
+  FftwFloatBuffer<std::complex<float>> field_, spectrum_;
+  FftwFloatPlan fft_;
+};
+
 }  // namespace glarelab
