@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstddef>
 #include <iomanip>
 #include <sstream>
@@ -26,20 +27,30 @@ constexpr double kSceneFloorCdM2 = 1e-6;
 
 struct Times {
   double best_s = 0.0, median_s = 0.0;
+  double cpu_best_s = 0.0;  // the process' CPU time (all threads) of its least costly run
 };
 
-// `prepare` (untimed) then `work` (timed), `repeats` times.
+double process_cpu_s() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
+// `prepare` (untimed) then `work` (timed: wall clock, and the process' CPU time, which other
+// processes on a shared machine do not inflate), `repeats` times.
 template <typename Prepare, typename Work>
 Times time_runs(int repeats, Prepare prepare, Work work) {
-  std::vector<double> runs;
+  std::vector<double> runs, cpu_runs;
   for (int r = 0; r < repeats; ++r) {
     prepare();
+    const double cpu_start = process_cpu_s();
     const auto start = std::chrono::steady_clock::now();
     work();
     runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    cpu_runs.push_back(process_cpu_s() - cpu_start);
   }
   std::sort(runs.begin(), runs.end());
-  return {runs.front(), runs[runs.size() / 2]};
+  return {runs.front(), runs[runs.size() / 2], *std::min_element(cpu_runs.begin(), cpu_runs.end())};
 }
 
 Times floor_times(std::size_t read_bytes, std::size_t write_bytes, int threads, int repeats) {
@@ -56,6 +67,8 @@ CpuStageBenchmarkRow make_row(const std::string& stage, Times stage_times, Times
   row.median_s = stage_times.median_s;
   row.floor_best_s = floor.best_s;
   row.floor_median_s = floor.median_s;
+  row.cpu_best_s = stage_times.cpu_best_s;
+  row.floor_cpu_best_s = floor.cpu_best_s;
   row.max_relative_error = error;
   row.error_floor = error_floor;
   row.thesis_gtx1070_ms = thesis_ms;
@@ -126,7 +139,8 @@ CpuStageBenchmarkResult run_cpu_stage_benchmark(const CpuStageBenchmarkOptions& 
   TemporalAdaptation reference_eye(adapted_reference, settings.adaptation_time_constants);
   const PerceptionResult chain_reference =
       run_perception_stages(scene, {kGaze[0], kGaze[1], kFrameTimeS}, reference_eye, settings, display);
-  const Times floor_sum{read_floor.best_s + 3 * read_write_floor.best_s, read_floor.median_s + 3 * read_write_floor.median_s};
+  const Times floor_sum{read_floor.best_s + 3 * read_write_floor.best_s, read_floor.median_s + 3 * read_write_floor.median_s,
+                        read_floor.cpu_best_s + 3 * read_write_floor.cpu_best_s};
   result.rows.push_back(make_row("all perception stages", chain, floor_sum,
                                  max_relative_pixel_error(chain_result.image, chain_reference.image, display_floor),
                                  display_floor, 2.42));
@@ -152,15 +166,17 @@ CpuStageBenchmarkResult run_cpu_stage_benchmark(const CpuStageBenchmarkOptions& 
 std::string format_cpu_stage_benchmark(const CpuStageBenchmarkResult& result) {
   std::ostringstream out;
   out << result.width_px << " x " << result.height_px << ", " << result.threads
-      << " threads; floor: streaming the bytes the stage must read and write once, the same threads "
+      << " threads; wall clock (best and median of the repeats) and the process' CPU time over all threads "
+         "(the least of the repeats; other processes on a shared machine do not inflate it); floor: streaming the bytes the stage must read and write once, the same threads "
          "(core/streaming_floor.h); error: against the float64 reference (the warp: against itself on one thread).\n\n"
-      << "| stage | best ms | median ms | floor best ms | floor median ms | ratio (best) | max error | error floor cd/m2 | thesis GTX 1070 ms |\n"
-      << "|---|---|---|---|---|---|---|---|---|\n";
+      << "| stage | best ms | median ms | floor best ms | floor median ms | ratio (best) | CPU ms, stage / floor | ratio (CPU) | max error | error floor cd/m2 | thesis GTX 1070 ms |\n"
+      << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   out << std::setprecision(3);
   for (const CpuStageBenchmarkRow& row : result.rows) {
     out << "| " << row.stage << " | " << 1e3 * row.best_s << " | " << 1e3 * row.median_s << " | " << 1e3 * row.floor_best_s
         << " | " << 1e3 * row.floor_median_s << " | " << (row.floor_best_s > 0.0 ? row.best_s / row.floor_best_s : 0.0)
-        << " | " << row.max_relative_error << " | " << row.error_floor << " | ";
+        << " | " << 1e3 * row.cpu_best_s << " / " << 1e3 * row.floor_cpu_best_s << " | "
+        << (row.floor_cpu_best_s > 0.0 ? row.cpu_best_s / row.floor_cpu_best_s : 0.0) << " | " << row.max_relative_error << " | " << row.error_floor << " | ";
     if (row.thesis_gtx1070_ms >= 0.0)
       out << row.thesis_gtx1070_ms;
     else

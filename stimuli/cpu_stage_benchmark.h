@@ -25,6 +25,7 @@ struct CpuStageBenchmarkRow {
   std::string stage;
   double best_s = 0.0, median_s = 0.0;              // the stage
   double floor_best_s = 0.0, floor_median_s = 0.0;  // its floor
+  double cpu_best_s = 0.0, floor_cpu_best_s = 0.0;  // process CPU time (all threads), least of the repeats
   double max_relative_error = 0.0;                  // against the float64 reference
   double error_floor = 0.0;                         // the metric's floor, cd/m2
   double thesis_gtx1070_ms = -1.0;                  // Luidolt Table 7.1 per eye, -1 where none
