@@ -28,15 +28,18 @@ void for_each_pixel(ImageRGBA& frame, int threads, Body body) {
 template <typename Curve>
 void for_each_colour_value(ImageRGBA& frame, int threads, Curve curve) {
   parallel_chunks(frame.height_px, threads, [&](int first, int last) {
+    // A copy of its own: the frame's stores cannot then alias the curve's constants, which stay in
+    // registers (the reference `curve` would have to be reloaded after each store).
+    const Curve own = curve;
     float* p = frame.pixel(0, first);
     float* const end = frame.pixel(0, 0) + 4 * static_cast<std::size_t>(last) * frame.width_px;
     for (; p + 16 <= end; p += 16) {
       const float alpha[4] = {p[3], p[7], p[11], p[15]};
-      for (int k = 0; k < 16; ++k) p[k] = curve(p[k]);
+      for (int k = 0; k < 16; ++k) p[k] = own(p[k]);
       for (int k = 0; k < 4; ++k) p[4 * k + 3] = alpha[k];
     }
     for (; p != end; p += 4)
-      for (int c = 0; c < 3; ++c) p[c] = curve(p[c]);
+      for (int c = 0; c < 3; ++c) p[c] = own(p[c]);
   });
 }
 
