@@ -17,10 +17,13 @@
 #include <vector>
 
 #include "core/random.h"
+#include "core/streaming_floor.h"
 #include "runner/display/compute_context.h"
 #include "stimuli/perception/gl_perception_stages.h"
 #include "stimuli/perception/lab_colour.h"
+#include "stimuli/perception/acuity_loss_float.h"
 #include "stimuli/perception/perception_stages.h"
+#include "stimuli/perception/perception_stages_float.h"
 #include "stimuli/perception/stage_timing.h"
 
 namespace glarelab {
@@ -143,6 +146,64 @@ void BM_PerceptionAllStages(benchmark::State& state) {
     benchmark::DoNotOptimize(run_perception_stages(frame, {0.45, 0.4, 1.0 / 90.0}, eye, settings, display));
 }
 BENCHMARK(BM_PerceptionAllStages)->Unit(benchmark::kMillisecond);
+
+// The float32 stages sessions run (stimuli/perception/perception_stages_float.h), one per hardware
+// thread, beside the streaming floors they are measured against (core/streaming_floor.h): reading
+// the frame (adaptation) and reading and writing it (the others). `glarelab bench` prints the same
+// pairs with their errors (stimuli/cpu_stage_benchmark.h).
+void BM_PerceptionFloatAdaptation(benchmark::State& state) {
+  const ImageRGBA& frame = night_frame();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(frame_adaptation_luminance_float_cd_m2(frame, 0.45, 0.4, {}, perception_float_threads()));
+}
+BENCHMARK(BM_PerceptionFloatAdaptation)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PerceptionFloatAcuity(benchmark::State& state) {
+  const ImageRGBA& frame = night_frame();
+  ImageRGBA work = frame;
+  const double ppd = display_pixels_per_degree(bench_display());
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::copy(frame.rgba.begin(), frame.rgba.end(), work.rgba.begin());
+    state.ResumeTiming();
+    apply_acuity_loss_float(work, AcuitySettings{}, ppd, perception_float_threads());
+  }
+}
+BENCHMARK(BM_PerceptionFloatAcuity)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PerceptionFloatToneMapping(benchmark::State& state) {
+  ImageRGBA work = night_frame();
+  ToneMappingSettings settings;
+  settings.curve = state.range(0) == 0 ? ToneCurve::aces_narkowicz : ToneCurve::aces_hill;
+  // In place on its own output: the curve's cost does not depend on the values it meets.
+  for (auto _ : state) tone_map_float(work, 0.05, settings, 250.0, perception_float_threads());
+}
+BENCHMARK(BM_PerceptionFloatToneMapping)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PerceptionFloatScotopic(benchmark::State& state) {
+  ImageRGBA work = night_frame();
+  ScotopicSettings settings;
+  settings.form = state.range(0) == 0 ? ScotopicForm::luidolt_tint : ScotopicForm::spencer_desaturation;
+  for (auto _ : state) apply_scotopic_colour_float(work, 0.5, settings, perception_float_threads());
+}
+BENCHMARK(BM_PerceptionFloatScotopic)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PerceptionFloatAllStages(benchmark::State& state) {
+  const ImageRGBA& frame = night_frame();
+  TemporalAdaptation eye(1.0);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        run_perception_stages_float(frame, {0.45, 0.4, 1.0 / 90.0}, eye, PerceptionSettings{}, bench_display()));
+}
+BENCHMARK(BM_PerceptionFloatAllStages)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Arg 0: read the frame (the adaptation's floor); 1: read and write it (the other stages').
+void BM_PerceptionStreamingFloor(benchmark::State& state) {
+  const std::size_t frame_bytes = 16 * static_cast<std::size_t>(kWidth) * kHeight;
+  StreamingFloor floor(frame_bytes, state.range(0) == 0 ? 0 : frame_bytes, perception_float_threads());
+  for (auto _ : state) floor.run_s();
+}
+BENCHMARK(BM_PerceptionStreamingFloor)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace glarelab

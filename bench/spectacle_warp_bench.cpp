@@ -12,7 +12,9 @@
 #include <map>
 #include <utility>
 
+#include "core/parallel_for.h"
 #include "core/random.h"
+#include "core/streaming_floor.h"
 #include "glare/refraction/spectacle_lens.h"
 #include "stimuli/spectacle_warp.h"
 
@@ -102,6 +104,24 @@ BENCHMARK(BM_SpectacleWarp)
     ->Args({2, 17})
     ->Args({2, 33})
     ->Unit(benchmark::kMillisecond);
+
+// What sessions run: the warp on one thread per hardware thread, beside its floor, streaming the
+// frame's bytes in and out once with the same threads (core/streaming_floor.h).
+void BM_SpectacleWarpThreaded(benchmark::State& state) {
+  const SpectacleLens lens(bench_lens(0));
+  SpectacleWarpOptions options;
+  options.threads = static_cast<int>(resolved_threads(0));
+  for (auto _ : state) benchmark::DoNotOptimize(warp_through_spectacles(scene(), lens, kFrame, options));
+  state.SetLabel(lens_label(0));
+}
+BENCHMARK(BM_SpectacleWarpThreaded)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SpectacleStreamingFloor(benchmark::State& state) {
+  const std::size_t frame_bytes = 16 * static_cast<std::size_t>(kWidth) * kHeight;
+  StreamingFloor floor(frame_bytes, frame_bytes, static_cast<int>(resolved_threads(0)));
+  for (auto _ : state) floor.run_s();
+}
+BENCHMARK(BM_SpectacleStreamingFloor)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace glarelab

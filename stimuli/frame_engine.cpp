@@ -4,6 +4,7 @@
 
 #include "core/errors.h"
 #include "stimuli/perception/gl_perception_stages.h"
+#include "stimuli/perception/perception_stages_float.h"
 
 namespace glarelab {
 
@@ -23,7 +24,7 @@ class CpuStages final : public FrameEngine::Stages {
   PerceptionResult run(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
                        const PerceptionSettings& settings, const DisplaySpec& display,
                        const PerceptionGlare& glare) override {
-    return run_perception_stages(scene, input, eye, settings, display, glare);
+    return run_perception_stages_float(scene, input, eye, settings, display, glare);
   }
 };
 
@@ -69,7 +70,7 @@ constexpr EngineCandidate kEngines[] = {
      "the glare runs on OpenGL, so the perception stages do too (stimuli/perception/gl_perception_stages.h)"},
     {FrameEngineKind::cpu, [](GlareBackendKind) { return true; },
      [](const GlContextFactory&) -> std::unique_ptr<FrameEngine::Stages> { return std::make_unique<CpuStages>(); },
-     "the glare runs on the CPU, so the perception stages do too (stimuli/perception/perception_stages.h)"},
+     "the glare runs on the CPU, so the perception stages do too (stimuli/perception/perception_stages_float.h)"},
 };
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "stimuli/perception/perception_stages_float.h"
+
 namespace glarelab {
 
 SessionPerception::SessionPerception(const AdaptationTimeConstants& time_constants, const DisplaySpec& display)
@@ -21,9 +23,12 @@ TemporalAdaptation& SessionPerception::eye_at(double flip_s, double first_lumina
 PerceptionResult SessionPerception::process(const ImageRGBA& composed_cd_m2, const PerceptionSettings& settings,
                                             double flip_s, double frame_time_s, double gaze_x, double gaze_y,
                                             const FieldGlare& glare, const PerceptionStagesRun& stages) {
-  const double frame_luminance_cd_m2 =
-      frame_adaptation_luminance_cd_m2(composed_cd_m2, gaze_x, gaze_y, settings.adaptation_weighting);
-  TemporalAdaptation& eye = eye_at(flip_s, frame_luminance_cd_m2);
+  // The eye starts adapted to the first frame it sees; after that the stages measure each frame.
+  const double first_luminance_cd_m2 =
+      eye_ ? 0.0
+           : frame_adaptation_luminance_float_cd_m2(composed_cd_m2, gaze_x, gaze_y, settings.adaptation_weighting,
+                                                    perception_float_threads());
+  TemporalAdaptation& eye = eye_at(flip_s, first_luminance_cd_m2);
   PerceptionGlare stage_glare;
   if (glare) {
     // run_perception_stages advances the eye before the glare (Fig. 6.1), so the eye's luminance
@@ -38,7 +43,7 @@ PerceptionResult SessionPerception::process(const ImageRGBA& composed_cd_m2, con
   input.gaze_y = gaze_y;
   input.frame_time_s = frame_time_s;
   PerceptionResult result = stages ? stages(composed_cd_m2, input, eye, settings, display_, stage_glare)
-                                   : run_perception_stages(composed_cd_m2, input, eye, settings, display_, stage_glare);
+                                   : run_perception_stages_float(composed_cd_m2, input, eye, settings, display_, stage_glare);
   if (!settings.adaptation) eye.advance(result.frame_luminance_cd_m2, frame_time_s);
   seen_until_s_ = std::max(seen_until_s_, flip_s + frame_time_s);
   return result;

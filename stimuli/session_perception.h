@@ -24,7 +24,7 @@ namespace glarelab {
 // takes the frame's mean luminance, as without perception stages).
 using FieldGlare = std::function<ImageRGBA(const ImageRGBA&, std::optional<double> field_luminance_cd_m2)>;
 
-// What runs the stages of one frame: run_perception_stages (the CPU's) or an engine's
+// What runs the stages of one frame: run_perception_stages_float (the CPU's) or an engine's
 // (stimuli/frame_engine.h), with its arguments and result.
 using PerceptionStagesRun =
     std::function<PerceptionResult(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
@@ -38,7 +38,8 @@ class SessionPerception {
 
   // A frame of the session shown from flip_s for frame_time_s through the stages `settings`
   // switches on; `gaze` in normalised display coordinates (the display centre without a tracker).
-  // `glare` may be empty (a control condition); `stages` runs them (empty: on the CPU). The eye is advanced whether or not adaptation is
+  // `glare` may be empty (a control condition); `stages` runs them (empty: on the CPU,
+  // stimuli/perception/perception_stages_float.h). The eye is advanced whether or not adaptation is
   // on: with adaptation off the frame is tone mapped for its own adaptation luminance (the eye
   // adapting instantly), but the session's eye still saw it.
   PerceptionResult process(const ImageRGBA& composed_cd_m2, const PerceptionSettings& settings, double flip_s,

@@ -100,8 +100,10 @@ class GridInterpolation {
         step_x_((frame.width_px - 1.0) / (grid_vertices - 1)),
         step_y_((frame.height_px - 1.0) / (grid_vertices - 1)) {}
   Row row(int y) const { return locate(y, step_y_); }
-  glm::dvec2 at(const Row& row, int x) const {
-    const Row column = locate(x, step_x_);
+  Row column(int x) const { return locate(x, step_x_); }
+  glm::dvec2 at(const Row& row, int x) const { return at(row, column(x)); }
+  // Grids of one frame and vertex count share their rows and columns: found once, used for each.
+  glm::dvec2 at(const Row& row, const Row& column) const {
     const std::size_t top = static_cast<std::size_t>(row.cell) * g_ + column.cell, bottom = top + g_;
     const double fx = column.fraction, fy = row.fraction;
     return (1.0 - fy) * ((1.0 - fx) * vertex_[top] + fx * vertex_[top + 1]) + fy * ((1.0 - fx) * vertex_[bottom] + fx * vertex_[bottom + 1]);
@@ -204,14 +206,21 @@ ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& l
                        trace_grid_vertices(lens, frame, options.wavelengths_nm[channel], options.grid_vertices, options.scene_distance_mm),
                        options.grid_vertices);
   ImageRGBA out(frame.width_px, frame.height_px, 0.0f);
+  // The three grids share their vertices' pixels: each column's cell is found once per frame, each
+  // row's once per row, and the green position serves alpha too.
+  std::vector<GridInterpolation::Row> columns(static_cast<std::size_t>(frame.width_px));
+  for (int x = 0; x < frame.width_px; ++x) columns[static_cast<std::size_t>(x)] = grids[0].column(x);
   parallel_chunks(frame.height_px, options.threads, [&](int first, int last) {
     for (int y = first; y < last; ++y) {
-      const GridInterpolation::Row row = grids[0].row(y);  // the three grids share their vertices' pixels
+      const GridInterpolation::Row row = grids[0].row(y);
       for (int x = 0; x < frame.width_px; ++x) {
         float* pixel = out.pixel(x, y);
-        for (int channel = 0; channel < 3; ++channel)
-          pixel[channel] = sample_bilinear(scene, grids[channel].at(row, x), channel, options.outside_cd_m2[channel]);
-        pixel[3] = sample_bilinear(scene, grids[1].at(row, x), 3, 1.0f);
+        const GridInterpolation::Row& column = columns[static_cast<std::size_t>(x)];
+        const glm::dvec2 green = grids[1].at(row, column);
+        pixel[0] = sample_bilinear(scene, grids[0].at(row, column), 0, options.outside_cd_m2[0]);
+        pixel[1] = sample_bilinear(scene, green, 1, options.outside_cd_m2[1]);
+        pixel[2] = sample_bilinear(scene, grids[2].at(row, column), 2, options.outside_cd_m2[2]);
+        pixel[3] = sample_bilinear(scene, green, 3, 1.0f);
       }
     }
   });

@@ -11,6 +11,7 @@
 #include "glare/glare_benchmark.h"
 #include "glare/gl/fft.h"
 #include "core/errors.h"
+#include "stimuli/cpu_stage_benchmark.h"
 #include "stimuli/depth_of_field_benchmark.h"
 #include "stimuli/glare_model_benchmark.h"
 #include "stimuli/perception/stage_timing.h"
@@ -61,6 +62,12 @@ void print_perception_rows(const BenchArguments& args) {
                "is the largest per-pixel error of GL against the CPU, relative to the CPU pixel.\n\n"
             << format_perception_timing(time_perception_stages(options));
   print_load_average("the perception rows");
+  CpuStageBenchmarkOptions floors;
+  if (args.repeats > 0) floors.repeats = args.repeats;
+  std::cout << "\nThe CPU engine's float32 stages (what sessions run) beside their floors measured in the same run "
+               "(stimuli/cpu_stage_benchmark.h).\n\n"
+            << format_cpu_stage_benchmark(run_cpu_stage_benchmark(floors));
+  print_load_average("the CPU stage rows");
 }
 
 // One eye's whole frame (static glare and every perception stage) through each frame engine

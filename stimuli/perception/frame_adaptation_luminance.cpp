@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/parallel_for.h"
+
 namespace glarelab {
 namespace {
 
@@ -35,9 +37,21 @@ std::vector<std::vector<AxisTap>> area_taps(int n_in, int n_out) {
   return taps;
 }
 
-// Two planes (w Y and w) resampled together to size x size.
+// The second half of resample_plane: rows already resampled to `size` columns (height x size),
+// resampled along y to size x size.
+std::vector<double> resample_columns(const std::vector<double>& rows, int height, int size) {
+  const auto y_taps = area_taps(height, size);
+  std::vector<double> out(static_cast<std::size_t>(size) * size, 0.0);
+  for (int o = 0; o < size; ++o)
+    for (const AxisTap& tap : y_taps[static_cast<std::size_t>(o)])
+      for (int x = 0; x < size; ++x)
+        out[static_cast<std::size_t>(o) * size + x] += tap.weight * rows[static_cast<std::size_t>(tap.index) * size + x];
+  return out;
+}
+
+// A plane (width x height) resampled to size x size by exact area overlap.
 std::vector<double> resample_plane(const std::vector<double>& plane, int width, int height, int size) {
-  const auto x_taps = area_taps(width, size), y_taps = area_taps(height, size);
+  const auto x_taps = area_taps(width, size);
   std::vector<double> rows(static_cast<std::size_t>(height) * size, 0.0);
   for (int y = 0; y < height; ++y)
     for (int o = 0; o < size; ++o) {
@@ -46,12 +60,7 @@ std::vector<double> resample_plane(const std::vector<double>& plane, int width, 
         sum += tap.weight * plane[static_cast<std::size_t>(y) * width + tap.index];
       rows[static_cast<std::size_t>(y) * size + o] = sum;
     }
-  std::vector<double> out(static_cast<std::size_t>(size) * size, 0.0);
-  for (int o = 0; o < size; ++o)
-    for (const AxisTap& tap : y_taps[static_cast<std::size_t>(o)])
-      for (int x = 0; x < size; ++x)
-        out[static_cast<std::size_t>(o) * size + x] += tap.weight * rows[static_cast<std::size_t>(tap.index) * size + x];
-  return out;
+  return resample_columns(rows, height, size);
 }
 
 // One pyramid step: the 5-tap binomial filter [1 4 6 4 1] / 16 in x and y (edges clamped), then
@@ -77,10 +86,9 @@ std::vector<double> pyramid_reduce(const std::vector<double>& plane, int size) {
   return out;
 }
 
-double reduce_to_mean(std::vector<double> plane, int width, int height, const AdaptationWeighting& weighting) {
-  const int size = weighting.resampled_size_px;
-  plane = resample_plane(plane, width, height, size);
-  int level = size;
+// The pyramid from the resampled size x size plane to the top level, averaged.
+double pyramid_mean(std::vector<double> plane, const AdaptationWeighting& weighting) {
+  int level = weighting.resampled_size_px;
   while (level > weighting.top_level_size_px) {
     plane = pyramid_reduce(plane, level);
     level /= 2;
@@ -88,6 +96,23 @@ double reduce_to_mean(std::vector<double> plane, int width, int height, const Ad
   double sum = 0.0;
   for (double v : plane) sum += v;
   return sum / static_cast<double>(plane.size());
+}
+
+double reduce_to_mean(const std::vector<double>& plane, int width, int height, const AdaptationWeighting& weighting) {
+  return pyramid_mean(resample_plane(plane, width, height, weighting.resampled_size_px), weighting);
+}
+
+void check_adaptation_inputs(const ImageRGBA& frame, double gaze_x, double gaze_y, const AdaptationWeighting& weighting) {
+  if (frame.empty()) throw std::invalid_argument("perception adaptation: the frame is empty");
+  if (!std::isfinite(gaze_x) || !std::isfinite(gaze_y))
+    throw std::invalid_argument("perception adaptation: gaze must be finite (got " + std::to_string(gaze_x) + ", " +
+                                std::to_string(gaze_y) + ")");
+  if (!std::isfinite(weighting.gaze_sigma_frame_widths) || weighting.gaze_sigma_frame_widths <= 0.0)
+    throw std::invalid_argument("perception adaptation: gaze_sigma_frame_widths must be finite and > 0 (got " +
+                                std::to_string(weighting.gaze_sigma_frame_widths) + ")");
+  const int size = weighting.resampled_size_px, top = weighting.top_level_size_px;
+  if (top < 1 || size < top || size % top != 0 || ((size / top) & (size / top - 1)) != 0)
+    throw std::invalid_argument("perception adaptation: resampled_size_px / top_level_size_px must be a power of two");
 }
 
 }  // namespace
@@ -102,17 +127,7 @@ double gaze_adaptation_weight(int x, int y, int width_px, int height_px, double 
 
 double frame_adaptation_luminance_cd_m2(const ImageRGBA& frame, double gaze_x, double gaze_y,
                                         const AdaptationWeighting& weighting) {
-  if (frame.empty()) throw std::invalid_argument("perception adaptation: the frame is empty");
-  if (!std::isfinite(gaze_x) || !std::isfinite(gaze_y))
-    throw std::invalid_argument("perception adaptation: gaze must be finite (got " + std::to_string(gaze_x) + ", " +
-                                std::to_string(gaze_y) + ")");
-  if (!std::isfinite(weighting.gaze_sigma_frame_widths) || weighting.gaze_sigma_frame_widths <= 0.0)
-    throw std::invalid_argument("perception adaptation: gaze_sigma_frame_widths must be finite and > 0 (got " +
-                                std::to_string(weighting.gaze_sigma_frame_widths) + ")");
-  const int size = weighting.resampled_size_px, top = weighting.top_level_size_px;
-  if (top < 1 || size < top || size % top != 0 || ((size / top) & (size / top - 1)) != 0)
-    throw std::invalid_argument("perception adaptation: resampled_size_px / top_level_size_px must be a power of two");
-
+  check_adaptation_inputs(frame, gaze_x, gaze_y, weighting);
   const int width = frame.width_px, height = frame.height_px;
   const std::size_t n = static_cast<std::size_t>(width) * height;
   std::vector<double> weighted(n), weights(n);
@@ -132,6 +147,65 @@ double frame_adaptation_luminance_cd_m2(const ImageRGBA& frame, double gaze_x, d
     AdaptationWeighting uniform = weighting;
     uniform.gaze_sigma_frame_widths = 1e300;
     return frame_adaptation_luminance_cd_m2(frame, 0.5, 0.5, uniform);
+  }
+  return mean_weighted / mean_weight;
+}
+
+double frame_adaptation_luminance_float_cd_m2(const ImageRGBA& frame, double gaze_x, double gaze_y,
+                                              const AdaptationWeighting& weighting, int threads) {
+  check_adaptation_inputs(frame, gaze_x, gaze_y, weighting);
+  const int width = frame.width_px, height = frame.height_px, size = weighting.resampled_size_px;
+  // The gaze Gaussian is separable, exp(-(dx^2 + dy^2) / 2 s^2) = exp(-dx^2 / 2 s^2) exp(-dy^2 / 2 s^2)
+  // (gaze_adaptation_weight's distances), so a frame needs width + height exponentials, and the
+  // weight plane's resampled rows are the row factor times the column factors' tap sums.
+  const double two_sigma_sq = 2.0 * weighting.gaze_sigma_frame_widths * weighting.gaze_sigma_frame_widths;
+  std::vector<double> column_weight(static_cast<std::size_t>(width)), row_weight(static_cast<std::size_t>(height));
+  for (int x = 0; x < width; ++x) {
+    const double dx = (x + 0.5) / width - gaze_x;
+    column_weight[static_cast<std::size_t>(x)] = std::exp(-dx * dx / two_sigma_sq);
+  }
+  for (int y = 0; y < height; ++y) {
+    const double dy = ((y + 0.5) / height - gaze_y) * static_cast<double>(height) / width;
+    row_weight[static_cast<std::size_t>(y)] = std::exp(-dy * dy / two_sigma_sq);
+  }
+  // The x taps with the column factors folded in, flattened: output o's taps are
+  // [tap_begin[o], tap_begin[o + 1]) of tap_index and tap_weight.
+  const auto x_taps = area_taps(width, size);
+  std::vector<int> tap_begin{0}, tap_index;
+  std::vector<double> tap_weight, tap_total(static_cast<std::size_t>(size), 0.0);
+  for (int o = 0; o < size; ++o) {
+    for (const AxisTap& tap : x_taps[static_cast<std::size_t>(o)]) {
+      tap_index.push_back(tap.index);
+      tap_weight.push_back(tap.weight * column_weight[static_cast<std::size_t>(tap.index)]);
+      tap_total[static_cast<std::size_t>(o)] += tap_weight.back();
+    }
+    tap_begin.push_back(static_cast<int>(tap_index.size()));
+  }
+  std::vector<double> weighted_rows(static_cast<std::size_t>(height) * size), weight_rows(weighted_rows.size());
+  parallel_chunks(height, threads, [&](int first, int last) {
+    std::vector<double> luminance(static_cast<std::size_t>(width));
+    for (int y = first; y < last; ++y) {
+      const float* p = frame.pixel(0, y);
+      // Eq. 5.1 as the reference computes it (a uniform field then adapts to its own luminance to
+      // the last bits); the stage is bound by reading the frame, not by these three products.
+      for (int x = 0; x < width; ++x)
+        luminance[static_cast<std::size_t>(x)] = luidolt_luminance_cd_m2(p[4 * x], p[4 * x + 1], p[4 * x + 2]);
+      const double w_y = row_weight[static_cast<std::size_t>(y)];
+      for (int o = 0; o < size; ++o) {
+        double sum = 0.0;
+        for (int k = tap_begin[static_cast<std::size_t>(o)]; k < tap_begin[static_cast<std::size_t>(o) + 1]; ++k)
+          sum += tap_weight[static_cast<std::size_t>(k)] * luminance[static_cast<std::size_t>(tap_index[static_cast<std::size_t>(k)])];
+        weighted_rows[static_cast<std::size_t>(y) * size + o] = w_y * sum;
+        weight_rows[static_cast<std::size_t>(y) * size + o] = w_y * tap_total[static_cast<std::size_t>(o)];
+      }
+    }
+  });
+  const double mean_weight = pyramid_mean(resample_columns(weight_rows, height, size), weighting);
+  const double mean_weighted = pyramid_mean(resample_columns(weighted_rows, height, size), weighting);
+  if (!(mean_weight > 0.0)) {  // as frame_adaptation_luminance_cd_m2: every weight underflowed
+    AdaptationWeighting uniform = weighting;
+    uniform.gaze_sigma_frame_widths = 1e300;
+    return frame_adaptation_luminance_float_cd_m2(frame, 0.5, 0.5, uniform, threads);
   }
   return mean_weighted / mean_weight;
 }

@@ -38,6 +38,15 @@ inline double luidolt_luminance_cd_m2(double r, double g, double b) {
 double frame_adaptation_luminance_cd_m2(const ImageRGBA& frame, double gaze_x, double gaze_y,
                                         const AdaptationWeighting& weighting = {});
 
+// The same luminance in one pass over the float32 frame, split over `threads` row chunks
+// (core/parallel_for.h): the gaze Gaussian is separable (one exponential per row and one per column
+// instead of one per pixel), and the weight plane's resampling follows from it in closed form, so
+// only the weighted luminance is resampled pixel by pixel. What
+// sessions run (stimuli/perception/perception_stages_float.h); the function above is its reference
+// (tests/perception_float_test.cpp: within 1e-12 relative). The result does not depend on `threads`.
+double frame_adaptation_luminance_float_cd_m2(const ImageRGBA& frame, double gaze_x, double gaze_y,
+                                              const AdaptationWeighting& weighting, int threads);
+
 // The weight the gaze Gaussian gives the pixel (x, y) of a width x height frame (pixel centres at
 // x + 0.5, y + 0.5); exposed for tests and the documentation's numbers.
 double gaze_adaptation_weight(int x, int y, int width_px, int height_px, double gaze_x, double gaze_y,

@@ -5,13 +5,8 @@
 namespace glarelab {
 namespace {
 
-// Linear Rec.709 (D65) to CIE XYZ and back, from the primaries and white of IEC 61966-2-1.
-constexpr double kRgbToXyz[3][3] = {{0.41239079926595948, 0.35758433938387796, 0.18048078840183429},
-                                    {0.21263900587151036, 0.71516867876775593, 0.07219231536073372},
-                                    {0.01933081871559185, 0.11919477979462599, 0.95053215224966058}};
-constexpr double kXyzToRgb[3][3] = {{3.24096994190452134, -1.53738317757009346, -0.49861076029300328},
-                                    {-0.96924363628087983, 1.87596750150772067, 0.04155505740717561},
-                                    {0.05563007969699361, -0.20397695888897657, 1.05697151424287856}};
+constexpr auto& kRgbToXyz = kRec709ToXyz;
+constexpr auto& kXyzToRgb = kXyzToRec709;
 // The white of R = G = B = 1: rows of kRgbToXyz summed.
 constexpr double kWhiteX = kRgbToXyz[0][0] + kRgbToXyz[0][1] + kRgbToXyz[0][2];
 constexpr double kWhiteY = kRgbToXyz[1][0] + kRgbToXyz[1][1] + kRgbToXyz[1][2];

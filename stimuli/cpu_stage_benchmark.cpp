@@ -1,0 +1,189 @@
+#include "stimuli/cpu_stage_benchmark.h"
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <cstddef>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/parallel_for.h"
+#include "core/streaming_floor.h"
+#include "glare/eye/pupil_model.h"
+#include "glare/refraction/spectacle_lens.h"
+#include "stimuli/perception/acuity_loss_float.h"
+#include "stimuli/perception/perception_stages.h"
+#include "stimuli/perception/perception_stages_float.h"
+#include "stimuli/perception/stage_timing.h"
+#include "stimuli/spectacle_warp.h"
+
+namespace glarelab {
+namespace {
+
+constexpr double kGaze[2] = {0.45, 0.4};
+constexpr double kFrameTimeS = 1.0 / 90.0;
+constexpr double kSceneFloorCdM2 = 1e-6;
+
+struct Times {
+  double best_s = 0.0, median_s = 0.0;
+  double cpu_best_s = 0.0;  // the process' CPU time (all threads) of its least costly run
+};
+
+double process_cpu_s() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
+// `prepare` (untimed) then `work` (timed: wall clock, and the process' CPU time, which other
+// processes on a shared machine do not inflate), `repeats` times.
+template <typename Prepare, typename Work>
+Times time_runs(int repeats, Prepare prepare, Work work) {
+  std::vector<double> runs, cpu_runs;
+  for (int r = 0; r < repeats; ++r) {
+    prepare();
+    const double cpu_start = process_cpu_s();
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    cpu_runs.push_back(process_cpu_s() - cpu_start);
+  }
+  std::sort(runs.begin(), runs.end());
+  return {runs.front(), runs[runs.size() / 2], *std::min_element(cpu_runs.begin(), cpu_runs.end())};
+}
+
+Times floor_times(std::size_t read_bytes, std::size_t write_bytes, int threads, int repeats) {
+  StreamingFloor floor(read_bytes, write_bytes, threads);
+  floor.run_s();  // pages mapped, caches warm
+  return time_runs(repeats, [] {}, [&] { floor.run_s(); });
+}
+
+CpuStageBenchmarkRow make_row(const std::string& stage, Times stage_times, Times floor, double error, double error_floor,
+                              double thesis_ms = -1.0) {
+  CpuStageBenchmarkRow row;
+  row.stage = stage;
+  row.best_s = stage_times.best_s;
+  row.median_s = stage_times.median_s;
+  row.floor_best_s = floor.best_s;
+  row.floor_median_s = floor.median_s;
+  row.cpu_best_s = stage_times.cpu_best_s;
+  row.floor_cpu_best_s = floor.cpu_best_s;
+  row.max_relative_error = error;
+  row.error_floor = error_floor;
+  row.thesis_gtx1070_ms = thesis_ms;
+  return row;
+}
+
+}  // namespace
+
+CpuStageBenchmarkResult run_cpu_stage_benchmark(const CpuStageBenchmarkOptions& options) {
+  if (options.width_px < 16 || options.height_px < 16 || options.repeats < 1)
+    throw std::invalid_argument("cpu stage benchmark: the frame must be at least 16 x 16 and repeats >= 1");
+  CpuStageBenchmarkResult result;
+  result.width_px = options.width_px;
+  result.height_px = options.height_px;
+  result.threads = static_cast<int>(resolved_threads(static_cast<unsigned>(std::max(options.threads, 0))));
+  const int threads = result.threads, repeats = options.repeats;
+  const std::size_t frame_bytes = 4 * sizeof(float) * static_cast<std::size_t>(options.width_px) * options.height_px;
+
+  DisplaySpec display;
+  display.width_px = options.width_px;
+  display.height_px = options.height_px;
+  const PerceptionSettings settings;
+  const double display_floor = 1e-4 * display.peak_luminance_cd_m2;
+  const ImageRGBA scene = perception_test_frame(options.width_px, options.height_px);
+  ImageRGBA work = scene;
+  const auto reset = [&] { std::copy(scene.rgba.begin(), scene.rgba.end(), work.rgba.begin()); };
+  const Times read_floor = floor_times(frame_bytes, 0, threads, repeats);
+  const Times read_write_floor = floor_times(frame_bytes, frame_bytes, threads, repeats);
+
+  // Adaptation: a scalar, its error relative.
+  double adapted = 0.0;
+  const Times adaptation = time_runs(repeats, [] {}, [&] {
+    adapted = frame_adaptation_luminance_float_cd_m2(scene, kGaze[0], kGaze[1], settings.adaptation_weighting, threads);
+  });
+  const double adapted_reference = frame_adaptation_luminance_cd_m2(scene, kGaze[0], kGaze[1], settings.adaptation_weighting);
+  result.rows.push_back(make_row("adaptation", adaptation, read_floor,
+                                 std::abs(adapted - adapted_reference) / adapted_reference, 0.0, 0.18));
+
+  const double ppd = display_pixels_per_degree(display);
+  const Times acuity = time_runs(repeats, reset, [&] { apply_acuity_loss_float(work, settings.acuity_settings, ppd, threads); });
+  const ImageRGBA blurred = apply_acuity_loss(scene, settings.acuity_settings, ppd);
+  result.rows.push_back(make_row("acuity", acuity, read_write_floor,
+                                 max_relative_pixel_error(work, blurred, kSceneFloorCdM2), kSceneFloorCdM2, 0.36));
+
+  const auto from_blurred = [&] { std::copy(blurred.rgba.begin(), blurred.rgba.end(), work.rgba.begin()); };
+  const Times tone = time_runs(repeats, from_blurred, [&] {
+    tone_map_float(work, adapted_reference, settings.tone_mapping_settings, display.peak_luminance_cd_m2, threads);
+  });
+  const ImageRGBA mapped = tone_map(blurred, adapted_reference, settings.tone_mapping_settings, display.peak_luminance_cd_m2);
+  result.rows.push_back(make_row("tone_mapping " + to_string(settings.tone_mapping_settings.curve), tone, read_write_floor,
+                                 max_relative_pixel_error(work, mapped, display_floor), display_floor));
+
+  const double rods = rod_sensitivity(adapted_reference, settings.adaptation_time_constants.rod_half_sensitivity_cd_m2);
+  const auto from_mapped = [&] { std::copy(mapped.rgba.begin(), mapped.rgba.end(), work.rgba.begin()); };
+  const Times scotopic = time_runs(repeats, from_mapped, [&] {
+    apply_scotopic_colour_float(work, rods, settings.scotopic_settings, threads);
+  });
+  const ImageRGBA shifted = apply_scotopic_colour(mapped, rods, settings.scotopic_settings);
+  result.rows.push_back(make_row("scotopic " + to_string(settings.scotopic_settings.form), scotopic, read_write_floor,
+                                 max_relative_pixel_error(work, shifted, display_floor), display_floor, 0.14));
+
+  // The chain, from the scene to the display frame, against the sum of the four floors.
+  PerceptionResult chain_result;
+  const Times chain = time_runs(repeats, [] {}, [&] {
+    TemporalAdaptation eye(adapted_reference, settings.adaptation_time_constants);
+    chain_result = run_perception_stages_float(scene, {kGaze[0], kGaze[1], kFrameTimeS}, eye, settings, display, {}, threads);
+  });
+  TemporalAdaptation reference_eye(adapted_reference, settings.adaptation_time_constants);
+  const PerceptionResult chain_reference =
+      run_perception_stages(scene, {kGaze[0], kGaze[1], kFrameTimeS}, reference_eye, settings, display);
+  const Times floor_sum{read_floor.best_s + 3 * read_write_floor.best_s, read_floor.median_s + 3 * read_write_floor.median_s,
+                        read_floor.cpu_best_s + 3 * read_write_floor.cpu_best_s};
+  result.rows.push_back(make_row("all perception stages", chain, floor_sum,
+                                 max_relative_pixel_error(chain_result.image, chain_reference.image, display_floor),
+                                 display_floor, 2.42));
+
+  // The spectacle warp: a -6.00 DS lens, the frame 30.7 deg across (the warp bench's field of view,
+  // bench/spectacle_warp_bench.cpp, which the lens covers).
+  SpectacleLensSpec lens_spec;
+  lens_spec.prescription = {-6.0, 0.0, 0.0};
+  const SpectacleLens lens(lens_spec);
+  const SpectacleFrame frame{options.width_px, options.height_px, 30.72 / options.width_px};
+  SpectacleWarpOptions warp_options;
+  warp_options.scene_distance_mm = display.viewing_distance_mm;
+  warp_options.threads = threads;
+  ImageRGBA warped;
+  const Times warp = time_runs(repeats, [] {}, [&] { warped = warp_through_spectacles(scene, lens, frame, warp_options); });
+  warp_options.threads = 1;
+  const ImageRGBA warped_one_thread = warp_through_spectacles(scene, lens, frame, warp_options);
+  result.rows.push_back(make_row("spectacle warp -6.00 DS", warp, read_write_floor,
+                                 max_relative_pixel_error(warped, warped_one_thread, kSceneFloorCdM2), kSceneFloorCdM2));
+  return result;
+}
+
+std::string format_cpu_stage_benchmark(const CpuStageBenchmarkResult& result) {
+  std::ostringstream out;
+  out << result.width_px << " x " << result.height_px << ", " << result.threads
+      << " threads; wall clock (best and median of the repeats) and the process' CPU time over all threads "
+         "(the least of the repeats; other processes on a shared machine do not inflate it); floor: streaming the bytes the stage must read and write once, the same threads "
+         "(core/streaming_floor.h); error: against the float64 reference (the warp: against itself on one thread).\n\n"
+      << "| stage | best ms | median ms | floor best ms | floor median ms | ratio (best) | CPU ms, stage / floor | ratio (CPU) | max error | error floor cd/m2 | thesis GTX 1070 ms |\n"
+      << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  out << std::setprecision(3);
+  for (const CpuStageBenchmarkRow& row : result.rows) {
+    out << "| " << row.stage << " | " << 1e3 * row.best_s << " | " << 1e3 * row.median_s << " | " << 1e3 * row.floor_best_s
+        << " | " << 1e3 * row.floor_median_s << " | " << (row.floor_best_s > 0.0 ? row.best_s / row.floor_best_s : 0.0)
+        << " | " << 1e3 * row.cpu_best_s << " / " << 1e3 * row.floor_cpu_best_s << " | "
+        << (row.floor_cpu_best_s > 0.0 ? row.cpu_best_s / row.floor_cpu_best_s : 0.0) << " | " << row.max_relative_error << " | " << row.error_floor << " | ";
+    if (row.thesis_gtx1070_ms >= 0.0)
+      out << row.thesis_gtx1070_ms;
+    else
+      out << "-";
+    out << " |\n";
+  }
+  return out.str();
+}
+
+}  // namespace glarelab
