@@ -13,6 +13,7 @@
 #include "protocols/block_config.h"
 #include "protocols/experiment.h"
 #include "protocols/generated_scene_config.h"
+#include "protocols/scene_file_config.h"
 #include "protocols/observer_optics_config.h"
 
 namespace glarelab {
@@ -175,7 +176,8 @@ std::string resolved_config_toml(const Experiment& experiment) {
                             {"encoding", display_encoding_name(display.encoding)},
                             {"gamma", display.gamma},
                             {"monitor", display.monitor},
-                            {"fullscreen", display.fullscreen}};
+                            {"fullscreen", display.fullscreen},
+                            {"stimulus_gap_deg", display.stimulus_gap_deg}};
   // The encoding's own keys only with that encoding: elsewhere they are refused on reading.
   if (display.encoding == DisplayEncoding::pq)
     display_table.insert("primaries", display.primaries == DisplayPrimaries::bt2020 ? "bt2020" : "rec709");
@@ -188,7 +190,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
   out << "[scenes]\n";
   for (const auto& [name, scene] : experiment.scenes) {
     toml::table entry = scene.generated ? generated_scene_toml(*scene.generated)
-                                        : toml::table{{"file", scene.file}, {"scale_cd_m2", scene.scale_cd_m2}};
+                                        : scene_file_toml(scene);
     entry.is_inline(true);
     out << toml_key(name) << " = " << entry << "\n";
   }
@@ -210,6 +212,11 @@ std::string resolved_config_toml(const Experiment& experiment) {
       toml::array anchors;
       for (const std::string& anchor : experiment.rating.scale_anchors) anchors.push_back(anchor);
       procedure.insert("scale_anchors", std::move(anchors));
+    }
+    if (!experiment.rating.category_labels.empty()) {
+      toml::table labels;
+      for (const auto& [category, label] : experiment.rating.category_labels) labels.insert(category, label);
+      procedure.insert("category_labels", std::move(labels));
     }
   } else if (experiment.procedure == "adjustment") {
     const AdjustmentSpec& adjustment = experiment.adjustment;

@@ -1,6 +1,7 @@
 // glarelab: psychophysics experiment runner and stimulus presenter for glare studies.
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <iostream>
 #include <string>
 #include <utility>
@@ -10,6 +11,9 @@
 #include "core/software_version.h"
 
 int main(int argc, char** argv) {
+  // Line-buffered stdout even into a pipe or a file: a long run's lines arrive as they are
+  // written, not in one block at the end (std::cout writes through stdio, synchronised).
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   CLI::App app{"glarelab: psychophysics experiments with HDR stimuli and glare"};
   app.set_version_flag("--version", std::string("glarelab ") + glarelab::software_version());
   app.require_subcommand(1);

@@ -21,6 +21,7 @@
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
 #include "runner/session/session_runner.h"
+#include "stimuli/scene_library.h"
 
 namespace glarelab::cli {
 namespace {
@@ -123,10 +124,14 @@ int render(const RenderOptions& options) {
     for (std::size_t i = 3; i < encoded.rgba.size(); i += 4) encoded.rgba[i] = 1.0f;
     write_png_encoded(options.out, encoded);
   } else {
-    write_exr(options.out, frame.stimulus_cd_m2);
+    // Loadable as a scene with no option (stimuli/scene_library.h: the glare's round-off below 0 set to 0).
+    ImageRGBA linear = frame.stimulus_cd_m2;
+    zero_round_off_negatives(linear);
+    write_exr(options.out, linear);
   }
   std::cout << "render: condition '" << options.condition << "', " << describe(frame) << " -> " << options.out << " ("
             << frame.stimulus_cd_m2.width_px << "x" << frame.stimulus_cd_m2.height_px << ")\n";
+  for (const std::string& note : result.scene_notes) std::cout << "  note: " << note << "\n";
   return 0;
 }
 

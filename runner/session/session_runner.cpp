@@ -19,6 +19,7 @@
 #include "runner/session/refresh_rate_check.h"
 #include "runner/session/session_loop.h"
 #include "runner/session/session_setup.h"
+#include "runner/session/status_line.h"
 
 namespace glarelab {
 namespace {
@@ -67,9 +68,12 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   RunResult result;
 
   // 1. Everything that can be wrong with the input is found before anything is written.
+  if (options.status) options.status->set_step("loading the experiment and its scenes");
   SessionStart start = load_session_start(options, progress);
   result.db_path = start.db_path;
   PreparedSession prepared = prepare_session(std::move(start.experiment), options);
+  result.scene_notes = scene_load_notes(*prepared.scenes);
+  for (const std::string& note : result.scene_notes) progress << "note: " << note << "\n";
   result.trials_in_design = prepared.procedure->planned_trials();
   const int first_trial = static_cast<int>(start.done_trials.size());
   replay_done_trials(*prepared.procedure, start);
@@ -82,6 +86,7 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   check_virtual_clock(options, tracker, device);
 
   // 2. The display (a device failure is reported before a session exists).
+  if (options.status) options.status->set_step("opening the display");
   auto display = create_display(options.display, display_request(prepared.experiment));
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock = make_session_clock(*display, tracker, device, start, options);
@@ -144,6 +149,8 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     if (device.active()) loop.attach_response_device(&device_input, pause_message);
     if (options.preview) loop.attach_preview(*options.preview);
     if (!options.save_frames_dir.empty()) loop.save_first_frames_to(options.save_frames_dir);
+    loop.attach_status(options.status);
+    if (options.status) options.status->set_step("preparing the first trial");
     const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
     while (calibrated && !prepared.procedure->finished()) {
       if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
@@ -178,6 +185,12 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     const FrameTimingSummary timing = loop.timing_summary();
     store.log_event(result.session_id, clock->now_s(), "frame_timing", timing.describe());
     progress << "Frame timing: " << timing.describe() << "\n";
+    // Flips that do not follow the refresh (no vsync, a compositor, another rate): said, with the cause.
+    const std::string flip_warning = flip_interval_warning(display->refresh_hz(), timing.flip_interval_median_ms / 1000.0);
+    if (!flip_warning.empty()) {
+      std::cerr << "warning: " << flip_warning << "\n";
+      store.log_event(result.session_id, clock->now_s(), "flip_interval", flip_warning);
+    }
     result.frames_shown = timing.frames_shown;
     result.frames_dropped = timing.frames_dropped;
     result.tracker_summary = tracker.finish(clock->now_s());

@@ -13,6 +13,7 @@
 #include "runner/display/display_info.h"
 #include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/scene_places.h"
 #include "runner/session/slow_flip_clock.h"
 #include "runner/session/session_eyes.h"
 #include "stimuli/glare_stage.h"
@@ -181,6 +182,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   prepared.experiment = std::move(experiment);
   prepared.resolved_config = resolved_config_toml(prepared.experiment);
   prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment.scenes, prepared.experiment.display);
+  fit_scenes_to_places(prepared.experiment, *prepared.scenes);
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
   refuse_rows_the_display_cannot_tell_apart(prepared.experiment, *prepared.scenes);
@@ -300,6 +302,7 @@ std::optional<std::int64_t> open_session_row(SessionStart& start, const Prepared
     store.log_event(session_id, 0.0, "duration_rounding", presentation_rounding);
   store.log_event(session_id, 0.0, "participant_number",
                   std::to_string(start.participant->value) + " (" + start.participant->source + ")");
+  for (const std::string& note : scene_load_notes(*prepared.scenes)) store.log_event(session_id, 0.0, "scene_load", note);
   for (const auto& [name, scene] : prepared.scenes->scenes()) {
     if (scene.peak_cd_m2 > prepared.experiment.display.peak_luminance_cd_m2) {
       store.log_event(session_id, 0.0, "clipping",
