@@ -90,7 +90,7 @@ TEST(FirstStudyFindings, LuidoltExampleAsksForTheOverallSimilarity) {
     parse_experiment_text(text, "r.toml", "/");
     FAIL() << "an unknown category's label was accepted";
   } catch (const ConfigError& error) {
-    EXPECT_THAT(error.what(), ::testing::HasSubstr("r.toml:6:"));
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("r.toml:8:"));
     EXPECT_THAT(error.what(), ::testing::HasSubstr("procedure.category_labels.overal"));
   }
 }

@@ -68,7 +68,7 @@ TEST(WindowBackendFlipInterval, RunWarnsWhenTheMedianIntervalIsOffTheRefresh) {
                                                           {"stimulus_frames", "stimulus_frames = 6"}});
   const std::string db = dir.file("run.db");
   const auto run = test::run_glarelab({"run", experiment.string(), "--display", "window", "--observer", "simulated",
-                                       "--db", db, "--stop-after", "3"},
+                                       "--db", db},
                                       dir.path());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   std::vector<double> intervals = flip_intervals_s(db);
