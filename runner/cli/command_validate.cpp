@@ -20,7 +20,7 @@ Action add_validate_command(CLI::App& app) {
     return report_errors([&]() {
       const Experiment experiment = load_experiment(*path);
       SceneLibrary scenes(experiment.scenes, experiment.display);
-      fit_scenes_to_places(experiment, scenes);
+      fit_scenes_to_places(experiment, scenes, /*refuse_misfits=*/true);
       const auto procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
       // The refusals a session makes for the observer's refraction (the [glare] grid must sample
       // every condition's residual), made here too so a file that validates also runs.

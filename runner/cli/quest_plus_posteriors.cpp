@@ -58,7 +58,7 @@ ReplayedSession replay_stored_session(const analysis::LoadedSession& session) {
       parse_experiment_text(session.record.config, "<session " + std::to_string(session.record.id) + " config>", "/");
   for (const analysis::LoadedTrial& trial : session.trials) start.done_trials.push_back(trial.record);
   SceneLibrary scenes(start.experiment.scenes, start.experiment.display);
-  fit_scenes_to_places(start.experiment, scenes);  // the peaks the session's procedure was made with
+  fit_scenes_to_places(start.experiment, scenes, /*refuse_misfits=*/false);  // the peaks the session's procedure was made with
   ReplayedSession replayed;
   replayed.procedure = make_procedure(start.experiment, scenes.peak_luminances_cd_m2());
   replay_done_trials(*replayed.procedure, start);

@@ -63,7 +63,7 @@ PixelRect scene_place(const Experiment& experiment, const SceneLibrary& scenes) 
   return place_of(experiment, scenes_side_by_side(experiment, scenes));
 }
 
-void fit_scenes_to_places(const Experiment& experiment, SceneLibrary& scenes) {
+void fit_scenes_to_places(const Experiment& experiment, SceneLibrary& scenes, bool refuse_misfits) {
   const std::size_t shown = scenes_side_by_side(experiment, scenes);  // makes a procedure: once
   const PixelRect place = place_of(experiment, shown);
   std::vector<std::string> names;
@@ -74,11 +74,15 @@ void fit_scenes_to_places(const Experiment& experiment, SceneLibrary& scenes) {
     if (width_px <= place.width_px && height_px <= place.height_px) continue;
     const std::string where = "scene '" + name + "' (" + size_text(width_px, height_px) + ") does not fit: " +
                               describe_place(experiment, place, shown);
+    const std::string remedy = "add fit = \"scale\" (the whole scene, smaller) or fit = \"crop\" (its centre) to its "
+                               "[scenes] entry, use a smaller image or a larger display";
     if (scene.spec.fit == SceneFit::refuse) {
       if (experiment.display.stereo != StereoMode::none) continue;  // check_stereo_layout says why
-      throw ConfigError(scene.spec.where, "scenes." + name,
-                        where + ". Add fit = \"scale\" (the whole scene, smaller) or fit = \"crop\" (its centre) to "
-                                "its [scenes] entry, use a smaller image or a larger display");
+      if (refuse_misfits) throw ConfigError(scene.spec.where, "scenes." + name, where + ". To show it, " + remedy);
+      // A run shows it as the layout places it, cut by its column; said, not silent.
+      scenes.replace_image(name, ImageRGBA(scene.image_cd_m2),
+                           where + ": shown cut by its column (glarelab validate refuses this; " + remedy + ")");
+      continue;
     }
     ImageRGBA fitted;
     std::string note;

@@ -15,9 +15,11 @@ namespace glarelab {
 PixelRect scene_place(const Experiment& experiment, const SceneLibrary& scenes);
 
 // Every scene larger than its place: with fit = "scale" resampled to the largest size of its aspect
-// that fits (stimuli/scene_fit.h), with fit = "crop" cut about its centre, else refused on a mono
-// display: ConfigError at the scene's [scenes] key naming the scene, its size and its place. A gap
-// that leaves no column is a ConfigError at [display] stimulus_gap_deg.
-void fit_scenes_to_places(const Experiment& experiment, SceneLibrary& scenes);
+// that fits (stimuli/scene_fit.h), with fit = "crop" cut about its centre. Without a fit, on a mono
+// display, `refuse_misfits` (glarelab validate) makes it a ConfigError at the scene's [scenes] key
+// naming the scene, its size and its place; otherwise (a run, whose files validate may not have
+// seen) the scene is shown cropped by its column as the layout places it, and its note says so.
+// A gap that leaves no column is a ConfigError at [display] stimulus_gap_deg.
+void fit_scenes_to_places(const Experiment& experiment, SceneLibrary& scenes, bool refuse_misfits);
 
 }  // namespace glarelab

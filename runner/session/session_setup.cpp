@@ -182,7 +182,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   prepared.experiment = std::move(experiment);
   prepared.resolved_config = resolved_config_toml(prepared.experiment);
   prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment.scenes, prepared.experiment.display);
-  fit_scenes_to_places(prepared.experiment, *prepared.scenes);
+  fit_scenes_to_places(prepared.experiment, *prepared.scenes, /*refuse_misfits=*/false);
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
   refuse_rows_the_display_cannot_tell_apart(prepared.experiment, *prepared.scenes);
