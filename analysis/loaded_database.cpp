@@ -4,11 +4,15 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 #include <stdexcept>
+
+#include "core/text_limits.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -148,6 +152,7 @@ TrialPlaces load_trials(const ReadOnlyDatabase& db, const std::set<std::string>&
       "response_time_s, onset_s, staircase, reversal, " +
       column_or_null(columns, "started_utc") + " FROM trials ORDER BY session_id, trial_index")};
   int unreadable = 0;
+  int not_finite = 0;
   while (db.step(query.stmt)) {
     LoadedTrial trial;
     TrialRecord& r = trial.record;
@@ -165,6 +170,14 @@ TrialPlaces load_trials(const ReadOnlyDatabase& db, const std::set<std::string>&
     r.staircase = text(query.stmt, 11);
     r.reversal = optional_int(query.stmt, 12);
     r.started_utc = text(query.stmt, 13);
+    // A time or an intensity of +-inf or NaN is no measurement (SQLite stores them; glarelab never
+    // writes them): read as empty and counted, so no statistic or histogram bin is computed from it.
+    for (std::optional<double>* value : {&r.response_time_s, &r.intensity}) {
+      if (*value && !std::isfinite(**value)) {
+        value->reset();
+        ++not_finite;
+      }
+    }
     auto [parsed, first_seen] = parsed_conditions.try_emplace(r.condition);
     if (first_seen) {
       try {
@@ -188,6 +201,10 @@ TrialPlaces load_trials(const ReadOnlyDatabase& db, const std::set<std::string>&
   if (unreadable > 0) {
     data.notes.push_back(db.path() + ": " + std::to_string(unreadable) +
                          " trial(s) with a condition that is not a JSON object: used as the condition name");
+  }
+  if (not_finite > 0) {
+    data.notes.push_back(db.path() + ": " + std::to_string(not_finite) +
+                         " response time(s) or intensit(ies) that are not finite numbers: read as empty");
   }
   return trial_at;
 }
@@ -290,15 +307,36 @@ const std::string* LoadedTrial::condition_value(const std::string& key) const {
 }
 
 ConditionFields parse_condition_json(const std::string& text) {
-  nlohmann::ordered_json parsed;
+  // nlohmann::ordered_json keeps keys in a vector searched on every insert (quadratic: 200k keys
+  // took minutes), so the object is parsed into the tree-backed json and the order of the top
+  // level's keys is taken from the parser's key events. The depth is bounded in the same events:
+  // dump() below recurses once per level.
+  std::vector<std::string> order;
+  std::unordered_set<std::string> seen;
+  const nlohmann::json::parser_callback_t track = [&](int depth, nlohmann::json::parse_event_t event,
+                                                      nlohmann::json& parsed) {
+    // `depth` counts the levels open before this event: opening one more must stay within the bound.
+    const bool opens = event == nlohmann::json::parse_event_t::object_start ||
+                       event == nlohmann::json::parse_event_t::array_start;
+    if (opens && depth >= kMaxJsonNesting)
+      throw std::invalid_argument("condition is nested deeper than " + std::to_string(kMaxJsonNesting) + " levels");
+    if (event == nlohmann::json::parse_event_t::key && depth == 1) {
+      std::string key = parsed.get<std::string>();
+      if (seen.insert(key).second) order.push_back(std::move(key));  // a repeated key keeps its first place
+    }
+    return true;
+  };
+  nlohmann::json parsed;
   try {
-    parsed = nlohmann::ordered_json::parse(text);
+    parsed = nlohmann::json::parse(text, track);
   } catch (const nlohmann::json::exception& error) {
     throw std::invalid_argument(std::string("condition is not JSON: ") + error.what());
   }
   if (!parsed.is_object()) throw std::invalid_argument("condition is not a JSON object");
   ConditionFields fields;
-  for (const auto& [key, value] : parsed.items()) {
+  fields.reserve(order.size());
+  for (const std::string& key : order) {
+    const nlohmann::json& value = parsed.at(key);
     fields.emplace_back(key, value.is_string() ? value.get<std::string>() : value.dump());
   }
   return fields;

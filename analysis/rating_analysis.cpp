@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include "analysis/statistics.h"
+#include "core/text_limits.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -124,6 +125,7 @@ RatingComparison compare_category(const std::string& category, const std::vector
 StoredRatingDesign stored_rating_design(const std::string& config_toml) {
   StoredRatingDesign design;
   toml::table root;
+  if (toml_limit_fault(config_toml)) return design;  // toml++ would recurse past the stack
   try {
     root = toml::parse(config_toml);
   } catch (const toml::parse_error&) {

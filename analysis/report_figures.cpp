@@ -293,7 +293,11 @@ Figure rating_means_figure(const RatingAnalysis& ratings) {
 
 Figure response_time_figure(const TimingQuality& timing) {
   SvgPlot plot("Response times (all answered trials)", "response time (s)", "trials");
-  const auto& values = timing.response_times_s;
+  // Only finite times are binned: a bin index from inf or NaN is undefined (the loader already
+  // drops them; this keeps the figure safe for any caller).
+  std::vector<double> values;
+  for (double v : timing.response_times_s)
+    if (std::isfinite(v)) values.push_back(v);
   if (values.empty()) {
     plot.note("no response times recorded");
     return {"response_times", "timing", "Histogram of response times.", plot.svg()};
@@ -303,8 +307,11 @@ Figure response_time_figure(const TimingQuality& timing) {
   const double high = *max_it > low ? *max_it : low + 1.0;
   constexpr int kBins = 30;
   std::vector<long> counts(kBins, 0);
+  // Halved so that high - low stays finite for times near +-DBL_MAX.
+  const double half_span = 0.5 * high - 0.5 * low;
   for (double v : values) {
-    const int bin = std::min(kBins - 1, static_cast<int>((v - low) / (high - low) * kBins));
+    const double fraction = half_span > 0.0 ? (0.5 * v - 0.5 * low) / half_span : 0.0;
+    const int bin = std::isfinite(fraction) ? static_cast<int>(std::clamp(fraction * kBins, 0.0, kBins - 1.0)) : 0;
     ++counts[static_cast<std::size_t>(bin)];
   }
   plot.set_x_range(low, high);

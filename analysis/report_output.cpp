@@ -14,6 +14,7 @@
 #include "analysis/session_observer_eye.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
+#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/software_version.h"
 
@@ -380,15 +381,43 @@ std::string render_terminal_summary(const AnalysisReport& report) {
   return out.str();
 }
 
-std::vector<std::string> write_report(const AnalysisReport& report, const std::string& directory) {
-  std::vector<std::string> written = write_tidy_csv(report.data, directory);
+namespace {
+
+// The name the list of an analysis' outputs is kept under, in its folder.
+constexpr const char* kManifestName = "manifest.txt";
+
+// A manifest line glarelab may act on: a file name, or figures/ and a file name, of the characters
+// its own outputs use. Anything else (an edited or planted manifest: "../x", "/etc/y") is ignored,
+// so removing what a manifest lists never reaches outside the folder.
+bool own_output_name(const std::string& line) {
+  const std::string name = line.rfind("figures/", 0) == 0 ? line.substr(8) : line;
+  if (name.empty() || name.front() == '.' || name == kManifestName) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+  });
+}
+
+std::vector<std::string> manifest_names(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  std::ifstream in(dir / kManifestName, std::ios::binary);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (own_output_name(line)) names.push_back(line);
+  }
+  return names;
+}
+
+}  // namespace
+
+std::vector<std::string> write_report(const AnalysisReport& report, const std::string& directory,
+                                      std::optional<unsigned> mode) {
   const std::filesystem::path dir(directory);
   std::filesystem::create_directories(dir / "figures");
+  const std::vector<std::string> previous = manifest_names(dir);
+  std::vector<std::string> written = write_tidy_csv(report.data, directory, mode);
   auto write = [&](const std::filesystem::path& path, const std::string& content) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << content;
-    out.close();
-    if (!out) throw StoreError("analysis: writing " + path.string() + " failed");
+    write_file_atomically(path.string(), content, mode);
     written.push_back(path.string());
   };
   if (!report.ratings.empty()) {
@@ -401,6 +430,21 @@ std::vector<std::string> write_report(const AnalysisReport& report, const std::s
   if (!report.quest_plus.empty()) write(dir / "quest_plus_posteriors.csv", quest_plus_posteriors_csv(report.quest_plus));
   write(dir / "report.html", render_html(report));
   for (const Figure& figure : report.figures) write(dir / "figures" / (figure.file_stem + ".svg"), figure.svg);
+  // The manifest names this analysis' files; what the previous one listed and this one did not
+  // write goes, so the folder holds one analysis (a second database's report beside the first's
+  // figures read as one report). Files glarelab did not list are left alone.
+  std::set<std::string> current;
+  std::string manifest;
+  for (const std::string& path : written) {
+    const std::string name = std::filesystem::path(path).lexically_relative(dir).generic_string();
+    current.insert(name);
+    manifest += name + "\n";
+  }
+  write_file_atomically((dir / kManifestName).string(), manifest, mode);
+  for (const std::string& name : previous) {
+    std::error_code ignored;
+    if (current.count(name) == 0) std::filesystem::remove(dir / name, ignored);  // a link itself, not its target
+  }
   return written;
 }
 

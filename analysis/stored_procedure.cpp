@@ -2,10 +2,13 @@
 
 #include <toml++/toml.h>
 
+#include "core/text_limits.h"
+
 namespace glarelab::analysis {
 
 std::optional<int> stored_alternatives(const std::string& config_toml) {
   toml::table root;
+  if (toml_limit_fault(config_toml)) return std::nullopt;  // toml++ would recurse past the stack
   try {
     root = toml::parse(config_toml);
   } catch (const toml::parse_error&) {

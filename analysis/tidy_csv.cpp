@@ -1,37 +1,38 @@
 #include "analysis/tidy_csv.h"
 
+#include <atomic>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <string_view>
+#include <unordered_map>
 
+#include "core/atomic_file.h"
 #include "core/errors.h"
 
 namespace glarelab::analysis {
 namespace {
 
+// A CSV file written beside its name and renamed into place when complete (core/atomic_file.h),
+// with the permission bits `mode` (the database's) when given.
 class CsvFile {
  public:
-  explicit CsvFile(const std::string& path) : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
-    if (!out_) throw StoreError("analysis: cannot write " + path);
-  }
+  CsvFile(const std::string& path, std::optional<unsigned> mode) : file_(path, mode) {}
   void row(const std::vector<std::string>& fields) {
+    std::ostream& out = file_.stream();
     for (std::size_t i = 0; i < fields.size(); ++i) {
-      if (i > 0) out_ << ',';
-      out_ << csv_field(fields[i]);
+      if (i > 0) out << ',';
+      out << csv_field(fields[i]);
     }
-    out_ << "\r\n";  // RFC 4180 line ends
+    out << "\r\n";  // RFC 4180 line ends
   }
-  void close() {
-    out_.close();
-    if (!out_) throw StoreError("analysis: writing " + path_ + " failed");
-  }
+  void close() { file_.commit(); }
 
  private:
-  std::string path_;
-  std::ofstream out_;
+  AtomicFile file_;
 };
 
 std::string optional_number(const std::optional<double>& value) { return value ? csv_number(*value) : std::string(); }
@@ -39,7 +40,25 @@ std::string optional_int(const std::optional<int>& value) { return value ? std::
 
 }  // namespace
 
-std::string csv_field(const std::string& value) {
+namespace {
+std::atomic<bool> formula_cells_raw{false};
+
+// A cell a spreadsheet would run as a formula (OWASP "CSV injection"): text starting with = + - @,
+// or with a tab or carriage return before one. A number (-0.5, +3, -inf) is a number, not a formula.
+bool reads_as_formula(const std::string& value) {
+  if (value.empty() || std::string_view("=+-@\t\r").find(value.front()) == std::string_view::npos) return false;
+  char* end = nullptr;
+  std::strtod(value.c_str(), &end);
+  return end != value.c_str() + value.size();
+}
+}  // namespace
+
+void keep_formula_cells_raw(bool raw) { formula_cells_raw = raw; }
+
+std::string csv_field(const std::string& text) {
+  // A leading apostrophe makes a spreadsheet show the cell as text (and is visible, so a reader
+  // sees that the cell was changed); --raw-csv-cells keeps cells as stored.
+  const std::string value = !formula_cells_raw && reads_as_formula(text) ? "'" + text : text;
   const bool needs_quotes = value.find_first_of(",\"\r\n") != std::string::npos ||
                             (!value.empty() && (value.front() == ' ' || value.back() == ' '));
   if (!needs_quotes) return value;
@@ -69,7 +88,8 @@ std::string condition_column(const std::string& key) {
   return name;
 }
 
-std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::string& directory) {
+std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::string& directory,
+                                        std::optional<unsigned> mode) {
   std::filesystem::create_directories(directory);
   const std::filesystem::path dir(directory);
   std::vector<std::string> written;
@@ -89,7 +109,7 @@ std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::strin
 
   {
     const std::string path = (dir / "trials.csv").string();
-    CsvFile file(path);
+    CsvFile file(path, mode);
     std::vector<std::string> header = {"database", "session_id", "participant", "experiment", "session_status",
                                        "trial_id", "trial_index", "block", "procedure", "condition"};
     std::set<std::string> used(header.begin(), header.end());
@@ -110,9 +130,13 @@ std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::strin
                                         session.record.experiment, session.record.status, std::to_string(r.id),
                                         std::to_string(r.trial_index), std::to_string(r.block), r.procedure,
                                         r.condition};
+        // Looked up by hash: a condition of 200k keys made the linear lookup quadratic.
+        std::unordered_map<std::string_view, const std::string*> values;
+        values.reserve(trial.condition.size());
+        for (const auto& [key, value] : trial.condition) values.try_emplace(key, &value);
         for (const std::string& key : keys) {
-          const std::string* value = trial.condition_value(key);
-          row.push_back(value != nullptr ? *value : std::string());
+          const auto found = values.find(key);
+          row.push_back(found != values.end() ? *found->second : std::string());
         }
         std::string adjustment_mean;
         if (!trial.adjustments.empty()) {
@@ -133,7 +157,7 @@ std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::strin
   }
   {
     const std::string path = (dir / "frames.csv").string();
-    CsvFile file(path);
+    CsvFile file(path, mode);
     file.row({"database", "session_id", "trial_id", "trial_index", "frame_index", "scheduled_s", "flip_s", "dropped",
               "gaze_age_s"});
     for (const LoadedSession& session : data.sessions) {
@@ -153,7 +177,7 @@ std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::strin
   }
   {
     const std::string path = (dir / "tracker_samples.csv").string();
-    CsvFile file(path);
+    CsvFile file(path, mode);
     file.row({"database", "session_id", "eye", "device_time_s", "session_time_s", "pupil_diameter_mm", "gaze_x",
               "gaze_y", "confidence", "valid"});
     for (const LoadedSession& session : data.sessions) {
@@ -169,7 +193,7 @@ std::vector<std::string> write_tidy_csv(const LoadedData& data, const std::strin
   }
   if (any_adjustments) {
     const std::string path = (dir / "adjustments.csv").string();
-    CsvFile file(path);
+    CsvFile file(path, mode);
     file.row({"database", "session_id", "trial_id", "spot", "value"});
     for (const LoadedSession& session : data.sessions) {
       for (const LoadedTrial& trial : session.trials) {

@@ -78,9 +78,12 @@ struct GlareSpec {
   GlarePresentationRequest presentation = GlarePresentationRequest::automatic;
 
   // Which glare model makes the glare of conditions without a "glare_model" column value
-  // (glare/analytic/analytic_psf.h): "ritschel" (the wave-optics eye, the default), "spencer", "cie" or
-  // "hybrid" (the wave-optics eye near the source, the analytic far field beyond: glare/analytic/hybrid_psf.h).
-  GlareModel model = GlareModel::ritschel;
+  // (glare/analytic/analytic_psf.h): "human" (the default: the wave-optics eye's dynamic structure near
+  // the source at the light CIE 146:2002 gives the observer on every ring, the CIE far field over the
+  // whole display: glare/analytic/hybrid_psf.h, calibrated_near_psf), "ritschel" (the wave-optics eye
+  // alone, within its grid's reach), "spencer", "cie" or "hybrid" (the wave-optics eye near the
+  // source scaled by one energy rule, the analytic far field beyond).
+  GlareModel model = GlareModel::human;
   // Spencer's mixture: photopic, mesopic, scotopic, or adaptive (default: by the frame's adaptation
   // luminance, blended smoothly across the band edges at 0.01 and 3 cd/m2).
   SpencerRegime spencer_regime = SpencerRegime::adaptive;

@@ -4,6 +4,7 @@
 #include <charconv>
 
 #include "core/real_stimulus.h"
+#include "core/text_limits.h"
 #include "protocols/forced_choice.h"
 
 namespace glarelab {
@@ -76,7 +77,7 @@ void check_scene_columns(const std::vector<LocatedRow>& rows, const Experiment& 
       }
       if (experiment.scenes.count(scene) == 0) {
         throw ConfigError(located.value_where[f], column,
-                          "unknown scene '" + scene + "' (scenes in [scenes]: " + join_quoted(scene_names) + ")");
+                          "unknown scene '" + shortened_value(scene) + "' (scenes in [scenes]: " + join_quoted(scene_names) + ")");
       }
     }
   }

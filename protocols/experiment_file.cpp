@@ -24,6 +24,7 @@
 #include "protocols/rating_procedure.h"
 #include "protocols/scene_file_config.h"
 #include "core/real_stimulus.h"
+#include "core/text_limits.h"
 #include "protocols/stimulus_duration.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
@@ -410,6 +411,10 @@ ConditionSource read_conditions_section(TableReader& top, const std::string& bas
 
 Experiment parse_experiment_text(const std::string& toml_text, const std::string& origin_name,
                                  const std::string& base_dir) {
+  // Size and nesting first: toml++ recurses per level and a deep dotted key overflows its stack.
+  if (const std::optional<TextLimitFault> fault = toml_limit_fault(toml_text))
+    throw ConfigError(SourceLocation{origin_name, static_cast<int>(fault->line), static_cast<int>(fault->column)}, "",
+                      fault->message);
   toml::table root;
   try {
     root = toml::parse(std::string_view(toml_text), std::string_view(origin_name));
@@ -476,6 +481,9 @@ Experiment load_experiment(const std::string& path) {
   if (!fs::is_regular_file(path, error)) throw ConfigError(SourceLocation{path, 0, 0}, "", "file not found");
   std::ifstream in(path, std::ios::binary);
   if (!in.is_open()) throw ConfigError(SourceLocation{path, 0, 0}, "", "cannot be opened");
+  if (const auto bytes = fs::file_size(path, error); !error && bytes > kMaxTomlBytes)  // refused before it is read
+    throw ConfigError(SourceLocation{path, 0, 0}, "", "the file is " + std::to_string(bytes) +
+                                                          " bytes; glarelab reads experiment files of at most 64 MiB");
   std::ostringstream text;
   text << in.rdbuf();
   const fs::path absolute = fs::absolute(fs::path(path)).lexically_normal();

@@ -99,7 +99,8 @@ GlareSpec read_glare_section(TableReader& top) {
   spec.pupil_source = read_choice(reader, "pupil_source", spec.pupil_source);
   spec.blink_source = read_choice(reader, "blink_source", spec.blink_source);
   spec.presentation = read_choice(reader, "presentation", spec.presentation);
-  spec.model = parse_glare_model(read_choice(reader, "model", to_string(spec.model), {"ritschel", "spencer", "cie", "hybrid", "luidolt"}));
+  spec.model = parse_glare_model(
+      read_choice(reader, "model", to_string(spec.model), {"human", "ritschel", "spencer", "cie", "hybrid", "luidolt"}));
   spec.spencer_regime = parse_spencer_regime(
       read_choice(reader, "regime", to_string(spec.spencer_regime), {"adaptive", "photopic", "mesopic", "scotopic"}));
   spec.hybrid_far_field =

@@ -8,12 +8,15 @@
 #include <vector>
 
 #include "runner/cli/commands.h"
+#include "runner/cli/terminal_stream.h"
 #include "core/software_version.h"
 
 int main(int argc, char** argv) {
   // Line-buffered stdout even into a pipe or a file: a long run's lines arrive as they are
   // written, not in one block at the end (std::cout writes through stdio, synchronised).
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  // Everything printed from here on has its control characters escaped (runner/cli/terminal_stream.h).
+  static glarelab::cli::TerminalTextGuard terminal_text;
   CLI::App app{"glarelab: psychophysics experiments with HDR stimuli and glare"};
   app.set_version_flag("--version", std::string("glarelab ") + glarelab::software_version());
   app.require_subcommand(1);
@@ -29,6 +32,7 @@ int main(int argc, char** argv) {
       {"render", glarelab::cli::add_render_command(app)},
       {"calibrate", glarelab::cli::add_calibrate_command(app)},
       {"timing-test", glarelab::cli::add_timing_test_command(app)},
+      {"fit", glarelab::cli::add_fit_command(app)},
   };
   try {
     app.parse(argc, argv);

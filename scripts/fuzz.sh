@@ -3,7 +3,8 @@
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [RUNS] [TARGET...]
 # SECONDS_PER_TARGET: time per target (default 1200, 20 minutes); RUNS: executions per target
 # (default 1000000); each target stops at whichever comes first. TARGET: experiment_file,
-# csv_table, exr, script_observer, replay_tracker, pupil_labs (default: all, one after another).
+# csv_table, exr, script_observer, replay_tracker, pupil_labs, condition_json (default: all, one
+# after another).
 # Configures a clang build with GLARELAB_FUZZ=ON (ASan + UBSan + libFuzzer) in build-fuzz/. The
 # corpus each target grows is kept in build-fuzz/fuzz/corpus/TARGET/ (seeds in
 # build-fuzz/fuzz/seeds/TARGET/); inputs that crash, leak or time out are written to
@@ -15,7 +16,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-1200}"
 runs="${2:-1000000}"
 shift $(( $# < 2 ? $# : 2 ))
-all_targets=(experiment_file csv_table exr script_observer replay_tracker pupil_labs)
+all_targets=(experiment_file csv_table exr script_observer replay_tracker pupil_labs condition_json)
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then targets=("${all_targets[@]}"); fi
 for target in "${targets[@]}"; do

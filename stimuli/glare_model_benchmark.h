@@ -9,7 +9,7 @@
 //     |float32 - float64| / the frame's largest glared value, and relative L2);
 //   - the one-off cost of integrating the kernel over the display's pixels, and the memory of the
 //     kept spectra;
-// and the hybrid eye's frame against the plain Ritschel frame on the same display (dynamic eye,
+// and the hybrid eye's and the default (human) eye's frames against the plain Ritschel frame on the same display (dynamic eye,
 // each frame at a new time), through the glare stage a session uses; and the Ritschel frame with
 // the observer's refraction (a residual of -1 / -1 x 45 D: the PSF one FFT per wavelength with the
 // eye's LCA on the CPU in float64), dynamic (a PSF every frame) and static (the PSF once per
@@ -45,6 +45,10 @@ struct AnalyticBenchmarkResult {
   double ritschel_frame_s = 0.0;  // plain Ritschel dynamic frame through the glare stage
   double hybrid_frame_s = 0.0;    // hybrid (Spencer far field) dynamic frame
   double hybrid_setup_s = 0.0;    // the hybrid's far kernel, once per session
+  double human_frame_s = 0.0;     // the default eye ("human": calibrated near field, CIE far field), one
+                                  // composed frame again and again as in a dynamic interval (far glare kept)
+  double human_new_frame_s = 0.0; // the same with a different composed frame every time (far glare computed)
+  double human_setup_s = 0.0;     // its far kernel and near rings, once per session
   int wavelength_samples = 0;     // of the stage's spectral PSFs
   double refraction_dynamic_frame_s = 0.0;  // Ritschel dynamic frame with a refraction
   double refraction_static_first_s = 0.0;   // static: the first frame (PSF and convolution)

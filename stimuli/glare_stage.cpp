@@ -15,6 +15,7 @@
 #include "glare/wave/luidolt_kernel.h"
 #include "glare/wave/psf_scale.h"
 #include "stimuli/display_model.h"
+#include "stimuli/luminance_range.h"
 
 namespace glarelab {
 namespace {
@@ -22,35 +23,6 @@ namespace {
 // The eye model needs a positive field luminance; a black frame adapts it to this (scotopic floor,
 // 1e-4 cd/m2, where Eq. 2 has long reached its largest pupil).
 constexpr double kMinimumFieldLuminance_cd_m2 = 1e-4;
-
-// The smallest and largest Rec.709 luminance of an image's pixels (0, 0 when empty), each pixel's
-// luminance in double as core/image.h's max_luminance; rows on threads (min and max do not depend
-// on the order).
-std::pair<double, double> luminance_range(const ImageRGBA& image) {
-  if (image.empty()) return {0.0, 0.0};
-  constexpr int kChunks = 2;
-  double lowest[kChunks], highest[kChunks];
-  std::fill(std::begin(lowest), std::end(lowest), std::numeric_limits<double>::infinity());
-  std::fill(std::begin(highest), std::end(highest), -std::numeric_limits<double>::infinity());
-  const auto pixels = static_cast<int>(image.rgba.size() / 4);
-  parallel_chunks(kChunks, kChunks, [&](int first, int last) {
-    for (int chunk = first; chunk < last; ++chunk) {
-      const std::size_t begin = static_cast<std::size_t>(pixels) * chunk / kChunks;
-      const std::size_t end = static_cast<std::size_t>(pixels) * (chunk + 1) / kChunks;
-      double low = std::numeric_limits<double>::infinity(), high = -std::numeric_limits<double>::infinity();
-      for (std::size_t k = begin; k < end; ++k) {
-        const float* p = &image.rgba[4 * k];
-        const double y = luminance_rec709(p[0], p[1], p[2]);
-        low = std::min(low, y);
-        high = std::max(high, y);
-      }
-      lowest[chunk] = low;
-      highest[chunk] = high;
-    }
-  });
-  const double high = std::max(highest[0], highest[1]);
-  return {std::min(lowest[0], lowest[1]), std::isinf(high) ? 0.0 : high};  // no pixel but NaN: 0, as max_luminance
-}
 
 }  // namespace
 
@@ -120,16 +92,34 @@ AnalyticGlare& GlareStage::analytic_for(GlareModel model, int width_px, int heig
   auto found = analytic_.find(key);
   if (found != analytic_.end()) return *found->second;
   AnalyticGlareOptions options;
-  options.model = model == GlareModel::hybrid ? spec_.hybrid_far_field : model;
+  // The human eye's far field is CIE 146:2002 for the observer (glare/analytic/hybrid_psf.h).
+  options.model = model == GlareModel::hybrid ? spec_.hybrid_far_field : model == GlareModel::human ? GlareModel::cie : model;
   options.regime = spec_.spencer_regime;
   options.eye = spec_.observer_eye;
   options.geometry = DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm};
   options.width_px = width_px;
   options.height_px = height_px;
-  if (model == GlareModel::hybrid) options.handover = hybrid_handover();
+  if (model == GlareModel::hybrid || model == GlareModel::human) options.handover = hybrid_handover();
   options.flare_lines = spec_.spencer_flare_lines && model == GlareModel::spencer;
   options.flare_seed = seed_;
   return *analytic_.emplace(key, std::make_unique<AnalyticGlare>(options)).first->second;
+}
+
+const PixelSolidAngle& GlareStage::solid_angle_for(int width_px, int height_px) {
+  if (!solid_angle_ || solid_angle_->width_px() != width_px || solid_angle_->height_px() != height_px)
+    solid_angle_.emplace(DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm}, width_px, height_px);
+  return *solid_angle_;
+}
+
+const DisplayKernel& GlareStage::human_near_kernel() {
+  if (human_near_kernel_) return *human_near_kernel_;
+  // The unweighted CIE kernel out to the hand-over's outer radius: the rings the near part is
+  // calibrated on (a few hundred pixels, once per session).
+  const int reach = static_cast<int>(std::ceil(hybrid_handover().outer_px)) + 1;
+  human_near_kernel_ = analytic_display_kernel(AnalyticPsf::cie(spec_.observer_eye),
+                                               DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
+                                               reach, reach);
+  return *human_near_kernel_;
 }
 
 GlareStage::~GlareStage() = default;
@@ -385,8 +375,11 @@ ImageRGBA GlareStage::apply_analytic(const ImageRGBA& frame, const ImageRGBA& so
   analytic.adapt(mean_cd_m2);
   if (condition_model_ == GlareModel::spencer) r.spencer_mixture = analytic.mixture();
   r.wing_fraction = analytic.wing_fraction();
+  // The kernel carries energy per pixel: the source's luminance to energy, the glare back.
+  const PixelSolidAngle& solid_angle = solid_angle_for(source.width_px, source.height_px);
   ImageRGBA glared;
-  analytic.convolve(source, glared);
+  analytic.convolve(solid_angle.to_energy(source), glared);
+  solid_angle.to_luminance(glared);
   r.convolved = true;
   return with_gain(frame, source, std::move(glared));
 }
@@ -396,17 +389,25 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
   if (!wave) return frame;
   r.wing_fraction = psf_wing_fraction(*wave);
-  AnalyticGlare& far = analytic_for(GlareModel::hybrid, frame.width_px, frame.height_px);
+  const bool human = condition_model_ == GlareModel::human;
+  AnalyticGlare& far = analytic_for(condition_model_, frame.width_px, frame.height_px);
   far.adapt(mean_cd_m2);
-  if (spec_.hybrid_far_field == GlareModel::spencer) r.spencer_mixture = far.mixture();
-  // The near part, s w P_wave, convolved as the wave-optics PSF is (cropped to where light reaches);
-  // the far part by the analytic engine; their sum is the hybrid kernel's convolution.
-  const Psf near = hybrid_near_psf(*wave, far.energy_inside_handover(), hybrid_handover());
-  ImageRGBA glared = convolve_frame(source, near);
+  if (!human && spec_.hybrid_far_field == GlareModel::spencer) r.spencer_mixture = far.mixture();
+  // The near part (s w P_wave, or the human eye's g_k w P_wave ring by ring), convolved as the
+  // wave-optics PSF is (cropped to where light reaches); the far part by the analytic engine; their
+  // sum is the hybrid kernel's convolution.
+  const Psf near = human ? calibrated_near_psf(*wave, human_near_kernel(), hybrid_handover())
+                         : hybrid_near_psf(*wave, far.energy_inside_handover(), hybrid_handover());
+  // Both parts carry energy per pixel (the far kernel reaches across the display, where pixels
+  // subtend less): the source's luminance to energy, the sum back to luminance.
+  const PixelSolidAngle& solid_angle = solid_angle_for(source.width_px, source.height_px);
+  const ImageRGBA source_energy = solid_angle.to_energy(source);
+  ImageRGBA glared = convolve_frame(source_energy, near);
   ImageRGBA far_glare;
-  far.convolve(source, far_glare);
+  far.convolve(source_energy, far_glare);
   for (std::size_t i = 0; i < glared.rgba.size(); i += 4)
     for (int c = 0; c < 3; ++c) glared.rgba[i + c] += far_glare.rgba[i + c];
+  solid_angle.to_luminance(glared);
   r.convolved = true;
   return with_gain(frame, source, std::move(glared));
 }
@@ -442,7 +443,8 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
   }
   if (condition_model_ == GlareModel::spencer || condition_model_ == GlareModel::cie)
     return apply_analytic(frame_cd_m2, source, mean_cd_m2, r);
-  if (condition_model_ == GlareModel::hybrid) return apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
+  if (condition_model_ == GlareModel::hybrid || condition_model_ == GlareModel::human)
+    return apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
 
   std::optional<Psf> psf = condition_model_ == GlareModel::luidolt ? luidolt_psf(mode, time_s, mean_cd_m2, r)
                                                                     : wave_psf(mode, time_s, mean_cd_m2, r);

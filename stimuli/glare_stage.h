@@ -29,6 +29,7 @@
 #include "core/display_spec.h"
 #include "core/gl/gl_context.h"
 #include "glare/analytic/analytic_glare.h"
+#include "glare/analytic/pixel_solid_angle.h"
 #include "glare/refraction/dioptric_power.h"
 #include "glare/eye/eye_model.h"
 #include "glare/cpu/gaze_window_convolution.h"
@@ -52,7 +53,7 @@ struct GlareFrameReport {
   bool eye_closed = false;
   GlareModel model = GlareModel::ritschel;
   double gain = 1.0;
-  // Spencer's mixture used (spencer, and the hybrid's Spencer far field).
+  // Spencer's mixture used (spencer, and the hybrid's Spencer far field; the human eye's is CIE's).
   std::optional<spencer::Mixture> spencer_mixture;
   // Upper bound of max_x |glare(x) - frame(x)| / max(frame(x), floor) (see visibility_bound()).
   double visibility_bound = 0.0;
@@ -141,6 +142,9 @@ class GlareStage {
   // on first use: its kernel is integrated over the display's pixels once (seconds for a full
   // screen), so a session makes it before its first trial.
   AnalyticGlare& analytic_for(GlareModel model, int width_px, int height_px);
+  // The frames' pixel solid angles (glare/analytic/pixel_solid_angle.h): the analytic kernels carry
+  // energy per pixel, the frames luminance.
+  const PixelSolidAngle& solid_angle_for(int width_px, int height_px);
 
   // The spectral PSF at the display's pixel scale for a mode and time (not for control), with the
   // eye adapted to `field_luminance_cd_m2`; nothing when the lids close the pupil completely.
@@ -189,6 +193,9 @@ class GlareStage {
   ImageRGBA apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
                          double mean_cd_m2, GlareFrameReport& r);
   HandoverPixels hybrid_handover() const;
+  // The human eye's CIE kernel near the source, unweighted (calibrated_near_psf's rings), made once.
+  const DisplayKernel& human_near_kernel();
+  std::optional<DisplayKernel> human_near_kernel_;
 
   GlareSpec spec_;
   DisplaySpec display_;
@@ -230,6 +237,7 @@ class GlareStage {
   GlareModel condition_model_;
   double condition_gain_ = 1.0;
   std::map<std::tuple<int, int, int>, std::unique_ptr<AnalyticGlare>> analytic_;
+  std::optional<PixelSolidAngle> solid_angle_;  // the frames' pixel solid angles (analytic far fields)
   std::map<double, std::pair<Psf, std::string>> luidolt_psfs_;  // by pupil diameter: display PSF, sampling note
 };
 

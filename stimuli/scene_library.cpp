@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/exr_io.h"
+#include "core/number_text.h"
 #include "stimuli/scene_depth.h"
 #include "stimuli/spencer_scenes.h"
 
@@ -117,6 +118,10 @@ SceneLibrary::SceneLibrary(const std::map<std::string, SceneSpec>& scenes, const
     scene.clamped_pixels = clamped.first;
     scene.clamped_energy_fraction = clamped.second;
     scene.peak_cd_m2 = max_luminance(scene.image_cd_m2);
+    if (!(scene.peak_cd_m2 <= kMaxSceneLuminance_cd_m2))  // inf too: a large pixel times a large scale
+      throw ImageError((spec.file.empty() ? "" : spec.file + ": ") + "scene '" + name + "' peaks at " +
+                       number_text(scene.peak_cd_m2) + " cd/m2 (pixel values times scale_cd_m2); glarelab takes "
+                       "scenes up to 1e12 cd/m2 (the sun's disc is about 1.6e9)");
     scene.mean_cd_m2 = mean_luminance(scene.image_cd_m2);
     scenes_.emplace(name, std::move(scene));
   }

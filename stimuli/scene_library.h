@@ -14,6 +14,11 @@ namespace glarelab {
 // GL_MAX_TEXTURE_SIZE is at least 16384 in every OpenGL 4.5 implementation: larger scenes could
 // not be uploaded on some displays, and would fail mid-session.
 inline constexpr int kMaxSceneTexturePx = 16384;
+// The brightest scene taken, in cd/m2 after its scale_cd_m2: the sun's disc is about 1.6e9.
+// Glare sums a frame's luminances in float (FFT convolutions over up to 2^26 pixels); a 3e38 cd/m2
+// scene overflowed them to inf and gave NaN frames without a word. 1e12 x 2^26 stays far inside
+// float's range.
+inline constexpr double kMaxSceneLuminance_cd_m2 = 1e12;
 
 struct LoadedScene {
   SceneSpec spec;

@@ -31,7 +31,7 @@ TEST(CliBadNumbers, PsfRefusesNanAndInfinityForEveryFloatingOption) {
       {"--wavelength-nm", "nan"},     {"--wavelength-nm", "inf"},     {"--aperture-width-mm", "nan"},
       {"--aperture-width-mm", "inf"}, {"--time-s", "nan"}};
   for (const auto& option : cases) {
-    std::vector<std::string> arguments = {"psf", "--grid", "64", "--out", out.string()};
+    std::vector<std::string> arguments = {"psf", "--model", "ritschel", "--grid", "64", "--out", out.string()};
     if (option[0] == "--time-s") arguments.insert(arguments.end(), {"--mode", "dynamic"});
     arguments.insert(arguments.end(), option.begin(), option.end());
     expect_refused(test::run_glarelab(arguments, dir.path()), {option[0], "finite"}, out);
@@ -41,14 +41,14 @@ TEST(CliBadNumbers, PsfRefusesNanAndInfinityForEveryFloatingOption) {
 TEST(CliBadNumbers, PsfRefusesADefocusNoGridCanSampleNamingTheLargestItCan) {
   test::ScratchDir dir;
   const auto out = dir.path() / "psf.exr";
-  const auto run = test::run_glarelab({"psf", "--defocus-dioptres", "1e30", "--out", out.string()}, dir.path());
+  const auto run = test::run_glarelab({"psf", "--model", "ritschel", "--defocus-dioptres", "1e30", "--out", out.string()}, dir.path());
   // Defaults: 4 mm pupil, 10 mm over 512 px, 575 nm. lambda / (2 r dx): 8192 px -> 117.8 D, 512 px -> 7.36 D.
   expect_refused(run, {"--defocus-dioptres", "1e+30 D needs a grid of", "the largest grid, 8192, samples at most 117.8 D",
                        "--grid 512 at most 7.36 D"},
                  out);
   EXPECT_EQ(run.output.find("-9223372036854775808"), std::string::npos) << run.output;
   // Past what 512 px sample but within 8192: computed, with the aliasing warning (as before).
-  const auto aliased = test::run_glarelab({"psf", "--defocus-dioptres", "20", "--grid", "64", "--out", out.string()},
+  const auto aliased = test::run_glarelab({"psf", "--model", "ritschel", "--defocus-dioptres", "20", "--grid", "64", "--out", out.string()},
                                           dir.path());
   EXPECT_EQ(aliased.exit_code, 0) << aliased.output;
   EXPECT_NE(aliased.output.find("aliased"), std::string::npos) << aliased.output;
@@ -69,19 +69,19 @@ TEST(CliBadNumbers, PsfRefusesAPupilTheGridCannotHoldOrSample) {
   test::ScratchDir dir;
   const auto out = dir.path() / "psf.exr";
   // Pupil wider than the grid: the grid would clip it and give a point PSF.
-  expect_refused(test::run_glarelab({"psf", "--pupil-diameter-mm", "4", "--aperture-width-mm", "1", "--out", out.string()},
+  expect_refused(test::run_glarelab({"psf", "--model", "ritschel", "--pupil-diameter-mm", "4", "--aperture-width-mm", "1", "--out", out.string()},
                                     dir.path()),
                  {"--aperture-width-mm", "wider than the aperture grid", "at least 8"}, out);
   // Pupil spanning 0.002 px: its Airy core is 610,000 px wide, far wider than the 512 px grid.
   expect_refused(
-      test::run_glarelab({"psf", "--pupil-diameter-mm", "4", "--aperture-width-mm", "1e6", "--out", out.string()}, dir.path()),
+      test::run_glarelab({"psf", "--model", "ritschel", "--pupil-diameter-mm", "4", "--aperture-width-mm", "1e6", "--out", out.string()}, dir.path()),
       {"--aperture-width-mm", "Airy disc", "wider than the grid", "at most 839.3"}, out);
   // The same through the eye model's pupil (1.5-9 mm): a grid 0.01 mm wide holds none of it.
-  expect_refused(test::run_glarelab({"psf", "--mode", "static", "--aperture-width-mm", "0.01", "--out", out.string()},
+  expect_refused(test::run_glarelab({"psf", "--model", "ritschel", "--mode", "static", "--aperture-width-mm", "0.01", "--out", out.string()},
                                     dir.path()),
                  {"--aperture-width-mm", "the eye model at --time-s"}, out);
   // A core wider than a quarter of the grid is computed, with a warning saying why it is poor.
-  const auto crowded = test::run_glarelab({"psf", "--grid", "16", "--out", out.string()}, dir.path());
+  const auto crowded = test::run_glarelab({"psf", "--model", "ritschel", "--grid", "16", "--out", out.string()}, dir.path());
   EXPECT_EQ(crowded.exit_code, 0) << crowded.output;
   EXPECT_NE(crowded.output.find("more than a quarter of the 16 px grid"), std::string::npos) << crowded.output;
 }
@@ -90,7 +90,7 @@ TEST(CliBadNumbers, PsfOfAClosedEyeIsRefused) {
   test::ScratchDir dir;
   const auto out = dir.path() / "psf.exr";
   // Seed 1 blinks with the lids fully closed at 0.94 s (`glarelab eye-trace --seed 1`): no light, no PSF.
-  expect_refused(test::run_glarelab({"psf", "--mode", "dynamic", "--seed", "1", "--time-s", "0.94", "--grid", "64", "--out",
+  expect_refused(test::run_glarelab({"psf", "--model", "ritschel", "--mode", "dynamic", "--seed", "1", "--time-s", "0.94", "--grid", "64", "--out",
                                      out.string()},
                                     dir.path()),
                  {"--time-s", "no light passes the aperture"}, out);
@@ -100,11 +100,11 @@ TEST(CliBadNumbers, PsfWritesOnlyExr) {
   test::ScratchDir dir;
   for (const std::string name : {"psf.png", "psf.tiff", "psf"}) {
     const auto out = dir.path() / name;
-    expect_refused(test::run_glarelab({"psf", "--grid", "64", "--out", out.string()}, dir.path()), {"--out", "must end in .exr"},
+    expect_refused(test::run_glarelab({"psf", "--model", "ritschel", "--grid", "64", "--out", out.string()}, dir.path()), {"--out", "must end in .exr"},
                    out);
   }
   const auto upper = dir.path() / "PSF.EXR";
-  EXPECT_EQ(test::run_glarelab({"psf", "--grid", "64", "--out", upper.string()}, dir.path()).exit_code, 0);
+  EXPECT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--grid", "64", "--out", upper.string()}, dir.path()).exit_code, 0);
   EXPECT_TRUE(std::filesystem::exists(upper));
 }
 

@@ -102,7 +102,7 @@ TEST(EyeTimeBound, EyeModelAnswersUpToTheBoundAndRefusesPastIt) {
 TEST(EyeTimeBound, PsfTimeIsRefusedPastTheBoundAndWorksAtIt) {
   test::ScratchDir dir;
   const auto out = dir.path() / "psf.exr";
-  const std::vector<std::string> eye = {"psf", "--mode", "dynamic", "--grid", "64", "--out", out.string(), "--time-s"};
+  const std::vector<std::string> eye = {"psf", "--model", "ritschel", "--mode", "dynamic", "--grid", "64", "--out", out.string(), "--time-s"};
   auto with_time = [&](const std::string& time) {
     std::vector<std::string> arguments = eye;
     arguments.push_back(time);

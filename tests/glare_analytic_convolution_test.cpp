@@ -1,7 +1,8 @@
 // The analytic glare on images (glare/analytic/display_kernel_convolution.h, glare/analytic/analytic_glare.h): a
 // point source convolved gives the PSF integrated per pixel, energy is what the kernel keeps on
 // the frame, the planned float32 path agrees with the float64 reference, and a Spencer mixture
-// made from component spectra equals the mixture's own kernel.
+// made from component spectra equals the mixture's own kernel, and a frame brought again gets the
+// kept glare.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -75,13 +76,19 @@ TEST(AnalyticConvolution, PlannedFloatPathAgreesWithFloat64OnAnHdrFrame) {
   for (std::size_t i = 0; i < fast.rgba.size(); ++i) EXPECT_NEAR(fast.rgba[i], exact.rgba[i], 1e-6 * 1e5);
 }
 
-TEST(AnalyticConvolution, AdaptiveMixtureFromComponentSpectraEqualsTheRegimesOwnKernel) {
+// Spencer's adaptive regime for a 40-year-old on the test's frames.
+AnalyticGlareOptions adaptive_spencer_options() {
   AnalyticGlareOptions options;
   options.model = GlareModel::spencer;
   options.eye = ObserverEye{40.0, 0.5};
   options.width_px = kWidth;
   options.height_px = kHeight;
   options.regime = SpencerRegime::adaptive;
+  return options;
+}
+
+TEST(AnalyticConvolution, AdaptiveMixtureFromComponentSpectraEqualsTheRegimesOwnKernel) {
+  AnalyticGlareOptions options = adaptive_spencer_options();
   AnalyticGlare adaptive(options, 2);
   options.regime = SpencerRegime::scotopic;
   AnalyticGlare scotopic(options, 2);
@@ -98,6 +105,40 @@ TEST(AnalyticConvolution, AdaptiveMixtureFromComponentSpectraEqualsTheRegimesOwn
   // A brighter field moves the mixture to photopic: no halo weight left.
   adaptive.adapt(100.0);
   EXPECT_EQ(adaptive.mixture().f3, 0.0);
+}
+
+// A frame brought again under the same kernel gets the kept glare, bit for bit what a new engine
+// computes; a changed pixel or a moved mixture computes anew.
+TEST(AnalyticConvolution, AFrameBroughtAgainGetsTheKeptGlareAndAChangedOneANewConvolution) {
+  AnalyticGlareOptions options = adaptive_spencer_options();
+  AnalyticGlare engine(options, 2);
+  ImageRGBA frame = black_frame(), first, again;
+  channel(frame, 20, 10, 1) = 500.0f;
+  engine.adapt(100.0);
+  engine.convolve(frame, first);
+  engine.convolve(frame, again);
+  EXPECT_EQ(engine.convolutions_computed(), 1);
+  EXPECT_EQ(again.rgba, first.rgba);
+
+  const auto fresh = [&](const ImageRGBA& source, double adaptation_cd_m2) {
+    AnalyticGlare other(options, 2);
+    other.adapt(adaptation_cd_m2);
+    ImageRGBA out;
+    other.convolve(source, out);
+    return out;
+  };
+  channel(frame, 30, 20, 0) = 7.0f;  // one pixel changed
+  ImageRGBA changed;
+  engine.convolve(frame, changed);
+  EXPECT_EQ(engine.convolutions_computed(), 2);
+  EXPECT_EQ(changed.rgba, fresh(frame, 100.0).rgba);
+  EXPECT_NE(changed.rgba, first.rgba);
+
+  engine.adapt(0.001);  // scotopic: the halo's weight, a new kernel
+  ImageRGBA scotopic;
+  engine.convolve(frame, scotopic);
+  EXPECT_EQ(engine.convolutions_computed(), 3);
+  EXPECT_EQ(scotopic.rgba, fresh(frame, 0.001).rgba);
 }
 
 }  // namespace

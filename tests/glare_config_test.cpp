@@ -133,9 +133,9 @@ TEST(GlareConfig, ModelsRegimeSourceAndHandOverAreReadStrictlyAndRoundTrip) {
   EXPECT_EQ(reread.glare.model, GlareModel::hybrid);
   EXPECT_EQ(reread.glare.hybrid_handover_outer_deg, 0.1);
   EXPECT_EQ(glare_gain_for(reread.conditions[1]), 2.5);
-  // Defaults: the wave-optics eye, the adaptive regime, all light.
+  // Defaults: the human eye (the wave-optics near field at CIE 146's light, CIE beyond), the adaptive regime, all light.
   const Experiment plain = parse_experiment_text(experiment_with("", ""), "g.toml", "/tmp");
-  EXPECT_EQ(plain.glare.model, GlareModel::ritschel);
+  EXPECT_EQ(plain.glare.model, GlareModel::human);
   EXPECT_EQ(plain.glare.spencer_regime, SpencerRegime::adaptive);
   EXPECT_EQ(spelling(plain.glare.source), "all");
 }

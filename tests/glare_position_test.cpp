@@ -12,6 +12,7 @@ namespace {
 
 GlareSpec small_spec() {
   GlareSpec spec;
+  spec.model = GlareModel::ritschel;  // the wave-optics eye alone, whose behaviour these checks state
   spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;
   spec.wavelength_samples = 8;

@@ -19,7 +19,7 @@ namespace {
 TEST(GlarePsfCommand, WritesMonochromaticPsfExr) {
   test::ScratchDir dir;
   const auto out = (dir.path() / "mono.exr").string();
-  const auto run = test::run_glarelab({"psf", "--pupil-diameter-mm", "3", "--wavelength-nm", "550", "--grid", "256",
+  const auto run = test::run_glarelab({"psf", "--model", "ritschel", "--pupil-diameter-mm", "3", "--wavelength-nm", "550", "--grid", "256",
                                        "--aperture-width-mm", "12", "--fresnel", "none", "--out", out},
                                       dir.path());
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -34,7 +34,7 @@ TEST(GlarePsfCommand, WritesMonochromaticPsfExr) {
 TEST(GlarePsfCommand, WritesSpectralPsfExrAndRefusesBadOptions) {
   test::ScratchDir dir;
   const auto out = (dir.path() / "spectral.exr").string();
-  const auto run = test::run_glarelab({"psf", "--spectral", "--wavelength-samples", "8", "--grid", "128",
+  const auto run = test::run_glarelab({"psf", "--model", "ritschel", "--spectral", "--wavelength-samples", "8", "--grid", "128",
                                        "--aperture-width-mm", "8", "--gratings", "--out", out},
                                       dir.path());
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -43,13 +43,13 @@ TEST(GlarePsfCommand, WritesSpectralPsfExrAndRefusesBadOptions) {
   EXPECT_NEAR(psf.degrees_per_pixel, 575e-9 / 8e-3 * 180.0 / std::numbers::pi, 1e-9);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(test::channel_sum(psf, c), 1.0, 1e-5) << "channel " << c;
 
-  const auto bad = test::run_glarelab({"psf", "--backend", "cuda", "--out", out}, dir.path());
+  const auto bad = test::run_glarelab({"psf", "--model", "ritschel", "--backend", "cuda", "--out", out}, dir.path());
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
-  const auto odd = test::run_glarelab({"psf", "--grid", "255", "--out", out}, dir.path());
+  const auto odd = test::run_glarelab({"psf", "--model", "ritschel", "--grid", "255", "--out", out}, dir.path());
   EXPECT_EQ(odd.exit_code, 2) << odd.output;
   EXPECT_NE(odd.output.find("even"), std::string::npos) << odd.output;
   const auto aliased = test::run_glarelab(
-      {"psf", "--fresnel", "paper", "--grid", "64", "--out", (dir.path() / "paper.exr").string()}, dir.path());
+      {"psf", "--model", "ritschel", "--fresnel", "paper", "--grid", "64", "--out", (dir.path() / "paper.exr").string()}, dir.path());
   EXPECT_EQ(aliased.exit_code, 0) << aliased.output;
   EXPECT_NE(aliased.output.find("aliased"), std::string::npos) << aliased.output;
 }
@@ -66,7 +66,7 @@ double relative_l2(const Psf& test, const Psf& reference) {
 TEST(GlarePsfCommand, EyeModelTimeSeedModeComponentsAndBackends) {
   test::ScratchDir dir;
   const auto path = [&](const std::string& name) { return (dir.path() / name).string(); };
-  const std::vector<std::string> eye = {"psf", "--mode", "dynamic", "--time-s", "1.5", "--seed", "7", "--grid", "256",
+  const std::vector<std::string> eye = {"psf", "--model", "ritschel", "--mode", "dynamic", "--time-s", "1.5", "--seed", "7", "--grid", "256",
                                         "--spectral", "--wavelength-samples", "8"};
   const auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> arguments = eye;
@@ -91,7 +91,7 @@ TEST(GlarePsfCommand, EyeModelTimeSeedModeComponentsAndBackends) {
   EXPECT_NE(auto_run.output.find("auto picked"), std::string::npos) << auto_run.output;
 
   // Another time moves the eye: a different PSF. The same seed and time: the same file content.
-  ASSERT_EQ(test::run_glarelab({"psf", "--mode", "dynamic", "--time-s", "4", "--seed", "7", "--grid", "256", "--spectral",
+  ASSERT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--mode", "dynamic", "--time-s", "4", "--seed", "7", "--grid", "256", "--spectral",
                                 "--wavelength-samples", "8", "--out", path("later.exr")},
                                dir.path()).exit_code, 0);
   EXPECT_NE(read_psf_exr(path("later.exr")).values, cpu_psf.values);
@@ -99,25 +99,25 @@ TEST(GlarePsfCommand, EyeModelTimeSeedModeComponentsAndBackends) {
   EXPECT_EQ(read_psf_exr(path("again.exr")).values, cpu_psf.values);
 
   // The pupil alone, with the pupil and focus given, is the bare-pupil PSF of the classic options.
-  ASSERT_EQ(test::run_glarelab({"psf", "--mode", "dynamic", "--components", "pupil", "--pupil-diameter-mm", "3",
+  ASSERT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--mode", "dynamic", "--components", "pupil", "--pupil-diameter-mm", "3",
                                 "--defocus-dioptres", "0", "--grid", "128", "--out", path("pupil_only.exr")},
                                dir.path()).exit_code, 0);
-  ASSERT_EQ(test::run_glarelab({"psf", "--pupil-diameter-mm", "3", "--grid", "128", "--out", path("bare.exr")},
+  ASSERT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--pupil-diameter-mm", "3", "--grid", "128", "--out", path("bare.exr")},
                                dir.path()).exit_code, 0);
   EXPECT_EQ(read_psf_exr(path("pupil_only.exr")).values, read_psf_exr(path("bare.exr")).values);
 
   // Control: a delta PSF (convolution with it is the identity).
-  ASSERT_EQ(test::run_glarelab({"psf", "--mode", "control", "--grid", "64", "--out", path("control.exr")}, dir.path())
+  ASSERT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--mode", "control", "--grid", "64", "--out", path("control.exr")}, dir.path())
                 .exit_code, 0);
   const Psf control = read_psf_exr(path("control.exr"));
   EXPECT_EQ(control.at(0, 32, 32), 1.0);
   EXPECT_NEAR(test::channel_sum(control, 0), 1.0, 0.0);
 
-  EXPECT_EQ(test::run_glarelab({"psf", "--mode", "dynamic", "--components", "lens", "--out", path("x.exr")}, dir.path())
+  EXPECT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--mode", "dynamic", "--components", "lens", "--out", path("x.exr")}, dir.path())
                 .exit_code, 2);
-  EXPECT_EQ(test::run_glarelab({"psf", "--mode", "dynamic", "--components", "pupil,nose", "--out", path("x.exr")},
+  EXPECT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--mode", "dynamic", "--components", "pupil,nose", "--out", path("x.exr")},
                                dir.path()).exit_code, 2);
-  EXPECT_EQ(test::run_glarelab({"psf", "--seed", "3", "--out", path("x.exr")}, dir.path()).exit_code, 2);
+  EXPECT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--seed", "3", "--out", path("x.exr")}, dir.path()).exit_code, 2);
 }
 
 TEST(GlareApertureComponents, KeepsOnlyTheChosenParts) {

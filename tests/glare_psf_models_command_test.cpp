@@ -175,7 +175,7 @@ TEST(GlarePsfModelsCommand, RitschelProfileIsTheImagesAzimuthalMeanPerSteradian)
   const auto csv = dir.path() / "airy.csv";
   const auto out = (dir.path() / "airy.exr").string();
   // A 3 mm pupil at 550 nm over 24 mm: 0.0013 degrees per pixel, the Airy core 19 px wide.
-  const auto run = test::run_glarelab({"psf", "--pupil-diameter-mm", "3", "--wavelength-nm", "550", "--grid", "1024",
+  const auto run = test::run_glarelab({"psf", "--model", "ritschel", "--pupil-diameter-mm", "3", "--wavelength-nm", "550", "--grid", "1024",
                                        "--aperture-width-mm", "24", "--fresnel", "none", "--supersampling", "4",
                                        "--profile-csv", csv.string(), "--out", out},
                                       dir.path());
@@ -259,7 +259,7 @@ TEST(GlarePsfModelsCommand, HybridIsTheWaveEyeNearAndTheAnalyticFarField) {
   // Inside the inner radius (0.156 deg: 7.8 px) the image is the scaled wave-optics PSF: the same
   // eye written by --model ritschel, mapped to 0.02 degree pixels here, in one ratio everywhere.
   const auto wave_out = (dir.path() / "wave.exr").string();
-  ASSERT_EQ(test::run_glarelab({"psf", "--mode", "dynamic", "--seed", "3", "--grid", "256", "--aperture-width-mm", "8",
+  ASSERT_EQ(test::run_glarelab({"psf", "--model", "ritschel", "--mode", "dynamic", "--seed", "3", "--grid", "256", "--aperture-width-mm", "8",
                                 "--spectral", "--wavelength-samples", "8", "--out", wave_out},
                                dir.path()).exit_code, 0);
   const Psf wave = resample_psf_to_display(read_psf_exr(wave_out), 0.02);
@@ -297,7 +297,7 @@ TEST(GlarePsfModelsCommand, RefusesBadModelOptionsNamingTheFlagAndWritesNothing)
       {{"--model", "spencer", "--pigmentation", "0.3"}, "--pigmentation"},
       {{"--model", "cie", "--regime", "scotopic"}, "--regime"},
       {{"--model", "cie", "--pupil-diameter-mm", "3"}, "--pupil-diameter-mm"},
-      {{"--age-years", "30"}, "--age-years"},
+      {{"--model", "ritschel", "--age-years", "30"}, "--age-years"},
       {{"--model", "hybrid", "--grid", "256", "--handover-deg", "0.1,0.6"}, "--handover-deg"},
       {{"--model", "hybrid", "--grid", "256", "--handover-deg", "0.3,0.2"}, "--handover-deg"},
       {{"--model", "hybrid", "--grid", "256", "--handover-deg", "0.1"}, "--handover-deg"},

@@ -22,7 +22,7 @@ constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 // 4 mm pupil on 8 mm, 512 px: PSF pixels of 0.0041 deg at 575 nm.
 std::vector<std::string> psf_arguments(const std::vector<std::string>& extra, const std::string& out) {
-  std::vector<std::string> arguments = {"psf", "--pupil-diameter-mm", "4", "--aperture-width-mm", "8", "--grid", "512"};
+  std::vector<std::string> arguments = {"psf", "--model", "ritschel", "--pupil-diameter-mm", "4", "--aperture-width-mm", "8", "--grid", "512"};
   arguments.insert(arguments.end(), extra.begin(), extra.end());
   arguments.push_back("--out");
   arguments.push_back(out);

@@ -1,6 +1,6 @@
 // The glare stage with the analytic models (Spencer, CIE), the hybrid eye, the excess source and
 // the gain (stimuli/glare_stage.h), each against a computation made here from the glare layer's
-// parts: the analytic kernel convolved in float64, the clipped frame plus the excess's glare, and
+// parts: the analytic kernel convolved in float64 (energy per pixel in, luminance out), the clipped frame plus the excess's glare, and
 // frame + gain (glared - frame).
 #include <gtest/gtest.h>
 
@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "energy_convolution_reference.h"
 #include "glare/analytic/display_kernel_convolution.h"
 #include "glare/analytic/hybrid_psf.h"
 #include "glare/cpu/psf.h"
@@ -67,7 +68,7 @@ TEST(GlareStageModels, SpencerAndCieFramesAreTheKernelConvolution) {
     EXPECT_EQ(report.model, model);
     const AnalyticPsf psf = model == GlareModel::cie ? AnalyticPsf::cie(ObserverEye{45.0, 0.7})
                                                      : AnalyticPsf::spencer(SpencerRegime::mesopic, 0.0, ObserverEye{45.0, 0.7});
-    const ImageRGBA expected = convolve_with_kernel_float64(frame, kernel_for(psf));
+    const ImageRGBA expected = test::convolve_as_energy_float64(frame, kernel_for(psf), small_display());
     EXPECT_LT(max_abs_difference(glared, expected), 1e-6 * 5000.0) << to_string(model);
     // Glare is visible: the surround next to the lamp is brighter than it was.
     EXPECT_GT(glared.pixel(40, 30)[1], 1.01f);
@@ -99,7 +100,8 @@ TEST(GlareStageModels, ExcessSourceSpreadsOnlyWhatTheDisplayCannotShow) {
       excess.rgba[i + c] = std::max(frame.rgba[i + c] - 200.0f, 0.0f);
       clipped.rgba[i + c] = std::min(frame.rgba[i + c], 200.0f);
     }
-  const ImageRGBA spread = convolve_with_kernel_float64(excess, kernel_for(AnalyticPsf::cie(ObserverEye{45.0, 0.7})));
+  const ImageRGBA spread =
+      test::convolve_as_energy_float64(excess, kernel_for(AnalyticPsf::cie(ObserverEye{45.0, 0.7})), small_display());
   double worst = 0.0;
   for (std::size_t i = 0; i < frame.rgba.size(); i += 4)
     for (int c = 0; c < 3; ++c)
@@ -145,15 +147,8 @@ TEST(GlareStageModels, HybridIsTheNearWaveOpticsPartPlusTheFarAnalyticPart) {
   const HandoverPixels handover = handover_pixels(default_handover(reach), geometry);
   const DisplayKernel analytic = kernel_for(AnalyticPsf::cie(ObserverEye{45.0, 0.7}));
   const Psf near = hybrid_near_psf(*wave, analytic_energy_inside(analytic, handover), handover);
-  DisplayKernel whole = hybrid_far_kernel(analytic, handover);
-  whole.channels = 3;
-  whole.values.resize(3 * whole.values.size(), 0.0);
-  const std::size_t plane = static_cast<std::size_t>(whole.width_px()) * whole.height_px();
-  for (int c = 1; c < 3; ++c) std::copy_n(whole.values.begin(), plane, whole.values.begin() + c * plane);
-  for (int c = 0; c < 3; ++c)
-    for (int y = 0; y < near.size_px; ++y)
-      for (int x = 0; x < near.size_px; ++x) whole.at(c, x - near.size_px / 2, y - near.size_px / 2) += near.at(c, x, y);
-  const ImageRGBA expected = convolve_with_kernel_float64(frame, whole);
+  const DisplayKernel whole = test::far_plus_near_kernel(hybrid_far_kernel(analytic, handover), near);
+  const ImageRGBA expected = test::convolve_as_energy_float64(frame, whole, small_display());
   EXPECT_LT(max_abs_difference(hybrid, expected), 2e-6 * 4000.0);
 }
 

@@ -31,6 +31,7 @@ namespace {
 
 GlareSpec small_spec() {
   GlareSpec spec;
+  spec.model = GlareModel::ritschel;  // the wave-optics eye alone, whose behaviour these checks state
   spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;  // PSF 128 px of lambda / 10 mm = 0.0033 deg: 17 display pixels across
   spec.wavelength_samples = 8;
@@ -315,6 +316,7 @@ TEST(GlareStage, RoomsConvolvedApartEqualTheWholeFrameConvolution) {
   const ImageRGBA frame = demo_frame();
   for (const GlareBackendRequest backend : {GlareBackendRequest::cpu, GlareBackendRequest::automatic}) {
     GlareSpec spec;
+    spec.model = GlareModel::ritschel;  // the wave-optics eye alone, whose behaviour these checks state
     spec.backend = backend;
     spec.wavelength_samples = 16;
     spec.skip_invisible = false;
@@ -397,6 +399,7 @@ TEST(GlareStage, GazeWindowInADemoSizedSessionFrameIsExactInsideAndCheaper) {
         for (int c = 0; c < 3; ++c) frame.pixel(x, y)[c] = lamp ? 100.0f : 0.5f;
       }
   GlareSpec spec;
+  spec.model = GlareModel::ritschel;  // the wave-optics eye alone, whose behaviour these checks state
   spec.backend = GlareBackendRequest::cpu;
   spec.wavelength_samples = 16;
   GlareStage full(spec, display, 2);

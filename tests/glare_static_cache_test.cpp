@@ -13,6 +13,7 @@ TEST(GlareStaticCache, AFieldLuminanceMetAgainAfterManyOthersGivesTheSameGlare) 
   display.width_px = 96;
   display.height_px = 64;
   GlareSpec spec;
+  spec.model = GlareModel::ritschel;  // the wave-optics eye alone, whose behaviour these checks state
   spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;
   spec.wavelength_samples = 8;

@@ -180,7 +180,8 @@ TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) 
   const auto dir = scratch.path();
   const auto experiment = test::demo_variant(
       dir, {{"stimulus_frames", "stimulus_frames = 20"},
-            {"grid_px", "grid_px = 256\npresentation = \"prepared\""},
+            // The wave-optics eye alone, whose preparation the 1.5 s interval is sized for.
+            {"grid_px", "grid_px = 256\npresentation = \"prepared\"\nmodel = \"ritschel\""},
             {"dynamic", "dynamic = 0.25\n\n[presentation]\nisi_duration_s = 1.5"}});
   const auto db = dir / "paced.db";
   const auto run = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",

@@ -32,7 +32,7 @@ TEST(PrewriteChecks, GlareADisplayCannotShowIsRefusedBeforeTheSessionExists) {
   EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
 }
 
-// --save-frames into a path that is a file: refused (exit 4, a file-system error) before the
+// --save-frames into a path that is a file: refused (exit 2, the path given is wrong) before the
 // session exists; into a directory it writes every trial's first stimulus frame.
 TEST(PrewriteChecks, SaveFramesIntoAFileIsRefusedAndIntoADirectoryWritesEveryTrial) {
   const test::ScratchDir scratch;
@@ -43,8 +43,10 @@ TEST(PrewriteChecks, SaveFramesIntoAFileIsRefusedAndIntoADirectoryWritesEveryTri
                                            "simulated", "--db", (scratch.path() / "never.db").string(),
                                            "--save-frames", blocked.string()},
                                           scratch.path());
-  EXPECT_EQ(refused.exit_code, 4) << refused.output;
+  // A path the user gave that cannot be a folder: an input error (2), not the store's (4).
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
   EXPECT_NE(refused.output.find("a_file"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("is a file, not a directory"), std::string::npos) << refused.output;
   EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
 
   const auto frames = scratch.path() / "frames";

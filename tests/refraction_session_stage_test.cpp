@@ -180,6 +180,7 @@ TEST(RefractionSessionStage, NoRefractionIsBitIdentical) {
   display.height_px = 64;
   for (const GlareBackendRequest backend : {GlareBackendRequest::cpu, GlareBackendRequest::automatic}) {
     GlareSpec spec;
+    spec.model = GlareModel::ritschel;  // the wave-optics eye alone, whose behaviour these checks state
     spec.backend = backend;
     spec.grid_px = 128;
     spec.wavelength_samples = 8;
@@ -230,6 +231,7 @@ TEST(RefractionSessionStage, PsfWithARefractionOnEveryBackend) {
   display.width_px = 96;
   display.height_px = 64;
   GlareSpec spec;
+  spec.model = GlareModel::ritschel;  // the wave-optics eye alone, whose behaviour these checks state
   spec.grid_px = 128;
   spec.wavelength_samples = 8;
   const DioptricPower residual = DioptricPower::from_prescription({-0.5, -1.0, 120.0});

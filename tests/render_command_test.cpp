@@ -50,6 +50,7 @@ question_above_stimuli = false  # the frame holds the scenes alone, so it can be
 [glare]
 grid_px = 128
 wavelength_samples = 8
+model = "ritschel"  # the wave-optics eye alone: nothing falls off the frame's edge, so luminance is conserved
 
 [[conditions.rows]]
 name = "plain"

@@ -42,6 +42,7 @@ PerceptionSettings only(bool adaptation) {
 TEST(SessionPerception, AdaptationDrivesTheGlaresFieldLuminance) {
   const DisplaySpec display = small_display();
   GlareSpec spec;
+  spec.model = GlareModel::ritschel;  // the wave-optics eye alone, whose behaviour these checks state
   spec.backend = GlareBackendRequest::cpu;
   spec.grid_px = 128;
   spec.wavelength_samples = 8;

@@ -28,6 +28,7 @@ Experiment stereo_experiment() {
   experiment.glare.grid_px = 256;
   experiment.glare.wavelength_samples = 16;
   experiment.glare.skip_invisible = false;
+  experiment.glare.model = GlareModel::ritschel;  // the wave-optics eye alone: its halo is the display PSF itself
   experiment.glare.backend = GlareBackendRequest::cpu;  // float64: the halo is compared with the PSF to 2e-3
   return experiment;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -101,11 +102,26 @@ std::string to_string(AnalyticConvolution convolution) {
 }
 
 void AnalyticGlare::convolve(const ImageRGBA& source, ImageRGBA& out) {
+  // Bit for bit: NaN or a signed zero in the source is a new frame, never a false match.
+  const auto same_bits = [](const ImageRGBA& a, const ImageRGBA& b) {
+    return a.width_px == b.width_px && a.height_px == b.height_px && a.rgba.size() == b.rgba.size() &&
+           std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
+  };
+  if (last_kept_ && same_bits(source, last_source_)) {
+    out = last_glare_;
+    return;
+  }
   if (full_) full_->convolve(source, out);
   else two_level_->convolve(source, out);
+  ++convolutions_computed_;
+  if (!options_.keep_repeated_frame) return;
+  last_source_ = source;
+  last_glare_ = out;
+  last_kept_ = true;
 }
 
 void AnalyticGlare::set_convolution_weights(const std::vector<double>& weights) {
+  last_kept_ = false;
   if (full_) full_->set_weights(weights);
   else two_level_->set_weights(weights);
 }

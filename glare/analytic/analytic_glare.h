@@ -48,6 +48,9 @@ struct AnalyticGlareOptions {
   TwoLevelSplit split;  // the two-level path's near radii and decimation
   bool flare_lines = false;        // Spencer only: the flare lines of section 3.2
   std::uint64_t flare_seed = 0;    // their draws (the session's seed)
+  // A frame brought again (bit for bit, same kernel) gets the kept glare; off where a benchmark
+  // times the convolution itself.
+  bool keep_repeated_frame = true;
 };
 
 class AnalyticGlare {
@@ -58,8 +61,12 @@ class AnalyticGlare {
   // does not change.
   void adapt(double adaptation_cd_m2);
   const spencer::Mixture& mixture() const { return mixture_; }
-  // The frame convolved with the current kernel (alpha copied).
+  // The frame convolved with the current kernel (alpha copied). The kernel does not move with the
+  // eye, and a dynamic interval brings one composed frame many times: a source equal bit for bit to
+  // the last one, under the same kernel, gets the kept glare (a copy, no convolution).
   void convolve(const ImageRGBA& source, ImageRGBA& out);
+  // How many convolutions were computed (not kept), for tests and the bench.
+  long long convolutions_computed() const { return convolutions_computed_; }
   // Hybrid: sum(w K) per channel for the current mixture (the near part's energy).
   std::array<double, 3> energy_inside_handover() const;
   // Energy of the current kernel outside the source's own pixel, largest over channels.
@@ -98,6 +105,10 @@ class AnalyticGlare {
   spencer::Mixture mixture_;
   bool adapted_ = false;
   double build_s_ = 0.0;
+  // The last source and its glare under the current kernel (cleared when the weights change).
+  ImageRGBA last_source_, last_glare_;
+  bool last_kept_ = false;
+  long long convolutions_computed_ = 0;
 };
 
 }  // namespace glarelab

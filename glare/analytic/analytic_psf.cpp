@@ -19,7 +19,8 @@ GlareModel parse_glare_model(const std::string& name) {
   if (name == "cie") return GlareModel::cie;
   if (name == "hybrid") return GlareModel::hybrid;
   if (name == "luidolt") return GlareModel::luidolt;
-  throw std::invalid_argument("unknown glare model '" + name + "' (ritschel, spencer, cie, hybrid or luidolt)");
+  if (name == "human") return GlareModel::human;
+  throw std::invalid_argument("unknown glare model '" + name + "' (human, ritschel, spencer, cie, hybrid or luidolt)");
 }
 
 std::string to_string(GlareModel model) {
@@ -29,6 +30,7 @@ std::string to_string(GlareModel model) {
     case GlareModel::cie: return "cie";
     case GlareModel::hybrid: return "hybrid";
     case GlareModel::luidolt: return "luidolt";
+    case GlareModel::human: return "human";
   }
   return "ritschel";
 }

@@ -22,11 +22,18 @@ namespace glarelab {
 
 // Which model makes the glare of a frame (glare_spec.h, `[glare] model`): Ritschel et al. 2009's
 // wave-optics eye, Spencer's or the CIE's analytic PSF, the hybrid of the wave-optics eye near
-// the source and an analytic far field (glare/analytic/hybrid_psf.h), or Luidolt 2020's glare kernel
-// (glare/wave/luidolt_kernel.h).
-enum class GlareModel { ritschel, spencer, cie, hybrid, luidolt };
+// the source and an analytic far field (glare/analytic/hybrid_psf.h), Luidolt 2020's glare kernel
+// (glare/wave/luidolt_kernel.h), or the human eye (the default): the wave-optics eye's structure
+// near the source with, on every ring around it, the light CIE 146:2002 gives the observer, and the
+// CIE far field beyond (calibrated_near_psf, glare/analytic/hybrid_psf.h).
+enum class GlareModel { ritschel, spencer, cie, hybrid, luidolt, human };
 GlareModel parse_glare_model(const std::string& name);  // std::invalid_argument naming the choices
 std::string to_string(GlareModel model);
+// True for the models whose frames take the wave-optics eye's PSF (its pupil, particles, lashes):
+// ritschel, hybrid and human.
+constexpr bool uses_wave_optics(GlareModel model) {
+  return model == GlareModel::ritschel || model == GlareModel::hybrid || model == GlareModel::human;
+}
 
 // The observer's eye as the analytic models see it (`[observer]` in the experiment file).
 struct ObserverEye {

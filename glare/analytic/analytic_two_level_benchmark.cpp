@@ -146,6 +146,7 @@ TwoLevelBenchmarkResult run_two_level_benchmark(const TwoLevelBenchmarkOptions& 
     glare_options.width_px = options.width_px;
     glare_options.height_px = options.height_px;
     glare_options.split = options.split;
+    glare_options.keep_repeated_frame = false;  // every run a convolution
     ImageRGBA full_out, two_level_out;
     say("analytic glare: " + c.label + ", integrating the kernels");
     glare_options.convolution = AnalyticConvolution::full;

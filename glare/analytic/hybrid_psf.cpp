@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <vector>
 
 namespace glarelab {
 namespace {
@@ -82,6 +83,49 @@ Psf hybrid_near_psf(const Psf& wave_display_psf, const std::array<double, 3>& an
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) near.at(c, x, y) *= scale;
     if (scale_out) (*scale_out)[static_cast<std::size_t>(c)] = scale;
+  }
+  return near;
+}
+
+Psf calibrated_near_psf(const Psf& wave_display_psf, const DisplayKernel& analytic, const HandoverPixels& handover) {
+  const int n = wave_display_psf.size_px, centre = n / 2;
+  if (handover.outer_px > centre - 1)
+    throw HandoverError("the hand-over ends " + std::to_string(handover.outer_px) +
+                        " display pixels from the source, beyond the wave-optics PSF's " + std::to_string(n) +
+                        " px grid on the display");
+  // Rings 0..rings-1 hold every pixel where w > 0 (distance below the outer radius).
+  const int reach = static_cast<int>(std::ceil(handover.outer_px));
+  if (analytic.half_width_px < reach || analytic.half_height_px < reach)
+    throw HandoverError("the analytic kernel (half size " + std::to_string(analytic.half_width_px) + " x " +
+                        std::to_string(analytic.half_height_px) + " px) does not reach the hand-over's outer radius (" +
+                        std::to_string(handover.outer_px) + " display pixels)");
+  const int rings = static_cast<int>(std::lround(static_cast<double>(reach))) + 1;
+  const auto ring_of = [](int dx, int dy) { return static_cast<int>(std::lround(radius_px(dx, dy))); };
+  Psf near;
+  near.size_px = n;
+  near.degrees_per_pixel = wave_display_psf.degrees_per_pixel;
+  near.channels = 3;
+  near.values.assign(3 * static_cast<std::size_t>(n) * n, 0.0);
+  for (int c = 0; c < 3; ++c) {
+    const int from_wave = wave_display_psf.channels == 1 ? 0 : c, from_kernel = analytic.channels == 1 ? 0 : c;
+    std::vector<double> wave_ring(static_cast<std::size_t>(rings), 0.0), kernel_ring(static_cast<std::size_t>(rings), 0.0);
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dx = -reach; dx <= reach; ++dx) {
+        const double w = handover_weight(radius_px(dx, dy), handover);
+        if (w <= 0.0) continue;
+        const auto k = static_cast<std::size_t>(ring_of(dx, dy));
+        wave_ring[k] += w * wave_display_psf.at(from_wave, centre + dx, centre + dy);
+        kernel_ring[k] += w * analytic.at(from_kernel, dx, dy);
+      }
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dx = -reach; dx <= reach; ++dx) {
+        const double w = handover_weight(radius_px(dx, dy), handover);
+        if (w <= 0.0) continue;
+        const auto k = static_cast<std::size_t>(ring_of(dx, dy));
+        near.at(c, centre + dx, centre + dy) =
+            wave_ring[k] > 0.0 ? w * wave_display_psf.at(from_wave, centre + dx, centre + dy) * (kernel_ring[k] / wave_ring[k])
+                               : w * analytic.at(from_kernel, dx, dy);
+      }
   }
   return near;
 }

@@ -59,4 +59,22 @@ std::array<double, 3> analytic_energy_inside(const DisplayKernel& analytic, cons
 Psf hybrid_near_psf(const Psf& wave_display_psf, const std::array<double, 3>& analytic_inside,
                     const HandoverPixels& handover, std::array<double, 3>* scale_out = nullptr);
 
+// The human eye's near part (GlareModel::human; docs/GLARE_OPTICS.md, 6a): the wave-optics PSF
+// scaled ring by ring instead of by one s. Ring k holds the display pixels whose distance from the
+// source rounds to k; on it the near part is g_k w P_wave with
+//   g_k = sum_ring_k(w K_analytic) / sum_ring_k(w P_wave)   (per channel),
+// so every ring of near + far, s.t. far = (1 - w) K_analytic, holds exactly the light K_analytic
+// holds there: the azimuthal mean is the analytic model's (CIE 146:2002 for the observer) on every
+// ring, and the energy rule of hybrid_near_psf holds ring by ring. Within a ring the wave optics
+// keeps its structure (particles' speckle, the corona's needles, lashes, the chromatic blur's
+// colour between channels); across rings the analytic model sets the level. Why: the wave-optics
+// eye of Ritschel et al. 2009 scatters 8-40x less light than human eyes between 0.5 and 4 degrees
+// (Spencer's P_p), and one s for the whole hand-over leaves it about 10x above the analytic kernel
+// inside it, while CIE 146's glare spread function is the measured amount of stray light at each
+// angle and, as the standard takes it, does not depend on the pupil. A ring whose wave PSF holds
+// no light in a channel gets w K_analytic there. `analytic` is the unweighted analytic kernel on
+// the same display pixels (1 or 3 channels), reaching at least the outer radius; HandoverError
+// as hybrid_near_psf, and when the kernel is too small.
+Psf calibrated_near_psf(const Psf& wave_display_psf, const DisplayKernel& analytic, const HandoverPixels& handover);
+
 }  // namespace glarelab

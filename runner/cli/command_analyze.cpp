@@ -1,11 +1,16 @@
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "analysis/analysis_report.h"
 #include "analysis/report_output.h"
+#include "analysis/tidy_csv.h"
+#include "core/atomic_file.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
 #include "runner/cli/quest_plus_posteriors.h"
@@ -31,12 +36,21 @@ std::vector<std::string> distinct_files(const std::vector<std::string>& paths) {
   return distinct;
 }
 
+// The permission bits of the (first) database: its exports hold the same data, so a database kept
+// 0600 does not give 0644 (or, under umask 000, 0666) CSV files beside it.
+std::optional<unsigned> export_mode(const std::string& database) {
+  struct stat status {};
+  if (::stat(database.c_str(), &status) != 0) return std::nullopt;
+  return static_cast<unsigned>(status.st_mode) & 0666u;
+}
+
 }  // namespace
 
 Action add_analyze_command(CLI::App& app) {
   struct Options {
     std::vector<std::string> databases;
     std::string out = "analysis";
+    bool raw_csv_cells = false;
     analysis::AnalysisOptions analysis;
   };
   auto options = std::make_shared<Options>();
@@ -46,13 +60,17 @@ Action add_analyze_command(CLI::App& app) {
   analyze->add_option("--out", options->out, "Output directory (created)")
       ->check(CLI::Validator(
           [](std::string& path) -> std::string {
-            std::error_code ignored;
-            if (std::filesystem::exists(path, ignored) && !std::filesystem::is_directory(path, ignored))
-              return path + " is a file, not a directory";
-            return {};
+            // A file where the folder or a folder above it must be (--out results.db/sub) is the
+            // user's mistake (exit 2), not the storage failing.
+            const std::optional<std::string> file = file_in_the_way_of_folder(path);
+            if (!file) return {};
+            return *file == path ? path + " is a file, not a directory" : path + ": " + *file + " is a file, not a directory";
           },
           "DIR"))
       ->capture_default_str();
+  analyze->add_flag("--raw-csv-cells", options->raw_csv_cells,
+                    "Write CSV cells as stored, even those a spreadsheet would run as a formula (= + - @); by default "
+                    "such cells get a leading apostrophe");
   analyze->add_option("--bootstrap", options->analysis.bootstrap_samples,
                       "Parametric bootstrap samples per psychometric fit (0: no intervals)")
       ->capture_default_str()
@@ -70,11 +88,12 @@ Action add_analyze_command(CLI::App& app) {
       ->capture_default_str();
   return [=]() {
     return report_errors([&]() {
+      analysis::keep_formula_cells_raw(options->raw_csv_cells);
       analysis::AnalysisReport report =
           analysis::analyse(analysis::load_databases(distinct_files(options->databases)), options->analysis);
       // QUEST+ / Psi posteriors need the procedure (protocols/), which analysis/ may not build.
       analysis::add_quest_plus_posteriors(report, rebuild_quest_plus_posteriors(report.data, report.data.notes));
-      const auto written = analysis::write_report(report, options->out);
+      const auto written = analysis::write_report(report, options->out, export_mode(options->databases.front()));
       std::cout << analysis::render_terminal_summary(report);
       std::cout << "  wrote " << written.size() << " files to " << options->out << " (report.html, trials.csv, figures/)\n";
       return 0;

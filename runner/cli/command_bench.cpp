@@ -157,7 +157,7 @@ Action add_bench_command(CLI::App& app) {
                       "fastest kept (default 5 with --quick, else 10)")
       ->check(CLI::Range(1, 1000));
   command->add_flag("--analytic-only", args->analytic_only,
-                    "Only the analytic models (Spencer, CIE) over the whole display and the hybrid against Ritschel");
+                    "Only the analytic models (Spencer, CIE) over the whole display and the hybrid and the default (human) eye against Ritschel");
   command->add_flag("--no-analytic", args->no_analytic, "Only the wave-optics (Ritschel) stages");
   command->add_option("--analytic-size", args->analytic_size, "Display of the analytic rows, WIDTH HEIGHT in pixels (default 1920 1080)")
       ->expected(2)

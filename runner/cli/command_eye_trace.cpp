@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "glare/eye/eye_model.h"
+#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
@@ -43,8 +44,11 @@ int write_eye_trace(const EyeTraceOptions& options) {
   validate(parameters, "eye-trace options");
   const EyeModel eye(parameters, options.seed);
 
-  std::ofstream out(options.out, std::ios::binary | std::ios::trunc);
-  if (!out) throw ConfigError(where, "--out", "cannot open '" + options.out + "' for writing");
+  // Written beside --out and renamed into place (a run stopped half way leaves no half a trace);
+  // a link at --out is refused, not written through.
+  refuse_symbolic_link(options.out, "--out");
+  AtomicFile file(options.out);
+  std::ostream& out = file.stream();
   out << "time_s,field_luminance_cd_m2,mean_pupil_diameter_mm,pupil_diameter_mm,accommodation_dioptres,"
          "defocus_dioptres,lens_equator_displacement_um,vitreous_angle_deg,blink_closure,lid_closure,"
          "gratings_in_pupil\n";
@@ -60,8 +64,7 @@ int write_eye_trace(const EyeTraceOptions& options) {
                   s.gratings_in_pupil ? 1 : 0);
     out << row;
   }
-  out.close();
-  if (!out) throw std::runtime_error("eye-trace: writing '" + options.out + "' failed");
+  file.commit();
   std::cout << "eye-trace: " << samples << " samples over " << options.duration_s << " s at " << options.rate_hz
             << " Hz, " << to_string(parameters.mode) << " eye, seed " << options.seed << " -> " << options.out << "\n";
   return 0;

@@ -1,6 +1,6 @@
-// glarelab psf: the eye's point-spread function (Ritschel et al. 2009's wave-optics eye, with the
-// observer's refraction of runner/cli/psf_refraction.h), or Spencer's, the CIE's or the hybrid's
-// kernel, written as EXR and as a radial profile. The wave-optics PSF is computed by the backend
+// glarelab psf: the eye's point-spread function (the human eye of sessions by default; Ritschel et
+// al. 2009's wave-optics eye, with the observer's refraction of runner/cli/psf_refraction.h), or
+// Spencer's, the CIE's or the hybrid's kernel, written as EXR and as a radial profile. The wave-optics PSF is computed by the backend
 // glare/glare_backend.h chooses (cpu, the float64 reference, by default).
 #include <cmath>
 #include <cstdint>
@@ -149,18 +149,19 @@ std::vector<ProfilePoint> analytic_profile(const AnalyticPsf& psf) {
 // The aperture: a bare pupil, or the eye model at --time-s (its parts as --components keeps), with
 // --pupil-diameter-mm and --defocus-dioptres replacing the model's where given; --gratings adds
 // radial fibre gratings.
-ApertureGeometry psf_geometry(const PsfArguments& args, const PsfOptionHandles& handles) {
+ApertureGeometry psf_geometry(const PsfArguments& args, const PsfOptionHandles& handles, const std::string& mode) {
   ApertureGeometry geometry;
   geometry.pupil_diameter_mm = args.pupil_diameter_mm;
   geometry.defocus_dioptres = args.defocus_dioptres;
-  if (!args.mode.empty()) {
+  if (!mode.empty()) {
     EyeParameters parameters;
-    parameters.mode = parse_glare_mode(args.mode);
+    parameters.mode = parse_glare_mode(mode);
+    parameters.initial_field_luminance_cd_m2 = args.field_luminance_cd_m2;
     geometry = keep_components(EyeModel(parameters, args.seed).geometry_at(args.time_s),
                                parse_component_selection(args.components));
     if (handles.pupil->count() > 0) geometry.pupil_diameter_mm = args.pupil_diameter_mm;
     if (handles.defocus->count() > 0) geometry.defocus_dioptres = args.defocus_dioptres;
-    std::cout << "psf: eye model " << args.mode << ", t " << args.time_s << " s, seed " << args.seed << ": pupil "
+    std::cout << "psf: eye model " << mode << " at " << args.field_luminance_cd_m2 << " cd/m2, t " << args.time_s << " s, seed " << args.seed << ": pupil "
               << geometry.pupil_diameter_mm << " mm, defocus " << geometry.defocus_dioptres << " D, "
               << geometry.discs.size() << " discs, " << geometry.lines.size() << " lines, "
               << geometry.polygons.size() << " polygons (" << args.components << ")\n";
@@ -253,7 +254,7 @@ Psf wave_psf(const PsfArguments& args, bool backend_named, const ObserverRefract
     psf = choice.backend->psf(geometry, options);
   } catch (const ClosedApertureError& error) {
     // A closed eye (a blink at --time-s, or only lids kept) lets no light through: no PSF exists.
-    throw ConfigError({"psf", 0, 0}, args.mode.empty() ? "--pupil-diameter-mm" : "--time-s",
+    throw ConfigError({"psf", 0, 0}, args.mode.empty() && args.model != "human" ? "--pupil-diameter-mm" : "--time-s",
                       std::string("no light passes the aperture, so there is no PSF (") + error.what() + ")");
   }
   if (refraction.active && options.spectral)
@@ -283,23 +284,30 @@ int write_analytic(GlareModel model, const PsfArguments& args) {
   return 0;
 }
 
-// --model hybrid: the wave PSF on the display's pixels near the source, the analytic far field beyond.
-int write_hybrid(const PsfArguments& args, const Psf& psf, const HybridHandover& handover) {
+// --model hybrid: the wave PSF on the display's pixels near the source, the analytic far field beyond;
+// --model human: the same join with the near part calibrated ring by ring to CIE 146 (calibrated_near_psf).
+int write_hybrid(const PsfArguments& args, const Psf& psf, const HybridHandover& handover, bool human) {
   const Psf wave_display = resample_psf_to_display(psf, args.degrees_per_pixel);
   const DisplayGeometry display = flat_display_geometry(args.degrees_per_pixel);
-  const AnalyticPsf far_psf = analytic_model(parse_glare_model(args.far_field), args);
+  const AnalyticPsf far_psf = analytic_model(human ? GlareModel::cie : parse_glare_model(args.far_field), args);
   const int half = args.grid_px / 2;
   const DisplayKernel kernel = analytic_display_kernel(far_psf, display, half, half, 2);
   const HandoverPixels handover_px = handover_pixels(handover, display);
   Psf near;
   try {
-    near = hybrid_near_psf(wave_display, analytic_energy_inside(kernel, handover_px), handover_px);
+    near = human ? calibrated_near_psf(wave_display, kernel, handover_px)
+                 : hybrid_near_psf(wave_display, analytic_energy_inside(kernel, handover_px), handover_px);
   } catch (const HandoverError& error) {
     throw ConfigError(kWhere, "--handover-deg", error.what());
   }
   const Psf image = hybrid_psf_image(near, hybrid_far_kernel(kernel, handover_px), args.degrees_per_pixel, args.grid_px);
   if (!args.out.empty()) write_psf_exr(args.out, image);
-  if (!args.out.empty()) std::cout << "psf: wrote " << args.out << ": hybrid, the wave-optics eye to " << handover.inner_deg
+  if (!args.out.empty() && human)
+    std::cout << "psf: wrote " << args.out << ": human, the wave-optics eye to " << handover.outer_deg
+              << " deg at the light CIE 146 gives on every ring (age " << args.age_years << " years, pigmentation "
+              << psf_text(args.pigmentation) << "), CIE beyond; " << image.size_px << "x" << image.size_px
+              << " px, R,G,B, " << image.degrees_per_pixel << " deg/px at the centre, unit sum within the image\n";
+  else if (!args.out.empty()) std::cout << "psf: wrote " << args.out << ": hybrid, the wave-optics eye to " << handover.inner_deg
             << " deg, blended into " << args.far_field << " (age " << args.age_years << " years) by "
             << handover.outer_deg << " deg; " << image.size_px << "x" << image.size_px << " px, R,G,B, "
             << image.degrees_per_pixel << " deg/px at the centre, unit sum within the image\n";
@@ -315,47 +323,51 @@ int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
   const GlareModel model = parse_glare_model(args.model);
   if (model == GlareModel::luidolt) return run_luidolt_psf(args, handles);
   const bool analytic = model == GlareModel::spencer || model == GlareModel::cie;
-  const GlareModel far_model = model == GlareModel::hybrid ? parse_glare_model(args.far_field) : model;
+  const bool human = model == GlareModel::human;
+  const GlareModel far_model = model == GlareModel::hybrid ? parse_glare_model(args.far_field) : human ? GlareModel::cie : model;
+  // The human eye is the eye model's (dynamic unless --mode says otherwise), spectral, as in sessions.
+  const std::string mode = human && args.mode.empty() ? "dynamic" : args.mode;
   bool refraction_given = false;
   for (const CLI::Option* option : handles.refraction) refraction_given = refraction_given || option->count() > 0;
   std::vector<ModelOption> checks = {
       {handles.age, model != GlareModel::ritschel || refraction_given,
-       "the analytic models (--model spencer, cie or hybrid) and the observer's refraction (--sphere-dioptres, "
+       "the analytic models (--model human, spencer, cie or hybrid) and the observer's refraction (--sphere-dioptres, "
        "--cylinder-dioptres, --spectacles, --viewing-distance-m, ...)"},
       {handles.regime, far_model == GlareModel::spencer, "Spencer's PSF (--model spencer, or hybrid with --far-field spencer)"},
       {handles.flare_lines, model == GlareModel::spencer, "Spencer's PSF (--model spencer)"},
       // --age-years also sets the refraction's accommodation amplitude, so it applies to every model.
-      {handles.pigmentation, far_model == GlareModel::cie, "the CIE PSF (--model cie, or hybrid with --far-field cie)"},
+      {handles.pigmentation, far_model == GlareModel::cie, "the CIE PSF (--model human or cie, or hybrid with --far-field cie)"},
       {handles.far_field, model == GlareModel::hybrid, "--model hybrid"},
-      {handles.handover, model == GlareModel::hybrid, "--model hybrid"},
-      {handles.dpp, model != GlareModel::ritschel, "the images of --model spencer, cie and hybrid"}};
+      {handles.handover, model == GlareModel::hybrid || human, "--model hybrid and human"},
+      {handles.dpp, model != GlareModel::ritschel, "the images of --model human, spencer, cie and hybrid"},
+      {handles.field_luminance, !mode.empty(), "the eye model (--mode, or --model human)"}};
   for (const CLI::Option* option : handles.wave)
-    checks.push_back({option, !analytic, "the wave-optics eye (--model ritschel or hybrid)"});
+    if (option != handles.field_luminance) checks.push_back({option, !analytic, "the wave-optics eye (--model human, ritschel or hybrid)"});
   refuse_unused_options(checks, args.model);
   if (analytic) return write_analytic(model, args);
-  ApertureGeometry geometry = psf_geometry(args, handles);
+  ApertureGeometry geometry = psf_geometry(args, handles, mode);
   const ObserverRefraction refraction = observer_refraction(args, handles, geometry);
   PsfOptions options;
   options.grid_px = args.grid_px;
   options.aperture_width_mm = args.aperture_width_mm;
   options.supersampling = args.supersampling;
   options.wavelength_nm = args.wavelength_nm;
-  options.spectral = args.spectral;
+  options.spectral = args.spectral || human;
   options.wavelength_samples = args.wavelength_samples;
   options.phase = parse_phase_form(args.fresnel);
   // With the refraction, a spectral PSF takes one FFT per wavelength with the eye's LCA even where the
   // residual is zero (glare/wave/chromatic_psf.h).
   options.observer_refraction = refraction.active;
   check_grid(geometry, options,
-             args.mode.empty() || handles.pupil->count() > 0 ? "--pupil-diameter-mm" : "the eye model at --time-s");
+             mode.empty() || handles.pupil->count() > 0 ? "--pupil-diameter-mm" : "the eye model at --time-s");
   if (refraction.active) check_refraction_sampling(geometry, options, refraction.flags);
   const double reach_deg = wave_reach_deg(options);
   const std::optional<HybridHandover> handover =
-      model == GlareModel::hybrid ? std::optional(hybrid_handover(args, options, reach_deg)) : std::nullopt;
+      model == GlareModel::hybrid || human ? std::optional(hybrid_handover(args, options, reach_deg)) : std::nullopt;
   std::cout << refraction.summary;
   std::string backend_name;
   const Psf psf = wave_psf(args, handles.backend->count() > 0, refraction, geometry, options, backend_name);
-  if (handover) return write_hybrid(args, psf, *handover);
+  if (handover) return write_hybrid(args, psf, *handover, human);
   if (!args.out.empty()) write_psf_exr(args.out, psf);
   if (!args.out.empty()) std::cout << "psf: wrote " << args.out << ": " << psf.size_px << "x" << psf.size_px << " px, "
             << (psf.channels == 1 ? "Y" : "R,G,B") << ", " << psf.degrees_per_pixel << " deg/px, pupil "

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/exr_io.h"
 #include "core/png_io.h"
 #include "protocols/experiment.h"
@@ -93,6 +94,7 @@ std::string describe(const PreviewFrame& frame) {
 }
 
 int render(const RenderOptions& options) {
+  refuse_symbolic_link(options.out, "--out");  // before the session: a link is refused, not written through
   const Experiment experiment = load_experiment(options.experiment_path);
   check_condition(experiment, options.condition);
   if (!options.intensity_cd_m2.empty() && !options.settings_cd_m2.empty())
@@ -122,12 +124,13 @@ int render(const RenderOptions& options) {
   if (extension == ".png") {
     ImageRGBA encoded = frame.display_drive;
     for (std::size_t i = 3; i < encoded.rgba.size(); i += 4) encoded.rgba[i] = 1.0f;
-    write_png_encoded(options.out, encoded);
+    // Beside --out, then renamed into place: a preview stopped mid-write leaves no half an image.
+    write_through_temporary(options.out, [&](const std::string& temporary) { write_png_encoded(temporary, encoded); });
   } else {
     // Loadable as a scene with no option (stimuli/scene_library.h: the glare's round-off below 0 set to 0).
     ImageRGBA linear = frame.stimulus_cd_m2;
     zero_round_off_negatives(linear);
-    write_exr(options.out, linear);
+    write_through_temporary(options.out, [&](const std::string& temporary) { write_exr(temporary, linear); });
   }
   std::cout << "render: condition '" << options.condition << "', " << describe(frame) << " -> " << options.out << " ("
             << frame.stimulus_cd_m2.width_px << "x" << frame.stimulus_cd_m2.height_px << ")\n";

@@ -1,5 +1,6 @@
 #include <iostream>
 
+#include "core/text_limits.h"
 #include "runner/store/session_summary.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
@@ -91,14 +92,15 @@ Action add_run_command(CLI::App& app) {
       if (!result.tracker_summary.empty()) std::cout << "  " << result.tracker_summary << "\n";
       if (!result.device_summary.empty()) std::cout << "  " << result.device_summary << "\n";
       if (result.status == "running") {
-        std::cout << "  stopped early; finish with: glarelab run " << options->experiment_path << " --db "
-                  << result.db_path << " --resume " << result.session_id << " --display " << options->display
-                  << " --observer " << options->observer
-                  << (options->tracker.spec != "none" ? " --tracker " + options->tracker.spec : std::string())
+        // Every word shell-quoted (core/text_limits.h): the line is meant to be pasted into a shell.
+        std::cout << "  stopped early; finish with: glarelab run " << shell_quoted(options->experiment_path) << " --db "
+                  << shell_quoted(result.db_path) << " --resume " << result.session_id << " --display "
+                  << shell_quoted(options->display) << " --observer " << shell_quoted(options->observer)
+                  << (options->tracker.spec != "none" ? " --tracker " + shell_quoted(options->tracker.spec) : std::string())
                   << (options->response_device.selector.empty()
                           ? std::string()
-                          : " --response-device " + options->response_device.selector + " --buttons " +
-                                options->response_device.buttons)
+                          : " --response-device " + shell_quoted(options->response_device.selector) + " --buttons " +
+                                shell_quoted(options->response_device.buttons))
                   << "\n";
       }
       return result.status == "aborted" ? static_cast<int>(kExitAborted) : static_cast<int>(kExitOk);

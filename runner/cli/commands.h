@@ -19,6 +19,7 @@ Action add_bench_command(CLI::App& app);
 Action add_render_command(CLI::App& app);
 Action add_calibrate_command(CLI::App& app);
 Action add_timing_test_command(CLI::App& app);
+Action add_fit_command(CLI::App& app);
 
 // Runs `body`, turning glarelab's error types into a message on stderr and the documented exit code.
 int report_errors(const std::function<int()>& body);

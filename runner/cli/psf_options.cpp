@@ -17,7 +17,7 @@ void add_wave_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& h
   command->add_option("--wavelength-samples", args.wavelength_samples, "Wavelength samples over 380-770 nm for --spectral")
       ->check(CLI::Range(1, 1024))->capture_default_str();
   command->add_option("--grid", args.grid_px,
-                      "Aperture and PSF grid size N (even); for spencer, cie and hybrid also the side of the image "
+                      "Aperture and PSF grid size N (even); for human, spencer, cie and hybrid also the side of the image "
                       "written, at --degrees-per-pixel")
       ->check(CLI::Range(16, 8192))
       ->check(CLI::Validator([](const std::string& text) {
@@ -51,6 +51,12 @@ void add_wave_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& h
                           "at the eye's static time), control (no glare: a delta PSF)")
           ->check(CLI::IsMember({"dynamic", "static", "control"}))
           ->excludes(gratings_option);
+  handles.field_luminance =
+      command->add_option("--field-luminance-cd-m2", args.field_luminance_cd_m2,
+                          "Field luminance the eye model adapts to (cd/m2; its pupil, Eq. 1-2): with --mode, and for "
+                          "the human eye")
+          ->check(finite_number_in(1e-4, 1e9, "cd/m2"))
+          ->capture_default_str();
   command->add_option("--time-s", args.time_s, "Time of the eye model (s), at most 86400 (24 h)")
       ->check(eye_model_time_s())
       ->needs(mode_option)
@@ -74,10 +80,13 @@ void add_wave_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& h
 
 void add_model_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& handles) {
   command->add_option("--model", args.model,
-                          "Glare model: ritschel (the wave-optics eye above), spencer (Spencer et al. 1995), cie (CIE "
-                          "146:2002), hybrid (the wave-optics eye near the source, an analytic far field beyond), "
-                          "luidolt (Luidolt 2020's glare kernel: static particles, the Fresnel term of Eq. 5.6)")
-          ->check(CLI::IsMember({"ritschel", "spencer", "cie", "hybrid", "luidolt"}))
+                          "Glare model: human (the default eye of sessions: the eye model's spectral PSF in --mode, "
+                          "dynamic unless given, at the light CIE 146:2002 gives the observer on every ring around the "
+                          "source, CIE beyond), ritschel (the wave-optics eye above), spencer (Spencer et al. 1995), "
+                          "cie (CIE 146:2002), hybrid (the wave-optics eye near the source, an analytic far field "
+                          "beyond, joined by one energy rule), luidolt (Luidolt 2020's glare kernel: static particles, "
+                          "the Fresnel term of Eq. 5.6)")
+          ->check(CLI::IsMember({"human", "ritschel", "spencer", "cie", "hybrid", "luidolt"}))
           ->capture_default_str();
   handles.regime =
       command->add_option("--regime", args.regime, "Spencer's mixture: photopic (Eq. 5), mesopic (Eq. 8), scotopic (Eq. 9)")
@@ -107,27 +116,27 @@ void add_model_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& 
           ->capture_default_str();
   handles.handover =
       command->add_option("--handover-deg", args.handover_deg,
-                          "The hybrid's hand-over annulus INNER,OUTER (degrees from the source; default: from half of 0.9 "
+                          "The hybrid's and the human eye's hand-over annulus INNER,OUTER (degrees from the source; default: from half of 0.9 "
                           "to 0.9 of the wave PSF's reach, which the outer angle must not pass)")
           ->delimiter(',')
           ->expected(2)
           ->check(finite_positive_number("deg"));
   handles.dpp =
       command->add_option("--degrees-per-pixel", args.degrees_per_pixel,
-                          "Angle of the image's centre pixel for spencer, cie and hybrid (a flat display whose pixel "
+                          "Angle of the image's centre pixel for human, spencer, cie and hybrid (a flat display whose pixel "
                           "subtends it at the line of sight)")
           ->check(finite_number_in(1e-4, 2.0, "deg"))
           ->capture_default_str();
   command->add_option("--profile-csv", args.profile_csv,
                       "Also write the radial profile (angle_deg,psf_per_sr) at log-spaced angles from 0.01 to 90 deg, "
                       "20 or more per decade. spencer: the whole P of Eq. 5/8/9 with the halo at 568 nm; cie: the CIE "
-                      "formula (the scattered light); ritschel, hybrid: the azimuthal mean of the image's pixel "
+                      "formula (the scattered light); human, ritschel, hybrid: the azimuthal mean of the image's pixel "
                       "densities (value / solid angle; R,G,B by Rec.709 luminance weights) on 1-pixel rings, at the "
                       "angles the image reaches")
       ->check(file_extension_in({".csv"}, "the profile file"));
   // EXR only: the PSF is linear data summing to 1, which an 8-bit PNG would round to nothing.
   command->add_option("--out", args.out,
-                      "Output EXR file (unit sum per channel; for spencer, cie and hybrid the sum counts only the "
+                      "Output EXR file (unit sum per channel; for human, spencer, cie and hybrid the sum counts only the "
                       "light within the image). --out, --profile-csv or both.")
       ->check(file_extension_in({".exr"}, "the PSF file"));
 }
@@ -174,7 +183,7 @@ void add_refraction_options(CLI::App* command, PsfArguments& args, PsfOptionHand
   handles.refraction = {sphere, cylinder, axis, spectacles, viewing, amplitude, vertex};
   for (const char* name : {"--pupil-diameter-mm", "--wavelength-nm", "--spectral", "--wavelength-samples",
                            "--aperture-width-mm", "--supersampling", "--fresnel", "--defocus-dioptres", "--backend",
-                           "--gratings", "--mode", "--time-s", "--seed", "--components"})
+                           "--gratings", "--mode", "--field-luminance-cd-m2", "--time-s", "--seed", "--components"})
     handles.wave.push_back(command->get_option(name));
   for (const CLI::Option* option : handles.refraction) handles.wave.push_back(option);
 }

@@ -28,7 +28,10 @@ struct PsfArguments {
   double time_s = 0.0;
   std::uint64_t seed = 1;
   std::string components = "all";
-  std::string model = "ritschel";
+  // The human eye by default, as in sessions ([glare] model): the eye model in --mode (dynamic when
+  // not given) adapted to --field-luminance-cd-m2, its spectral PSF joined to CIE 146.
+  std::string model = "human";
+  double field_luminance_cd_m2 = 100.0;  // the eye model's field luminance (its pupil, Eq. 1-2)
   std::string regime = "photopic";
   bool flare_lines = false;        // Spencer's flare lines (section 3.2) in the image
   std::uint64_t flare_seed = 1;    // their draws
@@ -55,6 +58,7 @@ struct PsfOptionHandles {
   CLI::Option* far_field = nullptr;
   CLI::Option* handover = nullptr;
   CLI::Option* dpp = nullptr;
+  CLI::Option* field_luminance = nullptr;
   CLI::Option* cylinder = nullptr;
   CLI::Option* axis = nullptr;
   CLI::Option* amplitude = nullptr;

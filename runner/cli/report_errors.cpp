@@ -6,8 +6,10 @@
 #include <new>
 #include <stdexcept>
 
+#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/exr_io.h"
+#include "core/text_limits.h"
 #include "glare/wave/psf.h"
 #include "glare/wave/psf_scale.h"
 #include "runner/cli/commands.h"
@@ -22,8 +24,13 @@ namespace glarelab::cli {
 
 namespace {
 
+// Messages quote what others wrote (a condition cell, a key, a path): a value of megabytes is cut
+// with its length said; control characters are escaped where text reaches the terminal
+// (runner/cli/terminal_stream.h) and here too, for callers that print elsewhere.
+constexpr std::size_t kMessageBytes = 4000;
+
 int report(const std::string& message, int exit_code) {
-  std::cerr << "error: " << message << "\n";
+  std::cerr << "error: " << shortened_value(message, kMessageBytes, true) << "\n";
   return exit_code;
 }
 
@@ -42,6 +49,9 @@ int report_errors(const std::function<int()>& body) {
     return report(error.what(), kExitDevice);
   } catch (const TrackerError& error) {
     return report(error.what(), kExitDevice);
+  } catch (const OutputPathError& error) {
+    // An output named through a symbolic link: the user's path, not the storage, is refused.
+    return report(error.what(), kExitBadInput);
   } catch (const StoreError& error) {
     return report(error.what(), kExitStore);
   } catch (const std::filesystem::filesystem_error& error) {

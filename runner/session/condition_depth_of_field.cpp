@@ -59,8 +59,8 @@ void check_depth_of_field(const Experiment& experiment, const SceneLibrary& scen
   // A point nearer than the spectacle lens' front cannot be seen through it (Eq. 1 has no such
   // vergence at the lens).
   for (const ConditionRow& row : experiment.conditions) {
-    const std::optional<ConditionRefraction> refraction = condition_refraction(experiment, row);
-    if (!refraction || !refraction->traced_lens) continue;
+    const std::optional<ConditionRefraction> refraction = modelled_condition_refraction(experiment, row);
+    if (!refraction->traced_lens) continue;
     const double lens_front_m = 1e-3 * refraction->traced_lens->spec().vertex_distance_mm +
                                 refraction->traced_lens->centre_thickness_m();
     for (const auto& [name, scene] : scenes.scenes()) {

@@ -50,6 +50,10 @@ bool models_observer_optics(const Experiment& experiment) {
 
 std::optional<ConditionRefraction> condition_refraction(const Experiment& experiment, const ConditionRow& row) {
   if (!models_observer_optics(experiment)) return std::nullopt;
+  return modelled_condition_refraction(experiment, row);
+}
+
+ConditionRefraction modelled_condition_refraction(const Experiment& experiment, const ConditionRow& row) {
   const ObserverOptics& optics = experiment.observer_optics;
   ConditionRefraction out;
   out.condition = row.name();
@@ -123,9 +127,9 @@ ImageRGBA frame_through_spectacles(const ConditionRefraction& refraction, const 
 
 std::vector<ConditionRefraction> condition_refractions(const Experiment& experiment) {
   std::vector<ConditionRefraction> all;
-  for (const ConditionRow& row : experiment.conditions)
-    if (std::optional<ConditionRefraction> refraction = condition_refraction(experiment, row))
-      all.push_back(std::move(*refraction));
+  if (!models_observer_optics(experiment)) return all;
+  all.reserve(experiment.conditions.size());
+  for (const ConditionRow& row : experiment.conditions) all.push_back(modelled_condition_refraction(experiment, row));
   return all;
 }
 
@@ -141,7 +145,7 @@ void check_condition_refractions(const Experiment& experiment) {
   chromatic.reference_wavelength_nm = kReferenceWavelengthNm;
   for (const ConditionRow& row : experiment.conditions) {
     // The optics are modelled (checked above), so every condition has its refraction.
-    const ConditionRefraction refraction = *condition_refraction(experiment, row);
+    const ConditionRefraction refraction = modelled_condition_refraction(experiment, row);
     if (refraction.traced_lens) {
       // Every line of sight to the display must pass through the lens (the 3 x 3 grid's corners are
       // the display's corner pixels, the widest angles).
@@ -161,7 +165,7 @@ void check_condition_refractions(const Experiment& experiment) {
                         "the observer's refraction ([observer.refraction] or spectacles) blurs the wave-optics PSF, "
                         "but glare_model '" + to_string(model) +
                             (model == GlareModel::luidolt ? "' has no defocus phase to carry it" : "' has no pupil to carry it") +
-                            ": use \"ritschel\" or \"hybrid\" for this condition, or leave "
+                            ": use \"human\", \"ritschel\" or \"hybrid\" for this condition, or leave "
                             "the refraction and spectacles out of the experiment");
     // Every wavelength of the spectral PSF carries its own error (the LCA, glare/wave/chromatic_psf.h);
     // the message names the one that needs the finest grid.

@@ -49,6 +49,9 @@ bool models_observer_optics(const Experiment& experiment);
 // The refraction of one condition; nothing when the experiment does not model the observer's
 // optics. Throws ConfigError at the row when the display is not beyond the spectacles.
 std::optional<ConditionRefraction> condition_refraction(const Experiment& experiment, const ConditionRow& row);
+// The same for an experiment known to model the observer's optics: a loop over the rows asks
+// models_observer_optics once, not once per row (that scan reads every row: quadratic in the table).
+ConditionRefraction modelled_condition_refraction(const Experiment& experiment, const ConditionRow& row);
 
 // Every condition's (empty when the optics are not modelled), in condition order.
 std::vector<ConditionRefraction> condition_refractions(const Experiment& experiment);

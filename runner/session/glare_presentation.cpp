@@ -183,7 +183,7 @@ void SessionGlare::log_glare_setup() {
       eyes_[e]->engine.glare().analytic_for(model, eyes_[e]->display.width_px, eyes_[e]->display.height_px);
     const AnalyticGlare& analytic = stage.analytic_for(model, stage_display.width_px, stage_display.height_px);
     store_.log_event(session_id_, clock_.now_s(), "glare_model",
-                     to_string(model) + (model == GlareModel::hybrid ? " (far field " + analytic.describe() + ")"
+                     to_string(model) + (model == GlareModel::hybrid || model == GlareModel::human ? " (far field " + analytic.describe() + ")"
                                                                     : ": " + analytic.describe()));
   }
   const bool tracked = tracker_.active();

@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <stdexcept>
 #include <utility>
 
+#include "core/atomic_file.h"
 #include "core/number_text.h"
 #include "glare/wave/psf_scale.h"
 #include "protocols/stimulus_duration.h"
@@ -45,12 +48,12 @@ std::unique_ptr<Observer> make_observer(const std::string& spec, const Experimen
                     "unknown observer '" + spec + "' (choose keyboard, simulated or script:FILE)");
 }
 
-// True when a condition with glare uses the wave-optics eye (Ritschel or the hybrid's near part):
+// True when a condition with glare uses the wave-optics eye (Ritschel, or the hybrid's or the human eye's near part):
 // only that PSF has to fit the display's pixel scale; the analytic models integrate over any pixel.
 bool uses_wave_optics_glare(const Experiment& experiment) {
   for (const ConditionRow& row : experiment.conditions) {
     const GlareModel model = glare_model_for(experiment.glare, row);
-    if (model != GlareModel::ritschel && model != GlareModel::hybrid) continue;
+    if (!uses_wave_optics(model)) continue;
     const auto sides = position_glare_modes(row);
     if (sides ? (sides->first != GlareMode::control || sides->second != GlareMode::control)
               : glare_mode_for(experiment.glare, row) != GlareMode::control)
@@ -162,6 +165,10 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
 // cannot take the frames stops the run before the session row exists.
 static void prepare_frame_directory(const std::string& directory) {
   namespace fs = std::filesystem;
+  // A file given as the folder (or on its way) is the user's mistake (exit 2), said as such.
+  if (const std::optional<std::string> file = file_in_the_way_of_folder(directory))
+    throw std::invalid_argument("--save-frames: " + (*file == directory ? directory : directory + ": " + *file) +
+                                " is a file, not a directory");
   fs::create_directories(directory);
   if (!fs::is_directory(directory))
     throw fs::filesystem_error("--save-frames: not a directory", fs::path(directory),

@@ -139,7 +139,7 @@ IntervalGlare SessionGlare::begin_interval(const TrialPlan& plan, const std::vec
   // The analytic models have no moving eye: a dynamic condition's frames are all alike, so one
   // serves the interval (the adaptation luminance of a trial's frames is the same). Luidolt's
   // kernel follows the eye's pupil.
-  const bool moving_eye = model == GlareModel::ritschel || model == GlareModel::hybrid || model == GlareModel::luidolt;
+  const bool moving_eye = uses_wave_optics(model) || model == GlareModel::luidolt;
   const bool dynamic = position_modes.empty() ? glare.mode == GlareMode::dynamic
                                               : std::any_of(position_modes.begin(), position_modes.end(), is_dynamic);
   glare.motion = !glared                  ? IntervalGlareMotion::none

@@ -92,6 +92,19 @@ PupilLabsSettings parse_pupil_labs_address(const std::string& spec) {
     settings.port = *port;
   }
   if (settings.host.empty()) throw TrackerError("--tracker " + spec + ": no host");
+  // ZeroMQ takes a host name, an IPv4 address or a bracketed IPv6 one in its endpoint; anything
+  // else ("a b", "*", which binds every interface) it refuses with an exception of its own when the
+  // session connects: refused here, as bad input, before anything is written.
+  const std::string& host = settings.host;
+  const bool bracketed = host.size() > 2 && host.front() == '[' && host.back() == ']';
+  const auto allowed = [&](char c) {
+    const bool name = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '-';
+    return bracketed ? name || c == ':' : name || c == '_';
+  };
+  const std::string inner = bracketed ? host.substr(1, host.size() - 2) : host;
+  if (!std::all_of(inner.begin(), inner.end(), allowed) || inner.front() == '-' || inner.front() == '.')
+    throw TrackerError("--tracker " + spec + ": '" + host +
+                       "' is not a host (a name, an IPv4 address or a bracketed IPv6 address such as [::1])");
   return settings;
 }
 
