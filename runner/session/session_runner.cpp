@@ -20,6 +20,7 @@
 #include "runner/session/session_loop.h"
 #include "runner/session/session_setup.h"
 #include "runner/session/status_line.h"
+#include "runner/store/lock_wait.h"
 
 namespace glarelab {
 namespace {
@@ -63,13 +64,14 @@ void announce_session(std::ostream& progress, const RunResult& result, PreparedS
 
 }  // namespace
 
-RunResult run_session(const RunOptions& options, std::ostream& progress) {
+RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   install_interrupt_handlers();
   RunResult result;
 
   // 1. Everything that can be wrong with the input is found before anything is written.
-  if (options.status) options.status->set_step("loading the experiment and its scenes");
-  SessionStart start = load_session_start(options, progress);
+  if (asked.status) asked.status->set_step("loading the experiment and its scenes");
+  SessionStart start = load_session_start(asked, progress);
+  const RunOptions options = keep_resumed_clock(asked, start);
   result.db_path = start.db_path;
   PreparedSession prepared = prepare_session(std::move(start.experiment), options);
   result.scene_notes = scene_load_notes(*prepared.scenes);
@@ -122,6 +124,17 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   }
   result.session_id = *session_id;
   ResultStore& store = *start.store;
+  // A lock another process holds on the database makes the session wait, never end (lock_wait.h).
+  double announced_wait_s = 0.0;
+  const LockWait lock_wait(store.handle(), [&](double waited_s) {
+    if (waited_s < announced_wait_s) announced_wait_s = 0.0;  // a new wait
+    if (waited_s >= announced_wait_s + 5.0) {
+      announced_wait_s = waited_s;
+      progress << "waiting for the database: another process has held its lock for "
+               << static_cast<int>(waited_s) << " s (the trial waits in memory; Ctrl-C ends the session, keeping its trials)\n";
+    }
+    return !interrupt_requested();
+  });
   // From here on a failure (a GL error mid-run, an observer script that runs out of answers, glare
   // that cannot be computed) ends the session as aborted with its reason, never left running.
   try {
@@ -198,6 +211,10 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     result.device_summary = device.summary();
     if (!result.device_summary.empty())
       store.log_event(result.session_id, clock->now_s(), "response_device_summary", result.device_summary);
+    if (lock_wait.waits() > 0)
+      store.log_event(result.session_id, clock->now_s(), "database_locked",
+                      std::to_string(lock_wait.waits()) + " write(s) waited for a lock held by another process, the longest " +
+                          std::to_string(lock_wait.longest_wait_s()) + " s; nothing was lost");
     if (loop.aborted()) {
       store.log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
       store.finish_session(result.session_id, "aborted");
