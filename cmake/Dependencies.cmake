@@ -1,7 +1,13 @@
 # System libraries, all from Debian packages installed by scripts/setup.sh.
 find_package(PkgConfig REQUIRED)
 find_package(Threads REQUIRED)
+# Debian 12's Imath package config lists its Python module (libPyImath_Python3_11), which lives in
+# another package, and reports the missing file as a status message on every configure. glarelab
+# does not use it, so that one lookup runs with status messages quieted.
+set(glarelab_message_log_level "${CMAKE_MESSAGE_LOG_LEVEL}")
+set(CMAKE_MESSAGE_LOG_LEVEL NOTICE)
 find_package(OpenEXR 3 CONFIG REQUIRED)
+set(CMAKE_MESSAGE_LOG_LEVEL "${glarelab_message_log_level}")
 find_package(glfw3 3.3 CONFIG REQUIRED)
 find_package(tomlplusplus CONFIG QUIET)
 find_package(CLI11 CONFIG REQUIRED)

@@ -15,4 +15,8 @@ double centred_span_px(const DisplaySpec& display, double degrees) {
          display.pixel_pitch_mm;
 }
 
+int stimulus_gap_px(const DisplaySpec& display) {
+  return static_cast<int>(std::lround(centred_span_px(display, display.stimulus_gap_deg)));
+}
+
 }  // namespace glarelab

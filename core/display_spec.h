@@ -36,6 +36,9 @@ struct DisplaySpec {
   int monitor = 0;
   bool fullscreen = false;
   StereoMode stereo = StereoMode::none;
+  // Background between side-by-side stimuli (stimuli/layout.h): the columns are this many degrees
+  // apart, so two scenes never abut and read as one picture. 0: the columns tile the display.
+  double stimulus_gap_deg = 0.0;
 };
 
 // Visual angle (degrees) of a span of `pixels` centred on the line of sight:
@@ -44,5 +47,8 @@ double centred_span_deg(const DisplaySpec& display, double pixels);
 // The inverse: pixels of a span centred on the line of sight that subtends `degrees`,
 // 2 d tan(degrees / 2) / pitch (not rounded).
 double centred_span_px(const DisplaySpec& display, double degrees);
+// stimulus_gap_deg in whole pixels: the centred span, rounded to the nearest pixel (the gap
+// between two stimuli lies on the line of sight).
+int stimulus_gap_px(const DisplaySpec& display);
 
 }  // namespace glarelab

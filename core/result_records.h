@@ -10,9 +10,9 @@
 namespace glarelab {
 
 // PRAGMA user_version of a current database. 2 added the adjustments table, 3 the frames'
-// gaze_age_s, 4 the trials' procedure 'timing_test' (docs/DATABASE.md "Schema version");
+// gaze_age_s, 4 the trials' procedure 'timing_test', 5 the session_owners table (docs/DATABASE.md "Schema version");
 // runner/store/schema_migrations.cpp has one migration per version.
-inline constexpr int kResultsSchemaVersion = 4;
+inline constexpr int kResultsSchemaVersion = 5;
 
 struct SessionRecord {
   std::int64_t id = 0;

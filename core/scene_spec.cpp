@@ -11,4 +11,17 @@ std::string to_string(SceneGenerator generator) {
   return "disc_annulus";
 }
 
+std::string to_string(NegativePixels negative_pixels) {
+  return negative_pixels == NegativePixels::clamp ? "clamp" : "refuse";
+}
+
+std::string to_string(SceneFit fit) {
+  switch (fit) {
+    case SceneFit::refuse: return "refuse";
+    case SceneFit::scale: return "scale";
+    case SceneFit::crop: return "crop";
+  }
+  return "refuse";
+}
+
 }  // namespace glarelab

@@ -27,14 +27,28 @@ struct GeneratedSceneSpec {
   double disc_fraction_of_peak = 1.0;  // luminance of the disc (or the source's brightest pixel) / display peak
 };
 
+// What loading does with a photograph's negative pixels (camera noise, colour-space conversion
+// outside the gamut, filter ringing): a luminance cannot be negative, so either the scene is
+// refused or they are set to 0 and the count and the fraction of the energy removed reported
+// (stimuli/scene_library.h).
+enum class NegativePixels { refuse, clamp };
+
+// What a scene that does not fit its place on the display (stimuli/layout.h) becomes: refused,
+// scaled down as a whole (area-averaged) or cropped about its centre.
+enum class SceneFit { refuse, scale, crop };
+
 struct SceneSpec {
   std::string name;
   std::string file;            // absolute path of the OpenEXR image; empty for a generated scene
   double scale_cd_m2 = 1.0;    // multiplies pixel values to give luminance in cd/m2
   std::optional<GeneratedSceneSpec> generated;
+  NegativePixels negative_pixels = NegativePixels::refuse;
+  SceneFit fit = SceneFit::refuse;
   SourceLocation where;
 };
 
 std::string to_string(SceneGenerator generator);
+std::string to_string(NegativePixels negative_pixels);
+std::string to_string(SceneFit fit);
 
 }  // namespace glarelab

@@ -1,5 +1,6 @@
 #include "protocols/adjustment_procedure.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -68,9 +69,19 @@ std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
     plan.condition_name = row.name();
     plan.positions = {"left", "target", "right"};
     plan.scenes = {*comparison, *target, *comparison};
+    // Start values log-uniform within +-start_range_log10 of the target, but never above the display's
+    // peak: a spot drawn brighter than the display can show starts clipped, and the first steps
+    // down change nothing the observer can see. The range is then [target - r, peak] in log10.
+    const double above_log10 = std::min(spec.start_range_log10,
+                                        std::max(-spec.start_range_log10,
+                                                 std::log10(experiment.display.peak_luminance_cd_m2 / target_cd_m2)));
     for (std::uint32_t spot = 0; spot < 2; ++spot) {
-      const double u = 2.0 * start_random.uniform(index, spot) - 1.0;
-      plan.adjustment_start_cd_m2.push_back(target_cd_m2 * std::pow(10.0, spec.start_range_log10 * u));
+      const double uniform = start_random.uniform(index, spot);
+      const double u = 2.0 * uniform - 1.0;
+      plan.adjustment_start_cd_m2.push_back(
+          above_log10 >= spec.start_range_log10
+              ? target_cd_m2 * std::pow(10.0, spec.start_range_log10 * u)
+              : target_cd_m2 * std::pow(10.0, -spec.start_range_log10 + (spec.start_range_log10 + above_log10) * uniform));
     }
     const double left = plan.adjustment_start_cd_m2[0];
     const double right = plan.adjustment_start_cd_m2[1];

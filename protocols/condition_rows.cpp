@@ -212,4 +212,17 @@ void check_condition_scenes(const ConditionSource& conditions, const Experiment&
   else check_scene_columns(conditions.rows, experiment, conditions.csv, {"reference", "comparison"});
 }
 
+ConfigError at_value_cell(const ConfigError& error, const LocatedRow& located) {
+  const SourceLocation& row = located.row.where;
+  if (error.where().file != row.file || error.where().line != row.line || error.where().column != row.column)
+    return error;
+  const std::string& key = error.key();
+  for (std::size_t f = 0; f < located.row.fields.size() && f < located.value_where.size(); ++f) {
+    const std::string& column = located.row.fields[f].first;
+    if (key == column || (key.size() > column.size() + 1 && key.ends_with(" " + column)))
+      return ConfigError(located.value_where[f], key, error.message());
+  }
+  return error;
+}
+
 }  // namespace glarelab

@@ -45,4 +45,9 @@ ConditionSource generated_conditions(TableReader& top, const GeneratedDesign& ge
 // procedure records under its own name.
 void check_condition_scenes(const ConditionSource& conditions, const Experiment& experiment);
 
+// A ConfigError about one of a row's values that was raised where only the row was known (its
+// first cell): moved to the value's own cell when its key ends with one of the row's columns
+// ("condition 'c' glare_a"), so an editor jumps to the bad cell; any other error as it was.
+ConfigError at_value_cell(const ConfigError& error, const LocatedRow& located);
+
 }  // namespace glarelab

@@ -111,6 +111,9 @@ struct RatingSpec {
   // What the ends of the scale mean, shown in the question: empty, or two texts, for 1 and for
   // scale_points (Luidolt 2020, 7.2.1: "completely different", "exactly the same").
   std::vector<std::string> scale_anchors;
+  // How a category is named in the question when its own name does not read as one ("overall":
+  // "Rate the overall similarity from 1 ..."); the trials and the analysis keep the category.
+  std::map<std::string, std::string> category_labels;
   int repetitions = 1;
 };
 
@@ -163,6 +166,7 @@ struct Experiment {
   std::uint64_t seed = 1;
   DisplaySpec display;
   SourceLocation stereo_where;  // [display] stereo's value, for refusals that depend on the scenes
+  SourceLocation stimulus_gap_where;  // [display] stimulus_gap_deg's value (or the table), likewise
   std::map<std::string, SceneSpec> scenes;
   std::string procedure = "forced_choice";
   ForcedChoiceSpec forced_choice;

@@ -22,6 +22,7 @@
 #include "protocols/observer_optics_config.h"
 #include "protocols/pair_design.h"
 #include "protocols/rating_procedure.h"
+#include "protocols/scene_file_config.h"
 #include "core/real_stimulus.h"
 #include "core/text_limits.h"
 #include "protocols/stimulus_duration.h"
@@ -212,6 +213,9 @@ void read_display_section(TableReader& top, Experiment& experiment, const std::s
       reader.fail("bits_per_channel", "must be 8, 10 or 16 (half float), found " + number_text(*bits));
     display.bits_per_channel = static_cast<int>(*bits);
   }
+  // The background between side-by-side stimuli; a gap that leaves no column is refused with the scenes.
+  display.stimulus_gap_deg = reader.number_in_range("stimulus_gap_deg", display.stimulus_gap_deg, 0.0, 90.0, "deg");
+  experiment.stimulus_gap_where = reader.value_location("stimulus_gap_deg");
   display.monitor = read_int(reader, "monitor", display.monitor, 0, kMaxMonitorIndex);
   display.fullscreen = reader.boolean("fullscreen").value_or(display.fullscreen);
   read_display_stereo(reader, experiment);
@@ -249,6 +253,7 @@ void read_scenes_section(TableReader& top, Experiment& experiment, const std::st
     if (file->empty()) reader.fail("file", "must not be empty");
     scene.file = resolve_path(base_dir, *file);
     scene.scale_cd_m2 = reader.number_in_range("scale_cd_m2", scene.scale_cd_m2, kMinSceneScale, kMaxSceneScale);
+    read_scene_file_options(reader, scene);
     reader.report_unused();
     experiment.scenes.emplace(name, std::move(scene));
   }
@@ -447,14 +452,18 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
 
   check_condition_scenes(conditions, experiment);
   for (LocatedRow& located : conditions.rows) {
-    glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here
-    glare_model_for(experiment.glare, located.row);  // so do an unknown 'glare_model' and a bad 'glare_gain'
-    glare_gain_for(located.row);
-    perception_for(experiment.perception, located.row);  // and an unknown stage in 'perception'
-    spectacles_for(experiment.observer_optics, located.row);  // and spectacles no table describes
-    if (position_glare_modes(located.row) && experiment.procedure != "forced_choice")
-      throw ConfigError(located.row.where, "condition '" + located.row.name() + "' glare_a",
-                        "a glare mode per side (glare_a, glare_b) is for forced choice only");
+    try {  // each refusal at the bad value's own cell (at_value_cell)
+      glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here
+      glare_model_for(experiment.glare, located.row);  // so do an unknown 'glare_model' and a bad 'glare_gain'
+      glare_gain_for(located.row);
+      perception_for(experiment.perception, located.row);  // and an unknown stage in 'perception'
+      spectacles_for(experiment.observer_optics, located.row);  // and spectacles no table describes
+      if (position_glare_modes(located.row) && experiment.procedure != "forced_choice")
+        throw ConfigError(located.row.where, "condition '" + located.row.name() + "' glare_a",
+                          "a glare mode per side (glare_a, glare_b) is for forced choice only");
+    } catch (const ConfigError& error) {
+      throw at_value_cell(error, located);
+    }
     experiment.conditions.push_back(std::move(located.row));
   }
   if (experiment.procedure == "staircase" || experiment.procedure == "quest" || experiment.procedure == "quest_plus" ||

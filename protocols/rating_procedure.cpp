@@ -26,6 +26,19 @@ void read_rating_procedure(TableReader& procedure, Experiment& experiment) {
     spec.scale_points = static_cast<int>(*points);
   }
   spec.repetitions = procedure.repetitions("repetitions", spec.repetitions);
+  if (const toml::table* labels = procedure.table("category_labels")) {
+    for (const auto& [key, value] : *labels) {
+      const std::string category(key.str());
+      if (std::find(spec.categories.begin(), spec.categories.end(), category) == spec.categories.end())
+        throw ConfigError(to_location(key.source(), procedure.file()), procedure.key_path("category_labels") + "." + category,
+                          "not one of the categories");
+      const std::string* text = value.is_string() ? &value.as_string()->get() : nullptr;
+      if (text == nullptr || text->empty())
+        throw ConfigError(to_location(value.source(), procedure.file()), procedure.key_path("category_labels") + "." + category,
+                          "expected the category's name in the question, a non-empty string");
+      spec.category_labels[category] = *text;
+    }
+  }
   if (const toml::array* anchors = procedure.array("scale_anchors")) {
     if (anchors->size() != 2)
       procedure.fail("scale_anchors", "expected two texts, what 1 and what " + std::to_string(spec.scale_points) +
@@ -41,7 +54,9 @@ void read_rating_procedure(TableReader& procedure, Experiment& experiment) {
   }
 }
 
-std::string rating_question(const RatingSpec& spec, const std::string& category) {
+std::string rating_question(const RatingSpec& spec, const std::string& category_name) {
+  const auto label = spec.category_labels.find(category_name);
+  const std::string& category = label == spec.category_labels.end() ? category_name : label->second;
   const std::string top = std::to_string(spec.scale_points);
   if (spec.scale_anchors.empty()) return "Rate the " + category + " from 1 to " + top;
   return "Rate the " + category + " from 1 (" + spec.scale_anchors[0] + ") to " + top + " (" + spec.scale_anchors[1] +

@@ -13,6 +13,7 @@
 #include "protocols/block_config.h"
 #include "protocols/experiment.h"
 #include "protocols/generated_scene_config.h"
+#include "protocols/scene_file_config.h"
 #include "protocols/observer_optics_config.h"
 
 namespace glarelab {
@@ -149,6 +150,29 @@ const char* display_encoding_name(DisplayEncoding encoding) {
   }
   return "srgb";
 }
+
+// [procedure] of a rating: anchors and labels only when given, so configurations stored before
+// they existed read back unchanged.
+toml::table rating_procedure_toml(const RatingSpec& rating) {
+  toml::array categories;
+  for (const std::string& category : rating.categories) categories.push_back(category);
+  toml::table procedure{{"type", "rating"},
+                        {"categories", std::move(categories)},
+                        {"scale_points", rating.scale_points},
+                        {"repetitions", rating.repetitions}};
+  if (!rating.scale_anchors.empty()) {
+    toml::array anchors;
+    for (const std::string& anchor : rating.scale_anchors) anchors.push_back(anchor);
+    procedure.insert("scale_anchors", std::move(anchors));
+  }
+  if (!rating.category_labels.empty()) {
+    toml::table labels;
+    for (const auto& [category, label] : rating.category_labels) labels.insert(category, label);
+    procedure.insert("category_labels", std::move(labels));
+  }
+  return procedure;
+}
+
 }  // namespace
 
 std::string resolved_config_toml(const Experiment& experiment) {
@@ -175,7 +199,8 @@ std::string resolved_config_toml(const Experiment& experiment) {
                             {"encoding", display_encoding_name(display.encoding)},
                             {"gamma", display.gamma},
                             {"monitor", display.monitor},
-                            {"fullscreen", display.fullscreen}};
+                            {"fullscreen", display.fullscreen},
+                            {"stimulus_gap_deg", display.stimulus_gap_deg}};
   // The encoding's own keys only with that encoding: elsewhere they are refused on reading.
   if (display.encoding == DisplayEncoding::pq)
     display_table.insert("primaries", display.primaries == DisplayPrimaries::bt2020 ? "bt2020" : "rec709");
@@ -188,7 +213,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
   out << "[scenes]\n";
   for (const auto& [name, scene] : experiment.scenes) {
     toml::table entry = scene.generated ? generated_scene_toml(*scene.generated)
-                                        : toml::table{{"file", scene.file}, {"scale_cd_m2", scene.scale_cd_m2}};
+                                        : scene_file_toml(scene);
     entry.is_inline(true);
     out << toml_key(name) << " = " << entry << "\n";
   }
@@ -199,18 +224,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
   for (const std::string& response : spec.responses) responses.push_back(response);
   toml::table procedure;
   if (experiment.procedure == "rating") {
-    toml::array categories;
-    for (const std::string& category : experiment.rating.categories) categories.push_back(category);
-    procedure = toml::table{{"type", experiment.procedure},
-                            {"categories", std::move(categories)},
-                            {"scale_points", experiment.rating.scale_points},
-                            {"repetitions", experiment.rating.repetitions}};
-    // Only when given: configurations stored before anchors existed read back unchanged.
-    if (!experiment.rating.scale_anchors.empty()) {
-      toml::array anchors;
-      for (const std::string& anchor : experiment.rating.scale_anchors) anchors.push_back(anchor);
-      procedure.insert("scale_anchors", std::move(anchors));
-    }
+    procedure = rating_procedure_toml(experiment.rating);
   } else if (experiment.procedure == "adjustment") {
     const AdjustmentSpec& adjustment = experiment.adjustment;
     procedure = toml::table{{"type", experiment.procedure},

@@ -1,6 +1,7 @@
 // glarelab: psychophysics experiment runner and stimulus presenter for glare studies.
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <iostream>
 #include <string>
 #include <utility>
@@ -11,6 +12,9 @@
 #include "core/software_version.h"
 
 int main(int argc, char** argv) {
+  // Line-buffered stdout even into a pipe or a file: a long run's lines arrive as they are
+  // written, not in one block at the end (std::cout writes through stdio, synchronised).
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   // Everything printed from here on has its control characters escaped (runner/cli/terminal_stream.h).
   static glarelab::cli::TerminalTextGuard terminal_text;
   CLI::App app{"glarelab: psychophysics experiments with HDR stimuli and glare"};

@@ -7,10 +7,14 @@
 
 namespace glarelab {
 
-// `count` images of the given sizes side by side: the screen is split into equal columns and each
-// image is centred in its column. An image larger than its column is centred and cropped by the
-// column (the returned rect may extend past the column; the renderer clips it with a scissor).
+// `count` images of the given sizes side by side: the screen's width less (count - 1) gaps of
+// `gap_px` is split into equal columns (integer edges, column i starting at
+// i (W - (n - 1) g) / n + i g), each as tall as the screen, and each image is centred in its
+// column. An image larger than its column is centred and cropped by the column (the returned rect
+// may extend past the column; the renderer clips it with a scissor); sessions refuse, scale or crop
+// such scenes before (runner/session/scene_places.h), so that nothing is cut silently.
 std::vector<PixelRect> side_by_side_layout(int screen_width_px, int screen_height_px,
-                                           const std::vector<PixelRect>& image_sizes, std::vector<PixelRect>* columns);
+                                           const std::vector<PixelRect>& image_sizes, std::vector<PixelRect>* columns,
+                                           int gap_px = 0);
 
 }  // namespace glarelab

@@ -34,12 +34,12 @@ std::uint64_t eye_seed(std::uint64_t session_seed, int tracker_eye) {
 }
 
 std::vector<PixelRect> stereo_layout(const std::vector<EyeView>& views, const std::vector<PixelRect>& image_sizes,
-                                     std::vector<PixelRect>* columns) {
+                                     std::vector<PixelRect>* columns, int gap_px) {
   std::vector<PixelRect> placed;
   for (const EyeView& view : views) {
     std::vector<PixelRect> view_columns;
     const std::vector<PixelRect> rects =
-        side_by_side_layout(view.viewport.width_px, view.viewport.height_px, image_sizes, &view_columns);
+        side_by_side_layout(view.viewport.width_px, view.viewport.height_px, image_sizes, &view_columns, gap_px);
     for (std::size_t i = 0; i < rects.size(); ++i) {
       PixelRect rect = rects[i], column = view_columns[i];
       rect.x_px += view.viewport.x_px, rect.y_px += view.viewport.y_px;
@@ -56,7 +56,7 @@ std::string stereo_misfit(const DisplaySpec& display, const std::vector<PixelRec
   if (display.stereo == StereoMode::none || image_sizes.empty()) return {};
   const EyeView view = stereo_eye_views(display).front();
   std::vector<PixelRect> columns;
-  side_by_side_layout(view.viewport.width_px, view.viewport.height_px, image_sizes, &columns);
+  side_by_side_layout(view.viewport.width_px, view.viewport.height_px, image_sizes, &columns, stimulus_gap_px(display));
   for (std::size_t i = 0; i < image_sizes.size(); ++i) {
     const PixelRect& size = image_sizes[i];
     if (size.width_px <= columns[i].width_px && size.height_px <= columns[i].height_px) continue;

@@ -36,9 +36,10 @@ std::uint64_t eye_seed(std::uint64_t session_seed, int tracker_eye);
 
 // The images of one trial laid out for each eye as side_by_side_layout lays them out on a mono
 // display of the view's size, moved into the view: the left eye's rects first, then the right
-// eye's (2 x image_sizes). `columns` gets each rect's column, inside its view.
+// eye's (2 x image_sizes). `columns` gets each rect's column, inside its view; `gap_px` is the
+// background between columns (core/display_spec.h, stimulus_gap_px).
 std::vector<PixelRect> stereo_layout(const std::vector<EyeView>& views, const std::vector<PixelRect>& image_sizes,
-                                     std::vector<PixelRect>* columns);
+                                     std::vector<PixelRect>* columns, int gap_px = 0);
 
 // Why `image_sizes` side by side do not fit an eye's view (an image wider or taller than its
 // column there, which the other eye would otherwise lose to cropping), or empty when they fit.

@@ -146,7 +146,7 @@ TEST(RunCommand, StopAndResumeEqualsAnUninterruptedRun) {
   EXPECT_EQ(comparable_trials(full, 1), comparable_trials(cut, 1));
   // A completed session cannot be resumed again.
   const auto again = run_glarelab(args({"--db", (dir / "cut.db").string(), "--resume", "1"}), dir);
-  EXPECT_EQ(again.exit_code, 4) << again.output;
+  EXPECT_EQ(again.exit_code, 2) << again.output;
   EXPECT_NE(again.output.find("already completed"), std::string::npos) << again.output;
 }
 

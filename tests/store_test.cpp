@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "runner/store/result_store.h"
+#include "tests/raw_db.h"
 #include "tests/scratch_dir.h"
 
 namespace glarelab {
@@ -18,53 +19,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// A second, independent connection for checking what ResultStore wrote.
-class RawDb {
- public:
-  explicit RawDb(const std::string& path, bool create = false) {
-    const int flags = SQLITE_OPEN_READWRITE | (create ? SQLITE_OPEN_CREATE : 0);
-    if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
-      ADD_FAILURE() << "cannot open " << path << ": " << sqlite3_errmsg(db_);
-    }
-  }
-  ~RawDb() { sqlite3_close_v2(db_); }
-  RawDb(const RawDb&) = delete;
-  RawDb& operator=(const RawDb&) = delete;
-
-  // All rows of a query, each column as text ("NULL" for SQL NULL).
-  std::vector<std::vector<std::string>> rows(const std::string& sql) const {
-    sqlite3_stmt* statement = nullptr;
-    std::vector<std::vector<std::string>> result;
-    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &statement, nullptr) != SQLITE_OK) {
-      ADD_FAILURE() << sql << ": " << sqlite3_errmsg(db_);
-      return result;
-    }
-    while (sqlite3_step(statement) == SQLITE_ROW) {
-      std::vector<std::string> row;
-      for (int c = 0; c < sqlite3_column_count(statement); ++c) {
-        const auto* text = sqlite3_column_text(statement, c);
-        row.push_back(text != nullptr ? reinterpret_cast<const char*>(text) : "NULL");
-      }
-      result.push_back(row);
-    }
-    sqlite3_finalize(statement);
-    return result;
-  }
-  std::string value(const std::string& sql) const {
-    const auto result = rows(sql);
-    return result.empty() || result[0].empty() ? std::string("<no row>") : result[0][0];
-  }
-  void exec(const std::string& sql) {
-    char* message = nullptr;
-    if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
-      ADD_FAILURE() << sql << ": " << (message != nullptr ? message : "");
-    }
-    sqlite3_free(message);
-  }
-
- private:
-  sqlite3* db_ = nullptr;
-};
+using test::RawDb;
 
 std::vector<std::string> column_names(const RawDb& db, const std::string& table) {
   std::vector<std::string> names;
@@ -158,11 +113,11 @@ TEST(Store, SchemaVersionAndContractColumns) {
   const std::string path = dir.file("nested/results/glarelab.db");
   {
     ResultStore store(path);
-    EXPECT_EQ(store.schema_version(), 4);
+    EXPECT_EQ(store.schema_version(), 5);
     EXPECT_EQ(store.path(), path);
   }
   RawDb db(path);
-  EXPECT_EQ(db.value("PRAGMA user_version"), "4");
+  EXPECT_EQ(db.value("PRAGMA user_version"), "5");
   EXPECT_THAT(column_names(db, "adjustments"), ::testing::ElementsAre("trial_id", "spot", "value_cd_m2"));
   EXPECT_THAT(column_names(db, "sessions"),
               ::testing::IsSupersetOf({"id", "experiment", "participant", "seed", "started_utc", "finished_utc",
@@ -339,7 +294,7 @@ TEST(Store, VersionTwoDatabaseGainsGazeAgeAndKeepsItsFrames) {
     db.exec("ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 2;");
   }
   ResultStore store(path);
-  EXPECT_EQ(store.schema_version(), 4);
+  EXPECT_EQ(store.schema_version(), 5);
   const auto trials = store.load_trials(session_id);
   ASSERT_EQ(trials.size(), 1u);
   const auto old_frames = store.load_frames(trials[0].id);
@@ -360,15 +315,15 @@ TEST(Store, NewerSchemaIsRefused) {
   const std::string path = dir.file("future.db");
   {
     RawDb db(path, true);
-    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 5;");
+    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 6;");
   }
   try {
     ResultStore store(path);
     FAIL() << "a database from a newer glarelab was opened";
   } catch (const StoreError& error) {
-    EXPECT_EQ(std::string(error.what()), path + ": schema version 5 is newer than this glarelab (4)");
+    EXPECT_EQ(std::string(error.what()), path + ": schema version 6 is newer than this glarelab (5)");
   }
-  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "5");
+  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "6");
 }
 
 TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
@@ -386,7 +341,7 @@ TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
     db.exec("DROP TABLE adjustments; ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 1;");
   }
   ResultStore store(path);
-  EXPECT_EQ(store.schema_version(), 4);
+  EXPECT_EQ(store.schema_version(), 5);
   ASSERT_EQ(store.load_trials(session_id).size(), 1u);
   TrialRecord adjustment = full_trial(session_id, 1);
   adjustment.procedure = "adjustment";

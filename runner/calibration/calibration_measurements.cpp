@@ -19,9 +19,11 @@ std::string round_trip_text(double value) {
   return std::string(buffer, end);
 }
 
-std::string where(const PatchReading& reading, const std::string& file) {
+// Which reading of the file it is: the caller's ConfigError already gives its file:line:column, so
+// the location is not repeated here. Typed readings (line 0) have neither.
+std::string where(const std::vector<PatchReading>& readings, const PatchReading& reading) {
   if (reading.line == 0) return "";
-  return " (" + SourceLocation{file, reading.line, reading.column}.to_string() + ")";
+  return " (reading " + std::to_string(&reading - readings.data() + 1) + " of " + std::to_string(readings.size()) + ")";
 }
 
 }  // namespace
@@ -56,7 +58,7 @@ std::vector<PatchReading> read_measurements_file(const std::string& path) {
 }
 
 std::optional<ReadingProblem> check_readings(const CalibrationPlan& plan, const std::vector<PatchReading>& readings,
-                                             const std::string& file) {
+                                             const std::string& /*file: named by the caller's ConfigError*/) {
   if (readings.size() != plan.patches.size())
     return ReadingProblem{0, "expected " + std::to_string(plan.patches.size()) + " luminances (" +
                                  std::to_string(plan.levels) +
@@ -64,7 +66,7 @@ std::optional<ReadingProblem> check_readings(const CalibrationPlan& plan, const 
                                  std::to_string(readings.size())};
   for (std::size_t i = 0; i < readings.size(); ++i) {
     if (readings[i].luminance_cd_m2 < 0.0)
-      return ReadingProblem{i, plan.describe(plan.patches[i]) + where(readings[i], file) + ": negative luminance " +
+      return ReadingProblem{i, plan.describe(plan.patches[i]) + where(readings, readings[i]) + ": negative luminance " +
                                    number_text(readings[i].luminance_cd_m2) + " cd/m2"};
   }
   for (PatchChannel channel : kPatchChannels) {
@@ -76,7 +78,7 @@ std::optional<ReadingProblem> check_readings(const CalibrationPlan& plan, const 
       // a reading taken before the display settled, or a photometer at its noise floor.
       if (now.luminance_cd_m2 < before.luminance_cd_m2)
         return ReadingProblem{first + static_cast<std::size_t>(level),
-                              plan.describe(plan.patches[first + static_cast<std::size_t>(level)]) + where(now, file) +
+                              plan.describe(plan.patches[first + static_cast<std::size_t>(level)]) + where(readings, now) +
                                   ": " + number_text(now.luminance_cd_m2) + " cd/m2 is less than the " +
                                   number_text(before.luminance_cd_m2) +
                                   " cd/m2 of the level below: the luminance must not fall as the drive rises"};
@@ -85,7 +87,7 @@ std::optional<ReadingProblem> check_readings(const CalibrationPlan& plan, const 
     const PatchReading& full = readings[first + static_cast<std::size_t>(plan.levels) - 1];
     if (!(full.luminance_cd_m2 > black.luminance_cd_m2))
       return ReadingProblem{first + static_cast<std::size_t>(plan.levels) - 1,
-                            std::string(to_string(channel)) + where(full, file) + ": full drive (" +
+                            std::string(to_string(channel)) + where(readings, full) + ": full drive (" +
                                 number_text(full.luminance_cd_m2) + " cd/m2) is not brighter than black (" +
                                 number_text(black.luminance_cd_m2) + " cd/m2)"};
   }

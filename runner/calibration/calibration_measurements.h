@@ -24,10 +24,10 @@ struct PatchReading {
 // number; the count and the shape are checked by check_readings.
 std::vector<PatchReading> read_measurements_file(const std::string& path);
 
-// The first thing wrong with the readings for this plan, as a sentence naming the patch (and the
-// file position when read from a file), or nothing: a count other than one per patch, a negative
+// The first thing wrong with the readings for this plan, as a sentence naming the patch (and,
+// read from a file, which reading of it: the caller's ConfigError gives the file:line:column), or nothing: a count other than one per patch, a negative
 // value, a luminance that falls as the drive rises within a channel, or a channel whose full drive
-// is not brighter than its black (the table could not be inverted). `file` names the source.
+// is not brighter than its black (the table could not be inverted). `file` is not repeated in the message.
 struct ReadingProblem {
   std::size_t patch_index = 0;  // the patch to measure again (0 for a wrong count)
   std::string message;

@@ -22,6 +22,7 @@
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
 #include "runner/session/session_runner.h"
+#include "stimuli/scene_library.h"
 
 namespace glarelab::cli {
 namespace {
@@ -126,10 +127,14 @@ int render(const RenderOptions& options) {
     // Beside --out, then renamed into place: a preview stopped mid-write leaves no half an image.
     write_through_temporary(options.out, [&](const std::string& temporary) { write_png_encoded(temporary, encoded); });
   } else {
-    write_through_temporary(options.out, [&](const std::string& temporary) { write_exr(temporary, frame.stimulus_cd_m2); });
+    // Loadable as a scene with no option (stimuli/scene_library.h: the glare's round-off below 0 set to 0).
+    ImageRGBA linear = frame.stimulus_cd_m2;
+    zero_round_off_negatives(linear);
+    write_through_temporary(options.out, [&](const std::string& temporary) { write_exr(temporary, linear); });
   }
   std::cout << "render: condition '" << options.condition << "', " << describe(frame) << " -> " << options.out << " ("
             << frame.stimulus_cd_m2.width_px << "x" << frame.stimulus_cd_m2.height_px << ")\n";
+  for (const std::string& note : result.scene_notes) std::cout << "  note: " << note << "\n";
   return 0;
 }
 

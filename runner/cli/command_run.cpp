@@ -5,6 +5,7 @@
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
 #include "runner/session/session_runner.h"
+#include "runner/session/status_line.h"
 #include "runner/store/result_store.h"
 
 namespace glarelab::cli {
@@ -78,7 +79,14 @@ Action add_run_command(CLI::App& app) {
     if (resume_option->count() > 0) options->resume_session_id = *resume;
     if (stop_option->count() > 0) options->stop_after_trials = *stop_after;
     return report_errors([&]() {
-      const RunResult result = run_session(*options, std::cout);
+      RunResult result;
+      {
+        // The status line until the session ends (cleared then), the session's lines above it.
+        StatusLine status(std::cout, StatusLine::stdout_is_terminal());
+        options->status = &status;
+        result = run_session(*options, status.stream());
+        options->status = nullptr;
+      }
       const ResultStore store(result.db_path);
       std::cout << summarise_session(store, result.session_id).describe(result.db_path);
       if (!result.tracker_summary.empty()) std::cout << "  " << result.tracker_summary << "\n";

@@ -6,6 +6,7 @@
 #include "runner/cli/commands.h"
 #include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/scene_places.h"
 #include "runner/session/session_eyes.h"
 #include "stimuli/scene_library.h"
 
@@ -18,7 +19,8 @@ Action add_validate_command(CLI::App& app) {
   return [=]() {
     return report_errors([&]() {
       const Experiment experiment = load_experiment(*path);
-      const SceneLibrary scenes(experiment.scenes, experiment.display);
+      SceneLibrary scenes(experiment.scenes, experiment.display);
+      fit_scenes_to_places(experiment, scenes, /*refuse_misfits=*/true);
       const auto procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
       // The refusals a session makes for the observer's refraction (the [glare] grid must sample
       // every condition's residual), made here too so a file that validates also runs.
@@ -33,6 +35,7 @@ Action add_validate_command(CLI::App& app) {
         std::cout << "  scene " << name << ": " << scene.image_cd_m2.width_px << "x" << scene.image_cd_m2.height_px
                   << " px, peak " << scene.peak_cd_m2 << " cd/m2, mean " << scene.mean_cd_m2 << " cd/m2\n";
       }
+      for (const std::string& note : scene_load_notes(scenes)) std::cout << "  note: " << note << "\n";
       // Conditions that show a physical object (core/real_stimulus.h): nothing to load for them.
       for (const ConditionRow& row : experiment.conditions)
         if (const std::string* scene = row.find("scene"); scene != nullptr && is_real_stimulus(*scene))

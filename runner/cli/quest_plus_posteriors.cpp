@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "runner/session/scene_places.h"
 #include "runner/session/session_setup.h"
 #include "stimuli/scene_library.h"
 
@@ -56,7 +57,8 @@ ReplayedSession replay_stored_session(const analysis::LoadedSession& session) {
   start.experiment =
       parse_experiment_text(session.record.config, "<session " + std::to_string(session.record.id) + " config>", "/");
   for (const analysis::LoadedTrial& trial : session.trials) start.done_trials.push_back(trial.record);
-  const SceneLibrary scenes(start.experiment.scenes, start.experiment.display);
+  SceneLibrary scenes(start.experiment.scenes, start.experiment.display);
+  fit_scenes_to_places(start.experiment, scenes, /*refuse_misfits=*/false);  // the peaks the session's procedure was made with
   ReplayedSession replayed;
   replayed.procedure = make_procedure(start.experiment, scenes.peak_luminances_cd_m2());
   replay_done_trials(*replayed.procedure, start);

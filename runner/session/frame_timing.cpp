@@ -3,8 +3,28 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 namespace glarelab {
+
+const char* late_onset_cause_name(int cause) {
+  switch (cause) {
+    case 0: return "glare preparation";
+    case 1: return "perception stages";
+    case 2: return "drawing";
+    default: return "host stall";
+  }
+}
+
+void FrameTimingMonitor::add_work(FlipWork kind, double seconds) { work_s_[static_cast<int>(kind)] += seconds; }
+
+// Every flip: its interval kept for the median, the work since the previous one forgotten.
+void FrameTimingMonitor::flipped(double flip_s) {
+  if (has_previous_) intervals_s_.push_back(flip_s - previous_flip_s_);
+  has_previous_ = true;
+  previous_flip_s_ = flip_s;
+  for (double& work : work_s_) work = 0.0;
+}
 
 bool FrameTimingMonitor::on_flip(double flip_s, int trial_index, int frame_index) {
   bool late = false;
@@ -18,14 +38,21 @@ bool FrameTimingMonitor::on_flip(double flip_s, int trial_index, int frame_index
         ++onsets_;
         jitter_sum_s_ += jitter_s;
         jitter_max_s_ = std::max(jitter_max_s_, jitter_s);
+        if (interval_s > 1.5 * period_s_) {
+          // The kind of work that took longest since the previous flip, if it covers half the delay.
+          int cause = 0;
+          for (int kind = 1; kind < 3; ++kind)
+            if (work_s_[kind] > work_s_[cause]) cause = kind;
+          if (!(work_s_[cause] >= 0.5 * (interval_s - period_s_))) cause = kLateOnsetCauses - 1;
+          ++late_onsets_by_cause_[cause];
+        }
       } else if (interval_s > 1.5 * period_s_) {
         late = true;
         dropped_.push_back({trial_index, frame_index, interval_s});
       }
     }
   }
-  has_previous_ = true;
-  previous_flip_s_ = flip_s;
+  flipped(flip_s);
   return late;
 }
 
@@ -35,8 +62,7 @@ std::optional<double> FrameTimingMonitor::on_timed_flip(double flip_s) {
     late = flip_s - previous_flip_s_;
     ++timed_flips_late_;
   }
-  has_previous_ = true;
-  previous_flip_s_ = flip_s;
+  flipped(flip_s);
   return late;
 }
 
@@ -48,6 +74,16 @@ FrameTimingSummary FrameTimingMonitor::summary() const {
   s.onsets = onsets_;
   s.onset_jitter_mean_ms = onsets_ > 0 ? 1000.0 * jitter_sum_s_ / onsets_ : 0.0;
   s.onset_jitter_max_ms = 1000.0 * jitter_max_s_;
+  for (int cause = 0; cause < kLateOnsetCauses; ++cause) {
+    s.late_onsets_by_cause[cause] = late_onsets_by_cause_[cause];
+    s.late_onsets += late_onsets_by_cause_[cause];
+  }
+  if (!intervals_s_.empty()) {
+    std::vector<double> sorted = intervals_s_;
+    const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+    std::nth_element(sorted.begin(), middle, sorted.end());
+    s.flip_interval_median_ms = 1000.0 * *middle;
+  }
   return s;
 }
 
@@ -59,6 +95,18 @@ std::string FrameTimingSummary::describe() const {
                 onset_jitter_mean_ms, onset_jitter_max_ms);
   std::string line = text;
   if (timed_flips_late > 0) line += "; late flips of other timed phases " + std::to_string(timed_flips_late);
+  if (late_onsets > 0) {
+    // What made them late (FlipWork), so a jitter figure comes with its reason.
+    line += "; late onsets " + std::to_string(late_onsets) + " (";
+    bool first = true;
+    for (int cause = 0; cause < kLateOnsetCauses; ++cause) {
+      if (late_onsets_by_cause[cause] == 0) continue;
+      line += (first ? "" : ", ") + std::string(late_onset_cause_name(cause)) + " " +
+              std::to_string(late_onsets_by_cause[cause]);
+      first = false;
+    }
+    line += ")";
+  }
   return line;
 }
 

@@ -16,6 +16,15 @@ struct DroppedFrame {
   double interval_s = 0; // time since the previous flip
 };
 
+// What the session did between a late trial onset and the flip before it, the likely cause of
+// its lateness (FrameTimingSummary::late_onsets_by_cause): computing glare frames, the perception
+// stages (with any glare among them), drawing and encoding the frame, or nothing of the
+// session's own that took long enough: the host held the process (another program, the driver,
+// the compositor, swapping).
+enum class FlipWork { glare_preparation = 0, perception = 1, drawing = 2 };
+inline constexpr int kLateOnsetCauses = 4;  // the three FlipWork kinds and the host stall
+const char* late_onset_cause_name(int cause);
+
 struct FrameTimingSummary {
   std::int64_t frames_shown = 0;   // stimulus flips
   std::int64_t frames_dropped = 0;
@@ -24,6 +33,13 @@ struct FrameTimingSummary {
   // |onset interval - one refresh period| over the measured onsets, in ms.
   double onset_jitter_mean_ms = 0.0;
   double onset_jitter_max_ms = 0.0;
+  // Onsets more than 1.5 periods after the flip before them, by likely cause (FlipWork order,
+  // then host stall).
+  int late_onsets = 0;
+  int late_onsets_by_cause[kLateOnsetCauses] = {0, 0, 0, 0};
+  // The median interval between successive flips of any kind (0 with fewer than two flips): what
+  // runner/session/refresh_rate_check.h's flip_interval_warning compares with the nominal period.
+  double flip_interval_median_ms = 0.0;
   std::string describe() const;  // one line for the log and the terminal
 };
 
@@ -39,6 +55,10 @@ class FrameTimingMonitor {
   // after the previous one: the interval since that flip; counted in FrameTimingSummary::timed_flips_late,
   // not as stimulus frames.
   std::optional<double> on_timed_flip(double flip_s);
+  // Work the session did since the previous flip (wall-clock seconds), read at the next onset if it
+  // comes late: the kind with most of it is the onset's cause when it covers at least half the
+  // lateness (the interval less one period), else the host stalled.
+  void add_work(FlipWork kind, double seconds);
   const std::vector<DroppedFrame>& dropped() const { return dropped_; }
   FrameTimingSummary summary() const;
   double period_s() const { return period_s_; }
@@ -53,6 +73,10 @@ class FrameTimingMonitor {
   double jitter_sum_s_ = 0.0;
   double jitter_max_s_ = 0.0;
   std::vector<DroppedFrame> dropped_;
+  double work_s_[3] = {0.0, 0.0, 0.0};  // since the previous flip, by FlipWork
+  int late_onsets_by_cause_[kLateOnsetCauses] = {0, 0, 0, 0};
+  std::vector<double> intervals_s_;  // between successive flips, for the median
+  void flipped(double flip_s);
 };
 
 }  // namespace glarelab

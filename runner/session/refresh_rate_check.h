@@ -12,4 +12,15 @@ inline constexpr double kRefreshRateTolerance = 0.01;
 // both rates and what it does to the durations.
 std::string refresh_rate_warning(double experiment_refresh_hz, double display_refresh_hz);
 
+// Relative departure of the measured flip interval from the nominal refresh period above which
+// the flips are said not to follow the refresh.
+inline constexpr double kFlipIntervalTolerance = 0.10;
+
+// Empty when the measured flip interval (timing-test: the mean; a session: the median, which a
+// few long pauses between trials do not move) is within 10 % of 1 / refresh_hz; otherwise a
+// sentence with both intervals and the likely cause: shorter, the buffer swap does not wait for
+// the vertical blank (vsync off, a virtual display such as Xvfb); about n periods for a whole
+// n >= 2, a compositor or a display running at refresh_hz / n; otherwise another refresh rate.
+std::string flip_interval_warning(double refresh_hz, double measured_interval_s);
+
 }  // namespace glarelab

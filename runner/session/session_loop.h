@@ -32,6 +32,8 @@
 
 namespace glarelab {
 
+class StatusLine;
+
 // What one run of a trial collected, committed with it (runner/session/trial_commit.cpp).
 struct TrialRun {
   std::optional<Response> response;  // empty when aborted
@@ -64,6 +66,9 @@ class SessionLoop {
   // Each interval's first stimulus frame (after glare, with overlays; linear cd/m2) written to
   // `directory` as trial_NNNN.exr (a second interval: trial_NNNN_interval_2.exr).
   void save_first_frames_to(const std::string& directory) { save_frames_dir_ = directory; }
+  // The run's status line (runner/session/status_line.h): each trial's start and its glare
+  // preparation are shown on it.
+  void attach_status(StatusLine* status) { status_ = status; }
 
   bool aborted() const { return aborted_; }
   const std::string& abort_reason() const { return abort_reason_; }
@@ -205,6 +210,7 @@ class SessionLoop {
   std::optional<SceneTexture> pause_message_;
   bool fast_forward_ = false;
   std::string save_frames_dir_;
+  StatusLine* status_ = nullptr;
   // What draw() last composed into the stimulus framebuffer (scenes, the glared region's serial or
   // 0 for none, overlays), and the renderer's write count after it: a flip of the same frame only
   // re-encodes.

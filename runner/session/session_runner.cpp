@@ -19,6 +19,8 @@
 #include "runner/session/refresh_rate_check.h"
 #include "runner/session/session_loop.h"
 #include "runner/session/session_setup.h"
+#include "runner/session/status_line.h"
+#include "runner/store/lock_wait.h"
 
 namespace glarelab {
 namespace {
@@ -62,14 +64,18 @@ void announce_session(std::ostream& progress, const RunResult& result, PreparedS
 
 }  // namespace
 
-RunResult run_session(const RunOptions& options, std::ostream& progress) {
+RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   install_interrupt_handlers();
   RunResult result;
 
   // 1. Everything that can be wrong with the input is found before anything is written.
-  SessionStart start = load_session_start(options, progress);
+  if (asked.status) asked.status->set_step("loading the experiment and its scenes");
+  SessionStart start = load_session_start(asked, progress);
+  const RunOptions options = keep_resumed_clock(asked, start);
   result.db_path = start.db_path;
   PreparedSession prepared = prepare_session(std::move(start.experiment), options);
+  result.scene_notes = scene_load_notes(*prepared.scenes);
+  for (const std::string& note : result.scene_notes) progress << "note: " << note << "\n";
   result.trials_in_design = prepared.procedure->planned_trials();
   const int first_trial = static_cast<int>(start.done_trials.size());
   replay_done_trials(*prepared.procedure, start);
@@ -82,6 +88,7 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   check_virtual_clock(options, tracker, device);
 
   // 2. The display (a device failure is reported before a session exists).
+  if (options.status) options.status->set_step("opening the display");
   auto display = create_display(options.display, display_request(prepared.experiment));
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock = make_session_clock(*display, tracker, device, start, options);
@@ -117,6 +124,17 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
   }
   result.session_id = *session_id;
   ResultStore& store = *start.store;
+  // A lock another process holds on the database makes the session wait, never end (lock_wait.h).
+  double announced_wait_s = 0.0;
+  const LockWait lock_wait(store.handle(), [&](double waited_s) {
+    if (waited_s < announced_wait_s) announced_wait_s = 0.0;  // a new wait
+    if (waited_s >= announced_wait_s + 5.0) {
+      announced_wait_s = waited_s;
+      progress << "waiting for the database: another process has held its lock for "
+               << static_cast<int>(waited_s) << " s (the trial waits in memory; Ctrl-C ends the session, keeping its trials)\n";
+    }
+    return !interrupt_requested();
+  });
   // From here on a failure (a GL error mid-run, an observer script that runs out of answers, glare
   // that cannot be computed) ends the session as aborted with its reason, never left running.
   try {
@@ -144,6 +162,8 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     if (device.active()) loop.attach_response_device(&device_input, pause_message);
     if (options.preview) loop.attach_preview(*options.preview);
     if (!options.save_frames_dir.empty()) loop.save_first_frames_to(options.save_frames_dir);
+    loop.attach_status(options.status);
+    if (options.status) options.status->set_step("preparing the first trial");
     const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
     while (calibrated && !prepared.procedure->finished()) {
       if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
@@ -178,6 +198,12 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     const FrameTimingSummary timing = loop.timing_summary();
     store.log_event(result.session_id, clock->now_s(), "frame_timing", timing.describe());
     progress << "Frame timing: " << timing.describe() << "\n";
+    // Flips that do not follow the refresh (no vsync, a compositor, another rate): said, with the cause.
+    const std::string flip_warning = flip_interval_warning(display->refresh_hz(), timing.flip_interval_median_ms / 1000.0);
+    if (!flip_warning.empty()) {
+      std::cerr << "warning: " << flip_warning << "\n";
+      store.log_event(result.session_id, clock->now_s(), "flip_interval", flip_warning);
+    }
     result.frames_shown = timing.frames_shown;
     result.frames_dropped = timing.frames_dropped;
     result.tracker_summary = tracker.finish(clock->now_s());
@@ -185,6 +211,10 @@ RunResult run_session(const RunOptions& options, std::ostream& progress) {
     result.device_summary = device.summary();
     if (!result.device_summary.empty())
       store.log_event(result.session_id, clock->now_s(), "response_device_summary", result.device_summary);
+    if (lock_wait.waits() > 0)
+      store.log_event(result.session_id, clock->now_s(), "database_locked",
+                      std::to_string(lock_wait.waits()) + " write(s) waited for a lock held by another process, the longest " +
+                          std::to_string(lock_wait.longest_wait_s()) + " s; nothing was lost");
     if (loop.aborted()) {
       store.log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
       store.finish_session(result.session_id, "aborted");

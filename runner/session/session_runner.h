@@ -5,6 +5,7 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/errors.h"  // ExitCode: the exit codes of `glarelab run`
 #include "runner/session/response_device_session.h"
@@ -12,6 +13,8 @@
 #include "runner/tracker/tracker_session.h"
 
 namespace glarelab {
+
+class StatusLine;
 
 struct RunOptions {
   std::string experiment_path;
@@ -45,6 +48,8 @@ struct RunOptions {
   std::optional<StimulusPreview> preview;
   TrackerOptions tracker;  // --tracker and the pupil options (runner/tracker/)
   ResponseDeviceOptions response_device;  // --response-device, --buttons (docs/DEVICES.md)
+  // glarelab run's status line (runner/session/status_line.h); null for previews and tests.
+  StatusLine* status = nullptr;
 };
 
 struct RunResult {
@@ -58,6 +63,9 @@ struct RunResult {
   std::string tracker_summary;  // one line, empty without a tracker
   std::string device_summary;   // one line, empty without a response device
   std::optional<PreviewFrame> preview;  // RunOptions::preview: the captured frame
+  // What loading did to the scenes (negative pixels clamped, scenes scaled or cropped to fit their
+  // place), one line each, as the session's `scene_load` events say it.
+  std::vector<std::string> scene_notes;
 };
 
 // Runs (or resumes) a session. Throws ConfigError/ImageError/DisplayError/StoreError; never

@@ -16,6 +16,8 @@
 #include "runner/display/display_info.h"
 #include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/scene_fingerprints.h"
+#include "runner/session/scene_places.h"
 #include "runner/session/slow_flip_clock.h"
 #include "runner/session/session_eyes.h"
 #include "stimuli/glare_stage.h"
@@ -117,9 +119,10 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
     start.resumed = start.store->load_session(*options.resume_session_id);
     if (!start.resumed)
       throw StoreError("SQLite: " + start.db_path + ": no session " + std::to_string(*options.resume_session_id));
+    // Nothing left to run: what was asked is wrong, the database is fine (exit 2, not 4).
     if (start.resumed->status == "completed")
-      throw StoreError("SQLite: " + start.db_path + ": session " + std::to_string(start.resumed->id) +
-                       " is already completed");
+      throw ConfigError({"--resume", 0, 0}, "resume",
+                        "session " + std::to_string(start.resumed->id) + " in " + start.db_path + " is already completed");
     // Another experiment's file names another study: resuming would finish the stored one under
     // the wrong file's name on the command line.
     if (from_file.name != start.resumed->experiment)
@@ -148,6 +151,11 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
       if (start.done_trials[i].trial_index != static_cast<int>(i))
         throw StoreError("SQLite: " + start.db_path + ": session " + std::to_string(start.resumed->id) +
                          " has a gap in its trials at index " + std::to_string(i));
+    for (const std::string& stored : stored_scene_fingerprints(*start.store, start.resumed->id))
+      check_scene_fingerprints(stored, start.experiment.scenes, from_file.scenes, start.resumed->id);
+    // Last of the checks: a session another live process runs is refused; one whose process was
+    // killed is taken over.
+    start.lease = std::make_unique<SessionLease>(*start.store, start.resumed->id);
   } else {
     start.experiment = load_experiment(options.experiment_path);
     if (options.seed) start.experiment.seed = *options.seed;
@@ -188,6 +196,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   prepared.experiment = std::move(experiment);
   prepared.resolved_config = resolved_config_toml(prepared.experiment);
   prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment.scenes, prepared.experiment.display);
+  fit_scenes_to_places(prepared.experiment, *prepared.scenes, /*refuse_misfits=*/false);
   prepared.procedure = make_procedure(prepared.experiment, prepared.scenes->peak_luminances_cd_m2());
   prepared.observer = make_observer(options.observer, prepared.experiment, &prepared.observer_description);
   refuse_rows_the_display_cannot_tell_apart(prepared.experiment, *prepared.scenes);
@@ -250,6 +259,25 @@ DisplayRequest display_request(const Experiment& experiment) {
   return request;
 }
 
+RunOptions keep_resumed_clock(RunOptions options, const SessionStart& start) {
+  if (!start.resumed) return options;
+  // sessions.clock: "monotonic" or "virtual", "+slow-flips" after it in tests of dropped frames.
+  const std::string& stored = start.resumed->clock;
+  const bool stored_virtual = stored.rfind("virtual", 0) == 0;
+  const std::string session = "session " + std::to_string(start.resumed->id);
+  if (stored_virtual && options.display == "window")
+    throw ConfigError({"--display", 0, 0}, "display",
+                      session + " ran offscreen on the virtual clock; a window runs on the real clock, which would "
+                                "break its time line: resume it offscreen");
+  const std::string stored_option = stored_virtual ? "virtual" : "real";
+  if (!options.clock.empty() && options.clock != stored_option)
+    throw ConfigError({"--clock", 0, 0}, "clock",
+                      session + " ran on the " + stored + " clock; its onsets and flips are one time line, so it " +
+                          "resumes on that clock (--clock " + stored_option + ", or no --clock)");
+  options.clock = stored_option;
+  return options;
+}
+
 std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, const TrackerSession& tracker,
                                                  const ResponseDeviceSession& device, const SessionStart& start,
                                                  const RunOptions& options) {
@@ -276,9 +304,12 @@ std::optional<std::int64_t> open_session_row(SessionStart& start, const Prepared
   if (start.resumed) {
     const std::int64_t session_id = start.resumed->id;
     store.reopen_session(start.resumed->id);
+    std::string taken_over;
+    if (start.lease->taken_over_from())
+      taken_over = "; taken over from " + describe(*start.lease->taken_over_from()) + ", which no longer runs";
     store.log_event(session_id, clock.now_s(), "resumed",
                     "resumed at trial " + std::to_string(first_trial) + " of " + std::to_string(trials_in_design) +
-                        " on " + renderer + " (" + options.display + ", " + clock.name() + " clock)");
+                        " on " + renderer + " (" + options.display + ", " + clock.name() + " clock)" + taken_over);
     return session_id;
   }
   SessionRecord session;
@@ -298,6 +329,9 @@ std::optional<std::int64_t> open_session_row(SessionStart& start, const Prepared
       earlier ? store.begin_session_after(session, *earlier) : std::optional<std::int64_t>(store.begin_session(session));
   if (!inserted) return std::nullopt;
   const std::int64_t session_id = *inserted;
+  // Held before anything else is logged; a resume that claimed the new row first (it had to guess
+  // its id within milliseconds) runs it, and this run stops here with the holder named.
+  start.lease = std::make_unique<SessionLease>(store, session_id);
   store.log_event(session_id, 0.0, "display", describe_display_info(display, clock));
   const std::string rounding =
       describe_duration_rounding(prepared.experiment.forced_choice, prepared.experiment.display.refresh_hz);
@@ -307,6 +341,9 @@ std::optional<std::int64_t> open_session_row(SessionStart& start, const Prepared
     store.log_event(session_id, 0.0, "duration_rounding", presentation_rounding);
   store.log_event(session_id, 0.0, "participant_number",
                   std::to_string(start.participant->value) + " (" + start.participant->source + ")");
+  const std::string fingerprints = scene_fingerprints(prepared.experiment.scenes);
+  if (!fingerprints.empty()) store.log_event(session_id, 0.0, "scene_fingerprint", fingerprints);
+  for (const std::string& note : scene_load_notes(*prepared.scenes)) store.log_event(session_id, 0.0, "scene_load", note);
   for (const auto& [name, scene] : prepared.scenes->scenes()) {
     if (scene.peak_cd_m2 > prepared.experiment.display.peak_luminance_cd_m2) {
       store.log_event(session_id, 0.0, "clipping",

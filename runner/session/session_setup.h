@@ -18,6 +18,7 @@
 #include "runner/session/response_device_session.h"
 #include "runner/session/session_runner.h"
 #include "runner/store/result_store.h"
+#include "runner/store/session_lease.h"
 #include "runner/tracker/tracker_session.h"
 #include "stimuli/scene_library.h"
 
@@ -29,6 +30,9 @@ struct SessionStart {
   Experiment experiment;
   std::string db_path;
   std::unique_ptr<ResultStore> store;  // opened here to resume; a new session's opens with its row
+  // This process's hold on the session (after `store`, so released before the store closes): taken
+  // here to resume, with the session row for a new session.
+  std::unique_ptr<SessionLease> lease;
   std::optional<SessionRecord> resumed;
   std::vector<TrialRecord> done_trials;
   std::optional<ParticipantNumber> participant;  // of a new session
@@ -48,6 +52,11 @@ struct PreparedSession {
 // The experiment to run and, when resuming, the session's stored design and trials (checked:
 // not completed, no gap in its trials). Throws ConfigError/StoreError; writes nothing.
 SessionStart load_session_start(const RunOptions& options, std::ostream& progress);
+
+// The options a resumed session runs with: its stored clock (sessions.clock) unless --clock
+// names it already; another clock, or a window for a virtual-clock session, is a ConfigError.
+// A new session's options are returned as they are.
+RunOptions keep_resumed_clock(RunOptions options, const SessionStart& start);
 
 // Scenes, procedure and observer of the experiment, and the checks that tie them to the options.
 PreparedSession prepare_session(Experiment experiment, const RunOptions& options);

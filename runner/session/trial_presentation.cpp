@@ -18,7 +18,7 @@ std::vector<Placement> SessionLoop::layout(const TrialPlan& plan) const {
   std::vector<PixelRect> columns;
   // The scenes in each eye's view as on a display of its size (a mono display's one eye: the
   // whole frame), the first eye's placements first.
-  const auto rects = stereo_layout(glare_.eye_views(), sizes, &columns);
+  const auto rects = stereo_layout(glare_.eye_views(), sizes, &columns, stimulus_gap_px(prepared_.experiment.display));
   std::vector<Placement> placements;
   for (std::size_t r = 0; r < rects.size(); ++r) {
     const std::size_t i = r % plan.scenes.size();

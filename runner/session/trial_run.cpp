@@ -14,12 +14,28 @@
 #include "protocols/observer.h"
 #include "protocols/procedure.h"
 #include "runner/session/session_loop.h"
+#include "runner/session/status_line.h"
 #include "runner/session/trial_schedule.h"
 
 namespace glarelab {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The kind of work an interval's frames are, for the causes of late onsets (frame_timing.h).
+FlipWork work_kind(const IntervalGlare& glare) {
+  return glare.perceived() ? FlipWork::perception : FlipWork::glare_preparation;
+}
+
+}  // namespace
 
 bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   const PresentationSpec& presentation = prepared_.experiment.presentation;
+  if (status_)
+    status_->set_trial(plan.trial_index + 1, prepared_.procedure->planned_trials(),
+                       plan.block_name.empty() ? std::string() : "block '" + plan.block_name + "'");
   const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_);
   TrialRun run;
   fast_forward_ = capture_.preview != nullptr && !capture_.captures(plan);
@@ -105,13 +121,18 @@ bool SessionLoop::begin_intervals(const TrialPlan& plan, const TrialSchedule& sc
       check_interrupt();
       return aborted_;
     };
-    if (glare_.prepared_before_onset(intervals.glare.back()))
+    const auto work_start = std::chrono::steady_clock::now();
+    if (glare_.prepared_before_onset(intervals.glare.back())) {
+      if (status_) status_->set_detail("preparing glare frames");
       glare_.prepare_frames(intervals.glare.back(), interrupted);
-    else if (prepare_in_interval)
+      if (status_) status_->set_detail("");
+    } else if (prepare_in_interval) {
       // A live interval's first frame is computed in the inter-trial interval too (without a
       // tracker a frame is a function of its time): the onset flip, which also composes the
       // scenes, then only draws, and comes on time.
       glare_.compute_frame(intervals.glare.back(), 0);
+    }
+    timing_.add_work(work_kind(intervals.glare.back()), seconds_since(work_start));
     if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
   }
   return true;
@@ -133,7 +154,9 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
     } else if (flip.phase == FlipPhase::interval) {
       IntervalGlare& shown_glare = intervals.glare[static_cast<std::size_t>(flip.interval)];
       // Live: this frame's glare now, with the gaze of this moment (nothing when already there).
+      const auto compute_start = std::chrono::steady_clock::now();
       glare_.compute_frame(shown_glare, flip.frame_in_interval);
+      timing_.add_work(work_kind(shown_glare), seconds_since(compute_start));
       // Until the presentation is settled, each glare flip's drawing is timed (with its GL work
       // finished): with the glare's own cost it is what a live frame takes.
       const bool timed = shown_glare.made == IntervalFrames::glare && shown_glare.frames_needed > 1 &&
@@ -141,6 +164,7 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
       const auto draw_start = std::chrono::steady_clock::now();
       draw(intervals.placements[static_cast<std::size_t>(flip.interval)], shown_glare.shown(flip.frame_in_interval),
            question);
+      timing_.add_work(FlipWork::drawing, seconds_since(draw_start));
       if (timed && !fast_forward_) {
         renderer_.finish();
         shown_glare.frame_draw_s.push_back(
@@ -244,7 +268,10 @@ bool SessionLoop::capture_first_frame(const TrialPlan& plan, int interval) {
     char name[64];
     std::snprintf(name, sizeof name, interval == 0 ? "trial_%04d.exr" : "trial_%04d_interval_%d.exr", plan.trial_index,
                   interval + 1);
-    write_exr((std::filesystem::path(save_frames_dir_) / name).string(), renderer_.read_stimulus());
+    // Written so that it loads as a scene with no option (glare round-off below 0 set to 0).
+    ImageRGBA frame = renderer_.read_stimulus();
+    zero_round_off_negatives(frame);
+    write_exr((std::filesystem::path(save_frames_dir_) / name).string(), frame);
   }
   if (!capture_.captures(plan) || interval != 0 || !capture_.frame) return false;
   capture_.frame->stimulus_cd_m2 = renderer_.read_stimulus();

@@ -121,6 +121,17 @@ DROP TABLE trials;
 ALTER TABLE trials_v4 RENAME TO trials;
 CREATE INDEX trials_session_id ON trials(session_id);
 )sql",
+    // 4 -> 5: the process that runs a session, one at a time (runner/store/session_lease.h).
+    R"sql(
+CREATE TABLE session_owners (
+  session_id INTEGER PRIMARY KEY REFERENCES sessions(id),
+  pid INTEGER NOT NULL,
+  process_start_ticks INTEGER NOT NULL,
+  boot_id TEXT NOT NULL,
+  host TEXT NOT NULL,
+  since_utc TEXT NOT NULL
+);
+)sql",
 };
 static_assert(std::size(kSchemaMigrations) == kResultsSchemaVersion, "one migration per schema version");
 

@@ -12,6 +12,7 @@
 #include "runner/display/display_info.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interrupt.h"
+#include "runner/session/refresh_rate_check.h"
 #include "runner/store/result_store.h"
 
 namespace glarelab {
@@ -130,6 +131,12 @@ TimingTestResult run_timing_test(const TimingTestOptions& options, std::ostream&
   std::string lines = result.figures.describe();
   for (std::size_t at = lines.find("; "); at != std::string::npos; at = lines.find("; ", at)) lines.replace(at, 2, "\n  ");
   out << "  " << lines << "\n";
+  // A mean interval off the refresh: the likely cause named (no vsync, a compositor, another rate).
+  const std::string flip_warning = flip_interval_warning(display->refresh_hz(), result.figures.interval_mean_s);
+  if (!flip_warning.empty()) {
+    out << "warning: " << flip_warning << "\n";
+    store.log_event(result.session_id, end_s, "flip_interval", flip_warning);
+  }
   if (abort_reason) out << "timing-test: stopped after " << records.size() << " frames (" << *abort_reason << ")\n";
   return result;
 }
