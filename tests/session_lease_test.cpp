@@ -32,6 +32,21 @@ struct Finished {
   std::string output;
 };
 
+// The pids of this thread's children (Linux, /proc/self/task/TID/children): which process a test
+// just started, to recognise it when a refusal names it.
+std::set<pid_t> children() {
+  std::ifstream file("/proc/self/task/" + std::to_string(::gettid()) + "/children");
+  std::set<pid_t> pids;
+  for (pid_t pid; file >> pid;) pids.insert(pid);
+  return pids;
+}
+
+pid_t started_since(const std::set<pid_t>& before) {
+  for (const pid_t pid : children())
+    if (!before.count(pid)) return pid;
+  return -1;
+}
+
 // Starts every command at once and waits for all of them.
 std::vector<Finished> run_together(const std::vector<std::vector<std::string>>& commands,
                                    const std::filesystem::path& dir, const std::string& tag) {
@@ -53,21 +68,6 @@ std::vector<Finished> run_together(const std::vector<std::vector<std::string>>& 
     finished.push_back(result);
   }
   return finished;
-}
-
-// The pids of this thread's children (Linux, /proc/self/task/TID/children): which process a test
-// just started, to recognise it when a refusal names it.
-std::set<pid_t> children() {
-  std::ifstream file("/proc/self/task/" + std::to_string(::gettid()) + "/children");
-  std::set<pid_t> pids;
-  for (pid_t pid; file >> pid;) pids.insert(pid);
-  return pids;
-}
-
-pid_t started_since(const std::set<pid_t>& before) {
-  for (const pid_t pid : children())
-    if (!before.count(pid)) return pid;
-  return -1;
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -178,12 +178,13 @@ TEST(SessionLease, ARunAndTwoResumesRacedTwentyTimesLeaveOneOwnerAndEveryTrial) 
     EXPECT_EQ(store.value("SELECT count(*) FROM session_owners"), "0") << "race " << race << ": an owner left behind";
     EXPECT_EQ(store.value("PRAGMA integrity_check"), "ok");
     // The winner says whose session it took over when the run was killed holding it.
-    if (!completed_before && owner_left)
+    if (!completed_before && owner_left) {
       EXPECT_EQ(store.value("SELECT count(*) FROM session_events WHERE kind = 'resumed' AND message LIKE "
                             "'%taken over from process " +
                             std::to_string(run_pid) + " on host%'"),
                 "1")
           << "race " << race;
+    }
   }
   // The races must really have met a live run and raced for killed runs' sessions.
   EXPECT_GE(refused_by_a_live_run, 10);
