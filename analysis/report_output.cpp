@@ -143,6 +143,15 @@ void html_sessions(std::ostringstream& out, const AnalysisReport& report) {
   html_list(out, session_notes);
 }
 
+// Percent correct of the scored forced-choice trials (graded ones too).
+void html_scored(std::ostringstream& out, const AnalysisReport& report) {
+  if (report.forced_choice.scored.empty()) return;
+  out << "<p>Percent correct of the scored trials (the task had a right answer), with Clopper-Pearson 95% intervals:</p>\n";
+  std::vector<std::string> lines;
+  for (const ScoredShare& share : report.forced_choice.scored) lines.push_back(scored_sentence(share));
+  html_list(out, lines);
+}
+
 // Preferences per group and pooled, the paired scales and the section's figures.
 void html_forced_choice(std::ostringstream& out, const AnalysisReport& report) {
   out << "<h2>Forced choice</h2>\n<p>Relative frequency with which each option was chosen over the other with its "
@@ -163,12 +172,7 @@ void html_forced_choice(std::ostringstream& out, const AnalysisReport& report) {
     }
   }
   out << "</table>\n";
-  if (!report.forced_choice.scored.empty()) {
-    out << "<p>Percent correct of the scored trials (the task had a right answer), with Clopper-Pearson 95% intervals:</p>\n";
-    std::vector<std::string> lines;
-    for (const ScoredShare& share : report.forced_choice.scored) lines.push_back(scored_sentence(share));
-    html_list(out, lines);
-  }
+  html_scored(out, report);
   html_list(out, report.forced_choice.notes);
   out << paired_scales_html(report.paired_scales);
   html_figures(out, report, "forced_choice");
@@ -310,7 +314,12 @@ std::string render_html(const AnalysisReport& report) {
   html_head(out, report);
   html_sessions(out, report);
 
-  if (!report.forced_choice.empty()) html_forced_choice(out, report);
+  if (!report.forced_choice.empty()) {
+    html_forced_choice(out, report);
+  } else if (!report.forced_choice.scored.empty()) {
+    out << "<h2>Percent correct</h2>\n";  // every scored trial is graded: no pair table
+    html_scored(out, report);
+  }
 
   if (!report.graded_choice.empty()) {
     out << graded_choice_html(report.graded_choice, report.options.bootstrap_samples);
