@@ -22,8 +22,6 @@ AnalysisReport analyse(LoadedData data, const AnalysisOptions& options) {
   report.staircases = analyse_staircases(report.data, staircase_options);
   PseOptions pse_options;
   pse_options.last_reversals = options.last_reversals;
-  pse_options.bootstrap_samples = options.bootstrap_samples;
-  pse_options.seed = options.seed;
   pse_options.threads = options.threads;
   report.pse = analyse_pse(report.data, pse_options);
   report.adjustments = analyse_adjustments(report.data);

@@ -66,7 +66,12 @@ PairPreference make_preference(const std::string& group, const PairKey& pair, co
     preference.chi_square.unavailable = "no choice between the two: expected counts are zero";
   } else {
     preference.binomial = binomial_test_two_sided(preference.chose_a, decided);
-    preference.chi_square = chi_square_goodness_of_fit({preference.chose_a, preference.chose_b});
+    preference.share_a_interval = clopper_pearson_interval(preference.chose_a, decided);
+    if (decided >= kChiSquareMinimumAnswers) {
+      preference.chi_square = chi_square_goodness_of_fit({preference.chose_a, preference.chose_b});
+    } else {
+      preference.chi_square.unavailable = std::to_string(decided) + " answers: expected counts below 5, the exact binomial test stands";
+    }
   }
   return preference;
 }
@@ -88,10 +93,21 @@ ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data, const std::fu
   std::map<std::pair<std::string, PairKey>, Counts> by_group;
   std::map<std::pair<std::string, PairKey>, Counts> by_pool;
   std::vector<std::string> group_order;
+  std::map<std::string, std::pair<long, long>> scored;  // group -> (correct, trials)
+  std::vector<std::string> scored_order;
   long unusable = 0;
   for (const LoadedSession& session : data.sessions) {
     for (const LoadedTrial& trial : session.trials) {
-      if (trial.record.procedure != "forced_choice" || (skip && skip(trial))) continue;
+      if (trial.record.procedure != "forced_choice") continue;
+      // Percent correct over every scored trial, a graded variable's too (a scored 2-AFC).
+      if (trial.record.correct && (*trial.record.correct == 0 || *trial.record.correct == 1)) {
+        std::string pool;
+        const std::string group = group_of(trial, pool);
+        if (!scored.contains(group)) scored_order.push_back(group);
+        scored[group].first += *trial.record.correct;
+        ++scored[group].second;
+      }
+      if (skip && skip(trial)) continue;
       ++analysis.trials;
       std::vector<std::string> options;
       for (const std::string& position : kPositions) {
@@ -132,6 +148,21 @@ ForcedChoiceAnalysis analyse_forced_choice(const LoadedData& data, const std::fu
       if (key.first == group) analysis.groups.push_back(make_preference(group, key.second, counts));
     }
   }
+  const auto share = [](const std::string& group, long correct, long trials) {
+    ScoredShare result{group, correct, trials, clopper_pearson_interval(correct, trials), binomial_test_two_sided(correct, trials)};
+    return result;
+  };
+  long all_correct = 0, all_trials = 0;
+  // Per group up to kScoredGroupsListed groups (a design whose every row is a group would list
+  // each row), always the total when there is more than one group.
+  constexpr std::size_t kScoredGroupsListed = 8;
+  for (const std::string& group : scored_order) {
+    const auto& [correct, trials] = scored[group];
+    if (scored_order.size() <= kScoredGroupsListed) analysis.scored.push_back(share(group, correct, trials));
+    all_correct += correct;
+    all_trials += trials;
+  }
+  if (scored_order.size() > 1) analysis.scored.push_back(share("all scored trials", all_correct, all_trials));
   for (const auto& [key, counts] : by_pool) analysis.pooled.push_back(make_preference("pooled: " + key.first, key.second, counts));
   if (unusable > 0) {
     analysis.notes.push_back(std::to_string(unusable) +

@@ -1,7 +1,8 @@
 #pragma once
 // Forced-choice preferences (Ritschel et al. 2009, Sec. 6.1 and Fig. 12 left): per scene and
 // instruction (condition keys "scene" and "instruction" when present, else per condition name),
-// how often each option was chosen over each other, with an exact two-sided binomial test and a
+// how often each option was chosen over each other with its Clopper-Pearson 95 % interval, with an
+// exact two-sided binomial test and, from 10 answers (expected counts of 5, Cochran 1954), a
 // Pearson chi-square test against no preference (df = 1), pooled over scenes per instruction as
 // in "dynamic brighter than static, chi2 = 72.2"; with a "neither" answer, its share of all
 // answers (3-way choices).
@@ -26,13 +27,29 @@ struct PairPreference {
   long chose_b = 0;
   long neither = 0;
   TestResult binomial;    // chose_a of chose_a + chose_b against 1/2
-  TestResult chi_square;  // (chose_a, chose_b) against equal counts
+  TestResult chi_square;  // (chose_a, chose_b) against equal counts; not computed below kChiSquareMinimumAnswers
+  ProportionInterval share_a_interval;  // Clopper-Pearson 95 % interval of share_a (0 to 1 without choices)
   double share_a() const;  // chose_a / (chose_a + chose_b); 0 when no choices
   double neither_share() const;  // neither / all answers
 };
 
+// Percent correct of the scored trials (a stored `correct` of 0 or 1: the task had a right answer)
+// of one group, or of all of them: the share with its Clopper-Pearson 95 % interval and the exact
+// two-sided binomial test against chance (1/2 with two options).
+struct ScoredShare {
+  std::string group;  // as PairPreference::group; "all scored trials" for the total
+  long correct = 0;
+  long trials = 0;
+  ProportionInterval interval;
+  TestResult binomial;
+  double percent() const { return trials > 0 ? 100.0 * static_cast<double>(correct) / static_cast<double>(trials) : 0.0; }
+};
+
 struct ForcedChoiceAnalysis {
   std::vector<PairPreference> groups;
+  // Over every scored forced-choice trial, a graded variable's too: per group (up to 8 groups),
+  // then the total when there is more than one group; empty without scored trials.
+  std::vector<ScoredShare> scored;
   std::vector<PairPreference> pooled;  // over scenes, per instruction (or over all conditions)
   std::vector<std::string> notes;
   long trials = 0;

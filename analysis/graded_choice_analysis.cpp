@@ -130,10 +130,13 @@ GradedChoiceAnalysis analyse_graded_choice(const LoadedData& data, const GradedC
   std::vector<std::string> group_order;
   std::map<std::string, std::vector<std::pair<double, bool>>> answers;
   std::map<std::string, long> neither;
+  std::map<std::pair<std::string, std::string>, std::vector<std::pair<double, bool>>> participant_answers;
+  std::vector<std::pair<std::string, std::string>> participant_order;
   long unplaced = 0, not_positive = 0;
   for (const LoadedSession& session : data.sessions) {
     for (const LoadedTrial& trial : session.trials) {
       if (!is_graded_trial(trial, analysis)) continue;
+      if (analysis.sessions.empty() || analysis.sessions.back() != session.label) analysis.sessions.push_back(session.label);
       ++analysis.trials;
       double x = *number_text(*trial.condition_value(analysis.variable));
       if (analysis.log10_axis) {
@@ -152,7 +155,13 @@ GradedChoiceAnalysis analyse_graded_choice(const LoadedData& data, const GradedC
       const std::string group = group_of(trial, glare_b_varies);
       if (std::find(group_order.begin(), group_order.end(), group) == group_order.end()) group_order.push_back(group);
       const std::string& response = trial.record.response;
-      if (response == *b || response == *other) answers[group].emplace_back(x, response == *b);
+      if (response == *b || response == *other) {
+        answers[group].emplace_back(x, response == *b);
+        const std::pair<std::string, std::string> cell{session.record.participant, group};
+        auto& cell_answers = participant_answers[cell];
+        if (cell_answers.empty()) participant_order.push_back(cell);
+        cell_answers.emplace_back(x, response == *b);
+      }
       else if (response == "neither") ++neither[group];
     }
   }
@@ -199,6 +208,15 @@ GradedChoiceAnalysis analyse_graded_choice(const LoadedData& data, const GradedC
     if (group.posterior && baseline.posterior)
       group.shift_interval = pse_shift_credible_interval(*baseline.posterior, *group.posterior);
   });
+  std::vector<ParticipantCell> cells;
+  for (const auto& key : participant_order) {
+    ParticipantCell cell;
+    cell.participant = key.first;
+    cell.group = key.second;
+    cell.levels = levels_from_trials(participant_answers[key]);
+    cells.push_back(std::move(cell));
+  }
+  analysis.within = analyse_within_participants(std::move(cells), group_order, analysis.baseline, options.threads);
   if (analysis.groups.size() >= 2) {
     std::vector<std::vector<StimulusLevel>> levels;
     for (const GradedChoiceGroup& group : analysis.groups) levels.push_back(group.levels);

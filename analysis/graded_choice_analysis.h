@@ -16,6 +16,10 @@
 // when glare_b is not the same in every trial), else one group; the baseline is "control" when a
 // group has that name, else the first group; groups are listed baseline first, then alphabetically.
 //
+// Per participant (the sessions' participant id, over every session and database loaded):
+// psignifit 4 fits per group, and when the groups vary within participants the shifts combined
+// over participants (analysis/within_participant.h).
+//
 // Fit: cumulative normal, no guess and no lapse rate (P runs from 0 to 1 and a one-sided lapse
 // would move the 50 % point), maximum likelihood (analysis/psychometric_fit.h). The PSE's and the
 // shift's 95 % intervals are Bayesian credible intervals on a grid with weak priors
@@ -29,6 +33,7 @@
 #include "analysis/pse_posterior.h"
 #include "analysis/psychometric_fit.h"
 #include "analysis/shared_pse_test.h"
+#include "analysis/within_participant.h"
 
 namespace glarelab::analysis {
 
@@ -50,6 +55,10 @@ struct GradedChoiceAnalysis {
   std::string baseline;    // the group shifts are measured from
   std::vector<GradedChoiceGroup> groups;
   SharedPseTest shared_pse;  // only with two or more groups
+  // The groups above pool every participant; this is the analysis per participant, and of the
+  // group factor within participants when it varies within them (analysis/within_participant.h).
+  WithinParticipantAnalysis within;
+  std::vector<std::string> sessions;  // the labels of the sessions whose trials entered
   std::vector<std::string> notes;
   long trials = 0;
   bool empty() const { return groups.empty(); }

@@ -9,6 +9,7 @@
 
 #include "analysis/statistics.h"
 #include "analysis/svg_plot.h"
+#include "analysis/within_participant_report.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -67,6 +68,9 @@ std::string graded_choice_html(const GradedChoiceAnalysis& analysis, int bootstr
       << bootstrap_samples
       << " samples). Where answers separate perfectly there is no maximum-likelihood fit and the PSE shown is the "
          "posterior median. Answers naming no side are left out of the fit.</p>\n";
+  if (analysis.within.participants.size() > 1)
+    out << "<p>This table pools the answers of " << html_escape(participants_sentence(analysis))
+        << " into one fit per group; the per-participant analysis follows it.</p>\n";
   out << "<table><tr><th>group</th><th>answers</th><th>neither</th><th>PSE</th><th>95% interval</th><th>slope</th>"
          "<th>95% interval</th><th>shift from " << html_escape(analysis.baseline) << "</th><th>95% interval</th></tr>\n";
   for (const GradedChoiceGroup& g : analysis.groups) {
@@ -87,6 +91,7 @@ std::string graded_choice_html(const GradedChoiceAnalysis& analysis, int bootstr
   }
   out << "</table>\n";
   if (analysis.groups.size() >= 2) out << "<p>" << html_escape(test_sentence(analysis)) << "</p>\n";
+  out << within_participant_html(analysis);
   if (!analysis.notes.empty()) {
     out << "<ul>\n";
     for (const std::string& note : analysis.notes) out << "<li>" << html_escape(note) << "</li>\n";
@@ -113,7 +118,7 @@ std::string graded_choice_terminal(const GradedChoiceAnalysis& analysis) {
     text += "\n";
   }
   if (analysis.groups.size() >= 2) text += "  graded choice test: " + test_sentence(analysis) + "\n";
-  return text;
+  return text + within_participant_terminal(analysis);
 }
 
 Figure graded_choice_figure(const GradedChoiceAnalysis& analysis) {

@@ -30,17 +30,6 @@ double glare_gain_of(const LoadedTrial& trial) {
   return number_of(trial, "glare_gain").value_or(1.0);
 }
 
-// The fit's messages speak of correct and incorrect answers; in a PSE fit the "correct" answer is
-// "comparison brighter" and the other "reference brighter".
-std::string in_pse_words(std::string text) {
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"incorrect", "'reference brighter'"},
-                                 std::pair<std::string, std::string>{" correct", " 'comparison brighter'"}}) {
-    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
-      text.replace(at, from.size(), to);
-  }
-  return text;
-}
-
 }  // namespace
 
 bool is_pse_trial(const LoadedTrial& trial) {
@@ -106,24 +95,16 @@ PseAnalysis analyse_pse(const LoadedData& data, const PseOptions& options) {
     }
     levels[t] = levels_from_trials(named);
   }
-  std::vector<PsychometricFit> fits(analysis.tracks.size());
-  parallel_for(analysis.tracks.size(), options.threads, [&](std::size_t t) {
-    PsychometricFitOptions fit_options;
-    fit_options.shape = PsychometricShape::cumulative_normal;
-    fit_options.guess_rate = 0.0;  // P(comparison brighter) runs from 0 to 1
-    fit_options.lapse_max = 0.0;   // a lapse at one end only would move the 50 % point
-    fit_options.bootstrap_samples = options.bootstrap_samples;
-    fit_options.seed = options.seed + t;
-    fits[t] = fit_psychometric(levels[t], fit_options);
-  });
+  std::vector<std::optional<PsignifitPse>> fits(analysis.tracks.size());
+  parallel_for(analysis.tracks.size(), options.threads, [&](std::size_t t) { fits[t] = psignifit_pse(levels[t]); });
   for (std::size_t t = 0; t < analysis.tracks.size(); ++t) {
     PseTrack& track = analysis.tracks[t];
     track.fit = std::move(fits[t]);
-    if (track.fit.ok()) {
-      track.pse_fraction = track.fit.threshold;
-      track.pse_interval = track.fit.threshold_ci;
+    if (track.fit) {
+      track.pse_fraction = track.fit->pse;
+      track.pse_interval = track.fit->credible;
     } else {
-      track.note = "no fit (" + in_pse_words(track.fit.unavailable) + ")";
+      track.note = levels[t].empty() ? "no answer naming a side" : "no fit (one comparison level answered)";
       if (track.reversal_mean_fraction) {
         track.pse_fraction = track.reversal_mean_fraction;
         track.pse_from_reversals = true;

@@ -21,6 +21,38 @@ std::string cell(const std::string& text) { return "<td>" + html_escape(text) + 
 
 }  // namespace
 
+std::pair<double, double> marginal_credible_interval(const MarginalPosterior& m) {
+  double total = 0.0;
+  for (double p : m.probabilities) total += p;
+  const auto at = [&](double fraction) {
+    double cumulative = 0.0;
+    for (std::size_t i = 0; i < m.values.size(); ++i) {
+      cumulative += m.probabilities[i];
+      if (cumulative >= fraction * total) return m.values[i];
+    }
+    return m.values.back();
+  };
+  return {at(0.025), at(0.975)};
+}
+
+std::string grid_edge_warning(const MarginalPosterior& m) {
+  // A probability's grid ends at its natural bounds (a lapse rate of 0 is an estimate, not a cut-off).
+  if (m.values.size() < 3 || m.unit == "probability") return {};
+  const double low = *std::min_element(m.values.begin(), m.values.end());
+  const double high = *std::max_element(m.values.begin(), m.values.end());
+  const double half_step = 0.5 * (high - low) / static_cast<double>(m.values.size() - 1);
+  const std::string unit = m.unit.empty() || m.unit == "no unit" ? "" : " " + m.unit;
+  for (const auto& [what, value] : {std::pair<std::string, double>{"mode", m.mode}, {"mean", m.mean}}) {
+    if (value <= low + half_step)
+      return "the " + m.parameter + " " + what + " (" + general(value) + unit + ") sits at the grid's lowest value (" +
+             general(low) + unit + "): the estimate may lie below the grid; widen it";
+    if (value >= high - half_step)
+      return "the " + m.parameter + " " + what + " (" + general(value) + unit + ") sits at the grid's highest value (" +
+             general(high) + unit + "): the estimate may lie above the grid; widen it";
+  }
+  return {};
+}
+
 std::string parameter_axis_label(const MarginalPosterior& marginal) {
   return marginal.parameter + (marginal.unit.empty() ? "" : " (" + marginal.unit + ")");
 }
@@ -42,23 +74,30 @@ std::string marginal_posterior_svg(const QuestPlusPosterior& track, std::size_t 
   plot.line({m.mean, m.mean}, {0.0, std::max(peak, 1e-12) * 1.05}, series_colour(1), 1.5, true);
   plot.legend("marginal posterior", colour);
   plot.legend("marginal mean", series_colour(1));
-  plot.note("mode " + general(m.mode) + ", mean " + general(m.mean) + ", SD " + general(m.sd) +
-            (m.unit.empty() ? "" : " (" + m.unit + ")"));
+  const auto [ci_low, ci_high] = marginal_credible_interval(m);
+  plot.note("mode " + general(m.mode) + ", mean " + general(m.mean) + ", SD " + general(m.sd) + ", 95% " +
+            general(ci_low) + " to " + general(ci_high) + (m.unit.empty() ? "" : " (" + m.unit + ")"));
+  if (const std::string warning = grid_edge_warning(m); !warning.empty()) plot.note("warning: " + warning);
   return plot.svg();
 }
 
 std::string quest_plus_posteriors_html(const std::vector<QuestPlusPosterior>& tracks) {
   std::ostringstream out;
   out << "<table><tr><th>participant</th><th>track</th><th>method</th><th>trials</th><th>parameter</th>"
-         "<th>mode</th><th>mean</th><th>SD</th><th>grid</th></tr>\n";
+         "<th>mode</th><th>mean</th><th>SD</th><th>95% interval</th><th>grid</th></tr>\n";
   for (const QuestPlusPosterior& t : tracks) {
     for (const MarginalPosterior& m : t.marginals) {
       const std::string grid = m.values.size() == 1 ? "fixed at " + general(m.values.front())
                                                     : std::to_string(m.values.size()) + " values, " +
                                                           general(m.values.front()) + " .. " + general(m.values.back());
       out << "<tr>" << cell(t.participant_label) << cell(t.track) << cell(t.method) << cell(std::to_string(t.trials))
-          << cell(parameter_axis_label(m)) << cell(general(m.mode)) << cell(general(m.mean)) << cell(general(m.sd))
-          << cell(grid) << "</tr>\n";
+          << cell(parameter_axis_label(m)) << cell(general(m.mode)) << cell(general(m.mean)) << cell(general(m.sd));
+      const auto [ci_low, ci_high] = marginal_credible_interval(m);
+      const std::string warning = grid_edge_warning(m);
+      out << cell(general(ci_low) + " to " + general(ci_high))
+          << (warning.empty() ? cell(grid) : "<td>" + html_escape(grid) + "<br><span class=\"note\">warning: " +
+                                                 html_escape(warning) + "</span></td>")
+          << "</tr>\n";
     }
   }
   out << "</table>\n";
@@ -71,8 +110,10 @@ std::string quest_plus_posteriors_terminal(const std::vector<QuestPlusPosterior>
     out << "  " << t.method << " " << t.participant_label << " " << t.track << " (" << t.trials << " trials):";
     for (std::size_t i = 0; i < t.marginals.size(); ++i) {
       const MarginalPosterior& m = t.marginals[i];
+      const auto [ci_low, ci_high] = marginal_credible_interval(m);
       out << (i == 0 ? " " : "; ") << parameter_axis_label(m) << " mean " << general(m.mean) << ", SD "
-          << general(m.sd) << ", mode " << general(m.mode);
+          << general(m.sd) << ", mode " << general(m.mode) << ", 95% " << general(ci_low) << " to " << general(ci_high);
+      if (const std::string warning = grid_edge_warning(m); !warning.empty()) out << " (warning: " << warning << ")";
     }
     out << "\n";
   }

@@ -6,6 +6,7 @@
 // (runner/cli/quest_plus_posteriors.h); this file only reports and draws it.
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace glarelab::analysis {
@@ -30,6 +31,16 @@ struct QuestPlusPosterior {
 
 // The axis label of a parameter: its name and, when it has one, its unit in parentheses.
 std::string parameter_axis_label(const MarginalPosterior& marginal);
+
+// The central 95 % of a marginal on its grid: the first grid values at which the cumulative
+// posterior reaches 0.025 and 0.975.
+std::pair<double, double> marginal_credible_interval(const MarginalPosterior& marginal);
+
+// Empty, or a warning when the value at the joint mode or the marginal mean lies within half a
+// grid step of the grid's first or last value: the posterior is cut off there, so the estimate
+// may lie beyond the grid and its interval is too narrow (the grid should be widened). Not for
+// probabilities (guess, lapse), whose grids end at their natural bounds.
+std::string grid_edge_warning(const MarginalPosterior& marginal);
 
 // One figure per parameter of a track: the marginal posterior over the parameter's grid (line
 // and markers at the grid points), the marginal mean as a dashed vertical line, and the mode,

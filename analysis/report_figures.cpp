@@ -24,10 +24,10 @@ std::string rating_number(double value) {
   return out;
 }
 
-// A bar pair's label: the two options, the preferred first, then the group's values without their
-// keys ("dynamic vs control (lamp_130, brighter)"), so bars of one scene can be told apart and the
-// label wraps at spaces within its slot.
-std::string pair_label(const PairPreference& p) {
+// A bar pair's label: the two options in the figure's fixed order, then the group's values without
+// their keys ("control vs dynamic (lamp_130, brighter)"), so bars of one scene can be told apart
+// and the label wraps at spaces within its slot.
+std::string pair_label(const PairPreference& p, bool a_first) {
   std::string values;
   std::size_t start = 0;
   while (start < p.group.size()) {
@@ -38,14 +38,23 @@ std::string pair_label(const PairPreference& p) {
     values += (values.empty() ? "" : ", ") + part;
     start = end + 2;
   }
-  return p.option_a + " vs " + p.option_b + " (" + values + ")";
+  return (a_first ? p.option_a + " vs " + p.option_b : p.option_b + " vs " + p.option_a) + " (" + values + ")";
 }
 
 // Forced choice, Ritschel et al. 2009, Fig. 12 left: a bar pair per group and pair of options, at
-// most kPairsPerFigure per figure (more make figures wider than the page), split evenly.
+// most kPairsPerFigure per figure (more make figures wider than the page), split evenly. Each
+// option keeps one colour and one side in every pair (options in order of first appearance), so a
+// colour means the same condition throughout, whichever option won a pair.
 std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis) {
   constexpr std::size_t kPairsPerFigure = 8;
   const auto& rows = analysis.groups;
+  std::vector<std::string> options;
+  for (const PairPreference& p : rows)
+    for (const std::string* option : {&p.option_a, &p.option_b})
+      if (std::find(options.begin(), options.end(), *option) == options.end()) options.push_back(*option);
+  const auto index_of = [&](const std::string& option) {
+    return static_cast<std::size_t>(std::find(options.begin(), options.end(), option) - options.begin());
+  };
   const std::size_t count = std::max<std::size_t>(1, (rows.size() + kPairsPerFigure - 1) / kPairsPerFigure);
   const std::size_t per_figure = std::max<std::size_t>(1, (rows.size() + count - 1) / count);
   std::vector<Figure> figures;
@@ -53,8 +62,9 @@ std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis) 
     const std::size_t first = f * per_figure;
     const std::size_t last = std::min(rows.size(), first + per_figure);
     std::vector<std::string> labels;
-    for (std::size_t i = first; i < last; ++i) labels.push_back(pair_label(rows[i]));
-    SvgPlot plot("Forced choice: share choosing the preferred option (95% CI, normal approx.)" +
+    for (std::size_t i = first; i < last; ++i)
+      labels.push_back(pair_label(rows[i], index_of(rows[i].option_a) < index_of(rows[i].option_b)));
+    SvgPlot plot("Forced choice: share choosing each option (95% Clopper-Pearson intervals)" +
                      (count > 1 ? " (" + std::to_string(f + 1) + " of " + std::to_string(count) + ")" : std::string()),
                  "pair of options (group)", "relative frequency (share of choices)",
                  std::max(560, 90 * static_cast<int>(last - first) + 80), 340);
@@ -62,28 +72,34 @@ std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis) 
     plot.set_y_range(0.0, 1.0);
     plot.horizontal_rule(0.5, "#888");
     bool any_neither = false;
+    std::vector<bool> shown(options.size(), false);
     for (std::size_t i = first; i < last; ++i) {
       const PairPreference& p = rows[i];
       const double x = static_cast<double>(i - first);
-      const double share = p.share_a();
-      const long n = p.chose_a + p.chose_b;
-      plot.bar(x - 0.15, 0.3, share, series_colour(0));
-      plot.bar(x + 0.15, 0.3, 1.0 - share, series_colour(1));
-      if (n > 0) {
-        const double half = 1.96 * std::sqrt(share * (1.0 - share) / static_cast<double>(n));
-        plot.error_bar(x - 0.15, std::max(0.0, share - half), std::min(1.0, share + half));
+      const bool a_first = index_of(p.option_a) < index_of(p.option_b);
+      const std::size_t left = index_of(a_first ? p.option_a : p.option_b);
+      const std::size_t right = index_of(a_first ? p.option_b : p.option_a);
+      const double share = a_first ? p.share_a() : 1.0 - p.share_a();
+      plot.bar(x - 0.15, 0.3, share, series_colour(left));
+      plot.bar(x + 0.15, 0.3, 1.0 - share, series_colour(right));
+      shown[left] = shown[right] = true;
+      if (p.chose_a + p.chose_b > 0) {
+        const ProportionInterval& ci = p.share_a_interval;
+        if (a_first) plot.error_bar(x - 0.15, ci.low, ci.high);
+        else plot.error_bar(x - 0.15, 1.0 - ci.high, 1.0 - ci.low);
       }
       if (p.neither > 0) {
         any_neither = true;
         plot.markers({x}, {p.neither_share()}, "#000", 4.0);
       }
     }
-    plot.legend("preferred option (named first)", series_colour(0));
-    plot.legend("other option", series_colour(1));
+    for (std::size_t o = 0; o < options.size(); ++o)
+      if (shown[o]) plot.legend(options[o], series_colour(o));
     if (any_neither) plot.legend("'neither' share (dot)", "#000");
     if (rows.empty()) plot.note("no forced-choice pairs to show");
     figures.push_back({f == 0 ? std::string("forced_choice") : "forced_choice_" + std::to_string(f + 1), "forced_choice",
-                       "Relative frequency of choices per pair of options; the table names every group.", plot.svg()});
+                       "Relative frequency of choices per pair of options, one colour per option; the table names every group.",
+                       plot.svg()});
   }
   return figures;
 }

@@ -46,10 +46,21 @@ std::string describe_anova(const RepeatedMeasuresAnova& anova) {
 std::string preference_sentence(const PairPreference& p) {
   const long decided = p.chose_a + p.chose_b;
   std::string text = p.group + ": '" + p.option_a + "' over '" + p.option_b + "' in " + std::to_string(p.chose_a) + " of " +
-                     std::to_string(decided) + " (" + fixed(100.0 * p.share_a(), 1) + "%); " +
+                     std::to_string(decided) + " (" + fixed(100.0 * p.share_a(), 1) + "%" +
+                     (decided > 0 ? ", 95% CI " + fixed(100.0 * p.share_a_interval.low, 1) + " to " +
+                                        fixed(100.0 * p.share_a_interval.high, 1) + "%"
+                                  : std::string()) +
+                     "); " +
                      describe(p.chi_square, "chi2") + "; " + describe_binomial(p.binomial);
   if (p.neither > 0) text += "; 'neither' " + std::to_string(p.neither) + " (" + fixed(100.0 * p.neither_share(), 1) + "% of all answers)";
   return text;
+}
+
+// Percent correct of scored forced-choice trials.
+std::string scored_sentence(const ScoredShare& s) {
+  return s.group + ": " + std::to_string(s.correct) + " of " + std::to_string(s.trials) + " correct (" + fixed(s.percent(), 1) +
+         "%, 95% CI " + fixed(100.0 * s.interval.low, 1) + " to " + fixed(100.0 * s.interval.high, 1) +
+         "%); exact binomial test against chance (50%): " + (s.binomial.ok() ? format_p(s.binomial.p_value) : s.binomial.unavailable);
 }
 
 std::string fit_sentence(const PsychometricFit& fit) {
@@ -132,22 +143,36 @@ void html_sessions(std::ostringstream& out, const AnalysisReport& report) {
   html_list(out, session_notes);
 }
 
+// Percent correct of the scored forced-choice trials (graded ones too).
+void html_scored(std::ostringstream& out, const AnalysisReport& report) {
+  if (report.forced_choice.scored.empty()) return;
+  out << "<p>Percent correct of the scored trials (the task had a right answer), with Clopper-Pearson 95% intervals:</p>\n";
+  std::vector<std::string> lines;
+  for (const ScoredShare& share : report.forced_choice.scored) lines.push_back(scored_sentence(share));
+  html_list(out, lines);
+}
+
 // Preferences per group and pooled, the paired scales and the section's figures.
 void html_forced_choice(std::ostringstream& out, const AnalysisReport& report) {
-  out << "<h2>Forced choice</h2>\n<p>Relative frequency with which each option was chosen over the other, exact "
-         "two-sided binomial test and Pearson chi-square test against no preference (Ritschel et al. 2009, Sec. 6.1).</p>\n";
-  out << "<table><tr><th>group</th><th>preferred</th><th>other</th><th>chosen</th><th>of</th><th>share</th>"
+  out << "<h2>Forced choice</h2>\n<p>Relative frequency with which each option was chosen over the other with its "
+         "Clopper-Pearson 95% interval, exact two-sided binomial test and, from 10 answers (expected counts of 5), "
+         "Pearson chi-square test against no preference (Ritschel et al. 2009, Sec. 6.1).</p>\n";
+  out << "<table><tr><th>group</th><th>preferred</th><th>other</th><th>chosen</th><th>of</th><th>share</th><th>95% CI</th>"
          "<th>chi-square</th><th>binomial</th><th>neither</th></tr>\n";
   for (const auto* list : {&report.forced_choice.groups, &report.forced_choice.pooled}) {
     for (const PairPreference& p : *list) {
       out << "<tr>" << cell(p.group) << cell(p.option_a) << cell(p.option_b) << cell(std::to_string(p.chose_a))
           << cell(std::to_string(p.chose_a + p.chose_b)) << cell(fixed(p.share_a(), 3))
+          << cell(p.chose_a + p.chose_b > 0
+                      ? fixed(p.share_a_interval.low, 3) + " to " + fixed(p.share_a_interval.high, 3)
+                      : "-")
           << cell(describe(p.chi_square, "chi2")) << cell(describe_binomial(p.binomial))
           << cell(p.neither > 0 ? std::to_string(p.neither) + " (" + fixed(100.0 * p.neither_share(), 1) + "%)" : "0")
           << "</tr>\n";
     }
   }
   out << "</table>\n";
+  html_scored(out, report);
   html_list(out, report.forced_choice.notes);
   out << paired_scales_html(report.paired_scales);
   html_figures(out, report, "forced_choice");
@@ -180,12 +205,12 @@ void html_staircases(std::ostringstream& out, const AnalysisReport& report) {
 // Per track and per group x glare strength.
 void html_pse(std::ostringstream& out, const AnalysisReport& report) {
   out << "<h2>Points of subjective equality</h2>\n<p>PSE: the comparison luminance (fraction of the display's peak) "
-         "at which a maximum-likelihood cumulative normal fitted to P(comparison brighter) over the answers naming a "
-         "side crosses 1/2 (no guess or lapse rate; 'neither' answers left out), with its 95% parametric bootstrap "
-         "interval (" << report.options.bootstrap_samples << " samples); beside it the mean at the last "
-      << report.options.last_reversals << " reversals, which stands in for the PSE when the fit is not identifiable "
-         "(a short track whose answers separate perfectly). Per group and glare strength: the mean over participants (one "
-         "participant: the bootstrap interval; several: mean &plusmn; t SE).</p>\n";
+         "at which P(comparison brighter) crosses 1/2, from psignifit 4's posterior over every answer of the track that "
+         "named a side (Schuett et al. 2016; cumulative normal, no guess or lapse rate, overdispersion free; 'neither' "
+         "answers left out): its MAP threshold with the central 95% of the threshold's marginal, which exists also when "
+         "the answers separate perfectly. Beside it, as a second opinion, the mean at the last "
+      << report.options.last_reversals << " reversals. Per group and glare strength: the mean over participants (one "
+         "participant: the credible interval; several: mean &plusmn; t SE).</p>\n";
   out << "<table><tr><th>participant</th><th>track</th><th>group</th><th>glare gain</th><th>reference</th><th>trials</th>"
          "<th>neither</th><th>PSE</th><th>95% interval</th><th>reversal mean</th></tr>\n";
   for (const PseTrack& t : report.pse.tracks) {
@@ -289,7 +314,12 @@ std::string render_html(const AnalysisReport& report) {
   html_head(out, report);
   html_sessions(out, report);
 
-  if (!report.forced_choice.empty()) html_forced_choice(out, report);
+  if (!report.forced_choice.empty()) {
+    html_forced_choice(out, report);
+  } else if (!report.forced_choice.scored.empty()) {
+    out << "<h2>Percent correct</h2>\n";  // every scored trial is graded: no pair table
+    html_scored(out, report);
+  }
 
   if (!report.graded_choice.empty()) {
     out << graded_choice_html(report.graded_choice, report.options.bootstrap_samples);
@@ -335,6 +365,7 @@ std::string render_terminal_summary(const AnalysisReport& report) {
   out << "\n";
   for (const std::string& note : report.data.notes) out << "  note: " << note << "\n";
   for (const PairPreference& p : report.forced_choice.pooled) out << "  forced choice " << preference_sentence(p) << "\n";
+  for (const ScoredShare& s : report.forced_choice.scored) out << "  percent correct " << scored_sentence(s) << "\n";
   out << graded_choice_terminal(report.graded_choice);
   for (const StaircaseResult& s : report.staircases) {
     out << "  " << s.procedure << " " << s.participant_label << " " << s.name << ": ";

@@ -55,6 +55,11 @@ std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const St
       const TrialRecord& r = trial.record;
       if (r.procedure != "staircase" && r.procedure != "quest") continue;
       if (is_pse_trial(trial)) continue;  // unscored appearance judgements: analysis/pse_analysis.h
+      // QUEST+ and Psi tracks (stored as procedure "quest" with their method) are analysed by their
+      // own posterior alone (analysis/quest_plus_posterior.h): their placements are not a staircase,
+      // have no reversals, and are in the procedure's stimulus unit.
+      if (const std::string* method = trial.condition_value("method"); method && (*method == "quest_plus" || *method == "psi"))
+        continue;
       std::string name = r.staircase;
       if (name.empty()) {
         const std::string* condition_name = trial.condition_value("name");

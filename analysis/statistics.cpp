@@ -1,6 +1,7 @@
 #include "analysis/statistics.h"
 
 #include <algorithm>
+#include <boost/math/distributions/beta.hpp>
 #include <boost/math/distributions/binomial.hpp>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/fisher_f.hpp>
@@ -19,6 +20,15 @@ TestResult unavailable(std::string why) {
 }
 
 }  // namespace
+
+ProportionInterval clopper_pearson_interval(long successes, long trials, double confidence) {
+  const double tail = 0.5 * (1.0 - confidence);
+  const double k = static_cast<double>(successes), n = static_cast<double>(trials);
+  ProportionInterval interval;
+  if (successes > 0) interval.low = boost::math::quantile(boost::math::beta_distribution<double>(k, n - k + 1.0), tail);
+  if (successes < trials) interval.high = boost::math::quantile(boost::math::beta_distribution<double>(k + 1.0, n - k), 1.0 - tail);
+  return interval;
+}
 
 TestResult binomial_test_two_sided(long successes, long trials, double p) {
   if (trials <= 0) return unavailable("no trials");

@@ -22,6 +22,22 @@ struct TestResult {
 // R's binom.test and SciPy's binomtest, with their relative tolerance 1 + 1e-7).
 TestResult binomial_test_two_sided(long successes, long trials, double p = 0.5);
 
+// The Clopper & Pearson (1934) "exact" interval of a binomial proportion: the probabilities p
+// at which observing `successes` or more (lower end) or `successes` or fewer (upper end) of
+// `trials` has probability (1 - confidence) / 2, from the beta quantiles they equal:
+// low = B^-1((1 - c)/2; k, n - k + 1) (0 when k = 0), high = B^-1((1 + c)/2; k + 1, n - k) (1 when
+// k = n). Never narrower than its confidence, also at 0 or 100 % and with 2 answers, where the
+// normal approximation's interval has zero width. trials > 0.
+struct ProportionInterval {
+  double low = 0.0;
+  double high = 1.0;
+};
+ProportionInterval clopper_pearson_interval(long successes, long trials, double confidence = 0.95);
+
+// Below this many decided answers (an expected count below 5 with two options, Cochran 1954)
+// the chi-square approximation is not reported; the exact binomial test stands alone.
+inline constexpr long kChiSquareMinimumAnswers = 10;
+
 // Pearson chi-square goodness of fit of `observed` counts against `expected_proportions`
 // (summing to 1; empty means equal proportions, i.e. no preference). df = categories - 1.
 TestResult chi_square_goodness_of_fit(const std::vector<long>& observed,

@@ -9,6 +9,7 @@
 
 #include "analysis/analysis_report.h"
 #include "analysis/report_output.h"
+#include "analysis/session_selection.h"
 #include "analysis/tidy_csv.h"
 #include "core/atomic_file.h"
 #include "runner/cli/commands.h"
@@ -51,6 +52,7 @@ Action add_analyze_command(CLI::App& app) {
     std::vector<std::string> databases;
     std::string out = "analysis";
     bool raw_csv_cells = false;
+    analysis::SessionSelection selection;
     analysis::AnalysisOptions analysis;
   };
   auto options = std::make_shared<Options>();
@@ -71,6 +73,12 @@ Action add_analyze_command(CLI::App& app) {
   analyze->add_flag("--raw-csv-cells", options->raw_csv_cells,
                     "Write CSV cells as stored, even those a spreadsheet would run as a formula (= + - @); by default "
                     "such cells get a leading apostrophe");
+  analyze->add_option("--session", options->selection.session_ids,
+                      "Analyse only the session(s) with this id (repeatable; with --participant, both must match)")
+      ->allow_extra_args(false);
+  analyze->add_option("--participant", options->selection.participants,
+                      "Analyse only the sessions of this participant (repeatable)")
+      ->allow_extra_args(false);
   analyze->add_option("--bootstrap", options->analysis.bootstrap_samples,
                       "Parametric bootstrap samples per psychometric fit (0: no intervals)")
       ->capture_default_str()
@@ -89,8 +97,9 @@ Action add_analyze_command(CLI::App& app) {
   return [=]() {
     return report_errors([&]() {
       analysis::keep_formula_cells_raw(options->raw_csv_cells);
-      analysis::AnalysisReport report =
-          analysis::analyse(analysis::load_databases(distinct_files(options->databases)), options->analysis);
+      analysis::LoadedData data = analysis::load_databases(distinct_files(options->databases));
+      analysis::select_sessions(data, options->selection);
+      analysis::AnalysisReport report = analysis::analyse(std::move(data), options->analysis);
       // QUEST+ / Psi posteriors need the procedure (protocols/), which analysis/ may not build.
       analysis::add_quest_plus_posteriors(report, rebuild_quest_plus_posteriors(report.data, report.data.notes));
       const auto written = analysis::write_report(report, options->out, export_mode(options->databases.front()));
