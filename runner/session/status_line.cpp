@@ -61,7 +61,10 @@ void StatusLine::tick() {
 void StatusLine::set_step(const std::string& step) {
   const std::lock_guard<std::mutex> lock(mutex_);
   step_ = step;
-  changed_locked();
+  // Plain lines begin with the trials: the steps before them (loading, opening the display) come
+  // before the input is fully checked, and a refused file's error is then the only thing printed,
+  // as `validate` prints it. On a terminal the line is redrawn in place and cleared before errors.
+  if (terminal_) changed_locked();
 }
 
 void StatusLine::set_trial(int number, int total, const std::string& block) {

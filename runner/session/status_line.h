@@ -32,7 +32,8 @@ class StatusLine {
   // its newline arrives).
   std::ostream& stream() { return stream_; }
 
-  // What the run is doing when no trial runs (loading scenes, preparing the display).
+  // What the run is doing when no trial runs (loading scenes, preparing the display): shown on a
+  // terminal only.
   void set_step(const std::string& step);
   // Trial `number` (from 1) of `total` starts, in `block` (empty without blocks); the time left is
   // the mean duration of the trials since the first times those still to come.
