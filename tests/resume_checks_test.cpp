@@ -64,7 +64,7 @@ TEST(ResumeChecks, ASessionResumesOnTheClockItBeganOnAndAnotherClockIsRefused) {
     EXPECT_EQ(store.value("SELECT count(*) FROM trials"), "10");
     // Every flip after the one before it, across the resume: one clock, one time line.
     const auto flips = store.rows("SELECT flip_s FROM frames ORDER BY rowid");
-    ASSERT_GT(flips.size(), 40u);
+    ASSERT_GE(flips.size(), 40u);
     for (std::size_t i = 1; i < flips.size(); ++i)
       ASSERT_GT(std::stod(flips[i][0]), std::stod(flips[i - 1][0])) << began_on << ": flip " << i;
   }

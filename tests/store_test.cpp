@@ -291,7 +291,7 @@ TEST(Store, VersionTwoDatabaseGainsGazeAgeAndKeepsItsFrames) {
   }
   {
     RawDb db(path, true);
-    db.exec("ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 2;");
+    db.exec("DROP TABLE session_owners; ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 2;");
   }
   ResultStore store(path);
   EXPECT_EQ(store.schema_version(), 5);
@@ -338,7 +338,9 @@ TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
   {
     // What a glarelab of schema version 1 left behind: no adjustments table, no gaze_age_s.
     RawDb db(path, true);
-    db.exec("DROP TABLE adjustments; ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 1;");
+    db.exec(
+        "DROP TABLE session_owners; DROP TABLE adjustments; ALTER TABLE frames DROP COLUMN gaze_age_s; "
+        "PRAGMA user_version = 1;");
   }
   ResultStore store(path);
   EXPECT_EQ(store.schema_version(), 5);

@@ -36,6 +36,7 @@ INSERT INTO trials_v3 SELECT * FROM trials;
 DROP TABLE trials;
 ALTER TABLE trials_v3 RENAME TO trials;
 CREATE INDEX trials_session_id ON trials(session_id);
+DROP TABLE session_owners;
 PRAGMA user_version = 3;
 )sql";
 

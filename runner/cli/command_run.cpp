@@ -4,6 +4,7 @@
 #include "runner/store/session_summary.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
+#include "runner/cli/terminal_stream.h"
 #include "runner/session/session_runner.h"
 #include "runner/session/status_line.h"
 #include "runner/store/result_store.h"
@@ -82,7 +83,8 @@ Action add_run_command(CLI::App& app) {
       RunResult result;
       {
         // The status line until the session ends (cleared then), the session's lines above it.
-        StatusLine status(std::cout, StatusLine::stdout_is_terminal());
+        std::cout.flush();
+        StatusLine status(unescaped_stdout(), StatusLine::stdout_is_terminal());
         options->status = &status;
         result = run_session(*options, status.stream());
         options->status = nullptr;

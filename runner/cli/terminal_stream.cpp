@@ -69,14 +69,23 @@ struct TerminalTextGuard::Installed {
   std::streambuf* cerr_target = std::cerr.rdbuf();
   EscapingBuffer cout_filter{cout_target};
   EscapingBuffer cerr_filter{cerr_target};
+  std::ostream unescaped_cout{cout_target};
 };
+
+namespace {
+std::ostream* unescaped = nullptr;  // the installed guard's, while one is installed
+}  // namespace
+
+std::ostream& unescaped_stdout() { return unescaped != nullptr ? *unescaped : std::cout; }
 
 TerminalTextGuard::TerminalTextGuard() : installed_(std::make_unique<Installed>()) {
   std::cout.rdbuf(&installed_->cout_filter);
   std::cerr.rdbuf(&installed_->cerr_filter);
+  unescaped = &installed_->unescaped_cout;
 }
 
 TerminalTextGuard::~TerminalTextGuard() {
+  unescaped = nullptr;
   std::cout.flush();
   std::cerr.flush();
   std::cout.rdbuf(installed_->cout_target);

@@ -23,4 +23,9 @@ class TerminalTextGuard {
   std::unique_ptr<Installed> installed_;
 };
 
+// Standard output beneath the filter, for a writer that escapes its text itself and must send
+// control sequences of its own (the run's status line, runner/session/status_line.h); std::cout
+// when no guard is installed. Flush std::cout before switching to it, so that lines stay in order.
+std::ostream& unescaped_stdout();
+
 }  // namespace glarelab::cli

@@ -36,6 +36,39 @@ void end_failed_session(ResultStore& store, std::int64_t session_id, double now_
   }
 }
 
+// The run's frame timing, logged and printed; flips that do not follow the refresh (no vsync, a
+// compositor, another rate) said as a warning, with the likely cause.
+void report_frame_timing(ResultStore& store, std::int64_t session_id, double now_s, const FrameTimingSummary& timing,
+                         double refresh_hz, std::ostream& progress) {
+  store.log_event(session_id, now_s, "frame_timing", timing.describe());
+  progress << "Frame timing: " << timing.describe() << "\n";
+  const std::string flip_warning = flip_interval_warning(refresh_hz, timing.flip_interval_median_ms / 1000.0);
+  if (flip_warning.empty()) return;
+  std::cerr << "warning: " << flip_warning << "\n";
+  store.log_event(session_id, now_s, "flip_interval", flip_warning);
+}
+
+// A lock another process holds on the database makes the session wait, never end (lock_wait.h),
+// with a line every 5 s of a wait; Ctrl-C still ends it.
+LockWait wait_out_database_locks(ResultStore& store, std::ostream& progress) {
+  return LockWait(store.handle(), [&progress, announced_wait_s = 0.0](double waited_s) mutable {
+    if (waited_s < announced_wait_s) announced_wait_s = 0.0;  // a new wait
+    if (waited_s >= announced_wait_s + 5.0) {
+      announced_wait_s = waited_s;
+      progress << "waiting for the database: another process has held its lock for " << static_cast<int>(waited_s)
+               << " s (the trial waits in memory; Ctrl-C ends the session, keeping its trials)\n";
+    }
+    return !interrupt_requested();
+  });
+}
+
+void log_database_locks(ResultStore& store, std::int64_t session_id, double now_s, const LockWait& lock_wait) {
+  if (lock_wait.waits() == 0) return;
+  store.log_event(session_id, now_s, "database_locked",
+                  std::to_string(lock_wait.waits()) + " write(s) waited for a lock held by another process, the longest " +
+                      std::to_string(lock_wait.longest_wait_s()) + " s; nothing was lost");
+}
+
 // A virtual clock cannot stamp what happens in real time: a window's flips, a live tracker's
 // samples, a response device's presses.
 void check_virtual_clock(const RunOptions& options, const TrackerSession& tracker, const ResponseDeviceSession& device) {
@@ -124,17 +157,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   }
   result.session_id = *session_id;
   ResultStore& store = *start.store;
-  // A lock another process holds on the database makes the session wait, never end (lock_wait.h).
-  double announced_wait_s = 0.0;
-  const LockWait lock_wait(store.handle(), [&](double waited_s) {
-    if (waited_s < announced_wait_s) announced_wait_s = 0.0;  // a new wait
-    if (waited_s >= announced_wait_s + 5.0) {
-      announced_wait_s = waited_s;
-      progress << "waiting for the database: another process has held its lock for "
-               << static_cast<int>(waited_s) << " s (the trial waits in memory; Ctrl-C ends the session, keeping its trials)\n";
-    }
-    return !interrupt_requested();
-  });
+  const LockWait lock_wait = wait_out_database_locks(store, progress);
   // From here on a failure (a GL error mid-run, an observer script that runs out of answers, glare
   // that cannot be computed) ends the session as aborted with its reason, never left running.
   try {
@@ -196,14 +219,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     // 5. The end of the run and the session's status.
     // Frame timing of this run (a resumed session reports the frames shown since resuming).
     const FrameTimingSummary timing = loop.timing_summary();
-    store.log_event(result.session_id, clock->now_s(), "frame_timing", timing.describe());
-    progress << "Frame timing: " << timing.describe() << "\n";
-    // Flips that do not follow the refresh (no vsync, a compositor, another rate): said, with the cause.
-    const std::string flip_warning = flip_interval_warning(display->refresh_hz(), timing.flip_interval_median_ms / 1000.0);
-    if (!flip_warning.empty()) {
-      std::cerr << "warning: " << flip_warning << "\n";
-      store.log_event(result.session_id, clock->now_s(), "flip_interval", flip_warning);
-    }
+    report_frame_timing(store, result.session_id, clock->now_s(), timing, display->refresh_hz(), progress);
     result.frames_shown = timing.frames_shown;
     result.frames_dropped = timing.frames_dropped;
     result.tracker_summary = tracker.finish(clock->now_s());
@@ -211,10 +227,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     result.device_summary = device.summary();
     if (!result.device_summary.empty())
       store.log_event(result.session_id, clock->now_s(), "response_device_summary", result.device_summary);
-    if (lock_wait.waits() > 0)
-      store.log_event(result.session_id, clock->now_s(), "database_locked",
-                      std::to_string(lock_wait.waits()) + " write(s) waited for a lock held by another process, the longest " +
-                          std::to_string(lock_wait.longest_wait_s()) + " s; nothing was lost");
+    log_database_locks(store, result.session_id, clock->now_s(), lock_wait);
     if (loop.aborted()) {
       store.log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
       store.finish_session(result.session_id, "aborted");

@@ -1,5 +1,7 @@
 #include "runner/session/status_line.h"
 
+#include "core/text_limits.h"
+
 #include <unistd.h>
 
 #include <cmath>
@@ -115,17 +117,17 @@ void StatusLine::changed_locked() {
   const Clock::time_point now = Clock::now();
   if (last_plain_ && now - *last_plain_ < kPlainLinePeriod) return;
   last_plain_ = now;
-  out_ << "  " << text_locked() << "\n" << std::flush;
+  out_ << "  " << escaped_for_terminal(text_locked()) << "\n" << std::flush;
 }
 
 void StatusLine::draw_locked() {
-  if (terminal_) out_ << kClearLine << text_locked() << std::flush;
+  if (terminal_) out_ << kClearLine << escaped_for_terminal(text_locked()) << std::flush;
 }
 
 void StatusLine::print_line(const std::string& line) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (terminal_) out_ << kClearLine;
-  out_ << line << "\n";
+  out_ << escaped_for_terminal(line, true) << "\n";
   draw_locked();
   out_ << std::flush;
 }

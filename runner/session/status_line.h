@@ -19,7 +19,10 @@ namespace glarelab {
 class StatusLine {
  public:
   // `out` is written under the status line's lock only (stream() for everything else printed
-  // meanwhile). `terminal`: redraw in place; else plain lines.
+  // meanwhile). `terminal`: redraw in place; else plain lines. Its own control sequences (the
+  // erase of the line) reach `out` as they are; every text it prints, the session's lines and the
+  // status (block names come from experiment files), is escaped (core/text_limits.h), so `out`
+  // may be the terminal unfiltered (runner/cli/terminal_stream.h, unescaped_stdout).
   StatusLine(std::ostream& out, bool terminal);
   ~StatusLine();  // the ticker stopped and the status line cleared
   StatusLine(const StatusLine&) = delete;
