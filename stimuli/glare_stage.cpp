@@ -393,6 +393,19 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   far.convolve(source_energy, far_glare);
   for (std::size_t i = 0; i < glared.rgba.size(); i += 4)
     for (int c = 0; c < 3; ++c) glared.rgba[i + c] += far_glare.rgba[i + c];
+  if (human) {
+    // The lenticular halo of the fibre gratings this pupil uncovers, its light taken from the
+    // source's own pixel (glare/analytic/lenticular_halo.h).
+    const HaloGratings gratings = halo_gratings(spec_.eye);
+    r.halo_energy = lenticular_halo_energy(eye_for(mode, mean_cd_m2).lens().grating_lines(), gratings, r.pupil_diameter_mm);
+    if (r.halo_energy > 0.0) {
+      if (!lenticular_halo_ || lenticular_halo_->width_px() != frame.width_px || lenticular_halo_->height_px() != frame.height_px)
+        lenticular_halo_ = std::make_unique<LenticularHaloGlare>(
+            LenticularHalo(gratings), DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
+            frame.width_px, frame.height_px);
+      lenticular_halo_->add(source_energy, r.halo_energy, glared);
+    }
+  }
   solid_angle.to_luminance(glared);
   r.convolved = true;
   return with_gain(frame, source, std::move(glared));

@@ -29,6 +29,7 @@
 #include "core/display_spec.h"
 #include "core/gl/gl_context.h"
 #include "glare/analytic/analytic_glare.h"
+#include "glare/analytic/lenticular_halo.h"
 #include "glare/analytic/pixel_solid_angle.h"
 #include "glare/refraction/dioptric_power.h"
 #include "glare/eye/eye_model.h"
@@ -47,6 +48,9 @@ struct GlareFrameReport {
   std::string skip_reason;         // non-empty when a dynamic or static frame was not convolved
   double pupil_diameter_mm = 0.0;  // 0 for control
   bool gratings_in_pupil = false;
+  // The human eye: the share of the light its fibre gratings send into the lenticular halo
+  // (glare/analytic/lenticular_halo.h); 0 when the pupil hides them.
+  double halo_energy = 0.0;
   // The lids closed the pupil completely (a blink): no light, no PSF. A dynamic eye then holds the
   // PSF of the last frame it saw open (a closed eye's PSF is undefined, and dropping the glare for
   // the ~0.1 s of closure would flash the frame); with no such frame the glare is skipped.
@@ -195,6 +199,8 @@ class GlareStage {
   // The human eye's CIE kernel near the source, unweighted (calibrated_near_psf's rings), made once.
   const DisplayKernel& human_near_kernel();
   std::optional<DisplayKernel> human_near_kernel_;
+  // The human eye's lenticular halo on frames of one size (its kernel's spectrum made once).
+  std::unique_ptr<LenticularHaloGlare> lenticular_halo_;
 
   GlareSpec spec_;
   DisplaySpec display_;

@@ -20,6 +20,8 @@
 #include "core/exr_io.h"
 #include "glare/analytic/display_kernel_convolution.h"
 #include "glare/analytic/hybrid_psf.h"
+#include "glare/analytic/lenticular_halo.h"
+#include "glare/eye/eye_model.h"
 #include "glare/cpu/psf.h"
 #include "glare/glare_spec.h"
 #include "stimuli/glare_stage.h"
@@ -191,7 +193,7 @@ TEST(HumanEye, EachRingKeepsTheWaveStructureAndTheCieAmount) {
   EXPECT_GT(structure_difference, 1e-3);  // the dynamic eye moves
 }
 
-// The stage's frame is the convolution with near + far assembled by hand (float64 reference).
+// The stage's frame is the convolution with near + far (+ the halo) assembled by hand (float64 reference).
 TEST(HumanEye, TheStageFrameIsTheCalibratedNearPartPlusTheCieFarPart) {
   constexpr int kWidth = 96, kHeight = 64;
   DisplaySpec display;
@@ -217,7 +219,21 @@ TEST(HumanEye, TheStageFrameIsTheCalibratedNearPartPlusTheCieFarPart) {
   const HandoverPixels handover = handover_pixels(default_handover(reach), geometry);
   const DisplayKernel cie = analytic_display_kernel(AnalyticPsf::cie(spec.observer_eye), geometry, kWidth - 1, kHeight - 1, 2);
   const Psf near = calibrated_near_psf(*wave, cie, handover);
-  const DisplayKernel whole = test::far_plus_near_kernel(hybrid_far_kernel(cie, handover), near);
+  DisplayKernel whole = test::far_plus_near_kernel(hybrid_far_kernel(cie, handover), near);
+  // A dark frame opens the pupil past the fibre gratings: the lenticular halo's ring, its light
+  // taken from the source's pixel (glare/analytic/lenticular_halo.h), with the energy of the
+  // gratings in this pupil.
+  const double halo_energy = lenticular_halo_energy(EyeModel(spec.eye, 1).lens().grating_lines(), halo_gratings(spec.eye),
+                                                    report.pupil_diameter_mm);
+  EXPECT_GT(halo_energy, 0.0);
+  EXPECT_DOUBLE_EQ(report.halo_energy, halo_energy);
+  const DisplayKernel ring = lenticular_halo_kernel(LenticularHalo(halo_gratings(spec.eye)), geometry);
+  for (int c = 0; c < 3; ++c) {
+    for (int dy = -std::min(ring.half_height_px, kHeight - 1); dy <= std::min(ring.half_height_px, kHeight - 1); ++dy)
+      for (int dx = -std::min(ring.half_width_px, kWidth - 1); dx <= std::min(ring.half_width_px, kWidth - 1); ++dx)
+        whole.at(c, dx, dy) += halo_energy * ring.at(c, dx, dy);
+    whole.at(c, 0, 0) -= halo_energy;
+  }
   // The kernel carries energy per pixel: the frame's luminance to energy in, the glare back out.
   const ImageRGBA expected = test::convolve_as_energy_float64(frame, whole, display);
   double worst = 0.0;

@@ -164,7 +164,7 @@ TEST(OutputSafety, OutputsNamedThroughALinkAreRefusedAndTheTargetKept) {
 
   const auto dangling = scratch.path() / "frame.exr";
   fs::create_symlink(scratch.path() / "made_through_link.exr", dangling);
-  const auto render = run_glarelab({"render", demo(), "--condition", "static_1.000", "--out", dangling.string()},
+  const auto render = run_glarelab({"render", demo(), "--condition", "dynamic_1.000", "--out", dangling.string()},
                                    scratch.path());
   EXPECT_EQ(render.exit_code, 2) << render.output;
   EXPECT_NE(render.output.find("is a symbolic link"), std::string::npos) << render.output;

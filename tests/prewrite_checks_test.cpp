@@ -129,16 +129,19 @@ TEST(PrewriteChecks, ASceneNoGlTextureCanHoldIsRefused) {
 
 TEST(PrewriteChecks, ScenesBothAboveTheDisplaysPeakAreRefusedWithoutGlare) {
   const test::ScratchDir scratch;
-  // The demo's lamps are 100 to 200 cd/m2 in a dim room: on a 50 cd/m2 display every lamp is white.
-  const auto run = run_variant(scratch, {{"peak_luminance_cd_m2", "peak_luminance_cd_m2 = 50.0"}});
+  // The dim lamps (100 to 200 cd/m2 in a dim room) without glare: on a 50 cd/m2 display every lamp
+  // is white.
+  test::write_demo_conditions_without_glare(scratch.path() / "conditions.csv");
+  const auto run = run_variant(scratch, {{"peak_luminance_cd_m2", "peak_luminance_cd_m2 = 50.0"},
+                                         {"file", "file = \"" + (scratch.path() / "conditions.csv").string() + "\""}});
   EXPECT_EQ(run.exit_code, 2) << run.output;
-  const std::string csv = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo_conditions.csv:2:1";
-  EXPECT_NE(run.output.find(csv + ": condition 'control_0.769': scenes 'lamp_130' (peak "), std::string::npos) << run.output;
+  const std::string csv = (scratch.path() / "conditions.csv").string() + ":2:1";
+  EXPECT_NE(run.output.find(csv + ": condition 'ratio_1.05': scenes 'lamp_100' (peak "), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("are both above the display's peak_luminance_cd_m2 (50): it shows both at its white"),
             std::string::npos)
       << run.output;
   EXPECT_FALSE(std::filesystem::exists(scratch.path() / "never.db"));
-  // At the demo's own 250 cd/m2 every lamp is shown as it is: the same file runs.
+  // The demo's own lamps are all above its 250 cd/m2, and every row gives one side glare: it runs.
   const auto shown = test::run_glarelab({"run", std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml", "--display",
                                          "offscreen", "--observer", "simulated", "--db",
                                          (scratch.path() / "fine.db").string(), "--stop-after", "1"},
