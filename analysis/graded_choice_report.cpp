@@ -7,18 +7,13 @@
 #include <limits>
 #include <sstream>
 
+#include "analysis/report_numbers.h"
 #include "analysis/statistics.h"
 #include "analysis/svg_plot.h"
 #include "analysis/within_participant_report.h"
 
 namespace glarelab::analysis {
 namespace {
-
-std::string general(double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.4g", value);
-  return text;
-}
 
 std::string interval_text(const std::optional<Interval>& interval, const std::function<std::string(double)>& value) {
   if (!interval) return "-";

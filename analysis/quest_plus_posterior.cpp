@@ -5,17 +5,12 @@
 #include <sstream>
 
 #include "analysis/analysis_report.h"
+#include "analysis/report_numbers.h"
 #include "analysis/svg_plot.h"
 #include "analysis/tidy_csv.h"
 
 namespace glarelab::analysis {
 namespace {
-
-std::string general(double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.4g", value);
-  return text;
-}
 
 std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
 

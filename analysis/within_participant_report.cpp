@@ -4,16 +4,11 @@
 #include <sstream>
 
 #include "analysis/graded_choice_report.h"
+#include "analysis/report_numbers.h"
 #include "analysis/svg_plot.h"
 
 namespace glarelab::analysis {
 namespace {
-
-std::string general(double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.4g", value);
-  return text;
-}
 
 std::string joined(const std::vector<std::string>& items) {
   std::string text;

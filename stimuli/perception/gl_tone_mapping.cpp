@@ -13,13 +13,7 @@ GlToneMapping::GlToneMapping() : program_(build_program({"stimuli/perception/sha
 
 void GlToneMapping::apply(const GlFrameBuffer& input, double adapted_luminance_cd_m2,
                           const ToneMappingSettings& settings, double peak_luminance_cd_m2, GlFrameBuffer& output) {
-  validate_tone_mapping_settings(settings);
-  if (!std::isfinite(peak_luminance_cd_m2) || peak_luminance_cd_m2 <= 0.0)
-    throw std::invalid_argument("perception tone mapping: the display's peak_luminance_cd_m2 must be finite and > 0 (got " +
-                                std::to_string(peak_luminance_cd_m2) + ")");
-  if (!std::isfinite(adapted_luminance_cd_m2) || adapted_luminance_cd_m2 < 0.0)
-    throw std::invalid_argument("perception tone mapping: the adapted luminance must be finite and >= 0 (got " +
-                                std::to_string(adapted_luminance_cd_m2) + " cd/m2)");
+  validate_tone_mapping_inputs(settings, adapted_luminance_cd_m2, peak_luminance_cd_m2);
   if (output.width_px() != input.width_px() || output.height_px() != input.height_px())
     throw std::invalid_argument("perception tone mapping: the GL output must have the input's size");
   const GLuint program = program_.get();

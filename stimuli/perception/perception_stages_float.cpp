@@ -63,13 +63,7 @@ int perception_float_threads() { return static_cast<int>(resolved_threads(0)); }
 
 void tone_map_float(ImageRGBA& frame, double adapted_luminance_cd_m2, const ToneMappingSettings& settings,
                     double peak_luminance_cd_m2, int threads) {
-  validate_tone_mapping_settings(settings);
-  if (!std::isfinite(peak_luminance_cd_m2) || peak_luminance_cd_m2 <= 0.0)
-    throw std::invalid_argument("perception tone mapping: the display's peak_luminance_cd_m2 must be finite and > 0 (got " +
-                                std::to_string(peak_luminance_cd_m2) + ")");
-  if (!std::isfinite(adapted_luminance_cd_m2) || adapted_luminance_cd_m2 < 0.0)
-    throw std::invalid_argument("perception tone mapping: the adapted luminance must be finite and >= 0 (got " +
-                                std::to_string(adapted_luminance_cd_m2) + " cd/m2)");
+  validate_tone_mapping_inputs(settings, adapted_luminance_cd_m2, peak_luminance_cd_m2);
   const auto peak = static_cast<float>(peak_luminance_cd_m2);
   if (settings.curve == ToneCurve::none) {
     for_each_colour_value(frame, threads, [peak](float value) { return std::clamp(value, 0.0f, peak); });

@@ -19,6 +19,17 @@ void validate_tone_mapping_settings(const ToneMappingSettings& settings) {
                                 std::to_string(settings.minimum_adapted_luminance_cd_m2) + ")");
 }
 
+void validate_tone_mapping_inputs(const ToneMappingSettings& settings, double adapted_luminance_cd_m2,
+                                  double peak_luminance_cd_m2) {
+  validate_tone_mapping_settings(settings);
+  if (!std::isfinite(peak_luminance_cd_m2) || peak_luminance_cd_m2 <= 0.0)
+    throw std::invalid_argument("perception tone mapping: the display's peak_luminance_cd_m2 must be finite and > 0 (got " +
+                                std::to_string(peak_luminance_cd_m2) + ")");
+  if (!std::isfinite(adapted_luminance_cd_m2) || adapted_luminance_cd_m2 < 0.0)
+    throw std::invalid_argument("perception tone mapping: the adapted luminance must be finite and >= 0 (got " +
+                                std::to_string(adapted_luminance_cd_m2) + " cd/m2)");
+}
+
 double aces_narkowicz_curve(double x) {
   constexpr double a = 2.51, b = 0.03, c = 2.43, d = 0.59, e = 0.14;  // Narkowicz 2016
   return std::clamp((x * (a * x + b)) / (x * (c * x + d) + e), 0.0, 1.0);
@@ -79,13 +90,7 @@ double tone_map_channel_cd_m2(double channel_cd_m2, double adapted_luminance_cd_
 
 ImageRGBA tone_map(const ImageRGBA& frame, double adapted_luminance_cd_m2, const ToneMappingSettings& settings,
                    double peak_luminance_cd_m2) {
-  validate_tone_mapping_settings(settings);
-  if (!std::isfinite(peak_luminance_cd_m2) || peak_luminance_cd_m2 <= 0.0)
-    throw std::invalid_argument("perception tone mapping: the display's peak_luminance_cd_m2 must be finite and > 0 (got " +
-                                std::to_string(peak_luminance_cd_m2) + ")");
-  if (!std::isfinite(adapted_luminance_cd_m2) || adapted_luminance_cd_m2 < 0.0)
-    throw std::invalid_argument("perception tone mapping: the adapted luminance must be finite and >= 0 (got " +
-                                std::to_string(adapted_luminance_cd_m2) + " cd/m2)");
+  validate_tone_mapping_inputs(settings, adapted_luminance_cd_m2, peak_luminance_cd_m2);
   ImageRGBA out = frame;
   for (int y = 0; y < frame.height_px; ++y)
     for (int x = 0; x < frame.width_px; ++x) {

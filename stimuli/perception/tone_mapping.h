@@ -27,6 +27,10 @@ namespace glarelab {
 
 // Throws std::invalid_argument naming the field and its accepted range.
 void validate_tone_mapping_settings(const ToneMappingSettings& settings);
+// The settings, and a frame's adapted luminance and the display's peak, checked as every tone
+// mapping (CPU float64 and float32, GL) checks them before it maps a frame.
+void validate_tone_mapping_inputs(const ToneMappingSettings& settings, double adapted_luminance_cd_m2,
+                                  double peak_luminance_cd_m2);
 
 // Narkowicz's fitted ACES curve, display-relative output in [0, 1].
 double aces_narkowicz_curve(double x);
