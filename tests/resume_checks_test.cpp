@@ -88,8 +88,7 @@ TEST(ResumeChecks, ASceneFileChangedOrGoneSinceTheRunIsRefusedAtItsKeyAndRestore
   const std::filesystem::path examples = std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples";
   std::filesystem::create_directories(dir / "scenes");
   for (const auto& entry : std::filesystem::directory_iterator(examples / "scenes"))
-    if (entry.path().filename().string().rfind("lamp_", 0) == 0)
-      std::filesystem::copy_file(entry.path(), dir / "scenes" / entry.path().filename());
+    std::filesystem::copy_file(entry.path(), dir / "scenes" / entry.path().filename());
   std::string text = read_bytes(short_session(dir));
   for (std::size_t at; (at = text.find((examples / "scenes").string())) != std::string::npos;)
     text.replace(at, (examples / "scenes").string().size(), (dir / "scenes").string());

@@ -205,7 +205,7 @@ TEST(StereoSessionTest, ALayoutThatDoesNotFitAnEyesHalfIsRefused) {
   const test::ScratchDir scratch;
   // 768 px: each eye's half is 384 px, two columns of 192 px for the 256 px lamps.
   expect_refused(scratch.path() / "narrow", stereo_demo(scratch.path() / "narrow", 768, true, "mode = \"control\""),
-                 "scene 'lamp_100' (256 x 256 px) does not fit its column of 192 x 256 px");
+                 "(256 x 256 px) does not fit its column of 192 x 256 px");
   expect_refused(scratch.path() / "odd", stereo_demo(scratch.path() / "odd", 1026 + 1, true, "mode = \"control\""),
                  "width_px must be even, found 1027");
   expect_refused(scratch.path() / "word",
