@@ -6,9 +6,22 @@
 namespace glarelab {
 namespace {
 
-// Length of the valid UTF-8 sequence starting at text[i], or 0 when it is not one (overlong
-// forms, surrogates and code points above U+10FFFF are invalid, RFC 3629 section 4); the code
-// point goes to `code_point`.
+void append_hex(std::string& out, const char* prefix, std::uint32_t value, int digits) {
+  static const char* const kHex = "0123456789abcdef";
+  out += prefix;
+  for (int d = digits - 1; d >= 0; --d) out += kHex[(value >> (4 * d)) & 0xFu];
+}
+
+bool bare_key_character(char c) {
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+}
+
+// The lexical states of TOML 1.0 that matter for nesting: brackets and dots count only outside
+// strings and comments.
+enum class TomlState { plain, basic_string, literal_string, multiline_basic, multiline_literal, comment };
+
+}  // namespace
+
 std::size_t utf8_length(std::string_view text, std::size_t i, std::uint32_t& code_point) {
   const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
   const unsigned char lead = byte(i);
@@ -38,22 +51,6 @@ std::size_t utf8_length(std::string_view text, std::size_t i, std::uint32_t& cod
   if (length == 4 && (code_point < 0x10000 || code_point > 0x10FFFF)) return 0;
   return length;
 }
-
-void append_hex(std::string& out, const char* prefix, std::uint32_t value, int digits) {
-  static const char* const kHex = "0123456789abcdef";
-  out += prefix;
-  for (int d = digits - 1; d >= 0; --d) out += kHex[(value >> (4 * d)) & 0xFu];
-}
-
-bool bare_key_character(char c) {
-  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-}
-
-// The lexical states of TOML 1.0 that matter for nesting: brackets and dots count only outside
-// strings and comments.
-enum class TomlState { plain, basic_string, literal_string, multiline_basic, multiline_literal, comment };
-
-}  // namespace
 
 std::optional<TextLimitFault> toml_limit_fault(std::string_view text) {
   if (text.size() > kMaxTomlBytes) {

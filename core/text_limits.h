@@ -8,6 +8,7 @@
 //    its control characters are escaped (an ESC sequence in a cell must not retitle or clear the
 //    terminal) and a long value is cut with its length (a 20 MB cell is not echoed whole).
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -50,5 +51,10 @@ std::string shortened_value(std::string_view text, std::size_t max_bytes = 200, 
 // written '\''. A printed command pasted into bash then runs exactly what was printed: a path holding
 // $(...) is not executed, parentheses in a name are not syntax.
 std::string shell_quoted(std::string_view word);
+
+// Length of the valid UTF-8 sequence starting at text[i], or 0 when it is not one (overlong
+// forms, surrogates and code points above U+10FFFF are invalid, RFC 3629 section 4); the code
+// point goes to `code_point`. The one check behind the terminal's escaping and JSON's quoting.
+std::size_t utf8_length(std::string_view text, std::size_t i, std::uint32_t& code_point);
 
 }  // namespace glarelab

@@ -2,40 +2,9 @@
 
 #include <cstdint>
 
+#include "core/text_limits.h"
+
 namespace glarelab {
-namespace {
-
-// Length of the valid UTF-8 sequence starting at text[i], or 0 when it is not one (overlong
-// forms, surrogates and code points above U+10FFFF are invalid, RFC 3629 section 4).
-std::size_t utf8_sequence_length(std::string_view text, std::size_t i) {
-  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
-  const unsigned char lead = byte(i);
-  std::size_t length = 0;
-  std::uint32_t code_point = 0;
-  if (lead < 0x80) return 1;
-  if (lead >= 0xC2 && lead <= 0xDF) {
-    length = 2;
-    code_point = lead & 0x1Fu;
-  } else if (lead >= 0xE0 && lead <= 0xEF) {
-    length = 3;
-    code_point = lead & 0x0Fu;
-  } else if (lead >= 0xF0 && lead <= 0xF4) {
-    length = 4;
-    code_point = lead & 0x07u;
-  } else {
-    return 0;
-  }
-  if (i + length > text.size()) return 0;
-  for (std::size_t k = 1; k < length; ++k) {
-    if ((byte(i + k) & 0xC0) != 0x80) return 0;
-    code_point = (code_point << 6) | (byte(i + k) & 0x3Fu);
-  }
-  if (length == 3 && (code_point < 0x800 || (code_point >= 0xD800 && code_point <= 0xDFFF))) return 0;
-  if (length == 4 && (code_point < 0x10000 || code_point > 0x10FFFF)) return 0;
-  return length;
-}
-
-}  // namespace
 
 std::string json_quote(std::string_view text) {
   static const char* const kHex = "0123456789abcdef";
@@ -60,7 +29,8 @@ std::string json_quote(std::string_view text) {
       ++i;
       continue;
     }
-    const std::size_t length = utf8_sequence_length(text, i);
+    std::uint32_t code_point = 0;
+    const std::size_t length = utf8_length(text, i, code_point);
     if (length == 0) {
       out += "\\ufffd";
       ++i;
