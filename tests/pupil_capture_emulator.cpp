@@ -98,9 +98,20 @@ void PupilCaptureEmulator::remote_loop() {
     if (text == "SUB_PORT") {
       reply = std::to_string(pub_port_);
     } else if (text == "t") {
+      ++time_requests_;
+      TimeReply scripted;
+      {
+        const std::lock_guard lock(mutex_);
+        scripted.delay_s = t_delay_s_;
+        if (!time_replies_.empty()) {
+          scripted = time_replies_.front();
+          time_replies_.erase(time_replies_.begin());
+        }
+      }
+      if (scripted.delay_s > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(scripted.delay_s));
       char buffer[64];
       std::snprintf(buffer, sizeof buffer, "%.9f", steady_now_s() + pupil_time_offset_s_);
-      reply = buffer;
+      reply = scripted.text.empty() ? std::string(buffer) : scripted.text;
     } else if (!text.empty() && text[0] == 'T') {
       ++time_set_requests_;
       reply = "Timesync successful.";
@@ -109,6 +120,12 @@ void PupilCaptureEmulator::remote_loop() {
     }
     sockets_->remote.send(zmq::buffer(reply), zmq::send_flags::none);
   }
+}
+
+void PupilCaptureEmulator::script_time_replies(std::vector<TimeReply> replies, double t_delay_s) {
+  const std::lock_guard lock(mutex_);
+  time_replies_ = std::move(replies);
+  t_delay_s_ = t_delay_s;
 }
 
 void PupilCaptureEmulator::start_publishing(std::function<double(double)> diameter_mm,
@@ -128,6 +145,10 @@ void PupilCaptureEmulator::publish_raw(const std::string& topic, const std::stri
   const std::lock_guard lock(mutex_);
   sockets_->pub.send(zmq::buffer(topic), zmq::send_flags::sndmore);
   sockets_->pub.send(zmq::buffer(payload), zmq::send_flags::none);
+}
+
+void PupilCaptureEmulator::publish_blink(bool onset) {
+  publish_raw("blinks", pack_blink(steady_now_s() + pupil_time_offset_s_, onset));
 }
 
 void PupilCaptureEmulator::publish_loop() {

@@ -40,6 +40,16 @@ class PupilCaptureEmulator {
   void stop_publishing();
   // While silent, neither socket answers or publishes (a tracker that went away).
   void set_silent(bool silent) { silent_ = silent; }
+  // Pupil Remote's next answers to "t", in order, each after its delay (a misbehaving tracker: "nan",
+  // "inf", a slow reply); once they are used up, "t" answers the time again after `t_delay_s`.
+  struct TimeReply {
+    std::string text;  // empty: the time, as usual
+    double delay_s = 0.0;
+  };
+  void script_time_replies(std::vector<TimeReply> replies, double t_delay_s = 0.0);
+  int time_requests() const { return time_requests_; }
+  // Publishes one blink onset or offset at the current Pupil time (an onset whose offset is lost).
+  void publish_blink(bool onset);
   // Sends one raw two-frame message (for malformed-input tests).
   void publish_raw(const std::string& topic, const std::string& payload);
 
@@ -60,6 +70,9 @@ class PupilCaptureEmulator {
   std::atomic<bool> publishing_{false};
   std::atomic<bool> silent_{false};
   std::atomic<int> time_set_requests_{0};
+  std::atomic<int> time_requests_{0};
+  std::vector<TimeReply> time_replies_;  // guarded by mutex_
+  double t_delay_s_ = 0.0;               // guarded by mutex_
   std::thread remote_thread_;
   std::thread publish_thread_;
   mutable std::mutex mutex_;  // guards published_ and the pub socket

@@ -28,6 +28,7 @@ double median_absolute_deviation(const std::vector<double>& values) {
 PupilFilter::PupilFilter(PupilFilterSettings settings) : settings_(settings) {}
 
 void PupilFilter::add_blink(const BlinkEvent& blink) {
+  if (blink.onset && !blink_topic_active_) blink_topic_onset_s_ = blink.session_time_s;
   blink_topic_active_ = blink.onset;
   if (!blink.onset) blink_topic_end_s_ = blink.session_time_s;
 }
@@ -46,6 +47,11 @@ FilteredPupil PupilFilter::add(const TrackerSample& sample) {
   out.eye = std::clamp(sample.eye, 0, 1);
   EyeState& eye = eyes_[out.eye];
   const double t = sample.session_time_s;
+  if (blink_topic_active_ && t - blink_topic_onset_s_ > settings_.max_blink_s) {
+    blink_topic_active_ = false;
+    blink_topic_end_s_ = blink_topic_onset_s_ + settings_.max_blink_s;
+    ++timed_out_blinks_;
+  }
   const bool confident = sample.valid && sample.confidence >= settings_.min_confidence;
   const bool in_range = sample.pupil_diameter_mm >= settings_.min_mm && sample.pupil_diameter_mm <= settings_.max_mm;
   out.blink = blink_topic_active_ || !confident;

@@ -31,6 +31,10 @@ struct PupilFilterSettings {
   // Floor of the speed threshold: a perfectly steady signal has MAD 0 and would reject every change.
   double min_speed_threshold_mm_s = 5.0;
   double blink_margin_s = 0.05;          // samples this soon after a blink or gap are rejected
+  // A blink onset whose offset never comes (a lost message) ends the topic's blink this long after
+  // its onset. Spontaneous blinks last 0.1-0.4 s; a lid that really stays shut longer keeps the
+  // samples unconfident, and the confidence test goes on treating them as a blink.
+  double max_blink_s = 1.0;
   double max_interpolated_gap_s = 0.25;  // longer gaps: hold, and restart the speed reference
   double low_pass_cutoff_hz = 4.0;
   double initial_mm = 4.0;               // model pupil before the first accepted sample
@@ -60,6 +64,8 @@ class PupilFilter {
   // Whether any sample has been accepted (before that model_pupil_mm() is settings.initial_mm).
   bool has_measurement() const { return eyes_[0].has_value || eyes_[1].has_value; }
   std::size_t rejected() const { return rejected_; }
+  // Blink onsets whose offset did not come within settings.max_blink_s.
+  std::size_t timed_out_blinks() const { return timed_out_blinks_; }
   const PupilFilterSettings& settings() const { return settings_; }
 
  private:
@@ -80,7 +86,9 @@ class PupilFilter {
   EyeState eyes_[2];
   bool blink_topic_active_ = false;
   double blink_topic_end_s_ = -1e300;
+  double blink_topic_onset_s_ = 0.0;
   std::size_t rejected_ = 0;
+  std::size_t timed_out_blinks_ = 0;
 };
 
 // Offline: linear interpolation over gaps (nullopt values) of at most max_gap_s between two known

@@ -199,18 +199,45 @@ ClockOffsetEstimate PupilLabsClient::clock_offset() const {
   return offset_;
 }
 
-ClockOffsetEstimate PupilLabsClient::measure_offset() {
+std::optional<ClockOffsetEstimate> PupilLabsClient::measure_offset(zmq::socket_t& remote, TrackerBatch& batch,
+                                                                   std::string* why) {
   std::vector<RoundTrip> trips;
+  std::vector<std::string> faults;
   for (int i = 0; i < settings_.offset_round_trips; ++i) {
     RoundTrip trip;
     trip.local_send_s = clock_->now_s();
-    const auto reply = request(*connection_->remote, "t");
+    const auto reply = request(remote, "t");
     trip.local_receive_s = clock_->now_s();
-    if (!reply) throw TrackerError(description() + ": Pupil Remote stopped answering 't'");
+    if (!reply) {
+      *why = description() + ": Pupil Remote stopped answering 't'";
+      return std::nullopt;
+    }
+    // strtod reads "nan" and "inf" as numbers: a time that is not finite is a fault, not a time.
     char* end = nullptr;
     trip.device_time_s = std::strtod(reply->c_str(), &end);
-    if (reply->empty() || *end != '\0') throw TrackerError(description() + ": 't' answered '" + *reply + "'");
+    if (reply->empty() || *end != '\0' || !std::isfinite(trip.device_time_s)) {
+      faults.push_back(reply->substr(0, 32));
+      continue;
+    }
     trips.push_back(trip);
+  }
+  if (!faults.empty()) {
+    std::int64_t count = 0;
+    {
+      const std::lock_guard lock(status_mutex_);
+      count = status_.clock_faults += static_cast<std::int64_t>(faults.size());
+    }
+    batch.notices.push_back({clock_->now_s(), "tracker_clock_fault",
+                             description() + ": " + std::to_string(faults.size()) + " of " +
+                                 std::to_string(settings_.offset_round_trips) + " 't' replies were not a time (first '" +
+                                 faults.front() + "'), skipped; " + std::to_string(count) + " so far"});
+  }
+  // Fewer than half the trips answered with a time: the estimate would rest on too few of them.
+  if (2 * trips.size() < static_cast<std::size_t>(settings_.offset_round_trips)) {
+    *why = description() + ": 't' answered '" + (faults.empty() ? std::string() : faults.front()) +
+           "', not a time, in " + std::to_string(faults.size()) + " of " + std::to_string(settings_.offset_round_trips) +
+           " requests";
+    return std::nullopt;
   }
   const ClockOffsetEstimate estimate = estimate_clock_offset(trips);
   const std::lock_guard lock(status_mutex_);
@@ -235,13 +262,11 @@ bool PupilLabsClient::connect(std::string* why) {
     c.remote.reset();
     return false;
   }
-  try {
-    measure_offset();
-  } catch (const TrackerError& error) {
-    *why = error.what();
-    c.remote.reset();
-    return false;
-  }
+  TrackerBatch notices;
+  const bool measured = measure_offset(*c.remote, notices, why).has_value();
+  queue_.push(std::move(notices));
+  c.remote.reset();  // from here on "t" goes through the clock thread's own socket
+  if (!measured) return false;
   c.sub.emplace(c.context, zmq::socket_type::sub);
   c.sub->set(zmq::sockopt::linger, 0);
   c.sub->set(zmq::sockopt::rcvtimeo, 50);
@@ -255,14 +280,48 @@ void PupilLabsClient::start(const SessionClock& clock) {
   std::string why;
   if (!connect(&why)) throw TrackerError("tracker " + description() + ": " + why);
   stopping_ = false;
+  connected_ = true;
   thread_ = std::thread([this] { receive_loop(); });
+  clock_thread_ = std::thread([this] { clock_loop(); });
 }
 
 void PupilLabsClient::stop() {
   stopping_ = true;
   if (thread_.joinable()) thread_.join();
+  if (clock_thread_.joinable()) clock_thread_.join();
   connection_->sub.reset();
   connection_->remote.reset();
+}
+
+// The periodic clock re-estimate runs on its own thread with its own Pupil Remote socket: a slow
+// 't' (each may take up to request_timeout_s, offset_round_trips of them) must never hold up the
+// receiver, whose SUB queue would otherwise overflow and drop samples unseen. A failed estimate
+// keeps the last offset and is logged; the connection itself is judged by the data stream.
+void PupilLabsClient::clock_loop() {
+  const std::string address = endpoint(settings_.host, settings_.port);
+  std::optional<zmq::socket_t> remote;
+  double next_offset_s = clock_->now_s() + settings_.offset_interval_s;
+  while (!stopping_) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const double now_s = clock_->now_s();
+    if (!connected_) next_offset_s = now_s + settings_.offset_interval_s;  // connect() measures afresh
+    if (now_s < next_offset_s) continue;
+    if (!remote) remote.emplace(make_request_socket(connection_->context, address, settings_.request_timeout_s));
+    TrackerBatch batch;
+    std::string why;
+    if (const auto estimate = measure_offset(*remote, batch, &why)) {
+      std::ostringstream note;
+      note.precision(9);
+      note << "offset " << estimate->offset_s << " s (+/- " << estimate->uncertainty_s << " s, fastest round trip "
+           << estimate->fastest_round_trip_s << " s)";
+      batch.notices.push_back({clock_->now_s(), "tracker_clock", note.str()});
+    } else {
+      remote.reset();  // a REQ socket whose request timed out is unusable
+      batch.notices.push_back({clock_->now_s(), "tracker_clock_fault", why + "; the last offset is kept"});
+    }
+    queue_.push(std::move(batch));
+    next_offset_s = clock_->now_s() + settings_.offset_interval_s;
+  }
 }
 
 TrackerBatch PupilLabsClient::poll(double) { return queue_.take_all(); }
@@ -312,7 +371,13 @@ void PupilLabsClient::handle(const std::string& topic, const void* payload, std:
 void PupilLabsClient::receive_loop() {
   bool connected = true;
   double last_message_s = clock_->now_s();
-  double next_offset_s = last_message_s + settings_.offset_interval_s;
+  // The longest silence of the data stream, across reconnections (a reconnect to a Remote whose
+  // stream stays silent is not data).
+  double last_data_s = last_message_s;
+  const auto note_gap = [&](double now_s) {
+    const std::lock_guard lock(status_mutex_);
+    status_.longest_gap_s = std::max(status_.longest_gap_s, now_s - last_data_s);
+  };
   double backoff_s = settings_.backoff_initial_s;
   double next_attempt_s = 0.0;
   while (!stopping_) {
@@ -328,6 +393,8 @@ void PupilLabsClient::receive_loop() {
       }
       if (received) {
         last_message_s = clock_->now_s();
+        note_gap(last_message_s);
+        last_data_s = last_message_s;
         // [topic, payload] (Capture may append raw-data frames: ignored).
         if (parts.size() >= 2)
           handle(parts[0].to_string(), parts[1].data(), parts[1].size(), batch);
@@ -335,45 +402,30 @@ void PupilLabsClient::receive_loop() {
           handle(parts.empty() ? std::string() : parts[0].to_string(), nullptr, 0, batch);
       }
       const double after_s = clock_->now_s();
-      bool lost = after_s - last_message_s > settings_.loss_timeout_s;
-      std::string why = "no message for " + std::to_string(after_s - last_message_s) + " s";
-      if (!lost && after_s >= next_offset_s) {
-        try {
-          const ClockOffsetEstimate estimate = measure_offset();
-          std::ostringstream note;
-          note.precision(9);
-          note << "offset " << estimate.offset_s << " s (+/- " << estimate.uncertainty_s << " s, fastest round trip "
-               << estimate.fastest_round_trip_s << " s)";
-          batch.notices.push_back({after_s, "tracker_clock", note.str()});
-        } catch (const TrackerError& error) {
-          lost = true;
-          why = error.what();
-        }
-        next_offset_s = after_s + settings_.offset_interval_s;
-      }
-      if (lost) {
+      if (after_s - last_message_s > settings_.loss_timeout_s) {
         connected = false;
+        connected_ = false;
         connection_->sub.reset();
-        connection_->remote.reset();
         backoff_s = settings_.backoff_initial_s;
         next_attempt_s = after_s;
         {
           const std::lock_guard lock(status_mutex_);
           ++status_.connection_losses;
         }
-        batch.notices.push_back({last_message_s, "tracker_lost", description() + ": connection lost (" + why + ")"});
+        batch.notices.push_back({last_message_s, "tracker_lost",
+                                 description() + ": connection lost (no message for " +
+                                     std::to_string(after_s - last_message_s) + " s)"});
       }
     } else if (now_s >= next_attempt_s) {
       std::string why;
       if (connect(&why)) {
         connected = true;
+        connected_ = true;
         const double gap_s = clock_->now_s() - last_message_s;
         last_message_s = clock_->now_s();
-        next_offset_s = last_message_s + settings_.offset_interval_s;
         {
           const std::lock_guard lock(status_mutex_);
           ++status_.reconnections;
-          status_.longest_gap_s = std::max(status_.longest_gap_s, gap_s);
         }
         batch.notices.push_back({last_message_s, "tracker_reconnected",
                                  description() + ": reconnected after a gap of " + std::to_string(gap_s) + " s"});
@@ -386,6 +438,7 @@ void PupilLabsClient::receive_loop() {
     }
     queue_.push(std::move(batch));
   }
+  note_gap(clock_->now_s());  // a stream still silent at the end
 }
 
 }  // namespace glarelab

@@ -21,6 +21,10 @@
 #include "runner/tracker/clock_offset.h"
 #include "runner/tracker/tracker_source.h"
 
+namespace zmq {
+class socket_t;
+}
+
 namespace glarelab {
 
 struct PupilLabsSettings {
@@ -74,16 +78,22 @@ class PupilLabsClient final : public TrackerSource {
  private:
   struct Connection;
   void receive_loop();
+  void clock_loop();
   bool connect(std::string* why);
-  ClockOffsetEstimate measure_offset();
+  // One estimate from offset_round_trips "t" requests on `remote`. Replies that are not a finite
+  // time are skipped, counted and noted in `batch`; nothing (and why) when Remote stops answering or
+  // fewer than half the replies were times.
+  std::optional<ClockOffsetEstimate> measure_offset(zmq::socket_t& remote, TrackerBatch& batch, std::string* why);
   void handle(const std::string& topic, const void* payload, std::size_t bytes, TrackerBatch& batch);
 
   PupilLabsSettings settings_;
   const SessionClock* clock_ = nullptr;
   std::unique_ptr<Connection> connection_;  // sockets; used only by the receiver thread once started
   TrackerQueue queue_;
-  std::thread thread_;
+  std::thread thread_;        // receives the data stream (and reconnects)
+  std::thread clock_thread_;  // re-estimates the clock offset
   std::atomic<bool> stopping_{false};
+  std::atomic<bool> connected_{false};
   mutable std::mutex status_mutex_;
   TrackerStatus status_;
   ClockOffsetEstimate offset_;

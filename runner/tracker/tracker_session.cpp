@@ -6,6 +6,7 @@
 
 #include "core/errors.h"
 #include "core/clock.h"
+#include "core/number_text.h"
 
 namespace glarelab {
 
@@ -48,7 +49,13 @@ void TrackerSession::on_frame(double now_s) {
   if (batch.empty()) return;
   samples_ += static_cast<std::int64_t>(batch.samples.size());
   std::vector<FilteredPupil> filtered;
+  const std::size_t timed_out_before = filter_.timed_out_blinks();
   filter_.add_batch(batch, &filtered);
+  if (filter_.timed_out_blinks() > timed_out_before)
+    batch.notices.push_back({now_s, "tracker_blink_timeout",
+                             "a blink onset had no offset within " + number_text(filter_.settings().max_blink_s) +
+                                 " s; the blink was ended there (" + std::to_string(filter_.timed_out_blinks()) +
+                                 " so far)"});
   std::vector<FilteredPupil>* keep = phase_ == Phase::black ? &black_phase_ : phase_ == Phase::white ? &white_phase_ : nullptr;
   if (keep != nullptr) keep->insert(keep->end(), filtered.begin(), filtered.end());
   track_gaze_and_blinks(batch, filtered);
@@ -131,7 +138,8 @@ std::string TrackerSession::finish(double now_s) {
        << " rejected by the pupil filter, " << status.malformed_messages << " malformed messages skipped";
   if (source_->live())
     line << ", " << status.connection_losses << " connection losses, " << status.reconnections
-         << " reconnections (longest gap " << status.longest_gap_s << " s)";
+         << " reconnections (longest gap " << status.longest_gap_s << " s), " << status.clock_faults
+         << " clock replies that were not a time";
   if (logger_) {
     TrackerBatch note;
     note.notices.push_back({now_s, "tracker_summary", line.str()});

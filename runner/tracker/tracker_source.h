@@ -63,7 +63,8 @@ struct TrackerStatus {
   std::int64_t malformed_messages = 0;
   int connection_losses = 0;
   int reconnections = 0;
-  double longest_gap_s = 0.0;  // longest time without a message while connected or reconnecting
+  double longest_gap_s = 0.0;  // longest time without a data message, across reconnections
+  std::int64_t clock_faults = 0;  // clock replies that were not a time (Pupil Remote "t": nan, inf, text)
 };
 
 // Multi-producer, single-consumer queue of batches. push() never blocks for long (a mutex held
