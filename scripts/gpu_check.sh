@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# The GPU check: on a machine with a GPU, headless (EGL, no display), build glarelab and its tests,
+# run the GL tests and the GL rows of `glarelab bench`, and write one markdown report: a table with
+# the machine's name, its GPU and OpenGL renderer, the GL tests' result and the load, followed by the
+# bench's own speed-against-error tables. Meant to finish in a few minutes on a many-core server.
+#
+# Usage: scripts/gpu_check.sh [REPORT.md]     (default: build-gpu/gpu_check.md)
+# Environment: GPU_CHECK_BUILD (build folder, default build-gpu), GPU_CHECK_QUICK=1 (the bench's
+# quick grids only), GPU_CHECK_BUILD_TYPE (default Release).
+set -uo pipefail
+cd "$(dirname "$0")/.." || exit 1
+
+build=${GPU_CHECK_BUILD:-build-gpu}
+report=${1:-$build/gpu_check.md}
+jobs=$(nproc)
+mkdir -p "$build" "$(dirname "$report")"
+unset DISPLAY WAYLAND_DISPLAY  # EGL without a display, as on a server
+
+step() { printf '[gpu_check] %s\n' "$*" >&2; }
+fail() {
+  step "FAILED: $1 (log: $2)"
+  tail -n 30 "$2" >&2
+  exit 1
+}
+
+started=$(date +%s)
+step "configuring $build (${GPU_CHECK_BUILD_TYPE:-Release})"
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE="${GPU_CHECK_BUILD_TYPE:-Release}" > "$build/configure.log" 2>&1 ||
+  fail "configure" "$build/configure.log"
+step "building glarelab and glarelab_tests with $jobs jobs"
+cmake --build "$build" -j"$jobs" --target glarelab glarelab_tests > "$build/build.log" 2>&1 ||
+  fail "build" "$build/build.log"
+built=$(date +%s)
+
+# The tests that run OpenGL: the GL glare backend's transforms, PSFs and convolution against the
+# CPU double reference, the GL frame engine against the CPU engine, and the offscreen display.
+gl_tests='Gl*:FrameEngineGl*:GlareBackendAgreement*:OffscreenBackend*'
+step "GL tests ($gl_tests)"
+"$build/tests/glarelab_tests" --gtest_filter="$gl_tests" > "$build/gl_tests.log" 2>&1
+tests_status=$?
+tests_passed=$(grep -c '^\[       OK \]' "$build/gl_tests.log")
+tests_failed=$(grep -c '^\[  FAILED  \] [A-Za-z]' "$build/gl_tests.log")
+tests_skipped=$(grep -c '^\[  SKIPPED \] [A-Za-z]' "$build/gl_tests.log")
+tested=$(date +%s)
+
+engine=()
+if "$build/glarelab" bench --help 2>/dev/null | grep -q -- '--engine'; then engine=(--engine gpu); fi
+quick=()
+if [ "${GPU_CHECK_QUICK:-0}" = 1 ]; then quick=(--quick); fi
+step "glarelab bench ${quick[*]} ${engine[*]}"
+"$build/glarelab" bench "${quick[@]}" "${engine[@]}" > "$build/bench.log" 2>&1 || fail "bench" "$build/bench.log"
+step "glarelab bench --perception-only ${engine[*]}"
+"$build/glarelab" bench --perception-only "${engine[@]}" > "$build/bench_perception.log" 2>&1 ||
+  fail "bench --perception-only" "$build/bench_perception.log"
+finished=$(date +%s)
+
+gpu=$(nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader 2>/dev/null | head -n 1)
+renderer=$(grep -m 1 '^OpenGL renderer:' "$build/bench.log" | sed 's/^OpenGL renderer: //; s/\.$//')
+cpu=$(grep -m 1 'model name' /proc/cpuinfo | sed 's/.*: //')
+{
+  echo "## GPU check: $(hostname), $(date -u +%Y-%m-%d)"
+  echo
+  echo "| what | value |"
+  echo "|---|---|"
+  echo "| machine | $(hostname): ${cpu:-unknown CPU}, $jobs cores |"
+  echo "| GPU | ${gpu:-no nvidia-smi} |"
+  echo "| OpenGL renderer | ${renderer:-not reported} |"
+  echo "| commit | $(git rev-parse --short HEAD 2>/dev/null || echo unknown) |"
+  echo "| GL tests | $tests_passed passed, $tests_failed failed, $tests_skipped skipped (exit $tests_status) |"
+  echo "| build / tests / bench | $((built - started)) s / $((tested - built)) s / $((finished - tested)) s |"
+  echo "| load average at the end | $(cut -d' ' -f1-3 /proc/loadavg) |"
+  echo
+  echo "### glarelab bench ${quick[*]} ${engine[*]}"
+  echo
+  cat "$build/bench.log"
+  echo
+  echo "### glarelab bench --perception-only ${engine[*]}"
+  echo
+  cat "$build/bench_perception.log"
+} > "$report"
+step "report: $report"
+if [ "$tests_status" -ne 0 ]; then
+  step "GL tests failed:"
+  grep '^\[  FAILED  \] [A-Za-z]' "$build/gl_tests.log" >&2
+  exit 1
+fi
+exit 0
