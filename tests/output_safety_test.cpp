@@ -176,6 +176,33 @@ TEST(OutputSafety, OutputsNamedThroughALinkAreRefusedAndTheTargetKept) {
   EXPECT_EQ(read_bytes(victim).rfind("time_s,", 0), 0u);
 }
 
+// `fit --out` and `calibrate --out` as the other outputs: a link is refused (exit 2, before anything
+// is computed or shown) and its target kept; the file named itself is written whole.
+TEST(OutputSafety, FitAndCalibrateRefuseALinkAtTheirOutput) {
+  const ScratchDir scratch;
+  const std::string data = scratch.write("data.csv", "level,correct,trials\n1,5,10\n2,6,10\n3,8,10\n4,10,10\n");
+  const std::string victim = scratch.write("victim.json", "keep");
+  const auto link = scratch.path() / "result.json";
+  fs::create_symlink(victim, link);
+  const auto fit = run_glarelab({"fit", data, "--out", link.string()}, scratch.path());
+  EXPECT_EQ(fit.exit_code, 2) << fit.output;
+  EXPECT_NE(fit.output.find("--out: " + link.string() + " is a symbolic link (to " + victim + ")"), std::string::npos)
+      << fit.output;
+  EXPECT_EQ(read_bytes(victim), "keep");
+  const auto direct = run_glarelab({"fit", data, "--out", (scratch.path() / "direct.json").string()}, scratch.path());
+  EXPECT_EQ(direct.exit_code, 0) << direct.output;
+  EXPECT_EQ(read_bytes((scratch.path() / "direct.json").string()).rfind("{", 0), 0u);
+
+  const auto dangling = scratch.path() / "display.csv";
+  fs::create_symlink(scratch.path() / "made_through_link.csv", dangling);
+  const auto calibrate = run_glarelab({"calibrate", "--display", "offscreen", "--levels", "2", "--measurements",
+                                       scratch.write("readings.txt", "1\n"), "--out", dangling.string()},
+                                      scratch.path());
+  EXPECT_EQ(calibrate.exit_code, 2) << calibrate.output;
+  EXPECT_NE(calibrate.output.find("is a symbolic link"), std::string::npos) << calibrate.output;
+  EXPECT_FALSE(fs::exists(scratch.path() / "made_through_link.csv"));
+}
+
 TEST(OutputSafety, AFileWhereAFolderMustBeIsTheUsersMistake) {
   const ScratchDir scratch;
   const auto db = demo_database(scratch);

@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <stdexcept>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/exr_io.h"
 #include "core/png_io.h"
@@ -49,8 +49,9 @@ class PatchPresenter {
                   plan_.bits_per_channel == 8 ? "png" : "exr");
     const std::string path = (std::filesystem::path(options_.save_patches_dir) / name).string();
     for (std::size_t i = 3; i < image.rgba.size(); i += 4) image.rgba[i] = 1.0f;
+    // Beside and renamed (core/atomic_file.h): an interrupted run leaves no half-written patch.
     if (plan_.bits_per_channel == 8)
-      write_png_encoded(path, image);
+      write_through_temporary(path, [&](const std::string& partial) { write_png_encoded(partial, image); });
     else
       write_exr(path, image);
   }
@@ -159,21 +160,20 @@ std::optional<std::string> read_patches_interactively(DisplayBackend& display, P
   }
 }
 
+// Written beside and renamed into place (core/atomic_file.h): an interrupted calibration leaves the
+// previous file whole, and a link standing at --out is refused rather than written through.
 void write_text_file(const std::string& path, const std::string& text) {
+  refuse_symbolic_link(path, "--out");
   const std::filesystem::path file(path);
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  std::ofstream stream(path, std::ios::binary | std::ios::trunc);
-  stream << text;
-  stream.close();
-  if (!stream)
-    throw std::filesystem::filesystem_error("calibrate: cannot write the calibration file", file,
-                                            std::make_error_code(std::errc::io_error));
+  write_file_atomically(path, text);
 }
 
 }  // namespace
 
 int run_calibration(const CalibrationOptions& options, std::ostream& out) {
   install_interrupt_handlers();
+  if (!options.out_path.empty()) refuse_symbolic_link(options.out_path, "--out");  // before anything is shown
   const CalibrationPlan plan = make_calibration_plan(options.levels, options.bits_per_channel);
   if (!(options.patch_fraction > 0.0 && options.patch_fraction <= 1.0))
     throw std::invalid_argument("calibrate: --patch-fraction must be in (0, 1]");

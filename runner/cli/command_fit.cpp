@@ -2,12 +2,12 @@
 // table of blocks, with psignifit's option and result names (docs/ANALYSIS.md, "Psychometric
 // fits, psignifit 4"), so a fit can be checked against psignifit itself.
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 
 #include "analysis/psignifit_fit.h"
 #include "analysis/psignifit_io.h"
+#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
 
@@ -33,10 +33,9 @@ int run_fit(const FitArguments& arguments) {
     std::cout << text;
     return kExitOk;
   }
-  std::ofstream out(arguments.out, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) throw std::filesystem::filesystem_error("cannot write the result", arguments.out, std::make_error_code(std::errc::io_error));
+  // Beside and renamed into place (core/atomic_file.h); a link standing at --out is refused.
+  refuse_symbolic_link(arguments.out, "--out");
+  write_file_atomically(arguments.out, text);
   // A short summary for the terminal; the file holds everything.
   std::cout << arguments.out << ": " << analysis::psignifit_sigmoid_name(result.options.sigmoid) << " fit of "
             << result.blocks.size() << " block(s), " << (result.options.estimate_map ? "MAP" : "posterior mean") << "\n";
