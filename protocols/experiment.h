@@ -11,6 +11,7 @@
 #include "protocols/block_design.h"
 #include "core/display_spec.h"
 #include "core/errors.h"
+#include "core/frame_engine_request.h"
 #include "core/scene_spec.h"
 #include "protocols/glare_config.h"
 #include "core/observer_optics.h"
@@ -167,6 +168,8 @@ struct Experiment {
   DisplaySpec display;
   SourceLocation stereo_where;  // [display] stereo's value, for refusals that depend on the scenes
   SourceLocation stimulus_gap_where;  // [display] stimulus_gap_deg's value (or the table), likewise
+  // [display] engine (core/frame_engine_request.h): what makes the frames; `--engine` replaces it.
+  FrameEngineRequest engine = FrameEngineRequest::automatic;
   std::map<std::string, SceneSpec> scenes;
   std::string procedure = "forced_choice";
   ForcedChoiceSpec forced_choice;

@@ -219,6 +219,12 @@ void read_display_section(TableReader& top, Experiment& experiment, const std::s
   display.monitor = read_int(reader, "monitor", display.monitor, 0, kMaxMonitorIndex);
   display.fullscreen = reader.boolean("fullscreen").value_or(display.fullscreen);
   read_display_stereo(reader, experiment);
+  // What makes the frames (stimuli/frame_engine.h; docs/EXPERIMENT_FILES.md): `--engine` wins.
+  if (const std::optional<std::string> engine = reader.string("engine")) {
+    const std::optional<FrameEngineRequest> parsed = parse_spelling<FrameEngineRequest>(*engine);
+    if (!parsed) reader.fail("engine", "unknown value '" + *engine + "' (supported: " + spelling_list<FrameEngineRequest>() + ")");
+    experiment.engine = *parsed;
+  }
   reader.report_unused();
 }
 

@@ -54,24 +54,59 @@ class GlStages final : public FrameEngine::Stages {
   gl::GlPerceptionStages stages_;
 };
 
-// The engines, in the order they are tried: each takes the frames of the compute backends it
-// serves (the one choice of compute, create_glare_backend).
+// The engines, in the order "auto" tries them: each takes the frames of the compute backends it
+// serves (the one choice of compute, create_glare_backend). Asked for by name, an engine sets the
+// glare backend it needs from the one [glare] backend asks for, and whether its glare may use GL.
 struct EngineCandidate {
   FrameEngineKind kind;
+  FrameEngineRequest answers;
   bool (*serves)(GlareBackendKind);
+  GlareBackendRequest (*glare_backend)(GlareBackendRequest asked);
+  bool glare_on_gl;
   std::unique_ptr<FrameEngine::Stages> (*make)(const GlContextFactory&);
   const char* why;
+  const char* perception_backend;  // where its perception stages run, for the engine event
+  // What goes back to the host after each frame's GPU work (nullptr: nothing runs on a GPU).
+  const char* read_back;
 };
 constexpr EngineCandidate kEngines[] = {
-    {FrameEngineKind::gl, [](GlareBackendKind kind) { return kind == GlareBackendKind::gl; },
+    {FrameEngineKind::gl, FrameEngineRequest::gpu, [](GlareBackendKind kind) { return kind == GlareBackendKind::gl; },
+     [](GlareBackendRequest) { return GlareBackendRequest::gl; }, true,
      [](const GlContextFactory& gl_context) -> std::unique_ptr<FrameEngine::Stages> {
        return std::make_unique<GlStages>(gl_context);
      },
-     "the glare runs on OpenGL, so the perception stages do too (stimuli/perception/gl_perception_stages.h)"},
-    {FrameEngineKind::cpu, [](GlareBackendKind) { return true; },
-     [](const GlContextFactory&) -> std::unique_ptr<FrameEngine::Stages> { return std::make_unique<CpuStages>(); },
-     "the glare runs on the CPU, so the perception stages do too (stimuli/perception/perception_stages_float.h)"},
+     "the glare runs on OpenGL, so the perception stages do too (stimuli/perception/gl_perception_stages.h)",
+     "gl (stimuli/perception/gl_perception_stages.h)",
+     "the glared frame after the convolution and the perceived frame after the stages, every frame, to the "
+     "host for the display's upload"},
+    // [glare] backend = "cpu" keeps the float64 reference; "auto" and "gl" give the planned float32
+    // path (no GL for its glare).
+    {FrameEngineKind::cpu, FrameEngineRequest::cpu, [](GlareBackendKind) { return true; },
+     [](GlareBackendRequest asked) {
+       return asked == GlareBackendRequest::cpu ? GlareBackendRequest::cpu : GlareBackendRequest::automatic;
+     },
+     false, [](const GlContextFactory&) -> std::unique_ptr<FrameEngine::Stages> { return std::make_unique<CpuStages>(); },
+     "the glare runs on the CPU, so the perception stages do too (stimuli/perception/perception_stages_float.h)",
+     "cpu float32 (stimuli/perception/perception_stages_float.h)", nullptr},
 };
+
+// The engine a request names (nullptr for "auto", which the glare backend decides).
+const EngineCandidate* named_engine(FrameEngineRequest request) {
+  for (const EngineCandidate& candidate : kEngines)
+    if (request != FrameEngineRequest::automatic && candidate.answers == request) return &candidate;
+  return nullptr;
+}
+
+GlareSpec engine_glare_spec(GlareSpec glare, FrameEngineRequest request) {
+  if (const EngineCandidate* engine = named_engine(request)) glare.backend = engine->glare_backend(glare.backend);
+  return glare;
+}
+
+GlContextFactory engine_gl_context(GlContextFactory gl_context, FrameEngineRequest request) {
+  const EngineCandidate* engine = named_engine(request);
+  if (engine != nullptr && !engine->glare_on_gl) return {};
+  return gl_context;
+}
 
 }  // namespace
 
@@ -85,24 +120,63 @@ GlareBackendChoice engine_glare_backend(GlareBackendRequest request, const Glare
   return create_glare_backend(request, settings);
 }
 
+FrameEngineChoice choose_frame_engine(FrameEngineRequest request, GlContextFactory gl_context) {
+  FrameEngineChoice choice;
+  if (const EngineCandidate* named = named_engine(request)) {
+    choice.kind = named->kind;
+    choice.reason = "engine " + std::string(spelling(request)) + ": asked for by name; " + named->why + ".";
+    return choice;
+  }
+  const GlareBackendChoice backend =
+      create_glare_backend(GlareBackendRequest::automatic, {.gl_context = std::move(gl_context)});
+  for (const EngineCandidate& candidate : kEngines) {
+    if (!candidate.serves(backend.kind)) continue;
+    choice.kind = candidate.kind;
+    choice.reason = "engine auto picked frame engine " + std::string(spelling(candidate.kind)) + ": " + backend.reason;
+    break;
+  }
+  return choice;
+}
+
 FrameEngine::FrameEngine(const GlareSpec& glare, const AdaptationTimeConstants& time_constants,
-                         const DisplaySpec& display, std::uint64_t seed, GlContextFactory gl_context)
-    : gl_context_(gl_context), glare_(glare, display, seed, std::move(gl_context)), perception_(time_constants, display) {}
+                         const DisplaySpec& display, std::uint64_t seed, GlContextFactory gl_context,
+                         FrameEngineRequest request)
+    : request_(request),
+      gl_context_(gl_context),
+      glare_(engine_glare_spec(glare, request), display, seed, engine_gl_context(std::move(gl_context), request)),
+      perception_(time_constants, display) {}
 
 FrameEngine::~FrameEngine() = default;
 
 FrameEngine::Stages& FrameEngine::stages() {
   if (stages_) return *stages_;
   const GlareBackendKind backend = glare_.backend().kind();
+  const EngineCandidate* named = named_engine(request_);
   for (const EngineCandidate& candidate : kEngines) {
-    if (!candidate.serves(backend)) continue;
+    if (named != nullptr ? &candidate != named : !candidate.serves(backend)) continue;
     stages_ = candidate.make(gl_context_);
     kind_ = candidate.kind;
     reason_ = "frame engine " + std::string(spelling(kind_)) + ": glare backend " + std::string(spelling(backend)) +
-              "; " + candidate.why + ".";
+              "; " + candidate.why + "; " +
+              (named != nullptr ? "engine " + std::string(spelling(request_)) + " asked for by name ([display] engine or --engine)"
+                                : std::string("engine auto: the one its glare backend brings")) +
+              ".";
     break;
   }
   return *stages_;
+}
+
+std::string FrameEngine::stage_backends() {
+  stages();
+  const EngineCandidate* engine = nullptr;
+  for (const EngineCandidate& candidate : kEngines)
+    if (candidate.kind == kind_) engine = &candidate;
+  std::string text = "spectacle warp cpu; depth of field cpu; glare " + std::string(spelling(glare_.backend().kind())) +
+                     "; perception stages " + engine->perception_backend +
+                     "; overlays and display encoding on the display's renderer";
+  text += engine->read_back != nullptr ? std::string("; read back: ") + engine->read_back
+                                       : std::string("; read back: nothing (the frame is made on the host)");
+  return text;
 }
 
 FrameEngineKind FrameEngine::kind() {

@@ -10,14 +10,18 @@
 // perception eye (stimuli/session_perception.h: its adaptation), run in the order of Luidolt 2020's
 // Fig. 6.1 (adaptation -> glare -> acuity -> tone mapping -> scotopic colour), or the glare alone.
 //
-// Engines: the CPU engine runs the perception stages on the CPU; the GL engine runs them with
-// OpenGL 4.5 (stimuli/perception/gl_perception_stages.h) beside the GL glare backend. Which one
-// follows from the one compute choice (engine_glare_backend below: create_glare_backend's table,
-// glare/glare_backend.h, asked by [glare] backend or `psf --backend`): a GL glare backend brings the
-// GL engine, every CPU backend the CPU engine (frame_engine.cpp's table). The choice is made when
-// the first frame needs it, so a session whose frames are all shown as composed never makes a GL
-// context for it. On a CPU "auto" gives the planned float32 path (glare/cpu/float_glare.h), PSFs
-// with the observer's refraction included; "cpu" the float64 reference.
+// Engines: the CPU engine runs the perception stages on the CPU; the GL engine ("gpu") runs them
+// with OpenGL 4.5 (stimuli/perception/gl_perception_stages.h) beside the GL glare backend. The
+// spectacle warp and the depth of field run on the CPU in both, before the engine gets the view.
+// Asked for by name (`[display] engine`, `--engine`: core/frame_engine_request.h), the engine sets
+// the glare backend it needs (frame_engine.cpp's table): "gpu" the GL backend, "cpu" a CPU one (the
+// float64 reference when [glare] backend = "cpu" names it, else the planned float32 path). "auto"
+// follows the one compute choice (engine_glare_backend below: create_glare_backend's table,
+// glare/glare_backend.h, asked by [glare] backend or `psf --backend`): a GL glare backend (on a
+// hardware GPU with OpenGL 4.5) brings the GL engine, every CPU backend the CPU engine. The choice
+// is made when the first frame needs it, so a session whose frames are all shown as composed never
+// makes a GL context for it. On a CPU "auto" gives the planned float32 path (glare/cpu/float_glare.h),
+// PSFs with the observer's refraction included; "cpu" the float64 reference.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -26,6 +30,7 @@
 #include <vector>
 
 #include "core/display_spec.h"
+#include "core/frame_engine_request.h"
 #include "core/gl/gl_context.h"
 #include "core/image.h"
 #include "core/perception_settings.h"
@@ -77,11 +82,22 @@ struct EyeFrame {
 GlareBackendChoice engine_glare_backend(GlareBackendRequest request, const GlareFrameLayout& layout,
                                         GlContextFactory gl_context, bool named = true);
 
+// The engine a request takes here, and one sentence why, without making a frame: `glarelab bench
+// --engine` (which rows to time). "auto" asks the one compute choice (create_glare_backend) as a
+// session's first frame does: the GPU engine on a hardware GPU with OpenGL 4.5, else the CPU engine.
+struct FrameEngineChoice {
+  FrameEngineKind kind = FrameEngineKind::cpu;
+  std::string reason;
+};
+FrameEngineChoice choose_frame_engine(FrameEngineRequest request, GlContextFactory gl_context);
+
 class FrameEngine {
  public:
-  // `seed` seeds the eye model; `gl_context` makes the context GL work runs in (empty: no GL).
+  // `seed` seeds the eye model; `gl_context` makes the context GL work runs in (empty: no GL);
+  // `request`: the engine asked for (automatic: the one the glare backend brings).
   FrameEngine(const GlareSpec& glare, const AdaptationTimeConstants& time_constants, const DisplaySpec& display,
-              std::uint64_t seed, GlContextFactory gl_context);
+              std::uint64_t seed, GlContextFactory gl_context,
+              FrameEngineRequest request = FrameEngineRequest::automatic);
   ~FrameEngine();
   FrameEngine(const FrameEngine&) = delete;
   FrameEngine& operator=(const FrameEngine&) = delete;
@@ -91,6 +107,10 @@ class FrameEngine {
   // The engine, chosen now if not yet (this makes the glare backend), and one sentence why.
   FrameEngineKind kind();
   const std::string& reason();
+  FrameEngineRequest request() const { return request_; }
+  // Where each stage of a frame runs with this engine, and what goes back to the host: one line
+  // for the session's `engine` event ("spectacle warp cpu; depth of field cpu; glare gl; ...").
+  std::string stage_backends();
 
   // The eye's stages, for what is not a frame: the condition's model and refraction, the tracker's
   // pupil and blinks, frames the eye sees without their glare being computed.
@@ -101,6 +121,7 @@ class FrameEngine {
 
  private:
   Stages& stages();
+  FrameEngineRequest request_;
   GlContextFactory gl_context_;
   GlareStage glare_;
   SessionPerception perception_;

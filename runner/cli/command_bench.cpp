@@ -16,8 +16,10 @@
 #include "stimuli/glare_model_benchmark.h"
 #include "stimuli/perception/stage_timing.h"
 #include "runner/cli/bench_memory.h"
+#include "stimuli/frame_engine.h"
 #include "stimuli/frame_engine_benchmark.h"
 #include "runner/cli/commands.h"
+#include "runner/cli/option_checks.h"
 #include "runner/display/compute_context.h"
 
 namespace glarelab::cli {
@@ -26,6 +28,7 @@ namespace {
 struct BenchArguments {
   bool quick = false;
   bool no_gl = false;
+  FrameEngineRequest engine = FrameEngineRequest::automatic;  // --engine, read when given
   std::vector<int> grids;  // empty: 256, 512, 1024 (and 2048 without --quick)
   int repeats = 0;  // 0: 1 with --quick, else 3
   int frames = 0;   // 0: 5 with --quick, else 10
@@ -153,6 +156,10 @@ Action add_bench_command(CLI::App& app) {
       "bench", "Time the glare stages on the CPU and GL backends beside their errors (a speed-against-error table)");
   command->add_flag("--quick", args->quick, "Grids 256, 512, 1024 and one run per stage (default adds 2048, best of 3)");
   command->add_flag("--no-gl", args->no_gl, "CPU backends only");
+  CLI::Option* engine_option = add_choice_option(
+      command, "--engine", args->engine,
+      "Frame engine to time: cpu (CPU rows only, as --no-gl), gpu (the CPU rows beside the GL rows) or auto (gpu on a "
+      "hardware GPU with OpenGL 4.5, else cpu); default: every backend");
   command->add_option("--grids", args->grids,
                       "Grid sizes N of the glare rows, in aperture pixels (even; powers of two 16..4096 with GL), "
                       "replacing the default 256 512 1024 (2048)")
@@ -188,6 +195,15 @@ Action add_bench_command(CLI::App& app) {
   return [=]() {
     if (!args->memory_child.empty()) return report_errors([&]() { return run_memory_child(args->memory_child, std::cout); });
     return report_errors([&]() {
+      // The engine's one table (stimuli/frame_engine.h) decides whether the GL rows run.
+      if (engine_option->count() > 0) {
+        const FrameEngineChoice engine = choose_frame_engine(
+            args->engine, args->no_gl ? GlContextFactory() : GlContextFactory(gl::compute_context_factory()));
+        if (args->no_gl && engine.kind != FrameEngineKind::cpu)
+          throw ConfigError({"--engine", 0, 0}, "engine", "--engine gpu and --no-gl exclude each other");
+        args->no_gl = engine.kind == FrameEngineKind::cpu;
+        std::cout << engine.reason << "\n\n";
+      }
       if (args->analytic_only && args->no_analytic)
         throw ConfigError({"--analytic-only", 0, 0}, "analytic-only", "--analytic-only and --no-analytic exclude each other");
       if (static_cast<int>(args->analytic_only) + static_cast<int>(args->perception_only) +

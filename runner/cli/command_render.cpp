@@ -36,6 +36,7 @@ struct RenderOptions {
   std::vector<double> settings_cd_m2;   // two values
   std::optional<int> participant_number;
   std::optional<std::uint64_t> seed;
+  std::optional<FrameEngineRequest> engine;  // --engine; nothing: [display] engine
   std::string out;
 };
 
@@ -109,6 +110,7 @@ int render(const RenderOptions& options) {
   run.participant = "render";
   run.seed = options.seed;
   run.participant_number = options.participant_number;
+  run.engine = options.engine;
   StimulusPreview preview;
   preview.condition = options.condition;
   preview.comparison_cd_m2 = options.intensity_cd_m2.empty() ? options.settings_cd_m2 : options.intensity_cd_m2;
@@ -169,6 +171,10 @@ Action add_render_command(CLI::App& app) {
                           "Participant number (block order) of the session previewed (default: the file's, else 1)")
           ->check(whole_number_check(1, kMaxParticipantNumber));
   auto* seed_option = command->add_option("--seed", *seed, "Seed (overrides the file's)")->check(seed_check());
+  auto engine = std::make_shared<FrameEngineRequest>(FrameEngineRequest::automatic);
+  auto* engine_option = add_choice_option(command, "--engine", *engine,
+                                          "Frame engine: cpu, gpu (OpenGL 4.5: GL glare and GL perception stages) or "
+                                          "auto (gpu on a hardware GPU with OpenGL 4.5, else cpu); replaces [display] engine");
   // Checked before anything is rendered: any other name would get EXR bytes under a misleading extension.
   command->add_option("--out", options->out, "Output file: .exr (linear, cd/m2) or .png (display-encoded preview)")
       ->required()
@@ -177,6 +183,7 @@ Action add_render_command(CLI::App& app) {
     if (time_option->count() > 0) options->time_s = *time_s;
     if (participant_option->count() > 0) options->participant_number = *participant_number;
     if (seed_option->count() > 0) options->seed = *seed;
+    if (engine_option->count() > 0) options->engine = *engine;
     return report_errors([&]() { return render(*options); });
   };
 }

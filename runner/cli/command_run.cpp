@@ -33,6 +33,10 @@ Action add_run_command(CLI::App& app) {
                   "stamped on it) or virtual (one period per frame, as fast as the machine renders); default: a "
                   "window's real clock, offscreen virtual unless a live tracker or response device is attached")
       ->check(CLI::IsMember({"real", "virtual"}));
+  auto engine = std::make_shared<FrameEngineRequest>(FrameEngineRequest::automatic);
+  auto* engine_option = add_choice_option(run, "--engine", *engine,
+                                          "Frame engine: cpu, gpu (OpenGL 4.5: GL glare and GL perception stages) or "
+                                          "auto (gpu on a hardware GPU with OpenGL 4.5, else cpu); replaces [display] engine");
   auto* participant_number_option =
       run->add_option("--participant-number", *participant_number,
                       "Participant number N >= 1: picks the block order (default: 1 + the sessions of this "
@@ -76,6 +80,7 @@ Action add_run_command(CLI::App& app) {
   // --- end response device ---
   return [=]() {
     if (seed_option->count() > 0) options->seed = *seed;
+    if (engine_option->count() > 0) options->engine = *engine;
     if (participant_number_option->count() > 0) options->participant_number = *participant_number;
     if (resume_option->count() > 0) options->resume_session_id = *resume;
     if (stop_option->count() > 0) options->stop_after_trials = *stop_after;

@@ -150,8 +150,25 @@ void SessionGlare::log_glare_setup() {
                            (glare_mode_for(spec, row) == GlareMode::control && !position_glare_modes(row)
                                 ? "; a control condition: shown without glare, so not blurred"
                                 : ""));
+  const FrameEngineRequest asked = prepared_.experiment.engine;
+  const std::string engine_asked = "asked for " + std::string(spelling(asked)) + " ([display] engine or --engine)";
   if (!any_glare) {
     store_.log_event(session_id_, clock_.now_s(), "glare_backend", "none: every condition is control");
+    bool perceived = false;
+    for (const ConditionRow& row : prepared_.experiment.conditions)
+      perceived = perceived || any_perception_stage(perception_for(prepared_.experiment.perception, row));
+    if (!perceived) {
+      store_.log_event(session_id_, clock_.now_s(), "engine",
+                       engine_asked + ": none runs, every frame is shown as composed (no glare, no perception stage)");
+      return;
+    }
+    FrameEngine& engine = eyes_.front()->engine;
+    store_.log_event(session_id_, clock_.now_s(), "engine",
+                     engine_asked + ": " + engine.reason() +
+                         (asked == FrameEngineRequest::automatic ? " Why: " + engine.glare().backend_reason()
+                                                                 : std::string()) +
+                         " Stages: " + engine.stage_backends() + ".");
+    display_.make_current();
     return;
   }
   // Every eye's stage picks its backend as the first eye's does.
@@ -161,6 +178,11 @@ void SessionGlare::log_glare_setup() {
   if (!condition_refractions_.empty()) backend_reason += " " + stage.refraction_backend_reason() + ".";
   backend_reason += " " + eyes_.front()->engine.reason();
   store_.log_event(session_id_, clock_.now_s(), "glare_backend", backend_reason);
+  // Each eye's engine is chosen as the first eye's is; "auto" says why its glare backend was taken.
+  store_.log_event(session_id_, clock_.now_s(), "engine",
+                   engine_asked + ": " + eyes_.front()->engine.reason() +
+                       (asked == FrameEngineRequest::automatic ? " Why: " + stage.backend_reason() : std::string()) +
+                       " Stages: " + eyes_.front()->engine.stage_backends() + ".");
   display_.make_current();  // making a GL backend (or asking GL for auto) changed the current context
   // The analytic models' kernels are integrated over the display's pixels now, before the first
   // trial (seconds for a full screen), not at the first glare trial's onset.

@@ -14,14 +14,16 @@ SessionEye::SessionEye(const EyeView& eye_view, const Experiment& experiment, Gl
       own_tracker_samples(true),
       display(eye_display(experiment.display, eye_view)),
       seed(eye_seed(experiment.seed, eye_view.tracker_eye)),
-      engine(experiment.glare, experiment.perception.adaptation_time_constants, display, seed, std::move(gl_context)) {}
+      engine(experiment.glare, experiment.perception.adaptation_time_constants, display, seed, std::move(gl_context),
+             experiment.engine) {}
 
 SessionEye::SessionEye(const Experiment& experiment, int frame_width_px, int frame_height_px,
                        GlContextFactory gl_context)
     : view{0, "", {0, 0, frame_width_px, frame_height_px}},
       display(experiment.display),
       seed(experiment.seed),
-      engine(experiment.glare, experiment.perception.adaptation_time_constants, display, seed, std::move(gl_context)) {}
+      engine(experiment.glare, experiment.perception.adaptation_time_constants, display, seed, std::move(gl_context),
+             experiment.engine) {}
 
 std::vector<std::unique_ptr<SessionEye>> make_session_eyes(const Experiment& experiment, int frame_width_px,
                                                            int frame_height_px, GlContextFactory gl_context) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/errors.h"  // ExitCode: the exit codes of `glarelab run`
+#include "core/frame_engine_request.h"
 #include "runner/session/response_device_session.h"
 #include "runner/session/stimulus_preview.h"
 #include "runner/tracker/tracker_session.h"
@@ -26,6 +27,8 @@ struct RunOptions {
   // a live tracker or response device needs the real one), "real" (an offscreen run paced by the
   // wall clock and stamped on it, so late glare frames show as dropped frames) or "virtual".
   std::string clock;
+  // --engine (core/frame_engine_request.h) replaces the file's [display] engine; nothing: the file's.
+  std::optional<FrameEngineRequest> engine;
   std::optional<std::uint64_t> seed;    // overrides [experiment] seed
   // Picks the block order (runner/session/participant_number.h); empty: the file's, else 1 + the
   // sessions of the experiment already in the database.

@@ -194,6 +194,7 @@ static void prepare_frame_directory(const std::string& directory) {
 PreparedSession prepare_session(Experiment experiment, const RunOptions& options) {
   PreparedSession prepared;
   prepared.experiment = std::move(experiment);
+  if (options.engine) prepared.experiment.engine = *options.engine;  // --engine wins over [display] engine
   prepared.resolved_config = resolved_config_toml(prepared.experiment);
   prepared.scenes = std::make_unique<SceneLibrary>(prepared.experiment.scenes, prepared.experiment.display);
   fit_scenes_to_places(prepared.experiment, *prepared.scenes, /*refuse_misfits=*/false);
