@@ -440,10 +440,20 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     r.skip_reason = "glare_gain 0";
     return frame_cd_m2;
   }
-  if (condition_model_ == GlareModel::spencer || condition_model_ == GlareModel::cie)
-    return apply_analytic(frame_cd_m2, source, mean_cd_m2, r);
-  if (condition_model_ == GlareModel::hybrid || condition_model_ == GlareModel::human)
-    return apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
+  if (condition_model_ != GlareModel::ritschel && condition_model_ != GlareModel::luidolt) {
+    // The analytic, hybrid and human kernels reach every pixel, so a gaze window's exact apron is the
+    // whole frame: its glare is the frame's, confined by the window's blend (docs/GLARE_OPTICS.md 7a).
+    const bool analytic = condition_model_ == GlareModel::spencer || condition_model_ == GlareModel::cie;
+    ImageRGBA glared = analytic ? apply_analytic(frame_cd_m2, source, mean_cd_m2, r)
+                                : apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
+    if (spec_.gaze_window_px == 0 || !r.convolved) return glared;
+    GazeWindowOptions options;
+    options.window_px = spec_.gaze_window_px;
+    const GazePoint at = gaze.value_or(GazePoint{});
+    r.window = place_gaze_window(source.width_px, source.height_px, at.x, at.y,
+                                 2 * std::max(source.width_px, source.height_px), options);
+    return blend_gaze_window(frame_cd_m2, glared, *r.window);
+  }
 
   std::optional<Psf> psf = condition_model_ == GlareModel::luidolt ? luidolt_psf(mode, time_s, mean_cd_m2, r)
                                                                     : wave_psf(mode, time_s, mean_cd_m2, r);

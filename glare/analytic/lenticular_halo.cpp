@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <numbers>
 #include <stdexcept>
 
 #include "core/parallel_for.h"
 #include "glare/analytic/analytic_psf.h"
+#include "glare/wave/cie_cmf.h"
 #include "glare/eye/eye_parameters.h"
 
 namespace glarelab {
@@ -46,6 +48,54 @@ double length_inside_disc(double x0, double y0, double x1, double y1, double r) 
   return to > from ? (to - from) * std::sqrt(a) : 0.0;
 }
 
+// A white lamp's spectrum in each channel: a frame's R = G = B pixel is Rec.709's white, D65, so its
+// light at lambda is D65(lambda), and the ring it makes, expressed in linear Rec.709, is
+// sum_lambda rgb(lambda) D65(lambda) ring_lambda with rgb the Rec.709 rows of the XYZ-to-RGB matrix
+// applied to the CIE 1931 functions (glare/wave/cie_cmf.h). The weights keep their signs (a spectral
+// colour lies outside Rec.709), each channel's summing to 1: D65's R, G and B sums are equal (within
+// the CMF fit's 1e-3), so a white lamp's Rec.709 luminance 0.2126 R + 0.7152 G + 0.0722 B is the
+// V(lambda)-weighted ring, whose peak is where the eye sees the halo. Sampled at D65's own 10 nm
+// steps, 380-780 nm (41 wavelengths; each ring is 0.33 degrees wide, 10 nm moves it 0.055).
+struct RingSpectrum {
+  std::vector<double> wavelengths_nm;
+  std::array<std::vector<double>, 3> channel_weights;
+};
+RingSpectrum d65_ring_spectrum() {
+  RingSpectrum spectrum;
+  std::array<double, 3> sums{0.0, 0.0, 0.0};
+  for (double nm = kD65FirstNm; nm <= kD65LastNm + 1e-9; nm += kD65StepNm) {
+    const LinearRgb rgb = xyz_to_linear_rec709(cie1931_cmf(nm));
+    const double power = cie_d65_relative_power(nm);
+    const std::array<double, 3> w{rgb.r * power, rgb.g * power, rgb.b * power};
+    spectrum.wavelengths_nm.push_back(nm);
+    for (std::size_t c = 0; c < 3; ++c) {
+      spectrum.channel_weights[c].push_back(w[c]);
+      sums[c] += w[c];
+    }
+  }
+  for (std::size_t c = 0; c < 3; ++c)
+    for (double& w : spectrum.channel_weights[c]) w /= sums[c];
+  return spectrum;
+}
+
+// The ring's colour at one angle brought into Rec.709's gamut at its own luminance: where a channel
+// is negative (the cyan between 480 and 540 nm has negative red), the colour is moved towards the
+// grey of the same luminance Y just far enough that no channel is below 0,
+//   rgb' = Y + a (rgb - Y),   a = min over negative channels of Y / (Y - c).
+// Luminance is kept at every angle, so the ring's luminance stays where the eye sees it, and no
+// channel of the kernel is negative, so no frame pixel can be (red's negative lobe, 0.4 of its peak
+// near 2.7 degrees, would outweigh CIE 146's veil there with a 6 mm pupil).
+std::array<double, 3> into_gamut(const std::array<double, 3>& rgb) {
+  const double y = luminance_rec709(rgb[0], rgb[1], rgb[2]);
+  double a = 1.0;
+  for (const double c : rgb)
+    if (c < 0.0) a = std::min(a, y > 0.0 ? y / (y - c) : 0.0);
+  if (a == 1.0) return rgb;
+  std::array<double, 3> out{};
+  for (std::size_t c = 0; c < 3; ++c) out[c] = std::max(0.0, y + a * (rgb[c] - y));
+  return out;
+}
+
 }  // namespace
 
 HaloGratings halo_gratings(const EyeParameters& parameters) {
@@ -78,21 +128,45 @@ LenticularHalo::LenticularHalo(const HaloGratings& gratings) : gratings_(grating
   double sum = lobe(kLobeFrom, gratings) + lobe(kLobeTo, gratings);
   for (int i = 1; i < n; ++i) sum += (i % 2 == 1 ? 4.0 : 2.0) * lobe(kLobeFrom + i * h, gratings);
   lobe_integral_ = sum * h / 3.0;
-  const HaloSpectrum spectrum = spencer_halo_spectrum();
+  const RingSpectrum spectrum = d65_ring_spectrum();
   const double e_nm = gratings.period_mm * kNmPerMm;
-  const double from = std::asin(std::min(1.0, kLobeFrom * spectrum.wavelengths_nm.front() / e_nm)) * kDegPerRad;
-  const double to = std::asin(std::min(1.0, kLobeTo * spectrum.wavelengths_nm.back() / e_nm)) * kDegPerRad;
-  table_start_deg_ = from;
+  const double from = std::asin(std::min(1.0, kLobeFrom * kD65FirstNm / e_nm)) * kDegPerRad;
+  const double to = std::asin(std::min(1.0, kLobeTo * kD65LastNm / e_nm)) * kDegPerRad;
   const auto count = static_cast<std::size_t>(std::ceil((to - from) / kTableStepDeg)) + 2;
   for (int c = 0; c < 3; ++c) table_[static_cast<std::size_t>(c)].assign(count, 0.0);
+  std::array<double, 3> energy{0.0, 0.0, 0.0};
   for (std::size_t i = 0; i < count; ++i) {
     const double angle = from + static_cast<double>(i) * kTableStepDeg;
+    std::array<double, 3> ring{0.0, 0.0, 0.0};
     for (std::size_t j = 0; j < spectrum.wavelengths_nm.size(); ++j) {
       const double value = per_sr_at_wavelength(angle, spectrum.wavelengths_nm[j]);
-      for (int c = 0; c < 3; ++c)
-        table_[static_cast<std::size_t>(c)][i] += spectrum.channel_weights[static_cast<std::size_t>(c)][j] * value;
+      for (std::size_t c = 0; c < 3; ++c) ring[c] += spectrum.channel_weights[c][j] * value;
+    }
+    ring = into_gamut(ring);
+    const double solid_angle = 2.0 * kPi * std::sin(angle / kDegPerRad) * kTableStepDeg / kDegPerRad;
+    for (std::size_t c = 0; c < 3; ++c) {
+      table_[c][i] = ring[c];
+      energy[c] += ring[c] * solid_angle;
     }
   }
+  // Unit energy per channel again: the halo's light is taken from the source's own pixel channel by
+  // channel, so each channel's ring must hold what it takes (into_gamut added white light).
+  for (std::size_t c = 0; c < 3; ++c)
+    for (double& value : table_[c]) value /= energy[c];
+  // The 380 and 780 nm ends carry almost nothing: the table ends where every channel is below 1e-9
+  // of its peak, so the display kernel reaches no further than the ring's light does.
+  double peak = 0.0;
+  for (const auto& channel : table_) peak = std::max(peak, *std::max_element(channel.begin(), channel.end()));
+  std::size_t first = count, last = 0;
+  for (std::size_t i = 0; i < count; ++i)
+    for (const auto& channel : table_)
+      if (channel[i] > 1e-9 * peak) first = std::min(first, i), last = std::max(last, i);
+  first = first > 0 ? first - 1 : 0;
+  last = std::min(count - 1, last + 1);
+  for (auto& channel : table_)
+    channel = std::vector<double>(channel.begin() + static_cast<std::ptrdiff_t>(first),
+                                  channel.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+  table_start_deg_ = from + static_cast<double>(first) * kTableStepDeg;
 }
 
 double LenticularHalo::first_order_deg(double wavelength_nm) const {

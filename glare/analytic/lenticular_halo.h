@@ -22,10 +22,11 @@
 //     central peak, so the kernel keeps unit energy and CIE 146's scattered light is unchanged at
 //     every other angle.
 // Only the first orders are kept: with f = 0.5 the even orders vanish and the third carries 1/9 of
-// the first, at 9 degrees. The source is white (equal energy): each channel sums the wavelengths of
-// Spencer's section 3.2 (400-700 nm) with the CIE 1931 functions in linear Rec.709
-// (spencer_halo_spectrum), each wavelength's ring of unit energy, so every channel holds the same
-// halo energy and red's ring lies outside blue's.
+// the first, at 9 degrees. The source is a frame's white, D65: each channel sums the rings of D65's
+// wavelengths (380-780 nm) weighted by the CIE 1931 functions in linear Rec.709 with their signs, so
+// a white lamp's Rec.709 luminance is the V(lambda)-weighted ring, red's ring lies outside blue's,
+// and the colours outside Rec.709's gamut are moved towards grey at their own luminance (no
+// channel negative); each channel's ring has unit energy.
 #include <array>
 #include <memory>
 #include <vector>

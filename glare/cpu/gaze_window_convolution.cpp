@@ -97,6 +97,21 @@ std::vector<double> blend_gaze_window_plane(const std::vector<double>& base, int
   return out;
 }
 
+ImageRGBA blend_gaze_window(const ImageRGBA& base, const ImageRGBA& glared, const GazeWindow& window) {
+  if (base.width_px != glared.width_px || base.height_px != glared.height_px)
+    throw std::invalid_argument("glare/gaze_window: the glared frame and its base differ in size");
+  ImageRGBA out = base;
+  for (int y = window.y0_px; y < window.y0_px + window.height_px; ++y)
+    for (int x = window.x0_px; x < window.x0_px + window.width_px; ++x) {
+      const double w = gaze_blend_weight(window, x, y);
+      for (int c = 0; c < 3; ++c) {
+        const double from = base.pixel(x, y)[c];
+        out.pixel(x, y)[c] = static_cast<float>(from + w * (static_cast<double>(glared.pixel(x, y)[c]) - from));
+      }
+    }
+  return out;
+}
+
 ImageRGBA convolve_image_gaze_window_cpu(const ImageRGBA& image, const Psf& psf, double gaze_x, double gaze_y,
                                          const GazeWindowOptions& options, ConvolutionReport* report) {
   if (psf.channels != 1 && psf.channels != 3)

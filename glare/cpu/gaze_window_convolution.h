@@ -61,6 +61,11 @@ std::vector<double> convolve_gaze_window_plane(const std::vector<double>& plane,
 std::vector<double> blend_gaze_window_plane(const std::vector<double>& base, int width_px, int height_px,
                                             const std::vector<double>& windowed, const GazeWindow& window);
 
+// base with glared blended in over the window (R, G, B; alpha and depth base's): for a kernel that
+// reaches every pixel (the analytic, hybrid and human eyes) the window's exact apron is the whole
+// frame, so the whole frame's glare is the window's.
+ImageRGBA blend_gaze_window(const ImageRGBA& base, const ImageRGBA& glared, const GazeWindow& window);
+
 // R, G, B each convolved in the window with the PSF channel of the same index (one-channel PSF:
 // all three) and blended into the unconvolved image; alpha and depth copied. The PSF must be at
 // the image's pixel scale (glare/wave/psf_scale.h). Refuses images with NaN, Inf or negative R, G, B.

@@ -1,5 +1,7 @@
 #include "glare/wave/cie_cmf.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -13,7 +15,22 @@ double lobe(double wavelength_nm, double mu, double sigma_below, double sigma_ab
   return std::exp(-0.5 * t * t);
 }
 
+// CIE 015:2004, Table T.1, D65 at 380, 390, ..., 780 nm.
+constexpr std::array<double, 41> kD65 = {
+    49.9755, 54.6482, 82.7549, 91.4860, 93.4318, 86.6823, 104.865, 117.008, 117.812, 114.861, 115.923,
+    108.811, 109.354, 107.802, 104.790, 107.689, 104.405, 104.046, 100.000, 96.3342, 95.7880, 88.6856,
+    90.0062, 89.5991, 87.6987, 83.2886, 83.6992, 80.0268, 80.2146, 82.2778, 78.2842, 69.7213, 71.6091,
+    74.3490, 61.6040, 69.8856, 75.0870, 63.5927, 46.4182, 66.8054, 63.3828};
+
 }  // namespace
+
+double cie_d65_relative_power(double wavelength_nm) {
+  const double at = (wavelength_nm - kD65FirstNm) / kD65StepNm;
+  if (!(at >= 0.0) || at > static_cast<double>(kD65.size() - 1)) return 0.0;
+  const auto i = std::min(static_cast<std::size_t>(at), kD65.size() - 2);
+  const double t = at - static_cast<double>(i);
+  return (1.0 - t) * kD65[i] + t * kD65[i + 1];
+}
 
 Xyz cie1931_cmf(double l) {
   // Wyman, Sloan, Shirley 2013, section 2.1, the multi-lobe fit's parameters (nm).

@@ -21,6 +21,13 @@ struct LinearRgb {
 // XYZ (D65 white) to linear Rec.709 / sRGB primaries: IEC 61966-2-1:1999, section 5.2 matrix.
 LinearRgb xyz_to_linear_rec709(const Xyz& xyz);
 
+// CIE standard illuminant D65, relative spectral power (100 at 560 nm), CIE 015:2004 Table T.1
+// at its 10 nm steps from 380 to 780 nm, read linearly between them (0 outside). D65 is the white
+// of linear Rec.709: a pixel R = G = B has its chromaticity, so a white lamp in a frame has this
+// spectrum.
+double cie_d65_relative_power(double wavelength_nm);
+constexpr double kD65FirstNm = 380.0, kD65LastNm = 780.0, kD65StepNm = 10.0;
+
 // One wavelength of the chromatic blur with its CMF weight in linear Rec.709. Both compute backends
 // (glare/wave/spectral_psf.cpp, glare/gl/psf.cpp) take their wavelengths and weights from here.
 struct SpectralSample {

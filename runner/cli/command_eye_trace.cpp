@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
+#include "protocols/glare_eye_file.h"
 #include "runner/cli/option_checks.h"
 
 namespace glarelab::cli {
@@ -25,6 +26,8 @@ struct EyeTraceOptions {
   std::string mode = "dynamic";
   double static_time_s = 0.0;
   double squint_closure = 0.0;
+  bool squint_given = false;  // --squint replaces [glare.eye]'s squint_closure only when given
+  std::string eye_from;       // an experiment file whose [glare.eye] sets the eye (protocols/glare_eye_file.h)
   std::string out;
 };
 
@@ -37,10 +40,11 @@ int write_eye_trace(const EyeTraceOptions& options) {
   if (options.duration_s * options.rate_hz > 1e7)
     throw ConfigError(where, "--rate-hz", "more than 10 million samples requested");
   EyeParameters parameters;
+  if (!options.eye_from.empty()) read_glare_eye_file(options.eye_from, parameters);
   parameters.mode = parse_glare_mode(options.mode);
   parameters.static_time_s = options.static_time_s;
   parameters.initial_field_luminance_cd_m2 = options.field_luminance_cd_m2;
-  parameters.squint_closure = options.squint_closure;
+  if (options.squint_given || options.eye_from.empty()) parameters.squint_closure = options.squint_closure;
   validate(parameters, "eye-trace options");
   const EyeModel eye(parameters, options.seed);
 
@@ -66,7 +70,9 @@ int write_eye_trace(const EyeTraceOptions& options) {
   }
   file.commit();
   std::cout << "eye-trace: " << samples << " samples over " << options.duration_s << " s at " << options.rate_hz
-            << " Hz, " << to_string(parameters.mode) << " eye, seed " << options.seed << " -> " << options.out << "\n";
+            << " Hz, " << to_string(parameters.mode) << " eye, seed " << options.seed
+            << (options.eye_from.empty() ? std::string() : ", [glare.eye] of " + options.eye_from) << " -> " << options.out
+            << "\n";
   return 0;
 }
 
@@ -89,11 +95,17 @@ Action add_eye_trace_command(CLI::App& app) {
   command->add_option("--static-time-s", options->static_time_s, "Instant a static eye is frozen at (s), at most 86400 (24 h)")
       ->check(eye_model_time_s())
       ->capture_default_str();
-  command->add_option("--squint", options->squint_closure, "Constant lid closure 0..1")
-      ->check(finite_number_in(0.0, 1.0, ""))
-      ->capture_default_str();
+  CLI::Option* squint = command->add_option("--squint", options->squint_closure,
+                                             "Constant lid closure 0..1 (replaces --eye-from's squint_closure)")
+                            ->check(finite_number_in(0.0, 1.0, ""))
+                            ->capture_default_str();
+  command->add_option("--eye-from", options->eye_from,
+                      "Experiment file whose [glare.eye] table sets the eye model (docs/EXPERIMENT_FILES.md)");
   command->add_option("--out", options->out, "Output CSV file")->required();
-  return [=]() { return report_errors([&]() { return write_eye_trace(*options); }); };
+  return [=]() {
+    options->squint_given = squint->count() > 0;
+    return report_errors([&]() { return write_eye_trace(*options); });
+  };
 }
 
 }  // namespace glarelab::cli

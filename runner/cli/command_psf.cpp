@@ -25,6 +25,7 @@
 #include "glare/wave/psf_scale.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
+#include "runner/cli/command_psf_eye.h"
 #include "runner/cli/command_psf_luidolt.h"
 #include "runner/cli/option_checks.h"
 #include "runner/cli/psf_options.h"
@@ -146,22 +147,29 @@ std::vector<ProfilePoint> analytic_profile(const AnalyticPsf& psf) {
 // The aperture: a bare pupil, or the eye model at --time-s (its parts as --components keeps), with
 // --pupil-diameter-mm and --defocus-dioptres replacing the model's where given; --gratings adds
 // radial fibre gratings.
-ApertureGeometry psf_geometry(const PsfArguments& args, const PsfOptionHandles& handles, const std::string& mode) {
+// With the eye model, `eye` receives its parameters and the share of the light its gratings send
+// into the lenticular halo through the pupil (command_psf_eye.h).
+struct PsfEye {
+  EyeParameters parameters;
+  double halo_energy = 0.0;
+};
+ApertureGeometry psf_geometry(const PsfArguments& args, const PsfOptionHandles& handles, const std::string& mode,
+                              PsfEye& eye) {
   ApertureGeometry geometry;
   geometry.pupil_diameter_mm = args.pupil_diameter_mm;
   geometry.defocus_dioptres = args.defocus_dioptres;
   if (!mode.empty()) {
-    EyeParameters parameters;
-    parameters.mode = parse_glare_mode(mode);
-    parameters.initial_field_luminance_cd_m2 = args.field_luminance_cd_m2;
-    geometry = keep_components(EyeModel(parameters, args.seed).geometry_at(args.time_s),
-                               parse_component_selection(args.components));
+    eye.parameters = psf_eye_parameters(args, mode);
+    const EyeModel model(eye.parameters, args.seed);
+    geometry = keep_components(model.geometry_at(args.time_s), parse_component_selection(args.components));
     if (handles.pupil->count() > 0) geometry.pupil_diameter_mm = args.pupil_diameter_mm;
     if (handles.defocus->count() > 0) geometry.defocus_dioptres = args.defocus_dioptres;
+    eye.halo_energy = psf_halo_energy(model.lens().grating_lines(), geometry, eye.parameters);
     std::cout << "psf: eye model " << mode << " at " << args.field_luminance_cd_m2 << " cd/m2, t " << args.time_s << " s, seed " << args.seed << ": pupil "
               << geometry.pupil_diameter_mm << " mm, defocus " << geometry.defocus_dioptres << " D, "
               << geometry.discs.size() << " discs, " << geometry.lines.size() << " lines, "
-              << geometry.polygons.size() << " polygons (" << args.components << ")\n";
+              << geometry.polygons.size() << " polygons (" << args.components << ")"
+              << (args.eye_from.empty() ? std::string() : ", [glare.eye] of " + args.eye_from) << "\n";
   }
   if (args.gratings) {
     FibreGratingOptions gratings;
@@ -282,7 +290,8 @@ int write_analytic(GlareModel model, const PsfArguments& args) {
 // --model hybrid: the wave PSF on the display's pixels near the source, the analytic far field beyond;
 // --model human: the same join with the near part calibrated ring by ring to CIE 146 (calibrated_near_psf).
 // `wave_display`: the wave-optics PSF at the display's scale (wave_psf).
-int write_hybrid(const PsfArguments& args, const Psf& wave_display, const HybridHandover& handover, bool human) {
+int write_hybrid(const PsfArguments& args, const Psf& wave_display, const HybridHandover& handover, bool human,
+                 const PsfEye& eye) {
   const DisplayGeometry display = flat_display_geometry(args.degrees_per_pixel);
   const AnalyticPsf far_psf = analytic_model(human ? GlareModel::cie : parse_glare_model(args.far_field), args);
   const int half = args.grid_px / 2;
@@ -295,7 +304,16 @@ int write_hybrid(const PsfArguments& args, const Psf& wave_display, const Hybrid
   } catch (const HandoverError& error) {
     throw ConfigError(kWhere, "--handover-deg", error.what());
   }
-  const Psf image = hybrid_psf_image(near, hybrid_far_kernel(kernel, handover_px), args.degrees_per_pixel, args.grid_px);
+  // The human eye's kernel carries the lenticular halo where the pupil uncovers the gratings, as a
+  // session's frame does (glare/analytic/lenticular_halo.h).
+  const DisplayKernel far = human ? with_lenticular_halo(hybrid_far_kernel(kernel, handover_px), eye.parameters,
+                                                         eye.halo_energy, args.degrees_per_pixel)
+                                  : hybrid_far_kernel(kernel, handover_px);
+  if (human)
+    std::cout << "psf: lenticular halo: " << psf_text(100.0 * eye.halo_energy) << " % of the light"
+              << (eye.halo_energy > 0.0 ? " (the pupil uncovers the lens-fibre gratings)\n"
+                                        : " (the pupil leaves the lens-fibre gratings covered)\n");
+  const Psf image = hybrid_psf_image(near, far, args.degrees_per_pixel, args.grid_px);
   if (!args.out.empty()) write_psf_exr(args.out, image);
   if (!args.out.empty() && human)
     std::cout << "psf: wrote " << args.out << ": human, the wave-optics eye to " << handover.outer_deg
@@ -335,12 +353,14 @@ int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
       {handles.far_field, model == GlareModel::hybrid, "--model hybrid"},
       {handles.handover, model == GlareModel::hybrid || human, "--model hybrid and human"},
       {handles.dpp, model != GlareModel::ritschel, "the images of --model human, spencer, cie and hybrid"},
-      {handles.field_luminance, !mode.empty(), "the eye model (--mode, or --model human)"}};
+      {handles.field_luminance, !mode.empty(), "the eye model (--mode, or --model human)"},
+      {handles.eye_from, !mode.empty(), "the eye model (--mode, or --model human)"}};
   for (const CLI::Option* option : handles.wave)
-    if (option != handles.field_luminance) checks.push_back({option, !analytic, "the wave-optics eye (--model human, ritschel or hybrid)"});
+    if (option != handles.field_luminance && option != handles.eye_from) checks.push_back({option, !analytic, "the wave-optics eye (--model human, ritschel or hybrid)"});
   refuse_unused_options(checks, args.model);
   if (analytic) return write_analytic(model, args);
-  ApertureGeometry geometry = psf_geometry(args, handles, mode);
+  PsfEye eye;
+  ApertureGeometry geometry = psf_geometry(args, handles, mode, eye);
   const ObserverRefraction refraction = observer_refraction(args, handles, geometry);
   PsfOptions options;
   options.grid_px = args.grid_px;
@@ -363,7 +383,7 @@ int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
   std::string backend_name;
   const Psf psf = wave_psf(args, handles.backend->count() > 0, refraction, geometry, options,
                            handover ? std::optional(args.degrees_per_pixel) : std::nullopt, backend_name);
-  if (handover) return write_hybrid(args, psf, *handover, human);
+  if (handover) return write_hybrid(args, psf, *handover, human, eye);
   if (!args.out.empty()) write_psf_exr(args.out, psf);
   if (!args.out.empty()) std::cout << "psf: wrote " << args.out << ": " << psf.size_px << "x" << psf.size_px << " px, "
             << (psf.channels == 1 ? "Y" : "R,G,B") << ", " << psf.degrees_per_pixel << " deg/px, pupil "

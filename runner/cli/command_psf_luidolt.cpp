@@ -7,6 +7,7 @@
 #include "core/errors.h"
 #include "glare/analytic/hybrid_handover.h"
 #include "glare/eye/eye_model.h"
+#include "protocols/glare_eye_file.h"
 #include "glare/wave/luidolt_kernel.h"
 #include "glare/wave/psf_exr.h"
 #include "glare/wave/psf_profile.h"
@@ -19,7 +20,7 @@ const SourceLocation kWhere{"psf", 0, 0};
 
 // The options Luidolt's kernel takes; any other given is refused rather than ignored.
 const std::set<std::string> kLuidoltOptions = {"--pupil-diameter-mm", "--wavelength-samples", "--grid",
-                                               "--aperture-width-mm", "--mode", "--time-s", "--seed"};
+                                               "--aperture-width-mm", "--mode", "--eye-from", "--time-s", "--seed"};
 
 void refuse_other_options(const PsfOptionHandles& handles) {
   std::vector<const CLI::Option*> options = handles.wave;
@@ -29,7 +30,7 @@ void refuse_other_options(const PsfOptionHandles& handles) {
   for (const CLI::Option* option : options)
     if (option->count() > 0 && !kLuidoltOptions.contains(option->get_name()))
       throw ConfigError(kWhere, option->get_name(),
-                        "does not apply to --model luidolt (its kernel takes --pupil-diameter-mm or --mode/--time-s/--seed, "
+                        "does not apply to --model luidolt (its kernel takes --pupil-diameter-mm or --mode/--eye-from/--time-s/--seed, "
                         "--grid, --wavelength-samples and --aperture-width-mm)");
 }
 
@@ -52,10 +53,13 @@ int run_luidolt_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
     throw ConfigError(kWhere, "--wavelength-samples", "Luidolt's Eq. 5.13 needs k + 1 >= 2 wavelengths");
   double pupil_mm = args.pupil_diameter_mm;
   std::uint64_t seed = args.seed;
+  if (!args.eye_from.empty() && args.mode.empty())
+    throw ConfigError(kWhere, "--eye-from", "sets the eye model, which --model luidolt takes only with --mode");
   if (!args.mode.empty()) {
     const GlareMode mode = parse_glare_mode(args.mode);
     if (mode == GlareMode::control) throw ConfigError(kWhere, "--mode", "control has no glare kernel");
     EyeParameters parameters;
+    if (!args.eye_from.empty()) read_glare_eye_file(args.eye_from, parameters);
     parameters.mode = mode;
     if (handles.pupil->count() == 0) pupil_mm = EyeModel(parameters, args.seed).state_at(args.time_s).pupil_diameter_mm;
   }

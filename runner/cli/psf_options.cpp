@@ -57,6 +57,9 @@ void add_wave_options(CLI::App* command, PsfArguments& args, PsfOptionHandles& h
                           "the human eye")
           ->check(finite_number_in(1e-4, 1e9, "cd/m2"))
           ->capture_default_str();
+  handles.eye_from = command->add_option("--eye-from", args.eye_from,
+                                         "Experiment file whose [glare.eye] table sets the eye model (docs/EXPERIMENT_FILES.md): "
+                                         "with --mode, and for the human eye and --model luidolt");
   command->add_option("--time-s", args.time_s, "Time of the eye model (s), at most 86400 (24 h)")
       ->check(eye_model_time_s())
       ->needs(mode_option)
@@ -183,7 +186,7 @@ void add_refraction_options(CLI::App* command, PsfArguments& args, PsfOptionHand
   handles.refraction = {sphere, cylinder, axis, spectacles, viewing, amplitude, vertex};
   for (const char* name : {"--pupil-diameter-mm", "--wavelength-nm", "--spectral", "--wavelength-samples",
                            "--aperture-width-mm", "--supersampling", "--fresnel", "--defocus-dioptres", "--backend",
-                           "--gratings", "--mode", "--field-luminance-cd-m2", "--time-s", "--seed", "--components"})
+                           "--gratings", "--mode", "--field-luminance-cd-m2", "--eye-from", "--time-s", "--seed", "--components"})
     handles.wave.push_back(command->get_option(name));
   for (const CLI::Option* option : handles.refraction) handles.wave.push_back(option);
 }

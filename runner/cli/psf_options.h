@@ -32,6 +32,7 @@ struct PsfArguments {
   // not given) adapted to --field-luminance-cd-m2, its spectral PSF joined to CIE 146.
   std::string model = "human";
   double field_luminance_cd_m2 = 100.0;  // the eye model's field luminance (its pupil, Eq. 1-2)
+  std::string eye_from;  // an experiment file whose [glare.eye] sets the eye model (protocols/glare_eye_file.h)
   std::string regime = "photopic";
   bool flare_lines = false;        // Spencer's flare lines (section 3.2) in the image
   std::uint64_t flare_seed = 1;    // their draws
@@ -59,6 +60,7 @@ struct PsfOptionHandles {
   CLI::Option* handover = nullptr;
   CLI::Option* dpp = nullptr;
   CLI::Option* field_luminance = nullptr;
+  CLI::Option* eye_from = nullptr;
   CLI::Option* cylinder = nullptr;
   CLI::Option* axis = nullptr;
   CLI::Option* amplitude = nullptr;
