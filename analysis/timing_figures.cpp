@@ -52,9 +52,13 @@ Figure flip_histogram_figure(const SessionTiming& s, std::size_t index, double m
   std::vector<double> ms;
   for (double interval : s.flip_intervals_s) ms.push_back(1e3 * interval);
   const auto [min_it, max_it] = std::minmax_element(ms.begin(), ms.end());
-  // A virtual clock gives every interval the same length: a 2 ms window around it.
-  const double low = *max_it > *min_it ? *min_it : *min_it - 1.0;
-  const double high = *max_it > *min_it ? *max_it : *max_it + 1.0;
+  // A virtual clock gives every interval the same length (to rounding: flip times k / rate differ
+  // in their last bits): a spread under 1 us gets a 2 ms window with the interval in the middle of
+  // its 21st bin (of 40, 0.05 ms each), so one bar holds them all and is visible.
+  const bool spread = *max_it - *min_it > 1e-3;
+  const double centre = 0.5 * (*min_it + *max_it);
+  const double low = spread ? *min_it : centre - 1.025;
+  const double high = spread ? *max_it : centre + 0.975;
   SvgPlot plot("Flip intervals, timing test: " + s.label, "interval between consecutive flips (ms)", "flips");
   const std::vector<long> counts = histogram(ms, low, high, 40);
   draw_histogram(plot, counts, low, high, series_colour(0));

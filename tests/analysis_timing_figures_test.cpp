@@ -19,7 +19,8 @@ constexpr double kPeriod_s = 1.0 / 60.0;
 
 // One timing_test trial of 61 flips at 60 Hz; the flips at 10, 30 and 31 come a refresh late
 // (missed deadlines), so their intervals are two periods.
-std::string timing_test_database(const test::ScratchDir& dir) {
+// Without `late_flips` every flip is on time, at k / 60 s as a virtual clock places it.
+std::string timing_test_database(const test::ScratchDir& dir, bool late_flips = true) {
   const std::string db = dir.file("timing.db");
   ResultStore store(db);
   SessionRecord session = test::synthetic_session("rig");
@@ -35,8 +36,8 @@ std::string timing_test_database(const test::ScratchDir& dir) {
   std::vector<FrameRecord> frames;
   double flip_s = 0.0;
   for (int f = 0; f < 61; ++f) {
-    const bool late = f == 10 || f == 30 || f == 31;
-    if (f > 0) flip_s += late ? 2.0 * kPeriod_s : kPeriod_s;
+    const bool late = late_flips && (f == 10 || f == 30 || f == 31);
+    if (f > 0) flip_s = late_flips ? flip_s + (late ? 2.0 : 1.0) * kPeriod_s : f / 60.0;
     FrameRecord frame;
     frame.frame_index = f;
     frame.scheduled_s = flip_s - (late ? kPeriod_s : 0.0);
@@ -105,6 +106,25 @@ TEST(AnalysisTimingFigures, FlipIntervalHistogramAndSeriesGiveTheSessionsInterva
   std::size_t longest = 0;
   for (const test::SvgLine& line : test::svg_polylines(*series)) longest = std::max(longest, line.points.size());
   EXPECT_EQ(longest, 60u);  // every interval drawn
+}
+
+// Intervals equal but for rounding (flips at k / 60 s): one bar, at the period, wider than a pixel.
+TEST(AnalysisTimingFigures, EqualIntervalsGiveOneVisibleBar) {
+  test::ScratchDir dir;
+  const AnalysisReport report = analyse(load_databases({timing_test_database(dir, false)}), AnalysisOptions{});
+  const std::string* histogram = figure_svg(report, "flip_intervals_1");
+  ASSERT_NE(histogram, nullptr);
+  std::vector<test::SvgBar> bars;
+  for (const test::SvgBar& bar : test::svg_bars(*histogram))
+    if (bar.height > 0.0) bars.push_back(bar);
+  ASSERT_EQ(bars.size(), 1u);
+  EXPECT_GT(bars[0].width, 1.0);
+  const auto ticks = test::svg_x_ticks(*histogram);
+  ASSERT_GE(ticks.size(), 2u);
+  const double centre = ticks.front().second + (bars[0].x + 0.5 * bars[0].width - ticks.front().first) *
+                                                   (ticks.back().second - ticks.front().second) /
+                                                   (ticks.back().first - ticks.front().first);
+  EXPECT_NEAR(centre, 1e3 * kPeriod_s, 2.0 / 40.0);  // within a bin of the 2 ms window
 }
 
 }  // namespace
