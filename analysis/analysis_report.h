@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "analysis/adjustment_analysis.h"
+#include "analysis/figure_words.h"
 #include "analysis/forced_choice_analysis.h"
 #include "analysis/graded_choice_analysis.h"
 #include "analysis/loaded_database.h"
@@ -24,6 +25,7 @@ struct AnalysisOptions {
   int last_reversals = 6;       // staircase threshold: mean of the last k reversals
   std::uint64_t seed = 1;       // bootstrap draws
   unsigned threads = 0;         // psychometric fit threads; 0: one per hardware thread
+  FigureWords words;            // the figures' axis words and display names ([analysis] table)
 };
 
 struct Figure {

@@ -194,6 +194,7 @@ GradedChoiceAnalysis analyse_graded_choice(const LoadedData& data, const GradedC
     fit_options.seed = options.seed + g;
     fits[g] = fit_psychometric(analysis.groups[g].levels, fit_options);
     analysis.groups[g].posterior = pse_posterior(analysis.groups[g].levels);
+    analysis.groups[g].psignifit = psignifit_pse(analysis.groups[g].levels);
   });
   for (std::size_t g = 0; g < fits.size(); ++g) analysis.groups[g].fit = std::move(fits[g]);
 

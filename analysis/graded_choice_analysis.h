@@ -31,6 +31,7 @@
 
 #include "analysis/loaded_database.h"
 #include "analysis/pse_posterior.h"
+#include "analysis/psignifit_pse.h"
 #include "analysis/psychometric_fit.h"
 #include "analysis/shared_pse_test.h"
 #include "analysis/within_participant.h"
@@ -43,6 +44,9 @@ struct GradedChoiceGroup {
   long neither = 0;                   // answers naming no side (left out of the fit)
   PsychometricFit fit;                // ML: its threshold is the PSE; its bootstrap gives the slope's interval
   std::optional<PsePosterior> posterior;  // of the PSE (pse_posterior.h): its 95 % credible interval
+  // psignifit 4's fit of the pooled levels (analysis/psignifit_pse.h), the one the per-participant
+  // PSEs use: the figure draws its MAP curve, its PSE and the threshold's 95 % credible interval.
+  std::optional<PsignifitPse> psignifit;
   std::optional<double> shift;        // PSE - the baseline's PSE, on the axis (ML; posterior medians without a fit)
   std::optional<Interval> shift_interval;  // 95 % credible interval of the difference
   // The PSE shown: the ML threshold, else (answers that separate perfectly) the posterior median.

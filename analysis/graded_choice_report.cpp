@@ -9,6 +9,7 @@
 
 #include "analysis/report_numbers.h"
 #include "analysis/statistics.h"
+#include "analysis/figure_words.h"
 #include "analysis/svg_plot.h"
 #include "analysis/within_participant_report.h"
 
@@ -116,18 +117,26 @@ std::string graded_choice_terminal(const GradedChoiceAnalysis& analysis) {
   return text + within_participant_terminal(analysis);
 }
 
-Figure graded_choice_figure(const GradedChoiceAnalysis& analysis) {
-  const std::string x_label =
-      analysis.log10_axis ? "log10 " + analysis.variable + " (scene_b / scene_a, dimensionless)" : analysis.variable;
-  SvgPlot plot("Proportion naming scene_b, fits and PSEs (95% intervals)", x_label, "proportion naming scene_b", 640, 360);
+std::string graded_axis_label(const GradedChoiceAnalysis& analysis, const FigureWords& words) {
+  std::string label = words.graded_label.empty() ? column_words(analysis.variable) : words.graded_label;
+  if (!words.graded_unit.empty()) label += " (" + words.graded_unit + ")";
+  return analysis.log10_axis ? label + ", log10 scale" : label;
+}
+
+// Spencer et al. 1995, Figs. 12-13, asked with two sides: per glare group the proportions, the
+// psignifit 4 fit of the pooled answers (its MAP curve, the same fit the per-participant PSEs
+// use: analysis/psignifit_pse.h) and its PSE with the threshold's 95 % credible interval.
+Figure graded_choice_figure(const GradedChoiceAnalysis& analysis, const FigureWords& words) {
+  const std::string answer = words.answer_label.empty() ? "proportion choosing scene_b" : words.answer_label;
+  SvgPlot plot("Psychometric functions per " + (words.group_label.empty() ? std::string("glare") : words.group_label) +
+                   ": " + answer + " (psignifit 4, 95% credible intervals)",
+               graded_axis_label(analysis, words), answer, 640, 360);
   double low = std::numeric_limits<double>::infinity();
   double high = -low;
-  long most = 1;
   for (const GradedChoiceGroup& g : analysis.groups) {
     for (const StimulusLevel& level : g.levels) {
       low = std::min(low, level.intensity);
       high = std::max(high, level.intensity);
-      most = std::max(most, level.trials);
     }
   }
   if (!(high >= low)) {
@@ -139,52 +148,43 @@ Figure graded_choice_figure(const GradedChoiceAnalysis& analysis) {
   plot.set_x_range(low - pad, high + pad);
   plot.set_y_range(0.0, 1.0);
   plot.horizontal_rule(0.5, "#888");
+  std::vector<std::vector<CountedPoint>> rings;
+  std::vector<std::string> colours;
+  for (std::size_t g = 0; g < analysis.groups.size(); ++g) {
+    rings.emplace_back();
+    colours.push_back(series_colour(g));
+    for (const StimulusLevel& level : analysis.groups[g].levels)
+      rings.back().push_back({level.intensity, static_cast<double>(level.correct) / static_cast<double>(std::max(level.trials, 1L)),
+                              level.trials});
+  }
+  counted_rings(plot, rings, colours);
   for (std::size_t g = 0; g < analysis.groups.size(); ++g) {
     const GradedChoiceGroup& group = analysis.groups[g];
     const std::string& colour = series_colour(g);
-    // A fitted curve over the plotted range, 121 points.
-    const auto draw_curve = [&](const std::function<double(double)>& probability, bool dashed) {
-      std::vector<double> x, y;
-      for (int i = 0; i <= 120; ++i) {
-        x.push_back(low - pad + (high - low + 2.0 * pad) * i / 120.0);
-        y.push_back(probability(x.back()));
-      }
-      plot.line(x, y, colour, 2.0, dashed);
-    };
-    // Area proportional to the number of answers: radius 2 to 8 px.
-    for (const StimulusLevel& level : group.levels) {
-      const double radius = 2.0 + 6.0 * std::sqrt(static_cast<double>(level.trials) / static_cast<double>(most));
-      plot.markers({level.intensity},
-                   {static_cast<double>(level.correct) / static_cast<double>(std::max(level.trials, 1L))}, colour, radius,
-                   true);
-    }
-    // The intervals stacked below the 1/2 line, one row per group, so they never hide each other;
-    // an end beyond the plot stops at its edge.
-    if (group.posterior)
-      plot.horizontal_error_bar(0.5 - 0.045 * static_cast<double>(g + 1),
-                                std::clamp(group.posterior->credible.low, low - pad, high + pad),
-                                std::clamp(group.posterior->credible.high, low - pad, high + pad), colour);
-    if (!group.fit.ok()) {
-      if (!group.posterior) {
-        plot.note(group.name + ": no fit (" + group.fit.unavailable + ")");
-        plot.legend(group.name + " (no fit)", colour);
-        continue;
-      }
-      // No maximum-likelihood fit (answers that separate perfectly): the posterior's median curve, dashed.
-      draw_curve([&](double x) { return group.posterior->probability_at(x); }, true);
-      plot.markers({group.posterior->median}, {0.5}, colour, 4.5);
-      plot.legend(group.name + ": PSE " + general(group.posterior->median) + " (posterior median, dashed)", colour);
+    const std::string name = words.display(group.name);
+    if (!group.psignifit) {
+      plot.note(name + ": no fit (fewer than two levels answered)");
+      plot.legend(name + " (no fit)", colour);
       continue;
     }
-    draw_curve([&](double x) { return group.fit.probability(x); }, false);
-    plot.markers({group.fit.threshold}, {0.5}, colour, 4.5);
-    plot.legend(group.name + ": PSE " + general(group.fit.threshold), colour);
+    const PsignifitPse& fit = *group.psignifit;
+    std::vector<double> x, y;
+    for (int i = 0; i <= 120; ++i) {
+      x.push_back(low - pad + (high - low + 2.0 * pad) * i / 120.0);
+      y.push_back(fit.probability(x.back()));
+    }
+    plot.line(x, y, colour, 2.0);
+    // The intervals stacked below the 1/2 line, one row per group, so they never hide each other;
+    // an end beyond the plot becomes an arrowhead at its edge (SvgPlot::horizontal_error_bar).
+    plot.horizontal_error_bar(0.5 - 0.045 * static_cast<double>(g + 1), fit.credible.low, fit.credible.high, colour);
+    plot.markers({fit.pse}, {fit.probability(fit.pse)}, colour, 4.5);
+    plot.legend(name + ": PSE " + graded_value_text(analysis, fit.pse), colour);
   }
   return {"graded_choice", "graded_choice",
-          "Proportion of answers naming scene_b against " + analysis.axis_label() +
-              " per glare group (rings: the data, area by number of answers), the fitted cumulative normals, and each "
-              "PSE (dot at 1/2) with its 95% credible interval (bars below, in the legend's order); a group whose answers "
-              "separate perfectly has no maximum-likelihood fit and shows its posterior median curve, dashed.",
+          "Proportion of answers (" + answer + ") against " + graded_axis_label(analysis, words) +
+              " per group (rings: the data, area by number of answers, groups side by side), psignifit 4's fit of the "
+              "pooled answers per group (MAP curve: cumulative normal, guess and lapse 0, overdispersion free; Schuett "
+              "et al. 2016), and each PSE (dot at 1/2) with its 95% credible interval (bars below, in the legend's order).",
           plot.svg()};
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "analysis/analysis_report.h"
+#include "analysis/figure_words.h"
 
 namespace glarelab::analysis {
 
@@ -15,8 +16,11 @@ std::string graded_choice_html(const GradedChoiceAnalysis& analysis, int bootstr
 std::string graded_choice_terminal(const GradedChoiceAnalysis& analysis);
 
 // Proportion naming scene_b against the graded variable per group: points sized by their number
-// of answers, the fitted curves, and each PSE at 1/2 with its 95 % interval.
-Figure graded_choice_figure(const GradedChoiceAnalysis& analysis);
+// of answers, the fitted curves (psignifit 4's fits of the pooled answers,
+// GradedChoiceGroup::psignifit), and each PSE at 1/2 with its 95 % credible interval.
+Figure graded_choice_figure(const GradedChoiceAnalysis& analysis, const FigureWords& words);
+// The graded variable's axis words (FigureWords, else the column's name), with its unit and scale.
+std::string graded_axis_label(const GradedChoiceAnalysis& analysis, const FigureWords& words);
 
 // "0.0414 (ratio 1.1)" on a log10 axis, else the value.
 std::string graded_value_text(const GradedChoiceAnalysis& analysis, double x);

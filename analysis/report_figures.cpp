@@ -7,7 +7,9 @@
 
 #include "analysis/analysis_report.h"
 #include "analysis/graded_choice_report.h"
+#include "analysis/report_numbers.h"
 #include "analysis/svg_plot.h"
+#include "analysis/timing_figures.h"
 
 namespace glarelab::analysis {
 namespace {
@@ -105,15 +107,17 @@ std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis) 
 }
 
 // The unit of a track's intensity (docs/PROCEDURES.md, adaptive trials): a staircase scales the
-// comparison to a peak in cd/m2; QUEST runs on log10 cd/m2, QUEST+ and Psi on their stimulus unit
-// (db_cd_m2 or log10_cd_m2, in the condition record).
-std::string intensity_label(const StaircaseResult& s) {
-  if (s.procedure == "staircase") return "intensity (comparison peak, cd/m2)";
-  return "intensity (QUEST: log10 cd/m2; QUEST+: its stimulus unit)";
+// comparison to a peak in cd/m2; QUEST runs on log10 cd/m2. (QUEST+ and Psi tracks are not
+// staircases: their own section draws them in their own unit, analysis/quest_plus_posterior.h.)
+std::string intensity_label(const StaircaseResult& s, const FigureWords& words) {
+  if (!words.graded_label.empty() && s.procedure == "staircase")
+    return words.graded_label + (words.graded_unit.empty() ? "" : " (" + words.graded_unit + ")");
+  if (s.procedure == "staircase") return "comparison peak luminance (cd/m2)";
+  return "stimulus luminance (log10 cd/m2)";
 }
 
-Figure staircase_track_figure(const StaircaseResult& s, std::size_t index) {
-  SvgPlot plot("Staircase track: " + s.participant_label + ", " + s.name, "trial", intensity_label(s));
+Figure staircase_track_figure(const StaircaseResult& s, std::size_t index, const FigureWords& words) {
+  SvgPlot plot("Staircase track: " + s.participant_label + ", " + words.display(s.name), "trial", intensity_label(s, words));
   double low = kInf;
   double high = -kInf;
   std::vector<double> x, y, xc, yc, xi, yi, xr, yr;
@@ -151,40 +155,47 @@ Figure staircase_track_figure(const StaircaseResult& s, std::size_t index) {
           plot.svg()};
 }
 
-Figure psychometric_figure(const StaircaseResult& s, std::size_t index) {
-  SvgPlot plot("Psychometric fits: " + s.participant_label + ", " + s.name, intensity_label(s), "proportion correct");
+// A track's psychometric function as psignifit 4 fits it (StaircaseResult::psignifit; Schuett et
+// al. 2016): the proportions per level (rings, area by trials), the MAP curve, and the threshold
+// (F = 1/2) with its 95 % credible interval.
+Figure psychometric_figure(const StaircaseResult& s, std::size_t index, const FigureWords& words) {
+  SvgPlot plot("Psychometric function (psignifit 4): " + s.participant_label + ", " + words.display(s.name),
+               intensity_label(s, words), "proportion correct");
   std::vector<std::pair<double, bool>> trials;
   for (const StaircasePoint& p : s.track) trials.emplace_back(p.intensity, p.correct);
   const auto levels = levels_from_trials(trials);
   double low = levels.empty() ? 0.0 : levels.front().intensity;
   double high = levels.empty() ? 1.0 : levels.back().intensity;
-  const double pad = 0.1 * (high - low);
+  const double pad = 0.1 * std::max(high - low, 1e-9);
   plot.set_x_range(low - pad, high + pad);
   plot.set_y_range(0.0, 1.0);
-  std::vector<double> x, y;
-  for (const StimulusLevel& level : levels) {
-    x.push_back(level.intensity);
-    y.push_back(static_cast<double>(level.correct) / static_cast<double>(level.trials));
-  }
-  plot.markers(x, y, "#333", 4.0);
-  for (std::size_t f = 0; f < s.fits.size(); ++f) {
-    const PsychometricFit& fit = s.fits[f];
-    if (!fit.ok()) {
-      plot.note(shape_name(fit.shape) + ": " + fit.unavailable);
-      continue;
-    }
+  std::vector<CountedPoint> points;
+  for (const StimulusLevel& level : levels)
+    points.push_back({level.intensity, static_cast<double>(level.correct) / static_cast<double>(level.trials), level.trials});
+  counted_rings(plot, {points}, {"#333"});
+  if (!s.psignifit) {
+    plot.note(s.psignifit_note.empty() ? "no psignifit fit" : s.psignifit_note);
+  } else {
+    const PsignifitResult& fit = *s.psignifit;
     std::vector<double> cx, cy;
-    for (int i = 0; i <= 100; ++i) {
-      const double value = low - pad + (high - low + 2 * pad) * i / 100.0;
-      if (fit.shape == PsychometricShape::weibull && value <= 0.0) continue;
-      cx.push_back(value);
-      cy.push_back(fit.probability(value));
+    for (int i = 0; i <= 120; ++i) {
+      cx.push_back(low - pad + (high - low + 2 * pad) * i / 120.0);
+      cy.push_back(psignifit_psi(fit.options, fit.map, cx.back()));
     }
-    plot.line(cx, cy, series_colour(f + 1), 1.8, f == 2);
-    plot.legend(shape_name(fit.shape), series_colour(f + 1));
+    plot.line(cx, cy, series_colour(0), 2.0);
+    const double threshold = fit.map[0];
+    const double at = psignifit_psi(fit.options, fit.map, threshold);
+    plot.horizontal_error_bar(at, fit.intervals[0][0].low, fit.intervals[0][0].high, series_colour(0));
+    plot.markers({threshold}, {at}, series_colour(0), 4.5);
+    plot.legend("MAP fit (cumulative normal)", series_colour(0));
+    plot.legend("threshold " + general(threshold) + ", 95%: " + general(fit.intervals[0][0].low) + " to " +
+                    general(fit.intervals[0][0].high),
+                series_colour(0));
   }
   return {"psychometric_" + std::to_string(index), "staircase",
-          "Proportion correct per intensity with maximum-likelihood fits (" + s.name + ", " + s.participant_label + ")",
+          "Proportion correct per intensity (rings, area by trials) with psignifit 4's fit of every trial of the track "
+          "(MAP curve, guess rate " + general(s.guess_rate) + ", lapse and overdispersion free) and its threshold with "
+          "the 95% credible interval (" + words.display(s.name) + ", " + s.participant_label + ")",
           plot.svg()};
 }
 
@@ -307,38 +318,6 @@ Figure rating_means_figure(const RatingAnalysis& ratings) {
           plot.svg()};
 }
 
-Figure response_time_figure(const TimingQuality& timing) {
-  SvgPlot plot("Response times (all answered trials)", "response time (s)", "trials");
-  // Only finite times are binned: a bin index from inf or NaN is undefined (the loader already
-  // drops them; this keeps the figure safe for any caller).
-  std::vector<double> values;
-  for (double v : timing.response_times_s)
-    if (std::isfinite(v)) values.push_back(v);
-  if (values.empty()) {
-    plot.note("no response times recorded");
-    return {"response_times", "timing", "Histogram of response times.", plot.svg()};
-  }
-  const auto [min_it, max_it] = std::minmax_element(values.begin(), values.end());
-  const double low = *min_it;
-  const double high = *max_it > low ? *max_it : low + 1.0;
-  constexpr int kBins = 30;
-  std::vector<long> counts(kBins, 0);
-  // Halved so that high - low stays finite for times near +-DBL_MAX.
-  const double half_span = 0.5 * high - 0.5 * low;
-  for (double v : values) {
-    const double fraction = half_span > 0.0 ? (0.5 * v - 0.5 * low) / half_span : 0.0;
-    const int bin = std::isfinite(fraction) ? static_cast<int>(std::clamp(fraction * kBins, 0.0, kBins - 1.0)) : 0;
-    ++counts[static_cast<std::size_t>(bin)];
-  }
-  plot.set_x_range(low, high);
-  plot.set_y_range(0.0, static_cast<double>(*std::max_element(counts.begin(), counts.end())) * 1.1);
-  const double width = (high - low) / kBins;
-  for (int b = 0; b < kBins; ++b) {
-    plot.bar(low + (b + 0.5) * width, width * 0.95, static_cast<double>(counts[static_cast<std::size_t>(b)]), series_colour(1));
-  }
-  return {"response_times", "timing", "Histogram of response times.", plot.svg()};
-}
-
 Figure pupil_figure(const SessionTracker& s, std::size_t index) {
   SvgPlot plot("Pupil diameter aligned to trial onset: " + s.label, "time from onset (s)", "pupil diameter (mm)");
   std::vector<double> x, y;
@@ -428,10 +407,10 @@ std::vector<Figure> draw_figures(const AnalysisReport& report) {
                        "Bradley-Terry scale of the options with 95% intervals (" + paired.group + ").",
                        bradley_terry_svg(paired)});
   }
-  if (!report.graded_choice.empty()) figures.push_back(graded_choice_figure(report.graded_choice));
+  if (!report.graded_choice.empty()) figures.push_back(graded_choice_figure(report.graded_choice, report.options.words));
   for (std::size_t i = 0; i < report.staircases.size(); ++i) {
-    figures.push_back(staircase_track_figure(report.staircases[i], i + 1));
-    figures.push_back(psychometric_figure(report.staircases[i], i + 1));
+    figures.push_back(staircase_track_figure(report.staircases[i], i + 1, report.options.words));
+    figures.push_back(psychometric_figure(report.staircases[i], i + 1, report.options.words));
   }
   if (!report.pse.tracks.empty()) figures.push_back(pse_figure(report.pse));
   if (!report.adjustments.empty()) figures.push_back(adjustment_figure(report.adjustments));
@@ -439,7 +418,7 @@ std::vector<Figure> draw_figures(const AnalysisReport& report) {
   for (std::size_t i = 0; i < report.ratings.category_order.size(); ++i) {
     figures.push_back(rating_figure(report.ratings, report.ratings.category_order[i], i + 1));
   }
-  if (!report.data.sessions.empty()) figures.push_back(response_time_figure(report.timing));
+  for (Figure& figure : timing_figures(report.timing)) figures.push_back(std::move(figure));
   for (std::size_t i = 0; i < report.tracker.sessions.size(); ++i) {
     figures.push_back(pupil_figure(report.tracker.sessions[i], i + 1));
   }

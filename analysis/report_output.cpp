@@ -182,7 +182,9 @@ void html_forced_choice(std::ostringstream& out, const AnalysisReport& report) {
 void html_staircases(std::ostringstream& out, const AnalysisReport& report) {
   out << "<h2>Staircases and QUEST</h2>\n<p>Threshold as the mean intensity at the last " << report.options.last_reversals
       << " reversals; maximum-likelihood fits psi = gamma + (1 - gamma - lambda) F with lambda in [0, 0.06] and "
-      << report.options.bootstrap_samples << " parametric bootstrap samples for the 95% intervals (Wichmann &amp; Hill 2001).</p>\n";
+      << report.options.bootstrap_samples << " parametric bootstrap samples for the 95% intervals (Wichmann &amp; Hill 2001); the figures draw psignifit 4's "
+         "Bayesian fit (Schuett et al. 2016: cumulative normal, the task's guess rate, lapse and overdispersion free), "
+         "its threshold at F = 1/2 with the 95% credible interval.</p>\n";
   out << "<table><tr><th>participant</th><th>staircase</th><th>procedure</th><th>trials</th><th>reversals</th>"
          "<th>threshold (reversals)</th><th>QUEST estimate</th><th>fits</th></tr>\n";
   for (const StaircaseResult& s : report.staircases) {
@@ -192,6 +194,9 @@ void html_staircases(std::ostringstream& out, const AnalysisReport& report) {
     if (!s.threshold_note.empty()) threshold += "; " + s.threshold_note;
     std::string fits;
     for (const PsychometricFit& fit : s.fits) fits += fit_sentence(fit) + "\n";
+    if (s.psignifit) fits += "psignifit 4 (drawn): threshold " + general(s.psignifit->map[0]) + ", 95% " +
+                             general(s.psignifit->intervals[0][0].low) + " to " + general(s.psignifit->intervals[0][0].high) + "\n";
+    fits += s.psignifit_note.empty() ? "" : s.psignifit_note + "\n";
     if (!s.guess_note.empty()) fits += s.guess_note;
     out << "<tr>" << cell(s.participant_label) << cell(s.name) << cell(s.procedure) << cell(std::to_string(s.track.size()))
         << cell(std::to_string(s.reversals)) << cell(threshold)

@@ -1,6 +1,8 @@
 #include "analysis/staircase_analysis.h"
 
+#include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 #include <map>
 #include <optional>
 #include <string>
@@ -35,6 +37,20 @@ double guess_rate_of(const LoadedTrial& trial, const std::string& config_toml, s
 }
 
 }  // namespace
+
+PsignifitOptions staircase_psignifit_options(double guess_rate) {
+  PsignifitOptions options;
+  options.sigmoid = PsignifitSigmoid::norm;
+  const double alternatives = 1.0 / guess_rate;
+  if (guess_rate > 0.0 && std::abs(alternatives - std::round(alternatives)) < 1e-9 && std::round(alternatives) >= 2.0) {
+    options.experiment = PsignifitExperiment::n_afc;
+    options.alternatives = static_cast<int>(std::round(alternatives));
+  } else {
+    options.experiment = PsignifitExperiment::yes_no;
+    options.fixed[3] = guess_rate;
+  }
+  return options;
+}
 
 std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const StaircaseOptions& options) {
   std::vector<StaircaseResult> results;
@@ -120,6 +136,18 @@ std::vector<StaircaseResult> analyse_staircases(const LoadedData& data, const St
   parallel_for(jobs.size(), options.threads,
                [&](std::size_t j) { fits[j] = fit_psychometric(jobs[j].levels, jobs[j].options); });
   for (std::size_t j = 0; j < jobs.size(); ++j) results[jobs[j].result].fits.push_back(std::move(fits[j]));
+  parallel_for(results.size(), options.threads, [&](std::size_t i) {
+    StaircaseResult& result = results[i];
+    std::vector<PsignifitBlock> blocks;
+    std::vector<std::pair<double, bool>> trials;
+    for (const StaircasePoint& point : result.track) trials.emplace_back(point.intensity, point.correct);
+    for (const StimulusLevel& level : levels_from_trials(trials)) blocks.push_back({level.intensity, level.correct, level.trials});
+    try {
+      result.psignifit = psignifit_fit(blocks, staircase_psignifit_options(result.guess_rate));
+    } catch (const std::invalid_argument& error) {
+      result.psignifit_note = std::string("no psignifit fit: ") + error.what();
+    }
+  });
   return results;
 }
 

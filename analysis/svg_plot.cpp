@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 namespace glarelab::analysis {
@@ -185,28 +186,65 @@ void SvgPlot::bar(double x_centre, double width, double y, const std::string& co
 }
 
 void SvgPlot::error_bar(double x, double low, double high, const std::string& colour) {
-  const std::string cx = number(px_x(x));
-  const std::string left = number(px_x(x) - 5.0);
-  const std::string right = number(px_x(x) + 5.0);
-  const std::string y0 = number(px_y(low));
-  const std::string y1 = number(px_y(high));
-  body_ += "<path fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"1.5\" d=\"M" + cx + "," + y0 + "V" + y1 + "M" +
-           left + "," + y0 + "H" + right + "M" + left + "," + y1 + "H" + right + "\"/>\n";
+  const double lowest = std::min(y_low_, y_high_), highest = std::max(y_low_, y_high_);
+  const double y0 = px_y(std::clamp(low, lowest, highest));
+  const double y1 = px_y(std::clamp(high, lowest, highest));
+  const double cx = px_x(x);
+  // A cap where the interval ends; an arrowhead (pointing away from the middle) where the plot cuts
+  // it. `outward` is the arrow's direction in pixels (+1: down the page).
+  const auto end = [&](double y, bool clipped, double outward) {
+    if (clipped) return "M" + number(cx - 4.0) + "," + number(y - 6.0 * outward) + "L" + number(cx) + "," + number(y) + "L" +
+                        number(cx + 4.0) + "," + number(y - 6.0 * outward);
+    return "M" + number(cx - 5.0) + "," + number(y) + "H" + number(cx + 5.0);
+  };
+  body_ += "<path fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"1.5\" d=\"M" + number(cx) + "," + number(y0) + "V" +
+           number(y1) + end(y0, low < lowest, 1.0) + end(y1, high > highest, -1.0) + "\"/>\n";
 }
 
 void SvgPlot::horizontal_error_bar(double y, double low, double high, const std::string& colour) {
-  const std::string cy = number(px_y(y));
-  const std::string top = number(px_y(y) - 5.0);
-  const std::string bottom = number(px_y(y) + 5.0);
-  const std::string x0 = number(px_x(low));
-  const std::string x1 = number(px_x(high));
-  body_ += "<path fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"1.5\" d=\"M" + x0 + "," + cy + "H" + x1 + "M" +
-           x0 + "," + top + "V" + bottom + "M" + x1 + "," + top + "V" + bottom + "\"/>\n";
+  const double x0 = px_x(std::clamp(low, x_low_, x_high_));
+  const double x1 = px_x(std::clamp(high, x_low_, x_high_));
+  const double cy = px_y(y);
+  const auto end = [&](double x, bool clipped, double outward) {
+    if (clipped) return "M" + number(x - 6.0 * outward) + "," + number(cy - 4.0) + "L" + number(x) + "," + number(cy) + "L" +
+                        number(x - 6.0 * outward) + "," + number(cy + 4.0);
+    return "M" + number(x) + "," + number(cy - 5.0) + "V" + number(cy + 5.0);
+  };
+  body_ += "<path fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"1.5\" d=\"M" + number(x0) + "," + number(cy) + "H" +
+           number(x1) + end(x0, low < x_low_, -1.0) + end(x1, high > x_high_, 1.0) + "\"/>\n";
 }
 
 void SvgPlot::horizontal_rule(double y, const std::string& colour) {
   body_ += "<line x1=\"" + number(kLeft_px) + "\" x2=\"" + number(width_px_ - kRight_px) + "\" y1=\"" + number(px_y(y)) +
            "\" y2=\"" + number(px_y(y)) + "\" stroke=\"" + colour + "\" stroke-dasharray=\"3,3\"/>\n";
+}
+
+double SvgPlot::px_per_x() const { return (width_px_ - kLeft_px - kRight_px) / (x_high_ - x_low_); }
+
+double counted_rings(SvgPlot& plot, const std::vector<std::vector<CountedPoint>>& series,
+                     const std::vector<std::string>& colours) {
+  std::vector<double> xs;
+  long most = 1;
+  for (const auto& points : series)
+    for (const CountedPoint& p : points) {
+      xs.push_back(p.x);
+      most = std::max(most, p.trials);
+    }
+  std::sort(xs.begin(), xs.end());
+  double gap_px = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i < xs.size(); ++i)
+    if (xs[i] > xs[i - 1]) gap_px = std::min(gap_px, (xs[i] - xs[i - 1]) * plot.px_per_x());
+  const double count = static_cast<double>(std::max<std::size_t>(series.size(), 1));
+  // Side by side at one x the series span count (2 r + 1) px, which must fit in the gap to the next x.
+  const double r_max = std::clamp((gap_px / count - 1.0) / 2.0, 2.0, 8.0);
+  for (std::size_t s = 0; s < series.size(); ++s) {
+    const double shift_px = (static_cast<double>(s) - 0.5 * (count - 1.0)) * (2.0 * r_max + 1.0);
+    for (const CountedPoint& p : series[s]) {
+      const double radius = std::max(1.5, r_max * std::sqrt(static_cast<double>(p.trials) / static_cast<double>(most)));
+      plot.markers({p.x + shift_px / plot.px_per_x()}, {p.y}, colours[s % colours.size()], radius, true);
+    }
+  }
+  return r_max;
 }
 
 void SvgPlot::legend(const std::string& label, const std::string& colour) { legend_.emplace_back(label, colour); }

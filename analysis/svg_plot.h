@@ -38,6 +38,8 @@ class SvgPlot {
   void markers(const std::vector<double>& x, const std::vector<double>& y, const std::string& colour, double radius_px = 3.5,
                bool hollow = false);
   void bar(double x_centre, double width, double y, const std::string& colour);
+  // Intervals stay inside the plotting area: an end beyond the axis range stops at the edge and is
+  // drawn as an arrowhead pointing on, not as a cap, so a clipped interval is not read as ending there.
   void error_bar(double x, double low, double high, const std::string& colour = "#222");
   // A horizontal interval at height y (e.g. a PSE's interval on the x axis).
   void horizontal_error_bar(double y, double low, double high, const std::string& colour = "#222");
@@ -46,6 +48,9 @@ class SvgPlot {
   void note(const std::string& text);  // a line under the title, e.g. "no data"
 
   std::string svg() const;
+
+  // Pixels per unit of x on the plotting area (for offsets given in pixels).
+  double px_per_x() const;
 
  private:
   double px_x(double x) const;
@@ -59,6 +64,21 @@ class SvgPlot {
   std::vector<std::string> notes_;
   std::string body_;
 };
+
+// A point of a series whose marker's area shows how many trials it holds.
+struct CountedPoint {
+  double x = 0.0;
+  double y = 0.0;
+  long trials = 0;
+};
+
+// Rings (hollow markers) of several series on a numeric x axis, each ring's area proportional to
+// its trials, sized and set apart so that no ring hides another: the largest radius is at most
+// 8 px and small enough that the series' rings at one x, set side by side (series s moved
+// (s - (S - 1) / 2) (2 r_max + 1) px), fit between neighbouring x values; the smallest ring is
+// 1.5 px. Returns the largest radius used.
+double counted_rings(SvgPlot& plot, const std::vector<std::vector<CountedPoint>>& series,
+                     const std::vector<std::string>& colours);
 
 // Colours used for the series of a figure, in order.
 const std::string& series_colour(std::size_t index);

@@ -18,6 +18,8 @@ TimingQuality analyse_timing(const LoadedData& data) {
     std::vector<double> onset_errors;
     std::vector<double> intervals;
     for (const LoadedTrial& trial : session.trials) {
+      const bool timing_test = trial.record.procedure == "timing_test";
+      timing.timing_test = timing.timing_test || timing_test;
       if (trial.record.response_time_s) quality.response_times_s.push_back(*trial.record.response_time_s);
       // Frames in flip order; stimulus frames have frame_index >= 0, the trial's other flips
       // (screens, fixation, intervals between, response, feedback) negative ones. Frame intervals
@@ -27,7 +29,12 @@ TimingQuality analyse_timing(const LoadedData& data) {
         if (frame.frame_index >= 0) ++timing.frames;
         timing.dropped += frame.dropped ? 1 : 0;
         if (frame.frame_index == 0) onset_errors.push_back(frame.flip_s - frame.scheduled_s);
-        if (f > 0) intervals.push_back(frame.flip_s - trial.frames[f - 1].flip_s);
+        if (f == 0) continue;
+        intervals.push_back(frame.flip_s - trial.frames[f - 1].flip_s);
+        if (timing_test) {
+          timing.flip_intervals_s.push_back(intervals.back());
+          timing.interval_dropped.push_back(frame.dropped);
+        }
       }
     }
     if (!onset_errors.empty()) {

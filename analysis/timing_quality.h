@@ -23,6 +23,12 @@ struct SessionTiming {
   std::optional<double> onset_jitter_max_abs_s;
   std::optional<double> frame_interval_mean_s;
   std::optional<double> frame_interval_sd_s;
+  // A `glarelab timing-test` session (its trial of procedure "timing_test", docs/TIMING.md): the
+  // interval before each flip in flip order, and whether that flip missed its deadline (dropped),
+  // for the report's histogram and time series.
+  bool timing_test = false;
+  std::vector<double> flip_intervals_s;
+  std::vector<bool> interval_dropped;
 };
 
 struct TimingQuality {

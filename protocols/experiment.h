@@ -15,6 +15,7 @@
 #include "core/scene_spec.h"
 #include "protocols/glare_config.h"
 #include "core/observer_optics.h"
+#include "protocols/analysis_config.h"
 #include "protocols/perception_config.h"
 #include "protocols/presentation_config.h"
 #include "protocols/observer_preferences.h"
@@ -182,6 +183,8 @@ struct Experiment {
   // [perception]: the perception stages around the glare (every stage off by default) and the
   // default switches of conditions (column "perception").
   PerceptionSettings perception = perception_defaults();
+  // [analysis]: the report's axis words and display names (protocols/analysis_config.h).
+  AnalysisLabels analysis;
   // [observer.refraction], [spectacles.NAME] and [observer] spectacles: the observer's refraction
   // and the spectacles worn (default of the column "spectacles").
   ObserverOptics observer_optics;

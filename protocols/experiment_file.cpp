@@ -437,7 +437,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   // such rather than as a missing [procedure].
   for (const char* section :
        {"experiment", "display", "scenes", "procedure", "conditions", "observer", "spectacles", "glare", "perception",
-        "presentation"}) {
+        "presentation", "analysis"}) {
     top.node(section);
   }
   top.node("blocks");  // [[blocks]] (protocols/block_config.h)
@@ -454,6 +454,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   experiment.glare = read_glare_section(top);
   experiment.glare.observer_eye = observer_eye;
   experiment.perception = read_perception_section(top);
+  experiment.analysis = read_analysis_section(top);
   experiment.presentation = read_presentation_section(top, experiment);
 
   check_condition_scenes(conditions, experiment);

@@ -297,6 +297,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
   print_section(out, "glare", glare_section_toml(experiment.glare));
   print_section(out, "perception", perception_section_toml(experiment.perception));
   print_section(out, "presentation", presentation_section_toml(experiment.presentation));
+  if (!experiment.analysis.empty()) print_section(out, "analysis", analysis_section_toml(experiment.analysis));
 
   if (!experiment.design.blocks.empty()) {
     toml::table blocks;

@@ -6,7 +6,12 @@
 //   - every text element's box lies inside the SVG's viewport;
 //   - no two text elements' boxes overlap;
 //   - the legend's box does not overlap the plotting area (class plot-area) nor any data mark
-//     (the circles and rectangles of class data).
+//     (the circles and rectangles of class data);
+//   - every interval (the paths of class data: error bars, caps, arrowheads) lies inside the
+//     plotting area;
+//   - in the psychometric figures (graded choice, staircases), no two data rings (circles sized by
+//     trials) overlap.
+// Beside the examples, a `glarelab timing-test` session (offscreen) gives the timing figures.
 // `chromium --headless --dump-dom` prints the page after its script ran; the problems are read
 // back from it. The report itself forbids scripts (Content-Security-Policy); the page here is the
 // test's own.
@@ -19,7 +24,9 @@
 
 #include "analysis/analysis_report.h"
 #include "analysis/report_output.h"
+#include "runner/cli/analysis_words.h"
 #include "runner/cli/quest_plus_posteriors.h"
+#include "tests/cli_process.h"
 #include "tests/example_dry_run.h"
 #include "tests/headless_chromium.h"
 #include "tests/scratch_dir.h"
@@ -77,6 +84,23 @@ for (const holder of document.querySelectorAll('div.figure')) {
     for (const mark of svg.querySelectorAll('g.data circle, g.data rect'))
       if (boxesOverlap(l, mark.getBoundingClientRect(), 0.5)) { problems.push(name + ': legend overlaps a data mark'); break; }
   }
+  const area = svg.querySelector('rect.plot-area');
+  if (area) {
+    const a = area.getBoundingClientRect();
+    for (const path of svg.querySelectorAll('g.data path')) {
+      const r = path.getBoundingClientRect();
+      if (r.left < a.left - 1 || r.right > a.right + 1 || r.top < a.top - 1 || r.bottom > a.bottom + 1)
+        problems.push(name + ': an interval leaves the plotting area');
+    }
+  }
+  if (/graded_choice|psychometric_/.test(name)) {
+    const rings = Array.from(svg.querySelectorAll('g.data circle[fill="white"]'), c =>
+        [c.cx.baseVal.value, c.cy.baseVal.value, c.r.baseVal.value]);
+    for (let i = 0; i < rings.length; ++i)
+      for (let j = i + 1; j < rings.length; ++j)
+        if (Math.hypot(rings[i][0] - rings[j][0], rings[i][1] - rings[j][1]) < rings[i][2] + rings[j][2] - 0.05)
+          problems.push(name + ': two data rings overlap');
+  }
 }
 document.getElementById('result').textContent =
     'FIGURES ' + figures + ' TEXTS ' + texts + '\n' + problems.map(p => 'PROBLEM ' + p).join('\n') + '\nEND';
@@ -103,7 +127,9 @@ TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
     AnalysisOptions options;
     options.bootstrap_samples = 20;
     options.threads = 2;
-    AnalysisReport report = analyse(load_databases({db}), options);
+    LoadedData data = load_databases({db});
+    options.words = cli::figure_words_of(data);  // the [analysis] words, as `analyze` reads them
+    AnalysisReport report = analyse(std::move(data), options);
     // The QUEST+ / Psi marginal posteriors, as `glarelab analyze` adds them (runner/cli/command_analyze.cpp).
     add_quest_plus_posteriors(report, rebuild_quest_plus_posteriors(report.data, report.data.notes));
     write_report(report, dir.file(stem));
@@ -113,6 +139,20 @@ TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
     }
     std::printf("%s: %zu figures\n", stem.c_str(), report.figures.size());
   }
+  // A timing test's report: its flip-interval histogram and time series.
+  const std::string timing_db = dir.file("timing_test.db");
+  const test::RunOutput timing_run =
+      test::run_glarelab({"timing-test", "--display", "offscreen", "--frames", "240", "--db", timing_db}, dir.path());
+  ASSERT_EQ(timing_run.exit_code, 0) << timing_run.output;
+  const AnalysisReport timing_report = analyse(load_databases({timing_db}), AnalysisOptions{});
+  write_report(timing_report, dir.file("timing_test"));
+  std::size_t timing_figures = 0;
+  for (const Figure& figure : timing_report.figures) {
+    page += "<div class=\"figure\" data-name=\"timing_test/" + figure.file_stem + "\">" + figure.svg + "</div>\n";
+    ++expected_figures;
+    timing_figures += figure.file_stem.rfind("flip_", 0) == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(timing_figures, 2u);
   page += "<pre id=\"result\">script did not run</pre><script>" + std::string(kCheckScript) + "</script></body></html>\n";
   const std::string page_path = dir.file("figures.html");
   std::ofstream(page_path) << page;
@@ -123,6 +163,8 @@ TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
     for (const auto& file : files)
       std::filesystem::copy(dir.file(file.stem().string()), std::filesystem::path(keep) / file.stem(),
                             std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy(dir.file("timing_test"), std::filesystem::path(keep) / "timing_test",
+                          std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing);
   }
 
   const auto [status, text] = dump_dom(chromium, page_path, dir);

@@ -12,6 +12,7 @@
 #include "analysis/session_selection.h"
 #include "analysis/tidy_csv.h"
 #include "core/atomic_file.h"
+#include "runner/cli/analysis_words.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
 #include "runner/cli/quest_plus_posteriors.h"
@@ -99,7 +100,9 @@ Action add_analyze_command(CLI::App& app) {
       analysis::keep_formula_cells_raw(options->raw_csv_cells);
       analysis::LoadedData data = analysis::load_databases(distinct_files(options->databases));
       analysis::select_sessions(data, options->selection);
-      analysis::AnalysisReport report = analysis::analyse(std::move(data), options->analysis);
+      analysis::AnalysisOptions analysis_options = options->analysis;
+      analysis_options.words = figure_words_of(data);
+      analysis::AnalysisReport report = analysis::analyse(std::move(data), analysis_options);
       // QUEST+ / Psi posteriors need the procedure (protocols/), which analysis/ may not build.
       analysis::add_quest_plus_posteriors(report, rebuild_quest_plus_posteriors(report.data, report.data.notes));
       const auto written = analysis::write_report(report, options->out, export_mode(options->databases.front()));

@@ -1,0 +1,115 @@
+// The [analysis] table of an experiment file (protocols/analysis_config.h): its words reach the
+// report's figures through the stored session (runner/cli/analysis_words.h), the figures have
+// their own words without it, and a misspelt or empty key is refused at file:line:column.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "analysis/analysis_report.h"
+#include "runner/cli/analysis_words.h"
+#include "tests/example_dry_run.h"
+#include "tests/experiment_error.h"
+#include "tests/scratch_dir.h"
+#include "tests/svg_read.h"
+
+namespace glarelab::analysis {
+namespace {
+
+// examples/demo.toml without its own [analysis] table (the file's last), copied beside its
+// condition table (the scenes linked), with `extra` appended.
+std::string demo_with(const test::ScratchDir& dir, const std::string& extra) {
+  const std::filesystem::path examples = std::filesystem::path(GLARELAB_SOURCE_DIR) / "examples";
+  std::ifstream in(examples / "demo.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::filesystem::copy_file(examples / "demo_conditions.csv", dir.path() / "demo_conditions.csv",
+                             std::filesystem::copy_options::overwrite_existing);
+  if (!std::filesystem::exists(dir.path() / "scenes")) std::filesystem::create_directory_symlink(examples / "scenes", dir.path() / "scenes");
+  std::string own = text.str();
+  const std::size_t analysis = own.find("\n[analysis]");
+  EXPECT_NE(analysis, std::string::npos) << "examples/demo.toml has no [analysis] table";
+  own = own.substr(0, analysis);
+  return dir.write("demo.toml", own + "\n" + extra);
+}
+
+std::string graded_svg(const std::string& db) {
+  LoadedData data = load_databases({db});
+  AnalysisOptions options;
+  options.bootstrap_samples = 0;
+  options.threads = 2;
+  options.words = cli::figure_words_of(data);
+  const AnalysisReport report = analyse(std::move(data), options);
+  for (const Figure& figure : report.figures)
+    if (figure.file_stem == "graded_choice") return figure.svg;
+  return {};
+}
+
+// The demo with an [analysis] table: the axis words, the unit and the groups' display names are
+// the figure's, and the column names are not.
+TEST(AnalysisFigureWords, TheTablesWordsReachTheGradedFigure) {
+  test::ScratchDir dir;
+  const std::string experiment = demo_with(dir, R"([analysis]
+graded_label = "comparison luminance relative to the reference"
+graded_unit = "ratio"
+answer_label = "proportion judging the comparison brighter"
+group_label = "glare on the reference"
+
+[analysis.names]
+control = "no glare"
+static = "frozen eye"
+dynamic = "moving eye"
+)");
+  const std::string db = dir.file("demo.db");
+  test::dry_run_example(experiment, db, {1});
+  const std::string svg = graded_svg(db);
+  ASSERT_FALSE(svg.empty());
+  EXPECT_NE(svg.find(">comparison luminance relative to the reference (ratio), log10 scale<"), std::string::npos) << svg;
+  EXPECT_NE(svg.find("proportion judging the comparison brighter"), std::string::npos);
+  EXPECT_NE(svg.find("glare on the reference"), std::string::npos);
+  for (const char* name : {">no glare: PSE ", ">frozen eye: PSE ", ">moving eye: PSE "})
+    EXPECT_NE(svg.find(name), std::string::npos) << name;
+  EXPECT_EQ(svg.find("scene_b"), std::string::npos);
+  EXPECT_EQ(svg.find("luminance_ratio"), std::string::npos);
+}
+
+// Without the table the figure builds its words from the data: the column's name as words, the
+// scale said, the answer counted.
+TEST(AnalysisFigureWords, WithoutTheTableTheFigureHasItsOwnWords) {
+  test::ScratchDir dir;
+  const std::string db = dir.file("demo.db");
+  test::dry_run_example(demo_with(dir, ""), db, {1});
+  const std::string svg = graded_svg(db);
+  EXPECT_NE(svg.find(">luminance ratio, log10 scale<"), std::string::npos) << svg;
+  EXPECT_NE(svg.find("proportion choosing scene_b"), std::string::npos);
+  EXPECT_NE(svg.find(">control: PSE "), std::string::npos);
+}
+
+// The line of `needle` in `text`, 1-based.
+int line_of(const std::string& text, const std::string& needle) {
+  const std::size_t at = text.find(needle);
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+}
+
+TEST(AnalysisFigureWords, UnknownAndEmptyKeysAreRefusedAtTheirPlace) {
+  test::ScratchDir dir;
+  const std::string misspelt = demo_with(dir, "[analysis]\ngraded_lable = \"x\"\n");
+  std::ifstream in(misspelt);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string error = test::experiment_error(misspelt);
+  EXPECT_NE(error.find("demo.toml:" + std::to_string(line_of(text, "graded_lable")) + ":1"), std::string::npos) << error;
+  EXPECT_NE(error.find("analysis.graded_lable"), std::string::npos) << error;
+  EXPECT_NE(error.find("graded_label"), std::string::npos) << error;  // the suggestion
+
+  const std::string empty = test::experiment_error(demo_with(dir, "[analysis]\nanswer_label = \"\"\n"));
+  EXPECT_NE(empty.find("analysis.answer_label"), std::string::npos) << empty;
+  EXPECT_NE(empty.find("must not be empty"), std::string::npos) << empty;
+
+  const std::string number = test::experiment_error(demo_with(dir, "[analysis.names]\ncontrol = 3\n"));
+  EXPECT_NE(number.find("analysis.names.control"), std::string::npos) << number;
+  EXPECT_NE(number.find("expected a string"), std::string::npos) << number;
+}
+
+}  // namespace
+}  // namespace glarelab::analysis
