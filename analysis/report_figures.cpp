@@ -347,7 +347,7 @@ Figure pupil_figure(const SessionTracker& s, std::size_t index) {
 // Spencer et al. 1995, Figs. 12-13: perceived intensity (the PSE, % of the display's peak) against
 // glare strength, one line per group (with and without context), and the reference's level dashed:
 // where the line would lie if glare had no effect.
-Figure pse_figure(const PseAnalysis& pse) {
+Figure pse_figure(const PseAnalysis& pse, const FigureWords& words) {
   SvgPlot plot("Perceived intensity against glare strength (95% intervals)", "glare strength (glare_gain)",
                "perceived intensity (% of display peak)", 620, 360);
   double x_low = kInf, x_high = -kInf, y_low = kInf, y_high = -kInf;
@@ -385,7 +385,7 @@ Figure pse_figure(const PseAnalysis& pse) {
     }
     plot.line(x, y, series_colour(g));
     plot.markers(x, y, series_colour(g));
-    plot.legend(groups[g].empty() ? "all trials" : groups[g], series_colour(g));
+    plot.legend(groups[g].empty() ? "all trials" : words.display(groups[g]), series_colour(g));
   }
   return {"pse", "pse",
           "Point of subjective equality (comparison disc as bright as the glare image) against glare strength, per group; "
@@ -412,7 +412,7 @@ std::vector<Figure> draw_figures(const AnalysisReport& report) {
     figures.push_back(staircase_track_figure(report.staircases[i], i + 1, report.options.words));
     figures.push_back(psychometric_figure(report.staircases[i], i + 1, report.options.words));
   }
-  if (!report.pse.tracks.empty()) figures.push_back(pse_figure(report.pse));
+  if (!report.pse.tracks.empty()) figures.push_back(pse_figure(report.pse, report.options.words));
   if (!report.adjustments.empty()) figures.push_back(adjustment_figure(report.adjustments));
   if (!report.ratings.comparisons.empty()) figures.push_back(rating_means_figure(report.ratings));
   for (std::size_t i = 0; i < report.ratings.category_order.size(); ++i) {
