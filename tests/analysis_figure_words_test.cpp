@@ -139,5 +139,26 @@ TEST(AnalysisFigureWords, DisplayNamesReachThePseLegendAndTheQuestPlusTitle) {
   EXPECT_EQ(svg.find("quest_plus"), std::string::npos);
 }
 
+// The forced-choice figure's legend and bar labels take the display names of options and of the
+// group's values, as the graded-choice figure does.
+TEST(AnalysisFigureWords, DisplayNamesReachTheForcedChoiceFigure) {
+  AnalysisReport report;
+  report.options.words.names = {{"dynamic", "moving eye"}, {"control", "no glare"}, {"lamp_130", "lamp at 130 cd/m2"}};
+  PairPreference pair;
+  pair.group = "scene=lamp_130";
+  pair.option_a = "dynamic";
+  pair.option_b = "control";
+  pair.chose_a = 7;
+  pair.chose_b = 3;
+  report.forced_choice.groups.push_back(pair);
+  report.forced_choice.trials = 10;
+  const std::vector<Figure> figures = draw_figures(report);
+  const auto forced = std::find_if(figures.begin(), figures.end(), [](const Figure& f) { return f.file_stem == "forced_choice"; });
+  ASSERT_NE(forced, figures.end());
+  for (const char* words : {"moving eye", "no glare", "lamp at 130 cd/m2"})
+    EXPECT_NE(forced->svg.find(words), std::string::npos) << words << "\n" << forced->svg;
+  EXPECT_EQ(forced->svg.find(">dynamic"), std::string::npos) << forced->svg;
+}
+
 }  // namespace
 }  // namespace glarelab::analysis
