@@ -143,7 +143,7 @@ TEST(AnalysisFigureWords, DisplayNamesReachThePseLegendAndTheQuestPlusTitle) {
 // group's values, as the graded-choice figure does.
 TEST(AnalysisFigureWords, DisplayNamesReachTheForcedChoiceFigure) {
   AnalysisReport report;
-  report.options.words.names = {{"dynamic", "moving eye"}, {"control", "no glare"}, {"lamp_130", "lamp at 130 cd/m2"}};
+  report.options.words.names = {{"dynamic", "moving eye"}, {"control", "no glare"}, {"lamp_130", "Lamp-130"}};
   PairPreference pair;
   pair.group = "scene=lamp_130";
   pair.option_a = "dynamic";
@@ -155,7 +155,7 @@ TEST(AnalysisFigureWords, DisplayNamesReachTheForcedChoiceFigure) {
   const std::vector<Figure> figures = draw_figures(report);
   const auto forced = std::find_if(figures.begin(), figures.end(), [](const Figure& f) { return f.file_stem == "forced_choice"; });
   ASSERT_NE(forced, figures.end());
-  for (const char* words : {"moving eye", "no glare", "lamp at 130 cd/m2"})
+  for (const char* words : {"moving eye", "no glare", "Lamp-130"})
     EXPECT_NE(forced->svg.find(words), std::string::npos) << words << "\n" << forced->svg;
   EXPECT_EQ(forced->svg.find(">dynamic"), std::string::npos) << forced->svg;
 }
