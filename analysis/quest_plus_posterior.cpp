@@ -52,9 +52,21 @@ std::string parameter_axis_label(const MarginalPosterior& marginal) {
   return marginal.parameter + (marginal.unit.empty() ? "" : " (" + marginal.unit + ")");
 }
 
-std::string marginal_posterior_svg(const QuestPlusPosterior& track, std::size_t parameter) {
+namespace {
+
+// The method as its paper names it (Watson 2017's QUEST+, Kontsevich and Tyler 1999's Psi).
+std::string method_words(const std::string& method) {
+  if (method == "quest_plus") return "QUEST+";
+  if (method == "psi") return "Psi";
+  return method;
+}
+
+}  // namespace
+
+std::string marginal_posterior_svg(const QuestPlusPosterior& track, std::size_t parameter, const FigureWords& words) {
   const MarginalPosterior& m = track.marginals.at(parameter);
-  SvgPlot plot(track.method + " posterior of " + m.parameter + ": " + track.track + ", " + track.participant_label +
+  SvgPlot plot(method_words(track.method) + " posterior of " + m.parameter + ": " + words.display(track.track) + ", " +
+                   track.participant_label +
                    " (" + std::to_string(track.trials) + " trials)",
                parameter_axis_label(m), "marginal posterior probability");
   const double low = *std::min_element(m.values.begin(), m.values.end());
@@ -134,8 +146,8 @@ void add_quest_plus_posteriors(AnalysisReport& report, std::vector<QuestPlusPost
     for (std::size_t p = 0; p < track.marginals.size(); ++p)
       report.figures.push_back({"quest_plus_" + std::to_string(t + 1) + "_" + std::to_string(p + 1), "quest_plus",
                                 "Marginal posterior of " + track.marginals[p].parameter + " after the last trial of " +
-                                    track.track + " (" + track.participant_label + ").",
-                                marginal_posterior_svg(track, p)});
+                                    report.options.words.display(track.track) + " (" + track.participant_label + ").",
+                                marginal_posterior_svg(track, p, report.options.words)});
   }
 }
 

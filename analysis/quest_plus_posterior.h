@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/figure_words.h"
+
 namespace glarelab::analysis {
 
 struct MarginalPosterior {
@@ -45,7 +47,8 @@ std::string grid_edge_warning(const MarginalPosterior& marginal);
 // One figure per parameter of a track: the marginal posterior over the parameter's grid (line
 // and markers at the grid points), the marginal mean as a dashed vertical line, and the mode,
 // mean and SD in the note under the title.
-std::string marginal_posterior_svg(const QuestPlusPosterior& track, std::size_t parameter);
+// `words`: the track's display name ([analysis.names]); the method is named as its paper does.
+std::string marginal_posterior_svg(const QuestPlusPosterior& track, std::size_t parameter, const FigureWords& words = {});
 
 // The report's table (one row per track and parameter) and the terminal lines.
 std::string quest_plus_posteriors_html(const std::vector<QuestPlusPosterior>& tracks);

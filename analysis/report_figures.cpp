@@ -29,7 +29,7 @@ std::string rating_number(double value) {
 // A bar pair's label: the two options in the figure's fixed order, then the group's values without
 // their keys ("control vs dynamic (lamp_130, brighter)"), so bars of one scene can be told apart
 // and the label wraps at spaces within its slot.
-std::string pair_label(const PairPreference& p, bool a_first) {
+std::string pair_label(const PairPreference& p, bool a_first, const FigureWords& words) {
   std::string values;
   std::size_t start = 0;
   while (start < p.group.size()) {
@@ -37,17 +37,18 @@ std::string pair_label(const PairPreference& p, bool a_first) {
     if (end == std::string::npos) end = p.group.size();
     std::string part = p.group.substr(start, end - start);
     if (const std::size_t equals = part.find('='); equals != std::string::npos) part = part.substr(equals + 1);
-    values += (values.empty() ? "" : ", ") + part;
+    values += (values.empty() ? "" : ", ") + words.display(part);
     start = end + 2;
   }
-  return (a_first ? p.option_a + " vs " + p.option_b : p.option_b + " vs " + p.option_a) + " (" + values + ")";
+  const std::string a = words.display(p.option_a), b = words.display(p.option_b);
+  return (a_first ? a + " vs " + b : b + " vs " + a) + " (" + values + ")";
 }
 
 // Forced choice, Ritschel et al. 2009, Fig. 12 left: a bar pair per group and pair of options, at
 // most kPairsPerFigure per figure (more make figures wider than the page), split evenly. Each
 // option keeps one colour and one side in every pair (options in order of first appearance), so a
 // colour means the same condition throughout, whichever option won a pair.
-std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis) {
+std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis, const FigureWords& words) {
   constexpr std::size_t kPairsPerFigure = 8;
   const auto& rows = analysis.groups;
   std::vector<std::string> options;
@@ -65,7 +66,7 @@ std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis) 
     const std::size_t last = std::min(rows.size(), first + per_figure);
     std::vector<std::string> labels;
     for (std::size_t i = first; i < last; ++i)
-      labels.push_back(pair_label(rows[i], index_of(rows[i].option_a) < index_of(rows[i].option_b)));
+      labels.push_back(pair_label(rows[i], index_of(rows[i].option_a) < index_of(rows[i].option_b), words));
     SvgPlot plot("Forced choice: share choosing each option (95% Clopper-Pearson intervals)" +
                      (count > 1 ? " (" + std::to_string(f + 1) + " of " + std::to_string(count) + ")" : std::string()),
                  "pair of options (group)", "relative frequency (share of choices)",
@@ -96,7 +97,7 @@ std::vector<Figure> forced_choice_figures(const ForcedChoiceAnalysis& analysis) 
       }
     }
     for (std::size_t o = 0; o < options.size(); ++o)
-      if (shown[o]) plot.legend(options[o], series_colour(o));
+      if (shown[o]) plot.legend(words.display(options[o]), series_colour(o));
     if (any_neither) plot.legend("'neither' share (dot)", "#000");
     if (rows.empty()) plot.note("no forced-choice pairs to show");
     figures.push_back({f == 0 ? std::string("forced_choice") : "forced_choice_" + std::to_string(f + 1), "forced_choice",
@@ -242,18 +243,20 @@ std::string rating_colour(std::size_t index, std::size_t count) {
 // Luidolt 2020, Figs. 7.2-7.7, one category: per condition a bar of its answers stacked by
 // answer value (lowest at the bottom), and the median marked by a dot at half the answers: the
 // segment under the dot is the median value (on a boundary when the median falls between two).
-Figure rating_figure(const RatingAnalysis& ratings, const std::string& category, std::size_t index) {
+Figure rating_figure(const RatingAnalysis& ratings, const std::string& category, std::size_t index,
+                     const FigureWords& words) {
   constexpr double kSlot_px = 110.0;
   std::vector<const RatingDistribution*> cells;
   for (const RatingDistribution& cell : ratings.cells)
     if (cell.category == category) cells.push_back(&cell);
-  const std::string name = category.empty() ? "all trials" : category;
+  const std::string name = category.empty() ? "all trials" : words.display(category);
   SvgPlot plot("Ratings: " + name, "condition (median)", "answers",
                static_cast<int>(80.0 + kSlot_px * static_cast<double>(cells.size())), 340);
   std::vector<std::string> labels;
   long most = 1;
   for (const RatingDistribution* cell : cells) {
-    labels.push_back(cell->median ? cell->condition + " (" + rating_number(*cell->median) + ")" : cell->condition);
+    const std::string condition = words.display(cell->condition);
+    labels.push_back(cell->median ? condition + " (" + rating_number(*cell->median) + ")" : condition);
     most = std::max(most, cell->answers);
   }
   plot.set_x_categories(labels);  // the legend stands right of the plotting area (analysis/svg_plot.h)
@@ -287,7 +290,7 @@ Figure rating_figure(const RatingAnalysis& ratings, const std::string& category,
 }
 
 // Luidolt 2020, Fig. 7.1: the mean rating of each category, a bar per condition.
-Figure rating_means_figure(const RatingAnalysis& ratings) {
+Figure rating_means_figure(const RatingAnalysis& ratings, const FigureWords& words) {
   constexpr double kSlot_px = 120.0;
   std::vector<std::string> conditions;
   double top = 1.0;
@@ -297,7 +300,8 @@ Figure rating_means_figure(const RatingAnalysis& ratings) {
   }
   for (const std::string& value : ratings.scale) top = std::max(top, std::strtod(value.c_str(), nullptr));
   std::vector<std::string> labels;
-  for (const std::string& category : ratings.category_order) labels.push_back(category.empty() ? "all trials" : category);
+  for (const std::string& category : ratings.category_order)
+    labels.push_back(category.empty() ? "all trials" : words.display(category));
   SvgPlot plot("Mean rating per category", "category", "mean rating",
                static_cast<int>(80.0 + kSlot_px * static_cast<double>(labels.size())), 320);
   plot.set_x_categories(labels);
@@ -311,7 +315,7 @@ Figure rating_means_figure(const RatingAnalysis& ratings) {
           ratings.category_order.begin());
       plot.bar(g - 0.4 + width * (static_cast<double>(c) + 0.5), width * 0.9, *cell.mean, series_colour(c));
     }
-    plot.legend(conditions[c], series_colour(c));
+    plot.legend(words.display(conditions[c]), series_colour(c));
   }
   return {"rating_means", "rating",
           "Mean rating per category and condition (the scale's top is the axis' top), as Luidolt (2020), Fig. 7.1.",
@@ -347,7 +351,7 @@ Figure pupil_figure(const SessionTracker& s, std::size_t index) {
 // Spencer et al. 1995, Figs. 12-13: perceived intensity (the PSE, % of the display's peak) against
 // glare strength, one line per group (with and without context), and the reference's level dashed:
 // where the line would lie if glare had no effect.
-Figure pse_figure(const PseAnalysis& pse) {
+Figure pse_figure(const PseAnalysis& pse, const FigureWords& words) {
   SvgPlot plot("Perceived intensity against glare strength (95% intervals)", "glare strength (glare_gain)",
                "perceived intensity (% of display peak)", 620, 360);
   double x_low = kInf, x_high = -kInf, y_low = kInf, y_high = -kInf;
@@ -385,7 +389,7 @@ Figure pse_figure(const PseAnalysis& pse) {
     }
     plot.line(x, y, series_colour(g));
     plot.markers(x, y, series_colour(g));
-    plot.legend(groups[g].empty() ? "all trials" : groups[g], series_colour(g));
+    plot.legend(groups[g].empty() ? "all trials" : words.display(groups[g]), series_colour(g));
   }
   return {"pse", "pse",
           "Point of subjective equality (comparison disc as bright as the glare image) against glare strength, per group; "
@@ -397,7 +401,8 @@ Figure pse_figure(const PseAnalysis& pse) {
 std::vector<Figure> draw_figures(const AnalysisReport& report) {
   std::vector<Figure> figures;
   if (!report.forced_choice.empty())
-    for (Figure& figure : forced_choice_figures(report.forced_choice)) figures.push_back(std::move(figure));
+    for (Figure& figure : forced_choice_figures(report.forced_choice, report.options.words))
+      figures.push_back(std::move(figure));
   for (std::size_t i = 0; i < report.paired_scales.size(); ++i) {
     const PairedScale& paired = report.paired_scales[i];
     figures.push_back({"preference_matrix_" + std::to_string(i + 1), "forced_choice",
@@ -412,11 +417,11 @@ std::vector<Figure> draw_figures(const AnalysisReport& report) {
     figures.push_back(staircase_track_figure(report.staircases[i], i + 1, report.options.words));
     figures.push_back(psychometric_figure(report.staircases[i], i + 1, report.options.words));
   }
-  if (!report.pse.tracks.empty()) figures.push_back(pse_figure(report.pse));
+  if (!report.pse.tracks.empty()) figures.push_back(pse_figure(report.pse, report.options.words));
   if (!report.adjustments.empty()) figures.push_back(adjustment_figure(report.adjustments));
-  if (!report.ratings.comparisons.empty()) figures.push_back(rating_means_figure(report.ratings));
+  if (!report.ratings.comparisons.empty()) figures.push_back(rating_means_figure(report.ratings, report.options.words));
   for (std::size_t i = 0; i < report.ratings.category_order.size(); ++i) {
-    figures.push_back(rating_figure(report.ratings, report.ratings.category_order[i], i + 1));
+    figures.push_back(rating_figure(report.ratings, report.ratings.category_order[i], i + 1, report.options.words));
   }
   for (Figure& figure : timing_figures(report.timing)) figures.push_back(std::move(figure));
   for (std::size_t i = 0; i < report.tracker.sessions.size(); ++i) {

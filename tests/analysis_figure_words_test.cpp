@@ -3,11 +3,13 @@
 // their own words without it, and a misspelt or empty key is refused at file:line:column.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "analysis/analysis_report.h"
+#include "analysis/quest_plus_posterior.h"
 #include "runner/cli/analysis_words.h"
 #include "tests/example_dry_run.h"
 #include "tests/experiment_error.h"
@@ -109,6 +111,53 @@ TEST(AnalysisFigureWords, UnknownAndEmptyKeysAreRefusedAtTheirPlace) {
   const std::string number = test::experiment_error(demo_with(dir, "[analysis.names]\ncontrol = 3\n"));
   EXPECT_NE(number.find("analysis.names.control"), std::string::npos) << number;
   EXPECT_NE(number.find("expected a string"), std::string::npos) << number;
+}
+
+// The display names reach the Spencer PSE figure's legend and the QUEST+ posterior's title; a name
+// the table does not give stays as stored, and the QUEST+ method is named as its paper names it.
+TEST(AnalysisFigureWords, DisplayNamesReachThePseLegendAndTheQuestPlusTitle) {
+  AnalysisReport report;
+  report.options.words.names = {{"with_context", "with context"}, {"threshold_slope_lapse", "three-parameter track"}};
+  report.pse.tracks.push_back(PseTrack{});
+  for (const std::string group : {"with_context", "without_context"})
+    for (const double gain : {0.0, 1.0}) report.pse.points.push_back({group, gain, 0.8, std::nullopt, 1});
+  const std::vector<Figure> figures = draw_figures(report);
+  const auto pse = std::find_if(figures.begin(), figures.end(), [](const Figure& f) { return f.file_stem == "pse"; });
+  ASSERT_NE(pse, figures.end());
+  EXPECT_NE(pse->svg.find("with context"), std::string::npos) << pse->svg;
+  EXPECT_EQ(pse->svg.find("with_context"), std::string::npos);
+  EXPECT_NE(pse->svg.find("without_context"), std::string::npos);
+
+  QuestPlusPosterior track;
+  track.participant_label = "P1";
+  track.track = "threshold_slope_lapse";
+  track.method = "quest_plus";
+  track.trials = 3;
+  track.marginals.push_back({"threshold", "dB cd/m2", {40.0, 41.0, 42.0}, {0.2, 0.5, 0.3}, 41.0, 41.1, 0.7});
+  const std::string svg = marginal_posterior_svg(track, 0, report.options.words);
+  EXPECT_NE(svg.find("QUEST+ posterior of threshold: three-parameter track, P1"), std::string::npos) << svg;
+  EXPECT_EQ(svg.find("quest_plus"), std::string::npos);
+}
+
+// The forced-choice figure's legend and bar labels take the display names of options and of the
+// group's values, as the graded-choice figure does.
+TEST(AnalysisFigureWords, DisplayNamesReachTheForcedChoiceFigure) {
+  AnalysisReport report;
+  report.options.words.names = {{"dynamic", "moving eye"}, {"control", "no glare"}, {"lamp_130", "Lamp-130"}};
+  PairPreference pair;
+  pair.group = "scene=lamp_130";
+  pair.option_a = "dynamic";
+  pair.option_b = "control";
+  pair.chose_a = 7;
+  pair.chose_b = 3;
+  report.forced_choice.groups.push_back(pair);
+  report.forced_choice.trials = 10;
+  const std::vector<Figure> figures = draw_figures(report);
+  const auto forced = std::find_if(figures.begin(), figures.end(), [](const Figure& f) { return f.file_stem == "forced_choice"; });
+  ASSERT_NE(forced, figures.end());
+  for (const char* words : {"moving eye", "no glare", "Lamp-130"})
+    EXPECT_NE(forced->svg.find(words), std::string::npos) << words << "\n" << forced->svg;
+  EXPECT_EQ(forced->svg.find(">dynamic"), std::string::npos) << forced->svg;
 }
 
 }  // namespace
