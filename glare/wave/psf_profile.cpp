@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <stdexcept>
+
+#include "core/atomic_file.h"
 
 namespace glarelab {
 namespace {
@@ -67,13 +68,13 @@ std::vector<ProfilePoint> image_profile_per_sr(const Psf& psf, PixelLayout layou
 }
 
 void write_profile_csv(const std::string& path, const std::vector<ProfilePoint>& points) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error(path + ": cannot be written");
+  // Beside and renamed into place (core/atomic_file.h): never a half-written profile.
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
   out.precision(17);
   out << "angle_deg,psf_per_sr\n";
   for (const ProfilePoint& point : points) out << point.angle_deg << "," << point.per_sr << "\n";
-  out.flush();
-  if (!out) throw std::runtime_error(path + ": cannot be written");
+  file.commit();
 }
 
 }  // namespace glarelab

@@ -23,6 +23,7 @@
 #include "glare/wave/psf_exr.h"
 #include "glare/wave/psf_profile.h"
 #include "glare/wave/psf_scale.h"
+#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/command_psf_eye.h"
@@ -333,6 +334,10 @@ int write_hybrid(const PsfArguments& args, const Psf& wave_display, const Hybrid
 int run_psf(const PsfArguments& args, const PsfOptionHandles& handles) {
   if (args.out.empty() && args.profile_csv.empty())
     throw ConfigError({"--out", 0, 0}, "out", "nothing to write: give --out FILE.exr, --profile-csv FILE.csv or both");
+  // Both outputs are written beside and renamed into place; a link standing at either is refused
+  // before anything is computed (core/atomic_file.h).
+  if (!args.out.empty()) refuse_symbolic_link(args.out, "--out");
+  if (!args.profile_csv.empty()) refuse_symbolic_link(args.profile_csv, "--profile-csv");
   const GlareModel model = parse_glare_model(args.model);
   if (model == GlareModel::luidolt) return run_luidolt_psf(args, handles);
   const bool analytic = model == GlareModel::spencer || model == GlareModel::cie;
