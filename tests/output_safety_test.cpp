@@ -176,9 +176,9 @@ TEST(OutputSafety, OutputsNamedThroughALinkAreRefusedAndTheTargetKept) {
   EXPECT_EQ(read_bytes(victim).rfind("time_s,", 0), 0u);
 }
 
-// `fit --out` and `calibrate --out` as the other outputs: a link is refused (exit 2, before anything
+// `fit --out`, `calibrate --out` and `psf --profile-csv` as the other outputs: a link is refused (exit 2, before anything
 // is computed or shown) and its target kept; the file named itself is written whole.
-TEST(OutputSafety, FitAndCalibrateRefuseALinkAtTheirOutput) {
+TEST(OutputSafety, FitCalibrateAndPsfRefuseALinkAtTheirOutput) {
   const ScratchDir scratch;
   const std::string data = scratch.write("data.csv", "level,correct,trials\n1,5,10\n2,6,10\n3,8,10\n4,10,10\n");
   const std::string victim = scratch.write("victim.json", "keep");
@@ -201,6 +201,15 @@ TEST(OutputSafety, FitAndCalibrateRefuseALinkAtTheirOutput) {
   EXPECT_EQ(calibrate.exit_code, 2) << calibrate.output;
   EXPECT_NE(calibrate.output.find("is a symbolic link"), std::string::npos) << calibrate.output;
   EXPECT_FALSE(fs::exists(scratch.path() / "made_through_link.csv"));
+
+  const std::string profile_victim = scratch.write("profile_victim.csv", "keep");
+  const auto profile_link = scratch.path() / "profile.csv";
+  fs::create_symlink(profile_victim, profile_link);
+  const auto psf = run_glarelab({"psf", "--model", "cie", "--profile-csv", profile_link.string()}, scratch.path());
+  EXPECT_EQ(psf.exit_code, 2) << psf.output;
+  EXPECT_NE(psf.output.find("--profile-csv: " + profile_link.string() + " is a symbolic link"), std::string::npos)
+      << psf.output;
+  EXPECT_EQ(read_bytes(profile_victim), "keep");
 }
 
 TEST(OutputSafety, AFileWhereAFolderMustBeIsTheUsersMistake) {
