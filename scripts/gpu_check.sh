@@ -4,7 +4,7 @@
 # the machine's name, its GPU and OpenGL renderer, the GL tests' result and the load, followed by the
 # bench's own speed-against-error tables. Meant to finish in a few minutes on a many-core server.
 #
-# Usage: scripts/gpu_check.sh [REPORT.md]     (default: build-gpu/gpu_check.md)
+# Usage: scripts/gpu_check.sh [REPORT_FILE]     (default: the file gpu_check.md in build-gpu/)
 # Environment: GPU_CHECK_BUILD (build folder, default build-gpu), GPU_CHECK_QUICK=1 (the bench's
 # quick grids only), GPU_CHECK_BUILD_TYPE (default Release).
 set -uo pipefail
