@@ -3,7 +3,6 @@
 // answers, and a blink onset whose offset never comes. Each must leave the session running with
 // every sample on the session's time line and the fault in the log.
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 
 #include <chrono>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include "cli_process.h"
 #include "core/clock.h"
 #include "pupil_capture_emulator.h"
+#include "raw_db.h"
 #include "runner/tracker/pupil_filter.h"
 #include "runner/tracker/pupil_labs_client.h"
 #include "runner/tracker/tracker_session.h"
@@ -208,17 +208,7 @@ TEST(TrackerFaults, ALostBlinkOffsetIsEndedAndLoggedInTheSession) {
   EXPECT_NEAR(blink.offset_s - blink.onset_s, 1.0, 0.05);
 }
 
-std::int64_t count_rows(const std::string& db, const std::string& sql) {
-  sqlite3* handle = nullptr;
-  sqlite3_open_v2(db.c_str(), &handle, SQLITE_OPEN_READONLY, nullptr);
-  sqlite3_stmt* statement = nullptr;
-  sqlite3_prepare_v2(handle, sql.c_str(), -1, &statement, nullptr);
-  std::int64_t count = -1;
-  if (sqlite3_step(statement) == SQLITE_ROW) count = sqlite3_column_int64(statement, 0);
-  sqlite3_finalize(statement);
-  sqlite3_close_v2(handle);
-  return count;
-}
+std::int64_t count_rows(const std::string& db, const std::string& sql) { return std::stoll(test::RawDb(db).value(sql)); }
 
 // As a user would meet it: `run` against a tracker whose clock answers nan and inf among its
 // times. The session completes, logs the fault, and every sample lies on the session's time line.
