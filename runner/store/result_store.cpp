@@ -196,12 +196,21 @@ void ResultStore::finish_session(std::int64_t session_id, const std::string& sta
     throw StoreError("SQLite: " + path_ + ": " + what + ": status must be completed or aborted, not '" + status +
                      "'");
   }
+  // A completed session is never resumed, so nothing would ever take over its lease: the lease
+  // ends in the same transaction as the session, or a kill between the two would leave it behind.
+  Transaction transaction(db_, path_, what);
   Statement update(db_, path_, "UPDATE sessions SET status = ?1, finished_utc = ?2 WHERE id = ?3", what);
   update.bind(1, status);
   update.bind(2, utc_now_iso8601());
   update.bind(3, session_id);
   update.step_done();
   if (sqlite3_changes(db_) != 1) throw StoreError("SQLite: " + path_ + ": " + what + ": no such session");
+  if (status == "completed") {
+    Statement release(db_, path_, "DELETE FROM session_owners WHERE session_id = ?1", what);
+    release.bind(1, session_id);
+    release.step_done();
+  }
+  transaction.commit();
 }
 
 void ResultStore::reopen_session(std::int64_t session_id) {
