@@ -9,6 +9,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(
   build-essential cmake pkg-config git python3 python3-glad glslang-tools  # toolchain, GL loader generator, shader validator
+  universal-ctags                                  # the build's unity groups (cmake/UnityGroups.cmake)
   libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglx-mesa0 libosmesa6-dev libglfw3-dev  # OpenGL: EGL and OSMesa offscreen, GLFW window
   xvfb xauth xdotool                               # a real X display and key presses for the window tests
   libopenexr-dev libpng-dev                        # images

@@ -169,14 +169,14 @@ TEST(SpectacleLens, DecentrationGivesPrenticePrism) {
 }
 
 TEST(SpectacleLens, ListingFrameTurnsTheObserverFrameToTheGaze) {
-  const EyeFrame primary = listing_eye_frame(glm::dvec3(0.0, 0.0, 2.0));
+  const ListingFrame primary = listing_eye_frame(glm::dvec3(0.0, 0.0, 2.0));
   EXPECT_DOUBLE_EQ(primary.right.x, 1.0);
   EXPECT_DOUBLE_EQ(primary.up.y, 1.0);
-  const EyeFrame down = listing_eye_frame(glm::dvec3(0.0, -std::sin(0.5), std::cos(0.5)));
+  const ListingFrame down = listing_eye_frame(glm::dvec3(0.0, -std::sin(0.5), std::cos(0.5)));
   EXPECT_NEAR(down.right.x, 1.0, 1e-15);  // a vertical turn keeps the horizontal axis
   EXPECT_NEAR(down.up.y, std::cos(0.5), 1e-15);
   EXPECT_NEAR(down.up.z, std::sin(0.5), 1e-15);
-  const EyeFrame oblique = listing_eye_frame(glm::dvec3(0.3, 0.4, 1.0));
+  const ListingFrame oblique = listing_eye_frame(glm::dvec3(0.3, 0.4, 1.0));
   EXPECT_NEAR(glm::dot(oblique.right, oblique.up), 0.0, 1e-15);
   EXPECT_NEAR(glm::dot(oblique.right, oblique.gaze), 0.0, 1e-15);
   EXPECT_NEAR(glm::dot(oblique.up, oblique.gaze), 0.0, 1e-15);

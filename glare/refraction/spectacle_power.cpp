@@ -20,8 +20,8 @@ glm::dvec3 rotate(glm::dvec3 v, glm::dvec3 k, double cos_angle, double sin_angle
 
 }  // namespace
 
-EyeFrame listing_eye_frame(glm::dvec3 gaze) {
-  EyeFrame frame;
+ListingFrame listing_eye_frame(glm::dvec3 gaze) {
+  ListingFrame frame;
   const glm::dvec3 g = glm::normalize(gaze);
   const glm::dvec3 axis = glm::cross(glm::dvec3(0.0, 0.0, 1.0), g);
   const double sin_angle = glm::length(axis);
@@ -40,8 +40,8 @@ GazePower lens_power_at_gaze(const SpectacleLens& lens, glm::dvec3 gaze, double 
   if (!chief.through()) return out;
   out.scene_direction = chief.direction;
 
-  const EyeFrame eye = listing_eye_frame(gaze);
-  const EyeFrame scene = listing_eye_frame(chief.direction);  // across the incoming pencil
+  const ListingFrame eye = listing_eye_frame(gaze);
+  const ListingFrame scene = listing_eye_frame(chief.direction);  // across the incoming pencil
   const glm::dvec3 toward_eye = -eye.gaze;                   // the chief ray's direction after the lens
   const glm::dvec3 vertex_point = eye.gaze * lens.vertex_sphere_radius_m();
 

@@ -46,12 +46,12 @@ struct GazePower {
 };
 
 // The eye's frame for a gaze direction (Listing's law), columns x', y', z' = gaze.
-struct EyeFrame {
+struct ListingFrame {
   glm::dvec3 right{1.0, 0.0, 0.0};
   glm::dvec3 up{0.0, 1.0, 0.0};
   glm::dvec3 gaze{0.0, 0.0, 1.0};
 };
-EyeFrame listing_eye_frame(glm::dvec3 gaze);
+ListingFrame listing_eye_frame(glm::dvec3 gaze);
 
 // The lens' power along `gaze` (from the centre of rotation, z > 0) at the given wavelength.
 GazePower lens_power_at_gaze(const SpectacleLens& lens, glm::dvec3 gaze, double wavelength_nm);

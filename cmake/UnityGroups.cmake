@@ -1,0 +1,78 @@
+# Unity groups: each layer's sources compiled a few at a time as unity sources, so the headers they
+# share (the standard library, glm, toml++, CLI11, Boost) are compiled once per group instead of
+# once per file: most of a cold build's time (README.md, "First run"). cmake/unity_groups.py forms
+# the groups: a group never holds two files with the same file-local name (each file's anonymous
+# namespace becomes one in a unity source, where same-named functions would overload each other
+# silently), a file that defines a macro or has compile options of its own is compiled alone, and
+# a file added after configuring is compiled alone until the next configure. Before each build a
+# check (the same script) fails, naming the files and the names, when an edit has since put the
+# same file-local name into two files of one group.
+#
+# Off (-DGLARELAB_UNITY_GROUPS=OFF) every file compiles on its own: quicker rebuilds while editing
+# one file. Without Python 3 or Universal Ctags the option has no effect, and configure says so.
+option(GLARELAB_UNITY_GROUPS "Compile each library's sources as a few unity sources (a quicker cold build)" ON)
+set(GLARELAB_UNITY_GROUP_FILES 8 CACHE STRING "Most source files in one unity group")
+
+if(GLARELAB_UNITY_GROUPS)
+  find_program(GLARELAB_CTAGS NAMES ctags-universal universal-ctags ctags)
+  find_package(Python3 COMPONENTS Interpreter)
+  if(NOT GLARELAB_CTAGS OR NOT Python3_Interpreter_FOUND)
+    message(STATUS "Unity groups off: they need python3 and universal-ctags (scripts/setup.sh installs both)")
+    set(GLARELAB_UNITY_GROUPS OFF)
+  endif()
+endif()
+
+# glarelab_unity_groups(target): groups the target's own source files (generated ones, and files
+# with per-file compile options, stay alone).
+function(glarelab_unity_groups target)
+  if(NOT GLARELAB_UNITY_GROUPS)
+    return()
+  endif()
+  get_target_property(sources ${target} SOURCES)
+  set(candidates "")
+  foreach(source IN LISTS sources)
+    if(NOT IS_ABSOLUTE "${source}")
+      set(source "${CMAKE_SOURCE_DIR}/${source}")
+    endif()
+    get_source_file_property(options "${source}" COMPILE_OPTIONS)
+    if(source MATCHES "\\.cpp$" AND EXISTS "${source}" AND NOT options AND source MATCHES "^${CMAKE_SOURCE_DIR}/")
+      list(APPEND candidates "${source}")
+    endif()
+  endforeach()
+  execute_process(
+    COMMAND ${Python3_EXECUTABLE} ${CMAKE_SOURCE_DIR}/cmake/unity_groups.py --ctags ${GLARELAB_CTAGS}
+            --prefix ${target} --max-files ${GLARELAB_UNITY_GROUP_FILES} ${candidates}
+    OUTPUT_VARIABLE lines RESULT_VARIABLE status ERROR_VARIABLE errors)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "unity groups of ${target}: cmake/unity_groups.py failed: ${errors}")
+  endif()
+  set(groups_file "${CMAKE_BINARY_DIR}/unity_groups/${target}.txt")
+  file(WRITE "${groups_file}" "${lines}")
+  set(grouped "")
+  # Each printed line is "name|file|file...".
+  file(STRINGS "${groups_file}" group_lines)
+  foreach(group_line IN LISTS group_lines)
+    string(REPLACE "|" ";" members "${group_line}")
+    list(POP_FRONT members group_name)
+    set_source_files_properties(${members} TARGET_DIRECTORY ${target} PROPERTIES UNITY_GROUP ${group_name})
+    list(APPEND grouped ${members})
+  endforeach()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
+  # gcc warns when a class defined outside the main file has a member of a type from an anonymous
+  # namespace, which in a header would break the one-definition rule; in a unity source every file
+  # is outside the main file, and the class is still defined in one translation unit only.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
+  endif()
+  # The check before each build of the target: reruns when any grouped source changes.
+  set(stamp "${CMAKE_BINARY_DIR}/unity_groups/${target}.checked")
+  add_custom_command(
+    OUTPUT "${stamp}"
+    COMMAND ${Python3_EXECUTABLE} ${CMAKE_SOURCE_DIR}/cmake/unity_groups.py --ctags ${GLARELAB_CTAGS}
+            --check "${groups_file}" --stamp "${stamp}"
+    DEPENDS ${grouped} "${groups_file}" ${CMAKE_SOURCE_DIR}/cmake/unity_groups.py
+    COMMENT "Checking the unity groups of ${target}"
+    VERBATIM)
+  add_custom_target(${target}_unity_check DEPENDS "${stamp}")
+  add_dependencies(${target} ${target}_unity_check)
+endfunction()

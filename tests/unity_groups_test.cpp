@@ -1,0 +1,99 @@
+// The build's unity groups (cmake/UnityGroups.cmake, cmake/unity_groups.py): two files whose
+// file-local functions share a name with different parameters would overload each other without a
+// compiler error in one unity source, so the grouping must keep them apart and the check before
+// each build must fail when an edit brings them together. And this build's own groups pass it.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "scratch_dir.h"
+
+namespace glarelab {
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string output;
+};
+
+// Debian's universal-ctags installs ctags-universal (and ctags as an alternative).
+std::string ctags() { return std::system("command -v ctags-universal >/dev/null 2>&1") == 0 ? "ctags-universal" : "ctags"; }
+
+Result run_script(const std::string& arguments) {
+  const std::string command = "/usr/bin/python3 " + std::string(GLARELAB_SOURCE_DIR) + "/cmake/unity_groups.py --ctags " +
+                              ctags() + " " + arguments + " 2>&1";
+  Result result;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) result.output += buffer;
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+bool ctags_present() { return std::system((ctags() + " --version 2>/dev/null | grep -q 'Universal Ctags'").c_str()) == 0; }
+
+void write(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+TEST(UnityGroups, FilesSharingAFileLocalNameNeverShareAGroupAndTheCheckNamesThem) {
+  if (!ctags_present()) GTEST_SKIP() << "Universal Ctags is missing (install universal-ctags; scripts/setup.sh does)";
+  const test::ScratchDir dir;
+  const std::string a = (dir.path() / "a.cpp").string();
+  const std::string b = (dir.path() / "b.cpp").string();
+  const std::string c = (dir.path() / "c.cpp").string();
+  const std::string d = (dir.path() / "d.cpp").string();
+  const std::string e = (dir.path() / "e.cpp").string();
+  write(a, "namespace glarelab {\nnamespace {\ndouble scale(double x) { return 2.0 * x; }\n}  // namespace\n"
+           "double twice(double x) { return scale(x); }\n}\n");
+  write(b, "namespace glarelab {\nnamespace {\nfloat scale(float x) { return 3.0f * x; }\n}  // namespace\n"
+           "float thrice(float x) { return scale(x); }\n}\n");
+  write(c, "namespace glarelab {\nstatic int counter_of(int x) { return x; }\nint one() { return counter_of(1); }\n}\n");
+  write(d, "#define GLFW_INCLUDE_NONE\nnamespace glarelab { int two() { return 2; } }\n");
+  write(e, "namespace glarelab {\nstatic int counter_of(long x) { return int(x); }\nint three() { return counter_of(3L); }\n}\n");
+
+  const Result groups = run_script("--prefix lib --max-files 8 " + a + " " + b + " " + c + " " + d + " " + e);
+  ASSERT_EQ(groups.exit_code, 0) << groups.output;
+  // First fit in order: a opens lib_0, b (scale) opens lib_1, c joins lib_0, d (a macro) stays alone,
+  // e (counter_of, static) cannot join lib_0 and joins lib_1.
+  EXPECT_EQ(groups.output, "lib_0|" + a + "|" + c + "\nlib_1|" + b + "|" + e + "\n");
+
+  const std::string groups_file = (dir.path() / "groups.txt").string();
+  const std::string stamp = (dir.path() / "checked").string();
+  write(groups_file, "lib_0|" + a + "|" + c + "\nlib_1|" + b + "|" + e + "\n");
+  const Result clean = run_script("--check " + groups_file + " --stamp " + stamp);
+  EXPECT_EQ(clean.exit_code, 0) << clean.output;
+  EXPECT_TRUE(std::filesystem::exists(stamp));
+
+  // An edit that puts both scale()s (and the macro file) into one group since configuring.
+  std::filesystem::remove(stamp);
+  write(groups_file, "lib_0|" + a + "|" + b + "|" + d + "\n");
+  const Result stale = run_script("--check " + groups_file + " --stamp " + stamp);
+  EXPECT_EQ(stale.exit_code, 1) << stale.output;
+  EXPECT_NE(stale.output.find(b + " and " + a + " both define the file-local name 'scale'"), std::string::npos)
+      << stale.output;
+  EXPECT_NE(stale.output.find(d + " defines the macro(s) GLFW_INCLUDE_NONE"), std::string::npos) << stale.output;
+  EXPECT_NE(stale.output.find("configure again"), std::string::npos) << stale.output;
+  EXPECT_FALSE(std::filesystem::exists(stamp));
+}
+
+TEST(UnityGroups, ThisBuildsGroupsHoldNoSharedFileLocalName) {
+  if (!ctags_present()) GTEST_SKIP() << "Universal Ctags is missing (install universal-ctags; scripts/setup.sh does)";
+  const std::filesystem::path folder = std::filesystem::path(GLARELAB_BINARY).parent_path() / "unity_groups";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "this build has no unity groups (GLARELAB_UNITY_GROUPS=OFF)";
+  const test::ScratchDir dir;
+  int libraries = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() != ".txt") continue;
+    ++libraries;
+    const Result check = run_script("--check " + entry.path().string() + " --stamp " + (dir.path() / "stamp").string());
+    EXPECT_EQ(check.exit_code, 0) << entry.path() << "\n" << check.output;
+  }
+  EXPECT_EQ(libraries, 6) << "one groups file per library: core, glare, stimuli, protocols, analysis, runner";
+}
+
+}  // namespace
+}  // namespace glarelab
