@@ -242,6 +242,7 @@ bool SessionGlare::make_frame(IntervalGlare& glare, int k) {
 
 bool SessionGlare::computes_off_display_thread() {
   // The GL engine's stages run in GL contexts made on the display's thread.
+  if (!engines_chosen_) return true;  // no frame is computed at all
   for (const std::unique_ptr<SessionEye>& eye : eyes_)
     if (eye->engine.kind() != FrameEngineKind::cpu) return false;
   display_.make_current();  // choosing the engine may have made a context of its own current

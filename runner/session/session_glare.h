@@ -160,6 +160,9 @@ class SessionGlare {
   std::vector<std::unique_ptr<SessionEye>> eyes_;
   // Some condition has adaptation on, so every interval's frames are shown to the eyes.
   bool adapts_ = false;
+  // Some condition has glare or perception stages: the eyes' engines were chosen at the setup.
+  // Otherwise no frame is ever computed, and no engine is made.
+  bool engines_chosen_ = false;
   bool perception_logged_ = false;
   // Each condition's refraction by condition name (runner/session/condition_refraction.h); empty
   // when the experiment does not model the observer's optics.

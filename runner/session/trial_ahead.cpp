@@ -95,6 +95,8 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
   if (!next) return decline("the procedure places it by the answer before it");
   if (!next->real_stimulus.empty()) return decline("it shows a physical object");
   if (!next_schedule->screens.empty()) return decline("a screen comes before it");
+  // Asked before the trial's glare is begun (begin_interval shows an adapting eye its frame).
+  if (!glare_.computes_off_display_thread()) return decline("the GL engine computes its frames");
 
   const auto start = std::chrono::steady_clock::now();
   auto ahead = std::make_unique<TrialAhead>();
@@ -121,7 +123,6 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
   }
   bool computes = false;
   for (const int frames : ahead->frames_to_compute) computes = computes || frames != 0;
-  if (computes && !glare_.computes_off_display_thread()) return decline("the GL engine computes its frames");
   ahead->layout_s = seconds_since(start);
   timing_.add_work(FlipWork::glare_preparation, ahead->layout_s);
   ahead_ = std::move(ahead);
