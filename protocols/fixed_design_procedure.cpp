@@ -13,6 +13,11 @@ TrialPlan FixedDesignProcedure::next_trial() {
   return trials_[next_];
 }
 
+std::optional<TrialPlan> FixedDesignProcedure::peek_following_trial() const {
+  if (next_ + 1 >= trials_.size()) return std::nullopt;
+  return trials_[next_ + 1];
+}
+
 TrialOutcome FixedDesignProcedure::record_response(const TrialPlan& plan, const Response& response) {
   if (finished() || plan.trial_index != trials_[next_].trial_index) {
     throw std::logic_error("procedure: response to trial " + std::to_string(plan.trial_index) +

@@ -22,6 +22,12 @@ class Procedure {
   // The plan of the next trial (trial_index = number of responses recorded so far). Calling it
   // twice without a response in between gives the same plan.
   virtual TrialPlan next_trial() = 0;
+  // The plan of the trial after the one next_trial() returns, when it does not depend on that
+  // trial's answer: what a session prepares while the current trial runs, waits for its answer and
+  // its inter-trial interval (docs/TIMING.md, "Trials prepared ahead"). Empty: not known before the
+  // answer (the default: adaptive designs place their next trial by the answers), or no trial
+  // follows. Asking does not advance the procedure.
+  virtual std::optional<TrialPlan> peek_following_trial() const { return std::nullopt; }
   // Scores the response to the plan last returned by next_trial() and advances the procedure.
   // A response outside the plan's allowed set (e.g. "abort") is scored but does not advance;
   // "timeout" (no answer within the response window) advances without counting as an answer.

@@ -184,10 +184,16 @@ ImageRGBA SessionGlare::eye_frame(std::size_t e, IntervalGlare& glare, int k, st
 }
 
 void SessionGlare::compute_frame(IntervalGlare& glare, int k) {
-  if (!glare.computed() || k >= glare.frames_needed || static_cast<int>(glare.frames.size()) > k) return;
+  if (make_frame(glare, k)) display_.make_current();  // a GL glare backend works in a context of its own
+}
+
+bool SessionGlare::make_frame(IntervalGlare& glare, int k) {
+  if (!glare.computed() || k >= glare.frames_needed || static_cast<int>(glare.frames.size()) > k) return false;
   const auto start = std::chrono::steady_clock::now();
   std::optional<double> gaze_time_s;
-  if (presentation_for(glare) == GlarePresentation::live && tracker_.active()) {
+  // The tracker first: a frame prepared ahead on a worker (never with a tracker) must not read the
+  // presentations the display's thread settles meanwhile.
+  if (tracker_.active() && presentation_for(glare) == GlarePresentation::live) {
     // Live: the gaze of this frame (its age at the flip, its oldest eye's, goes into the frame's row).
     update_glare_gaze(glare, glare.frame_time_s(k));
     for (const EyeIntervalGlare& eye : glare.eyes)
@@ -231,7 +237,16 @@ void SessionGlare::compute_frame(IntervalGlare& glare, int k) {
   if (k == 0 && capture_.frame && capture_.frame->reports.empty()) capture_.frame->reports = reports;
   count_glare_reports(glare, reports);
   glare.frame_compute_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  display_.make_current();  // a GL glare backend works in a context of its own
+  return true;
+}
+
+bool SessionGlare::computes_off_display_thread() {
+  // The GL engine's stages run in GL contexts made on the display's thread.
+  if (!engines_chosen_) return true;  // no frame is computed at all
+  for (const std::unique_ptr<SessionEye>& eye : eyes_)
+    if (eye->engine.kind() != FrameEngineKind::cpu) return false;
+  display_.make_current();  // choosing the engine may have made a context of its own current
+  return true;
 }
 
 void SessionGlare::log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare) {

@@ -12,6 +12,7 @@ const char* late_onset_cause_name(int cause) {
     case 0: return "glare preparation";
     case 1: return "perception stages";
     case 2: return "drawing";
+    case 4: return "recording the trial";
     default: return "host stall";
   }
 }
@@ -41,9 +42,9 @@ bool FrameTimingMonitor::on_flip(double flip_s, int trial_index, int frame_index
         if (interval_s > 1.5 * period_s_) {
           // The kind of work that took longest since the previous flip, if it covers half the delay.
           int cause = 0;
-          for (int kind = 1; kind < 3; ++kind)
-            if (work_s_[kind] > work_s_[cause]) cause = kind;
-          if (!(work_s_[cause] >= 0.5 * (interval_s - period_s_))) cause = kLateOnsetCauses - 1;
+          for (int kind = 1; kind < kLateOnsetCauses; ++kind)
+            if (kind != kHostStallCause && work_s_[kind] > work_s_[cause]) cause = kind;
+          if (!(work_s_[cause] >= 0.5 * (interval_s - period_s_))) cause = kHostStallCause;
           ++late_onsets_by_cause_[cause];
         }
       } else if (interval_s > 1.5 * period_s_) {
@@ -99,7 +100,8 @@ std::string FrameTimingSummary::describe() const {
     // What made them late (FlipWork), so a jitter figure comes with its reason.
     line += "; late onsets " + std::to_string(late_onsets) + " (";
     bool first = true;
-    for (int cause = 0; cause < kLateOnsetCauses; ++cause) {
+    // The session's own work first, the host stall last.
+    for (const int cause : {0, 1, 2, 4, kHostStallCause}) {
       if (late_onsets_by_cause[cause] == 0) continue;
       line += (first ? "" : ", ") + std::string(late_onset_cause_name(cause)) + " " +
               std::to_string(late_onsets_by_cause[cause]);

@@ -20,9 +20,13 @@ struct DroppedFrame {
 // its lateness (FrameTimingSummary::late_onsets_by_cause): computing glare frames, the perception
 // stages (with any glare among them), drawing and encoding the frame, or nothing of the
 // session's own that took long enough: the host held the process (another program, the driver,
-// the compositor, swapping).
-enum class FlipWork { glare_preparation = 0, perception = 1, drawing = 2 };
-inline constexpr int kLateOnsetCauses = 4;  // the three FlipWork kinds and the host stall
+// the compositor, swapping). Recording is the session's writes to the results database between a
+// trial's last flip and the next one's first (the trial's row and every flip's, its events).
+enum class FlipWork { glare_preparation = 0, perception = 1, drawing = 2, recording = 4 };
+// Late onsets' causes, indexed as FrameTimingSummary::late_onsets_by_cause: the FlipWork kinds by
+// their values and the host stall at 3 (recording the trial, the last kind added, comes after it).
+inline constexpr int kHostStallCause = 3;
+inline constexpr int kLateOnsetCauses = 5;
 const char* late_onset_cause_name(int cause);
 
 struct FrameTimingSummary {
@@ -33,10 +37,10 @@ struct FrameTimingSummary {
   // |onset interval - one refresh period| over the measured onsets, in ms.
   double onset_jitter_mean_ms = 0.0;
   double onset_jitter_max_ms = 0.0;
-  // Onsets more than 1.5 periods after the flip before them, by likely cause (FlipWork order,
-  // then host stall).
+  // Onsets more than 1.5 periods after the flip before them, by likely cause (indexed by FlipWork,
+  // the host stall at kHostStallCause).
   int late_onsets = 0;
-  int late_onsets_by_cause[kLateOnsetCauses] = {0, 0, 0, 0};
+  int late_onsets_by_cause[kLateOnsetCauses] = {0, 0, 0, 0, 0};
   // The median interval between successive flips of any kind (0 with fewer than two flips): what
   // runner/session/refresh_rate_check.h's flip_interval_warning compares with the nominal period.
   double flip_interval_median_ms = 0.0;
@@ -73,8 +77,8 @@ class FrameTimingMonitor {
   double jitter_sum_s_ = 0.0;
   double jitter_max_s_ = 0.0;
   std::vector<DroppedFrame> dropped_;
-  double work_s_[3] = {0.0, 0.0, 0.0};  // since the previous flip, by FlipWork
-  int late_onsets_by_cause_[kLateOnsetCauses] = {0, 0, 0, 0};
+  double work_s_[kLateOnsetCauses] = {0.0, 0.0, 0.0, 0.0, 0.0};  // since the previous flip, by FlipWork
+  int late_onsets_by_cause_[kLateOnsetCauses] = {0, 0, 0, 0, 0};
   std::vector<double> intervals_s_;  // between successive flips, for the median
   void flipped(double flip_s);
 };

@@ -141,6 +141,8 @@ void SessionGlare::log_glare_setup() {
     any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control ||
                 (sides && *sides != std::pair{GlareMode::control, GlareMode::control});
   }
+  for (const ConditionRow& row : prepared_.experiment.conditions)
+    engines_chosen_ = engines_chosen_ || any_glare || any_perception_stage(perception_for(prepared_.experiment.perception, row));
   // The observer's optics, one event per condition (docs/DATABASE.md): what the trials of that
   // condition (the trials table's condition column names it) were blurred with.
   for (const ConditionRow& row : prepared_.experiment.conditions)

@@ -54,9 +54,17 @@ class SessionGlare {
   // Whether the interval's frames are all computed before onset (prepared presentation, or the
   // perception stages, whose eye sees its frames in the order they flip).
   bool prepared_before_onset(const IntervalGlare& glare) const;
-  // Every frame of the interval before onset; stops, returning false, when `interrupted` says so
-  // (checked before each frame: preparing a trial's frames can take seconds on a CPU).
-  bool prepare_frames(IntervalGlare& glare, const std::function<bool()>& interrupted);
+  // Every frame of the interval before onset (the first `frames` with frames >= 0); stops, returning
+  // false, when `interrupted` says so (checked before each frame: preparing a trial's frames can
+  // take seconds on a CPU). display_thread false: on a worker beside the display's flips
+  // (runner/session/trial_ahead.cpp), where the display's context is never made current; only
+  // when computes_off_display_thread() said so, no tracker runs, and nothing else asks the eyes
+  // for frames meanwhile.
+  bool prepare_frames(IntervalGlare& glare, const std::function<bool()>& interrupted, int frames = -1,
+                      bool display_thread = true);
+  // Whether frames can be computed on a thread other than the display's: every eye's engine is the
+  // CPU engine (choosing it now, on the display's thread, if no frame has yet).
+  bool computes_off_display_thread();
   // Frame k of the interval, computed for its flip time if it is needed and not yet there: each
   // eye's part, joined.
   void compute_frame(IntervalGlare& glare, int k);
@@ -111,6 +119,9 @@ class SessionGlare {
   void log_perception_stages(const TrialPlan& plan, const IntervalGlare& glare);
 
   // runner/session/eye_glare.cpp
+  // compute_frame's work without making the display's context current after it; true when it
+  // computed the frame.
+  bool make_frame(IntervalGlare& glare, int k);
   // Each eye's pupil and blinks from the tracker, for its glare stage.
   void feed_tracker_inputs();
   // Each eye's gaze for a frame flipping at flip_s, normalised in its view: the latest, or with
@@ -149,6 +160,9 @@ class SessionGlare {
   std::vector<std::unique_ptr<SessionEye>> eyes_;
   // Some condition has adaptation on, so every interval's frames are shown to the eyes.
   bool adapts_ = false;
+  // Some condition has glare or perception stages: the eyes' engines were chosen at the setup.
+  // Otherwise no frame is ever computed, and no engine is made.
+  bool engines_chosen_ = false;
   bool perception_logged_ = false;
   // Each condition's refraction by condition name (runner/session/condition_refraction.h); empty
   // when the experiment does not model the observer's optics.

@@ -2,12 +2,15 @@
 // SessionLoop, the trial loop of one session (made by run_session, session_runner.cpp): the state
 // every phase of a trial shares; its member functions are defined by phase, in the .cpp file named
 // above each group below.
+#include <atomic>
 #include <cstdint>
+#include <exception>
 #include <map>
 #include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "protocols/procedure.h"
@@ -51,6 +54,10 @@ class SessionLoop {
   // runner/session/session_loop.cpp: logs the glare setup and uploads every scene.
   SessionLoop(PreparedSession& prepared, DisplayBackend& display, SessionClock& clock, ResultStore& store,
               std::int64_t session_id, TrackerSession& tracker, RealTimePacer* pacer);
+  // runner/session/trial_ahead.cpp: stops and joins the worker preparing a trial ahead.
+  ~SessionLoop();
+  SessionLoop(const SessionLoop&) = delete;
+  SessionLoop& operator=(const SessionLoop&) = delete;
 
   // runner/session/trial_run.cpp
   // Returns false when the session was aborted during this trial. The trial runs its schedule
@@ -183,6 +190,28 @@ class SessionLoop {
   // saved (--save-frames) and, for the previewed trial, captured. True when the preview is done.
   bool capture_first_frame(const TrialPlan& plan, int interval);
 
+  // runner/session/trial_ahead.cpp: the next trial prepared while this one runs (docs/TIMING.md,
+  // "Trials prepared ahead").
+  // After a stimulus flip of the current trial, once none of its frames is left to compute live:
+  // the trial the procedure knows comes next (Procedure::peek_following_trial) is laid out and its
+  // glare begun here, on the display's thread, and its frames are computed on a worker thread
+  // beside the current trial's remaining flips, its answer and the next inter-trial interval.
+  // `flip`: the index in `schedule.timed` of the flip just made, at `flip_s`.
+  void begin_trial_ahead(const TrialPlan& current, const TrialSchedule& schedule, std::size_t flip, double flip_s,
+                         const TrialIntervals& shown);
+  // Whether the trial prepared ahead is `plan` (nothing is prepared ahead: false).
+  bool trial_ahead_matches(const TrialPlan& plan) const;
+  // At the next trial, after its inter-trial interval and screens: true when `plan` is the trial
+  // prepared ahead (the same plan, and on the virtual clock frames timed for the same flips as
+  // preparing them now would), its intervals moved into `intervals` once the worker has finished
+  // (the wait counted as glare preparation). False: prepared now, as without a worker.
+  bool take_trial_ahead(const TrialPlan& plan, const TrialSchedule& schedule, TrialIntervals& intervals);
+  // Stops the worker at its next frame and joins it; what it prepared is dropped.
+  void drop_trial_ahead();
+  // Once per trial with computed frames: a 'trial_preparation' event saying where its frames were
+  // computed and how many were left to compute at its onset.
+  void log_trial_preparation(const TrialPlan& plan, const TrialIntervals& intervals);
+
   // runner/session/trial_commit.cpp
   void commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome);
 
@@ -221,6 +250,35 @@ class SessionLoop {
     PixelRect glared_box;  // where that region lies (0 x 0 without one)
   };
   std::optional<DrawnFrame> drawn_;
+  // The trial being prepared ahead (runner/session/trial_ahead.cpp), and this trial's own record of
+  // how its frames came: prepared ahead beside the trial before (and how long the onset waited for
+  // them), or before its onset.
+  struct TrialAhead {
+    TrialPlan plan;
+    TrialIntervals intervals;
+    int beside_trial = -1;
+    double layout_s = 0.0;               // laid out and its glare begun, on the display's thread
+    std::vector<int> frames_to_compute;  // per interval: all (-1), the first (a live one), none (0)
+    std::thread worker;
+    std::atomic<bool> stop{false};
+    std::exception_ptr error;
+    int frames = 0;  // computed by the worker
+    double worker_s = 0.0;
+  };
+  std::unique_ptr<TrialAhead> ahead_;
+  bool ahead_begun_ = false;  // for the trial running now
+  std::string next_not_ahead_;  // why the next trial is not being prepared ahead
+  struct TrialPreparation {
+    bool ahead = false;
+    int beside_trial = -1;
+    int worker_frames = 0;     // glare frames the worker computed
+    double worker_s = 0.0;     // its wall time
+    double layout_ms = 0.0;    // laying the trial out and beginning its glare, on the display's thread
+    double onset_wait_s = 0.0; // how long the trial waited for the worker after its inter-trial interval
+    std::string not_ahead;     // why the trial was not prepared ahead (empty when it was)
+    int onset_frames_computed = 0;  // glare frames computed on the display's thread before the onset flip
+  };
+  TrialPreparation preparation_;
 };
 
 }  // namespace glarelab

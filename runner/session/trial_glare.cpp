@@ -266,12 +266,17 @@ void count_glare_reports(IntervalGlare& glare, const std::vector<GlareFrameRepor
   }
 }
 
-bool SessionGlare::prepare_frames(IntervalGlare& glare, const std::function<bool()>& interrupted) {
-  for (int k = 0; k < glare.frames_needed; ++k) {
+bool SessionGlare::prepare_frames(IntervalGlare& glare, const std::function<bool()>& interrupted, int frames,
+                                  bool display_thread) {
+  const int last = frames < 0 ? glare.frames_needed : std::min(frames, glare.frames_needed);
+  for (int k = 0; k < last; ++k) {
     // Preparing a trial's frames can take many seconds on a CPU: Ctrl-C and SIGTERM are honoured
     // within one frame's work, not after the whole trial's.
     if (interrupted()) return false;
-    compute_frame(glare, k);
+    if (display_thread)
+      compute_frame(glare, k);
+    else
+      make_frame(glare, k);
   }
   return true;
 }

@@ -38,6 +38,17 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
                        plan.block_name.empty() ? std::string() : "block '" + plan.block_name + "'");
   const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_);
   TrialRun run;
+  // A trial prepared ahead beside the one before (runner/session/trial_ahead.cpp) takes its frames
+  // after its inter-trial interval; any other prepared trial is dropped.
+  preparation_ = TrialPreparation{};
+  preparation_.not_ahead = next_not_ahead_;
+  next_not_ahead_.clear();
+  ahead_begun_ = false;
+  const bool ahead = trial_ahead_matches(plan);
+  if (!ahead) {
+    if (ahead_) preparation_.not_ahead = "the trial shown is not the one prepared";
+    drop_trial_ahead();
+  }
   fast_forward_ = capture_.preview != nullptr && !capture_.captures(plan);
   const bool interactive = prepared_.observer == nullptr;
   // Keys pressed before the trial (late repeats of the previous answer) must not answer it.
@@ -50,7 +61,8 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   // remaining flips shortened by the refresh boundaries that passed meanwhile. So on a real clock
   // the blank lasts the interval whether a trial's glare is prepared, live or absent, rather than
   // the interval plus the preparation; on the virtual clock the flips are the same either way.
-  const bool prepare_in_interval = schedule.screens.empty() && schedule.inter_trial_frames > 1 && !tracker_.active();
+  const bool prepare_in_interval =
+      !ahead && schedule.screens.empty() && schedule.inter_trial_frames > 1 && !tracker_.active();
   const int interval_flips_first = prepare_in_interval ? 1 : schedule.inter_trial_frames;
   const int interval_flips_after = schedule.inter_trial_frames - interval_flips_first;  // as planned
   if (!present_timed_blank(plan, run, FlipPhase::inter_trial, interval_flips_first, {})) return false;
@@ -61,7 +73,9 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   // Each interval's placements and glare, prepared before the fixation so the timed sequence
   // runs flip after flip.
   TrialIntervals intervals;
-  if (!begin_intervals(plan, schedule, interval_flips_after, prepare_in_interval, intervals)) return false;
+  if (!(ahead && take_trial_ahead(plan, schedule, intervals)) &&
+      !begin_intervals(plan, schedule, interval_flips_after, prepare_in_interval, intervals))
+    return false;
   if (prepare_in_interval) {
     // The interval's flips were planned one a period after its first; those whose boundary passed
     // while the frames were prepared are left out (none on the virtual clock, where now is the
@@ -80,7 +94,10 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   for (const Placement& placement : overlays_.question(plan.question, intervals.stimulus_rects)) question.push_back(placement);
 
   if (!run_timed_sequence(plan, schedule, intervals, question, run)) return false;
+  const auto report_start = std::chrono::steady_clock::now();
   for (const IntervalGlare& interval_glare : intervals.glare) glare_.report_interval(plan, interval_glare);
+  log_trial_preparation(plan, intervals);
+  timing_.add_work(FlipWork::recording, seconds_since(report_start));  // the events written
 
   if (!collect_response(plan, question, run)) return false;
   // The answer is in: scored now, shown as feedback, then committed with every flip. An abort
@@ -90,8 +107,10 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   if (!feedback.empty())
     present_timed_blank(plan, run, FlipPhase::feedback, presentation.feedback_duration.frames,
                         overlays_.centred_text(feedback));
+  const auto record_start = std::chrono::steady_clock::now();
   commit(plan, run, outcome);
   store_.log_event(session_id_, clock_.now_s(), "trial_phases", describe_trial_phases(plan.trial_index, run.phases));
+  timing_.add_work(FlipWork::recording, seconds_since(record_start));
   if (aborted_) return false;
   const int total = prepared_.procedure->planned_trials();
   if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
@@ -122,6 +141,7 @@ bool SessionLoop::begin_intervals(const TrialPlan& plan, const TrialSchedule& sc
       return aborted_;
     };
     const auto work_start = std::chrono::steady_clock::now();
+    const std::size_t frames_before = intervals.glare.back().frames.size();
     if (glare_.prepared_before_onset(intervals.glare.back())) {
       if (status_) status_->set_detail("preparing glare frames");
       glare_.prepare_frames(intervals.glare.back(), interrupted);
@@ -133,6 +153,7 @@ bool SessionLoop::begin_intervals(const TrialPlan& plan, const TrialSchedule& sc
       glare_.compute_frame(intervals.glare.back(), 0);
     }
     timing_.add_work(work_kind(intervals.glare.back()), seconds_since(work_start));
+    preparation_.onset_frames_computed += static_cast<int>(intervals.glare.back().frames.size() - frames_before);
     if (aborted_) return false;  // Ctrl-C or SIGTERM while the glare frames were prepared
   }
   return true;
@@ -155,8 +176,11 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
       IntervalGlare& shown_glare = intervals.glare[static_cast<std::size_t>(flip.interval)];
       // Live: this frame's glare now, with the gaze of this moment (nothing when already there).
       const auto compute_start = std::chrono::steady_clock::now();
+      const std::size_t frames_before = shown_glare.frames.size();
       glare_.compute_frame(shown_glare, flip.frame_in_interval);
       timing_.add_work(work_kind(shown_glare), seconds_since(compute_start));
+      if (flip.stimulus_frame == 0)
+        preparation_.onset_frames_computed += static_cast<int>(shown_glare.frames.size() - frames_before);
       // Until the presentation is settled, each glare flip's drawing is timed (with its GL work
       // finished): with the glare's own cost it is what a live frame takes.
       const bool timed = shown_glare.made == IntervalFrames::glare && shown_glare.frames_needed > 1 &&
@@ -203,6 +227,9 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
         shown_glare.gaze_to_flip_s.push_back(*gaze_age_s);
       }
       record_flip(run, {flip.phase, flip.interval, flip.stimulus_frame}, scheduled_s, flip_s, dropped, gaze_age_s);
+      // The next trial laid out and its frames begun on a worker once none of this one's is left
+      // to compute (after the onset for prepared frames): not during a preview's fast-forward.
+      if (!ahead_begun_ && !fast_forward_) begin_trial_ahead(plan, schedule, i, flip_s, intervals);
     } else {
       const std::optional<double> late_s = timing_.on_timed_flip(flip_s);
       if (late_s) log_late_flip(plan, flip_s, std::string(to_string(flip.phase)) + " flip", *late_s);

@@ -1,0 +1,211 @@
+// The next trial prepared while the current one runs (docs/TIMING.md, "Trials prepared ahead").
+// Without it a trial's glare frames are computed after the previous trial's answer, so on a CPU the
+// onset waits for them (the demo's dynamic glare: about 30 frames of 50-100 ms on two cores). When
+// the procedure knows the next trial before the answer (Procedure::peek_following_trial: the fixed
+// designs), the display's thread lays it out and begins its glare (GL composition, kept on the
+// thread whose context it is) right after a stimulus flip of the current trial, and a worker thread
+// computes its frames beside the remaining flips, the answer and the next inter-trial interval. The
+// onset then takes its frames without computing any; a worker not done by then is waited for, and
+// that wait is the onset's glare preparation (runner/session/frame_timing.h).
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/number_text.h"
+#include "runner/session/session_loop.h"
+
+namespace glarelab {
+namespace {
+
+// The worker runs below the display's thread so a flip is never queued behind a frame's glare on
+// a busy machine (a niceness of 5: still ahead of background builds at the usual 10).
+constexpr int kWorkerNiceness = 5;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string ms_text(double seconds) { return number_text(std::round(seconds * 1e4) / 10.0); }
+
+// Whether two plans show the same trial: what the frames are made of (scenes, their scales and
+// places, the condition, each side's glare) and its length.
+bool same_trial(const TrialPlan& a, const TrialPlan& b) {
+  return a.trial_index == b.trial_index && a.block == b.block && a.condition_name == b.condition_name &&
+         a.condition_json == b.condition_json && a.positions == b.positions && a.scenes == b.scenes &&
+         a.scene_scale == b.scene_scale && a.position_glare == b.position_glare &&
+         a.glare_keeps_peak == b.glare_keeps_peak && a.real_stimulus == b.real_stimulus &&
+         a.stimulus_frames == b.stimulus_frames && a.screen_text == b.screen_text;
+}
+
+// The feedback flips a trial will show after its answer when the answer is scored (a right answer
+// exists): the prediction of the next onset assumes it, as it assumes an answer at once.
+int predicted_feedback_flips(const PresentationSpec& presentation, const TrialPlan& plan) {
+  return presentation.feedback != FeedbackKind::none && !plan.correct_response.empty()
+             ? presentation.feedback_duration.frames
+             : 0;
+}
+
+}  // namespace
+
+SessionLoop::~SessionLoop() { drop_trial_ahead(); }
+
+void SessionLoop::drop_trial_ahead() {
+  if (!ahead_) return;
+  ahead_->stop = true;
+  if (ahead_->worker.joinable()) ahead_->worker.join();
+  ahead_.reset();
+}
+
+void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedule& schedule, std::size_t flip,
+                                    double flip_s, const TrialIntervals& shown) {
+  // Only once none of the current trial's frames is left to compute: the eyes' engines are then
+  // the worker's alone until the next trial takes its frames.
+  for (const IntervalGlare& glare : shown.glare)
+    if (glare.computed() && static_cast<int>(glare.frames.size()) < glare.frames_needed) return;
+  const std::optional<TrialPlan> next = prepared_.procedure->peek_following_trial();
+  const int feedback_flips = predicted_feedback_flips(prepared_.experiment.presentation, current);
+  std::optional<TrialSchedule> next_schedule;
+  if (next) next_schedule = schedule_trial(prepared_.experiment.presentation, *next, sequential_);
+  // Laying the trial out takes the display's thread for milliseconds (the scenes composed and read
+  // back: 5 to 90 ms on two loaded cores with llvmpipe), too long to fit beside a stimulus flip's
+  // own drawing in one period. When flips that are not stimulus frames follow this trial's last
+  // one (an answer awaited from a person, feedback, the next inter-trial interval or fixation), it
+  // is done after that last stimulus flip, delaying at most one of those; when the next onset
+  // follows directly, after this flip, so that the worker has the trial's remaining flips.
+  std::size_t last_stimulus = 0;
+  for (std::size_t i = 0; i < schedule.timed.size(); ++i)
+    if (schedule.timed[i].stimulus_frame >= 0) last_stimulus = i;
+  const bool last_stimulus_flip = flip == last_stimulus;
+  const bool flips_follow = prepared_.observer == nullptr || feedback_flips > 0 || last_stimulus + 1 < schedule.timed.size() ||
+                            (next_schedule && (next_schedule->inter_trial_frames > 0 || next_schedule->onset_flip > 0));
+  if (flips_follow && !last_stimulus_flip) return;
+  ahead_begun_ = true;
+  next_not_ahead_.clear();
+  const auto decline = [this](const std::string& why) { next_not_ahead_ = why; };
+  if (capture_.preview != nullptr) return decline("a preview runs the session");
+  if (tracker_.active()) return decline("a tracker gives the gaze, taken as late as it can be");
+  if (!next) return decline("the procedure places it by the answer before it");
+  if (!next->real_stimulus.empty()) return decline("it shows a physical object");
+  if (!next_schedule->screens.empty()) return decline("a screen comes before it");
+  // Asked before the trial's glare is begun (begin_interval shows an adapting eye its frame).
+  if (!glare_.computes_off_display_thread()) return decline("the GL engine computes its frames");
+
+  const auto start = std::chrono::steady_clock::now();
+  auto ahead = std::make_unique<TrialAhead>();
+  ahead->plan = *next;
+  ahead->beside_trial = current.trial_index;
+  // Frame k of an interval is computed for the flip it is planned for (trial_glare.cpp): here the
+  // current trial's remaining timed flips, the answer at once, its feedback when scored, the next
+  // trial's inter-trial interval and its flips before the interval; one period later than that
+  // flip, as the interval's glare begun at the trial would place it (SessionGlare::begin_interval,
+  // timed from the clock's next flip).
+  const int flips_to_next =
+      static_cast<int>(schedule.timed.size() - 1 - flip) + feedback_flips + next_schedule->inter_trial_frames;
+  for (int interval = 0; interval < next_schedule->intervals; ++interval) {
+    const TrialPlan& plan = ahead->intervals.shown_plans.emplace_back(interval_plan(*next, interval));
+    std::size_t first_flip = 0;
+    while (next_schedule->timed[first_flip].interval != interval) ++first_flip;
+    ahead->intervals.placements.push_back(layout(plan));
+    for (const Placement& placement : ahead->intervals.placements.back())
+      ahead->intervals.stimulus_rects.push_back(placement.rect);
+    IntervalGlare& glare =
+        ahead->intervals.glare.emplace_back(glare_.begin_interval(plan, ahead->intervals.placements.back(), 0));
+    glare.first_flip_s = flip_s + (flips_to_next + 2 + static_cast<double>(first_flip)) * period_s_;
+    ahead->frames_to_compute.push_back(!glare.computed() ? 0 : glare_.prepared_before_onset(glare) ? -1 : 1);
+  }
+  bool computes = false;
+  for (const int frames : ahead->frames_to_compute) computes = computes || frames != 0;
+  ahead->layout_s = seconds_since(start);
+  timing_.add_work(FlipWork::glare_preparation, ahead->layout_s);
+  ahead_ = std::move(ahead);
+  if (!computes) return;
+  TrialAhead* const a = ahead_.get();
+  a->worker = std::thread([this, a] {
+    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kWorkerNiceness);  // best effort
+    const auto worker_start = std::chrono::steady_clock::now();
+    try {
+      for (std::size_t i = 0; i < a->intervals.glare.size(); ++i) {
+        IntervalGlare& glare = a->intervals.glare[i];
+        const std::size_t before = glare.frames.size();
+        glare_.prepare_frames(glare, [a] { return a->stop.load(); }, a->frames_to_compute[i], /*display_thread=*/false);
+        a->frames += static_cast<int>(glare.frames.size() - before);
+      }
+    } catch (...) {
+      a->error = std::current_exception();
+    }
+    a->worker_s = seconds_since(worker_start);
+  });
+}
+
+bool SessionLoop::trial_ahead_matches(const TrialPlan& plan) const {
+  return ahead_ != nullptr && same_trial(ahead_->plan, plan);
+}
+
+bool SessionLoop::take_trial_ahead(const TrialPlan& plan, const TrialSchedule& schedule, TrialIntervals& intervals) {
+  if (!trial_ahead_matches(plan)) {
+    if (ahead_) preparation_.not_ahead = "the trial shown is not the one prepared";
+    drop_trial_ahead();
+    return false;
+  }
+  // On the virtual clock each frame must be the one preparing it now would make (a session's
+  // frames do not depend on how they were prepared): frames timed for other flips (a longer answer
+  // or no feedback) are prepared again. On a real clock the flips are the planned ones either way.
+  if (clock_.name() == "virtual") {
+    for (std::size_t i = 0; i < ahead_->intervals.glare.size(); ++i) {
+      std::size_t first_flip = 0;
+      while (schedule.timed[first_flip].interval != static_cast<int>(i)) ++first_flip;
+      const double planned_s = clock_.now_s() + (1.0 + static_cast<double>(first_flip)) * period_s_;
+      if (std::abs(ahead_->intervals.glare[i].first_flip_s - planned_s) > 1e-9) {
+        preparation_.not_ahead = "its frames were timed for other flips than it shows";
+        drop_trial_ahead();
+        return false;
+      }
+    }
+  }
+  const auto wait_start = std::chrono::steady_clock::now();
+  if (ahead_->worker.joinable()) ahead_->worker.join();
+  const double wait_s = seconds_since(wait_start);
+  timing_.add_work(FlipWork::glare_preparation, wait_s);
+  if (ahead_->error) {
+    const std::exception_ptr error = ahead_->error;
+    ahead_.reset();
+    std::rethrow_exception(error);
+  }
+  preparation_.ahead = true;
+  preparation_.not_ahead.clear();
+  preparation_.beside_trial = ahead_->beside_trial;
+  preparation_.worker_frames = ahead_->frames;
+  preparation_.worker_s = ahead_->worker_s;
+  preparation_.layout_ms = 1e3 * ahead_->layout_s;
+  preparation_.onset_wait_s = wait_s;
+  intervals = std::move(ahead_->intervals);
+  ahead_.reset();
+  return true;
+}
+
+void SessionLoop::log_trial_preparation(const TrialPlan& plan, const TrialIntervals& intervals) {
+  bool computed = false;
+  for (const IntervalGlare& glare : intervals.glare) computed = computed || glare.computed();
+  if (!computed) return;
+  std::string text = "trial " + std::to_string(plan.trial_index) + ": ";
+  if (preparation_.ahead)
+    text += "frames prepared ahead beside trial " + std::to_string(preparation_.beside_trial) + " (" +
+            std::to_string(preparation_.worker_frames) + " glare frame(s) on a worker in " +
+            ms_text(preparation_.worker_s) + " ms; laid out in " + number_text(std::round(preparation_.layout_ms * 10) / 10) +
+            " ms on the display's thread); the onset waited " + ms_text(preparation_.onset_wait_s) + " ms for them";
+  else
+    text += "frames prepared at the trial, not ahead: " +
+            (preparation_.not_ahead.empty() ? std::string("the first trial of the run") : preparation_.not_ahead);
+  text += "; glare frames computed on the display's thread for the onset: " + std::to_string(preparation_.onset_frames_computed);
+  store_.log_event(session_id_, clock_.now_s(), "trial_preparation", text);
+}
+
+}  // namespace glarelab

@@ -1,0 +1,189 @@
+// Trials prepared ahead (runner/session/trial_ahead.cpp, docs/TIMING.md "Trials prepared ahead"):
+// the procedure's peek at the following trial is the trial it then hands out, in every fixed design
+// of examples/; a session prepares each known trial's glare beside the one before, so its onset
+// computes none, and the frames it shows are the ones preparing them at the trial makes. What is
+// asserted is what the session logged and saved, never how the host kept time.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_process.h"
+#include "core/exr_io.h"
+#include "protocols/experiment.h"
+#include "protocols/fixed_design_procedure.h"
+#include "protocols/procedure.h"
+#include "runner/session/frame_timing.h"
+#include "runner/store/result_store.h"
+#include "scratch_dir.h"
+#include "session_events.h"
+#include "stimuli/scene_library.h"
+
+namespace glarelab {
+namespace {
+
+// Every field a trial shows or scores by, compared one by one (the session's own comparison looks
+// at fewer: this is the stricter reference).
+void expect_same_plan(const TrialPlan& peeked, const TrialPlan& shown, const std::string& where) {
+  EXPECT_EQ(peeked.trial_index, shown.trial_index) << where;
+  EXPECT_EQ(peeked.block, shown.block) << where;
+  EXPECT_EQ(peeked.block_name, shown.block_name) << where;
+  EXPECT_EQ(peeked.screen_text, shown.screen_text) << where;
+  EXPECT_EQ(peeked.procedure, shown.procedure) << where;
+  EXPECT_EQ(peeked.condition_name, shown.condition_name) << where;
+  EXPECT_EQ(peeked.condition_json, shown.condition_json) << where;
+  EXPECT_EQ(peeked.positions, shown.positions) << where;
+  EXPECT_EQ(peeked.scenes, shown.scenes) << where;
+  EXPECT_EQ(peeked.real_stimulus, shown.real_stimulus) << where;
+  EXPECT_EQ(peeked.position_conditions, shown.position_conditions) << where;
+  EXPECT_EQ(peeked.position_glare, shown.position_glare) << where;
+  EXPECT_EQ(peeked.glare_keeps_peak, shown.glare_keeps_peak) << where;
+  EXPECT_EQ(peeked.source_luminance_cd_m2, shown.source_luminance_cd_m2) << where;
+  EXPECT_EQ(peeked.scene_scale, shown.scene_scale) << where;
+  EXPECT_EQ(peeked.adjustment_start_cd_m2, shown.adjustment_start_cd_m2) << where;
+  EXPECT_EQ(peeked.allowed_responses, shown.allowed_responses) << where;
+  EXPECT_EQ(peeked.correct_response, shown.correct_response) << where;
+  EXPECT_EQ(peeked.question, shown.question) << where;
+  EXPECT_EQ(peeked.stimulus_frames, shown.stimulus_frames) << where;
+}
+
+// An answer the plan takes (adjustment plans allow any text: its two spot settings).
+Response answer_for(const TrialPlan& plan) {
+  return Response{plan.allowed_responses.empty() ? std::string("100 100") : plan.allowed_responses.front(), 1.0};
+}
+
+TEST(TrialAhead, PeekIsTheTrialShownNextInEveryFixedDesignExample) {
+  int fixed_designs = 0, peeks = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(GLARELAB_SOURCE_DIR) + "/examples")) {
+    if (entry.path().extension() != ".toml") continue;
+    const std::string name = entry.path().filename().string();
+    Experiment experiment;
+    try {
+      experiment = load_experiment(entry.path().string());
+    } catch (const std::exception&) {
+      continue;  // not an experiment file (an eye or display file beside them)
+    }
+    const SceneLibrary scenes(experiment.scenes, experiment.display);
+    const auto procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
+    if (dynamic_cast<const FixedDesignProcedure*>(procedure.get()) == nullptr) {
+      // Adaptive designs place the next trial by the answer: the peek says it is not known.
+      EXPECT_FALSE(procedure->peek_following_trial().has_value()) << name;
+      continue;
+    }
+    ++fixed_designs;
+    while (!procedure->finished()) {
+      const std::optional<TrialPlan> peeked = procedure->peek_following_trial();
+      const TrialPlan plan = procedure->next_trial();
+      procedure->record_response(plan, answer_for(plan));
+      if (procedure->finished()) {
+        EXPECT_FALSE(peeked.has_value()) << name << ": a peek after the last trial";
+        break;
+      }
+      ASSERT_TRUE(peeked.has_value()) << name << " trial " << plan.trial_index;
+      ++peeks;
+      expect_same_plan(*peeked, procedure->next_trial(), name + " trial " + std::to_string(plan.trial_index + 1));
+    }
+  }
+  EXPECT_GE(fixed_designs, 5) << "the examples hold forced-choice, rating and adjustment designs";
+  EXPECT_GT(peeks, 100);
+}
+
+TEST(TrialAhead, AnAnswerThatDoesNotAdvanceShowsTheSameTrialNotThePeekedOne) {
+  const Experiment experiment = load_experiment(std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml");
+  const SceneLibrary scenes(experiment.scenes, experiment.display);
+  const auto procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
+  const std::optional<TrialPlan> peeked = procedure->peek_following_trial();
+  ASSERT_TRUE(peeked.has_value());
+  const TrialPlan plan = procedure->next_trial();
+  procedure->record_response(plan, Response{"abort", std::nullopt});
+  const TrialPlan again = procedure->next_trial();
+  EXPECT_EQ(again.trial_index, plan.trial_index);
+  EXPECT_NE(again.trial_index, peeked->trial_index);
+  // Peeking does not advance the design.
+  EXPECT_EQ(procedure->peek_following_trial()->trial_index, peeked->trial_index);
+}
+
+// The trial's commit to the database is the session's own work: an onset it delays is late for
+// recording the trial, not for a host stall.
+TEST(TrialAhead, AnOnsetDelayedByRecordingTheTrialNamesThatCause) {
+  FrameTimingMonitor monitor(60.0);
+  const double period_s = 1.0 / 60.0;
+  monitor.on_flip(0.0, 0, 0);
+  monitor.on_flip(period_s, 0, 1);
+  monitor.add_work(FlipWork::recording, 0.030);  // 30 ms of a 40 ms delay
+  monitor.add_work(FlipWork::drawing, 0.002);
+  monitor.on_flip(2 * period_s + 0.040, 1, 0);
+  monitor.add_work(FlipWork::recording, 0.005);  // 5 ms of a 40 ms delay: the host stalled
+  monitor.on_flip(3 * period_s + 0.080, 2, 0);
+  const FrameTimingSummary summary = monitor.summary();
+  EXPECT_EQ(summary.late_onsets, 2);
+  EXPECT_EQ(summary.late_onsets_by_cause[static_cast<int>(FlipWork::recording)], 1);
+  EXPECT_EQ(summary.late_onsets_by_cause[kHostStallCause], 1);
+  EXPECT_NE(summary.describe().find("late onsets 2 (recording the trial 1, host stall 1)"), std::string::npos)
+      << summary.describe();
+}
+
+std::vector<std::string> run_and_read_preparation(const test::ScratchDir& dir, const std::string& experiment,
+                                                  const std::string& db, const std::string& frames_dir,
+                                                  const std::vector<std::string>& extra) {
+  std::vector<std::string> arguments = {"run",  experiment, "--display", "offscreen", "--observer", "simulated",
+                                        "--db", db,         "--seed", "3", "--save-frames", frames_dir};
+  arguments.insert(arguments.end(), extra.begin(), extra.end());
+  std::filesystem::create_directories(frames_dir);
+  const auto run = test::run_glarelab(arguments, dir.path());
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  return test::session_event_messages(db, "trial_preparation");
+}
+
+TEST(TrialAhead, EveryKnownTrialIsPreparedAheadAndItsFramesAreThoseMadeAtTheTrial) {
+  const test::ScratchDir dir;
+  const std::string experiment = test::small_dynamic_demo(dir.path(), "").string();
+  const std::string whole_db = dir.file("whole.db");
+  const std::vector<std::string> whole = run_and_read_preparation(dir, experiment, whole_db, dir.file("whole"), {});
+  // Ten trials (five rows, both sides), every one with dynamic glare: the first prepared at the
+  // trial, each later one beside the trial before, with no glare frame left for its onset.
+  ASSERT_EQ(whole.size(), 10u);
+  EXPECT_NE(whole[0].find("trial 0: frames prepared at the trial, not ahead: the first trial of the run"),
+            std::string::npos)
+      << whole[0];
+  EXPECT_EQ(whole[0].find("glare frames computed on the display's thread for the onset: 0"), std::string::npos) << whole[0];
+  for (std::size_t t = 1; t < whole.size(); ++t) {
+    EXPECT_NE(whole[t].find("trial " + std::to_string(t) + ": frames prepared ahead beside trial " +
+                            std::to_string(t - 1) + " (2 glare frame(s) on a worker"),
+              std::string::npos)
+        << whole[t];
+    EXPECT_NE(whole[t].find("glare frames computed on the display's thread for the onset: 0"), std::string::npos) << whole[t];
+  }
+
+  // glarelab render computes its trial's frame at the trial (a preview is never prepared ahead),
+  // with the eye's history of the trials before carried over: for each condition, the session's
+  // first trial of it, prepared ahead from trial 1 on, saved the same frame bit for bit.
+  const ResultStore store(whole_db);
+  const std::vector<TrialRecord> trials = store.load_trials(store.load_sessions().at(0).id);
+  int compared_ahead = 0;
+  for (const std::string condition : {"ratio_1.05", "ratio_1.15", "ratio_1.30", "ratio_1.60", "ratio_2.00"}) {
+    int trial = -1;
+    for (const TrialRecord& record : trials)
+      if (trial < 0 && record.condition.find("\"name\":\"" + condition + "\"") != std::string::npos)
+        trial = record.trial_index;
+    ASSERT_GE(trial, 0) << condition;
+    const std::string out = dir.file(condition + ".exr");
+    const auto render = test::run_glarelab({"render", experiment, "--condition", condition, "--seed", "3", "--out", out},
+                                           dir.path());
+    ASSERT_EQ(render.exit_code, 0) << render.output;
+    char name[32];
+    std::snprintf(name, sizeof name, "trial_%04d.exr", trial);
+    const ImageRGBA shown = read_exr(dir.file("whole") + "/" + name).image;
+    const ImageRGBA rendered = read_exr(out).image;
+    ASSERT_EQ(shown.rgba.size(), rendered.rgba.size()) << name;
+    EXPECT_EQ(shown.rgba, rendered.rgba) << name << " (" << condition << "): a frame prepared ahead differs from "
+                                         << "the one computed at the trial";
+    compared_ahead += trial > 0 ? 1 : 0;
+  }
+  EXPECT_GE(compared_ahead, 3);
+}
+
+}  // namespace
+}  // namespace glarelab
