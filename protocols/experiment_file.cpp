@@ -26,6 +26,7 @@
 #include "core/real_stimulus.h"
 #include "core/text_limits.h"
 #include "protocols/stimulus_duration.h"
+#include "protocols/straylight_config.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -335,17 +336,6 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
 
 // [observer]: the observer's eye as the analytic glare models see it (age: Spencer 1995 Eq. 10 and
 // CIE 146:2002; pigmentation: CIE 146:2002), and the simulated observer's subtable.
-// `[glare] straylight` needs a CIE eye of the observer's pigmentation with that straylight whose
-// scattered light is less than all of it (glare/analytic/analytic_psf.h, check_observer_eye).
-void check_straylight(TableReader& top, const ObserverEye& eye) {
-  TableReader glare(*top.table("glare"), "glare", top.file());
-  try {
-    check_observer_eye(eye);
-  } catch (const std::invalid_argument& error) {
-    glare.fail("straylight", error.what());
-  }
-}
-
 // [observer.refraction] and [observer] spectacles: the eye's refraction and the spectacles worn by
 // default (protocols/observer_optics_config.h; [spectacles] is read before this).
 ObserverEye read_observer_section(TableReader& top, Experiment& experiment) {
@@ -462,11 +452,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   if (!generated) read_blocks_section(top, experiment);
   read_spectacles_section(top, experiment.observer_optics);
   const ObserverEye observer_eye = read_observer_section(top, experiment);
-  experiment.glare = read_glare_section(top);
-  const std::optional<double> straylight_log_s = experiment.glare.observer_eye.straylight_log_s;
-  experiment.glare.observer_eye = observer_eye;
-  experiment.glare.observer_eye.straylight_log_s = straylight_log_s;
-  if (straylight_log_s) check_straylight(top, experiment.glare.observer_eye);
+  set_glare_observer_eye(top, experiment.glare = read_glare_section(top), observer_eye);
   experiment.perception = read_perception_section(top);
   experiment.analysis = read_analysis_section(top);
   experiment.presentation = read_presentation_section(top, experiment);

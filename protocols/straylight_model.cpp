@@ -48,16 +48,17 @@ double probability_compensated_stronger(double log_s, double log_compensation,
 }
 
 StraylightEstimate estimate_straylight(const std::vector<StraylightAnswer>& answers,
-                                       const StraylightPsychometric& psychometric) {
+                                       const StraylightPsychometric& psychometric, double display_straylight) {
   if (answers.empty()) throw std::invalid_argument("straylight estimate: no answers");
   StraylightEstimate estimate;
   const int points = static_cast<int>(std::lround((kGridMaxLog10 - kGridMinLog10) / kGridStepLog10)) + 1;
   std::vector<double> log_likelihood(static_cast<std::size_t>(points));
   for (int i = 0; i < points; ++i) {
     const double log_s = kGridMinLog10 + kGridStepLog10 * i;
+    const double seen_log_s = display_straylight > 0.0 ? std::log10(std::pow(10.0, log_s) + display_straylight) : log_s;
     double sum = 0.0;
     for (const StraylightAnswer& answer : answers) {
-      const double p = probability_compensated_stronger(log_s, answer.log_compensation, psychometric);
+      const double p = probability_compensated_stronger(seen_log_s, answer.log_compensation, psychometric);
       sum += std::log(answer.compensated_stronger ? p : 1.0 - p);
     }
     estimate.likelihood.log_s.push_back(log_s);
@@ -96,7 +97,8 @@ StraylightEstimate estimate_straylight(const std::vector<StraylightAnswer>& answ
 }
 
 double next_log_compensation(const StraylightSchedule& schedule, const std::vector<StraylightAnswer>& answers,
-                             const StraylightPsychometric& psychometric, std::uint64_t seed) {
+                             const StraylightPsychometric& psychometric, std::uint64_t seed,
+                             double display_straylight) {
   const int index = static_cast<int>(answers.size());
   if (index >= schedule.answers) {
     throw std::invalid_argument("straylight schedule: answer " + std::to_string(index + 1) + " of " +
@@ -114,7 +116,9 @@ double next_log_compensation(const StraylightSchedule& schedule, const std::vect
   }
   // Fixed offsets around 2 s of the estimate from every answer so far (where the halves flicker
   // alike): re-centring on each answer keeps one early lapse from placing all the levels aside.
-  const double centre = estimate_straylight(answers, psychometric).log_s + std::log10(2.0);
+  const double log_s = estimate_straylight(answers, psychometric, display_straylight).log_s;
+  const double centre = display_straylight > 0.0 ? std::log10(2.0 * (std::pow(10.0, log_s) + display_straylight))
+                                                 : log_s + std::log10(2.0);
   const int fixed = schedule.answers - schedule.range_answers;
   std::vector<int> order(static_cast<std::size_t>(fixed));
   std::iota(order.begin(), order.end(), 0);

@@ -61,8 +61,12 @@ struct StraylightEstimate {
 };
 
 // Maximum-likelihood estimate of log10 s. std::invalid_argument for no answers.
+// `display_straylight` (deg^2 / sr): the display's own stray light on the test field while the ring
+// is on, in straylight units (glow / (k L_ring)). It flickers with the ring, so the answers see
+// s + display_straylight; the grid is the eye's s, and the display's part is subtracted by
+// evaluating each grid point's probabilities at s + display_straylight.
 StraylightEstimate estimate_straylight(const std::vector<StraylightAnswer>& answers,
-                                       const StraylightPsychometric& psychometric);
+                                       const StraylightPsychometric& psychometric, double display_straylight = 0.0);
 
 // The levels of one measurement: a range-finding phase (a one-up/one-down run of
 // `range_answers` answers in `range_step_log10` steps from `start_log_compensation`, descending
@@ -81,8 +85,10 @@ struct StraylightSchedule {
 // The compensation (log10 s_c) of answer number answers.size(), a pure function of the schedule,
 // the answers so far and the seed (so a resumed session replays to the same level).
 // std::invalid_argument once answers.size() >= schedule.answers.
+// The fixed levels centre on 2 (s + display_straylight), where the halves flicker alike.
 double next_log_compensation(const StraylightSchedule& schedule, const std::vector<StraylightAnswer>& answers,
-                             const StraylightPsychometric& psychometric, std::uint64_t seed);
+                             const StraylightPsychometric& psychometric, std::uint64_t seed,
+                             double display_straylight = 0.0);
 
 // Whether the compensation of answer `index` is on the left half (seeded coin, one per answer).
 bool compensation_on_left(std::uint64_t seed, std::uint64_t index);
