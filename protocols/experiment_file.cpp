@@ -26,6 +26,7 @@
 #include "core/real_stimulus.h"
 #include "core/text_limits.h"
 #include "protocols/stimulus_duration.h"
+#include "protocols/straylight_config.h"
 #include "protocols/experiment.h"
 #include "protocols/toml_table_reader.h"
 
@@ -451,8 +452,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   if (!generated) read_blocks_section(top, experiment);
   read_spectacles_section(top, experiment.observer_optics);
   const ObserverEye observer_eye = read_observer_section(top, experiment);
-  experiment.glare = read_glare_section(top);
-  experiment.glare.observer_eye = observer_eye;
+  set_glare_observer_eye(top, experiment.glare = read_glare_section(top), observer_eye);
   experiment.perception = read_perception_section(top);
   experiment.analysis = read_analysis_section(top);
   experiment.presentation = read_presentation_section(top, experiment);

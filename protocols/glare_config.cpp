@@ -60,6 +60,12 @@ GlareMode parse_mode_at(const std::string& name, const SourceLocation& where, co
 
 }  // namespace
 
+namespace {
+// Straylight from below the clearest young eyes (about 0.6) to dense cataract (about 2.2); within
+// these bounds a CIE eye may still scatter more than all the light, checked with the pigmentation.
+constexpr double kMinStraylightLog10 = 0.4, kMaxStraylightLog10 = 2.5;
+}  // namespace
+
 GlareSpec read_glare_section(TableReader& top) {
   GlareSpec spec;
   const toml::table* table = top.table("glare");
@@ -107,6 +113,12 @@ GlareSpec read_glare_section(TableReader& top) {
       parse_glare_model(read_choice(reader, "hybrid_far_field", to_string(spec.hybrid_far_field), {"spencer", "cie"}));
   spec.spencer_flare_lines = reader.boolean("spencer_flare_lines").value_or(spec.spencer_flare_lines);
   spec.source = read_choice(reader, "source", spec.source);
+  // The participant's measured straylight, log10(s) at 7 degrees (docs/STRAYLIGHT.md): the CIE
+  // far field (of the human eye, the hybrid's and the cie model) scaled to it. Whether a CIE eye of
+  // the observer's pigmentation can have it is checked once [observer] is read (experiment_file.cpp).
+  if (reader.node("straylight") != nullptr)
+    spec.observer_eye.straylight_log_s =
+        reader.number_in_range("straylight", 0.0, kMinStraylightLog10, kMaxStraylightLog10, "log10(deg^2/sr)");
   // The hand-over annulus: both or neither (0: the default for the grid's reach).
   const bool inner_given = reader.node("hybrid_handover_inner_deg") != nullptr,
              outer_given = reader.node("hybrid_handover_outer_deg") != nullptr;
@@ -154,6 +166,8 @@ toml::table glare_section_toml(const GlareSpec& spec) {
     table.insert("hybrid_handover_inner_deg", spec.hybrid_handover_inner_deg);
     table.insert("hybrid_handover_outer_deg", spec.hybrid_handover_outer_deg);
   }
+  // The straylight the session's glare used (measured or stated), in the session's stored config.
+  if (spec.observer_eye.straylight_log_s) table.insert("straylight", *spec.observer_eye.straylight_log_s);
   table.insert("eye", glare_eye_toml(spec.eye));
   return table;
 }

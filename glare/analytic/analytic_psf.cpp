@@ -10,6 +10,7 @@
 
 #include "glare/wave/cie_cmf.h"
 #include "glare/analytic/cie_glare_spread.h"
+#include "glare/analytic/ring_straylight.h"
 
 namespace glarelab {
 
@@ -45,6 +46,17 @@ void check_observer_eye(const ObserverEye& eye) {
     std::ostringstream out;
     out << "pigmentation " << eye.pigmentation << " is outside 0-1 (0 very dark eyes, 0.5 brown, 1 blue-green)";
     throw std::invalid_argument(out.str());
+  }
+  if (eye.straylight_log_s) {
+    // cie146_factor_for_straylight refuses values no CIE eye has; the scattered light must leave a
+    // non-negative peak (unit energy).
+    const double scattered = 1.0 - AnalyticPsf::cie(eye).peak_fraction();
+    if (!(scattered < 1.0)) {
+      std::ostringstream out;
+      out << "straylight log(s) " << *eye.straylight_log_s << " scatters " << scattered
+          << " of the light (CIE 146 with more than all of it)";
+      throw std::invalid_argument(out.str());
+    }
   }
 }
 
@@ -109,9 +121,11 @@ AnalyticPsf AnalyticPsf::cie(const ObserverEye& eye) {
   AnalyticPsf psf;
   psf.model_ = GlareModel::cie;
   psf.eye_ = eye;
-  const double scattered = radial_energy(
-      [&](double t) { return cie146_scattered_per_sr(t, eye.age_years, eye.pigmentation); }, 0.0, 90.0,
-      {kCieGlareMinAngleDeg});
+  psf.cie_wide_angle_factor_ =
+      eye.straylight_log_s
+          ? cie146_factor_for_straylight(*eye.straylight_log_s, kStraylightReferenceAngleDeg, eye.pigmentation)
+          : cie146_age_factor(eye.age_years);
+  const double scattered = radial_energy([&](double t) { return psf.per_sr(t, 0); }, 0.0, 90.0, {kCieGlareMinAngleDeg});
   psf.peak_fraction_ = 1.0 - scattered;
   return psf;
 }
@@ -128,8 +142,14 @@ double AnalyticPsf::halo_per_sr(double angle_deg, int channel) const {
   return lm1 * table[k - 1] + l0 * table[k] + l1 * table[k + 1] + l2 * table[k + 2];
 }
 
+double AnalyticPsf::cie_scattered_per_sr(double angle_deg) const {
+  // The formula with its core held at 0.1 degrees (glare/analytic/cie_glare_spread.h).
+  return cie146_glare_spread_for_factor_per_sr(std::max(angle_deg, kCieGlareMinAngleDeg), cie_wide_angle_factor_,
+                                               eye_.pigmentation);
+}
+
 double AnalyticPsf::per_sr(double angle_deg, int channel) const {
-  if (model_ == GlareModel::cie) return cie146_scattered_per_sr(angle_deg, eye_.age_years, eye_.pigmentation);
+  if (model_ == GlareModel::cie) return cie_scattered_per_sr(angle_deg);
   double p = mixture_.f0 * spencer::f0_per_sr(angle_deg) + mixture_.f1 * spencer::f1_per_sr(angle_deg) +
              mixture_.f2 * spencer::f2_per_sr(angle_deg);
   if (mixture_.f3 > 0.0) p += mixture_.f3 * halo_per_sr(angle_deg, channel);
@@ -137,12 +157,13 @@ double AnalyticPsf::per_sr(double angle_deg, int channel) const {
 }
 
 double AnalyticPsf::per_sr_at_wavelength(double angle_deg, double wavelength_nm) const {
-  if (model_ == GlareModel::cie) return cie146_scattered_per_sr(angle_deg, eye_.age_years, eye_.pigmentation);
+  if (model_ == GlareModel::cie) return cie_scattered_per_sr(angle_deg);
   return spencer::mixture_per_sr(mixture_, angle_deg, wavelength_nm);
 }
 
 double AnalyticPsf::profile_per_sr(double angle_deg) const {
-  if (model_ == GlareModel::cie) return cie146_glare_spread_per_sr(angle_deg, eye_.age_years, eye_.pigmentation);
+  if (model_ == GlareModel::cie)
+    return cie146_glare_spread_for_factor_per_sr(angle_deg, cie_wide_angle_factor_, eye_.pigmentation);
   return spencer::mixture_per_sr(mixture_, angle_deg, spencer::kHaloReferenceWavelengthNm);
 }
 

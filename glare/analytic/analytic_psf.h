@@ -13,6 +13,7 @@
 // f0, f1, f2 and the CIE function are achromatic: the same in R, G and B.
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,8 +38,17 @@ constexpr bool uses_wave_optics(GlareModel model) {
 
 // The observer's eye as the analytic models see it (`[observer]` in the experiment file).
 struct ObserverEye {
+  ObserverEye() = default;
+  // An eye of this age and pigmentation (CIE's age rule), or with a measured straylight.
+  ObserverEye(double age, double pigment, std::optional<double> straylight = std::nullopt)
+      : age_years(age), pigmentation(pigment), straylight_log_s(straylight) {}
+
   double age_years = 25.0;    // Spencer Eq. 10 and CIE 146; accepted 1-100
   double pigmentation = 0.5;  // CIE 146: 0 very dark eyes, 0.5 brown, 1 blue-green; accepted 0-1
+  // The participant's measured straylight, log10(s) at 7 degrees (`[glare] straylight`): the CIE
+  // function's wide-angle terms are scaled to it instead of by the age (glare/analytic/ring_straylight.h,
+  // docs/STRAYLIGHT.md). Unset: the age's CIE eye.
+  std::optional<double> straylight_log_s;
 };
 // std::invalid_argument naming the value and the accepted range.
 void check_observer_eye(const ObserverEye& eye);
@@ -82,10 +92,12 @@ class AnalyticPsf {
  private:
   AnalyticPsf() = default;
   double halo_per_sr(double angle_deg, int channel) const;
+  double cie_scattered_per_sr(double angle_deg) const;
 
   GlareModel model_ = GlareModel::spencer;
   spencer::Mixture mixture_;
   ObserverEye eye_;
+  double cie_wide_angle_factor_ = 1.0;  // F of CIE 146's wide-angle terms (age or measured straylight)
   double peak_fraction_ = 0.0;
   // Spencer's halo per channel, tabulated from halo_table_start_deg_ in kHaloTableStepDeg steps.
   std::array<std::vector<double>, 3> halo_table_;

@@ -17,6 +17,13 @@ inline constexpr double kCieGlareMaxAngleDeg = 100.0;
 
 // The formula itself at any angle > 0 (the `psf --profile-csv` values).
 double cie146_glare_spread_per_sr(double angle_deg, double age_years, double pigmentation);
+// The age factor 1 + (A / 62.5)^4 the formula multiplies its wide-angle terms by.
+double cie146_age_factor(double age_years);
+// The formula with its wide-angle terms multiplied by `wide_angle_factor` instead of the age factor:
+//   10 / theta^3 + (5 / theta^2 + 0.1 p / theta) F + 0.0025 p.
+// An eye whose straylight was measured is this function with the F that gives its s (the way CIE
+// 146 itself makes an eye older: docs/STRAYLIGHT.md, glare/analytic/ring_straylight.h).
+double cie146_glare_spread_for_factor_per_sr(double angle_deg, double wide_angle_factor, double pigmentation);
 // The formula with its core held at 0.1 degrees (what the PSF uses).
 double cie146_scattered_per_sr(double angle_deg, double age_years, double pigmentation);
 
