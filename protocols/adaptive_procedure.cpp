@@ -250,10 +250,31 @@ std::size_t AdaptiveProcedure::choose_track() {
   throw std::logic_error("adaptive procedure: all staircases are finished");
 }
 
+bool AdaptiveProcedure::show_row_on_its_tracks_next_trial(std::size_t row) {
+  // A track of one row shows it on its first trial, as the session does: nothing to change.
+  if (std::any_of(tracks_.begin(), tracks_.end(),
+                  [&](const Track& track) { return track.row == row && track.quest_plus_rows.size() <= 1; }))
+    return true;
+  const bool shown = std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& track) {
+    return std::find(track.quest_plus_rows.begin(), track.quest_plus_rows.end(), row) != track.quest_plus_rows.end();
+  });
+  if (shown) preview_row_ = row;
+  return shown;
+}
+
 TrialPlan AdaptiveProcedure::next_trial() {
   if (!current_) current_ = choose_track();
   const Track& track = tracks_[*current_];
-  const ConditionRow& row = experiment_.conditions[track.next_row()];
+  std::size_t shown_row = track.next_row();
+  preview_note_.clear();
+  if (preview_row_ && shown_row != *preview_row_ &&
+      std::find(track.quest_plus_rows.begin(), track.quest_plus_rows.end(), *preview_row_) != track.quest_plus_rows.end()) {
+    preview_note_ = "track '" + track.name + "' chose condition '" + experiment_.conditions[shown_row].name() +
+                   "' for this trial (QUEST+ picks the row with the intensity); shown with condition '" +
+                   experiment_.conditions[*preview_row_].name() + "' in its place at the intensity the track chose";
+    shown_row = *preview_row_;
+  }
+  const ConditionRow& row = experiment_.conditions[shown_row];
   const std::string& reference = *row.find("reference");
   const std::string& comparison = *row.find("comparison");
   const double intensity_cd_m2 = track.next_luminance_cd_m2();

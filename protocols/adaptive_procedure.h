@@ -54,6 +54,14 @@ class AdaptiveProcedure : public Procedure {
   TrialOutcome record_response(const TrialPlan& plan, const Response& response) override;
   int planned_trials() const override;
 
+  // A preview (glarelab render) of condition row `row`, which a QUEST+ or Psi track may never
+  // choose (it picks the row with the intensity): unless a track of that row alone shows it on its
+  // first trial, from now on the next trial of a track holding the row shows it at the intensity
+  // the track chose, saying so in preview_note(). False when no track shows the row.
+  bool show_row_on_its_tracks_next_trial(std::size_t row);
+  // What that request changed of the trial planned last, in words; empty when nothing.
+  const std::string& preview_note() const { return preview_note_; }
+
   std::size_t track_count() const { return tracks_.size(); }
   const Staircase* staircase(std::size_t track) const;  // null for QUEST tracks
   const Quest* quest(std::size_t track) const;          // null for staircase tracks
@@ -96,6 +104,8 @@ class AdaptiveProcedure : public Procedure {
   std::vector<TrackGroup> groups_;  // in the order they run
   std::size_t group_ = 0;           // the group running now
   std::optional<std::size_t> current_;  // the track of the trial planned and not yet answered
+  std::optional<std::size_t> preview_row_;  // show_row_on_its_tracks_next_trial
+  std::string preview_note_;
   int trials_done_ = 0;
 };
 

@@ -56,7 +56,7 @@ std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
   const CounterRandom start_random(experiment.seed, RandomStream::adjustment_start);
   std::vector<TrialPlan> trials;
   for (std::size_t index = 0; index < design.size(); ++index) {
-    const ConditionRow& row = experiment.conditions[design[index].unit];
+    const ConditionRow& row = experiment.conditions[design.unit(index)];
     const std::string* target = row.find("target");
     const std::string* comparison = row.find("comparison");
     if (target == nullptr || comparison == nullptr)
@@ -91,7 +91,7 @@ std::vector<TrialPlan> build_adjustment_trials(const Experiment& experiment,
     plan.question = "Adjust both spots until they look as bright as the centre (up/down: coarse, "
                     "right/left: fine; Enter or Space when they match)";
     plan.stimulus_frames = experiment.forced_choice.stimulus_frames;
-    apply_block_placement(design[index].placement, false, plan);
+    apply_block_placement(design.placement(index), false, plan);
     JsonObjectWriter json;
     for (const auto& [column, value] : row.fields) json.add(column, value);
     json.add("start_left_cd_m2", seventeen_digit_text(left)).add("start_right_cd_m2", seventeen_digit_text(right));

@@ -9,6 +9,7 @@
 //   each block's units for its own rows and repetitions, shuffled with the block's own seed
 //   (block_trial_seed) or kept as listed.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,10 +28,23 @@ struct BlockPlacement {
   std::optional<std::string> question;  // the block's question, when it has one
 };
 
+// The units in the order the session runs them, each with the index of its placement: a block's
+// placement is held twice (its first unit's, with the instructions, and the rest's), not once per
+// unit, so a design of millions of units stays a few bytes each.
 template <typename Unit>
 struct OrderedUnit {
   Unit unit;
-  BlockPlacement placement;
+  std::uint32_t placement = 0;  // index into OrderedDesign::placements
+};
+
+template <typename Unit>
+struct OrderedDesign {
+  std::vector<OrderedUnit<Unit>> units;
+  std::vector<BlockPlacement> placements;
+
+  std::size_t size() const { return units.size(); }
+  const Unit& unit(std::size_t index) const { return units[index].unit; }
+  const BlockPlacement& placement(std::size_t index) const { return placements[units[index].placement]; }
 };
 
 // Indices of the condition rows a block uses, in the order the block lists them (all rows in
@@ -43,16 +57,17 @@ void apply_block_placement(const BlockPlacement& placement, bool row_has_questio
 
 // make_units(const std::vector<std::size_t>& rows, int repetitions) -> std::vector<Unit>.
 template <typename Unit, typename MakeUnits>
-std::vector<OrderedUnit<Unit>> order_fixed_design(const Experiment& experiment, int repetitions,
-                                                  MakeUnits make_units) {
-  std::vector<OrderedUnit<Unit>> ordered;
+OrderedDesign<Unit> order_fixed_design(const Experiment& experiment, int repetitions, MakeUnits make_units) {
+  OrderedDesign<Unit> ordered;
   const DesignSpec& design = experiment.design;
   if (design.blocks.empty()) {
     std::vector<std::size_t> rows;
     for (std::size_t row = 0; row < experiment.conditions.size(); ++row) rows.push_back(row);
     std::vector<Unit> units = make_units(rows, repetitions);
     shuffle_in_place(units, CounterRandom(experiment.seed, RandomStream::trial_order), 0);
-    for (Unit& unit : units) ordered.push_back({std::move(unit), BlockPlacement{}});
+    ordered.placements.push_back(BlockPlacement{});
+    ordered.units.reserve(units.size());
+    for (Unit& unit : units) ordered.units.push_back({std::move(unit), 0});
     return ordered;
   }
   int position = 0;
@@ -62,10 +77,10 @@ std::vector<OrderedUnit<Unit>> order_fixed_design(const Experiment& experiment, 
     if (block.trial_order == TrialOrder::random)
       shuffle_in_place(units, CounterRandom(block_trial_seed(design, experiment.seed, index), RandomStream::block_trial_order),
                        0);
-    for (std::size_t i = 0; i < units.size(); ++i) {
-      ordered.push_back({std::move(units[i]),
-                         BlockPlacement{position, block.name, i == 0 ? block.instructions : std::string(), block.question}});
-    }
+    const auto first = static_cast<std::uint32_t>(ordered.placements.size());
+    ordered.placements.push_back(BlockPlacement{position, block.name, block.instructions, block.question});
+    ordered.placements.push_back(BlockPlacement{position, block.name, std::string(), block.question});
+    for (std::size_t i = 0; i < units.size(); ++i) ordered.units.push_back({std::move(units[i]), i == 0 ? first : first + 1});
     ++position;
   }
   return ordered;

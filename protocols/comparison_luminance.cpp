@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/number_text.h"
+#include "protocols/adaptive_procedure.h"
 
 namespace glarelab {
 
@@ -49,6 +50,65 @@ TrialPlan with_comparison_luminance(TrialPlan plan, const std::vector<double>& l
       plan.correct_response = responses[intensity_cd_m2 > reference_cd_m2 ? comparison : reference];
   }
   return plan;
+}
+
+}  // namespace glarelab
+
+namespace glarelab {
+namespace {
+
+bool is_adaptive(const Experiment& experiment) {
+  return experiment.procedure == "staircase" || experiment.procedure == "quest" ||
+         experiment.procedure == "quest_plus" || experiment.procedure == "psi";
+}
+
+std::string quoted_list(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "'" : ", '") + name + "'";
+  return text;
+}
+
+}  // namespace
+
+void show_condition_in_preview(Procedure& procedure, const Experiment& experiment, const std::string& condition) {
+  auto* adaptive = dynamic_cast<AdaptiveProcedure*>(&procedure);
+  if (adaptive == nullptr) return;
+  for (std::size_t row = 0; row < experiment.conditions.size(); ++row)
+    if (experiment.conditions[row].name() == condition) {
+      adaptive->show_row_on_its_tracks_next_trial(row);
+      return;
+    }
+}
+
+std::string preview_note(const Procedure& procedure) {
+  const auto* adaptive = dynamic_cast<const AdaptiveProcedure*>(&procedure);
+  return adaptive == nullptr ? std::string() : adaptive->preview_note();
+}
+
+std::string why_no_session_shows(const Experiment& experiment, const std::string& condition) {
+  if (experiment.conditions.empty()) return "the experiment has no condition rows";
+  if (is_adaptive(experiment)) {
+    std::vector<std::string> shown;
+    for (const AdaptiveTrackSpec& track : experiment.adaptive.tracks) {
+      if (!track.quest_plus.conditions.empty()) {
+        shown.insert(shown.end(), track.quest_plus.conditions.begin(), track.quest_plus.conditions.end());
+      } else {
+        shown.push_back(track.condition.empty() ? experiment.conditions.front().name() : track.condition);
+      }
+    }
+    if (std::find(shown.begin(), shown.end(), condition) == shown.end())
+      return "no track of the " + experiment.procedure + " procedure shows it (the tracks show " + quoted_list(shown) + ")";
+    return "";
+  }
+  if (experiment.design.blocks.empty()) return "";
+  std::vector<std::string> blocks;
+  for (const BlockSpec& block : experiment.design.blocks) {
+    blocks.push_back(block.name);
+    if (block.conditions.empty() ||
+        std::find(block.conditions.begin(), block.conditions.end(), condition) != block.conditions.end())
+      return "";
+  }
+  return "it is in no block of [[blocks]] (" + quoted_list(blocks) + "), so no trial shows it";
 }
 
 }  // namespace glarelab

@@ -27,13 +27,13 @@ void check_real_stimulus(const LocatedRow& located, std::size_t field, const Exp
   if (experiment.procedure != "rating") {
     const std::string procedure = experiment.procedure == "forced_choice" ? std::string("forced choice")
                                                                            : experiment.procedure;
-    throw ConfigError(located.value_where[field], column,
+    throw ConfigError(located.value_where(field), column,
                       "condition '" + row.name() + "' shows a real stimulus ('" + scene + "'), which " + procedure +
                           " cannot present: a real object can only be rated (procedure type = \"rating\"), since " +
                           procedure + " shows, scales or adjusts images");
   }
   if (real_stimulus_object(scene).empty())
-    throw ConfigError(located.value_where[field], column,
+    throw ConfigError(located.value_where(field), column,
                       "condition '" + row.name() + "': '" + scene +
                           "' names no object; write the object after 'real:', e.g. \"real:desk lamp\"");
   for (std::size_t f = 0; f < row.fields.size(); ++f) {
@@ -42,7 +42,7 @@ void check_real_stimulus(const LocatedRow& located, std::size_t field, const Exp
                          (key == "perception" && !value.empty() && value != "none") ||
                          (key == "glare_model" && !value.empty()) || (key == "glare_gain" && !value.empty());
     if (renders)
-      throw ConfigError(located.value_where[f], key,
+      throw ConfigError(located.value_where(f), key,
                         "condition '" + row.name() + "' shows a real stimulus ('" + scene + "'): no image is rendered, "
                             "so '" + key + " = " + value + "' cannot apply (leave it empty" +
                             (key == "glare" ? ", or control" : key == "perception" ? ", or none" : "") + ")");
@@ -76,7 +76,7 @@ void check_scene_columns(const std::vector<LocatedRow>& rows, const Experiment& 
         continue;
       }
       if (experiment.scenes.count(scene) == 0) {
-        throw ConfigError(located.value_where[f], column,
+        throw ConfigError(located.value_where(f), column,
                           "unknown scene '" + shortened_value(scene) + "' (scenes in [scenes]: " + join_quoted(scene_names) + ")");
       }
     }
@@ -92,7 +92,7 @@ void check_forced_choice_rows(const std::vector<LocatedRow>& rows, const Experim
       const std::string& column = row.fields[f].first;
       const std::vector<std::string>& reserved = forced_choice_positions(experiment.forced_choice);
       if (std::find(reserved.begin(), reserved.end(), column) != reserved.end()) {
-        throw ConfigError(located.key_where[f], column,
+        throw ConfigError(located.key_where(f), column,
                           "column name '" + column + "' is reserved (forced-choice trials record the scene "
                           "shown at each position under '" + reserved[0] + "' and '" + reserved[1] + "')");
       }
@@ -110,7 +110,7 @@ void check_rating_rows(const std::vector<LocatedRow>& rows, const Experiment& ex
     for (std::size_t f = 0; f < located.row.fields.size(); ++f) {
       const std::string& column = located.row.fields[f].first;
       if (column == "category" || column == "stimulus")
-        throw ConfigError(located.key_where[f], column,
+        throw ConfigError(located.key_where(f), column,
                           "column name '" + column + "' is reserved (rating trials record the category rated under "
                           "'category' and a real stimulus under 'stimulus')");
     }
@@ -119,23 +119,35 @@ void check_rating_rows(const std::vector<LocatedRow>& rows, const Experiment& ex
 
 }  // namespace
 
-std::vector<LocatedRow> rows_from_csv(const CsvTable& table) {
-  std::vector<LocatedRow> rows;
-  for (const std::vector<CsvCell>& cells : table.rows) {
-    LocatedRow located;
-    located.row.where = SourceLocation{table.file, cells.front().where.line, 1};
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-      located.row.fields.emplace_back(table.header[c].text, cells[c].text);
-      located.value_where.push_back(cells[c].where);
-      located.key_where.push_back(table.header[c].where);
+SourceLocation LocatedRow::value_where(std::size_t field) const {
+  return SourceLocation{*value_file, value_places[field].first, value_places[field].second};
+}
+
+void rows_from_csv_file(const std::string& path, const SourceLocation& referenced_from, ConditionSource& source) {
+  const auto file = std::make_shared<const std::string>(path);
+  std::shared_ptr<const std::vector<SourceLocation>> keys;
+  source.csv = read_csv_file_rows(path, referenced_from, [&](const CsvTable& table, std::vector<CsvField>& cells) {
+    if (!keys) {  // every row shares the header's places
+      auto header = std::make_shared<std::vector<SourceLocation>>();
+      for (const CsvCell& cell : table.header) header->push_back(cell.where);
+      keys = std::move(header);
     }
-    rows.push_back(std::move(located));
-  }
-  return rows;
+    LocatedRow& located = source.rows.emplace_back();
+    located.row.where = SourceLocation{path, cells.front().line, 1};
+    located.row.fields.reserve(cells.size());
+    located.value_places.reserve(cells.size());
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      located.row.fields.emplace_back(table.header[c].text, std::move(cells[c].text));
+      located.value_places.emplace_back(cells[c].line, cells[c].column);
+    }
+    located.value_file = file;
+    located.key_places = keys;
+  });
 }
 
 std::vector<LocatedRow> rows_from_toml(const toml::array& array, const std::string& key, const std::string& file) {
   std::vector<LocatedRow> rows;
+  const auto value_file = std::make_shared<const std::string>(file);
   for (std::size_t i = 0; i < array.size(); ++i) {
     const toml::node& element = *array.get(i);
     const std::string row_key = key + "[" + std::to_string(i) + "]";
@@ -153,6 +165,8 @@ std::vector<LocatedRow> rows_from_toml(const toml::array& array, const std::stri
               [](const toml::key* a, const toml::key* b) { return a->source().begin < b->source().begin; });
     LocatedRow located;
     located.row.where = to_location(table.source(), file);
+    located.value_file = value_file;
+    auto key_places = std::make_shared<std::vector<SourceLocation>>();
     for (const toml::key* column : keys) {
       const toml::node& value = *table.get(column->str());
       const std::string cell_key = row_key + "." + std::string(column->str());
@@ -175,9 +189,11 @@ std::vector<LocatedRow> rows_from_toml(const toml::array& array, const std::stri
                           "expected a string, number or boolean, found " + describe_toml_type(value));
       }
       located.row.fields.emplace_back(std::string(column->str()), std::move(text));
-      located.value_where.push_back(to_location(value.source(), file));
-      located.key_where.push_back(to_location(column->source(), file));
+      const SourceLocation value_where = to_location(value.source(), file);
+      located.value_places.emplace_back(value_where.line, value_where.column);
+      key_places->push_back(to_location(column->source(), file));
     }
+    located.key_places = std::move(key_places);
     rows.push_back(std::move(located));
   }
   return rows;
@@ -196,8 +212,9 @@ ConditionSource generated_conditions(TableReader& top, const GeneratedDesign& ge
   for (const ConditionRow& row : generated.rows) {
     LocatedRow located;
     located.row = row;
-    located.value_where.assign(row.fields.size(), generated.where);
-    located.key_where.assign(row.fields.size(), generated.where);
+    located.value_file = std::make_shared<const std::string>(generated.where.file);
+    located.value_places.assign(row.fields.size(), {generated.where.line, generated.where.column});
+    located.key_places = std::make_shared<const std::vector<SourceLocation>>(row.fields.size(), generated.where);
     source.rows.push_back(std::move(located));
   }
   experiment.design.blocks = generated.blocks;
@@ -217,10 +234,10 @@ ConfigError at_value_cell(const ConfigError& error, const LocatedRow& located) {
   if (error.where().file != row.file || error.where().line != row.line || error.where().column != row.column)
     return error;
   const std::string& key = error.key();
-  for (std::size_t f = 0; f < located.row.fields.size() && f < located.value_where.size(); ++f) {
+  for (std::size_t f = 0; f < located.row.fields.size() && f < located.value_places.size(); ++f) {
     const std::string& column = located.row.fields[f].first;
     if (key == column || (key.size() > column.size() + 1 && key.ends_with(" " + column)))
-      return ConfigError(located.value_where[f], key, error.message());
+      return ConfigError(located.value_where(f), key, error.message());
   }
   return error;
 }

@@ -3,6 +3,7 @@
 // [[conditions.rows]]) or those design = "all_pairs" generates, each value with where it was
 // written, and their checks against the scenes the procedure shows (protocols/experiment_file.cpp
 // reads the rest of the file).
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,20 +18,27 @@
 
 namespace glarelab {
 
-// A condition row together with where each of its values was written, for error messages.
+// A condition row together with where each of its values was written, for error messages. A
+// table of a million rows is held here once: each value's place is two numbers, its file and the
+// keys' places are shared by every row that has them.
 struct LocatedRow {
   ConditionRow row;
-  std::vector<SourceLocation> value_where;  // parallel to row.fields
-  std::vector<SourceLocation> key_where;    // the CSV header cell or the TOML key
+  std::shared_ptr<const std::string> value_file;  // the file the values were written in
+  std::vector<std::pair<int, int>> value_places;  // line and column of each value, parallel to row.fields
+  std::shared_ptr<const std::vector<SourceLocation>> key_places;  // the CSV header cell or the TOML key
+
+  SourceLocation value_where(std::size_t field) const;
+  const SourceLocation& key_where(std::size_t field) const { return (*key_places)[field]; }
 };
 
 struct ConditionSource {
   std::vector<LocatedRow> rows;
-  std::optional<CsvTable> csv;  // when the rows came from a CSV file
+  std::optional<CsvTable> csv;  // when the rows came from a CSV file: its header (the rows are above)
 };
 
-// The rows of a CSV condition table, in file order.
-std::vector<LocatedRow> rows_from_csv(const CsvTable& table);
+// The rows of the CSV condition table at `path`, in file order, read row by row (the table's header
+// goes to `source.csv`).
+void rows_from_csv_file(const std::string& path, const SourceLocation& referenced_from, ConditionSource& source);
 
 // The rows of [[conditions.rows]] (`key` its dotted name), each row's columns in the order written.
 std::vector<LocatedRow> rows_from_toml(const toml::array& array, const std::string& key, const std::string& file);

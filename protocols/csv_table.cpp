@@ -1,10 +1,10 @@
 #include "protocols/csv_table.h"
 
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string_view>
 
 namespace glarelab {
@@ -39,16 +39,12 @@ class CsvParser {
     if (text_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
   }
 
-  std::vector<std::vector<CsvCell>> records() {
-    std::vector<std::vector<CsvCell>> result;
-    while (pos_ < text_.size()) {
-      if (line_is_blank()) {
-        skip_line();
-        continue;
-      }
-      result.push_back(record());
-    }
-    return result;
+  // The next record's cells into `cells` (blank lines skipped); false at the end of the text.
+  bool next_record(std::vector<CsvField>& cells) {
+    while (pos_ < text_.size() && line_is_blank()) skip_line();
+    if (pos_ >= text_.size()) return false;
+    record(cells);
+    return true;
   }
 
  private:
@@ -103,8 +99,8 @@ class CsvParser {
 
   SourceLocation here() const { return SourceLocation{file_, line_, column_}; }
 
-  std::vector<CsvCell> record() {
-    std::vector<CsvCell> cells;
+  void record(std::vector<CsvField>& cells) {
+    cells.clear();
     for (;;) {
       cells.push_back(field());
       if (at_end()) break;
@@ -115,17 +111,16 @@ class CsvParser {
       skip_line_end();
       break;
     }
-    return cells;
   }
 
-  CsvCell field() {
+  CsvField field() {
     skip_blanks();
-    CsvCell cell{std::string(), here()};
+    CsvField cell{std::string(), line_, column_};
     if (!at_end() && peek() == '"') {
       advance();
       for (;;) {
         if (at_end()) {
-          throw ConfigError(cell.where, "",
+          throw ConfigError(SourceLocation{file_, cell.line, cell.column}, "",
                             "unterminated quoted field: the quote opened here is never closed");
         }
         const char c = peek();
@@ -176,7 +171,7 @@ class CsvParser {
 // overlong forms, no surrogates, at most U+10FFFF), or npos. Condition values and column names are
 // written into the stored TOML configuration, which must be UTF-8 (the experiment_file fuzz target
 // found a column name with a stray byte that the stored configuration could not read back).
-static std::size_t first_invalid_utf8(const std::string& text) {
+static std::size_t first_invalid_utf8(std::string_view text) {
   std::size_t i = 0;
   while (i < text.size()) {
     const auto byte = static_cast<unsigned char>(text[i]);
@@ -202,7 +197,12 @@ static std::size_t first_invalid_utf8(const std::string& text) {
   return std::string::npos;
 }
 
-CsvTable parse_csv_text(const std::string& text, const std::string& file_name) {
+namespace {
+
+// The header, checked (no empty or duplicate names), and every further record handed to `row`
+// once its cell count is checked against the header's.
+CsvTable parse_rows(std::string_view text, const std::string& file_name,
+                    const std::function<void(const CsvTable& header, std::vector<CsvField>& cells)>& row) {
   if (const std::size_t bad = first_invalid_utf8(text); bad != std::string::npos) {
     int line = 1, column = 1;
     for (std::size_t i = 0; i < bad; ++i) {
@@ -216,11 +216,13 @@ CsvTable parse_csv_text(const std::string& text, const std::string& file_name) {
   }
   CsvTable table;
   table.file = file_name;
-  std::vector<std::vector<CsvCell>> records = CsvParser(text, file_name).records();
-  if (records.empty()) {
+  CsvParser parser(text, file_name);
+  std::vector<CsvField> cells;
+  if (!parser.next_record(cells)) {
     throw ConfigError(SourceLocation{file_name, 1, 1}, "", "empty table: the first row must name the columns");
   }
-  table.header = std::move(records.front());
+  for (CsvField& field : cells)
+    table.header.push_back(CsvCell{std::move(field.text), SourceLocation{file_name, field.line, field.column}});
   for (std::size_t i = 0; i < table.header.size(); ++i) {
     const CsvCell& cell = table.header[i];
     if (cell.text.empty()) {
@@ -233,19 +235,19 @@ CsvTable parse_csv_text(const std::string& text, const std::string& file_name) {
       }
     }
   }
-  for (std::size_t r = 1; r < records.size(); ++r) {
-    std::vector<CsvCell>& record = records[r];
-    if (record.size() != table.header.size()) {
-      throw ConfigError(SourceLocation{file_name, record.front().where.line, 1}, "",
+  while (parser.next_record(cells)) {
+    if (cells.size() != table.header.size()) {
+      throw ConfigError(SourceLocation{file_name, cells.front().line, 1}, "",
                         "ragged row: expected " + std::to_string(table.header.size()) +
-                            " fields (as in the header), found " + std::to_string(record.size()));
+                            " fields (as in the header), found " + std::to_string(cells.size()));
     }
-    table.rows.push_back(std::move(record));
+    row(table, cells);
   }
   return table;
 }
 
-CsvTable read_csv_file(const std::string& path, const SourceLocation& referenced_from) {
+// The whole file as text, read straight into one string of its size.
+std::string read_table_text(const std::string& path, const SourceLocation& referenced_from) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) {
     throw ConfigError(referenced_from, "", "condition table '" + path + "': file not found");
@@ -254,9 +256,33 @@ CsvTable read_csv_file(const std::string& path, const SourceLocation& referenced
   if (!in.is_open()) {
     throw ConfigError(referenced_from, "", "condition table '" + path + "': cannot be opened");
   }
-  std::ostringstream content;
-  content << in.rdbuf();
-  return parse_csv_text(content.str(), path);
+  std::string text;
+  std::array<char, 1 << 16> buffer;
+  while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
+  return text;
+}
+
+}  // namespace
+
+CsvTable parse_csv_text(const std::string& text, const std::string& file_name) {
+  std::vector<std::vector<CsvCell>> rows;
+  CsvTable table = parse_rows(text, file_name, [&](const CsvTable&, std::vector<CsvField>& cells) {
+    std::vector<CsvCell>& record = rows.emplace_back();
+    record.reserve(cells.size());
+    for (CsvField& field : cells)
+      record.push_back(CsvCell{std::move(field.text), SourceLocation{file_name, field.line, field.column}});
+  });
+  table.rows = std::move(rows);
+  return table;
+}
+
+CsvTable read_csv_file(const std::string& path, const SourceLocation& referenced_from) {
+  return parse_csv_text(read_table_text(path, referenced_from), path);
+}
+
+CsvTable read_csv_file_rows(const std::string& path, const SourceLocation& referenced_from,
+                            const std::function<void(const CsvTable& header, std::vector<CsvField>& cells)>& row) {
+  return parse_rows(read_table_text(path, referenced_from), path, row);
 }
 
 }  // namespace glarelab

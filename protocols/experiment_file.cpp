@@ -403,8 +403,7 @@ ConditionSource read_conditions_section(TableReader& top, const std::string& bas
     const std::string path = resolve_path(base_dir, *reader.string("file"));
     std::error_code error;
     if (!fs::is_regular_file(path, error)) reader.fail_at_key("file", "condition table '" + path + "': file not found");
-    source.csv = read_csv_file(path, reader.key_location("file"));
-    rows = rows_from_csv(*source.csv);
+    rows_from_csv_file(path, reader.key_location("file"), source);
     if (rows.empty()) reader.fail("file", "condition table '" + path + "' has a header but no rows");
   } else {
     rows = rows_from_toml(*reader.array("rows"), reader.key_path("rows"), top.file());
@@ -458,6 +457,7 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
   experiment.presentation = read_presentation_section(top, experiment);
 
   check_condition_scenes(conditions, experiment);
+  experiment.conditions.reserve(conditions.rows.size());
   for (LocatedRow& located : conditions.rows) {
     try {  // each refusal at the bad value's own cell (at_value_cell)
       glare_mode_for(experiment.glare, located.row);  // an unknown 'glare' value stops here

@@ -1,16 +1,28 @@
 #include "protocols/fixed_design_procedure.h"
 
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
 
 namespace glarelab {
 
 FixedDesignProcedure::FixedDesignProcedure(std::vector<TrialPlan> trials, Scorer scorer)
-    : trials_(std::move(trials)), scorer_(std::move(scorer)) {}
+    : trial_count_(trials.size()), scorer_(std::move(scorer)) {
+  auto held = std::make_shared<const std::vector<TrialPlan>>(std::move(trials));
+  plan_at_ = [held](std::size_t index) { return (*held)[index]; };
+}
+
+FixedDesignProcedure::FixedDesignProcedure(std::size_t trial_count, PlanAt plan_at, Scorer scorer)
+    : trial_count_(trial_count), plan_at_(std::move(plan_at)), scorer_(std::move(scorer)) {}
+
+const TrialPlan& FixedDesignProcedure::planned_next() {
+  if (!next_plan_) next_plan_ = plan_at_(next_);
+  return *next_plan_;
+}
 
 TrialPlan FixedDesignProcedure::next_trial() {
   if (finished()) throw std::logic_error("procedure: no trials left in the design");
-  return trials_[next_];
+  return planned_next();
 }
 
 std::optional<TrialPlan> FixedDesignProcedure::peek_following_trial() const {
@@ -19,7 +31,7 @@ std::optional<TrialPlan> FixedDesignProcedure::peek_following_trial() const {
 }
 
 TrialOutcome FixedDesignProcedure::record_response(const TrialPlan& plan, const Response& response) {
-  if (finished() || plan.trial_index != trials_[next_].trial_index) {
+  if (finished() || plan.trial_index != planned_next().trial_index) {
     throw std::logic_error("procedure: response to trial " + std::to_string(plan.trial_index) +
                            " is not for the trial planned next");
   }
@@ -30,7 +42,10 @@ TrialOutcome FixedDesignProcedure::record_response(const TrialPlan& plan, const 
   const bool answered = allowed.empty() ? response.value != "abort"
                                         : std::find(allowed.begin(), allowed.end(), response.value) != allowed.end() ||
                                               response.value == kTimeoutResponse;
-  if (answered) ++next_;
+  if (answered) {
+    ++next_;
+    next_plan_.reset();
+  }
   return outcome;
 }
 

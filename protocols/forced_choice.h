@@ -3,10 +3,12 @@
 // The design: every condition row x repetitions x (both side assignments when counterbalanced),
 // shuffled with the session seed (stream trial_order), so the order is reproducible.
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "protocols/experiment.h"
+#include "protocols/procedure.h"
 #include "protocols/trial_plan.h"
 
 namespace glarelab {
@@ -22,6 +24,12 @@ std::vector<std::string> default_responses_for(const ForcedChoiceSpec& spec);
 // Condition rows name their two scenes in columns "scene_a" and "scene_b".
 std::vector<TrialPlan> build_forced_choice_trials(const Experiment& experiment,
                                                   const std::map<std::string, double>& source_peak_cd_m2);
+// The same design as a procedure that plans each trial when the session reaches it (from the row
+// and side the design's order holds for it), with the same plans build_forced_choice_trials
+// gives. It reads the experiment's condition rows then: the experiment must outlive it (moving
+// the Experiment keeps the rows where they are).
+std::unique_ptr<Procedure> make_forced_choice_procedure(const Experiment& experiment,
+                                                        const std::map<std::string, double>& source_peak_cd_m2);
 
 // Scores a response: correct when it names the position of correct_response; NULL when no
 // answer is right.

@@ -13,8 +13,7 @@ namespace glarelab {
 std::unique_ptr<Procedure> make_procedure(const Experiment& experiment,
                                           const std::map<std::string, double>& source_peak_cd_m2) {
   if (experiment.procedure == "forced_choice") {
-    return std::make_unique<FixedDesignProcedure>(build_forced_choice_trials(experiment, source_peak_cd_m2),
-                                                  score_forced_choice);
+    return make_forced_choice_procedure(experiment, source_peak_cd_m2);
   }
   if (experiment.procedure == "staircase" || experiment.procedure == "quest" || experiment.procedure == "quest_plus" ||
       experiment.procedure == "psi") {

@@ -38,7 +38,9 @@ class Procedure {
 };
 
 // The procedure named by experiment.procedure. source_peak_cd_m2: peak luminance of each scene.
-// Throws std::invalid_argument for a design that cannot be built.
+// Throws std::invalid_argument for a design that cannot be built. A fixed design reads the
+// experiment's condition rows as it plans each trial: the experiment must outlive the procedure
+// (moving the Experiment keeps its rows in place).
 std::unique_ptr<Procedure> make_procedure(const Experiment& experiment,
                                           const std::map<std::string, double>& source_peak_cd_m2);
 

@@ -82,8 +82,8 @@ std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {
   for (int point = 1; point <= spec.scale_points; ++point) allowed.push_back(std::to_string(point));
   std::vector<TrialPlan> trials;
   for (std::size_t index = 0; index < design.size(); ++index) {
-    const ConditionRow& row = experiment.conditions[design[index].unit.row];
-    const std::string& category = spec.categories[design[index].unit.category];
+    const ConditionRow& row = experiment.conditions[design.unit(index).row];
+    const std::string& category = spec.categories[design.unit(index).category];
     const std::string* scene = row.find("scene");
     if (scene == nullptr) throw std::invalid_argument("rating: condition '" + row.name() + "' lacks scene");
     TrialPlan plan;
@@ -96,7 +96,7 @@ std::vector<TrialPlan> build_rating_trials(const Experiment& experiment) {
     plan.allowed_responses = allowed;
     plan.question = rating_question(spec, category);
     plan.stimulus_frames = experiment.forced_choice.stimulus_frames;
-    apply_block_placement(design[index].placement, false, plan);
+    apply_block_placement(design.placement(index), false, plan);
     if (const std::string* mean = row.find("simulated_rating")) {
       try {
         plan.simulated_rating_mean = std::stod(*mean);

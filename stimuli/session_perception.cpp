@@ -23,12 +23,11 @@ TemporalAdaptation& SessionPerception::eye_at(double flip_s, double first_lumina
 PerceptionResult SessionPerception::process(const ImageRGBA& composed_cd_m2, const PerceptionSettings& settings,
                                             double flip_s, double frame_time_s, double gaze_x, double gaze_y,
                                             const FieldGlare& glare, const PerceptionStagesRun& stages) {
-  // The eye starts adapted to the first frame it sees; after that the stages measure each frame.
-  const double first_luminance_cd_m2 =
-      eye_ ? 0.0
-           : frame_adaptation_luminance_float_cd_m2(composed_cd_m2, gaze_x, gaze_y, settings.adaptation_weighting,
-                                                    perception_float_threads());
-  TemporalAdaptation& eye = eye_at(flip_s, first_luminance_cd_m2);
+  // Before the session's first stimulus frame the participant saw the display's background (the
+  // fixation, the inter-trial interval and any screen are drawn on it): the eye meets that frame
+  // adapted to the background, a uniform field adapting to its own luminance (Luidolt 2020 5.1),
+  // and adapts to the frame from there (Eq. 5.2). After that the stages measure each frame.
+  TemporalAdaptation& eye = eye_at(flip_s, display_.background_cd_m2);
   PerceptionGlare stage_glare;
   if (glare) {
     // run_perception_stages advances the eye before the glare (Fig. 6.1), so the eye's luminance
@@ -53,7 +52,7 @@ void SessionPerception::see(double frame_luminance_cd_m2, double first_flip_s, d
                             int to_frame) {
   for (int k = from_frame; k < to_frame; ++k) {
     const double flip_s = first_flip_s + k * frame_time_s;
-    eye_at(flip_s, frame_luminance_cd_m2).advance(frame_luminance_cd_m2, frame_time_s);
+    eye_at(flip_s, display_.background_cd_m2).advance(frame_luminance_cd_m2, frame_time_s);
     seen_until_s_ = std::max(seen_until_s_, flip_s + frame_time_s);
   }
 }

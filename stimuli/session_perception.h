@@ -2,10 +2,11 @@
 // The perception stages of Luidolt 2020 over a session's frames (Fig. 6.1: adaptation -> glare ->
 // acuity -> tone mapping -> scotopic colour; stimuli/perception/perception_stages.h). One eye
 // adapts over the whole session (Eqs. 5.2-5.4, exact for any frame time): it starts adapted to
-// the first frame it sees, each processed frame advances it by the time the frame is shown, the
-// frames shown without stages advance it by their measured adaptation luminance (see()), and the
-// time between (screens, fixation, inter-trial intervals) it is taken to see the display's
-// background. The glare between adaptation and acuity is the caller's (stimuli/glare_stage.h),
+// the display's background, what the participant saw before the first stimulus frame (fixation,
+// screens and intervals are drawn on it), each processed frame advances it by the time the frame
+// is shown, the frames shown without stages advance it by their measured adaptation luminance
+// (see()), and the time between (screens, fixation, inter-trial intervals) it is taken to see the
+// display's background. The glare between adaptation and acuity is the caller's (stimuli/glare_stage.h),
 // handed the adapted luminance as its field luminance when adaptation is on, so the eye whose
 // pupil spreads the glare is the eye the image is tone mapped for.
 #include <functional>
@@ -58,7 +59,7 @@ class SessionPerception {
 
  private:
   // The eye brought to flip_s over the background shown since the last frame it saw; made,
-  // adapted to `first_luminance_cd_m2`, at the first frame.
+  // adapted to `first_luminance_cd_m2` (the display's background), at the first frame.
   TemporalAdaptation& eye_at(double flip_s, double first_luminance_cd_m2);
 
   AdaptationTimeConstants time_constants_;

@@ -166,7 +166,8 @@ TEST(PerceptionSession, SavedFramesAreTheStagesOnTheComposedFrameAndNoneIsUnchan
   EXPECT_TRUE(test::session_event_messages(plain.db.string(), "perception_stages").empty());
 }
 
-// With adaptation the session's eye starts adapted to the first frame it sees, adapts frame by
+// With adaptation the session's eye starts adapted to the display's background, what the
+// participant saw before the first stimulus frame (issue 33: it was adapted to that frame), adapts frame by
 // frame (Eq. 5.2 with the frame time), and sees the display's background (0 cd/m2 here) between
 // trials (a fixation of 30 frames): the second trial is tone mapped for an eye that has adapted
 // down in the meantime.
@@ -189,7 +190,7 @@ TEST(PerceptionSession, AdaptationFollowsTheSessionsFramesInTime) {
   const PerceptionSettings& settings = run.experiment.perception;
   const double period_s = 1.0 / run.experiment.display.refresh_hz;
   const double frame_cd_m2 = frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, settings.adaptation_weighting);
-  TemporalAdaptation eye(frame_cd_m2, settings.adaptation_time_constants);
+  TemporalAdaptation eye(run.experiment.display.background_cd_m2, settings.adaptation_time_constants);
   const PerceptionResult first = run_perception_stages(composed, {0.5, 0.5, period_s}, eye, settings, run.experiment.display);
   expect_frames_equal(saved_frame(run, 0), first.image, "trial 0");
   eye.advance(frame_cd_m2, period_s);  // trial 0's second frame
@@ -206,8 +207,9 @@ TEST(PerceptionSession, AdaptationFollowsTheSessionsFramesInTime) {
   EXPECT_NE(events[0].find("adaptation+tone_mapping"), std::string::npos) << events[0];
 }
 
-// With adaptation on, the glare of a static eye is computed for the eye's adapted luminance (the
-// first frame's gaze-weighted adaptation luminance, 5.1), not the frame's mean: the saved frame
+// With adaptation on, the glare of a static eye is computed for the eye's adapted luminance (after
+// the first frame, from the background: Eq. 5.2 towards its gaze-weighted adaptation luminance,
+// 5.1), not the frame's mean: the saved frame
 // equals the glare stage's frame for that field luminance and differs from the mean's.
 TEST(PerceptionSession, AdaptationSetsTheGlaresFieldLuminance) {
   const test::ScratchDir scratch;
@@ -221,8 +223,10 @@ TEST(PerceptionSession, AdaptationSetsTheGlaresFieldLuminance) {
       run_session(dir, perception_demo(dir, "\n[perception]\nadaptation = true\n", {{"only", ""}}, 1, "static"), 1);
   ASSERT_EQ(run.output.exit_code, 0) << run.output.output;
   const ImageRGBA shown = saved_frame(run, 0);
+  TemporalAdaptation eye(run.experiment.display.background_cd_m2, run.experiment.perception.adaptation_time_constants);
   const double field_cd_m2 =
-      frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, run.experiment.perception.adaptation_weighting);
+      eye.advance(frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, run.experiment.perception.adaptation_weighting),
+                  1.0 / run.experiment.display.refresh_hz);
   const double mean_cd_m2 = mean_luminance(composed);
   ASSERT_GT(std::abs(field_cd_m2 - mean_cd_m2), 0.05 * mean_cd_m2) << "the test needs a gaze-weighted luminance far from the mean";
   GlareStage glare(run.experiment.glare, run.experiment.display, run.experiment.seed);
@@ -271,8 +275,9 @@ TEST(PerceptionSession, AdaptationWeightsTheFrameAroundTheTrackersGaze) {
     const PerceptionSettings& settings = run.experiment.perception;
     const double period_s = 1.0 / run.experiment.display.refresh_hz;
     centre_cd_m2 = frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, settings.adaptation_weighting);
-    // Trial 0: no sample yet when it was prepared, the display centre.
-    TemporalAdaptation eye(centre_cd_m2, settings.adaptation_time_constants);
+    // Trial 0: no sample yet when it was prepared, the display centre; the eye comes from the
+    // background.
+    TemporalAdaptation eye(run.experiment.display.background_cd_m2, settings.adaptation_time_constants);
     const PerceptionResult first = run_perception_stages(composed, {0.5, 0.5, period_s}, eye, settings, run.experiment.display);
     expect_frames_equal(saved_frame(run, 0), first.image, "trial 0, gaze x " + std::to_string(gaze_x));
     eye.advance(centre_cd_m2, period_s);  // trial 0's second frame

@@ -73,8 +73,9 @@ TEST(SessionPerception, AdaptationDrivesTheGlaresFieldLuminance) {
       continue;
     }
     ASSERT_TRUE(field_seen.has_value());
-    // One frame after the lamp came on, the eye is still near the dark (Eq. 5.2 with 1/60 s).
-    TemporalAdaptation eye(frame_adaptation_luminance_cd_m2(dark, 0.5, 0.5), AdaptationTimeConstants{});
+    // One frame after the lamp came on, the eye is still near the dark (Eq. 5.2 with 1/60 s); it
+    // came to the dark frame from the display's background.
+    TemporalAdaptation eye(display.background_cd_m2, AdaptationTimeConstants{});
     eye.advance(frame_adaptation_luminance_cd_m2(dark, 0.5, 0.5), period_s);
     const double expected_cd_m2 = eye.advance(frame_adaptation_luminance_cd_m2(lit, 0.5, 0.5), period_s);
     EXPECT_NEAR(*field_seen, expected_cd_m2, 1e-12 * expected_cd_m2);
@@ -100,8 +101,8 @@ TEST(SessionPerception, TheEyeAdaptsExactlyForAnySplitOfTimeAndSeesTheBackground
   at_once.see(1.0, 0.0, 0.1, 0, 1);
   for (int k = 0; k < 30; ++k) per_frame.process(lit, only(true), 0.5 + k / 60.0, 1.0 / 60.0, 0.5, 0.5);
   at_once.see(y_cd_m2, 0.5, 0.5, 0, 1);
-  // Between 0.1 s and 0.5 s both saw the background.
-  TemporalAdaptation eye(1.0, AdaptationTimeConstants{});
+  // Both came to their first frame from the background, and saw it again between 0.1 s and 0.5 s.
+  TemporalAdaptation eye(display.background_cd_m2, AdaptationTimeConstants{});
   eye.advance(1.0, 0.1);
   eye.advance(0.5, 0.4);
   const double expected_cd_m2 = eye.advance(y_cd_m2, 0.5);
@@ -112,9 +113,47 @@ TEST(SessionPerception, TheEyeAdaptsExactlyForAnySplitOfTimeAndSeesTheBackground
   SessionPerception instant(AdaptationTimeConstants{}, display);
   instant.see(0.001, 0.0, 1.0 / 60.0, 0, 1);
   instant.process(lit, only(false), 1.0 / 60.0, 0.25, 0.5, 0.5);
-  TemporalAdaptation reference(0.001, AdaptationTimeConstants{});
+  TemporalAdaptation reference(display.background_cd_m2, AdaptationTimeConstants{});
   reference.advance(0.001, 1.0 / 60.0);
   EXPECT_NEAR(*instant.adapted_luminance_cd_m2(), reference.advance(y_cd_m2, 0.25), 1e-12);
+}
+
+// Issue 33: the eye met the session's first stimulus frame adapted to that frame, though the
+// participant had been looking at the fixation background before it. It starts adapted to the
+// display's background, holds there (a uniform field adapts to its own luminance) until the first
+// frame, and adapts to the frame from there: Eq. 5.2's closed form, written out here,
+//   L = Y + (B - Y) exp(-ft / tau(Y)),  tau(Y) = sigma tau_rod + (1 - sigma) tau_cone,
+//   sigma = 0.04 / (0.04 + Y)  (Eqs. 5.3, 5.4; tau_rod 0.4 s, tau_cone 0.1 s).
+TEST(SessionPerception, TheEyeMeetsTheFirstFrameAdaptedToTheBackgroundShownBeforeIt) {
+  DisplaySpec display = small_display();
+  display.background_cd_m2 = 2.0;
+  const double y_cd_m2 = 20.0;
+  const ImageRGBA uniform(96, 64, static_cast<float>(y_cd_m2));  // its adaptation luminance is Y at any gaze
+  const double frame_time_s = 1.0 / 60.0;
+  const auto closed_form = [](double start_cd_m2, double y, double elapsed_s) {
+    const double sigma = 0.04 / (0.04 + y);
+    const double tau_s = sigma * 0.4 + (1.0 - sigma) * 0.1;
+    return y + (start_cd_m2 - y) * std::exp(-elapsed_s / tau_s);
+  };
+  for (const double first_flip_s : {0.0, 3.0}) {  // at once, or after 3 s of fixation background
+    SessionPerception perception(AdaptationTimeConstants{}, display);
+    EXPECT_FALSE(perception.adapted_luminance_cd_m2().has_value());  // no frame seen yet
+    const PerceptionResult first = perception.process(uniform, only(true), first_flip_s, frame_time_s, 0.5, 0.5);
+    const double expected_cd_m2 = closed_form(display.background_cd_m2, y_cd_m2, frame_time_s);
+    EXPECT_NEAR(first.adapted_luminance_cd_m2, expected_cd_m2, 1e-6 * expected_cd_m2) << "first flip " << first_flip_s;
+    // Far from the frame's own luminance, which the eye was taken to start at before.
+    EXPECT_LT(first.adapted_luminance_cd_m2, 0.5 * y_cd_m2);
+    // A second frame continues from there.
+    const PerceptionResult second =
+        perception.process(uniform, only(true), first_flip_s + frame_time_s, frame_time_s, 0.5, 0.5);
+    EXPECT_NEAR(second.adapted_luminance_cd_m2, closed_form(display.background_cd_m2, y_cd_m2, 2 * frame_time_s),
+                1e-6 * y_cd_m2);
+  }
+  // Frames passed by without stages (a preview before its trial) start from the background too.
+  SessionPerception passed(AdaptationTimeConstants{}, display);
+  passed.see(y_cd_m2, 1.0, frame_time_s, 0, 3);
+  EXPECT_NEAR(*passed.adapted_luminance_cd_m2(), closed_form(display.background_cd_m2, y_cd_m2, 3 * frame_time_s),
+              1e-9 * y_cd_m2);
 }
 
 }  // namespace

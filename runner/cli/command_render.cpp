@@ -18,6 +18,7 @@
 #include "core/atomic_file.h"
 #include "core/exr_io.h"
 #include "core/png_io.h"
+#include "protocols/comparison_luminance.h"
 #include "protocols/experiment.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
@@ -98,6 +99,11 @@ int render(const RenderOptions& options) {
   refuse_symbolic_link(options.out, "--out");  // before the session: a link is refused, not written through
   const Experiment experiment = load_experiment(options.experiment_path);
   check_condition(experiment, options.condition);
+  // A row that no session shows (in no block, in no track) has no frame to preview: said before
+  // anything runs. Any other row is previewed, a QUEST+ row its track never picks included
+  // (protocols/comparison_luminance.h, show_condition_in_preview).
+  if (const std::string why = why_no_session_shows(experiment, options.condition); !why.empty())
+    throw std::invalid_argument("condition '" + options.condition + "' cannot be previewed: " + why);
   if (!options.intensity_cd_m2.empty() && !options.settings_cd_m2.empty())
     throw std::invalid_argument("--intensity (staircase, QUEST) and --settings (adjustment) exclude each other");
 
@@ -136,6 +142,7 @@ int render(const RenderOptions& options) {
   }
   std::cout << "render: condition '" << options.condition << "', " << describe(frame) << " -> " << options.out << " ("
             << frame.stimulus_cd_m2.width_px << "x" << frame.stimulus_cd_m2.height_px << ")\n";
+  if (!result.preview_note.empty()) std::cout << "  note: " << result.preview_note << "\n";
   for (const std::string& note : result.scene_notes) std::cout << "  note: " << note << "\n";
   return 0;
 }

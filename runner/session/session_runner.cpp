@@ -184,6 +184,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     SessionLoop loop(prepared, *display, *clock, store, result.session_id, tracker, pacer.get());
     if (device.active()) loop.attach_response_device(&device_input, pause_message);
     if (options.preview) loop.attach_preview(*options.preview);
+    if (options.preview) show_condition_in_preview(*prepared.procedure, prepared.experiment, options.preview->condition);
     if (!options.save_frames_dir.empty()) loop.save_first_frames_to(options.save_frames_dir);
     loop.attach_status(options.status);
     if (options.status) options.status->set_step("preparing the first trial");
@@ -207,6 +208,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
 
     if (options.preview) {
       result.preview = loop.take_preview_frame();
+      result.preview_note = preview_note(*prepared.procedure);
       if (!result.preview)
         throw std::invalid_argument("condition '" + options.preview->condition + "' is not shown in a session of " +
                                     "participant number " + std::to_string(prepared.experiment.design.participant_number.value_or(1)) +

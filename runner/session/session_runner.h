@@ -66,6 +66,9 @@ struct RunResult {
   std::string tracker_summary;  // one line, empty without a tracker
   std::string device_summary;   // one line, empty without a response device
   std::optional<PreviewFrame> preview;  // RunOptions::preview: the captured frame
+  // What the preview changed of the procedure's choice to show its condition (a QUEST+ row its
+  // track did not pick; protocols/comparison_luminance.h), in words; empty when nothing.
+  std::string preview_note;
   // What loading did to the scenes (negative pixels clamped, scenes scaled or cropped to fit their
   // place), one line each, as the session's `scene_load` events say it.
   std::vector<std::string> scene_notes;
