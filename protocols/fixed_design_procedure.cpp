@@ -26,8 +26,8 @@ TrialPlan FixedDesignProcedure::next_trial() {
 }
 
 std::optional<TrialPlan> FixedDesignProcedure::peek_following_trial() const {
-  if (next_ + 1 >= trials_.size()) return std::nullopt;
-  return trials_[next_ + 1];
+  if (next_ + 1 >= trial_count_) return std::nullopt;
+  return plan_at_(next_ + 1);
 }
 
 TrialOutcome FixedDesignProcedure::record_response(const TrialPlan& plan, const Response& response) {
