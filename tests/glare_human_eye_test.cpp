@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli_process.h"
+#include "display_directions.h"
 #include "energy_convolution_reference.h"
 #include "core/exr_io.h"
 #include "glare/analytic/display_kernel_convolution.h"
@@ -334,23 +335,7 @@ glare = "control"
 )";
 }
 
-// The 3D direction of display pixel (x, y) seen from the eye (line of sight through the centre).
-struct Direction {
-  double x, y, z;
-};
-Direction direction_of(double x_px, double y_px) {
-  return {(x_px + 0.5 - 0.5 * kSessionWidth) * kPitchMm, (y_px + 0.5 - 0.5 * kSessionHeight) * kPitchMm, kDistanceMm};
-}
-double angle_between_deg(const Direction& a, const Direction& b) {
-  const double dot = a.x * b.x + a.y * b.y + a.z * b.z;
-  const double cross = std::sqrt(std::pow(a.y * b.z - a.z * b.y, 2) + std::pow(a.z * b.x - a.x * b.z, 2) +
-                                 std::pow(a.x * b.y - a.y * b.x, 2));
-  return std::atan2(cross, dot) * kDegPerRad;
-}
-double pixel_solid_angle_sr(double x_px, double y_px) {
-  const Direction d = direction_of(x_px, y_px);
-  return kDistanceMm * kPitchMm * kPitchMm / std::pow(d.x * d.x + d.y * d.y + d.z * d.z, 1.5);
-}
+const test::DisplayDirections kDisplay{kSessionWidth, kSessionHeight, kPitchMm, kDistanceMm};
 
 // Glare minus control against illuminance x GSF at the five angles; `what` names the frames.
 void expect_veil_is_illuminance_times_gsf(const ImageRGBA& glare, const ImageRGBA& control, const std::string& what) {
@@ -370,19 +355,19 @@ void expect_veil_is_illuminance_times_gsf(const ImageRGBA& glare, const ImageRGB
     int best_x = -1;
     double best_error = 1e300;
     for (int x = static_cast<int>(lamp_x); x < kSessionWidth; ++x) {
-      const double error = std::abs(angle_between_deg(direction_of(lamp_x, lamp_y), direction_of(x, row)) - target_deg);
+      const double error = std::abs(kDisplay.angle_between_pixels_deg(lamp_x, lamp_y, x, row) - target_deg);
       if (error < best_error) best_error = error, best_x = x;
     }
     ASSERT_LT(best_error, 0.1) << what << " " << target_deg;
     double reference = 0.0, illuminance_lx = 0.0;
     for (const auto& [lx, ly] : lamp) {
-      const double e = kLampCdM2 * pixel_solid_angle_sr(lx, ly);  // cd/m2 x sr = lx at the eye
+      const double e = kLampCdM2 * kDisplay.pixel_solid_angle_sr(lx, ly);  // cd/m2 x sr = lx at the eye
       illuminance_lx += e;
-      reference += e * cie146_gsf(angle_between_deg(direction_of(lx, ly), direction_of(best_x, row)), 50.0, 0.5);
+      reference += e * cie146_gsf(kDisplay.angle_between_pixels_deg(lx, ly, best_x, row), 50.0, 0.5);
     }
     const double difference = static_cast<double>(glare.pixel(best_x, row)[1]) - control.pixel(best_x, row)[1];
     std::printf("%s: %.2f deg from the lamp (E = %.4g lx): glare - control %.5g cd/m2, E x GSF %.5g (ratio %.4f)\n",
-                what.c_str(), angle_between_deg(direction_of(lamp_x, lamp_y), direction_of(best_x, row)), illuminance_lx,
+                what.c_str(), kDisplay.angle_between_pixels_deg(lamp_x, lamp_y, best_x, row), illuminance_lx,
                 difference, reference, difference / reference);
     EXPECT_NEAR(difference / reference, 1.0, 0.15) << what << " at " << target_deg << " deg";
   }

@@ -13,12 +13,12 @@
 #include "cli_process.h"
 #include "core/exr_io.h"
 #include "protocols/experiment.h"
+#include "display_directions.h"
 #include "scratch_dir.h"
 
 namespace glarelab {
 namespace {
 
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr int kWidthPx = 256, kHeightPx = 32;
 constexpr double kDistanceMm = 300.0, kPitchMm = 0.5;
 constexpr float kLampCdM2 = 1e6f;
@@ -65,22 +65,7 @@ glare = "control"
 )";
 }
 
-struct Direction {
-  double x, y, z;
-};
-Direction direction_of(double x_px, double y_px) {
-  return {(x_px + 0.5 - 0.5 * kWidthPx) * kPitchMm, (y_px + 0.5 - 0.5 * kHeightPx) * kPitchMm, kDistanceMm};
-}
-double angle_between_deg(const Direction& a, const Direction& b) {
-  const double dot = a.x * b.x + a.y * b.y + a.z * b.z;
-  const double cross = std::sqrt(std::pow(a.y * b.z - a.z * b.y, 2) + std::pow(a.z * b.x - a.x * b.z, 2) +
-                                 std::pow(a.x * b.y - a.y * b.x, 2));
-  return std::atan2(cross, dot) * kDegPerRad;
-}
-double pixel_solid_angle_sr(double x_px, double y_px) {
-  const Direction d = direction_of(x_px, y_px);
-  return kDistanceMm * kPitchMm * kPitchMm / std::pow(d.x * d.x + d.y * d.y + d.z * d.z, 1.5);
-}
+const test::DisplayDirections kDisplay{kWidthPx, kHeightPx, kPitchMm, kDistanceMm};
 
 // Acceptance 3: with straylight = 1.4 the veil 7 degrees from the lamp is E x 10^1.4 / 7^2 within
 // 10 % (the CIE eye of age 25 alone gives about 10^0.84 / 7^2, a factor 3.6 less).
@@ -106,14 +91,14 @@ TEST(StraylightGlare, VeilAtSevenDegreesIsTheIlluminanceTimesTheMeasuredStraylig
   int best_x = -1;
   double best_error = 1e300;
   for (int x = 22; x < kWidthPx; ++x) {
-    const double error = std::abs(angle_between_deg(direction_of(lamp_x, lamp_y), direction_of(x, row)) - 7.0);
+    const double error = std::abs(kDisplay.angle_between_pixels_deg(lamp_x, lamp_y, x, row) - 7.0);
     if (error < best_error) best_error = error, best_x = x;
   }
   ASSERT_LT(best_error, 0.05);
   double illuminance_lx = 0.0;
   for (int y = 15; y < 17; ++y)
-    for (int x = 21; x < 23; ++x) illuminance_lx += kLampCdM2 * pixel_solid_angle_sr(x, y);
-  const double angle_deg = angle_between_deg(direction_of(lamp_x, lamp_y), direction_of(best_x, row));
+    for (int x = 21; x < 23; ++x) illuminance_lx += kLampCdM2 * kDisplay.pixel_solid_angle_sr(x, y);
+  const double angle_deg = kDisplay.angle_between_pixels_deg(lamp_x, lamp_y, best_x, row);
   const double expected_cd_m2 = illuminance_lx * std::pow(10.0, 1.4) / (7.0 * 7.0);
   const double veil_cd_m2 = static_cast<double>(glare.pixel(best_x, row)[1]) - control.pixel(best_x, row)[1];
   std::printf("straylight 1.4: %.3f deg from the lamp (E = %.5g lx): veil %.5g cd/m2, E x 10^1.4 / 49 = %.5g (ratio %.4f)\n",
