@@ -48,4 +48,10 @@ class VirtualClock final : public SessionClock {
   std::int64_t frames_;
 };
 
+// Seconds of steady_clock since `start`: how long the program's own work took (benchmarks, the
+// preparation of frames), never a session's time line.
+inline double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 }  // namespace glarelab

@@ -1,3 +1,4 @@
+#include "core/clock.h"
 #include "glare/glare_benchmark.h"
 
 #include <algorithm>
@@ -28,10 +29,6 @@ namespace {
 
 constexpr double kApertureWidthMm = 10.0;
 constexpr double kWavelengthNm = 575.0;  // Ritschel's reference wavelength (section 5)
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Fastest of `repeats` runs of `work` (which must finish its work before returning).
 template <typename Work>

@@ -1,3 +1,4 @@
+#include "core/clock.h"
 #include "stimuli/frame_engine_benchmark.h"
 
 #include <algorithm>
@@ -52,10 +53,6 @@ double relative_l2(const ImageRGBA& actual, const ImageRGBA& expected) {
     norm += e * e;
   }
   return norm > 0.0 ? std::sqrt(difference / norm) : std::sqrt(difference);
-}
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // The padded sizes of the glare's convolutions of `scene`: each lit box (glare/cpu/lit_regions.h, split

@@ -1,3 +1,4 @@
+#include "core/clock.h"
 #include "stimuli/glare_model_benchmark.h"
 
 #include <algorithm>
@@ -14,10 +15,6 @@
 
 namespace glarelab {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The FFTW floor of an RGB FFT convolution of this padded size (glare/cpu/fftw_floor.h), the fastest
 // of `runs`.

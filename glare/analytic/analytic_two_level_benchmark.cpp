@@ -1,3 +1,4 @@
+#include "core/clock.h"
 #include "glare/analytic/analytic_two_level_benchmark.h"
 
 #include <algorithm>
@@ -13,10 +14,6 @@
 
 namespace glarelab {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 double frame_s(AnalyticGlare& glare, const ImageRGBA& frame, ImageRGBA& out) {
   const auto start = std::chrono::steady_clock::now();

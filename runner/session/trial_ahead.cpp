@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/clock.h"
 #include "core/number_text.h"
 #include "runner/session/session_loop.h"
 
@@ -28,10 +29,6 @@ namespace {
 // The worker runs below the display's thread so a flip is never queued behind a frame's glare on
 // a busy machine (a niceness of 5: still ahead of background builds at the usual 10).
 constexpr int kWorkerNiceness = 5;
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 std::string ms_text(double seconds) { return number_text(std::round(seconds * 1e4) / 10.0); }
 

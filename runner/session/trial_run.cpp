@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/clock.h"
 #include "core/exr_io.h"
 #include "protocols/observer.h"
 #include "protocols/procedure.h"
@@ -19,10 +20,6 @@
 
 namespace glarelab {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The kind of work an interval's frames are, for the causes of late onsets (frame_timing.h).
 FlipWork work_kind(const IntervalGlare& glare) {
