@@ -9,9 +9,11 @@
 
 #include "runner/cli/commands.h"
 #include "runner/cli/terminal_stream.h"
+#include "core/frame_allocation.h"
 #include "core/software_version.h"
 
 int main(int argc, char** argv) {
+  glarelab::keep_freed_frames_in_the_process();  // core/frame_allocation.h
   // Line-buffered stdout even into a pipe or a file: a long run's lines arrive as they are
   // written, not in one block at the end (std::cout writes through stdio, synchronised).
   std::setvbuf(stdout, nullptr, _IOLBF, 0);

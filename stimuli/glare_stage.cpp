@@ -389,10 +389,7 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   const PixelSolidAngle& solid_angle = solid_angle_for(source.width_px, source.height_px);
   const ImageRGBA source_energy = solid_angle.to_energy(source);
   ImageRGBA glared = convolve_frame(source_energy, near);
-  ImageRGBA far_glare;
-  far.convolve(source_energy, far_glare);
-  for (std::size_t i = 0; i < glared.rgba.size(); i += 4)
-    for (int c = 0; c < 3; ++c) glared.rgba[i + c] += far_glare.rgba[i + c];
+  far.add_convolution(source_energy, glared);
   if (human) {
     // The lenticular halo of the fibre gratings this pupil uncovers, its light taken from the
     // source's own pixel (glare/analytic/lenticular_halo.h).

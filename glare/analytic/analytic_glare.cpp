@@ -101,23 +101,57 @@ std::string to_string(AnalyticConvolution convolution) {
   return "unknown";
 }
 
-void AnalyticGlare::convolve(const ImageRGBA& source, ImageRGBA& out) {
-  // Bit for bit: NaN or a signed zero in the source is a new frame, never a false match.
-  const auto same_bits = [](const ImageRGBA& a, const ImageRGBA& b) {
-    return a.width_px == b.width_px && a.height_px == b.height_px && a.rgba.size() == b.rgba.size() &&
-           std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
-  };
-  if (last_kept_ && same_bits(source, last_source_)) {
-    out = last_glare_;
-    return;
-  }
+namespace {
+
+// Bit for bit: NaN or a signed zero in the source is a new frame, never a false match.
+bool same_bits(const ImageRGBA& a, const ImageRGBA& b) {
+  return a.width_px == b.width_px && a.height_px == b.height_px && a.rgba.size() == b.rgba.size() &&
+         std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
+}
+
+}  // namespace
+
+const ImageRGBA* AnalyticGlare::kept_glare_of(const ImageRGBA& source) const {
+  return last_kept_ && same_bits(source, last_source_) ? &last_glare_ : nullptr;
+}
+
+void AnalyticGlare::compute(const ImageRGBA& source, ImageRGBA& out) {
   if (full_) full_->convolve(source, out);
   else two_level_->convolve(source, out);
   ++convolutions_computed_;
+}
+
+void AnalyticGlare::convolve(const ImageRGBA& source, ImageRGBA& out) {
+  if (const ImageRGBA* kept = kept_glare_of(source)) {
+    out = *kept;
+    return;
+  }
+  compute(source, out);
   if (!options_.keep_repeated_frame) return;
   last_source_ = source;
   last_glare_ = out;
   last_kept_ = true;
+}
+
+void AnalyticGlare::add_convolution(const ImageRGBA& source, ImageRGBA& sum) {
+  if (sum.width_px != source.width_px || sum.height_px != source.height_px)
+    throw std::invalid_argument("glare/analytic/analytic_glare: the sum's frame is not the source's");
+  const ImageRGBA* glare = kept_glare_of(source);
+  ImageRGBA computed;
+  if (glare == nullptr) {
+    if (options_.keep_repeated_frame) {
+      last_kept_ = false;  // until the new glare is in place
+      compute(source, last_glare_);
+      last_source_ = source;
+      last_kept_ = true;
+      glare = &last_glare_;
+    } else {
+      compute(source, computed);
+      glare = &computed;
+    }
+  }
+  for (std::size_t i = 0; i < sum.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) sum.rgba[i + c] += glare->rgba[i + c];
 }
 
 void AnalyticGlare::set_convolution_weights(const std::vector<double>& weights) {

@@ -65,6 +65,9 @@ class AnalyticGlare {
   // eye, and a dynamic interval brings one composed frame many times: a source equal bit for bit to
   // the last one, under the same kernel, gets the kept glare (a copy, no convolution).
   void convolve(const ImageRGBA& source, ImageRGBA& out);
+  // sum += the frame convolved, colour channels only (the hybrid's far part added to its near
+  // part). A kept frame is added from where it is kept: no frame-sized copy.
+  void add_convolution(const ImageRGBA& source, ImageRGBA& sum);
   // How many convolutions were computed (not kept), for tests and the bench.
   long long convolutions_computed() const { return convolutions_computed_; }
   // Hybrid: sum(w K) per channel for the current mixture (the near part's energy).
@@ -88,6 +91,9 @@ class AnalyticGlare {
   int fft_cols() const;
 
  private:
+  // The kept glare when `source` is the kept frame bit for bit, else nullptr.
+  const ImageRGBA* kept_glare_of(const ImageRGBA& source) const;
+  void compute(const ImageRGBA& source, ImageRGBA& out);
   std::vector<double> weights_for(const spencer::Mixture& mixture) const;
   void set_convolution_weights(const std::vector<double>& weights);
   // The components' weights now: the mixture's (adaptive), or the one kernel's 1.
