@@ -1,8 +1,10 @@
 // glarelab render shows exactly the frame a session shows: for every condition of every shipped
 // example, the rendered EXR equals the first stimulus frame (after glare, with the question) of
 // the first trial of that condition in a seeded session of the same file, as the session itself
-// wrote it (run --save-frames). The session computes every glare frame of the trials before; the
-// preview only records them in the eye: equal frames show the eye history is carried over exactly.
+// wrote it (run --save-frames). Every condition is rendered in one pass (--all-conditions), and the
+// condition the session shows last alone as well (--condition), the preview that stops at its
+// frame. The session computes every glare frame of the trials before; the preview only records
+// them in the eye: equal frames show the eye history is carried over exactly.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -44,23 +46,21 @@ TEST_P(RenderMatchesSession, EveryConditionEqualsTheSessionsFirstFrameOfIt) {
 
   const Experiment experiment = load_experiment(file);
   ASSERT_FALSE(experiment.conditions.empty());
-  for (const ConditionRow& row : experiment.conditions) {
-    SCOPED_TRACE("condition " + row.name());
-    const int trial = first_trial_of(trials, row.name());
+  const auto expect_frame_shown = [&](const std::string& condition, const std::filesystem::path& rendered_file,
+                                      const std::string& output) {
+    SCOPED_TRACE("condition " + condition);
+    const int trial = first_trial_of(trials, condition);
     ASSERT_GE(trial, 0) << "the session shows no trial of the condition";
-    const auto out = scratch.path() / (row.name() + ".exr");
-    const test::RunOutput render =
-        test::run_glarelab({"render", file, "--condition", row.name(), "--out", out.string()}, scratch.path());
-    ASSERT_EQ(render.exit_code, 0) << render.output;
     // The render names the trial it shows: the session's first of this condition.
     std::smatch match;
-    ASSERT_TRUE(std::regex_search(render.output, match, std::regex("trial ([0-9]+) \\("))) << render.output;
-    EXPECT_EQ(std::stoi(match[1]), trial) << render.output;
+    ASSERT_TRUE(std::regex_search(output, match, std::regex("condition '" + condition + "', trial ([0-9]+) \\(")))
+        << output;
+    EXPECT_EQ(std::stoi(match[1]), trial) << output;
 
     char name[32];
     std::snprintf(name, sizeof name, "trial_%04d.exr", trial);
     const ImageRGBA shown = read_exr((frames / name).string()).image;
-    const ImageRGBA rendered = read_exr(out.string()).image;
+    const ImageRGBA rendered = read_exr(rendered_file.string()).image;
     ASSERT_EQ(rendered.width_px, shown.width_px);
     ASSERT_EQ(rendered.height_px, shown.height_px);
     double peak = 0.0, largest_difference = 0.0;
@@ -69,8 +69,33 @@ TEST_P(RenderMatchesSession, EveryConditionEqualsTheSessionsFirstFrameOfIt) {
       largest_difference = std::max(largest_difference, std::abs(static_cast<double>(shown.rgba[i]) - rendered.rgba[i]));
     }
     EXPECT_GT(peak, 0.0);
-    EXPECT_EQ(largest_difference, 0.0) << "peak " << peak << " cd/m2; " << render.output;
+    EXPECT_EQ(largest_difference, 0.0) << "peak " << peak << " cd/m2";
+  };
+
+  const auto folder = scratch.path() / "rendered";
+  const test::RunOutput all =
+      test::run_glarelab({"render", file, "--all-conditions", "--out-dir", folder.string()}, scratch.path());
+  ASSERT_EQ(all.exit_code, 0) << all.output;
+  EXPECT_NE(all.output.find(std::to_string(experiment.conditions.size()) + " of " +
+                            std::to_string(experiment.conditions.size()) + " conditions written"),
+            std::string::npos)
+      << all.output;
+  std::string shown_last;
+  int last_trial = -1;
+  for (const ConditionRow& row : experiment.conditions) {
+    expect_frame_shown(row.name(), folder / (row.name() + ".exr"), all.output);
+    EXPECT_TRUE(std::filesystem::is_regular_file(folder / (row.name() + ".png"))) << row.name();
+    if (first_trial_of(trials, row.name()) > last_trial) {
+      last_trial = first_trial_of(trials, row.name());
+      shown_last = row.name();
+    }
   }
+
+  const auto alone = scratch.path() / "alone.exr";
+  const test::RunOutput render =
+      test::run_glarelab({"render", file, "--condition", shown_last, "--out", alone.string()}, scratch.path());
+  ASSERT_EQ(render.exit_code, 0) << render.output;
+  expect_frame_shown(shown_last, alone, render.output);
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, RenderMatchesSession,

@@ -9,6 +9,7 @@
 // Its member functions are defined by concern: runner/session/trial_glare.cpp (an interval's
 // inputs and frames, their events), runner/session/eye_glare.cpp (each eye's part), and
 // runner/session/glare_presentation.cpp (prepared or live, and the once-only records).
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -34,9 +35,19 @@ namespace glarelab {
 // frame it captures.
 struct PreviewCapture {
   const StimulusPreview* preview = nullptr;
-  std::optional<PreviewFrame> frame;  // labelled when its interval begins, then captured
-  // Whether `plan` is a trial of the previewed condition.
-  bool captures(const TrialPlan& plan) const { return preview != nullptr && plan.condition_name == preview->condition; }
+  std::optional<PreviewFrame> frame;  // being captured: labelled when its interval begins, then captured
+  std::vector<PreviewFrame> captured;  // complete, in the order the session showed them
+  // Whether `plan` is a trial of a previewed condition not captured yet.
+  bool captures(const TrialPlan& plan) const {
+    if (preview == nullptr) return false;
+    const auto same = [&](const std::string& name) { return name == plan.condition_name; };
+    return std::any_of(preview->conditions.begin(), preview->conditions.end(), same) &&
+           std::none_of(captured.begin(), captured.end(),
+                        [&](const PreviewFrame& done) { return same(done.plan.condition_name); });
+  }
+  bool complete() const { return preview != nullptr && captured.size() == preview->conditions.size(); }
+  // Whether the next capture is the last one (the session ends at it).
+  bool captures_last() const { return preview != nullptr && captured.size() + 1 == preview->conditions.size(); }
 };
 
 class SessionGlare {

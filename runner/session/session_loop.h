@@ -69,7 +69,7 @@ class SessionLoop {
   // run with their glare recorded, not computed; the first trial of the condition ends the loop
   // once its first stimulus frame is captured (aborted() is then true).
   void attach_preview(const StimulusPreview& preview) { capture_.preview = &preview; }
-  std::optional<PreviewFrame> take_preview_frame() { return std::move(capture_.frame); }
+  std::vector<PreviewFrame> take_preview_frames() { return std::move(capture_.captured); }
   // Each interval's first stimulus frame (after glare, with overlays; linear cd/m2) written to
   // `directory` as trial_NNNN.exr (a second interval: trial_NNNN_interval_2.exr).
   void save_first_frames_to(const std::string& directory) { save_frames_dir_ = directory; }

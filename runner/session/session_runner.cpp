@@ -95,6 +95,15 @@ void announce_session(std::ostream& progress, const RunResult& result, PreparedS
   }
 }
 
+// The overrides change the trial they show, so every trial after it, and a later condition's capture
+// would no longer be the frame a seeded session shows: with several conditions they are refused.
+void check_preview_overrides(const StimulusPreview& preview) {
+  if (preview.conditions.empty()) throw std::invalid_argument("a preview needs a condition");
+  if (preview.conditions.size() > 1 && (!preview.comparison_cd_m2.empty() || preview.time_s || preview.glare))
+    throw std::invalid_argument("a preview of several conditions shows each as the seeded session does: a comparison "
+                                "luminance, a time or a glare mode is for one condition");
+}
+
 }  // namespace
 
 RunResult run_session(const RunOptions& asked, std::ostream& progress) {
@@ -184,7 +193,9 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     SessionLoop loop(prepared, *display, *clock, store, result.session_id, tracker, pacer.get());
     if (device.active()) loop.attach_response_device(&device_input, pause_message);
     if (options.preview) loop.attach_preview(*options.preview);
-    if (options.preview) show_condition_in_preview(*prepared.procedure, prepared.experiment, options.preview->condition);
+    if (options.preview) check_preview_overrides(*options.preview);
+    if (options.preview && options.preview->conditions.size() == 1)
+      show_condition_in_preview(*prepared.procedure, prepared.experiment, options.preview->conditions.front());
     if (!options.save_frames_dir.empty()) loop.save_first_frames_to(options.save_frames_dir);
     loop.attach_status(options.status);
     if (options.status) options.status->set_step("preparing the first trial");
@@ -196,7 +207,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
         return result;
       }
       TrialPlan plan = prepared.procedure->next_trial();
-      if (options.preview && plan.condition_name == options.preview->condition &&
+      if (options.preview && plan.condition_name == options.preview->conditions.front() &&
           !options.preview->comparison_cd_m2.empty())
         plan = with_comparison_luminance(std::move(plan), options.preview->comparison_cd_m2);
       if (!loop.run_trial(plan, progress)) {
@@ -207,10 +218,10 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     }
 
     if (options.preview) {
-      result.preview = loop.take_preview_frame();
+      result.previews = loop.take_preview_frames();
       result.preview_note = preview_note(*prepared.procedure);
-      if (!result.preview)
-        throw std::invalid_argument("condition '" + options.preview->condition + "' is not shown in a session of " +
+      if (result.previews.empty() && options.preview->conditions.size() == 1)
+        throw std::invalid_argument("condition '" + options.preview->conditions.front() + "' is not shown in a session of " +
                                     "participant number " + std::to_string(prepared.experiment.design.participant_number.value_or(1)) +
                                     (loop.aborted() ? " before it ended (" + loop.abort_reason() + ")" : ""));
       store.finish_session(result.session_id, "aborted");

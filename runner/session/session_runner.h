@@ -46,8 +46,8 @@ struct RunOptions {
   // (and checked writable) before the session row; each write takes place before the frame flips.
   std::string save_frames_dir;
   // glarelab render (runner/session/stimulus_preview.h): the session runs until the first trial of
-  // the condition and captures its first stimulus frame (RunResult::preview); the caller gives a
-  // database of its own to throw away.
+  // each condition asked for and captures its first stimulus frame (RunResult::previews); the
+  // caller gives a database of its own to throw away.
   std::optional<StimulusPreview> preview;
   TrackerOptions tracker;  // --tracker and the pupil options (runner/tracker/)
   ResponseDeviceOptions response_device;  // --response-device, --buttons (docs/DEVICES.md)
@@ -65,7 +65,9 @@ struct RunResult {
   std::int64_t frames_dropped = 0;  // of them, more than 1.5 refresh periods after the previous flip
   std::string tracker_summary;  // one line, empty without a tracker
   std::string device_summary;   // one line, empty without a response device
-  std::optional<PreviewFrame> preview;  // RunOptions::preview: the captured frame
+  // RunOptions::preview: the captured frames, in the order the session showed them (a condition the
+  // session never showed has none; with one condition asked for, that is an error instead).
+  std::vector<PreviewFrame> previews;
   // What the preview changed of the procedure's choice to show its condition (a QUEST+ row its
   // track did not pick; protocols/comparison_luminance.h), in words; empty when nothing.
   std::string preview_note;

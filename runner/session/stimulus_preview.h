@@ -3,7 +3,9 @@
 // run as they would (same clock, same eye history, glare recorded but not computed, nothing
 // stored), and that trial's first stimulus frame is captured, after glare and with its overlays,
 // instead of being shown to anyone. So the preview is the frame a seeded session shows, by
-// construction, and any procedure can be previewed at a chosen intensity or setting.
+// construction, and any procedure can be previewed at a chosen intensity or setting. Several
+// conditions are captured in one pass: the session runs on, exactly as it would, until the last
+// of them is captured (no override then: one would change every trial after it).
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,7 +18,9 @@
 namespace glarelab {
 
 struct StimulusPreview {
-  std::string condition;  // the first trial of this condition is captured
+  // The first trial of each of these conditions is captured. The overrides below apply to one
+  // condition only.
+  std::vector<std::string> conditions;
   // Staircase or QUEST: one value (the comparison's peak, cd/m2); adjustment: the left and right
   // spots; empty: as the procedure starts (protocols/comparison_luminance.h).
   std::vector<double> comparison_cd_m2;

@@ -160,7 +160,9 @@ IntervalGlare SessionGlare::begin_interval(const TrialPlan& plan, const std::vec
   // Adaptation changes every frame (Eq. 5.2), so each is computed; otherwise a static eye's frame
   // serves the whole interval.
   const bool every_frame = glare.motion == IntervalGlareMotion::moving || glare.perception.adaptation;
-  glare.frames_needed = captured ? 1 : every_frame ? plan.stimulus_frames : 1;
+  // The last capture of a preview ends the session at its first frame; an earlier one's trial runs
+  // on, its frames seen by the eyes as in the session.
+  glare.frames_needed = captured && capture_.captures_last() ? 1 : every_frame ? plan.stimulus_frames : 1;
   if (tracker_.active()) {
     feed_tracker_inputs();
     update_glare_gaze(glare, glare.first_flip_s);

@@ -300,7 +300,10 @@ bool SessionLoop::capture_first_frame(const TrialPlan& plan, int interval) {
   if (!capture_.captures(plan) || interval != 0 || !capture_.frame) return false;
   capture_.frame->stimulus_cd_m2 = renderer_.read_stimulus();
   capture_.frame->display_drive = renderer_.read_display();
-  return true;
+  capture_.captured.push_back(std::move(*capture_.frame));
+  capture_.frame.reset();
+  // The session ends once every condition asked for is captured; until then it runs on as it would.
+  return capture_.complete();
 }
 
 std::string SessionLoop::feedback_text(const TrialOutcome& outcome) const {
