@@ -228,7 +228,14 @@ TEST(HostileInput, ThePrintedFinishCommandRunsAsPrintedWhenPastedIntoAShell) {
   const auto folder = scratch.path() / "$(touch pwned) (x)";
   std::filesystem::create_directories(folder);
   const auto db = folder / "it's.db";
-  const std::string demo = std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml";
+  // The demo's lamps without glare on a small display, its file in that folder too: a session
+  // whose paths are hostile, not one whose frames take long.
+  test::write_demo_conditions_without_glare(folder / "conditions.csv");
+  const std::string demo = demo_variant(folder, {{"file", "file = \"" + (folder / "conditions.csv").string() + "\""},
+                                                       {"width_px", "width_px = 256"},
+                                                       {"height_px", "height_px = 128"},
+                                                       {"stimulus_frames", "stimulus_frames = 2"}})
+                               .string();
   const auto stopped = run_glarelab(
       {"run", demo, "--display", "offscreen", "--observer", "simulated", "--db", db.string(), "--stop-after", "1"},
       scratch.path());
