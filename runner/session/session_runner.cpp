@@ -72,10 +72,11 @@ void log_database_locks(ResultStore& store, std::int64_t session_id, double now_
 // A virtual clock cannot stamp what happens in real time: a window's flips, a live tracker's
 // samples, a response device's presses.
 void check_virtual_clock(const RunOptions& options, const TrackerSession& tracker, const ResponseDeviceSession& device) {
-  if (options.clock == "virtual" && (options.display == "window" || tracker.live() || device.configured()))
+  const bool person_display = options.display == "window" || options.display == "openxr";
+  if (options.clock == "virtual" && (person_display || tracker.live() || device.configured()))
     throw ConfigError({}, "--clock",
                       std::string("virtual is for offscreen runs without live devices; this run has ") +
-                          (options.display == "window" ? "a window" : tracker.live() ? "a live tracker" : "a response device") +
+                          (options.display == "window" ? "a window" : options.display == "openxr" ? "a headset" : tracker.live() ? "a live tracker" : "a response device") +
                           ", whose times are real");
 }
 
