@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -121,6 +122,37 @@ TEST(OpenXrDisplay, SessionUnderMonadoStoresEveryTrialWithPredictedFlipsOnePerio
     EXPECT_NEAR(periods, std::round(periods), 1e-4) << "flip " << i << " step " << step_s << " s";
     if (frames[i][0] == frames[i - 1][0] && frames[i][1] == "1" && frames[i - 1][1] == "0") {
       EXPECT_EQ(frames[i][3], std::lround(periods) >= 2 ? "1" : "0") << "trial " << frames[i][0] << " step " << step_s;
+    }
+  }
+}
+
+// The head pose at each submitted frame, one `head_poses` event per trial: as many poses as the
+// trial has frames rows, each at its row's flip_s (both are the frame's predicted display time,
+// one logged by the session clock, the other by the display), each tracked.
+TEST(OpenXrDisplay, HeadPoseOfEveryFrameIsLoggedAtItsFlip) {
+  if (const auto missing = test::openxr_runtime_missing(true)) GTEST_SKIP() << *missing;
+  const test::ScratchDir scratch;
+  const std::filesystem::path experiment = stereo_demo(scratch.path());
+  const std::filesystem::path db = scratch.path() / "session.db";
+  const ShellRun run = shell("xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " + test::monado_environment() +
+                                 " '" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                 "' --display openxr --observer simulated --stop-after 3 --db '" + db.string() + "'",
+                             scratch.path() / "output.txt");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const test::RawDb raw(db.string());
+  const auto events = raw.rows("SELECT message FROM session_events WHERE kind = 'head_poses' ORDER BY id");
+  ASSERT_EQ(events.size(), 3u);
+  for (int trial = 0; trial < 3; ++trial) {
+    const std::string& message = events[static_cast<std::size_t>(trial)][0];
+    const auto flips = raw.rows("SELECT f.flip_s FROM frames f JOIN trials t ON t.id = f.trial_id WHERE t.trial_index = " +
+                                std::to_string(trial) + " ORDER BY f.rowid");
+    ASSERT_EQ(message.rfind("trial " + std::to_string(trial) + ", " + std::to_string(flips.size()) + " frames: ", 0), 0u)
+        << message;
+    EXPECT_EQ(message.find("untracked"), std::string::npos) << message;
+    for (const auto& flip : flips) {
+      char stamp[32];
+      std::snprintf(stamp, sizeof stamp, "%.6f s (", std::stod(flip[0]));
+      EXPECT_NE(message.find(stamp), std::string::npos) << stamp << " in " << message;
     }
   }
 }

@@ -48,6 +48,7 @@ std::unique_ptr<DisplayBackend> create_openxr_display(const DisplayRequest&) {
 #include <cstdio>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "runner/display/glfw_display.h"
 #include "runner/display/openxr_clock.h"
@@ -59,7 +60,7 @@ namespace {
 
 bool is_srgb_format(std::int64_t format) { return format == GL_SRGB8_ALPHA8 || format == GL_SRGB8; }
 
-class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource {
+class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource, public HeadPoseSource {
  public:
   explicit OpenXrDisplay(const DisplayRequest& request) {
     if (request.width_px < 2 || request.width_px % 2 != 0 || request.height_px < 1)
@@ -114,11 +115,13 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource {
       }
       std::vector<ImageRGBA> views;
       copier_->take_frame(width_px(), height_px());
-      predicted_ = xr_->submit_frame([&](int view, GLuint image, std::int64_t format) {
+      const HeadPoseSample frame = xr_->submit_frame([&](int view, GLuint image, std::int64_t format) {
         const bool linear = !is_srgb_format(format);
         copier_->copy_view(image, view * view_width_px_, view_width_px_, view_height_px_, linear);
         if (keep) views.push_back(OpenXrViewCopier::read_view(image, view_width_px_, view_height_px_, linear));
       });
+      predicted_ = frame.predicted;
+      head_poses_.push_back(frame);
       if (keep && !views.empty()) {
         const std::lock_guard lock(kept_views_mutex);
         kept_views = std::move(views);
@@ -126,6 +129,8 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource {
     }
     mirror_->present();
   }
+
+  std::vector<HeadPoseSample> take_head_poses() override { return std::exchange(head_poses_, {}); }
 
   std::vector<InputEvent> poll_input() override {
     poll_runtime();
@@ -154,6 +159,7 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource {
   int view_height_px_ = 0;
   double refresh_hz_ = 0.0;
   std::optional<std::chrono::steady_clock::time_point> predicted_;
+  std::vector<HeadPoseSample> head_poses_;  // of the frames submitted since take_head_poses()
   bool told_end_ = false;
 };
 

@@ -377,7 +377,8 @@ std::chrono::steady_clock::time_point OpenXrConnection::to_steady(XrTime time) c
                                                std::chrono::nanoseconds(monotonic.tv_nsec));
 }
 
-std::chrono::steady_clock::time_point OpenXrConnection::submit_frame(const DrawView& draw_view) {
+HeadPoseSample OpenXrConnection::submit_frame(const DrawView& draw_view) {
+  HeadPoseSample head_pose;
   auto frame = xr_struct<XrFrameState>(XR_TYPE_FRAME_STATE);
   auto wait = xr_struct<XrFrameWaitInfo>(XR_TYPE_FRAME_WAIT_INFO);
   check(xrWaitFrame(session_.get(), &wait, &frame), instance_.get(), "xrWaitFrame");
@@ -429,17 +430,18 @@ std::chrono::steady_clock::time_point OpenXrConnection::submit_frame(const DrawV
     check(xrLocateSpace(view_space_.get(), local_space_.get(), frame.predictedDisplayTime, &head), instance_.get(),
           "xrLocateSpace (head in LOCAL)");
     const XrSpaceLocationFlags tracked = XR_SPACE_LOCATION_POSITION_VALID_BIT | XR_SPACE_LOCATION_ORIENTATION_VALID_BIT;
-    head_pose_.valid = (head.locationFlags & tracked) == tracked;
-    head_pose_.position_m[0] = head.pose.position.x;
-    head_pose_.position_m[1] = head.pose.position.y;
-    head_pose_.position_m[2] = head.pose.position.z;
-    head_pose_.orientation_xyzw[0] = head.pose.orientation.x;
-    head_pose_.orientation_xyzw[1] = head.pose.orientation.y;
-    head_pose_.orientation_xyzw[2] = head.pose.orientation.z;
-    head_pose_.orientation_xyzw[3] = head.pose.orientation.w;
+    head_pose.valid = (head.locationFlags & tracked) == tracked;
+    head_pose.position_m[0] = head.pose.position.x;
+    head_pose.position_m[1] = head.pose.position.y;
+    head_pose.position_m[2] = head.pose.position.z;
+    head_pose.orientation_xyzw[0] = head.pose.orientation.x;
+    head_pose.orientation_xyzw[1] = head.pose.orientation.y;
+    head_pose.orientation_xyzw[2] = head.pose.orientation.z;
+    head_pose.orientation_xyzw[3] = head.pose.orientation.w;
   }
   check(xrEndFrame(session_.get(), &end), instance_.get(), "xrEndFrame");
-  return to_steady(frame.predictedDisplayTime);
+  head_pose.predicted = to_steady(frame.predictedDisplayTime);
+  return head_pose;
 }
 
 std::string OpenXrConnection::describe() const {

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "runner/display/openxr_clock.h"
+
 namespace glarelab {
 
 // Owns one OpenXR handle and destroys it with `Destroy` (xrDestroyInstance, ...). Move-only.
@@ -43,13 +45,6 @@ class XrOwner {
   Handle handle_ = XR_NULL_HANDLE;
 };
 
-// A head pose in the LOCAL reference space at a frame's predicted display time.
-struct HeadPose {
-  bool valid = false;  // position and orientation both tracked or inferred
-  double position_m[3] = {0.0, 0.0, 0.0};
-  double orientation_xyzw[4] = {0.0, 0.0, 0.0, 1.0};
-};
-
 class OpenXrConnection {
  public:
   // Creates the instance (XR_KHR_opengl_enable, XR_KHR_convert_timespec_time), finds a head-mounted
@@ -80,11 +75,10 @@ class OpenXrConnection {
   // One frame: xrWaitFrame, xrBeginFrame, xrLocateViews; for each view its swapchain image is
   // acquired, handed to draw_view(view, GL texture, GL internal format) and released; xrEndFrame
   // with a projection layer in the VIEW space (head-locked: each eye sees its half where the frame
-  // put it). Returns the frame's predicted display time on steady_clock (CLOCK_MONOTONIC).
+  // put it). Returns the frame's predicted display time on steady_clock (CLOCK_MONOTONIC) and the
+  // head's pose then (in the LOCAL space).
   using DrawView = std::function<void(int view, std::uint32_t gl_texture, std::int64_t gl_format)>;
-  std::chrono::steady_clock::time_point submit_frame(const DrawView& draw_view);
-  // The head pose at the last submitted frame's predicted display time.
-  const HeadPose& head_pose() const { return head_pose_; }
+  HeadPoseSample submit_frame(const DrawView& draw_view);
 
   // "runtime 'Monado(XRT) by Collabora et al ...' system 'Monado: Simulated HMD', 2 views 512x256
   // (recommended 320x240) in GL_RGBA16F, display period 50 ms"
@@ -115,7 +109,6 @@ class OpenXrConnection {
   XrSessionState state_ = XR_SESSION_STATE_UNKNOWN;
   bool running_ = false;
   std::string ended_reason_;
-  HeadPose head_pose_;
 };
 
 }  // namespace glarelab
