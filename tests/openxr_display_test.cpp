@@ -75,6 +75,27 @@ TEST(OpenXrDisplay, WithoutARuntimeExitsThreeNamingOpenXrAndQuotingTheLoader) {
   EXPECT_FALSE(std::filesystem::exists(db)) << "nothing is written before the display opens";
 }
 
+// A mono experiment cannot be shown in a headset (each view is a half of a side-by-side frame):
+// refused at --display, exit 2, before the display opens or anything is written.
+TEST(OpenXrDisplay, MonoExperimentIsRefusedAtTheDisplayOptionBeforeAnythingIsWritten) {
+  const test::ScratchDir scratch;
+  std::filesystem::create_directories(scratch.path());
+  test::write_demo_conditions_without_glare(scratch.path() / "conditions.csv");
+  const std::filesystem::path experiment = test::demo_variant(
+      scratch.path(), {{"file", "file = \"" + (scratch.path() / "conditions.csv").string() + "\""}});
+  const std::filesystem::path db = scratch.path() / "session.db";
+  const ShellRun run = shell("'" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                 "' --display openxr --observer simulated --db '" + db.string() + "'",
+                             scratch.path() / "output.txt");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--display: key 'display': openxr shows each eye its half of a side-by-side frame: "
+                            "the experiment needs [display] stereo = \"side_by_side\""),
+            std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("OpenXR:"), std::string::npos) << "refused before the display opens: " << run.output;
+  EXPECT_FALSE(std::filesystem::exists(db));
+}
+
 TEST(OpenXrDisplay, SessionUnderMonadoStoresEveryTrialWithPredictedFlipsOnePeriodApart) {
   if (const auto missing = test::openxr_runtime_missing(true)) GTEST_SKIP() << *missing;
   const test::ScratchDir scratch;
