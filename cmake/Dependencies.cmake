@@ -60,6 +60,22 @@ endif()
 add_library(glarelab_deps_runner INTERFACE)
 target_link_libraries(glarelab_deps_runner INTERFACE glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::EGL PkgConfig::SQLITE3)
 
+# OpenXR (libopenxr-dev; docs/STEREO.md): the headset display links the loader only where it is
+# found, with GLX and Xlib for the OpenGL binding on X11; elsewhere `--display openxr` exits 3 saying so.
+# The answer is one generated header, read only by the OpenXR display's sources and tests.
+find_package(OpenXR CONFIG QUIET)
+find_package(OpenGL QUIET COMPONENTS GLX)
+find_package(X11 QUIET)
+if(OpenXR_FOUND AND TARGET OpenGL::GLX AND TARGET X11::X11)
+  target_link_libraries(glarelab_deps_runner INTERFACE OpenXR::openxr_loader OpenGL::GLX X11::X11)
+  set(GLARELAB_HAVE_OPENXR 1)
+else()
+  message(STATUS "OpenXR loader not found (libopenxr-dev): --display openxr will say so and exit 3")
+  set(GLARELAB_HAVE_OPENXR 0)
+endif()
+file(CONFIGURE OUTPUT ${CMAKE_BINARY_DIR}/generated/openxr_available.h
+     CONTENT "#pragma once\n#define GLARELAB_HAVE_OPENXR ${GLARELAB_HAVE_OPENXR}\n")
+
 # Eye trackers and response devices (runner/tracker, runner/devices): ZeroMQ (Pupil Core network
 # API) with cppzmq, msgpack-cxx header-only without Boost, hidapi (hidraw backend), libusb.
 pkg_check_modules(ZMQ REQUIRED IMPORTED_TARGET libzmq)

@@ -23,6 +23,10 @@ PACKAGES=(
   libzmq3-dev cppzmq-dev libmsgpack-cxx-dev        # eye trackers: Pupil Core network API (ZeroMQ + msgpack)
   libhidapi-dev libusb-1.0-0-dev                   # response devices (HID) and the USB device list
   libfreetype-dev fonts-dejavu-core                # text on instruction and message screens
+  libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libopenxr-utils  # OpenXR: --display openxr, its validation layer, hello_xr
+  # Monado, the OpenXR runtime the OpenXR tests run against (scripts/build_monado.sh builds it)
+  ninja-build libvulkan-dev mesa-vulkan-drivers libeigen3-dev libx11-dev libx11-xcb-dev libxcb1-dev libxcb-randr0-dev
+  libxrandr-dev libwayland-dev libudev-dev libbsd-dev libcjson-dev
 )
 
 missing=()

@@ -23,8 +23,9 @@ Action add_run_command(CLI::App& app) {
       ->capture_default_str();
   run->add_option("--db", options->db_path, "Results database (default: results/<experiment name>.db)");
   run->add_option("--display", options->display,
-                  "Where frames go: window, or offscreen (EGL, else OSMesa; egl or osmesa to insist on one)")
-      ->check(CLI::IsMember({"window", "offscreen", "egl", "osmesa"}))
+                  "Where frames go: window, openxr (a headset through the OpenXR runtime, with a mirror window), "
+                  "or offscreen (EGL, else OSMesa; egl or osmesa to insist on one)")
+      ->check(CLI::IsMember({"window", "openxr", "offscreen", "egl", "osmesa"}))
       ->capture_default_str();
   run->add_option("--observer", options->observer, "Who answers: keyboard, simulated or script:FILE")
       ->capture_default_str();

@@ -1,17 +1,20 @@
 // The one place a display backend is chosen. "offscreen" takes EGL (a GPU on a headless server,
 // or llvmpipe) and falls back to OSMesa, keeping EGL's answer in the context's platform text;
+// "openxr" a head-mounted display through an OpenXR runtime (openxr_display.h);
 // "egl" and "osmesa" ask for one of them and fail (DisplayError, exit 3) when it cannot start.
 #include "runner/display/display_backend.h"
 #include "runner/display/egl_display.h"
 #include "runner/display/glfw_display.h"
+#include "runner/display/openxr_display.h"
 #include "runner/display/osmesa_display.h"
 
 namespace glarelab {
 
-std::vector<std::string> display_kinds() { return {"window", "offscreen", "egl", "osmesa"}; }
+std::vector<std::string> display_kinds() { return {"window", "openxr", "offscreen", "egl", "osmesa"}; }
 
 std::unique_ptr<DisplayBackend> create_display(const std::string& kind, const DisplayRequest& request) {
   if (kind == "window") return create_glfw_display(request);
+  if (kind == "openxr") return create_openxr_display(request);
   if (kind == "egl") return create_egl_display(request);
   if (kind == "osmesa") return create_osmesa_display(request);
   if (kind == "offscreen") {
@@ -27,7 +30,7 @@ std::unique_ptr<DisplayBackend> create_display(const std::string& kind, const Di
       throw DisplayError(std::string(osmesa_failure.what()) + " (tried first: " + why_not_egl + ")");
     }
   }
-  throw DisplayError("display: unknown backend '" + kind + "' (choose window, offscreen, egl or osmesa)");
+  throw DisplayError("display: unknown backend '" + kind + "' (choose window, openxr, offscreen, egl or osmesa)");
 }
 
 }  // namespace glarelab

@@ -10,8 +10,10 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "protocols/comparison_luminance.h"
+#include "runner/display/openxr_clock.h"
 #include "runner/session/adjustment_keys.h"
 #include "runner/session/device_pause_screen.h"
 #include "runner/session/interrupt.h"
@@ -72,11 +74,25 @@ void log_database_locks(ResultStore& store, std::int64_t session_id, double now_
 // A virtual clock cannot stamp what happens in real time: a window's flips, a live tracker's
 // samples, a response device's presses.
 void check_virtual_clock(const RunOptions& options, const TrackerSession& tracker, const ResponseDeviceSession& device) {
-  if (options.clock == "virtual" && (options.display == "window" || tracker.live() || device.configured()))
+  const bool person_display = options.display == "window" || options.display == "openxr";
+  if (options.clock == "virtual" && (person_display || tracker.live() || device.configured()))
     throw ConfigError({}, "--clock",
                       std::string("virtual is for offscreen runs without live devices; this run has ") +
-                          (options.display == "window" ? "a window" : tracker.live() ? "a live tracker" : "a response device") +
+                          (options.display == "window" ? "a window" : options.display == "openxr" ? "a headset" : tracker.live() ? "a live tracker" : "a response device") +
                           ", whose times are real");
+}
+
+// A headset's head pose at each frame of the trial just run, as the trial's `head_poses` event
+// (runner/display/openxr_clock.h); nothing for other displays.
+void log_head_poses(ResultStore& store, std::int64_t session_id, int trial_index, DisplayBackend& display,
+                    const SessionClock& clock) {
+  auto* source = dynamic_cast<HeadPoseSource*>(&display);
+  const auto* predicted = dynamic_cast<const PredictedFlipClock*>(&clock);
+  if (source == nullptr || predicted == nullptr) return;
+  const std::vector<HeadPoseSample> poses = source->take_head_poses();
+  if (!poses.empty())
+    store.log_event(session_id, clock.now_s(), "head_poses",
+                    "trial " + std::to_string(trial_index) + ", " + describe_head_poses(poses, *predicted));
 }
 
 // The session's line on the progress stream, and for a person at the keys the first trial's
@@ -210,7 +226,9 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
       if (options.preview && plan.condition_name == options.preview->conditions.front() &&
           !options.preview->comparison_cd_m2.empty())
         plan = with_comparison_luminance(std::move(plan), options.preview->comparison_cd_m2);
-      if (!loop.run_trial(plan, progress)) {
+      const bool ran = loop.run_trial(plan, progress);
+      log_head_poses(store, result.session_id, plan.trial_index, *display, *clock);
+      if (!ran) {
         if (loop.take_trial_rerun()) continue;  // after a device pause: the same trial again
         break;
       }

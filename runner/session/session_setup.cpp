@@ -14,6 +14,7 @@
 #include "glare/wave/psf_scale.h"
 #include "protocols/stimulus_duration.h"
 #include "runner/display/display_info.h"
+#include "runner/display/openxr_clock.h"
 #include "runner/session/condition_depth_of_field.h"
 #include "runner/session/condition_refraction.h"
 #include "runner/session/scene_fingerprints.h"
@@ -222,14 +223,21 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   if (device && prepared.observer)
     throw ConfigError({"--response-device", 0, 0}, "response-device",
                       "a response device is answered by a person: use it with --observer keyboard, not " + options.observer);
-  if (device && options.display != "window" && options.response_device.optional)
+  // A headset shows each eye its half of a side-by-side frame (runner/display/openxr_display.h).
+  if (options.display == "openxr" && prepared.experiment.display.stereo != StereoMode::side_by_side)
+    throw ConfigError({"--display", 0, 0}, "display",
+                      "openxr shows each eye its half of a side-by-side frame: the experiment needs [display] stereo = "
+                      "\"side_by_side\" (docs/STEREO.md)");
+  // A window and a headset (its mirror window) have a keyboard at them; offscreen has none.
+  const bool person_display = options.display == "window" || options.display == "openxr";
+  if (device && !person_display && options.response_device.optional)
     throw ConfigError({"--response-device-optional", 0, 0}, "response-device-optional",
                       "an offscreen run has no other way to answer than its response device: it cannot be optional");
-  if (device && options.display != "window") prepared.observer_description = "response device";
+  if (device && !person_display) prepared.observer_description = "response device";
   // --- end response device ---
-  if (!prepared.observer && options.display != "window" && !device) {
+  if (!prepared.observer && !person_display && !device) {
     throw ConfigError({"--observer", 0, 0}, "observer",
-                      "the keyboard observer needs --display window; offscreen runs use --observer simulated or "
+                      "the keyboard observer needs --display window or openxr; offscreen runs use --observer simulated or "
                       "script:FILE");
   }
   return prepared;
@@ -266,7 +274,7 @@ RunOptions keep_resumed_clock(RunOptions options, const SessionStart& start) {
   const std::string& stored = start.resumed->clock;
   const bool stored_virtual = stored.rfind("virtual", 0) == 0;
   const std::string session = "session " + std::to_string(start.resumed->id);
-  if (stored_virtual && options.display == "window")
+  if (stored_virtual && (options.display == "window" || options.display == "openxr"))
     throw ConfigError({"--display", 0, 0}, "display",
                       session + " ran offscreen on the virtual clock; a window runs on the real clock, which would "
                                 "break its time line: resume it offscreen");
@@ -283,10 +291,14 @@ std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, 
                                                  const ResponseDeviceSession& device, const SessionStart& start,
                                                  const RunOptions& options) {
   std::unique_ptr<SessionClock> clock;
-  // A live tracker or response device needs the real-time clock (and an offscreen run paced in
-  // real time), as does an offscreen run asked for with --clock real.
-  if (display.real_time() || tracker.live() || device.configured() || options.clock == "real") {
-    clock = std::make_unique<MonotonicClock>(start.resumed ? start.store->last_flip_s(start.resumed->id) + 1.0 : 0.0);
+  const double resumed_offset_s = start.resumed ? start.store->last_flip_s(start.resumed->id) + 1.0 : 0.0;
+  // A headset's flips are the runtime's predicted display times (runner/display/openxr_clock.h).
+  if (const auto* predicted = dynamic_cast<const PredictedFlipSource*>(&display)) {
+    clock = std::make_unique<PredictedFlipClock>(*predicted, resumed_offset_s);
+  } else if (display.real_time() || tracker.live() || device.configured() || options.clock == "real") {
+    // A live tracker or response device needs the real-time clock (and an offscreen run paced in
+    // real time), as does an offscreen run asked for with --clock real.
+    clock = std::make_unique<MonotonicClock>(resumed_offset_s);
   } else {
     // Frame k of the session flips at k / refresh_hz, across resumptions too.
     clock = std::make_unique<VirtualClock>(display.refresh_hz(), 0.0,

@@ -1,0 +1,114 @@
+#pragma once
+// The OpenXR side of the OpenXR display (runner/display/openxr_display.cpp): instance, system,
+// session, reference spaces and one swapchain per view, each an RAII owner; the runtime's session
+// states; and one frame of the runtime's loop. Only built where CMake found the loader.
+#include <openxr/openxr.h>
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "runner/display/openxr_clock.h"
+
+namespace glarelab {
+
+// Owns one OpenXR handle and destroys it with `Destroy` (xrDestroyInstance, ...). Move-only.
+template <typename Handle, XrResult (*Destroy)(Handle)>
+class XrOwner {
+ public:
+  XrOwner() = default;
+  ~XrOwner() { reset(); }
+  XrOwner(XrOwner&& other) noexcept : handle_(std::exchange(other.handle_, XR_NULL_HANDLE)) {}
+  XrOwner& operator=(XrOwner&& other) noexcept {
+    if (this != &other) {
+      reset();
+      handle_ = std::exchange(other.handle_, XR_NULL_HANDLE);
+    }
+    return *this;
+  }
+  XrOwner(const XrOwner&) = delete;
+  XrOwner& operator=(const XrOwner&) = delete;
+  Handle get() const { return handle_; }
+  Handle* out() {
+    reset();
+    return &handle_;
+  }
+  void reset() {
+    if (handle_ != XR_NULL_HANDLE) Destroy(handle_);
+    handle_ = XR_NULL_HANDLE;
+  }
+
+ private:
+  Handle handle_ = XR_NULL_HANDLE;
+};
+
+class OpenXrConnection {
+ public:
+  // Creates the instance (XR_KHR_opengl_enable, XR_KHR_convert_timespec_time), finds a head-mounted
+  // display with a PRIMARY_STEREO view configuration and checks that each view can be
+  // view_width_px x view_height_px. Throws DisplayError "OpenXR: ..." (no runtime: with the loader's
+  // own message).
+  OpenXrConnection(int view_width_px, int view_height_px);
+  ~OpenXrConnection();
+  OpenXrConnection(const OpenXrConnection&) = delete;
+  OpenXrConnection& operator=(const OpenXrConnection&) = delete;
+
+  // The runtime's OpenGL requirement against the context's version.
+  void check_gl_version(int major, int minor);
+  // The session on the GLX context current on this thread, its spaces and swapchains.
+  void open_session_on_current_glx_context();
+  // Waits for READY (up to 10 s), begins the session and runs empty frames until the runtime's
+  // frame timing has settled; returns its refresh rate (Hz), one over the display period.
+  double begin();
+
+  // Drains the runtime's events and follows its session states: READY begins the session,
+  // STOPPING ends it, LOSS_PENDING and EXITING (and instance loss) end it for good.
+  void poll_events();
+  bool running() const { return running_; }
+  // The runtime ended the session (ended_reason() says how); the display asks to close.
+  bool ended() const { return !ended_reason_.empty(); }
+  const std::string& ended_reason() const { return ended_reason_; }
+
+  // One frame: xrWaitFrame, xrBeginFrame, xrLocateViews; for each view its swapchain image is
+  // acquired, handed to draw_view(view, GL texture, GL internal format) and released; xrEndFrame
+  // with a projection layer in the VIEW space (head-locked: each eye sees its half where the frame
+  // put it). Returns the frame's predicted display time on steady_clock (CLOCK_MONOTONIC) and the
+  // head's pose then (in the LOCAL space).
+  using DrawView = std::function<void(int view, std::uint32_t gl_texture, std::int64_t gl_format)>;
+  HeadPoseSample submit_frame(const DrawView& draw_view);
+
+  // "runtime 'Monado(XRT) by Collabora et al ...' system 'Monado: Simulated HMD', 2 views 512x256
+  // (recommended 320x240) in GL_RGBA16F, display period 50 ms"
+  std::string describe() const;
+
+ private:
+  struct View {
+    XrOwner<XrSwapchain, xrDestroySwapchain> swapchain;
+    std::vector<std::uint32_t> gl_textures;
+  };
+  void on_state(XrSessionState state);
+  std::chrono::steady_clock::time_point to_steady(XrTime time) const;
+
+  XrOwner<XrInstance, xrDestroyInstance> instance_;
+  XrSystemId system_ = XR_NULL_SYSTEM_ID;
+  XrOwner<XrSession, xrDestroySession> session_;
+  XrOwner<XrSpace, xrDestroySpace> view_space_;
+  XrOwner<XrSpace, xrDestroySpace> local_space_;
+  std::vector<View> views_;
+  int view_width_px_;
+  int view_height_px_;
+  std::uint32_t recommended_width_px_ = 0;
+  std::uint32_t recommended_height_px_ = 0;
+  std::int64_t format_ = 0;
+  std::string runtime_name_;
+  std::string system_name_;
+  XrDuration period_ns_ = 0;
+  XrSessionState state_ = XR_SESSION_STATE_UNKNOWN;
+  bool running_ = false;
+  std::string ended_reason_;
+};
+
+}  // namespace glarelab

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Builds Monado, an open OpenXR runtime, from its source tarball in ../shared/third_party/ into
+# build/monado, once: the OpenXR display backend's tests (tests/openxr_*_test.cpp) run against its
+# simulated headset and null compositor, headless under Xvfb (docs/STEREO.md). The source stays
+# outside the repository; it is unpacked into build/monado/src.
+#   scripts/build_monado.sh [JOBS]     JOBS defaults to nproc
+# Exit 0 when the runtime is built (or was already), and also, with a "skipped:" line saying why,
+# when the tarball or a package the build needs is missing: the OpenXR tests then skip likewise.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+repository=$PWD
+jobs=${1:-$(nproc)}
+out=build/monado
+manifest=$out/build/openxr_monado-dev.json
+
+if [ -f "$manifest" ] && [ -f "$out/built" ]; then
+  echo "build_monado: already built ($repository/$manifest)"
+  exit 0
+fi
+
+# ../shared beside the repository; for a git worktree elsewhere, beside its main checkout.
+common_dir=$(git rev-parse --path-format=absolute --git-common-dir 2>/dev/null || echo .git)
+shopt -s nullglob
+tarballs=(../shared/third_party/monado-*.tar.gz "$(dirname "$common_dir")"/../shared/third_party/monado-*.tar.gz)
+shopt -u nullglob
+if [ ${#tarballs[@]} -eq 0 ]; then
+  echo "build_monado: skipped: no Monado source (../shared/third_party/monado-*.tar.gz) beside the repository;" \
+       "the OpenXR tests will skip"
+  exit 0
+fi
+tarball=${tarballs[0]}
+
+# What Monado's in-process runtime with the simulated headset needs here (the third-party
+# README), beside the OpenXR loader and headers the backend itself builds against.
+PACKAGES=(cmake ninja-build pkg-config glslang-tools libvulkan-dev mesa-vulkan-drivers libeigen3-dev
+          libx11-dev libx11-xcb-dev libxcb1-dev libxcb-randr0-dev libxrandr-dev libgl-dev libegl-dev libwayland-dev libusb-1.0-0-dev
+          libudev-dev libhidapi-dev libbsd-dev libcjson-dev libopenxr-dev)
+missing=()
+for package in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$package")
+  fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "build_monado: skipped: Debian package(s) missing: ${missing[*]} (scripts/setup.sh installs them);" \
+       "the OpenXR tests will skip"
+  exit 0
+fi
+
+started_s=$SECONDS
+rm -rf "$out"
+mkdir -p "$out/src"
+echo "build_monado: unpacking $(basename "$tarball") into $out/src"
+tar -xzf "$tarball" -C "$out/src" --strip-components=1
+
+# Every driver off but the simulated headset; an in-process runtime (no service, no IPC). The main
+# compositor stays on: the in-process target always links it (off fails with "cannot find
+# -lcomp_main"); the null compositor is chosen at run time with XRT_COMPOSITOR_NULL=1.
+drivers_off=()
+for driver in $(grep -o 'option_with_deps(XRT_BUILD_DRIVER_[A-Z0-9_]*' "$out/src/CMakeLists.txt" | sed 's/.*(//' | sort -u); do
+  [ "$driver" = XRT_BUILD_DRIVER_SIMULATED ] || drivers_off+=("-D$driver=OFF")
+done
+echo "build_monado: configuring in $out/build"
+cmake -G Ninja -S "$out/src" -B "$out/build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DXRT_FEATURE_SERVICE=OFF -DXRT_MODULE_IPC=OFF -DXRT_MODULE_COMPOSITOR_MAIN=ON \
+  -DXRT_MODULE_COMPOSITOR_NULL=ON -DBUILD_TESTING=OFF -DXRT_BUILD_SAMPLES=OFF \
+  -DXRT_MODULE_MONADO_CLI=OFF -DXRT_MODULE_AUX_VIVE=OFF -DXRT_FEATURE_STEAMVR_PLUGIN=OFF \
+  -DXRT_HAVE_OPENCV=OFF -DXRT_HAVE_GST=OFF -DXRT_HAVE_SDL2=OFF \
+  "${drivers_off[@]}" -DXRT_BUILD_DRIVER_SIMULATED=ON > "$out/configure.log" 2>&1 \
+  || { tail -40 "$out/configure.log"; echo "build_monado: configuring Monado failed ($out/configure.log)"; exit 1; }
+echo "build_monado: building with $jobs jobs (about 2 minutes on 2 cores)"
+cmake --build "$out/build" -j"$jobs" > "$out/build.log" 2>&1 \
+  || { tail -40 "$out/build.log"; echo "build_monado: building Monado failed ($out/build.log)"; exit 1; }
+if [ ! -f "$manifest" ]; then
+  echo "build_monado: the build finished without $manifest"
+  exit 1
+fi
+touch "$out/built"
+echo "build_monado: built in $((SECONDS - started_s)) s: XR_RUNTIME_JSON=$repository/$manifest"
