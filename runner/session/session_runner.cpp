@@ -120,6 +120,15 @@ void check_preview_overrides(const StimulusPreview& preview) {
                                 "luminance, a time or a glare mode is for one condition");
 }
 
+// A preview (glarelab render) attached to the loop; one condition a procedure would not show is
+// shown by it (protocols/comparison_luminance.h).
+void attach_preview(SessionLoop& loop, PreparedSession& prepared, const StimulusPreview& preview) {
+  check_preview_overrides(preview);
+  loop.attach_preview(preview);
+  if (preview.conditions.size() == 1)
+    show_condition_in_preview(*prepared.procedure, prepared.experiment, preview.conditions.front());
+}
+
 }  // namespace
 
 RunResult run_session(const RunOptions& asked, std::ostream& progress) {
@@ -208,10 +217,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     // 4. The trials.
     SessionLoop loop(prepared, *display, *clock, store, result.session_id, tracker, pacer.get());
     if (device.active()) loop.attach_response_device(&device_input, pause_message);
-    if (options.preview) loop.attach_preview(*options.preview);
-    if (options.preview) check_preview_overrides(*options.preview);
-    if (options.preview && options.preview->conditions.size() == 1)
-      show_condition_in_preview(*prepared.procedure, prepared.experiment, options.preview->conditions.front());
+    if (options.preview) attach_preview(loop, prepared, *options.preview);
     if (!options.save_frames_dir.empty()) loop.save_first_frames_to(options.save_frames_dir);
     loop.attach_status(options.status);
     if (options.status) options.status->set_step("preparing the first trial");
