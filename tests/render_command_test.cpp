@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "cli_process.h"
+#include "lamp_scene.h"
 #include "scratch_dir.h"
 #include "stimuli/display_model.h"
 #include "core/exr_io.h"
@@ -16,14 +17,7 @@
 namespace glarelab {
 namespace {
 
-// 32 x 32 black scene with a 4 x 4 lamp in the middle.
-void write_lamp_scene(const std::string& path, float lamp_cd_m2) {
-  ImageRGBA scene(32, 32, 0.0f);
-  for (int y = 14; y < 18; ++y)
-    for (int x = 14; x < 18; ++x)
-      for (int c = 0; c < 3; ++c) scene.pixel(x, y)[c] = lamp_cd_m2;
-  write_exr(path, scene);
-}
+using test::write_lamp_scene;
 
 std::string experiment_text() {
   return R"([experiment]

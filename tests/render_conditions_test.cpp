@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli_process.h"
+#include "lamp_scene.h"
 #include "core/exr_io.h"
 #include "core/png_io.h"
 #include "scratch_dir.h"
@@ -18,14 +19,7 @@
 namespace glarelab {
 namespace {
 
-// 32 x 32 black scene with a 4 x 4 lamp in the middle.
-void write_lamp_scene(const std::string& path, float lamp_cd_m2) {
-  ImageRGBA scene(32, 32, 0.0f);
-  for (int y = 14; y < 18; ++y)
-    for (int x = 14; x < 18; ++x)
-      for (int c = 0; c < 3; ++c) scene.pixel(x, y)[c] = lamp_cd_m2;
-  write_exr(path, scene);
-}
+using test::write_lamp_scene;
 
 // Three conditions over six trials in a seeded order (held/still first, then plain, then moving);
 // the dynamic eye and the perception stages' eye see every frame, so a frame captured after
