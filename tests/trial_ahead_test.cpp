@@ -155,6 +155,10 @@ TEST(TrialAhead, EveryKnownTrialIsPreparedAheadAndItsFramesAreThoseMadeAtTheTria
               std::string::npos)
         << whole[t];
     EXPECT_NE(whole[t].find("glare frames computed on the display's thread for the onset: 0"), std::string::npos) << whole[t];
+    // The display's thread only lays the trial out: its scenes are composed on the worker, and
+    // nothing is written to the stimulus framebuffer for it before its onset (a count, not a time).
+    EXPECT_NE(whole[t].find("its scenes composed there on the CPU"), std::string::npos) << whole[t];
+    EXPECT_NE(whole[t].find(" 0 write(s) to the stimulus framebuffer"), std::string::npos) << whole[t];
   }
 
   // glarelab render computes its trial's frame at the trial (a preview is never prepared ahead),

@@ -20,6 +20,7 @@
 #include "core/clock.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/cpu_composition.h"
 #include "runner/session/interval_glare.h"
 #include "runner/session/session_eyes.h"
 #include "runner/session/session_setup.h"
@@ -51,6 +52,13 @@ class SessionGlare {
   // it, and tracker inputs. `flips_before`: timed flips between now and the interval's first
   // stimulus frame (fixation, interval 1).
   IntervalGlare begin_interval(const TrialPlan& plan, const std::vector<Placement>& placements, int flips_before);
+  // The same on a worker beside the display's flips (runner/session/trial_ahead.cpp), its first
+  // stimulus frame flipping at `first_flip_s`: the scenes composed by `composition` on the CPU (the
+  // GL composition's frame bit for bit, runner/session/cpu_composition.h), the display's context
+  // never made current. Only when computes_off_display_thread() said so, composition.exact(placements),
+  // no tracker runs and no preview captures, and nothing else asks the eyes for frames meanwhile.
+  IntervalGlare begin_interval_off_display(const TrialPlan& plan, const std::vector<Placement>& placements,
+                                           double first_flip_s, const CpuComposition& composition);
   // Whether the interval's frames are all computed before onset (prepared presentation, or the
   // perception stages, whose eye sees its frames in the order they flip).
   bool prepared_before_onset(const IntervalGlare& glare) const;
@@ -91,10 +99,18 @@ class SessionGlare {
     bool depth_of_field = false;
   };
   ConditionOptics condition_optics(const TrialPlan& plan) const;
+  // begin_interval's work, composing in GL on the display's thread (`composition` nullptr) or on
+  // the CPU beside it.
+  IntervalGlare begin_interval_at(const TrialPlan& plan, const std::vector<Placement>& placements, double first_flip_s,
+                                  const CpuComposition* composition);
+  // The placements composed over `background_cd_m2` and read back (row 0 at the top).
+  ImageRGBA composed(const std::vector<Placement>& placements, double background_cd_m2,
+                     const CpuComposition* composition);
   // The interval's composed frame and, for each eye, its view of it (and of each position's layer
   // when the sides differ, `position_modes`) as it reaches that eye through the optics.
   void see_through_optics(IntervalGlare& glare, const TrialPlan& plan, const std::vector<Placement>& placements,
-                          const ConditionOptics& optics, const std::vector<GlareMode>& position_modes);
+                          const ConditionOptics& optics, const std::vector<GlareMode>& position_modes,
+                          const CpuComposition* composition);
   void log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare);
   const ConditionRow& condition_row(const TrialPlan& plan) const;
 

@@ -17,6 +17,7 @@
 #include "core/clock.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/cpu_composition.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interval_glare.h"
 #include "runner/session/session_glare.h"
@@ -193,8 +194,9 @@ class SessionLoop {
   // runner/session/trial_ahead.cpp: the next trial prepared while this one runs (docs/TIMING.md,
   // "Trials prepared ahead").
   // After a stimulus flip of the current trial, once none of its frames is left to compute live:
-  // the trial the procedure knows comes next (Procedure::peek_following_trial) is laid out and its
-  // glare begun here, on the display's thread, and its frames are computed on a worker thread
+  // the trial the procedure knows comes next (Procedure::peek_following_trial) is laid out here, on
+  // the display's thread, and a worker thread composes its scenes on the CPU (CpuComposition; in GL
+  // here first where that is not GL's frame bit for bit), begins its glare and computes its frames
   // beside the current trial's remaining flips, its answer and the next inter-trial interval.
   // `flip`: the index in `schedule.timed` of the flip just made, at `flip_s`.
   void begin_trial_ahead(const TrialPlan& current, const TrialSchedule& schedule, std::size_t flip, double flip_s,
@@ -226,6 +228,8 @@ class SessionLoop {
   FrameRenderer renderer_;
   double period_s_;
   std::map<std::string, SceneTexture> textures_;
+  // The same scenes composed on the CPU, for the worker preparing a trial ahead.
+  CpuComposition composition_;
   FrameTimingMonitor timing_;
   PreviewCapture capture_;
   // The session's glare and perception (runner/session/session_glare.h).
@@ -257,8 +261,13 @@ class SessionLoop {
     TrialPlan plan;
     TrialIntervals intervals;
     int beside_trial = -1;
-    double layout_s = 0.0;               // laid out and its glare begun, on the display's thread
-    std::vector<int> frames_to_compute;  // per interval: all (-1), the first (a live one), none (0)
+    double layout_s = 0.0;               // laid out (and its glare begun where GL composes it), on the display's thread
+    std::vector<double> first_flip_s;    // per interval: when its first stimulus frame is planned to flip
+    // Its scenes composed on the CPU by the worker (CpuComposition::exact), or in GL on the display's
+    // thread before the worker starts; and the stimulus framebuffer's writes that made on that thread.
+    bool composed_on_worker = false;
+    std::uint64_t display_writes = 0;
+    std::vector<int> frames_to_compute;  // per interval: all (-1) or none (0); the worker's
     std::thread worker;
     std::atomic<bool> stop{false};
     std::exception_ptr error;
@@ -273,7 +282,9 @@ class SessionLoop {
     int beside_trial = -1;
     int worker_frames = 0;     // glare frames the worker computed
     double worker_s = 0.0;     // its wall time
-    double layout_ms = 0.0;    // laying the trial out and beginning its glare, on the display's thread
+    double layout_ms = 0.0;    // laying the trial out (and beginning its glare in GL), on the display's thread
+    bool composed_on_worker = false;
+    std::uint64_t display_writes = 0;  // to the stimulus framebuffer, for it, on the display's thread
     double onset_wait_s = 0.0; // how long the trial waited for the worker after its inter-trial interval
     std::string not_ahead;     // why the trial was not prepared ahead (empty when it was)
     int onset_frames_computed = 0;  // glare frames computed on the display's thread before the onset flip
