@@ -78,6 +78,13 @@ class SessionLoop {
   // preparation are shown on it.
   void attach_status(StatusLine* status) { status_ = status; }
 
+  // runner/session/trial_commit.cpp: waits for the last answered trial's commit (its error
+  // rethrown). The session loop calls it before the next answer is taken; the session, before it
+  // ends or stops.
+  void finish_commit();
+  // How this run's trials were committed: the 'trial_commits' event.
+  std::string commit_summary() const;
+
   bool aborted() const { return aborted_; }
   const std::string& abort_reason() const { return abort_reason_; }
   FrameTimingSummary timing_summary() const { return timing_.summary(); }
@@ -215,7 +222,11 @@ class SessionLoop {
   void log_trial_preparation(const TrialPlan& plan, const TrialIntervals& intervals);
 
   // runner/session/trial_commit.cpp
-  void commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome);
+  // The answered trial's row, adjustments and flips in one transaction, then its trial_phases
+  // event, on a thread of its own with a second connection to the database, beside the next
+  // trial's start; `progress_line` (may be empty) is written to `progress` once it is committed.
+  void commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome, std::string progress_line,
+              std::ostream& progress);
 
   // Initialised in this order (the overlays draw with the renderer).
   TrackerSession& tracker_;
@@ -290,6 +301,15 @@ class SessionLoop {
     int onset_frames_computed = 0;  // glare frames computed on the display's thread before the onset flip
   };
   TrialPreparation preparation_;
+  // The commit in flight (runner/session/trial_commit.cpp): its thread and connection, its error,
+  // and the progress line said once it is in.
+  std::unique_ptr<ResultStore> commit_store_;
+  std::thread committer_;
+  std::exception_ptr commit_error_;
+  std::string pending_progress_;
+  std::ostream* pending_progress_stream_ = nullptr;
+  int commits_beside_ = 0;   // on the committer's thread
+  int commits_at_once_ = 0;  // on the display's thread (an in-memory database)
 };
 
 }  // namespace glarelab

@@ -58,7 +58,12 @@ int frames_ahead(const IntervalGlare& glare) { return glare.computed() ? -1 : 0;
 
 }  // namespace
 
-SessionLoop::~SessionLoop() { drop_trial_ahead(); }
+SessionLoop::~SessionLoop() {
+  drop_trial_ahead();
+  // A session ended by an error: the answered trial's commit still lands (its own error, if any,
+  // is the lesser one and is not thrown from here).
+  if (committer_.joinable()) committer_.join();
+}
 
 void SessionLoop::drop_trial_ahead() {
   if (!ahead_) return;
