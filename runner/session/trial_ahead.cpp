@@ -90,8 +90,9 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
   // one (an answer awaited from a person, feedback, the next inter-trial interval or fixation), it
   // is done after that last stimulus flip, delaying at most one of those; when the next onset
   // follows directly, after this flip, so that the worker has the trial's remaining flips.
+  // (A physical object has no scene to lay out; it is declined below.)
   bool composed_here = false;
-  for (int interval = 0; next && interval < next_schedule->intervals; ++interval)
+  for (int interval = 0; next && next->real_stimulus.empty() && interval < next_schedule->intervals; ++interval)
     composed_here = composed_here || !composition_.exact(layout(interval_plan(*next, interval)));
   std::size_t last_stimulus = 0;
   for (std::size_t i = 0; i < schedule.timed.size(); ++i)
@@ -154,8 +155,14 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
   ahead_ = std::move(ahead);
   if (!computes) return;
   TrialAhead* const a = ahead_.get();
-  a->worker = std::thread([this, a] {
-    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kWorkerNiceness);  // best effort
+  // Below the display's thread where flips keep real time. On the virtual clock no flip waits for
+  // it, while the display's thread flips as fast as it draws: at a lower priority the worker's
+  // frames (and its helper threads', core/chunk_pool.h) would measure the costs by which "auto"
+  // settles a glare layout (glare_presentation.cpp) as those of a starved thread.
+  const bool below_display = clock_.name() != "virtual";
+  a->worker = std::thread([this, a, below_display] {
+    if (below_display)
+      setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kWorkerNiceness);  // best effort
     const auto worker_start = std::chrono::steady_clock::now();
     try {
       for (std::size_t i = 0; a->composed_on_worker && i < a->intervals.shown_plans.size() && !a->stop; ++i) {
