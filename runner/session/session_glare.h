@@ -40,8 +40,20 @@ struct PreviewCapture {
   bool captures(const TrialPlan& plan) const { return preview != nullptr && plan.condition_name == preview->condition; }
 };
 
+// An event of a trial held to be written with the trial's commit, beside the next onset
+// (runner/session/trial_commit.cpp), rather than by a synced write on the display's thread between
+// the trial's flips or before the next onset.
+struct HeldEvent {
+  double at_s;
+  std::string kind, message;
+};
+
 class SessionGlare {
  public:
+  // A trial's own events (glare skipped, its window, gaze latency, stereo eyes, a live layout taken
+  // back to prepared) go into `held` from now on, written with the trial's commit.
+  void hold_trial_events_in(std::vector<HeldEvent>* held) { held_events_ = held; }
+
   // Logs the glare setup (backend and frame engine, the eye's inputs, the observer's optics per
   // condition, stereo eyes). `renderer` composes the scenes the glare is applied to.
   SessionGlare(const PreparedSession& prepared, FrameRenderer& renderer, DisplayBackend& display, SessionClock& clock,
@@ -156,6 +168,10 @@ class SessionGlare {
   void log_stereo_setup();
   // Stereo only: the interval's stereo_eyes event (each eye's pupil, gaze and adapted luminance).
   void log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare);
+
+  // A trial's own event: held for its commit when hold_trial_events_in was called, else written now.
+  void log_trial_event(double at_s, const std::string& kind, std::string message);
+  std::vector<HeldEvent>* held_events_ = nullptr;
 
   const PreparedSession& prepared_;
   FrameRenderer& renderer_;

@@ -80,8 +80,9 @@ class SessionLoop {
 
   // runner/session/trial_commit.cpp: waits for the last answered trial's commit (its error
   // rethrown). The session loop calls it before the next answer is taken; the session, before it
-  // ends or stops.
-  void finish_commit();
+  // ends or stops, with `write_held_events`: the events held for a commit that never came (a
+  // trial aborted before its answer) are written then.
+  void finish_commit(bool write_held_events = false);
   // How this run's trials were committed: the 'trial_commits' event.
   std::string commit_summary() const;
 
@@ -308,6 +309,9 @@ class SessionLoop {
   std::exception_ptr commit_error_;
   std::string pending_progress_;
   std::ostream* pending_progress_stream_ = nullptr;
+  // Events of the trial written with its commit rather than between its flips or before the next
+  // onset: its trial_preparation, its dropped frames, its glare's (SessionGlare::hold_trial_events_in).
+  std::vector<HeldEvent> events_with_commit_;
   int commits_beside_ = 0;   // on the committer's thread
   int commits_at_once_ = 0;  // on the display's thread (an in-memory database)
 };

@@ -248,7 +248,9 @@ void SessionLoop::log_trial_preparation(const TrialPlan& plan, const TrialInterv
     text += "frames prepared at the trial, not ahead: " +
             (preparation_.not_ahead.empty() ? std::string("the first trial of the run") : preparation_.not_ahead);
   text += "; glare frames computed on the display's thread for the onset: " + std::to_string(preparation_.onset_frames_computed);
-  store_.log_event(session_id_, clock_.now_s(), "trial_preparation", text);
+  // Written with the trial's commit, beside the next onset (trial_commit.cpp): a synced write here
+  // would sit between this trial's last flip and the next onset.
+  events_with_commit_.push_back({clock_.now_s(), "trial_preparation", std::move(text)});
 }
 
 }  // namespace glarelab

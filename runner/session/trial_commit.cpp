@@ -6,7 +6,9 @@
 // ("recording the trial", docs/PERFORMANCE.md). It is finished before the next answer is taken
 // (finish_commit: collect_response, a key that answers in the timed sequence), before the session
 // ends or stops, and before the run's progress says the trial is in: a SIGKILL before then loses
-// only a trial that nothing has said was recorded, and a resumed session shows it again.
+// only a trial that nothing has said was recorded, and a resumed session shows it again. The
+// trial's own events (its trial_preparation, dropped_frame and glare events) go with it, written
+// before its row: each is a synced write that, on the display's thread, would fall between flips.
 #include <sqlite3.h>
 
 #include <chrono>
@@ -33,8 +35,11 @@ void SessionLoop::commit(const TrialPlan& plan, const TrialRun& run, const Trial
   std::vector<AdjustmentSetting> adjustments = adjustment_settings(outcome);
   std::string phases = describe_trial_phases(plan.trial_index, run.phases);
   const double phases_s = clock_.now_s();
+  std::vector<HeldEvent> events = std::move(events_with_commit_);
+  events_with_commit_.clear();
   // An in-memory database has no second connection: committed here, as before.
   if (store_.path().empty() || store_.path() == ":memory:" || store_.path().rfind("file:", 0) == 0) {
+    for (const HeldEvent& event : events) store_.log_event(session_id_, event.at_s, event.kind, event.message);
     store_.commit_trial(record, run.frames, adjustments);
     store_.log_event(session_id_, phases_s, "trial_phases", phases);
     progress << progress_line << std::flush;
@@ -46,11 +51,13 @@ void SessionLoop::commit(const TrialPlan& plan, const TrialRun& run, const Trial
   pending_progress_ = std::move(progress_line);
   pending_progress_stream_ = &progress;
   committer_ = std::thread([this, record, frames = run.frames, adjustments = std::move(adjustments),
-                            phases = std::move(phases), phases_s] {
+                            phases = std::move(phases), phases_s, events = std::move(events)] {
     try {
       // As the session's own connection: a lock another process holds is waited out, not a failure
       // (runner/store/lock_wait.h); Ctrl-C ends the wait.
       const LockWait wait(commit_store_->handle(), [](double) { return !interrupt_requested(); });
+      for (const HeldEvent& event : events)
+        commit_store_->log_event(session_id_, event.at_s, event.kind, event.message);
       commit_store_->commit_trial(record, frames, adjustments);
       commit_store_->log_event(session_id_, phases_s, "trial_phases", phases);
     } catch (...) {
@@ -59,7 +66,11 @@ void SessionLoop::commit(const TrialPlan& plan, const TrialRun& run, const Trial
   });
 }
 
-void SessionLoop::finish_commit() {
+void SessionLoop::finish_commit(bool write_held_events) {
+  if (write_held_events) {
+    for (const HeldEvent& event : events_with_commit_) store_.log_event(session_id_, event.at_s, event.kind, event.message);
+    events_with_commit_.clear();
+  }
   if (!committer_.joinable()) return;
   committer_.join();
   if (commit_error_) {

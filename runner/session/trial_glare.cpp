@@ -298,6 +298,13 @@ bool SessionGlare::prepare_frames(IntervalGlare& glare, const std::function<bool
   return true;
 }
 
+void SessionGlare::log_trial_event(double at_s, const std::string& kind, std::string message) {
+  if (held_events_ != nullptr)
+    held_events_->push_back({at_s, kind, std::move(message)});
+  else
+    store_.log_event(session_id_, at_s, kind, message);
+}
+
 void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare) {
   if (!glare.computed()) return;
   const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + glare.modes_label + "): ";
@@ -305,21 +312,21 @@ void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare
                                 (glare.layer_modes.empty() ? " glare frame(s)" : " glare layer frame(s)");
   const double now_s = clock_.now_s();
   if (glare.skipped > 0)
-    store_.log_event(session_id_, now_s, "glare_skipped",
+    log_trial_event(now_s, "glare_skipped",
                      trial + "convolution skipped on " + std::to_string(glare.skipped) + of_frames + ": " +
                          glare.skip_reason);
   if (glare.closed > 0)
-    store_.log_event(session_id_, now_s, "glare_skipped",
+    log_trial_event(now_s, "glare_skipped",
                      trial + "eye closed by a blink on " + std::to_string(glare.closed) + of_frames +
                          ": the PSF of the last open frame is held");
   if (glare.gratings_hidden > 0)
-    store_.log_event(session_id_, now_s, "glare_skipped",
+    log_trial_event(now_s, "glare_skipped",
                      trial + "lens fibre gratings left out on " + std::to_string(glare.gratings_hidden) + of_frames +
                          ": pupil (smallest " + std::to_string(glare.smallest_pupil_mm) +
                          " mm) inside the clear lens centre (cortex annulus from " +
                          std::to_string(2.0 * prepared_.experiment.glare.eye.lens_cortex_inner_radius_mm) + " mm diameter)");
   if (glare.window)
-    store_.log_event(session_id_, now_s, "glare_window",
+    log_trial_event(now_s, "glare_window",
                      trial + describe_glare_window(*glare.window, glare.eyes.front().tracked));
   if (!glare.gaze_to_flip_s.empty()) {
     double sum_s = 0.0, largest_s = 0.0;
@@ -328,7 +335,7 @@ void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare
       largest_s = std::max(largest_s, latency_s);
     }
     const double mean_ms = 1000.0 * sum_s / static_cast<double>(glare.gaze_to_flip_s.size());
-    store_.log_event(session_id_, now_s, "gaze_latency",
+    log_trial_event(now_s, "gaze_latency",
                      trial + "gaze to flip mean " + number_text(std::round(mean_ms * 1000.0) / 1000.0) + " ms, max " +
                          number_text(std::round(1000.0 * largest_s * 1000.0) / 1000.0) + " ms over " +
                          std::to_string(glare.gaze_to_flip_s.size()) + " live glare frame(s)");
