@@ -6,8 +6,15 @@
 #include <deque>
 #include <exception>
 #include <memory>
+#include <map>
 #include <mutex>
 #include <thread>
+
+#ifdef __linux__
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
 
 namespace glarelab {
 namespace {
@@ -40,6 +47,8 @@ struct ChunkJob {
 
 class ChunkPool {
  public:
+  explicit ChunkPool(int niceness) : niceness_(niceness) {}
+
   void run(int chunks, const std::function<void(int)>& run_chunk) {
     auto job = std::make_shared<ChunkJob>();
     job->run_chunk = &run_chunk;
@@ -65,6 +74,10 @@ class ChunkPool {
 
  private:
   void serve() {
+#ifdef __linux__
+    // Inherited from the caller that started it already; said again in case a platform does not.
+    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), niceness_);  // best effort
+#endif
     for (;;) {
       std::shared_ptr<ChunkJob> job;
       {
@@ -85,12 +98,33 @@ class ChunkPool {
   std::condition_variable wake_;
   std::deque<std::shared_ptr<ChunkJob>> jobs_;
   int workers_ = 0;  // started, detached
+  int niceness_;
 };
 
-// Never destroyed: its detached workers wait on it until the process ends, and no static
+// The calling thread's niceness (Linux keeps one per thread; 0 elsewhere).
+int caller_niceness() {
+#ifdef __linux__
+  return getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
+#else
+  return 0;
+#endif
+}
+
+// One pool per niceness of the threads that call it. A thread started by a caller inherits the
+// caller's niceness, so a pool's workers run at its callers' priority: the chunks of a thread
+// working below the display's (the session's worker preparing the next trial at a niceness of 5,
+// runner/session/trial_ahead.cpp) never run on workers at the display thread's priority, and
+// never wait behind its chunks. (An unprivileged thread cannot lower its niceness again, so one
+// pool whose workers changed priority per job would be stuck at the highest niceness it met.)
+// Never destroyed: their detached workers wait on them until the process ends, and no static
 // destructor has to stop them while another static's destructor may still use a loop.
 ChunkPool& pool() {
-  static ChunkPool* instance = new ChunkPool;
+  static std::mutex mutex;
+  static auto* pools = new std::map<int, ChunkPool*>;
+  const int niceness = caller_niceness();
+  std::lock_guard lock(mutex);
+  ChunkPool*& instance = (*pools)[niceness];
+  if (instance == nullptr) instance = new ChunkPool(niceness);
   return *instance;
 }
 
@@ -106,5 +140,7 @@ void run_chunks(int chunks, const std::function<void(int chunk)>& run_chunk) {
 }
 
 int chunk_workers_started() { return pool().started(); }
+
+int chunk_thread_niceness() { return caller_niceness(); }
 
 }  // namespace glarelab

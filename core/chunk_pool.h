@@ -16,8 +16,13 @@ namespace glarelab {
 
 void run_chunks(int chunks, const std::function<void(int chunk)>& run_chunk);
 
-// Workers the pool has started so far (they start on demand, up to kMaxChunkWorkers).
+// The chunks of a caller run on workers at the caller's niceness (one pool per niceness, each
+// started by its first caller): a thread working below another's priority does not lend its
+// chunks to threads at the higher one.
+// Workers the calling thread's pool has started so far (they start on demand, up to kMaxChunkWorkers).
 int chunk_workers_started();
+// The niceness of the calling thread (Linux; 0 elsewhere): what its chunks' workers run at.
+int chunk_thread_niceness();
 inline constexpr int kMaxChunkWorkers = 15;
 
 }  // namespace glarelab

@@ -155,6 +155,10 @@ TEST(TrialAhead, EveryKnownTrialIsPreparedAheadAndItsFramesAreThoseMadeAtTheTria
               std::string::npos)
         << whole[t];
     EXPECT_NE(whole[t].find("glare frames computed on the display's thread for the onset: 0"), std::string::npos) << whole[t];
+    // The display's thread only lays the trial out: its scenes are composed on the worker, and
+    // nothing is written to the stimulus framebuffer for it before its onset (a count, not a time).
+    EXPECT_NE(whole[t].find("its scenes composed there on the CPU"), std::string::npos) << whole[t];
+    EXPECT_NE(whole[t].find(" 0 write(s) to the stimulus framebuffer"), std::string::npos) << whole[t];
   }
 
   // glarelab render computes its trial's frame at the trial (a preview is never prepared ahead),
@@ -162,6 +166,15 @@ TEST(TrialAhead, EveryKnownTrialIsPreparedAheadAndItsFramesAreThoseMadeAtTheTria
   // first trial of it, prepared ahead from trial 1 on, saved the same frame bit for bit.
   const ResultStore store(whole_db);
   const std::vector<TrialRecord> trials = store.load_trials(store.load_sessions().at(0).id);
+  // Each trial's commit went beside the next trial's start, on the committer's own connection, and
+  // every answered trial is in the database with its flips.
+  const std::vector<std::string> commits = test::session_event_messages(whole_db, "trial_commits");
+  ASSERT_EQ(commits.size(), 1u);
+  EXPECT_EQ(commits[0].rfind("10 trial(s) committed on a connection of their own beside the next trial's start", 0), 0u)
+      << commits[0];
+  EXPECT_NE(commits[0].find("; 0 committed at once"), std::string::npos) << commits[0];
+  EXPECT_EQ(trials.size(), 10u);
+  EXPECT_EQ(test::session_event_messages(whole_db, "trial_phases").size(), 10u);
   int compared_ahead = 0;
   for (const std::string condition : {"ratio_1.05", "ratio_1.15", "ratio_1.30", "ratio_1.60", "ratio_2.00"}) {
     int trial = -1;

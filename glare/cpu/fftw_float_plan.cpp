@@ -1,10 +1,12 @@
 #include "glare/cpu/fftw_float_plan.h"
 
+#include "core/chunk_pool.h"
 #include "glare/cpu/fftw_wisdom.h"
 
 #include <fftw3.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -29,6 +31,16 @@ fftwf_plan_s* plan_with_threads(int threads, const char* what, FftwPlanning plan
   return plan;
 }
 
+// FFTW's parallel loops run on core's chunk pool (fftwf_threads_set_callback, FFTW 3.3.9; the
+// manual's "Usage of Multi-threaded FFTW"), not on FFTW's own threads: the jobs are FFTW's, each run
+// once, so a transform's result is the same. The pool runs a caller's chunks at the caller's
+// niceness (core/chunk_pool.h), so a frame computed below the display's priority (the trial
+// prepared ahead, runner/session/trial_ahead.cpp) does not lend its transforms to threads at the
+// display's.
+void run_fftw_jobs(void* (*work)(char*), char* jobdata, std::size_t elsize, int njobs, void*) {
+  run_chunks(njobs, [&](int job) { work(jobdata + elsize * static_cast<std::size_t>(job)); });
+}
+
 }  // namespace
 
 std::mutex& fftw_planner_mutex() {
@@ -38,7 +50,11 @@ std::mutex& fftw_planner_mutex() {
   // fftwf_init_threads has another configuration, and wisdom carries the configuration as its
   // signature: wisdom written by a process that planned (or set a time limit) first could not be read
   // by one that set up threads first, and the kept plans (glare/cpu/fftw_wisdom.h) would be measured again.
-  static const bool threads_ready = fftwf_init_threads() != 0;
+  static const bool threads_ready = [] {
+    if (fftwf_init_threads() == 0) return false;
+    fftwf_threads_set_callback(&run_fftw_jobs, nullptr);
+    return true;
+  }();
   if (!threads_ready) throw std::runtime_error("glare/cpu/fftw_float_plan: fftwf_init_threads failed");
   return mutex;
 }

@@ -265,7 +265,7 @@ void SessionGlare::log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& g
       text += ", gaze at its view's centre";
     if (!eye.adapted_cd_m2.empty()) text += ", adapted luminance of its first frame " + number_text(eye.adapted_cd_m2.front()) + " cd/m2";
   }
-  store_.log_event(session_id_, clock_.now_s(), "stereo_eyes", text);
+  log_trial_event(clock_.now_s(), "stereo_eyes", text);
 }
 
 }  // namespace glarelab

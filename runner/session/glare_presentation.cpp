@@ -70,8 +70,8 @@ void SessionGlare::review_live_presentation(const TrialPlan& plan, const Interva
     cost = " (its glare frames took " + ms_text(steady_median_s(glare.frame_compute_s)) + " ms as a median, " +
            ms_text(longest_s) + " ms at most, against a refresh period of " + ms_text(period_s_) + " ms)";
   }
-  store_.log_event(session_id_, clock_.now_s(), "presentation_mode",
-                   "glare trials: frames prepared before onset from trial " + std::to_string(plan.trial_index + 1) +
+  log_trial_event(clock_.now_s(), "presentation_mode",
+                  "glare trials: frames prepared before onset from trial " + std::to_string(plan.trial_index + 1) +
                        " where the glare is " + layout + ": live, trial " + std::to_string(plan.trial_index) + " dropped " +
                        std::to_string(glare.live_frames_dropped) + " of its " + std::to_string(glare.live_frames_shown) +
                        " glare frame(s)" + cost + "; " + kPreparedEqualsLive);

@@ -21,6 +21,7 @@
 #include "core/clock.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/cpu_composition.h"
 #include "runner/session/interval_glare.h"
 #include "runner/session/session_eyes.h"
 #include "runner/session/session_setup.h"
@@ -50,8 +51,20 @@ struct PreviewCapture {
   bool captures_last() const { return preview != nullptr && captured.size() + 1 == preview->conditions.size(); }
 };
 
+// An event of a trial held to be written with the trial's commit, beside the next onset
+// (runner/session/trial_commit.cpp), rather than by a synced write on the display's thread between
+// the trial's flips or before the next onset.
+struct HeldEvent {
+  double at_s;
+  std::string kind, message;
+};
+
 class SessionGlare {
  public:
+  // A trial's own events (glare skipped, its window, gaze latency, stereo eyes, a live layout taken
+  // back to prepared) go into `held` from now on, written with the trial's commit.
+  void hold_trial_events_in(std::vector<HeldEvent>* held) { held_events_ = held; }
+
   // Logs the glare setup (backend and frame engine, the eye's inputs, the observer's optics per
   // condition, stereo eyes). `renderer` composes the scenes the glare is applied to.
   SessionGlare(const PreparedSession& prepared, FrameRenderer& renderer, DisplayBackend& display, SessionClock& clock,
@@ -62,6 +75,13 @@ class SessionGlare {
   // it, and tracker inputs. `flips_before`: timed flips between now and the interval's first
   // stimulus frame (fixation, interval 1).
   IntervalGlare begin_interval(const TrialPlan& plan, const std::vector<Placement>& placements, int flips_before);
+  // The same on a worker beside the display's flips (runner/session/trial_ahead.cpp), its first
+  // stimulus frame flipping at `first_flip_s`: the scenes composed by `composition` on the CPU (the
+  // GL composition's frame bit for bit, runner/session/cpu_composition.h), the display's context
+  // never made current. Only when computes_off_display_thread() said so, composition.exact(placements),
+  // no tracker runs and no preview captures, and nothing else asks the eyes for frames meanwhile.
+  IntervalGlare begin_interval_off_display(const TrialPlan& plan, const std::vector<Placement>& placements,
+                                           double first_flip_s, const CpuComposition& composition);
   // Whether the interval's frames are all computed before onset (prepared presentation, or the
   // perception stages, whose eye sees its frames in the order they flip).
   bool prepared_before_onset(const IntervalGlare& glare) const;
@@ -102,10 +122,18 @@ class SessionGlare {
     bool depth_of_field = false;
   };
   ConditionOptics condition_optics(const TrialPlan& plan) const;
+  // begin_interval's work, composing in GL on the display's thread (`composition` nullptr) or on
+  // the CPU beside it.
+  IntervalGlare begin_interval_at(const TrialPlan& plan, const std::vector<Placement>& placements, double first_flip_s,
+                                  const CpuComposition* composition);
+  // The placements composed over `background_cd_m2` and read back (row 0 at the top).
+  ImageRGBA composed(const std::vector<Placement>& placements, double background_cd_m2,
+                     const CpuComposition* composition);
   // The interval's composed frame and, for each eye, its view of it (and of each position's layer
   // when the sides differ, `position_modes`) as it reaches that eye through the optics.
   void see_through_optics(IntervalGlare& glare, const TrialPlan& plan, const std::vector<Placement>& placements,
-                          const ConditionOptics& optics, const std::vector<GlareMode>& position_modes);
+                          const ConditionOptics& optics, const std::vector<GlareMode>& position_modes,
+                          const CpuComposition* composition);
   void log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare);
   const ConditionRow& condition_row(const TrialPlan& plan) const;
 
@@ -151,6 +179,10 @@ class SessionGlare {
   void log_stereo_setup();
   // Stereo only: the interval's stereo_eyes event (each eye's pupil, gaze and adapted luminance).
   void log_stereo_eyes(const TrialPlan& plan, const IntervalGlare& glare);
+
+  // A trial's own event: held for its commit when hold_trial_events_in was called, else written now.
+  void log_trial_event(double at_s, const std::string& kind, std::string message);
+  std::vector<HeldEvent>* held_events_ = nullptr;
 
   const PreparedSession& prepared_;
   FrameRenderer& renderer_;

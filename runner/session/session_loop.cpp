@@ -16,12 +16,17 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       session_id_(session_id),
       renderer_(display.width_px(), display.height_px()),
       period_s_(1.0 / display.refresh_hz()),
+      composition_(display.width_px(), display.height_px()),
       timing_(display.refresh_hz()),
       glare_(prepared, renderer_, display, clock, store, session_id, tracker, capture_),
       overlays_(renderer_, prepared.experiment),
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
-  for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
+  for (const auto& [name, scene] : prepared_.scenes->scenes()) {
+    const SceneTexture& texture = textures_.emplace(name, renderer_.upload(scene.image_cd_m2)).first->second;
+    composition_.add_scene(texture, scene.image_cd_m2);
+  }
+  glare_.hold_trial_events_in(&events_with_commit_);
 }
 
 // --- tracker (runner/tracker/) ---

@@ -17,6 +17,7 @@
 #include "core/clock.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/cpu_composition.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interval_glare.h"
 #include "runner/session/session_glare.h"
@@ -76,6 +77,14 @@ class SessionLoop {
   // The run's status line (runner/session/status_line.h): each trial's start and its glare
   // preparation are shown on it.
   void attach_status(StatusLine* status) { status_ = status; }
+
+  // runner/session/trial_commit.cpp: waits for the last answered trial's commit (its error
+  // rethrown). The session loop calls it before the next answer is taken; the session, before it
+  // ends or stops, with `write_held_events`: the events held for a commit that never came (a
+  // trial aborted before its answer) are written then.
+  void finish_commit(bool write_held_events = false);
+  // How this run's trials were committed: the 'trial_commits' event.
+  std::string commit_summary() const;
 
   bool aborted() const { return aborted_; }
   const std::string& abort_reason() const { return abort_reason_; }
@@ -193,8 +202,9 @@ class SessionLoop {
   // runner/session/trial_ahead.cpp: the next trial prepared while this one runs (docs/TIMING.md,
   // "Trials prepared ahead").
   // After a stimulus flip of the current trial, once none of its frames is left to compute live:
-  // the trial the procedure knows comes next (Procedure::peek_following_trial) is laid out and its
-  // glare begun here, on the display's thread, and its frames are computed on a worker thread
+  // the trial the procedure knows comes next (Procedure::peek_following_trial) is laid out here, on
+  // the display's thread, and a worker thread composes its scenes on the CPU (CpuComposition; in GL
+  // here first where that is not GL's frame bit for bit), begins its glare and computes its frames
   // beside the current trial's remaining flips, its answer and the next inter-trial interval.
   // `flip`: the index in `schedule.timed` of the flip just made, at `flip_s`.
   void begin_trial_ahead(const TrialPlan& current, const TrialSchedule& schedule, std::size_t flip, double flip_s,
@@ -213,7 +223,11 @@ class SessionLoop {
   void log_trial_preparation(const TrialPlan& plan, const TrialIntervals& intervals);
 
   // runner/session/trial_commit.cpp
-  void commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome);
+  // The answered trial's row, adjustments and flips in one transaction, then its trial_phases
+  // event, on a thread of its own with a second connection to the database, beside the next
+  // trial's start; `progress_line` (may be empty) is written to `progress` once it is committed.
+  void commit(const TrialPlan& plan, const TrialRun& run, const TrialOutcome& outcome, std::string progress_line,
+              std::ostream& progress);
 
   // Initialised in this order (the overlays draw with the renderer).
   TrackerSession& tracker_;
@@ -226,6 +240,8 @@ class SessionLoop {
   FrameRenderer renderer_;
   double period_s_;
   std::map<std::string, SceneTexture> textures_;
+  // The same scenes composed on the CPU, for the worker preparing a trial ahead.
+  CpuComposition composition_;
   FrameTimingMonitor timing_;
   PreviewCapture capture_;
   // The session's glare and perception (runner/session/session_glare.h).
@@ -257,8 +273,13 @@ class SessionLoop {
     TrialPlan plan;
     TrialIntervals intervals;
     int beside_trial = -1;
-    double layout_s = 0.0;               // laid out and its glare begun, on the display's thread
-    std::vector<int> frames_to_compute;  // per interval: all (-1), the first (a live one), none (0)
+    double layout_s = 0.0;               // laid out (and its glare begun where GL composes it), on the display's thread
+    std::vector<double> first_flip_s;    // per interval: when its first stimulus frame is planned to flip
+    // Its scenes composed on the CPU by the worker (CpuComposition::exact), or in GL on the display's
+    // thread before the worker starts; and the stimulus framebuffer's writes that made on that thread.
+    bool composed_on_worker = false;
+    std::uint64_t display_writes = 0;
+    std::vector<int> frames_to_compute;  // per interval: all (-1) or none (0); the worker's
     std::thread worker;
     std::atomic<bool> stop{false};
     std::exception_ptr error;
@@ -273,12 +294,26 @@ class SessionLoop {
     int beside_trial = -1;
     int worker_frames = 0;     // glare frames the worker computed
     double worker_s = 0.0;     // its wall time
-    double layout_ms = 0.0;    // laying the trial out and beginning its glare, on the display's thread
+    double layout_ms = 0.0;    // laying the trial out (and beginning its glare in GL), on the display's thread
+    bool composed_on_worker = false;
+    std::uint64_t display_writes = 0;  // to the stimulus framebuffer, for it, on the display's thread
     double onset_wait_s = 0.0; // how long the trial waited for the worker after its inter-trial interval
     std::string not_ahead;     // why the trial was not prepared ahead (empty when it was)
     int onset_frames_computed = 0;  // glare frames computed on the display's thread before the onset flip
   };
   TrialPreparation preparation_;
+  // The commit in flight (runner/session/trial_commit.cpp): its thread and connection, its error,
+  // and the progress line said once it is in.
+  std::unique_ptr<ResultStore> commit_store_;
+  std::thread committer_;
+  std::exception_ptr commit_error_;
+  std::string pending_progress_;
+  std::ostream* pending_progress_stream_ = nullptr;
+  // Events of the trial written with its commit rather than between its flips or before the next
+  // onset: its trial_preparation, its dropped frames, its glare's (SessionGlare::hold_trial_events_in).
+  std::vector<HeldEvent> events_with_commit_;
+  int commits_beside_ = 0;   // on the committer's thread
+  int commits_at_once_ = 0;  // on the display's thread (an in-memory database)
 };
 
 }  // namespace glarelab

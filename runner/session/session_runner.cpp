@@ -224,6 +224,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     const bool calibrated = !tracker.wants_calibration() || loop.calibrate_pupil();
     while (calibrated && !prepared.procedure->finished()) {
       if (options.stop_after_trials && result.trials_run_now >= *options.stop_after_trials) {
+        loop.finish_commit(/*write_held_events=*/true);
         result.status = "running";
         result.tracker_summary = tracker.finish(clock->now_s());
         return result;
@@ -240,6 +241,8 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
       }
       ++result.trials_run_now;
     }
+    loop.finish_commit(/*write_held_events=*/true);  // the last answered trial's commit (trial_commit.cpp)
+    store.log_event(result.session_id, clock->now_s(), "trial_commits", loop.commit_summary());
 
     if (options.preview) {
       result.previews = loop.take_preview_frames();

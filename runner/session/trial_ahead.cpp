@@ -2,9 +2,9 @@
 // Without it a trial's glare frames are computed after the previous trial's answer, so on a CPU the
 // onset waits for them (the demo's dynamic glare: about 30 frames of 50-100 ms on two cores). When
 // the procedure knows the next trial before the answer (Procedure::peek_following_trial: the fixed
-// designs), the display's thread lays it out and begins its glare (GL composition, kept on the
-// thread whose context it is) right after a stimulus flip of the current trial, and a worker thread
-// computes its frames beside the remaining flips, the answer and the next inter-trial interval. The
+// designs), the display's thread lays it out right after a stimulus flip of the current trial, and a
+// worker thread composes its scenes on the CPU (runner/session/cpu_composition.h), begins its glare
+// and computes its frames beside the remaining flips, the answer and the next inter-trial interval. The
 // onset then takes its frames without computing any; a worker not done by then is waited for, and
 // that wait is the onset's glare preparation (runner/session/frame_timing.h).
 #include <sys/resource.h>
@@ -50,9 +50,20 @@ int predicted_feedback_flips(const PresentationSpec& presentation, const TrialPl
              : 0;
 }
 
+// The frames the worker computes for an interval: all of them, live or prepared alike. A trial is
+// prepared ahead only without a tracker, where a live frame, computed just before its flip, is the
+// frame prepared for that flip (dynamic glare is a function of time and seed, glare_presentation.cpp):
+// so the display's thread computes no glare for it at all, and a live interval's flips only draw.
+int frames_ahead(const IntervalGlare& glare) { return glare.computed() ? -1 : 0; }
+
 }  // namespace
 
-SessionLoop::~SessionLoop() { drop_trial_ahead(); }
+SessionLoop::~SessionLoop() {
+  drop_trial_ahead();
+  // A session ended by an error: the answered trial's commit still lands (its own error, if any,
+  // is the lesser one and is not thrown from here).
+  if (committer_.joinable()) committer_.join();
+}
 
 void SessionLoop::drop_trial_ahead() {
   if (!ahead_) return;
@@ -71,19 +82,25 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
   const int feedback_flips = predicted_feedback_flips(prepared_.experiment.presentation, current);
   std::optional<TrialSchedule> next_schedule;
   if (next) next_schedule = schedule_trial(prepared_.experiment.presentation, *next, sequential_);
-  // Laying the trial out takes the display's thread for milliseconds (the scenes composed and read
+  // Where the worker composes the next trial's scenes (every one shown at its own size,
+  // CpuComposition::exact), this thread only lays it out: microseconds, begun at once after this
+  // flip. Where GL must compose them here, that takes milliseconds (the scenes composed and read
   // back: 5 to 90 ms on two loaded cores with llvmpipe), too long to fit beside a stimulus flip's
   // own drawing in one period. When flips that are not stimulus frames follow this trial's last
   // one (an answer awaited from a person, feedback, the next inter-trial interval or fixation), it
   // is done after that last stimulus flip, delaying at most one of those; when the next onset
   // follows directly, after this flip, so that the worker has the trial's remaining flips.
+  // (A physical object has no scene to lay out; it is declined below.)
+  bool composed_here = false;
+  for (int interval = 0; next && next->real_stimulus.empty() && interval < next_schedule->intervals; ++interval)
+    composed_here = composed_here || !composition_.exact(layout(interval_plan(*next, interval)));
   std::size_t last_stimulus = 0;
   for (std::size_t i = 0; i < schedule.timed.size(); ++i)
     if (schedule.timed[i].stimulus_frame >= 0) last_stimulus = i;
   const bool last_stimulus_flip = flip == last_stimulus;
   const bool flips_follow = prepared_.observer == nullptr || feedback_flips > 0 || last_stimulus + 1 < schedule.timed.size() ||
                             (next_schedule && (next_schedule->inter_trial_frames > 0 || next_schedule->onset_flip > 0));
-  if (flips_follow && !last_stimulus_flip) return;
+  if (composed_here && flips_follow && !last_stimulus_flip) return;
   ahead_begun_ = true;
   next_not_ahead_.clear();
   const auto decline = [this](const std::string& why) { next_not_ahead_ = why; };
@@ -96,6 +113,7 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
   if (!glare_.computes_off_display_thread()) return decline("the GL engine computes its frames");
 
   const auto start = std::chrono::steady_clock::now();
+  const std::uint64_t writes_before = renderer_.stimulus_generation();
   auto ahead = std::make_unique<TrialAhead>();
   ahead->plan = *next;
   ahead->beside_trial = current.trial_index;
@@ -106,6 +124,7 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
   // timed from the clock's next flip).
   const int flips_to_next =
       static_cast<int>(schedule.timed.size() - 1 - flip) + feedback_flips + next_schedule->inter_trial_frames;
+  bool exact = true;
   for (int interval = 0; interval < next_schedule->intervals; ++interval) {
     const TrialPlan& plan = ahead->intervals.shown_plans.emplace_back(interval_plan(*next, interval));
     std::size_t first_flip = 0;
@@ -113,22 +132,44 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
     ahead->intervals.placements.push_back(layout(plan));
     for (const Placement& placement : ahead->intervals.placements.back())
       ahead->intervals.stimulus_rects.push_back(placement.rect);
-    IntervalGlare& glare =
-        ahead->intervals.glare.emplace_back(glare_.begin_interval(plan, ahead->intervals.placements.back(), 0));
-    glare.first_flip_s = flip_s + (flips_to_next + 2 + static_cast<double>(first_flip)) * period_s_;
-    ahead->frames_to_compute.push_back(!glare.computed() ? 0 : glare_.prepared_before_onset(glare) ? -1 : 1);
+    ahead->first_flip_s.push_back(flip_s + (flips_to_next + 2 + static_cast<double>(first_flip)) * period_s_);
+    exact = exact && composition_.exact(ahead->intervals.placements.back());
   }
-  bool computes = false;
-  for (const int frames : ahead->frames_to_compute) computes = computes || frames != 0;
+  // Composing the scenes in GL (and reading them back) took this thread 14 to 560 ms under load, a
+  // dropped frame per trial: the worker composes them on the CPU, GL's frame bit for bit, where
+  // every scene is shown at its own size. A scaled one is composed in GL here, as before.
+  ahead->composed_on_worker = exact;
+  bool computes = exact;
+  if (!exact) {
+    for (std::size_t i = 0; i < ahead->intervals.shown_plans.size(); ++i) {
+      IntervalGlare& glare = ahead->intervals.glare.emplace_back(
+          glare_.begin_interval(ahead->intervals.shown_plans[i], ahead->intervals.placements[i], 0));
+      glare.first_flip_s = ahead->first_flip_s[i];
+      ahead->frames_to_compute.push_back(frames_ahead(glare));
+      computes = computes || ahead->frames_to_compute.back() != 0;
+    }
+  }
   ahead->layout_s = seconds_since(start);
+  ahead->display_writes = renderer_.stimulus_generation() - writes_before;
   timing_.add_work(FlipWork::glare_preparation, ahead->layout_s);
   ahead_ = std::move(ahead);
   if (!computes) return;
   TrialAhead* const a = ahead_.get();
-  a->worker = std::thread([this, a] {
-    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kWorkerNiceness);  // best effort
+  // Below the display's thread where flips keep real time. On the virtual clock no flip waits for
+  // it, while the display's thread flips as fast as it draws: at a lower priority the worker's
+  // frames (and its helper threads', core/chunk_pool.h) would measure the costs by which "auto"
+  // settles a glare layout (glare_presentation.cpp) as those of a starved thread.
+  const bool below_display = clock_.name() != "virtual";
+  a->worker = std::thread([this, a, below_display] {
+    if (below_display)
+      setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kWorkerNiceness);  // best effort
     const auto worker_start = std::chrono::steady_clock::now();
     try {
+      for (std::size_t i = 0; a->composed_on_worker && i < a->intervals.shown_plans.size() && !a->stop; ++i) {
+        const IntervalGlare& glare = a->intervals.glare.emplace_back(glare_.begin_interval_off_display(
+            a->intervals.shown_plans[i], a->intervals.placements[i], a->first_flip_s[i], composition_));
+        a->frames_to_compute.push_back(frames_ahead(glare));
+      }
       for (std::size_t i = 0; i < a->intervals.glare.size(); ++i) {
         IntervalGlare& glare = a->intervals.glare[i];
         const std::size_t before = glare.frames.size();
@@ -156,11 +197,11 @@ bool SessionLoop::take_trial_ahead(const TrialPlan& plan, const TrialSchedule& s
   // frames do not depend on how they were prepared): frames timed for other flips (a longer answer
   // or no feedback) are prepared again. On a real clock the flips are the planned ones either way.
   if (clock_.name() == "virtual") {
-    for (std::size_t i = 0; i < ahead_->intervals.glare.size(); ++i) {
+    for (std::size_t i = 0; i < ahead_->first_flip_s.size(); ++i) {
       std::size_t first_flip = 0;
       while (schedule.timed[first_flip].interval != static_cast<int>(i)) ++first_flip;
       const double planned_s = clock_.now_s() + (1.0 + static_cast<double>(first_flip)) * period_s_;
-      if (std::abs(ahead_->intervals.glare[i].first_flip_s - planned_s) > 1e-9) {
+      if (std::abs(ahead_->first_flip_s[i] - planned_s) > 1e-9) {
         preparation_.not_ahead = "its frames were timed for other flips than it shows";
         drop_trial_ahead();
         return false;
@@ -182,6 +223,8 @@ bool SessionLoop::take_trial_ahead(const TrialPlan& plan, const TrialSchedule& s
   preparation_.worker_frames = ahead_->frames;
   preparation_.worker_s = ahead_->worker_s;
   preparation_.layout_ms = 1e3 * ahead_->layout_s;
+  preparation_.composed_on_worker = ahead_->composed_on_worker;
+  preparation_.display_writes = ahead_->display_writes;
   preparation_.onset_wait_s = wait_s;
   intervals = std::move(ahead_->intervals);
   ahead_.reset();
@@ -196,13 +239,18 @@ void SessionLoop::log_trial_preparation(const TrialPlan& plan, const TrialInterv
   if (preparation_.ahead)
     text += "frames prepared ahead beside trial " + std::to_string(preparation_.beside_trial) + " (" +
             std::to_string(preparation_.worker_frames) + " glare frame(s) on a worker in " +
-            ms_text(preparation_.worker_s) + " ms; laid out in " + number_text(std::round(preparation_.layout_ms * 10) / 10) +
-            " ms on the display's thread); the onset waited " + ms_text(preparation_.onset_wait_s) + " ms for them";
+            ms_text(preparation_.worker_s) + " ms, its scenes composed " +
+            (preparation_.composed_on_worker ? "there on the CPU" : "in GL on the display's thread") + "; laid out in " +
+            number_text(std::round(preparation_.layout_ms * 10) / 10) + " ms on the display's thread, " +
+            std::to_string(preparation_.display_writes) +
+            " write(s) to the stimulus framebuffer); the onset waited " + ms_text(preparation_.onset_wait_s) + " ms for them";
   else
     text += "frames prepared at the trial, not ahead: " +
             (preparation_.not_ahead.empty() ? std::string("the first trial of the run") : preparation_.not_ahead);
   text += "; glare frames computed on the display's thread for the onset: " + std::to_string(preparation_.onset_frames_computed);
-  store_.log_event(session_id_, clock_.now_s(), "trial_preparation", text);
+  // Written with the trial's commit, beside the next onset (trial_commit.cpp): a synced write here
+  // would sit between this trial's last flip and the next onset.
+  events_with_commit_.push_back({clock_.now_s(), "trial_preparation", std::move(text)});
 }
 
 }  // namespace glarelab

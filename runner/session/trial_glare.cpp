@@ -76,11 +76,32 @@ std::string modes_label(const TrialPlan& plan, GlareMode mode, const std::vector
 // filtered pupil and detected blinks known at the interval's start; the gaze known then
 // (prepared), or at each frame (live).
 IntervalGlare SessionGlare::begin_interval(const TrialPlan& plan, const std::vector<Placement>& placements,
-                                       int flips_before) {
+                                           int flips_before) {
+  return begin_interval_at(plan, placements, clock_.now_s() + (1 + flips_before) * period_s_, nullptr);
+}
+
+IntervalGlare SessionGlare::begin_interval_off_display(const TrialPlan& plan, const std::vector<Placement>& placements,
+                                                       double first_flip_s, const CpuComposition& composition) {
+  return begin_interval_at(plan, placements, first_flip_s, &composition);
+}
+
+ImageRGBA SessionGlare::composed(const std::vector<Placement>& placements, double background_cd_m2,
+                                 const CpuComposition* composition) {
+  if (composition != nullptr) return composition->compose(placements, background_cd_m2);
+  renderer_.compose(placements, background_cd_m2);
+  return renderer_.read_stimulus();
+}
+
+IntervalGlare SessionGlare::begin_interval_at(const TrialPlan& plan, const std::vector<Placement>& placements,
+                                              double first_flip_s, const CpuComposition* composition) {
+  // Off the display's thread nothing may touch GL: the display's context stays where it is.
+  const auto back_to_display = [&] {
+    if (composition == nullptr) display_.make_current();
+  };
   IntervalGlare glare;
   glare.eyes.resize(eyes_.size());
   glare.period_s = period_s_;
-  glare.first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
+  glare.first_flip_s = first_flip_s;
   // A preview (stimulus_preview.h) computes the glare of its own trial's first frame only; other
   // trials' frames are recorded by the dynamic eye, not computed.
   const bool captured = capture_.captures(plan);
@@ -128,10 +149,9 @@ IntervalGlare SessionGlare::begin_interval(const TrialPlan& plan, const std::vec
     // Composed live at every refresh; the session's adapting eyes still see it.
     if (adapts_) {
       if (tracker_.active()) update_glare_gaze(glare, glare.first_flip_s);
-      renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
-      const ImageRGBA composed = renderer_.read_stimulus();
-      see_interval(glare, &composed);
-      display_.make_current();
+      const ImageRGBA frame = composed(placements, prepared_.experiment.display.background_cd_m2, composition);
+      see_interval(glare, &frame);
+      back_to_display();
     }
     return glare;
   }
@@ -150,10 +170,9 @@ IntervalGlare SessionGlare::begin_interval(const TrialPlan& plan, const std::vec
     // the times they flip, as computing them would have made it.
     if (glare.motion == IntervalGlareMotion::moving || adapts_) {
       if (tracker_.active()) update_glare_gaze(glare, glare.first_flip_s);
-      renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
-      record_interval(glare, renderer_.read_stimulus());
+      record_interval(glare, composed(placements, prepared_.experiment.display.background_cd_m2, composition));
     }
-    display_.make_current();
+    back_to_display();
     return glare;
   }
   glare.made = perceived ? IntervalFrames::perception : IntervalFrames::glare;
@@ -167,12 +186,12 @@ IntervalGlare SessionGlare::begin_interval(const TrialPlan& plan, const std::vec
     feed_tracker_inputs();
     update_glare_gaze(glare, glare.first_flip_s);
   }
-  see_through_optics(glare, plan, placements, optics, position_modes);
+  see_through_optics(glare, plan, placements, optics, position_modes, composition);
   if (labels_preview) capture_.frame->glare_label = glare.modes_label;  // with the depth of field's part
   // Glare alone: the frames are the eyes' all the same (the perception stages' frames advance
   // them as they are computed).
   if (adapts_ && !perceived) see_interval(glare, nullptr);
-  display_.make_current();
+  back_to_display();
   return glare;
 }
 
@@ -194,7 +213,8 @@ SessionGlare::ConditionOptics SessionGlare::condition_optics(const TrialPlan& pl
 // the glare and the perception stages act on what reaches the eye.
 void SessionGlare::see_through_optics(IntervalGlare& glare, const TrialPlan& plan,
                                      const std::vector<Placement>& placements, const ConditionOptics& optics,
-                                     const std::vector<GlareMode>& position_modes) {
+                                     const std::vector<GlareMode>& position_modes,
+                                     const CpuComposition* composition) {
   const DisplaySpec& display = prepared_.experiment.display;
   std::vector<std::vector<float>> depth_m(eyes_.size());  // each eye's view of the frame's depth
   std::vector<double> depth_field_cd_m2(eyes_.size(), 0.0);
@@ -208,13 +228,12 @@ void SessionGlare::see_through_optics(IntervalGlare& glare, const TrialPlan& pla
     const std::vector<float> frame_depth_m = composed_depth_m(
         display.width_px, display.height_px, static_cast<float>(1e-3 * display.viewing_distance_mm), placed);
     // The pupil adapts to the eye's whole view, for every layer alike.
-    renderer_.compose(placements, display.background_cd_m2);
-    const ImageRGBA composed = renderer_.read_stimulus();
+    const ImageRGBA frame = composed(placements, display.background_cd_m2, composition);
     for (std::size_t e = 0; e < eyes_.size(); ++e) {
       const SessionEye& eye = *eyes_[e];
       depth_m[e] = seen_depth_m(*optics.refraction, eye.display,
                                 depth_in_view(frame_depth_m, display.width_px, eye.view.viewport), kSpectacleThreads);
-      depth_field_cd_m2[e] = mean_luminance(ViewPart(composed, eye.view.viewport).image());
+      depth_field_cd_m2[e] = mean_luminance(ViewPart(frame, eye.view.viewport).image());
     }
   }
   // The depth of field of each eye's first frame, for the interval's label.
@@ -235,14 +254,12 @@ void SessionGlare::see_through_optics(IntervalGlare& glare, const TrialPlan& pla
     // The position's placement (in stereo, its placement in each eye's view).
     std::vector<Placement> position;
     for (std::size_t q = p; q < placements.size(); q += position_modes.size()) position.push_back(placements[q]);
-    renderer_.compose(position, 0.0);
-    const ImageRGBA layer = renderer_.read_stimulus();
+    const ImageRGBA layer = composed(position, 0.0, composition);
     for (std::size_t e = 0; e < eyes_.size(); ++e)
       glare.eyes[e].layers.push_back({seen(e, layer), position_modes[p], plan.glare_keeps_peak});
   }
   glare.layer_modes = position_modes;
-  renderer_.compose(placements, display.background_cd_m2);
-  glare.composed_cd_m2 = renderer_.read_stimulus();
+  glare.composed_cd_m2 = composed(placements, display.background_cd_m2, composition);
   for (std::size_t e = 0; e < eyes_.size(); ++e) {
     EyeIntervalGlare& eye = glare.eyes[e];
     const PixelRect& view = eyes_[e]->view.viewport;
@@ -283,6 +300,13 @@ bool SessionGlare::prepare_frames(IntervalGlare& glare, const std::function<bool
   return true;
 }
 
+void SessionGlare::log_trial_event(double at_s, const std::string& kind, std::string message) {
+  if (held_events_ != nullptr)
+    held_events_->push_back({at_s, kind, std::move(message)});
+  else
+    store_.log_event(session_id_, at_s, kind, message);
+}
+
 void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare& glare) {
   if (!glare.computed()) return;
   const std::string trial = "trial " + std::to_string(plan.trial_index) + " (" + glare.modes_label + "): ";
@@ -290,21 +314,21 @@ void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare
                                 (glare.layer_modes.empty() ? " glare frame(s)" : " glare layer frame(s)");
   const double now_s = clock_.now_s();
   if (glare.skipped > 0)
-    store_.log_event(session_id_, now_s, "glare_skipped",
+    log_trial_event(now_s, "glare_skipped",
                      trial + "convolution skipped on " + std::to_string(glare.skipped) + of_frames + ": " +
                          glare.skip_reason);
   if (glare.closed > 0)
-    store_.log_event(session_id_, now_s, "glare_skipped",
+    log_trial_event(now_s, "glare_skipped",
                      trial + "eye closed by a blink on " + std::to_string(glare.closed) + of_frames +
                          ": the PSF of the last open frame is held");
   if (glare.gratings_hidden > 0)
-    store_.log_event(session_id_, now_s, "glare_skipped",
+    log_trial_event(now_s, "glare_skipped",
                      trial + "lens fibre gratings left out on " + std::to_string(glare.gratings_hidden) + of_frames +
                          ": pupil (smallest " + std::to_string(glare.smallest_pupil_mm) +
                          " mm) inside the clear lens centre (cortex annulus from " +
                          std::to_string(2.0 * prepared_.experiment.glare.eye.lens_cortex_inner_radius_mm) + " mm diameter)");
   if (glare.window)
-    store_.log_event(session_id_, now_s, "glare_window",
+    log_trial_event(now_s, "glare_window",
                      trial + describe_glare_window(*glare.window, glare.eyes.front().tracked));
   if (!glare.gaze_to_flip_s.empty()) {
     double sum_s = 0.0, largest_s = 0.0;
@@ -313,7 +337,7 @@ void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare
       largest_s = std::max(largest_s, latency_s);
     }
     const double mean_ms = 1000.0 * sum_s / static_cast<double>(glare.gaze_to_flip_s.size());
-    store_.log_event(session_id_, now_s, "gaze_latency",
+    log_trial_event(now_s, "gaze_latency",
                      trial + "gaze to flip mean " + number_text(std::round(mean_ms * 1000.0) / 1000.0) + " ms, max " +
                          number_text(std::round(1000.0 * largest_s * 1000.0) / 1000.0) + " ms over " +
                          std::to_string(glare.gaze_to_flip_s.size()) + " live glare frame(s)");

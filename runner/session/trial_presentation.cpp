@@ -147,9 +147,11 @@ void SessionLoop::record_flip(TrialRun& run, const PhaseFlip& phase, double sche
 }
 
 void SessionLoop::log_late_flip(const TrialPlan& plan, double flip_s, const std::string& which, double interval_s) {
-  store_.log_event(session_id_, flip_s, "dropped_frame",
-                   "trial " + std::to_string(plan.trial_index) + " " + which + ": " +
-                       std::to_string(1000.0 * interval_s) + " ms since the previous flip");
+  // Held for the trial's commit (trial_commit.cpp): a synced write here, between two flips, would
+  // make the next flip late too.
+  events_with_commit_.push_back({flip_s, "dropped_frame",
+                                 "trial " + std::to_string(plan.trial_index) + " " + which + ": " +
+                                     std::to_string(1000.0 * interval_s) + " ms since the previous flip"});
 }
 
 bool SessionLoop::present_timed_blank(const TrialPlan& plan, TrialRun& run, FlipPhase phase, int frames,

@@ -104,14 +104,16 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   if (!feedback.empty())
     present_timed_blank(plan, run, FlipPhase::feedback, presentation.feedback_duration.frames,
                         overlays_.centred_text(feedback));
+  // The commit goes on beside the next trial's start (trial_commit.cpp): handing it over is this
+  // thread's part of recording the trial.
   const auto record_start = std::chrono::steady_clock::now();
-  commit(plan, run, outcome);
-  store_.log_event(session_id_, clock_.now_s(), "trial_phases", describe_trial_phases(plan.trial_index, run.phases));
+  const int total = prepared_.procedure->planned_trials();
+  const bool says_progress = total >= 50 && (plan.trial_index + 1) % (total / 10) == 0;
+  commit(plan, run, outcome,
+         says_progress ? "  trial " + std::to_string(plan.trial_index + 1) + "/" + std::to_string(total) + "\n" : "",
+         progress);
   timing_.add_work(FlipWork::recording, seconds_since(record_start));
   if (aborted_) return false;
-  const int total = prepared_.procedure->planned_trials();
-  if (total >= 50 && (plan.trial_index + 1) % (total / 10) == 0)
-    progress << "  trial " << plan.trial_index + 1 << "/" << total << "\n" << std::flush;
   return true;
 }
 
@@ -233,8 +235,11 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
       record_flip(run, {flip.phase, -1, -1}, scheduled_s, flip_s, late_s.has_value());
     }
     if (i == schedule.first_answer_flip) run.answers_from_s = flip_s;
-    if (interactive && i >= schedule.first_answer_flip && !run.response)
-      run.response = poll_keyboard(plan, run.onset_s, run.answers_from_s);
+    if (interactive && i >= schedule.first_answer_flip && !run.response) {
+      std::optional<Response> answer = poll_keyboard(plan, run.onset_s, run.answers_from_s);
+      if (answer) finish_commit();  // the trial before is in before this answer counts
+      run.response = std::move(answer);
+    }
     else if (interactive)
       ignore_keys(plan, run.response                       ? "came after the answer"
                         : flip.phase == FlipPhase::fixation ? "pressed before onset"
@@ -247,6 +252,8 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
 }
 
 bool SessionLoop::collect_response(const TrialPlan& plan, const std::vector<Placement>& question, TrialRun& run) {
+  // The trial before is committed before this one's answer is taken (trial_commit.cpp).
+  finish_commit();
   const bool interactive = prepared_.observer == nullptr;
   const double window_s = prepared_.experiment.presentation.response_window_s;
   if (!interactive) {

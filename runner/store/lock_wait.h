@@ -4,7 +4,7 @@
 // end a session because somebody looked at its database. While a LockWait lives, a write waits as
 // long as the lock is held, asking `keep_waiting` now and then whether to go on (the session says
 // no once Ctrl-C was pressed): the trial waits in memory, nothing is lost, and the session's
-// contract holds (each trial committed before the next starts).
+// contract holds (each trial committed before the next one's answer is taken).
 #include <sqlite3.h>
 
 #include <chrono>

@@ -3,7 +3,8 @@
 //  - tables sessions, trials, frames, tracker_samples, session_events, with the columns of
 //    docs/DATABASE.md "Tables" (never renamed), and a schema version in PRAGMA user_version that migrations upgrade;
 //  - WAL journal with synchronous=FULL; a trial and its frames are one transaction, committed
-//    before the next trial starts, so a killed run loses at most the trial in progress;
+//    before the next trial's answer is taken (beside its onset, runner/session/trial_commit.cpp), so a
+//    killed run loses at most the trial in progress and the one answered just before it;
 //  - the database file is created with owner-only permissions (0600).
 #include <cstdint>
 #include <memory>
