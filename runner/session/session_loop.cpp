@@ -22,6 +22,7 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
   for (const auto& [name, scene] : prepared_.scenes->scenes()) textures_.emplace(name, renderer_.upload(scene.image_cd_m2));
+  upload_straylight_stimulus();
 }
 
 // --- tracker (runner/tracker/) ---

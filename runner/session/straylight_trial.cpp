@@ -1,0 +1,46 @@
+// A straylight trial (TrialPlan::straylight, docs/STRAYLIGHT.md): its frames are the ring and the
+// compensation light drawn through the session's frame path (composed, encoded, flipped and stored
+// like any stimulus frame). Within each cycle of frames_per_cycle frames the ring is on for the
+// first half and the compensation light, on one half of the test field, for the second: the
+// square wave and its counterphase. Nothing else is lit; no glare or perception stage is applied,
+// since the straylight measured is the participant's own.
+#include "runner/session/session_loop.h"
+#include "runner/session/straylight_session.h"
+
+namespace glarelab {
+
+void SessionLoop::upload_straylight_stimulus() {
+  if (prepared_.experiment.procedure != "straylight") return;
+  const StraylightImages images = straylight_images(prepared_.experiment.display, prepared_.experiment.straylight);
+  straylight_textures_.push_back(renderer_.upload(images.ring));
+  straylight_textures_.push_back(renderer_.upload(images.left_half));
+  straylight_textures_.push_back(renderer_.upload(images.right_half));
+  const int width = images.ring.width_px, height = images.ring.height_px;
+  straylight_rect_ = {(display_.width_px() - width) / 2, (display_.height_px() - height) / 2, width, height};
+}
+
+std::vector<Placement> SessionLoop::straylight_frame(const TrialPlan& plan, int frame_in_interval) const {
+  const StraylightStimulusPlan& shown = *plan.straylight;
+  const bool ring_on = frame_in_interval % shown.frames_per_cycle < shown.frames_per_cycle / 2;
+  const SceneTexture& texture = straylight_textures_.at(ring_on ? 0 : shown.compensation_left ? 1 : 2);
+  return {Placement{&texture, ring_on ? shown.ring_luminance_cd_m2 : shown.compensation_cd_m2, straylight_rect_,
+                    straylight_rect_}};
+}
+
+IntervalGlare SessionLoop::begin_straylight(const TrialPlan& plan, int flips_before) {
+  // Inactive, as for a real stimulus (real_stimulus_trial.cpp): the drawn frame is shown as it is.
+  IntervalGlare interval;
+  interval.period_s = period_s_;
+  interval.first_flip_s = clock_.now_s() + (1 + flips_before) * period_s_;
+  interval.stimulus_frames = plan.stimulus_frames;
+  interval.modes_label = "straylight measurement (no glare: the participant's own is measured)";
+  if (capture_.captures(plan) && !capture_.frame) {
+    capture_.frame.emplace();
+    capture_.frame->plan = plan;
+    capture_.frame->time_s = interval.first_flip_s;
+    capture_.frame->glare_label = interval.modes_label;
+  }
+  return interval;
+}
+
+}  // namespace glarelab

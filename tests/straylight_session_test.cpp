@@ -1,0 +1,292 @@
+// The straylight measurement in a session, end to end (docs/STRAYLIGHT.md): `glarelab run` with
+// `--observer simulated` stores each answer as a trial (the level, the compensated side, the
+// answer) with its flickering frames, and its summary gives the estimate of the simulated
+// participant's own straylight. A results database of schema version 5 gains the procedure
+// 'straylight' without losing a row.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cli_process.h"
+#include "core/exr_io.h"
+#include "glare/analytic/cie_glare_spread.h"
+#include "glare/analytic/ring_straylight.h"
+#include "protocols/straylight_model.h"
+#include "raw_db.h"
+#include "runner/session/straylight_session.h"
+#include "runner/store/result_store.h"
+#include "scratch_dir.h"
+
+namespace glarelab {
+namespace {
+
+using test::RawDb;
+
+// 256 x 256 px of 0.5 mm at 300 mm reach 12 degrees from the centre: the 5-10 degree ring fits.
+// The encoding steps of 10 bits at gamma 2.2 resolve the compensation (docs/STRAYLIGHT.md).
+std::string measurement(const std::string& extra_procedure_keys, const std::string& observer = "age_years = 25.0") {
+  return R"([experiment]
+name = "straylight-session"
+seed = 11
+
+[display]
+width_px = 256
+height_px = 256
+refresh_hz = 60.0
+viewing_distance_mm = 300.0
+pixel_pitch_mm = 0.5
+peak_luminance_cd_m2 = 250.0
+encoding = "gamma"
+gamma = 2.2
+bits_per_channel = 10
+
+[observer]
+)" + observer + R"(
+pigmentation = 0.5
+
+[procedure]
+type = "straylight"
+eye = "left"
+)" + extra_procedure_keys + R"(
+
+[presentation]
+fixation_duration_s = 0.1
+question_above_stimuli = false
+)";
+}
+
+// The CIE 146 eye of age 25 and pigmentation 0.5 integrated over the ring, as the test's own sum:
+// log10 of (its veil at the ring's centre per cd/m2 of ring) / k.
+double cie_ring_log_s(double age_years) {
+  constexpr int kSteps = 4000;
+  const double inner = 5.0, outer = 10.0, rad = std::acos(-1.0) / 180.0;
+  double veil = 0.0;
+  for (int i = 0; i < kSteps; ++i) {  // midpoint rule in theta: GSF dOmega = GSF 2 pi theta rad^2 dtheta
+    const double theta = inner + (i + 0.5) * (outer - inner) / kSteps;
+    veil += cie146_glare_spread_per_sr(theta, age_years, 0.5) * 2.0 * std::acos(-1.0) * theta * rad * rad *
+            (outer - inner) / kSteps;
+  }
+  return std::log10(veil / (2.0 * std::acos(-1.0) * rad * rad * std::log(outer / inner)));
+}
+
+TEST(StraylightSession, SimulatedRunStoresEachAnswerAndMeasuresTheParticipantsStraylight) {
+  test::ScratchDir dir;
+  const std::string experiment = dir.write("straylight.toml", measurement("cycles = 2"));
+  const std::string db = dir.file("results.db");
+  const auto run = test::run_glarelab({"run", experiment, "--observer", "simulated", "--display", "offscreen",
+                                       "--participant", "p01", "--db", db},
+                                      dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+
+  const ResultStore store(db);
+  const std::vector<SessionRecord> sessions = store.load_sessions();
+  ASSERT_EQ(sessions.size(), 1u);
+  const std::vector<TrialRecord> trials = store.load_trials(sessions[0].id);
+  ASSERT_EQ(trials.size(), 25u);
+  std::set<std::string> sides;
+  for (const TrialRecord& trial : trials) {
+    EXPECT_EQ(trial.procedure, "straylight");
+    ASSERT_TRUE(trial.intensity.has_value());
+    // The level on the 0.02 grid, inside the compensation range.
+    EXPECT_NEAR(*trial.intensity / 0.02, std::round(*trial.intensity / 0.02), 1e-6);
+    EXPECT_GE(*trial.intensity, 0.6 - 1e-9);
+    EXPECT_LE(*trial.intensity, 2.8 + 1e-9);
+    EXPECT_TRUE(trial.response == "left" || trial.response == "right") << trial.response;
+    EXPECT_FALSE(trial.correct.has_value());
+    const bool left = trial.condition.find("\"compensated_side\":\"left\"") != std::string::npos;
+    const bool right = trial.condition.find("\"compensated_side\":\"right\"") != std::string::npos;
+    EXPECT_NE(left, right) << trial.condition;
+    sides.insert(left ? "left" : "right");
+    // 2 cycles of 8 frames at 60 Hz (7.5 Hz).
+    int stimulus_frames = 0;
+    for (const FrameRecord& frame : store.load_frames(trial.id)) stimulus_frames += frame.frame_index >= 0 ? 1 : 0;
+    EXPECT_EQ(stimulus_frames, 16);
+  }
+  EXPECT_EQ(sides.size(), 2u) << "the compensated side is drawn at random";
+
+  // The estimate from the stored answers, against the simulated participant's own straylight: the
+  // CIE eye of age 25 over the ring (log s 0.846). One measurement scatters with SD about 0.045
+  // (tests/straylight_measurement_test.cpp), so 0.15 is more than 3 SD.
+  const std::optional<StoredStraylight> stored = stored_straylight(store, sessions[0].id);
+  ASSERT_TRUE(stored.has_value());
+  const double truth = cie_ring_log_s(25.0);
+  EXPECT_NEAR(truth, 0.846, 0.005);
+  EXPECT_EQ(stored->answers, 25);
+  EXPECT_EQ(stored->eye, "left");
+  EXPECT_NEAR(stored->estimate.log_s, truth, 0.15);
+  EXPECT_GT(stored->estimate.esd_log10, 0.0);
+  EXPECT_EQ(stored->estimate.unreliable, stored->estimate.esd_log10 > kStraylightUnreliableEsdLog10);
+  std::printf("straylight session: true log(s) %.3f, estimate %.3f, ESD %.3f\n", truth, stored->estimate.log_s,
+              stored->estimate.esd_log10);
+  // The summary names it, with the age norm of 25 years (0.87 + log10(1 + (25/65)^4) = 0.88).
+  EXPECT_NE(run.output.find("straylight, left eye, 25 answers: log(s) = "), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("age norm 0.88"), std::string::npos) << run.output;
+}
+
+TEST(StraylightSession, ExperimentWithScenesOrStereoIsRefusedAtTheKey) {
+  test::ScratchDir dir;
+  const auto refusal = [&](const std::string& text) {
+    const std::string path = dir.write("bad.toml", text);
+    return test::run_glarelab({"validate", path}, dir.path()).output;
+  };
+  const std::string scenes = refusal(measurement("") + "\n[scenes]\na = { file = \"a.exr\" }\n");
+  EXPECT_NE(scenes.find("remove [scenes]"), std::string::npos) << scenes;
+  const std::string background = refusal(
+      measurement("").replace(measurement("").find("bits_per_channel"), 0, "background_cd_m2 = 1.0\n"));
+  EXPECT_NE(background.find("display.background_cd_m2"), std::string::npos) << background;
+}
+
+// A rating session whose glare takes the participant's measured straylight.
+std::string glare_rating(const std::string& lamp_path) {
+  return R"([experiment]
+name = "straylight-glare"
+seed = 3
+
+[display]
+width_px = 64
+height_px = 32
+viewing_distance_mm = 300.0
+pixel_pitch_mm = 0.5
+peak_luminance_cd_m2 = 250.0
+
+[observer]
+age_years = 25.0
+pigmentation = 0.5
+
+[glare]
+model = "cie"
+straylight = "measured"
+
+[scenes]
+lamp = { file = ")" + lamp_path + R"(" }
+
+[procedure]
+type = "rating"
+categories = ["glare"]
+stimulus_frames = 1
+
+[presentation]
+question_above_stimuli = false
+
+[[conditions.rows]]
+name = "glare"
+scene = "lamp"
+glare = "dynamic"
+)";
+}
+
+// `[glare] straylight = "measured"`: refused with the participant and database named while there is
+// no measurement; after one, the session runs with its estimate, stored in its configuration and
+// logged with the session it came from.
+TEST(StraylightSession, MeasuredStraylightIsTheParticipantsLatestReliableMeasurement) {
+  test::ScratchDir dir;
+  ImageRGBA lamp(64, 32, 0.0f);
+  for (int c = 0; c < 4; ++c) lamp.pixel(20, 16)[c] = c == 3 ? 1.0f : 1e5f;
+  write_exr(dir.file("lamp.exr"), lamp);
+  const std::string glare = dir.write("glare.toml", glare_rating(dir.file("lamp.exr")));
+  const std::string db = dir.file("results.db");
+  const auto run_glare = [&](const std::string& participant) {
+    return test::run_glarelab({"run", glare, "--observer", "simulated", "--display", "offscreen", "--participant",
+                               participant, "--db", db},
+                              dir.path());
+  };
+  const auto none = run_glare("p01");
+  EXPECT_EQ(none.exit_code, 2) << none.output;
+  EXPECT_NE(none.output.find("glare.toml:18"), std::string::npos) << none.output;
+  EXPECT_NE(none.output.find("participant 'p01' has no completed, reliable straylight measurement in " + db),
+            std::string::npos)
+      << none.output;
+
+  const std::string measurement_file = dir.write("straylight.toml", measurement("cycles = 1\nanswers = 40"));
+  const auto measured = test::run_glarelab({"run", measurement_file, "--observer", "simulated", "--display", "offscreen",
+                                            "--participant", "p01", "--db", db},
+                                           dir.path());
+  ASSERT_EQ(measured.exit_code, 0) << measured.output;
+  const auto other = run_glare("p02");  // another participant's measurement is not theirs
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+
+  const auto with_glare = run_glare("p01");
+  ASSERT_EQ(with_glare.exit_code, 0) << with_glare.output;
+  const ResultStore store(db);
+  const std::vector<SessionRecord> sessions = store.load_sessions();
+  ASSERT_EQ(sessions.size(), 2u);
+  const std::optional<StoredStraylight> stored = stored_straylight(store, sessions[0].id);
+  ASSERT_TRUE(stored.has_value());
+  ASSERT_FALSE(stored->estimate.unreliable) << stored->estimate.esd_log10;
+  const Experiment used = parse_experiment_text(sessions[1].config, "<stored config>", "/");
+  ASSERT_TRUE(used.glare.observer_eye.straylight_log_s.has_value());
+  EXPECT_EQ(*used.glare.observer_eye.straylight_log_s, stored->estimate.log_s);
+  EXPECT_EQ(RawDb(db).value("SELECT COUNT(*) FROM session_events WHERE kind = 'straylight_measured' AND session_id = " +
+                            std::to_string(sessions[1].id) + " AND message LIKE '%session " +
+                            std::to_string(sessions[0].id) + " of %'"),
+            "1");
+}
+
+// Version 5 stored trials of every procedure it knew; after the migration they read back with
+// their ids, and a straylight trial can be stored.
+TEST(StraylightSession, VersionFiveDatabaseGainsTheProcedureAndKeepsItsTrials) {
+  test::ScratchDir dir;
+  const std::string path = dir.file("v5.db");
+  {
+    RawDb db(path, true);
+    db.exec(R"sql(
+CREATE TABLE sessions (id INTEGER PRIMARY KEY, experiment TEXT NOT NULL, participant TEXT NOT NULL,
+  seed INTEGER NOT NULL, started_utc TEXT NOT NULL, finished_utc TEXT,
+  status TEXT NOT NULL CHECK(status IN ('running','completed','aborted')), config TEXT NOT NULL,
+  software_version TEXT NOT NULL, renderer TEXT NOT NULL, display_backend TEXT NOT NULL, clock TEXT NOT NULL,
+  observer TEXT NOT NULL);
+CREATE TABLE trials (id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL REFERENCES sessions(id),
+  trial_index INTEGER NOT NULL, block INTEGER NOT NULL,
+  procedure TEXT NOT NULL CHECK(procedure IN ('forced_choice','staircase','quest','adjustment','rating','timing_test')),
+  condition TEXT NOT NULL, intensity REAL, response TEXT NOT NULL, correct INTEGER CHECK(correct IN (0, 1)),
+  response_time_s REAL, onset_s REAL NOT NULL, staircase TEXT, reversal INTEGER, started_utc TEXT NOT NULL,
+  UNIQUE(session_id, trial_index));
+CREATE TABLE frames (session_id INTEGER NOT NULL REFERENCES sessions(id), trial_id INTEGER NOT NULL REFERENCES trials(id),
+  frame_index INTEGER NOT NULL, scheduled_s REAL NOT NULL, flip_s REAL NOT NULL,
+  dropped INTEGER NOT NULL CHECK(dropped IN (0, 1)), gaze_age_s REAL);
+CREATE TABLE tracker_samples (session_id INTEGER NOT NULL REFERENCES sessions(id), eye INTEGER NOT NULL,
+  device_time_s REAL NOT NULL, session_time_s REAL NOT NULL, pupil_diameter_mm REAL, gaze_x REAL, gaze_y REAL,
+  confidence REAL NOT NULL, valid INTEGER NOT NULL CHECK(valid IN (0, 1)));
+CREATE TABLE session_events (id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL REFERENCES sessions(id),
+  session_time_s REAL NOT NULL, wall_utc TEXT NOT NULL, kind TEXT NOT NULL, message TEXT NOT NULL);
+CREATE TABLE adjustments (trial_id INTEGER NOT NULL REFERENCES trials(id), spot INTEGER NOT NULL CHECK(spot IN (0, 1)),
+  value_cd_m2 REAL NOT NULL, PRIMARY KEY (trial_id, spot));
+CREATE TABLE session_owners (session_id INTEGER PRIMARY KEY REFERENCES sessions(id), pid INTEGER NOT NULL,
+  process_start_ticks INTEGER NOT NULL, boot_id TEXT NOT NULL, host TEXT NOT NULL, since_utc TEXT NOT NULL);
+INSERT INTO sessions VALUES (1, 'old', 'p1', 1, '2026-01-01T00:00:00Z', NULL, 'completed', '', 'v', 'r', 'offscreen',
+  'virtual', 'simulated');
+INSERT INTO trials VALUES (7, 1, 0, 0, 'staircase', '{"name":"a"}', 1.5, 'left', 1, 0.4, 0.5, 's1', 0, 'x');
+INSERT INTO trials VALUES (9, 1, 1, 0, 'timing_test', '{}', NULL, 'none', NULL, NULL, 1.0, NULL, NULL, 'x');
+INSERT INTO frames VALUES (1, 7, 0, 0.5, 0.5, 0, NULL);
+INSERT INTO adjustments VALUES (7, 0, 97.25);
+PRAGMA user_version = 5;
+)sql");
+  }
+  ResultStore store(path);
+  EXPECT_EQ(store.schema_version(), 6);
+  const std::vector<TrialRecord> trials = store.load_trials(1);
+  ASSERT_EQ(trials.size(), 2u);
+  EXPECT_EQ(trials[0].id, 7);
+  EXPECT_EQ(trials[0].procedure, "staircase");
+  EXPECT_EQ(trials[0].intensity, 1.5);
+  EXPECT_EQ(trials[0].staircase, "s1");
+  EXPECT_EQ(trials[1].id, 9);
+  EXPECT_EQ(trials[1].procedure, "timing_test");
+  EXPECT_EQ(store.load_frames(7).size(), 1u);
+  EXPECT_EQ(store.load_adjustments(7).size(), 1u);
+  TrialRecord straylight = trials[0];
+  straylight.trial_index = 2;
+  straylight.procedure = "straylight";
+  straylight.staircase.clear();
+  const std::int64_t id = store.commit_trial(straylight, {});
+  EXPECT_EQ(store.load_trials(1).back().procedure, "straylight");
+  EXPECT_GT(id, 9);
+  EXPECT_EQ(RawDb(path).value("PRAGMA foreign_key_check"), "<no row>");
+  EXPECT_EQ(RawDb(path).value("PRAGMA integrity_check"), "ok");
+}
+
+}  // namespace
+}  // namespace glarelab
