@@ -24,6 +24,8 @@ double ring_straylight_constant(double inner_deg, double outer_deg);
 // The healthy eye's age norm at 7 degrees: log10(s) = 0.87 + log10(1 + (age / 65)^4)
 // (van den Berg et al. 2007, 2318 eyes; population SD about 0.10).
 double straylight_age_norm_log10(double age_years);
+// The healthy population's SD about the age norm (log10 units).
+inline constexpr double kStraylightAgeNormSdLog10 = 0.10;
 
 // The observer model both the estimate and the simulated observer use: each half's flicker
 // amplitude is seen on a log10 scale with Gaussian noise, the difference of the two having SD

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <string>
 #include <vector>
@@ -124,6 +125,37 @@ TEST(StraylightSession, SimulatedRunStoresEachAnswerAndMeasuresTheParticipantsSt
   // The summary names it, with the age norm of 25 years (0.87 + log10(1 + (25/65)^4) = 0.88).
   EXPECT_NE(run.output.find("straylight, left eye, 25 answers: log(s) = "), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("age norm 0.88"), std::string::npos) << run.output;
+
+  // `analyze`: the estimate, ESD and flag against the likelihood of the stored rows taken
+  // directly (each answer: the level, and whether the half named is the compensated one), the age
+  // norm against its formula, and the likelihood's figure.
+  std::vector<StraylightAnswer> answers;
+  for (const TrialRecord& trial : trials)
+    answers.push_back({*trial.intensity, trial.condition.find("\"compensated_side\":\"" + trial.response + "\"") !=
+                                             std::string::npos});
+  const StraylightEstimate direct = estimate_straylight(answers, StraylightPsychometric{});
+  const auto out = dir.path() / "analysis";
+  const auto analyzed = test::run_glarelab({"analyze", db, "--out", out.string()}, dir.path());
+  ASSERT_EQ(analyzed.exit_code, 0) << analyzed.output;
+  const std::string csv = test::read_bytes((out / "straylight.csv").string());
+  const std::size_t row = csv.find("\r\n") + 2;
+  double log_s = 0.0, esd = 0.0, age = 0.0, norm = 0.0;
+  int answer_count = 0, reliable = -1;
+  ASSERT_EQ(std::sscanf(csv.c_str() + row, "p01 (#1),left,%d,%lf,%lf,%d,%lf,%lf", &answer_count, &log_s, &esd, &reliable,
+                        &age, &norm),
+            6)
+      << csv;
+  EXPECT_EQ(answer_count, 25);
+  EXPECT_EQ(log_s, direct.log_s);
+  EXPECT_EQ(esd, direct.esd_log10);
+  EXPECT_EQ(reliable, direct.esd_log10 > 0.08 ? 0 : 1);
+  EXPECT_EQ(age, 25.0);
+  EXPECT_NEAR(norm, 0.87 + std::log10(1.0 + std::pow(25.0 / 65.0, 4.0)), 1e-12);
+  EXPECT_NE(analyzed.output.find("straylight p01 (#1) left eye (25 answers): log(s) "), std::string::npos)
+      << analyzed.output;
+  const std::string figure = test::read_bytes((out / "figures" / "straylight_1.svg").string());
+  EXPECT_NE(figure.find("Straylight likelihood: p01 (#1), left eye (25 answers)"), std::string::npos);
+  EXPECT_NE(test::read_bytes((out / "report.html").string()).find("<h2>Straylight</h2>"), std::string::npos);
 }
 
 TEST(StraylightSession, ExperimentWithScenesOrStereoIsRefusedAtTheKey) {

@@ -79,14 +79,21 @@ std::unique_ptr<Observer> make_simulated_straylight_participant(const Experiment
 std::optional<StoredStraylight> stored_straylight(const ResultStore& store, std::int64_t session_id) {
   const std::optional<SessionRecord> session = store.load_session(session_id);
   if (!session) return std::nullopt;
-  const Experiment experiment = parse_experiment_text(session->config, "<stored config>", "/");
+  return replay_straylight(*session, store.load_trials(session_id), store.path());
+}
+
+std::optional<StoredStraylight> replay_straylight(const SessionRecord& session, const std::vector<TrialRecord>& trials,
+                                                  const std::string& db_path) {
+  const std::int64_t session_id = session.id;
+  if (trials.empty() || trials.front().procedure != "straylight") return std::nullopt;
+  const Experiment experiment = parse_experiment_text(session.config, "<session " + std::to_string(session_id) + " config>", "/");
   if (experiment.procedure != "straylight") return std::nullopt;
   StraylightProcedure procedure(experiment.straylight, experiment.seed);
-  for (const TrialRecord& trial : store.load_trials(session_id)) {
+  for (const TrialRecord& trial : trials) {
     if (procedure.finished()) break;
     const TrialPlan plan = procedure.next_trial();
     if (plan.condition_json != trial.condition)
-      throw StoreError("SQLite: " + store.path() + ": session " + std::to_string(session_id) + " trial " +
+      throw StoreError("SQLite: " + db_path + ": session " + std::to_string(session_id) + " trial " +
                        std::to_string(trial.trial_index) + " does not match its replay (stored condition " +
                        trial.condition + ", replayed " + plan.condition_json + ")");
     procedure.record_response(plan, Response{trial.response, trial.response_time_s});
@@ -94,9 +101,9 @@ std::optional<StoredStraylight> stored_straylight(const ResultStore& store, std:
   if (procedure.answers().empty()) return std::nullopt;
   StoredStraylight stored;
   stored.session_id = session_id;
-  stored.participant = session->participant;
+  stored.participant = session.participant;
   stored.eye = experiment.straylight.eye;
-  stored.status = session->status;
+  stored.status = session.status;
   stored.age_years = experiment.glare.observer_eye.age_years;
   stored.answers = static_cast<int>(procedure.answers().size());
   stored.estimate = procedure.estimate();
@@ -108,11 +115,11 @@ std::string describe_straylight_session(const ResultStore& store, std::int64_t s
   if (!stored) return "";
   char line[320];
   std::snprintf(line, sizeof line,
-                "  straylight, %s eye, %d answers: log(s) = %.2f, ESD %.3f (%s); age norm %.2f (population SD 0.10) "
+                "  straylight, %s eye, %d answers: log(s) = %.2f, ESD %.3f (%s); age norm %.2f (population SD %.2f) "
                 "at %.0f years\n",
                 stored->eye.c_str(), stored->answers, stored->estimate.log_s, stored->estimate.esd_log10,
                 stored->estimate.unreliable ? "unreliable: ESD above the limit" : "reliable",
-                straylight_age_norm_log10(stored->age_years), stored->age_years);
+                straylight_age_norm_log10(stored->age_years), kStraylightAgeNormSdLog10, stored->age_years);
   return line;
 }
 

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/image.h"
 #include "protocols/experiment.h"
@@ -53,6 +54,10 @@ struct StoredStraylight {
 // Empty for a session of another procedure or one without answers. StoreError when a stored trial
 // is not the one its replay plans (the database does not hold what this procedure stored).
 std::optional<StoredStraylight> stored_straylight(const ResultStore& store, std::int64_t session_id);
+// The same from a session's row and its trials in trial order, read by any reader; `db_path` names
+// the database in errors.
+std::optional<StoredStraylight> replay_straylight(const SessionRecord& session, const std::vector<TrialRecord>& trials,
+                                                  const std::string& db_path);
 
 // The summary's line: log(s), its ESD and the reliability flag, with the age norm beside them
 // (an empty string for a session that measured nothing).
