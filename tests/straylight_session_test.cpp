@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <sstream>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -255,6 +257,54 @@ TEST(StraylightSession, MeasuredStraylightIsTheParticipantsLatestReliableMeasure
                             std::to_string(sessions[1].id) + " AND message LIKE '%session " +
                             std::to_string(sessions[0].id) + " of %'"),
             "1");
+}
+
+// An example file with some lines replaced (whole lines starting with the key) and its scene paths
+// made absolute, written into `dir`.
+std::string short_example(const test::ScratchDir& dir, const std::string& name,
+                          const std::vector<std::pair<std::string, std::string>>& lines) {
+  const std::string examples = std::string(GLARELAB_SOURCE_DIR) + "/examples/";
+  std::istringstream in(test::read_bytes(examples + name));
+  std::string text;
+  for (std::string line; std::getline(in, line);) {
+    for (const auto& [key, replacement] : lines)
+      if (line.rfind(key + " =", 0) == 0) line = replacement;
+    if (const auto at = line.find("\"scenes/"); at != std::string::npos) line.insert(at + 1, examples);
+    text += line + "\n";
+  }
+  return dir.write(name, text);
+}
+
+// The example study (examples/straylight.toml, then examples/straylight_glare.toml), each
+// presentation one cycle on a 1280 x 720 part of its panel (the ring still fits) and each glare
+// stimulus two frames, to keep it short: the glare session runs with the measurement's estimate. tests/example_studies_test.cpp leaves both files to this test.
+TEST(StraylightSession, ExampleStudyMeasuresThenRendersGlareWithTheMeasurement) {
+  test::ScratchDir dir;
+  const std::string measurement_file =
+      short_example(dir, "straylight.toml",
+                    {{"cycles", "cycles = 1"},
+                     {"answers", "answers = 16"},
+                     {"fixation_duration_s", "fixation_duration_s = 0.05"},
+                     {"width_px", "width_px = 1280"},
+                     {"height_px", "height_px = 720"}});
+  const std::string glare_file = short_example(dir, "straylight_glare.toml", {{"stimulus_frames", "stimulus_frames = 2"}});
+  const std::string db = dir.file("study.db");
+  for (const std::string& file : {measurement_file, glare_file}) {
+    const auto run = test::run_glarelab(
+        {"run", file, "--db", db, "--participant", "p01", "--display", "offscreen", "--observer", "simulated"}, dir.path());
+    ASSERT_EQ(run.exit_code, 0) << file << ": " << run.output;
+  }
+  const ResultStore store(db);
+  const std::vector<SessionRecord> sessions = store.load_sessions();
+  ASSERT_EQ(sessions.size(), 2u);
+  const std::optional<StoredStraylight> measured = stored_straylight(store, sessions[0].id);
+  ASSERT_TRUE(measured.has_value());
+  EXPECT_EQ(measured->eye, "right");
+  EXPECT_EQ(measured->answers, 16);
+  const Experiment glare = parse_experiment_text(sessions[1].config, "<stored config>", "/");
+  ASSERT_TRUE(glare.glare.observer_eye.straylight_log_s.has_value());
+  EXPECT_EQ(*glare.glare.observer_eye.straylight_log_s, measured->estimate.log_s);
+  EXPECT_EQ(store.load_trials(sessions[1].id).size(), 4u);
 }
 
 // Version 5 stored trials of every procedure it knew; after the migration they read back with
