@@ -344,7 +344,7 @@ std::string render_html(const AnalysisReport& report) {
 
   if (!report.straylight.empty()) {
     out << "<h2>Straylight</h2>\n<p>Each measurement's log(s) (deg^2/sr), the maximum of the likelihood of its answers "
-           "recomputed from the stored trials, its ESD (the SD of the normalised likelihood) and the age norm "
+           "recomputed from the stored trials, its ESD (the half-width of the likelihood at e^-1/2 of its peak) and the age norm "
            "log(s) = 0.87 + log10(1 + (age / 65)^4) (docs/STRAYLIGHT.md); straylight.csv holds them.</p>\n";
     out << straylight_measurements_html(report.straylight);
     html_figures(out, report, "straylight");

@@ -1,6 +1,6 @@
 #pragma once
 // The straylight measurements of the loaded sessions (docs/STRAYLIGHT.md) as plain data for the
-// report: the estimate log10(s), its ESD (the SD of the normalised likelihood), the reliability
+// report: the estimate log10(s), its ESD (the half-width of the likelihood at e^-1/2), the reliability
 // flag, the participant's age norm beside it and the likelihood over its grid. The estimate is
 // computed by the runner, which replays each session's stored answers through its stored design
 // (runner/cli/straylight_measurements.h); this file only reports and draws it.

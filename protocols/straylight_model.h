@@ -57,7 +57,10 @@ struct StraylightLikelihood {
 
 struct StraylightEstimate {
   double log_s = 0.0;  // maximum of the likelihood (parabolic refinement between grid points)
-  double esd_log10 = 0.0;  // expected SD: the SD of the normalised likelihood
+  // Expected SD: half the width of the likelihood's peak at e^-1/2 of its maximum (a Gaussian
+  // likelihood's SD), interpolated between grid points.
+  double esd_log10 = 0.0;
+  double likelihood_sd_log10 = 0.0;  // the SD of the whole normalised likelihood (its tails included)
   bool unreliable = false;  // esd_log10 > kStraylightUnreliableEsdLog10
   StraylightLikelihood likelihood;
 };
