@@ -79,10 +79,25 @@ TEST(StraylightSession, SimulatedRunStoresEachAnswerAndMeasuresTheParticipantsSt
   test::ScratchDir dir;
   const std::string experiment = dir.write("straylight.toml", measurement("cycles = 2"));
   const std::string db = dir.file("results.db");
+  const auto frames = dir.path() / "frames";
   const auto run = test::run_glarelab({"run", experiment, "--observer", "simulated", "--display", "offscreen",
-                                       "--participant", "p01", "--db", db},
+                                       "--participant", "p01", "--db", db, "--save-frames", frames.string()},
                                       dir.path());
   ASSERT_EQ(run.exit_code, 0) << run.output;
+  // The first stimulus frame as the session drew it (linear cd/m2): the ring at the display's whole
+  // peak (the default ring, min(peak, peak / (k 10^2.8)) = 250 cd/m2) at 7 degrees from the centre,
+  // dark in the test field (the compensation is the other half-cycle) and beyond the ring. Pixel
+  // column x lies atan(|x + 0.5 - 128| 0.5 mm / 300 mm) from the centre.
+  const ImageRGBA first = read_exr((frames / "trial_0000.exr").string()).image;
+  ASSERT_EQ(first.width_px, 256);
+  const auto column_at_deg = [](double angle_deg) {
+    return static_cast<int>(128.0 + 300.0 * std::tan(angle_deg * std::acos(-1.0) / 180.0) / 0.5);
+  };
+  EXPECT_NEAR(first.pixel(column_at_deg(7.0), 128)[1], 250.0f, 1e-3f);
+  EXPECT_NEAR(first.pixel(column_at_deg(5.5), 128)[1], 250.0f, 1e-3f);
+  EXPECT_EQ(first.pixel(column_at_deg(1.0), 128)[1], 0.0f);
+  EXPECT_EQ(first.pixel(column_at_deg(3.5), 128)[1], 0.0f);
+  EXPECT_EQ(first.pixel(column_at_deg(11.0), 128)[1], 0.0f);
 
   const ResultStore store(db);
   const std::vector<SessionRecord> sessions = store.load_sessions();
@@ -158,6 +173,49 @@ TEST(StraylightSession, SimulatedRunStoresEachAnswerAndMeasuresTheParticipantsSt
   const std::string figure = test::read_bytes((out / "figures" / "straylight_1.svg").string());
   EXPECT_NE(figure.find("Straylight likelihood: p01 (#1), left eye (25 answers)"), std::string::npos);
   EXPECT_NE(test::read_bytes((out / "report.html").string()).find("<h2>Straylight</h2>"), std::string::npos);
+}
+
+// The stimulus images and the flicker: at 60 Hz, 8 frames per cycle, the ring is on for frames 0-3
+// of each cycle and the compensation for frames 4-7 (7.5 Hz, counterphase); the ring's pixels
+// subtend the solid angle of a 5-10 degree annulus, 2 pi (cos 5 - cos 10), within 1 %; the halves
+// are each other's mirror image and hold half a 2 degree disc.
+TEST(StraylightSession, StimulusIsTheRingAndTheHalvesFlickeringInCounterphase) {
+  int ring_frames = 0, switches = 0;
+  for (int frame = 0; frame < 96; ++frame) {
+    ring_frames += straylight_ring_on(frame, 8) ? 1 : 0;
+    if (frame > 0 && straylight_ring_on(frame, 8) != straylight_ring_on(frame - 1, 8)) ++switches;
+    EXPECT_EQ(straylight_ring_on(frame, 8), frame % 8 < 4) << frame;
+  }
+  EXPECT_EQ(ring_frames, 48);
+  EXPECT_EQ(switches, 23);  // 12 cycles of 1.6 s: 7.5 Hz
+
+  DisplaySpec display;
+  display.width_px = 1280;
+  display.height_px = 1024;
+  display.viewing_distance_mm = 500.0;
+  display.pixel_pitch_mm = 0.25;
+  StraylightSpec spec;
+  const StraylightImages images = straylight_images(display, spec);
+  ASSERT_EQ(images.ring.width_px, images.left_half.width_px);
+  EXPECT_EQ((display.width_px - images.ring.width_px) % 2, 0);
+  EXPECT_EQ((display.height_px - images.ring.height_px) % 2, 0);
+  const double deg = std::acos(-1.0) / 180.0;
+  double ring_sr = 0.0, left_sr = 0.0, right_sr = 0.0;
+  for (int y = 0; y < images.ring.height_px; ++y) {
+    for (int x = 0; x < images.ring.width_px; ++x) {
+      const double dx = (x + 0.5 - 0.5 * images.ring.width_px) * 0.25, dy = (y + 0.5 - 0.5 * images.ring.height_px) * 0.25;
+      const double r2 = dx * dx + dy * dy + 500.0 * 500.0;
+      const double pixel_sr = 0.25 * 0.25 * 500.0 / (r2 * std::sqrt(r2));  // a pixel's solid angle seen from the eye
+      ring_sr += images.ring.pixel(x, y)[1] * pixel_sr;
+      left_sr += images.left_half.pixel(x, y)[1] * pixel_sr;
+      right_sr += images.right_half.pixel(x, y)[1] * pixel_sr;
+      EXPECT_EQ(images.left_half.pixel(x, y)[1], images.right_half.pixel(images.ring.width_px - 1 - x, y)[1]);
+      EXPECT_LE(images.ring.pixel(x, y)[1] + images.left_half.pixel(x, y)[1] + images.right_half.pixel(x, y)[1], 1.0f);
+    }
+  }
+  EXPECT_NEAR(ring_sr / (2.0 * std::acos(-1.0) * (std::cos(5.0 * deg) - std::cos(10.0 * deg))), 1.0, 0.01);
+  EXPECT_NEAR(left_sr / (std::acos(-1.0) * (1.0 - std::cos(2.0 * deg))), 1.0, 0.02);
+  EXPECT_NEAR(left_sr / right_sr, 1.0, 1e-12);  // mirror images: equal but for the order of the sums
 }
 
 TEST(StraylightSession, ExperimentWithScenesOrStereoIsRefusedAtTheKey) {

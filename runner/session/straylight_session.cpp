@@ -54,6 +54,10 @@ StraylightImages straylight_images(const DisplaySpec& display, const StraylightS
   return images;
 }
 
+bool straylight_ring_on(int frame_in_interval, int frames_per_cycle) {
+  return frame_in_interval % frames_per_cycle < frames_per_cycle / 2;
+}
+
 StraylightObserverEye simulated_straylight_eye(const Experiment& experiment) {
   const ObserverEye& eye = experiment.glare.observer_eye;
   const double factor = eye.straylight_log_s ? cie146_factor_for_straylight(*eye.straylight_log_s,

@@ -28,6 +28,11 @@ struct StraylightImages {
 };
 StraylightImages straylight_images(const DisplaySpec& display, const StraylightSpec& spec);
 
+// Whether stimulus frame `frame_in_interval` shows the ring (the first half of each cycle of
+// `frames_per_cycle` frames) or the compensation light (the second half): the square wave and its
+// counterphase (runner/session/straylight_trial.cpp draws it).
+bool straylight_ring_on(int frame_in_interval, int frames_per_cycle);
+
 // The simulated participant's eye: the CIE 146 glare spread function of [observer] age_years and
 // pigmentation, or with `[glare] straylight` the function of that straylight at 7 degrees
 // (glare/analytic/ring_straylight.h), integrated over the ring; the model's noise and lapses.

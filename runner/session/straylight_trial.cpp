@@ -21,7 +21,7 @@ void SessionLoop::upload_straylight_stimulus() {
 
 std::vector<Placement> SessionLoop::straylight_frame(const TrialPlan& plan, int frame_in_interval) const {
   const StraylightStimulusPlan& shown = *plan.straylight;
-  const bool ring_on = frame_in_interval % shown.frames_per_cycle < shown.frames_per_cycle / 2;
+  const bool ring_on = straylight_ring_on(frame_in_interval, shown.frames_per_cycle);
   const SceneTexture& texture = straylight_textures_.at(ring_on ? 0 : shown.compensation_left ? 1 : 2);
   return {Placement{&texture, ring_on ? shown.ring_luminance_cd_m2 : shown.compensation_cd_m2, straylight_rect_,
                     straylight_rect_}};
