@@ -4,9 +4,12 @@
 // participant's own straylight. A results database of schema version 5 gains the procedure
 // 'straylight' without losing a row.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -22,6 +25,7 @@
 #include "runner/session/straylight_session.h"
 #include "runner/store/result_store.h"
 #include "scratch_dir.h"
+#include "window_focus.h"
 
 namespace glarelab {
 namespace {
@@ -363,6 +367,103 @@ TEST(StraylightSession, ExampleStudyMeasuresThenRendersGlareWithTheMeasurement) 
   ASSERT_TRUE(glare.glare.observer_eye.straylight_log_s.has_value());
   EXPECT_EQ(*glare.glare.observer_eye.straylight_log_s, measured->estimate.log_s);
   EXPECT_EQ(store.load_trials(sessions[1].id).size(), 4u);
+}
+
+// In a real X window (xvfb-run, as the other WindowBackend tests), answered with the arrow keys
+// sent by xdotool. The suite's Xvfb is 24-bit, and 8 bits cannot resolve the compensation levels
+// (refused at load), so this test runs its own Xvfb of depth 30, whose GLFW window gets the 10-bit
+// framebuffer [display] bits_per_channel asks for. Keys alternate Left and Right every 0.4 s until
+// the session ends; keys outside an answer period are logged as ignored, the others are the
+// trials' answers. The first frame the window was sent (--save-frames) holds the ring.
+TEST(WindowBackend, StraylightMeasurementOnATenBitWindowStoresTheArrowKeyAnswers) {
+  ASSERT_EQ(std::system("command -v xvfb-run > /dev/null && command -v xdotool > /dev/null"), 0)
+      << "xvfb-run and xdotool are needed (scripts/setup.sh installs them)";
+  test::ScratchDir dir;
+  const std::string experiment = dir.write("window.toml", R"([experiment]
+name = "straylight-window"
+seed = 5
+
+[display]
+width_px = 640
+height_px = 480
+viewing_distance_mm = 300.0
+pixel_pitch_mm = 0.5
+peak_luminance_cd_m2 = 250.0
+encoding = "gamma"
+gamma = 2.2
+bits_per_channel = 10
+
+[procedure]
+type = "straylight"
+eye = "left"
+answers = 12
+cycles = 2
+
+[presentation]
+fixation_duration_s = 0.05
+question_above_stimuli = false
+)");
+  const std::string db = dir.file("window.db");
+  const auto frames = dir.path() / "frames";
+  const std::string script = dir.write(
+      "answer.sh", std::string(GLARELAB_BINARY) + " run " + experiment + " --display window --observer keyboard --db " + db +
+                       " --save-frames " + frames.string() + " > " + dir.file("run.txt") + " 2>&1 &\n" +
+                       "pid=$!\n" + test::focus_window_command("glarelab: straylight-window", 20) +
+                       " || exit 90\n"
+                       "key=Left\n"
+                       "while kill -0 $pid 2> /dev/null; do\n"
+                       "  sleep 0.4; xdotool key $key > /dev/null 2>&1\n"
+                       "  if [ $key = Left ]; then key=Right; else key=Left; fi\n"
+                       "done\n"
+                       "wait $pid\n");
+  const int status =
+      std::system(("timeout 120 xvfb-run -a -s '-screen 0 640x480x30 -noreset' sh " + script + " > /dev/null 2>&1").c_str());
+  ASSERT_EQ(WEXITSTATUS(status), 0) << test::read_bytes(dir.file("run.txt"));
+
+  const ResultStore store(db);
+  const SessionRecord session = store.load_sessions().at(0);
+  EXPECT_EQ(session.status, "completed");
+  EXPECT_EQ(session.display_backend, "window");
+  EXPECT_NE(session.renderer.find("10/10/10 bits"), std::string::npos) << session.renderer;
+  const std::vector<TrialRecord> trials = store.load_trials(session.id);
+  ASSERT_EQ(trials.size(), 12u);
+  std::set<std::string> answers;
+  for (const TrialRecord& trial : trials) {
+    EXPECT_EQ(trial.procedure, "straylight");
+    EXPECT_TRUE(trial.response == "left" || trial.response == "right") << trial.response;
+    answers.insert(trial.response);
+    ASSERT_TRUE(trial.response_time_s.has_value());
+    EXPECT_GT(*trial.response_time_s, 0.0);
+  }
+  EXPECT_EQ(answers.size(), 2u) << "both arrow keys answered";
+  const ImageRGBA first = read_exr((frames / "trial_0000.exr").string()).image;
+  const int ring_x = static_cast<int>(320.0 + 300.0 * std::tan(7.0 * std::acos(-1.0) / 180.0) / 0.5);
+  EXPECT_NEAR(first.pixel(ring_x, 240)[1], 250.0f, 1e-3f);
+  EXPECT_EQ(first.pixel(320 - 5, 240)[1], 0.0f);
+
+  // The flicker read back: the drive values the window was sent at each frame of the first cycle
+  // (8 frames at 60 Hz, 7.5 Hz). Frames 0-3: the ring at full drive ((250 / 250)^(1 / 2.2)), the
+  // test field dark; frames 4-7: the ring dark, the compensated half at (L_c / 250)^(1 / 2.2) on the
+  // 10-bit codes, the other half dark: the compensation in counterphase with the ring.
+  const std::string& condition = trials[0].condition;
+  const bool left = condition.find("\"compensated_side\":\"left\"") != std::string::npos;
+  const std::size_t at = condition.find("\"compensation_cd_m2\":\"");
+  ASSERT_NE(at, std::string::npos) << condition;
+  const double compensation_cd_m2 = std::stod(condition.substr(at + 22));
+  const double compensation_drive = std::round(1023.0 * std::pow(compensation_cd_m2 / 250.0, 1.0 / 2.2)) / 1023.0;
+  const int compensated_x = left ? 310 : 330, other_x = left ? 330 : 310;  // 1 degree either side of the centre
+  for (int frame = 0; frame < 8; ++frame) {
+    char name[64];
+    std::snprintf(name, sizeof name, "trial_0000_drive_%02d.exr", frame);
+    SCOPED_TRACE(name);
+    const ImageRGBA drive = read_exr((frames / name).string()).image;
+    const bool ring_on = frame < 4;
+    EXPECT_NEAR(drive.pixel(ring_x, 240)[1], ring_on ? 1.0 : 0.0, 1e-4);
+    // Within one code: the encoder's ordered dithering takes a pixel to either neighbouring code.
+    EXPECT_NEAR(drive.pixel(compensated_x, 240)[1], ring_on ? 0.0 : compensation_drive, 1.01 / 1023.0);
+    EXPECT_EQ(drive.pixel(other_x, 240)[1], 0.0f);
+  }
+  EXPECT_FALSE(std::filesystem::exists(frames / "trial_0000_drive_08.exr")) << "the first cycle only";
 }
 
 // Version 5 stored trials of every procedure it knew; after the migration they read back with

@@ -193,6 +193,9 @@ class SessionLoop {
   void upload_straylight_stimulus();
   std::vector<Placement> straylight_frame(const TrialPlan& plan, int frame_in_interval) const;
   IntervalGlare begin_straylight(const TrialPlan& plan, int flips_before);
+  // With --save-frames: the display's drive values of each frame of a straylight trial's first
+  // flicker cycle, as the window is sent them, trial_NNNN_drive_KK.exr (the flicker read back).
+  void save_straylight_cycle_frame(const TrialPlan& plan, int frame_in_interval);
 
   // runner/session/trial_run.cpp: at an interval's first flip, before it is presented: the frame
   // saved (--save-frames) and, for the previewed trial, captured. True when the preview is done.

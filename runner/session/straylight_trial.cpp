@@ -4,6 +4,10 @@
 // first half and the compensation light, on one half of the test field, for the second: the
 // square wave and its counterphase. Nothing else is lit; no glare or perception stage is applied,
 // since the straylight measured is the participant's own.
+#include <cstdio>
+#include <filesystem>
+
+#include "core/exr_io.h"
 #include "runner/session/session_loop.h"
 #include "runner/session/straylight_session.h"
 
@@ -25,6 +29,15 @@ std::vector<Placement> SessionLoop::straylight_frame(const TrialPlan& plan, int 
   const SceneTexture& texture = straylight_textures_.at(ring_on ? 0 : shown.compensation_left ? 1 : 2);
   return {Placement{&texture, ring_on ? shown.ring_luminance_cd_m2 : shown.compensation_cd_m2, straylight_rect_,
                     straylight_rect_}};
+}
+
+void SessionLoop::save_straylight_cycle_frame(const TrialPlan& plan, int frame_in_interval) {
+  if (save_frames_dir_.empty() || fast_forward_ || !plan.straylight ||
+      frame_in_interval >= plan.straylight->frames_per_cycle)
+    return;
+  char name[64];
+  std::snprintf(name, sizeof name, "trial_%04d_drive_%02d.exr", plan.trial_index, frame_in_interval);
+  write_exr((std::filesystem::path(save_frames_dir_) / name).string(), renderer_.read_display());
 }
 
 IntervalGlare SessionLoop::begin_straylight(const TrialPlan& plan, int flips_before) {

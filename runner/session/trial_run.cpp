@@ -198,6 +198,7 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
         shown_glare.frame_draw_s.push_back(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - draw_start).count());
       }
+      save_straylight_cycle_frame(plan, flip.frame_in_interval);
       if (flip.frame_in_interval == 0 &&
           capture_first_frame(intervals.shown_plans[static_cast<std::size_t>(flip.interval)], flip.interval)) {
         aborted_ = true;
