@@ -14,7 +14,7 @@ namespace {
 std::string cell(const std::string& text) { return "<td>" + html_escape(text) + "</td>"; }
 
 std::string flag_words(const StraylightMeasurement& m) {
-  return m.unreliable ? "unreliable (ESD above " + fixed(m.esd_limit_log10, 2) + ")" : "reliable";
+  return m.unreliable ? "unreliable (a spread of the likelihood above " + fixed(m.esd_limit_log10, 2) + ")" : "reliable";
 }
 
 }  // namespace

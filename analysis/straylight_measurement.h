@@ -15,7 +15,7 @@ struct StraylightMeasurement {
   int answers = 0;
   double log_s = 0.0;      // maximum of the likelihood, log10(deg^2 / sr)
   double esd_log10 = 0.0;  // expected SD
-  bool unreliable = false;  // ESD above the limit
+  bool unreliable = false;  // the ESD or the likelihood's SD above the limit
   double esd_limit_log10 = 0.0;  // the limit (0.08)
   double age_years = 0.0;  // the session's [observer] age_years
   double age_norm_log10 = 0.0;  // the healthy eye's log10(s) at that age

@@ -110,7 +110,11 @@ StraylightEstimate estimate_straylight(const std::vector<StraylightAnswer>& answ
     }
   };
   estimate.esd_log10 = 0.5 * (crossing(+1) - crossing(-1));
-  estimate.unreliable = estimate.esd_log10 > kStraylightUnreliableEsdLog10;
+  // Unreliable when either spread passes the limit: a narrow peak with heavy tails or a second
+  // mode (few answers at the fixed levels) scatters like the whole likelihood, not like its peak
+  // (docs/STRAYLIGHT.md, "The estimate": 12 answers scatter by 0.09-0.15 with a peak half-width of
+  // 0.055-0.066 and a likelihood SD of 0.13).
+  estimate.unreliable = std::max(estimate.esd_log10, estimate.likelihood_sd_log10) > kStraylightUnreliableEsdLog10;
   return estimate;
 }
 

@@ -13,7 +13,8 @@
 
 namespace glarelab {
 
-// ESD above which a measurement is flagged unreliable (the C-Quant's criterion, 0.08 log units).
+// ESD above which a measurement is flagged unreliable (the C-Quant's criterion, 0.08 log units);
+// applied to both spreads of the likelihood (StraylightEstimate).
 inline constexpr double kStraylightUnreliableEsdLog10 = 0.08;
 
 // k = 2 pi (pi / 180)^2 ln(outer / inner): L_eq / (s L_ring) at the centre of a uniform ring whose
@@ -61,7 +62,8 @@ struct StraylightEstimate {
   // likelihood's SD), interpolated between grid points.
   double esd_log10 = 0.0;
   double likelihood_sd_log10 = 0.0;  // the SD of the whole normalised likelihood (its tails included)
-  bool unreliable = false;  // esd_log10 > kStraylightUnreliableEsdLog10
+  // esd_log10 or likelihood_sd_log10 above kStraylightUnreliableEsdLog10.
+  bool unreliable = false;
   StraylightLikelihood likelihood;
 };
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -140,7 +141,8 @@ TEST(StraylightSession, SimulatedRunStoresEachAnswerAndMeasuresTheParticipantsSt
   EXPECT_EQ(stored->eye, "left");
   EXPECT_NEAR(stored->estimate.log_s, truth, 0.15);
   EXPECT_GT(stored->estimate.esd_log10, 0.0);
-  EXPECT_EQ(stored->estimate.unreliable, stored->estimate.esd_log10 > kStraylightUnreliableEsdLog10);
+  EXPECT_EQ(stored->estimate.unreliable,
+            std::max(stored->estimate.esd_log10, stored->estimate.likelihood_sd_log10) > kStraylightUnreliableEsdLog10);
   std::printf("straylight session: true log(s) %.3f, estimate %.3f, ESD %.3f\n", truth, stored->estimate.log_s,
               stored->estimate.esd_log10);
   // The summary names it, with the age norm of 25 years (0.87 + log10(1 + (25/65)^4) = 0.88).
@@ -169,7 +171,7 @@ TEST(StraylightSession, SimulatedRunStoresEachAnswerAndMeasuresTheParticipantsSt
   EXPECT_EQ(answer_count, 25);
   EXPECT_EQ(log_s, direct.log_s);
   EXPECT_EQ(esd, direct.esd_log10);
-  EXPECT_EQ(reliable, direct.esd_log10 > 0.08 ? 0 : 1);
+  EXPECT_EQ(reliable, std::max(direct.esd_log10, direct.likelihood_sd_log10) > 0.08 ? 0 : 1);
   EXPECT_EQ(age, 25.0);
   EXPECT_NEAR(norm, 0.87 + std::log10(1.0 + std::pow(25.0 / 65.0, 4.0)), 1e-12);
   EXPECT_NE(analyzed.output.find("straylight p01 (#1) left eye (25 answers): log(s) "), std::string::npos)
@@ -338,14 +340,13 @@ std::string short_example(const test::ScratchDir& dir, const std::string& name,
 }
 
 // The example study (examples/straylight.toml, then examples/straylight_glare.toml), each
-// presentation one cycle on a 1280 x 720 part of its panel (the ring still fits) and each glare
+// presentation one cycle (of its 25 answers) on a 1280 x 720 part of its panel (the ring still fits) and each glare
 // stimulus two frames, to keep it short: the glare session runs with the measurement's estimate. tests/example_studies_test.cpp leaves both files to this test.
 TEST(StraylightSession, ExampleStudyMeasuresThenRendersGlareWithTheMeasurement) {
   test::ScratchDir dir;
   const std::string measurement_file =
       short_example(dir, "straylight.toml",
                     {{"cycles", "cycles = 1"},
-                     {"answers", "answers = 16"},
                      {"fixation_duration_s", "fixation_duration_s = 0.05"},
                      {"width_px", "width_px = 1280"},
                      {"height_px", "height_px = 720"}});
@@ -362,7 +363,8 @@ TEST(StraylightSession, ExampleStudyMeasuresThenRendersGlareWithTheMeasurement) 
   const std::optional<StoredStraylight> measured = stored_straylight(store, sessions[0].id);
   ASSERT_TRUE(measured.has_value());
   EXPECT_EQ(measured->eye, "right");
-  EXPECT_EQ(measured->answers, 16);
+  EXPECT_EQ(measured->answers, 25);
+  EXPECT_FALSE(measured->estimate.unreliable);
   const Experiment glare = parse_experiment_text(sessions[1].config, "<stored config>", "/");
   ASSERT_TRUE(glare.glare.observer_eye.straylight_log_s.has_value());
   EXPECT_EQ(*glare.glare.observer_eye.straylight_log_s, measured->estimate.log_s);

@@ -122,7 +122,7 @@ std::string describe_straylight_session(const ResultStore& store, std::int64_t s
                 "  straylight, %s eye, %d answers: log(s) = %.2f, ESD %.3f (%s); age norm %.2f (population SD %.2f) "
                 "at %.0f years\n",
                 stored->eye.c_str(), stored->answers, stored->estimate.log_s, stored->estimate.esd_log10,
-                stored->estimate.unreliable ? "unreliable: ESD above the limit" : "reliable",
+                stored->estimate.unreliable ? "unreliable: a spread of its likelihood above 0.08" : "reliable",
                 straylight_age_norm_log10(stored->age_years), kStraylightAgeNormSdLog10, stored->age_years);
   return line;
 }
@@ -151,7 +151,7 @@ std::string take_measured_straylight(Experiment& experiment, const std::string& 
                       "\"measured\": participant '" + participant + "' has no completed, reliable straylight measurement in " +
                           db_path +
                           (passed_over > 0 ? " (" + std::to_string(passed_over) +
-                                                 " unfinished or unreliable, ESD above 0.08, passed over)"
+                                                 " unfinished or unreliable (a spread above 0.08) passed over)"
                                            : std::string()) +
                           ": run one first ([procedure] type = \"straylight\") with the same --db and --participant, "
                           "or give log10(s) as a number");
