@@ -15,6 +15,7 @@
 #include "analysis/quest_plus_posterior.h"
 #include "analysis/rating_analysis.h"
 #include "analysis/staircase_analysis.h"
+#include "analysis/straylight_measurement.h"
 #include "analysis/timing_quality.h"
 #include "analysis/tracker_quality.h"
 
@@ -30,7 +31,7 @@ struct AnalysisOptions {
 
 struct Figure {
   std::string file_stem;  // "staircase_1" -> figures/staircase_1.svg
-  std::string section;    // forced_choice | graded_choice | staircase | quest_plus | adjustment | rating | timing | tracker
+  std::string section;    // forced_choice | graded_choice | staircase | quest_plus | straylight | adjustment | rating | timing | tracker
   std::string caption;
   std::string svg;
 };
@@ -44,6 +45,7 @@ struct AnalysisReport {
   std::vector<StaircaseResult> staircases;
   PseAnalysis pse;  // PSE staircases (response_rule = "pse")
   std::vector<QuestPlusPosterior> quest_plus;  // final posterior per QUEST+ / Psi track
+  std::vector<StraylightMeasurement> straylight;  // per straylight session
   AdjustmentAnalysis adjustments;
   RatingAnalysis ratings;
   TimingQuality timing;
@@ -57,6 +59,11 @@ AnalysisReport analyse(LoadedData data, const AnalysisOptions& options);
 // procedure: runner/cli/quest_plus_posteriors.h), stored in the report with one figure per track
 // and parameter (section "quest_plus").
 void add_quest_plus_posteriors(AnalysisReport& report, std::vector<QuestPlusPosterior> posteriors);
+
+// The straylight measurements, estimated by the runner (which alone may build the procedure:
+// runner/cli/straylight_measurements.h), stored in the report with one likelihood figure each
+// (section "straylight").
+void add_straylight_measurements(AnalysisReport& report, std::vector<StraylightMeasurement> measurements);
 
 // The figures of a report (called by analyse; separate so the drawing is one concept).
 std::vector<Figure> draw_figures(const AnalysisReport& report);

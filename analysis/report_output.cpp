@@ -342,6 +342,14 @@ std::string render_html(const AnalysisReport& report) {
     html_figures(out, report, "quest_plus");
   }
 
+  if (!report.straylight.empty()) {
+    out << "<h2>Straylight</h2>\n<p>Each measurement's log(s) (deg^2/sr), the maximum of the likelihood of its answers "
+           "recomputed from the stored trials, its ESD (the half-width of the likelihood at e^-1/2 of its peak) and the age norm "
+           "log(s) = 0.87 + log10(1 + (age / 65)^4) (docs/STRAYLIGHT.md); straylight.csv holds them.</p>\n";
+    out << straylight_measurements_html(report.straylight);
+    html_figures(out, report, "straylight");
+  }
+
   if (!report.pse.tracks.empty()) html_pse(out, report);
 
   if (!report.adjustments.empty()) html_adjustments(out, report);
@@ -383,6 +391,7 @@ std::string render_terminal_summary(const AnalysisReport& report) {
     out << "\n";
   }
   out << quest_plus_posteriors_terminal(report.quest_plus);
+  out << straylight_measurements_terminal(report.straylight);
   for (const PseTrack& t : report.pse.tracks) {
     out << "  pse " << t.participant_label << " " << t.name << " (glare gain " << general(t.glare_gain) << "): ";
     if (t.pse_fraction) {
@@ -464,6 +473,7 @@ std::vector<std::string> write_report(const AnalysisReport& report, const std::s
       write(dir / "rating_post_hoc.csv", rating_post_hoc_csv(report.ratings));
   }
   if (!report.quest_plus.empty()) write(dir / "quest_plus_posteriors.csv", quest_plus_posteriors_csv(report.quest_plus));
+  if (!report.straylight.empty()) write(dir / "straylight.csv", straylight_measurements_csv(report.straylight));
   write(dir / "report.html", render_html(report));
   for (const Figure& figure : report.figures) write(dir / "figures" / (figure.file_stem + ".svg"), figure.svg);
   // The manifest names this analysis' files; what the previous one listed and this one did not

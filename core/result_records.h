@@ -10,9 +10,10 @@
 namespace glarelab {
 
 // PRAGMA user_version of a current database. 2 added the adjustments table, 3 the frames'
-// gaze_age_s, 4 the trials' procedure 'timing_test', 5 the session_owners table (docs/DATABASE.md "Schema version");
-// runner/store/schema_migrations.cpp has one migration per version.
-inline constexpr int kResultsSchemaVersion = 5;
+// gaze_age_s, 4 the trials' procedure 'timing_test', 5 the session_owners table, 6 the trials' procedure
+// 'straylight' (docs/DATABASE.md "Schema version"); runner/store/schema_migrations.cpp has one
+// migration per version.
+inline constexpr int kResultsSchemaVersion = 6;
 
 struct SessionRecord {
   std::int64_t id = 0;
@@ -35,7 +36,7 @@ struct TrialRecord {
   std::int64_t session_id = 0;
   int trial_index = 0;  // from 0 within a session
   int block = 0;
-  std::string procedure;  // forced_choice | staircase | quest | adjustment | rating | timing_test
+  std::string procedure;  // forced_choice | staircase | quest | adjustment | rating | timing_test | straylight
   std::string condition;  // JSON object of the condition row
   std::optional<double> intensity;
   std::string response;

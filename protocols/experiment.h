@@ -22,6 +22,7 @@
 #include "protocols/quest.h"
 #include "protocols/quest_plus.h"
 #include "protocols/staircase.h"
+#include "protocols/straylight_spec.h"
 
 namespace glarelab {
 
@@ -177,9 +178,14 @@ struct Experiment {
   AdaptiveSpec adaptive;  // staircase and quest
   RatingSpec rating;
   AdjustmentSpec adjustment;
+  StraylightSpec straylight;  // procedure == "straylight": no scenes, conditions or blocks
   std::vector<ConditionRow> conditions;
   SimulatedObserverSpec simulated_observer;
   GlareSpec glare;  // [glare] and the default glare mode of conditions
+  // [glare] straylight = "measured": where the key's value is. The session sets the observer eye's
+  // straylight from the participant's most recent reliable measurement in its database before it
+  // starts (runner/session/straylight_session.h), and stores the value it used.
+  std::optional<SourceLocation> straylight_measured;
   // [perception]: the perception stages around the glare (every stage off by default) and the
   // default switches of conditions (column "perception").
   PerceptionSettings perception = perception_defaults();

@@ -36,7 +36,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::vector<std::string> kSupportedProcedures = {"forced_choice", "staircase", "quest", "quest_plus", "psi", "rating",
-                                                      "adjustment"};
+                                                      "adjustment", "straylight"};
 
 std::string join_quoted(const std::vector<std::string>& items) {
   std::string text;
@@ -271,9 +271,8 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
   TableReader reader(require_table(top, "procedure"), "procedure", top.file());
   const std::optional<std::string> type = reader.string("type");
   if (!type) reader.fail("type", "missing required key (supported: " + join_quoted(kSupportedProcedures) + ")");
-  if (std::find(kSupportedProcedures.begin(), kSupportedProcedures.end(), *type) == kSupportedProcedures.end()) {
+  if (std::find(kSupportedProcedures.begin(), kSupportedProcedures.end(), *type) == kSupportedProcedures.end())
     reader.fail("type", "unsupported procedure '" + *type + "' (supported: " + join_quoted(kSupportedProcedures) + ")");
-  }
   experiment.procedure = *type;
   if (experiment.procedure == "rating" || experiment.procedure == "adjustment") {
     read_stimulus_duration(reader, experiment.display.refresh_hz, experiment.forced_choice);
@@ -293,9 +292,8 @@ std::optional<GeneratedDesign> read_procedure_section(TableReader& top, Experime
     spec.alternatives = static_cast<int>(*alternatives);
   }
   if (const std::optional<std::string> layout = reader.string("layout")) {
-    if (*layout != "side_by_side" && *layout != "sequential") {
+    if (*layout != "side_by_side" && *layout != "sequential")
       reader.fail("layout", "unsupported layout '" + *layout + "' (supported: 'side_by_side', 'sequential')");
-    }
     spec.layout = *layout;
   }
   // Default answers name the positions ("left", "right"; sequential: "first", "second"), plus
@@ -445,13 +443,15 @@ Experiment parse_experiment_text(const std::string& toml_text, const std::string
 
   read_experiment_section(top, experiment);
   read_display_section(top, experiment, base);
-  read_scenes_section(top, experiment, base);
-  const std::optional<GeneratedDesign> generated = read_procedure_section(top, experiment);
-  ConditionSource conditions = generated ? generated_conditions(top, *generated, experiment) : read_conditions_section(top, base);
-  if (!generated) read_blocks_section(top, experiment);
+  const bool straylight = read_straylight_design(top, experiment);  // its own stimulus: no scenes, conditions or blocks
+  if (!straylight) read_scenes_section(top, experiment, base);
+  const std::optional<GeneratedDesign> generated = straylight ? std::nullopt : read_procedure_section(top, experiment);
+  ConditionSource conditions = generated ? generated_conditions(top, *generated, experiment)
+                               : straylight ? ConditionSource{} : read_conditions_section(top, base);
+  if (!generated && !straylight) read_blocks_section(top, experiment);
   read_spectacles_section(top, experiment.observer_optics);
   const ObserverEye observer_eye = read_observer_section(top, experiment);
-  set_glare_observer_eye(top, experiment.glare = read_glare_section(top), observer_eye);
+  set_glare_observer_eye(top, experiment, read_glare_section(top), observer_eye);
   experiment.perception = read_perception_section(top);
   experiment.analysis = read_analysis_section(top);
   experiment.presentation = read_presentation_section(top, experiment);

@@ -115,8 +115,9 @@ GlareSpec read_glare_section(TableReader& top) {
   spec.source = read_choice(reader, "source", spec.source);
   // The participant's measured straylight, log10(s) at 7 degrees (docs/STRAYLIGHT.md): the CIE
   // far field (of the human eye, the hybrid's and the cie model) scaled to it. Whether a CIE eye of
-  // the observer's pigmentation can have it is checked once [observer] is read (experiment_file.cpp).
-  if (reader.node("straylight") != nullptr)
+  // the observer's pigmentation can have it is checked once [observer] is read (experiment_file.cpp);
+  // "measured" is read there too (protocols/straylight_config.h).
+  if (const toml::node* straylight = reader.node("straylight"); straylight != nullptr && !straylight->is_string())
     spec.observer_eye.straylight_log_s =
         reader.number_in_range("straylight", 0.0, kMinStraylightLog10, kMaxStraylightLog10, "log10(deg^2/sr)");
   // The hand-over annulus: both or neither (0: the default for the grid's reach).

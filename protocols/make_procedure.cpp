@@ -7,6 +7,7 @@
 #include "protocols/forced_choice.h"
 #include "protocols/procedure.h"
 #include "protocols/rating_procedure.h"
+#include "protocols/straylight_procedure.h"
 
 namespace glarelab {
 
@@ -21,6 +22,7 @@ std::unique_ptr<Procedure> make_procedure(const Experiment& experiment,
   }
   if (experiment.procedure == "rating") return make_rating_procedure(experiment);
   if (experiment.procedure == "adjustment") return make_adjustment_procedure(experiment, source_peak_cd_m2);
+  if (experiment.procedure == "straylight") return std::make_unique<StraylightProcedure>(experiment.straylight, experiment.seed);
   throw std::invalid_argument("unknown procedure '" + experiment.procedure + "'");
 }
 

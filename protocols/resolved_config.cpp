@@ -15,6 +15,7 @@
 #include "protocols/generated_scene_config.h"
 #include "protocols/scene_file_config.h"
 #include "protocols/observer_optics_config.h"
+#include "protocols/straylight_config.h"
 
 namespace glarelab {
 namespace {
@@ -213,7 +214,8 @@ std::string resolved_config_toml(const Experiment& experiment) {
     display_table.insert("engine", std::string(spelling(experiment.engine)));
   print_section(out, "display", display_table);
 
-  out << "[scenes]\n";
+  // A straylight measurement has no scenes (protocols/straylight_config.h).
+  if (experiment.procedure != "straylight") out << "[scenes]\n";
   for (const auto& [name, scene] : experiment.scenes) {
     toml::table entry = scene.generated ? generated_scene_toml(*scene.generated)
                                         : scene_file_toml(scene);
@@ -226,7 +228,9 @@ std::string resolved_config_toml(const Experiment& experiment) {
   toml::array responses;
   for (const std::string& response : spec.responses) responses.push_back(response);
   toml::table procedure;
-  if (experiment.procedure == "rating") {
+  if (experiment.procedure == "straylight") {
+    procedure = straylight_procedure_toml(experiment.straylight);
+  } else if (experiment.procedure == "rating") {
     procedure = rating_procedure_toml(experiment.rating);
   } else if (experiment.procedure == "adjustment") {
     const AdjustmentSpec& adjustment = experiment.adjustment;
@@ -242,10 +246,12 @@ std::string resolved_config_toml(const Experiment& experiment) {
                         {"question", spec.question},
                         {"responses", std::move(responses)}};
   }
-  // The duration as the file gave it, so the rounding is redone (and logged) on resume.
-  if (spec.stimulus_duration_s) {
+  // The duration as the file gave it, so the rounding is redone (and logged) on resume. A
+  // straylight presentation is its whole flicker cycles (`cycles`).
+  const bool whole_cycles = experiment.procedure == "straylight";
+  if (!whole_cycles && spec.stimulus_duration_s) {
     procedure.insert("stimulus_duration_s", *spec.stimulus_duration_s);
-  } else {
+  } else if (!whole_cycles) {
     procedure.insert("stimulus_frames", spec.stimulus_frames);
   }
   if (experiment.procedure == "forced_choice") {

@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "core/number_text.h"
 #include "protocols/straylight_model.h"
@@ -173,12 +174,25 @@ double largest_drive_step_log10(const DisplaySpec& display, double low_cd_m2, do
   return largest;
 }
 
-void set_glare_observer_eye(TableReader& top, GlareSpec& spec, const ObserverEye& observer_eye) {
+void set_glare_observer_eye(TableReader& top, Experiment& experiment, GlareSpec glare_spec, const ObserverEye& observer_eye) {
+  GlareSpec& spec = experiment.glare = std::move(glare_spec);
   const std::optional<double> straylight_log_s = spec.observer_eye.straylight_log_s;
   spec.observer_eye = observer_eye;
   spec.observer_eye.straylight_log_s = straylight_log_s;
+  const toml::table* table = top.table("glare");
+  if (table == nullptr) return;
+  TableReader glare(*table, "glare", top.file());
+  if (const toml::node* node = table->get("straylight"); node != nullptr && node->is_string()) {
+    if (node->value<std::string>() != "measured")
+      glare.fail("straylight", "expected log10(s) as a number, or \"measured\" (the participant's most recent reliable "
+                               "straylight measurement in the session's database), found \"" +
+                                   *node->value<std::string>() + "\"");
+    if (experiment.procedure == "straylight")
+      glare.fail("straylight", "\"measured\" takes an earlier measurement; this experiment is the measurement");
+    experiment.straylight_measured = glare.value_location("straylight");
+    return;
+  }
   if (!straylight_log_s) return;
-  TableReader glare(*top.table("glare"), "glare", top.file());
   try {
     check_observer_eye(spec.observer_eye);
   } catch (const std::invalid_argument& error) {
@@ -196,10 +210,50 @@ StraylightSpec read_straylight_procedure(TableReader& procedure, const DisplaySp
   // The range-finding run takes StraylightSchedule's 7 answers; the fixed levels need at least 5
   // more to place a likelihood's peak, and 100 answers is several times the clinic's length.
   spec.answers = static_cast<int>(procedure.integer_in_range("answers", spec.answers, 12, 100));
+  spec.cycles = static_cast<int>(procedure.integer_in_range("cycles", spec.cycles, 1, 100));
   check_flicker(procedure, display, spec);
   check_ring_geometry(procedure, display, spec);
   check_compensation(procedure, display, spec);
   return spec;
+}
+
+bool read_straylight_design(TableReader& top, Experiment& experiment) {
+  const toml::table* table = top.table("procedure");
+  const toml::node* type = table != nullptr ? table->get("type") : nullptr;
+  if (type == nullptr || type->value<std::string>() != "straylight") return false;
+  // The measurement draws its own stimulus and plans its own trials (docs/STRAYLIGHT.md).
+  for (const char* section : {"scenes", "conditions", "blocks"})
+    if (top.node(section) != nullptr)
+      top.fail_at_key(section, std::string("a straylight measurement draws its own stimulus (the ring and the split test "
+                                           "field) and plans its own trials: remove [") + section + "]");
+  // One eye at a time, the other covered: the stimulus is centred on the one fixation point.
+  if (experiment.display.stereo != StereoMode::none)
+    throw ConfigError(experiment.stereo_where, "display.stereo",
+                      "a straylight measurement tests one eye at a time on the whole display: remove stereo");
+  // The test field is dark but for the compensation light, as the model of its flicker assumes.
+  if (experiment.display.background_cd_m2 != 0.0)
+    TableReader(*top.table("display"), "display", top.file())
+        .fail("background_cd_m2", "a straylight measurement needs a dark display around its ring and test field: "
+                                  "remove background_cd_m2 (or set it to 0)");
+  TableReader procedure(*table, "procedure", top.file());
+  procedure.string("type");
+  experiment.procedure = "straylight";
+  experiment.straylight = read_straylight_procedure(procedure, experiment.display);
+  procedure.report_unused();
+  return true;
+}
+
+toml::table straylight_procedure_toml(const StraylightSpec& spec) {
+  return toml::table{{"type", "straylight"},
+                     {"eye", spec.eye},
+                     {"answers", spec.answers},
+                     {"cycles", spec.cycles},
+                     {"ring_inner_deg", spec.ring_inner_deg},
+                     {"ring_outer_deg", spec.ring_outer_deg},
+                     {"ring_luminance_cd_m2", spec.ring_luminance_cd_m2},
+                     {"test_field_radius_deg", spec.test_field_radius_deg},
+                     {"flicker_hz", spec.flicker_hz},
+                     {"display_glow_cd_m2", spec.display_glow_cd_m2}};
 }
 
 }  // namespace glarelab

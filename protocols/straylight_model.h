@@ -13,7 +13,8 @@
 
 namespace glarelab {
 
-// ESD above which a measurement is flagged unreliable (the C-Quant's criterion, 0.08 log units).
+// ESD above which a measurement is flagged unreliable (the C-Quant's criterion, 0.08 log units);
+// applied to both spreads of the likelihood (StraylightEstimate).
 inline constexpr double kStraylightUnreliableEsdLog10 = 0.08;
 
 // k = 2 pi (pi / 180)^2 ln(outer / inner): L_eq / (s L_ring) at the centre of a uniform ring whose
@@ -24,6 +25,8 @@ double ring_straylight_constant(double inner_deg, double outer_deg);
 // The healthy eye's age norm at 7 degrees: log10(s) = 0.87 + log10(1 + (age / 65)^4)
 // (van den Berg et al. 2007, 2318 eyes; population SD about 0.10).
 double straylight_age_norm_log10(double age_years);
+// The healthy population's SD about the age norm (log10 units).
+inline constexpr double kStraylightAgeNormSdLog10 = 0.10;
 
 // The observer model both the estimate and the simulated observer use: each half's flicker
 // amplitude is seen on a log10 scale with Gaussian noise, the difference of the two having SD
@@ -55,8 +58,12 @@ struct StraylightLikelihood {
 
 struct StraylightEstimate {
   double log_s = 0.0;  // maximum of the likelihood (parabolic refinement between grid points)
-  double esd_log10 = 0.0;  // expected SD: the SD of the normalised likelihood
-  bool unreliable = false;  // esd_log10 > kStraylightUnreliableEsdLog10
+  // Expected SD: half the width of the likelihood's peak at e^-1/2 of its maximum (a Gaussian
+  // likelihood's SD), interpolated between grid points.
+  double esd_log10 = 0.0;
+  double likelihood_sd_log10 = 0.0;  // the SD of the whole normalised likelihood (its tails included)
+  // esd_log10 or likelihood_sd_log10 above kStraylightUnreliableEsdLog10.
+  bool unreliable = false;
   StraylightLikelihood likelihood;
 };
 

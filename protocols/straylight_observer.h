@@ -3,8 +3,10 @@
 // answers follow the physics of the display in front of it: the ring's light scattered by its own
 // eye onto the test field, the display's own glow around the ring, and the compensation light.
 #include <cstdint>
+#include <memory>
 
 #include "core/random.h"
+#include "protocols/observer.h"
 #include "protocols/straylight_model.h"
 
 namespace glarelab {
@@ -42,5 +44,13 @@ class StraylightObserver {
   StraylightObserverEye eye_;
   CounterRandom random_;
 };
+
+// The simulated participant of a session (`--observer simulated` with [procedure] type =
+// "straylight"): each plan's straylight stimulus (TrialPlan::straylight) answered by a
+// StraylightObserver with `eye`, "left" or "right" naming the half it sees flicker more, after a
+// lognormal response time of median `response_time_median_s`. std::invalid_argument for a plan
+// without a straylight stimulus.
+std::unique_ptr<Observer> make_straylight_participant(const StraylightObserverEye& eye, std::uint64_t seed,
+                                                      double response_time_median_s);
 
 }  // namespace glarelab

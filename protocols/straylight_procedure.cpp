@@ -55,6 +55,10 @@ TrialPlan StraylightProcedure::next_trial() {
   plan.allowed_responses = {"left", "right"};
   plan.question = "Which half flickers more?";
   plan.intensity = level.log_compensation;
+  plan.stimulus_frames = spec_.cycles * spec_.frames_per_cycle;
+  plan.straylight = StraylightStimulusPlan{spec_.ring_inner_deg,      spec_.ring_outer_deg,     spec_.test_field_radius_deg,
+                                           spec_.ring_luminance_cd_m2, level.compensation_cd_m2, level.compensation_left,
+                                           spec_.frames_per_cycle,     spec_.display_glow_cd_m2};
   plan.condition_json = JsonObjectWriter()
                             .add("name", "straylight")
                             .add("eye", spec_.eye)

@@ -6,6 +6,23 @@
 
 namespace glarelab {
 
+// A straylight trial (protocols/straylight_procedure.h, docs/STRAYLIGHT.md): drawn instead of
+// scenes, centred on the fixation point: the ring flickering as a square wave (on for the first
+// half of each cycle) and the compensation light on one half of the dark test field in
+// counterphase (on for the second half).
+struct StraylightStimulusPlan {
+  double ring_inner_deg = 5.0;
+  double ring_outer_deg = 10.0;
+  double test_field_radius_deg = 2.0;
+  double ring_luminance_cd_m2 = 0.0;
+  double compensation_cd_m2 = 0.0;
+  bool compensation_left = false;
+  int frames_per_cycle = 8;
+  // The display's own stray light on the test field while the ring is on: not drawn (it is the
+  // display's), but a simulated participant sees it flicker with the ring.
+  double display_glow_cd_m2 = 0.0;
+};
+
 struct TrialPlan {
   int trial_index = 0;  // from 0 within the session
   int block = 0;        // from 0, in the order the session runs its blocks
@@ -57,6 +74,7 @@ struct TrialPlan {
   // "reference". The simulated observer's perceived brightening of glare follows it.
   std::vector<double> position_glare_gain;
   std::optional<double> intensity;
+  std::optional<StraylightStimulusPlan> straylight;
   std::string question;
   int stimulus_frames = 1;
 };

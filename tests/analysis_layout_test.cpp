@@ -26,6 +26,7 @@
 #include "analysis/report_output.h"
 #include "runner/cli/analysis_words.h"
 #include "runner/cli/quest_plus_posteriors.h"
+#include "runner/cli/straylight_measurements.h"
 #include "tests/cli_process.h"
 #include "tests/example_dry_run.h"
 #include "tests/headless_chromium.h"
@@ -132,6 +133,7 @@ TEST(AnalysisLayout, EveryFigureOfEveryExampleReportLaysOutCleanly) {
     AnalysisReport report = analyse(std::move(data), options);
     // The QUEST+ / Psi marginal posteriors, as `glarelab analyze` adds them (runner/cli/command_analyze.cpp).
     add_quest_plus_posteriors(report, rebuild_quest_plus_posteriors(report.data, report.data.notes));
+    add_straylight_measurements(report, rebuild_straylight_measurements(report.data, report.data.notes));
     write_report(report, dir.file(stem));
     for (const Figure& figure : report.figures) {
       page += "<div class=\"figure\" data-name=\"" + stem + "/" + figure.file_stem + "\">" + figure.svg + "</div>\n";

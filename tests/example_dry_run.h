@@ -11,6 +11,7 @@
 #include "protocols/experiment.h"
 #include "protocols/observer.h"
 #include "protocols/procedure.h"
+#include "runner/session/straylight_session.h"
 #include "runner/session/trial_record.h"
 #include "runner/store/result_store.h"
 #include "stimuli/scene_library.h"
@@ -30,7 +31,11 @@ inline void dry_run_example(const std::string& experiment_path, const std::strin
     session.config = resolved_config_toml(experiment);
     const std::int64_t id = store.begin_session(session);
     const auto procedure = make_procedure(experiment, scenes.peak_luminances_cd_m2());
-    const auto observer = make_simulated_observer(experiment.simulated_observer, seed);
+    // A straylight measurement's participant answers through its eye (runner/session/straylight_session.h).
+    Experiment seeded = experiment;
+    seeded.seed = seed;
+    const auto observer = experiment.procedure == "straylight" ? make_simulated_straylight_participant(seeded)
+                                                               : make_simulated_observer(experiment.simulated_observer, seed);
     double onset_s = 0.0;
     while (!procedure->finished()) {
       const TrialPlan plan = procedure->next_trial();

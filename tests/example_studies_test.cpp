@@ -400,7 +400,10 @@ TEST(ExampleStudies, EveryExampleRunsOffscreen) {
                                                   "luidolt_ratings.toml", "ritschel_adjustment.toml", "demo.toml",
                                                   "presbyope_reading_glasses.toml",
                                                   // tests/pse_graded_choice_test.cpp, at 2 frames per trial
-                                                  "glare_brightness.toml"};
+                                                  "glare_brightness.toml",
+                                                  // tests/straylight_session_test.cpp, one after the other (the
+                                                  // second takes the first's measurement), shortened
+                                                  "straylight.toml", "straylight_glare.toml"};
   std::set<std::string> found;
   for (const auto& entry : std::filesystem::directory_iterator(std::string(GLARELAB_SOURCE_DIR) + "/examples")) {
     if (entry.path().extension() != ".toml") continue;

@@ -241,7 +241,8 @@ TEST(ExperimentFile, RangeChecksAndUnsupportedProcedure) {
   const std::string path = dir.write(
       "exp.toml", "[experiment]\nname = \"x\"\n[scenes]\na = { file = \"a.exr\" }\n[procedure]\ntype = \"method_of_limits\"\n");
   EXPECT_EQ(error_of(path), path + ":6:8: key 'procedure.type': unsupported procedure 'method_of_limits' (supported: "
-                                   "'forced_choice', 'staircase', 'quest', 'quest_plus', 'psi', 'rating', 'adjustment')");
+                                   "'forced_choice', 'staircase', 'quest', 'quest_plus', 'psi', 'rating', 'adjustment', "
+                                   "'straylight')");
 
   const std::string display = dir.write("exp.toml", "[experiment]\nname = \"x\"\n[display]\nencoding = \"hlg\"\n");
   EXPECT_EQ(error_of(display), display + ":4:12: key 'display.encoding': unsupported encoding 'hlg' (supported: 'srgb', "

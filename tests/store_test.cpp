@@ -113,11 +113,11 @@ TEST(Store, SchemaVersionAndContractColumns) {
   const std::string path = dir.file("nested/results/glarelab.db");
   {
     ResultStore store(path);
-    EXPECT_EQ(store.schema_version(), 5);
+    EXPECT_EQ(store.schema_version(), 6);
     EXPECT_EQ(store.path(), path);
   }
   RawDb db(path);
-  EXPECT_EQ(db.value("PRAGMA user_version"), "5");
+  EXPECT_EQ(db.value("PRAGMA user_version"), "6");
   EXPECT_THAT(column_names(db, "adjustments"), ::testing::ElementsAre("trial_id", "spot", "value_cd_m2"));
   EXPECT_THAT(column_names(db, "sessions"),
               ::testing::IsSupersetOf({"id", "experiment", "participant", "seed", "started_utc", "finished_utc",
@@ -294,7 +294,7 @@ TEST(Store, VersionTwoDatabaseGainsGazeAgeAndKeepsItsFrames) {
     db.exec("DROP TABLE session_owners; ALTER TABLE frames DROP COLUMN gaze_age_s; PRAGMA user_version = 2;");
   }
   ResultStore store(path);
-  EXPECT_EQ(store.schema_version(), 5);
+  EXPECT_EQ(store.schema_version(), 6);
   const auto trials = store.load_trials(session_id);
   ASSERT_EQ(trials.size(), 1u);
   const auto old_frames = store.load_frames(trials[0].id);
@@ -315,15 +315,15 @@ TEST(Store, NewerSchemaIsRefused) {
   const std::string path = dir.file("future.db");
   {
     RawDb db(path, true);
-    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 6;");
+    db.exec("CREATE TABLE sessions (id INTEGER PRIMARY KEY); PRAGMA user_version = 7;");
   }
   try {
     ResultStore store(path);
     FAIL() << "a database from a newer glarelab was opened";
   } catch (const StoreError& error) {
-    EXPECT_EQ(std::string(error.what()), path + ": schema version 6 is newer than this glarelab (5)");
+    EXPECT_EQ(std::string(error.what()), path + ": schema version 7 is newer than this glarelab (6)");
   }
-  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "6");
+  EXPECT_EQ(RawDb(path).value("PRAGMA user_version"), "7");
 }
 
 TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
@@ -343,7 +343,7 @@ TEST(Store, VersionOneDatabaseGainsTheAdjustmentsTableAndKeepsItsTrials) {
         "PRAGMA user_version = 1;");
   }
   ResultStore store(path);
-  EXPECT_EQ(store.schema_version(), 5);
+  EXPECT_EQ(store.schema_version(), 6);
   ASSERT_EQ(store.load_trials(session_id).size(), 1u);
   TrialRecord adjustment = full_trial(session_id, 1);
   adjustment.procedure = "adjustment";

@@ -40,7 +40,7 @@ StraylightEstimate measure(const StraylightObserver& observer, std::uint64_t see
 }
 
 struct Spread {
-  double mean = 0.0, sd = 0.0, mean_esd = 0.0;
+  double mean = 0.0, sd = 0.0, mean_esd = 0.0, mean_likelihood_sd = 0.0;
 };
 
 Spread measure_seeds(const StraylightObserverEye& eye, int seeds) {
@@ -51,6 +51,7 @@ Spread measure_seeds(const StraylightObserverEye& eye, int seeds) {
     values.push_back(estimate.log_s);
     spread.mean += estimate.log_s / seeds;
     spread.mean_esd += estimate.esd_log10 / seeds;
+    spread.mean_likelihood_sd += estimate.likelihood_sd_log10 / seeds;
   }
   for (double v : values) spread.sd += (v - spread.mean) * (v - spread.mean);
   spread.sd = std::sqrt(spread.sd / (seeds - 1));
@@ -126,8 +127,13 @@ TEST(StraylightMeasurement, RecoversSimulatedObserversStraylight) {
     // than 30 % and overstates it by less than half.
     EXPECT_GE(spread.mean_esd / spread.sd, 0.7);
     EXPECT_LE(spread.mean_esd / spread.sd, 1.5);
-    std::printf("log s %.2f: mean %.4f SD %.4f mean ESD %.4f (ESD / SD %.2f)\n", truth, spread.mean, spread.sd,
-                spread.mean_esd, spread.mean_esd / spread.sd);
+    // The ESD (the likelihood's half-width at e^-1/2 of its peak) agrees within the 30 %
+    // (docs/STRAYLIGHT.md, "The estimate": 0.80 to 0.94 here; the SD of the whole likelihood, its
+    // tails included, was 1.43 at 1.2).
+    EXPECT_NEAR(spread.mean_esd / spread.sd, 1.0, 0.3);
+    std::printf("log s %.2f: mean %.4f SD %.4f mean ESD %.4f (ESD / SD %.2f; likelihood SD %.4f, / SD %.2f)\n", truth,
+                spread.mean, spread.sd, spread.mean_esd, spread.mean_esd / spread.sd, spread.mean_likelihood_sd,
+                spread.mean_likelihood_sd / spread.sd);
   }
 }
 

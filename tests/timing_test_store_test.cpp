@@ -100,7 +100,7 @@ TEST(TimingTestStore, VersionThreeDatabaseMigratesKeepingTrialsFramesAndForeignK
   }
 
   ResultStore store(path);
-  EXPECT_EQ(store.schema_version(), 5);
+  EXPECT_EQ(store.schema_version(), 6);
   const auto trials = store.load_trials(session_id);
   ASSERT_EQ(trials.size(), 2u);
   EXPECT_EQ(trials[0].procedure, "forced_choice");

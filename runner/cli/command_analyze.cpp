@@ -16,6 +16,7 @@
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
 #include "runner/cli/quest_plus_posteriors.h"
+#include "runner/cli/straylight_measurements.h"
 
 namespace glarelab::cli {
 namespace {
@@ -105,6 +106,7 @@ Action add_analyze_command(CLI::App& app) {
       analysis::AnalysisReport report = analysis::analyse(std::move(data), analysis_options);
       // QUEST+ / Psi posteriors need the procedure (protocols/), which analysis/ may not build.
       analysis::add_quest_plus_posteriors(report, rebuild_quest_plus_posteriors(report.data, report.data.notes));
+      analysis::add_straylight_measurements(report, rebuild_straylight_measurements(report.data, report.data.notes));
       const auto written = analysis::write_report(report, options->out, export_mode(options->databases.front()));
       std::cout << analysis::render_terminal_summary(report);
       std::cout << "  wrote " << written.size() << " files to " << options->out << " (report.html, trials.csv, figures/)\n";

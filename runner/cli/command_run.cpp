@@ -6,6 +6,7 @@
 #include "runner/cli/option_checks.h"
 #include "runner/cli/terminal_stream.h"
 #include "runner/session/session_runner.h"
+#include "runner/session/straylight_session.h"
 #include "runner/session/status_line.h"
 #include "runner/store/result_store.h"
 
@@ -97,6 +98,7 @@ Action add_run_command(CLI::App& app) {
       }
       const ResultStore store(result.db_path);
       std::cout << summarise_session(store, result.session_id).describe(result.db_path);
+      std::cout << describe_straylight_session(store, result.session_id);
       if (!result.tracker_summary.empty()) std::cout << "  " << result.tracker_summary << "\n";
       if (!result.device_summary.empty()) std::cout << "  " << result.device_summary << "\n";
       if (result.status == "running") {

@@ -195,6 +195,17 @@ class SessionLoop {
   IntervalGlare begin_real_stimulus(const TrialPlan& plan, int flips_before);
   std::vector<Placement> real_stimulus_instruction_overlay(const TrialPlan& plan);
 
+  // runner/session/straylight_trial.cpp: a straylight trial (TrialPlan::straylight): its images
+  // uploaded once per session (nothing for other procedures), frame k of its interval (the ring in
+  // the first half of each flicker cycle, the compensation light in the second), and its
+  // interval, without glare or perception stages.
+  void upload_straylight_stimulus();
+  std::vector<Placement> straylight_frame(const TrialPlan& plan, int frame_in_interval) const;
+  IntervalGlare begin_straylight(const TrialPlan& plan, int flips_before);
+  // With --save-frames: the display's drive values of each frame of a straylight trial's first
+  // flicker cycle, as the window is sent them, trial_NNNN_drive_KK.exr (the flicker read back).
+  void save_straylight_cycle_frame(const TrialPlan& plan, int frame_in_interval);
+
   // runner/session/trial_run.cpp: at an interval's first flip, before it is presented: the frame
   // saved (--save-frames) and, for the previewed trial, captured. True when the preview is done.
   bool capture_first_frame(const TrialPlan& plan, int interval);
@@ -242,6 +253,8 @@ class SessionLoop {
   std::map<std::string, SceneTexture> textures_;
   // The same scenes composed on the CPU, for the worker preparing a trial ahead.
   CpuComposition composition_;
+  std::vector<SceneTexture> straylight_textures_;  // ring, left half, right half
+  PixelRect straylight_rect_;
   FrameTimingMonitor timing_;
   PreviewCapture capture_;
   // The session's glare and perception (runner/session/session_glare.h).

@@ -20,6 +20,7 @@
 #include "runner/session/scene_fingerprints.h"
 #include "runner/session/scene_places.h"
 #include "runner/session/slow_flip_clock.h"
+#include "runner/session/straylight_session.h"
 #include "runner/session/session_eyes.h"
 #include "stimuli/glare_stage.h"
 #include "core/software_version.h"
@@ -37,7 +38,8 @@ std::unique_ptr<Observer> make_observer(const std::string& spec, const Experimen
     return nullptr;
   }
   if (spec == "simulated") {
-    auto observer = make_simulated_observer(experiment.simulated_observer, experiment.seed);
+    auto observer = experiment.procedure == "straylight" ? make_simulated_straylight_participant(experiment)
+                                                         : make_simulated_observer(experiment.simulated_observer, experiment.seed);
     *description = observer->description();
     return observer;
   }
@@ -161,6 +163,7 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
     start.experiment = load_experiment(options.experiment_path);
     if (options.seed) start.experiment.seed = *options.seed;
     start.db_path = options.db_path.empty() ? default_db_path(start.experiment) : options.db_path;
+    start.straylight_measured = take_measured_straylight(start.experiment, start.db_path, options.participant);
     start.participant = choose_participant_number(options.participant_number,
                                                   start.experiment.design.participant_number, start.db_path,
                                                   start.experiment.name);
@@ -352,6 +355,8 @@ std::optional<std::int64_t> open_session_row(SessionStart& start, const Prepared
   for (const std::string& presentation_rounding :
        describe_presentation_roundings(prepared.experiment.presentation, prepared.experiment.display.refresh_hz))
     store.log_event(session_id, 0.0, "duration_rounding", presentation_rounding);
+  if (!start.straylight_measured.empty())
+    store.log_event(session_id, 0.0, "straylight_measured", start.straylight_measured);
   store.log_event(session_id, 0.0, "participant_number",
                   std::to_string(start.participant->value) + " (" + start.participant->source + ")");
   const std::string fingerprints = scene_fingerprints(prepared.experiment.scenes);

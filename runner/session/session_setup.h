@@ -36,6 +36,8 @@ struct SessionStart {
   std::optional<SessionRecord> resumed;
   std::vector<TrialRecord> done_trials;
   std::optional<ParticipantNumber> participant;  // of a new session
+  // [glare] straylight = "measured": the measurement taken (logged as a 'straylight_measured' event).
+  std::string straylight_measured;
 };
 
 // Everything a session needs that comes from the experiment and options, checked before any

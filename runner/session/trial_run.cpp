@@ -125,6 +125,12 @@ bool SessionLoop::begin_intervals(const TrialPlan& plan, const TrialSchedule& sc
     const TrialPlan& shown = intervals.shown_plans.emplace_back(interval_plan(plan, interval));
     std::size_t first_flip = 0;
     while (schedule.timed[first_flip].interval != interval) ++first_flip;
+    if (shown.straylight) {  // the ring and the compensation light (straylight_trial.cpp)
+      intervals.placements.push_back(straylight_frame(shown, 0));
+      intervals.stimulus_rects.push_back(straylight_rect_);
+      intervals.glare.push_back(begin_straylight(shown, static_cast<int>(first_flip) + flips_after));
+      continue;
+    }
     if (!shown.real_stimulus.empty()) {
       // A physical object: the instruction to look at it (below) instead of an image.
       intervals.placements.emplace_back();
@@ -185,14 +191,16 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
       const bool timed = shown_glare.made == IntervalFrames::glare && shown_glare.frames_needed > 1 &&
                          !glare_.presentation_settled(shown_glare);
       const auto draw_start = std::chrono::steady_clock::now();
-      draw(intervals.placements[static_cast<std::size_t>(flip.interval)], shown_glare.shown(flip.frame_in_interval),
-           question);
+      draw(plan.straylight ? straylight_frame(plan, flip.frame_in_interval)
+                           : intervals.placements[static_cast<std::size_t>(flip.interval)],
+           shown_glare.shown(flip.frame_in_interval), question);
       timing_.add_work(FlipWork::drawing, seconds_since(draw_start));
       if (timed && !fast_forward_) {
         renderer_.finish();
         shown_glare.frame_draw_s.push_back(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - draw_start).count());
       }
+      save_straylight_cycle_frame(plan, flip.frame_in_interval);
       if (flip.frame_in_interval == 0 &&
           capture_first_frame(intervals.shown_plans[static_cast<std::size_t>(flip.interval)], flip.interval)) {
         aborted_ = true;

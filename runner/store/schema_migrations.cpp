@@ -132,6 +132,35 @@ CREATE TABLE session_owners (
   since_utc TEXT NOT NULL
 );
 )sql",
+    // 5 -> 6: the straylight measurement's trials, procedure 'straylight' (docs/STRAYLIGHT.md): the
+    // trials table rebuilt with the wider CHECK as in 3 -> 4, its rows and ids kept.
+    R"sql(
+CREATE TABLE trials_v6 (
+  id INTEGER PRIMARY KEY,
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  trial_index INTEGER NOT NULL,
+  block INTEGER NOT NULL,
+  procedure TEXT NOT NULL
+    CHECK(procedure IN ('forced_choice','staircase','quest','adjustment','rating','timing_test','straylight')),
+  condition TEXT NOT NULL,
+  intensity REAL,
+  response TEXT NOT NULL,
+  correct INTEGER CHECK(correct IN (0, 1)),
+  response_time_s REAL,
+  onset_s REAL NOT NULL,
+  staircase TEXT,
+  reversal INTEGER,
+  started_utc TEXT NOT NULL,
+  UNIQUE(session_id, trial_index)
+);
+INSERT INTO trials_v6 (id, session_id, trial_index, block, procedure, condition, intensity, response, correct,
+                       response_time_s, onset_s, staircase, reversal, started_utc)
+  SELECT id, session_id, trial_index, block, procedure, condition, intensity, response, correct,
+         response_time_s, onset_s, staircase, reversal, started_utc FROM trials;
+DROP TABLE trials;
+ALTER TABLE trials_v6 RENAME TO trials;
+CREATE INDEX trials_session_id ON trials(session_id);
+)sql",
 };
 static_assert(std::size(kSchemaMigrations) == kResultsSchemaVersion, "one migration per schema version");
 
