@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <exception>
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
@@ -27,6 +28,7 @@
 #include "runner/session/session_setup.h"
 #include "runner/session/stimulus_preview.h"
 #include "runner/session/trial_schedule.h"
+#include "runner/store/lock_wait.h"
 #include "runner/store/result_store.h"
 #include "runner/tracker/real_time_pacer.h"
 #include "runner/tracker/tracker_session.h"
@@ -85,6 +87,8 @@ class SessionLoop {
   void finish_commit(bool write_held_events = false);
   // How this run's trials were committed: the 'trial_commits' event.
   std::string commit_summary() const;
+  // The trial commits' lock waits (null before the first commit beside an onset).
+  const LockWait* commit_lock_wait() const { return commit_lock_wait_.get(); }
 
   bool aborted() const { return aborted_; }
   const std::string& abort_reason() const { return abort_reason_; }
@@ -318,6 +322,11 @@ class SessionLoop {
   // The commit in flight (runner/session/trial_commit.cpp): its thread and connection, its error,
   // and the progress line said once it is in.
   std::unique_ptr<ResultStore> commit_store_;
+  // Its lock wait for the session's life (a lock another process holds is waited out and counted,
+  // as on the session's own connection), the wait in progress, and the commit's end.
+  std::unique_ptr<LockWait> commit_lock_wait_;
+  std::atomic<double> commit_waited_s_{0.0};
+  std::future<void> commit_finished_;
   std::thread committer_;
   std::exception_ptr commit_error_;
   std::string pending_progress_;

@@ -57,18 +57,21 @@ LockWait wait_out_database_locks(ResultStore& store, std::ostream& progress) {
     if (waited_s < announced_wait_s) announced_wait_s = 0.0;  // a new wait
     if (waited_s >= announced_wait_s + 5.0) {
       announced_wait_s = waited_s;
-      progress << "waiting for the database: another process has held its lock for " << static_cast<int>(waited_s)
-               << " s (the trial waits in memory; Ctrl-C ends the session, keeping its trials)\n";
+      progress << LockWait::announcement(waited_s);
     }
     return !interrupt_requested();
   });
 }
 
-void log_database_locks(ResultStore& store, std::int64_t session_id, double now_s, const LockWait& lock_wait) {
-  if (lock_wait.waits() == 0) return;
+// The session's connection's waits and its trial commits' (runner/session/trial_commit.cpp).
+void log_database_locks(ResultStore& store, std::int64_t session_id, double now_s, const LockWait& lock_wait,
+                        const LockWait* commit_wait) {
+  const int waits = lock_wait.waits() + (commit_wait != nullptr ? commit_wait->waits() : 0);
+  if (waits == 0) return;
+  const double longest_s = std::max(lock_wait.longest_wait_s(), commit_wait != nullptr ? commit_wait->longest_wait_s() : 0.0);
   store.log_event(session_id, now_s, "database_locked",
-                  std::to_string(lock_wait.waits()) + " write(s) waited for a lock held by another process, the longest " +
-                      std::to_string(lock_wait.longest_wait_s()) + " s; nothing was lost");
+                  std::to_string(waits) + " write(s) waited for a lock held by another process, the longest " +
+                      std::to_string(longest_s) + " s; nothing was lost");
 }
 
 // A virtual clock cannot stamp what happens in real time: a window's flips, a live tracker's
@@ -149,7 +152,6 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
 
   // --- tracker: source built (bad --tracker value: exit 2) before anything is opened ---
   TrackerSession tracker(options.tracker, prepared.experiment.seed);
-  // --- end tracker ---
   ResponseDeviceSession device(options.response_device);  // bad --response-device/--buttons: exit 2
 
   check_virtual_clock(options, tracker, device);
@@ -267,7 +269,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     result.device_summary = device.summary();
     if (!result.device_summary.empty())
       store.log_event(result.session_id, clock->now_s(), "response_device_summary", result.device_summary);
-    log_database_locks(store, result.session_id, clock->now_s(), lock_wait);
+    log_database_locks(store, result.session_id, clock->now_s(), lock_wait, loop.commit_lock_wait());
     if (loop.aborted()) {
       store.log_event(result.session_id, clock->now_s(), "aborted", loop.abort_reason());
       store.finish_session(result.session_id, "aborted");

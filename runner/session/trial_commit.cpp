@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <exception>
+#include <future>
 #include <iostream>
 #include <string>
 #include <thread>
@@ -47,15 +48,31 @@ void SessionLoop::commit(const TrialPlan& plan, const TrialRun& run, const Trial
     return;
   }
   ++commits_beside_;
-  if (!commit_store_) commit_store_ = std::make_unique<ResultStore>(store_.path());
+  if (!commit_store_) {
+    commit_store_ = std::make_unique<ResultStore>(store_.path());
+    // As the session's own connection: a lock another process holds is waited out, not a failure
+    // (runner/store/lock_wait.h), and said every 5 s by finish_commit; Ctrl-C ends the wait.
+    commit_lock_wait_ = std::make_unique<LockWait>(commit_store_->handle(), [this](double waited_s) {
+      commit_waited_s_ = waited_s;
+      return !interrupt_requested();
+    });
+  }
   pending_progress_ = std::move(progress_line);
   pending_progress_stream_ = &progress;
+  std::promise<void> finished;
+  commit_finished_ = finished.get_future();
   committer_ = std::thread([this, record, frames = run.frames, adjustments = std::move(adjustments),
-                            phases = std::move(phases), phases_s, events = std::move(events)] {
+                            phases = std::move(phases), phases_s, events = std::move(events),
+                            finished = std::move(finished)]() mutable {
+    struct Finished {  // however the commit ends
+      std::promise<void>& promise;
+      std::atomic<double>& waited_s;
+      ~Finished() {
+        waited_s = 0.0;
+        promise.set_value();
+      }
+    } on_end{finished, commit_waited_s_};
     try {
-      // As the session's own connection: a lock another process holds is waited out, not a failure
-      // (runner/store/lock_wait.h); Ctrl-C ends the wait.
-      const LockWait wait(commit_store_->handle(), [](double) { return !interrupt_requested(); });
       for (const HeldEvent& event : events)
         commit_store_->log_event(session_id_, event.at_s, event.kind, event.message);
       commit_store_->commit_trial(record, frames, adjustments);
@@ -72,6 +89,15 @@ void SessionLoop::finish_commit(bool write_held_events) {
     events_with_commit_.clear();
   }
   if (!committer_.joinable()) return;
+  // A commit held up by another process's lock is said as the session's own writes are.
+  double announced_s = 0.0;
+  while (commit_finished_.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
+    const double waited_s = commit_waited_s_;
+    if (waited_s >= announced_s + 5.0 && pending_progress_stream_ != nullptr) {
+      announced_s = waited_s;
+      *pending_progress_stream_ << LockWait::announcement(waited_s) << std::flush;
+    }
+  }
   committer_.join();
   if (commit_error_) {
     const std::exception_ptr error = commit_error_;

@@ -1,6 +1,7 @@
 #include "runner/store/lock_wait.h"
 
 #include <algorithm>
+#include <string>
 #include <thread>
 
 namespace glarelab {
@@ -13,6 +14,12 @@ LockWait::~LockWait() { sqlite3_busy_timeout(db_, 5000); }
 
 // SQLite calls this each time a statement finds the lock held; `count` restarts at 0 for every new
 // wait. Returning 0 gives up (the statement fails with SQLITE_BUSY), anything else tries again.
+std::string LockWait::announcement(double waited_s) {
+  return "waiting for the database: another process has held its lock for " +
+         std::to_string(static_cast<int>(waited_s)) +
+         " s (the trial waits in memory; Ctrl-C ends the session, keeping its trials)\n";
+}
+
 int LockWait::on_busy(void* self_pointer, int count) {
   LockWait& self = *static_cast<LockWait*>(self_pointer);
   const auto now = std::chrono::steady_clock::now();

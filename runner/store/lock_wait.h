@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <functional>
+#include <string>
 
 namespace glarelab {
 
@@ -23,6 +24,8 @@ class LockWait {
 
   int waits() const { return waits_; }  // writes that found the lock held for over a second
   double longest_wait_s() const { return longest_wait_s_; }
+  // The line a live session prints every 5 s of a wait.
+  static std::string announcement(double waited_s);
 
  private:
   static int on_busy(void* self, int count);
