@@ -96,6 +96,27 @@ TEST(OpenXrDisplay, MonoExperimentIsRefusedAtTheDisplayOptionBeforeAnythingIsWri
   EXPECT_FALSE(std::filesystem::exists(db));
 }
 
+// A window-only option is refused likewise: the headset's mirror window is never the participant's screen.
+TEST(OpenXrDisplay, AFullScreenIsRefusedAtTheDisplayOptionBeforeAnythingIsWritten) {
+  const test::ScratchDir scratch;
+  std::filesystem::create_directories(scratch.path());
+  test::write_demo_conditions_without_glare(scratch.path() / "conditions.csv");
+  const std::filesystem::path experiment =
+      test::demo_variant(scratch.path(), {{"file", "file = \"" + (scratch.path() / "conditions.csv").string() + "\""},
+                                          {"encoding", "encoding = \"srgb\"\nstereo = \"side_by_side\"\nfullscreen = true"}});
+  const std::filesystem::path db = scratch.path() / "session.db";
+  const ShellRun run = shell("'" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                 "' --display openxr --observer simulated --db '" + db.string() + "'",
+                             scratch.path() / "output.txt");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--display: key 'display': openxr shows the frames in the headset, with a mirror window "
+                            "for the keyboard: [display] fullscreen = true is for --display window"),
+            std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("OpenXR:"), std::string::npos) << "refused before the display opens: " << run.output;
+  EXPECT_FALSE(std::filesystem::exists(db));
+}
+
 TEST(OpenXrDisplay, SessionUnderMonadoStoresEveryTrialWithPredictedFlipsOnePeriodApart) {
   if (const auto missing = test::openxr_runtime_missing(true)) GTEST_SKIP() << *missing;
   const test::ScratchDir scratch;

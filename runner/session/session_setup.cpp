@@ -231,6 +231,11 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
     throw ConfigError({"--display", 0, 0}, "display",
                       "openxr shows each eye its half of a side-by-side frame: the experiment needs [display] stereo = "
                       "\"side_by_side\" (docs/STEREO.md)");
+  // Its mirror window is the keyboard's, not the participant's screen: a full screen is for a window.
+  if (options.display == "openxr" && prepared.experiment.display.fullscreen)
+    throw ConfigError({"--display", 0, 0}, "display",
+                      "openxr shows the frames in the headset, with a mirror window for the keyboard: [display] "
+                      "fullscreen = true is for --display window (docs/STEREO.md)");
   // A window and a headset (its mirror window) have a keyboard at them; offscreen has none.
   const bool person_display = options.display == "window" || options.display == "openxr";
   if (device && !person_display && options.response_device.optional)
