@@ -111,8 +111,17 @@ bool same_bits(const ImageRGBA& a, const ImageRGBA& b) {
 
 }  // namespace
 
-const ImageRGBA* AnalyticGlare::kept_glare_of(const ImageRGBA& source) const {
-  return last_kept_ && same_bits(source, last_source_) ? &last_glare_ : nullptr;
+const ImageRGBA& AnalyticGlare::glare_of(const ImageRGBA& source, ImageRGBA& scratch) {
+  if (last_kept_ && same_bits(source, last_source_)) return last_glare_;
+  if (!options_.keep_repeated_frame) {
+    compute(source, scratch);
+    return scratch;
+  }
+  last_kept_ = false;  // until the new glare is in place
+  compute(source, last_glare_);
+  last_source_ = source;
+  last_kept_ = true;
+  return last_glare_;
 }
 
 void AnalyticGlare::compute(const ImageRGBA& source, ImageRGBA& out) {
@@ -122,36 +131,17 @@ void AnalyticGlare::compute(const ImageRGBA& source, ImageRGBA& out) {
 }
 
 void AnalyticGlare::convolve(const ImageRGBA& source, ImageRGBA& out) {
-  if (const ImageRGBA* kept = kept_glare_of(source)) {
-    out = *kept;
-    return;
-  }
-  compute(source, out);
-  if (!options_.keep_repeated_frame) return;
-  last_source_ = source;
-  last_glare_ = out;
-  last_kept_ = true;
+  const ImageRGBA& glare = glare_of(source, out);
+  if (&glare != &out) out = glare;
 }
 
 void AnalyticGlare::add_convolution(const ImageRGBA& source, ImageRGBA& sum) {
   if (sum.width_px != source.width_px || sum.height_px != source.height_px)
     throw std::invalid_argument("glare/analytic/analytic_glare: the sum's frame is not the source's");
-  const ImageRGBA* glare = kept_glare_of(source);
-  ImageRGBA computed;
-  if (glare == nullptr) {
-    if (options_.keep_repeated_frame) {
-      last_kept_ = false;  // until the new glare is in place
-      compute(source, last_glare_);
-      last_source_ = source;
-      last_kept_ = true;
-      glare = &last_glare_;
-    } else {
-      compute(source, computed);
-      glare = &computed;
-    }
-  }
+  ImageRGBA scratch;
+  const ImageRGBA& glare = glare_of(source, scratch);
   for (std::size_t i = 0; i < sum.rgba.size(); i += 4)
-    for (int c = 0; c < 3; ++c) sum.rgba[i + c] += glare->rgba[i + c];
+    for (int c = 0; c < 3; ++c) sum.rgba[i + c] += glare.rgba[i + c];
 }
 
 void AnalyticGlare::set_convolution_weights(const std::vector<double>& weights) {

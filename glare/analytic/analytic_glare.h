@@ -91,8 +91,9 @@ class AnalyticGlare {
   int fft_cols() const;
 
  private:
-  // The kept glare when `source` is the kept frame bit for bit, else nullptr.
-  const ImageRGBA* kept_glare_of(const ImageRGBA& source) const;
+  // The glare of `source`: the kept glare when `source` is the kept frame bit for bit; else
+  // computed, into the kept glare (keep_repeated_frame) or into `scratch`.
+  const ImageRGBA& glare_of(const ImageRGBA& source, ImageRGBA& scratch);
   void compute(const ImageRGBA& source, ImageRGBA& out);
   std::vector<double> weights_for(const spencer::Mixture& mixture) const;
   void set_convolution_weights(const std::vector<double>& weights);
