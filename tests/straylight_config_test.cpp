@@ -166,23 +166,39 @@ TEST(StraylightConfig, ARingBeyondTheDisplayIsRefusedAtRingOuterDeg) {
   EXPECT_EQ(read("eye = \"right\"\nring_inner_deg = 4\nring_outer_deg = 8\n", display).ring_outer_deg, 8.0);
 }
 
+// Each refusal names the file, the line and column of the offending value (the table's own place
+// when a required key is absent) and the key.
+void expect_refused_at(const std::string& keys, const std::string& place, const std::string& key,
+                       const std::string& reason, const DisplaySpec& display) {
+  const std::string message = refusal(keys, display);
+  EXPECT_NE(message.find("s.toml:" + place + ":"), std::string::npos) << message;
+  EXPECT_NE(message.find(key), std::string::npos) << message;
+  EXPECT_NE(message.find(reason), std::string::npos) << message;
+}
+
 TEST(StraylightConfig, BadValuesAreRefusedAtTheirKey) {
   const DisplaySpec display = lab_display();
-  EXPECT_NE(refusal("", display).find("procedure.eye"), std::string::npos);
-  EXPECT_NE(refusal("eye = \"both\"\n", display).find("s.toml:2:7"), std::string::npos);
-  EXPECT_NE(refusal("eye = \"right\"\nanswers = 5\n", display).find("procedure.answers"), std::string::npos);
-  EXPECT_NE(refusal("eye = \"right\"\nring_inner_deg = 1.5\n", display).find("outside the test field"), std::string::npos);
-  EXPECT_NE(refusal("eye = \"right\"\nring_inner_deg = 8\nring_outer_deg = 6\n", display).find("procedure.ring_outer_deg"),
-            std::string::npos);
-  EXPECT_NE(refusal("eye = \"right\"\nring_luminance_cd_m2 = 300\n", display).find("peak is 250"), std::string::npos);
+  expect_refused_at("", "1:1", "procedure.eye", "eye", display);
+  expect_refused_at("eye = \"both\"\n", "2:7", "procedure.eye", "both", display);
+  expect_refused_at("eye = \"right\"\nanswers = 5\n", "3:11", "procedure.answers", "12", display);
+  expect_refused_at("eye = \"right\"\nring_inner_deg = 1.5\n", "3:18", "procedure.ring_inner_deg",
+                    "outside the test field", display);
+  expect_refused_at("eye = \"right\"\nring_inner_deg = 8\nring_outer_deg = 6\n", "4:18", "procedure.ring_outer_deg",
+                    "ring_inner_deg", display);
+  expect_refused_at("eye = \"right\"\nring_luminance_cd_m2 = 300\n", "3:24", "procedure.ring_luminance_cd_m2",
+                    "peak is 250", display);
+  expect_refused_at("eye = \"right\"\nring_luminance_cd_m2 = -1\n", "3:24", "procedure.ring_luminance_cd_m2", "", display);
+  expect_refused_at("eye = \"right\"\ntest_field_radius_deg = 0.2\n", "3:25", "procedure.test_field_radius_deg", "",
+                    display);
+  expect_refused_at("eye = \"right\"\nflicker_hz = 30\n", "3:14", "procedure.flicker_hz", "", display);
   // A 3-15 degree ring needs k 10^2.8 = 1.93 times its luminance at the largest compensation.
-  const std::string wide = refusal("eye = \"right\"\nring_inner_deg = 3\nring_outer_deg = 15\nring_luminance_cd_m2 = 250\n", display);
-  EXPECT_NE(wide.find("beyond the display's peak"), std::string::npos) << wide;
+  expect_refused_at("eye = \"right\"\nring_inner_deg = 3\nring_outer_deg = 15\nring_luminance_cd_m2 = 250\n", "5:24",
+                    "procedure.ring_luminance_cd_m2", "beyond the display's peak", display);
   // 1 cd/m2 of glow around a 250 cd/m2 ring is 3.0 deg^2/sr; 2 cd/m2 is 6.0, more than a clear eye's 4.
   EXPECT_EQ(read("eye = \"right\"\ndisplay_glow_cd_m2 = 1\n", display).display_glow_cd_m2, 1.0);
-  EXPECT_NE(refusal("eye = \"right\"\ndisplay_glow_cd_m2 = 2\n", display).find("procedure.display_glow_cd_m2"),
-            std::string::npos);
-  EXPECT_NE(refusal("eye = \"right\"\nring_radius = 2\n", display).find("procedure.ring_radius"), std::string::npos);
+  expect_refused_at("eye = \"right\"\ndisplay_glow_cd_m2 = 2\n", "3:22", "procedure.display_glow_cd_m2", "", display);
+  expect_refused_at("eye = \"right\"\ndisplay_glow_cd_m2 = -0.1\n", "3:22", "procedure.display_glow_cd_m2", "", display);
+  expect_refused_at("eye = \"right\"\nring_radius = 2\n", "3", "procedure.ring_radius", "", display);
 }
 
 }  // namespace

@@ -1,12 +1,13 @@
 // The compensation-comparison straylight measurement (protocols/straylight_model.h) against closed
-// forms and the issue's acceptance: simulated observers of known straylight are measured with
-// 25 answers over 40 seeds, and an eye scattering exactly as CIE 146:2002 (age 25, pigmentation
+// forms and the issue's acceptance: simulated observers of known straylight are measured, through
+// the procedure as a session runs it, with 25 answers over 40 seeds, and an eye scattering exactly as CIE 146:2002 (age 25, pigmentation
 // 0.5) is measured at the s that function gives over the ring, integrated here from the standard's
 // formula itself.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "glare/analytic/ring_straylight.h"
 #include "protocols/straylight_model.h"
 #include "protocols/straylight_observer.h"
+#include "protocols/straylight_procedure.h"
 
 namespace glarelab {
 namespace {
@@ -21,22 +23,27 @@ namespace {
 constexpr double kInnerDeg = 5.0;
 constexpr double kOuterDeg = 10.0;
 constexpr double kRingCdM2 = 100.0;
-constexpr double kGlowCdM2 = 0.02;  // the display's own stray light on the field, subtracted
+// The display's own stray light on the field (0.02 / (k 100) = 0.15 deg^2/sr): the participant
+// sees it flicker with the ring, the procedure's estimate subtracts it.
+constexpr double kGlowCdM2 = 0.02;
 
-// One measurement as the procedure runs it: each level in straylight units becomes compensation
-// light k s_c L_ring plus the display's glow (which flickers with the ring, so adding it to the
-// compensation removes it from the compensated half's flicker).
-StraylightEstimate measure(const StraylightObserver& observer, std::uint64_t seed) {
-  const StraylightSchedule schedule;
-  const StraylightPsychometric model;
-  const double k = ring_straylight_constant(kInnerDeg, kOuterDeg);
-  std::vector<StraylightAnswer> answers;
-  while (static_cast<int>(answers.size()) < schedule.answers) {
-    const double level = next_log_compensation(schedule, answers, model, seed);
-    const StraylightStimulus stimulus{kRingCdM2, kGlowCdM2, k * std::pow(10.0, level) * kRingCdM2 + kGlowCdM2};
-    answers.push_back({level, observer.compensated_stronger(stimulus, answers.size())});
+// One measurement as a session runs it: the procedure plans each level (clamped to the
+// compensation range, on the 0.02 grid) and the compensated side, the simulated participant sees
+// the ring, the glow and the compensation light L_c = k s_c L_ring on the plan's side and names a
+// half, and the procedure scores and estimates from the answers.
+StraylightEstimate measure(const StraylightObserverEye& eye, std::uint64_t seed) {
+  StraylightSpec spec;
+  spec.eye = "right";
+  spec.ring_luminance_cd_m2 = kRingCdM2;
+  spec.display_glow_cd_m2 = kGlowCdM2;
+  StraylightProcedure procedure(spec, seed);
+  const std::unique_ptr<Observer> participant = make_straylight_participant(eye, seed, 0.8);
+  while (!procedure.finished()) {
+    const TrialPlan plan = procedure.next_trial();
+    procedure.record_response(plan, participant->respond(plan));
   }
-  return estimate_straylight(answers, model);
+  EXPECT_EQ(procedure.answers().size(), 25u);
+  return procedure.estimate();
 }
 
 struct Spread {
@@ -47,7 +54,7 @@ Spread measure_seeds(const StraylightObserverEye& eye, int seeds) {
   std::vector<double> values;
   Spread spread;
   for (int seed = 1; seed <= seeds; ++seed) {
-    const StraylightEstimate estimate = measure(StraylightObserver(eye, 1000 + seed), 1000 + seed);
+    const StraylightEstimate estimate = measure(eye, static_cast<std::uint64_t>(1000 + seed));
     values.push_back(estimate.log_s);
     spread.mean += estimate.log_s / seeds;
     spread.mean_esd += estimate.esd_log10 / seeds;
@@ -111,7 +118,8 @@ TEST(StraylightModel, FewAnswersAreFlaggedUnreliable) {
 }
 
 // Acceptance 1: 0.9, 1.2 and 1.5, 40 seeds, 25 answers: SD <= 0.07 (Franssen 2006's
-// repeatability), mean within 0.02, and the ESD the seeds' SD within 30 %.
+// repeatability), mean within 0.02, and the ESD the seeds' SD within 30 %. Measured (seeds
+// 1001-1040): means 0.906, 1.212, 1.510; SDs 0.044, 0.040, 0.043; ESD / SD 0.88, 0.90, 0.81.
 TEST(StraylightMeasurement, RecoversSimulatedObserversStraylight) {
   const double k = ring_straylight_constant(kInnerDeg, kOuterDeg);
   for (const double truth : {0.9, 1.2, 1.5}) {
@@ -122,14 +130,8 @@ TEST(StraylightMeasurement, RecoversSimulatedObserversStraylight) {
                                     << " mean ESD " << spread.mean_esd);
     EXPECT_LE(spread.sd, 0.07);
     EXPECT_NEAR(spread.mean, truth, 0.02);
-    // The issue asks for ESD within 30 % of the seeds' SD; measured: within it at 0.9 and 1.5, 43 %
-    // above it at 1.2 (docs/STRAYLIGHT.md). Held here: the ESD never understates the scatter by more
-    // than 30 % and overstates it by less than half.
-    EXPECT_GE(spread.mean_esd / spread.sd, 0.7);
-    EXPECT_LE(spread.mean_esd / spread.sd, 1.5);
-    // The ESD (the likelihood's half-width at e^-1/2 of its peak) agrees within the issue's 30 %
-    // (docs/STRAYLIGHT.md, "The estimate": 0.80 to 0.94 here; the SD of the whole likelihood, its
-    // tails included, was 1.43 at 1.2).
+    // The ESD (the likelihood's half-width at e^-1/2 of its peak) against the seeds' SD, within
+    // the issue's 30 % (docs/STRAYLIGHT.md, "The estimate").
     EXPECT_NEAR(spread.mean_esd / spread.sd, 1.0, 0.3);
     std::printf("log s %.2f: mean %.4f SD %.4f mean ESD %.4f (ESD / SD %.2f; likelihood SD %.4f, / SD %.2f)\n", truth,
                 spread.mean, spread.sd, spread.mean_esd, spread.mean_esd / spread.sd, spread.mean_likelihood_sd,
@@ -140,6 +142,9 @@ TEST(StraylightMeasurement, RecoversSimulatedObserversStraylight) {
 // Acceptance 2: the eye scatters exactly as CIE 146 (age 25, pigmentation 0.5); the ring
 // measures the log-angle mean of s(theta) = theta^2 GSF(theta) over 5-10 degrees, which this
 // test integrates from the standard's formula written out here (midpoint rule in ln theta).
+// One measurement scatters with SD about 0.043, so the acceptance's 0.03 is asserted on the mean
+// of 100 (standard error about 0.004): a bias of the method, not one measurement's luck. Measured:
+// 0.847 against 0.846 (over 400 seeds 0.850; docs/STRAYLIGHT.md).
 TEST(StraylightMeasurement, MeasuresTheCieEyesStraylightOverTheRing) {
   const double age = 25.0, pigmentation = 0.5;
   const auto gsf = [&](double t) {
@@ -159,10 +164,13 @@ TEST(StraylightMeasurement, MeasuresTheCieEyesStraylightOverTheRing) {
   StraylightObserverEye eye;
   eye.ring_veil_fraction = cie146_ring_veil_fraction(kInnerDeg, kOuterDeg, cie146_age_factor(age), pigmentation);
   EXPECT_NEAR(std::log10(eye.ring_veil_fraction / ring_straylight_constant(kInnerDeg, kOuterDeg)), ring_log_s, 1e-6);
-  const Spread spread = measure_seeds(eye, 40);
+  const int seeds = 100;
+  const Spread spread = measure_seeds(eye, seeds);
   SCOPED_TRACE(testing::Message() << "ring log s " << ring_log_s << ": mean " << spread.mean << " SD " << spread.sd);
+  EXPECT_LT(spread.sd / std::sqrt(seeds), 0.01);  // the mean is known well enough for 0.03 to mean something
   EXPECT_NEAR(spread.mean, ring_log_s, 0.03);
-  std::printf("CIE age 25, pigmentation 0.5: ring log s %.4f, measured mean %.4f SD %.4f\n", ring_log_s, spread.mean, spread.sd);
+  std::printf("CIE age 25, pigmentation 0.5: ring log s %.4f, measured mean %.4f over %d (standard error %.4f), SD %.4f\n",
+              ring_log_s, spread.mean, seeds, spread.sd / std::sqrt(seeds), spread.sd);
 }
 
 TEST(StraylightMeasurement, MeasuredStraylightIsTheCieEyeWithThatWideAngleFactor) {
