@@ -204,6 +204,10 @@ void FrameRenderer::encode_rect(const DisplaySpec& display, const PixelRect& rec
   glBindFramebuffer(GL_FRAMEBUFFER, target);
   glViewport(0, 0, width_px_, height_px_);
   glDisable(GL_BLEND);
+  // The pass writes the drive values themselves (its own ordered dither at 8 bits, none deeper);
+  // GL_DITHER, on by default, would let a driver dither them again into the target, so that a
+  // uniform field (the straylight test field's halves) no longer held one code.
+  glDisable(GL_DITHER);
   if (whole) {
     glDisable(GL_SCISSOR_TEST);
   } else {
