@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli_process.h"
+#include "display_directions.h"
 #include "core/exr_io.h"
 #include "glare/analytic/cie_glare_spread.h"
 #include "glare/analytic/ring_straylight.h"
@@ -255,14 +256,16 @@ TEST(StraylightSession, ExperimentWithScenesOrStereoIsRefusedAtTheKey) {
   EXPECT_NE(background.find("display.background_cd_m2"), std::string::npos) << background;
 }
 
-// A rating session whose glare takes the participant's measured straylight.
+// A rating session whose glare takes the participant's measured straylight: a lamp on a 256 x 32
+// display of 0.095 degree pixels, 2.6 degrees left of the line of sight, so that 7 degrees right
+// of it lies on the display.
 std::string glare_rating(const std::string& lamp_path) {
   return R"([experiment]
 name = "straylight-glare"
 seed = 3
 
 [display]
-width_px = 64
+width_px = 256
 height_px = 32
 viewing_distance_mm = 300.0
 pixel_pitch_mm = 0.5
@@ -296,17 +299,24 @@ glare = "dynamic"
 
 // `[glare] straylight = "measured"`: refused with the participant and database named while there is
 // no measurement; after one, the session runs with its estimate, stored in its configuration and
-// logged with the session it came from.
+// logged with the session it came from, and the frame it showed has that straylight: the veil 7
+// degrees from the lamp is the lamp's illuminance at the eye times 10^estimate / 7^2 (within 10 %,
+// as tests/straylight_glare_test.cpp for a number). The measured eye is 75 years old (log s about
+// 1.25 over the ring), the glare session's [observer] 25 (0.85), so the veil tells them apart.
 TEST(StraylightSession, MeasuredStraylightIsTheParticipantsLatestReliableMeasurement) {
   test::ScratchDir dir;
-  ImageRGBA lamp(64, 32, 0.0f);
-  for (int c = 0; c < 4; ++c) lamp.pixel(20, 16)[c] = c == 3 ? 1.0f : 1e5f;
+  constexpr float kLampCdM2 = 1e6f;
+  ImageRGBA lamp(256, 32, 0.0f);
+  for (int y = 15; y < 17; ++y)
+    for (int x = 100; x < 102; ++x)
+      for (int c = 0; c < 4; ++c) lamp.pixel(x, y)[c] = c == 3 ? 1.0f : kLampCdM2;
   write_exr(dir.file("lamp.exr"), lamp);
   const std::string glare = dir.write("glare.toml", glare_rating(dir.file("lamp.exr")));
   const std::string db = dir.file("results.db");
+  const auto frames = dir.path() / "frames";
   const auto run_glare = [&](const std::string& participant) {
     return test::run_glarelab({"run", glare, "--observer", "simulated", "--display", "offscreen", "--participant",
-                               participant, "--db", db},
+                               participant, "--db", db, "--save-frames", frames.string()},
                               dir.path());
   };
   const auto none = run_glare("p01");
@@ -316,7 +326,8 @@ TEST(StraylightSession, MeasuredStraylightIsTheParticipantsLatestReliableMeasure
             std::string::npos)
       << none.output;
 
-  const std::string measurement_file = dir.write("straylight.toml", measurement("cycles = 1\nanswers = 40"));
+  const std::string measurement_file =
+      dir.write("straylight.toml", measurement("cycles = 1\nanswers = 40", "age_years = 75.0"));
   const auto measured = test::run_glarelab({"run", measurement_file, "--observer", "simulated", "--display", "offscreen",
                                             "--participant", "p01", "--db", db},
                                            dir.path());
@@ -332,6 +343,7 @@ TEST(StraylightSession, MeasuredStraylightIsTheParticipantsLatestReliableMeasure
   const std::optional<StoredStraylight> stored = stored_straylight(store, sessions[0].id);
   ASSERT_TRUE(stored.has_value());
   ASSERT_FALSE(stored->estimate.unreliable) << stored->estimate.esd_log10;
+  EXPECT_NEAR(stored->estimate.log_s, cie_ring_log_s(75.0), 0.15);  // 3 SD of one measurement
   const Experiment used = parse_experiment_text(sessions[1].config, "<stored config>", "/");
   ASSERT_TRUE(used.glare.observer_eye.straylight_log_s.has_value());
   EXPECT_EQ(*used.glare.observer_eye.straylight_log_s, stored->estimate.log_s);
@@ -339,6 +351,30 @@ TEST(StraylightSession, MeasuredStraylightIsTheParticipantsLatestReliableMeasure
                             std::to_string(sessions[1].id) + " AND message LIKE '%session " +
                             std::to_string(sessions[0].id) + " of %'"),
             "1");
+
+  // The frame the glare session showed (linear cd/m2 after glare), on the lamp's row 7 degrees to
+  // its right, where the scene is dark: the veil alone.
+  const ImageRGBA shown = read_exr((frames / "trial_0000.exr").string()).image;
+  ASSERT_EQ(shown.width_px, 256);
+  const test::DisplayDirections geometry{256, 32, 0.5, 300.0};
+  const double lamp_x = 100.5, lamp_y = 15.5;
+  int best_x = -1;
+  double best_error = 1e300;
+  for (int x = 102; x < 256; ++x) {
+    const double error = std::abs(geometry.angle_between_pixels_deg(lamp_x, lamp_y, x, 15) - 7.0);
+    if (error < best_error) best_error = error, best_x = x;
+  }
+  ASSERT_LT(best_error, 0.05);
+  double illuminance_lx = 0.0;
+  for (int y = 15; y < 17; ++y)
+    for (int x = 100; x < 102; ++x) illuminance_lx += kLampCdM2 * geometry.pixel_solid_angle_sr(x, y);
+  const double veil_cd_m2 = shown.pixel(best_x, 15)[1];
+  const double measured_cd_m2 = illuminance_lx * std::pow(10.0, stored->estimate.log_s) / 49.0;
+  std::printf("measured straylight %.3f: veil at 7 deg %.5g cd/m2, E x 10^%.3f / 49 = %.5g (ratio %.4f)\n",
+              stored->estimate.log_s, veil_cd_m2, stored->estimate.log_s, measured_cd_m2, veil_cd_m2 / measured_cd_m2);
+  EXPECT_NEAR(veil_cd_m2 / measured_cd_m2, 1.0, 0.10);
+  // Not the [observer]'s own 25-year-old eye: its veil would be 10^(0.85 - estimate) of this.
+  EXPECT_GT(stored->estimate.log_s - cie_ring_log_s(25.0), 0.25);
 }
 
 // An example file with some lines replaced (whole lines starting with the key) and its scene paths
