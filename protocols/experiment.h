@@ -170,6 +170,10 @@ struct Experiment {
   DisplaySpec display;
   SourceLocation stereo_where;  // [display] stereo's value, for refusals that depend on the scenes
   SourceLocation stimulus_gap_where;  // [display] stimulus_gap_deg's value (or the table), likewise
+  // [display] output: where the study is meant to be shown, "window" or "openxr" (a headset); empty
+  // when the file does not say (a window). `run --display` wins over it.
+  std::string display_output;
+  SourceLocation display_output_where;
   // [display] engine (core/frame_engine_request.h): what makes the frames; `--engine` replaces it.
   FrameEngineRequest engine = FrameEngineRequest::automatic;
   std::map<std::string, SceneSpec> scenes;

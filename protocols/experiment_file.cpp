@@ -17,6 +17,7 @@
 #include "protocols/block_config.h"
 #include "protocols/condition_rows.h"
 #include "protocols/csv_table.h"
+#include "protocols/display_stereo_config.h"
 #include "protocols/forced_choice.h"
 #include "protocols/generated_scene_config.h"
 #include "protocols/observer_optics_config.h"
@@ -158,26 +159,6 @@ void read_display_encoding(TableReader& reader, DisplaySpec& display, const std:
   }
 }
 
-// [display] stereo = "none" | "side_by_side" (stimuli/stereo_layout.h). Each eye sees half the
-// width: an odd width would give the eyes views of different sizes, so it is refused. Whether the
-// scenes fit an eye's half is checked when they are loaded (their sizes are in the files).
-void read_display_stereo(TableReader& reader, Experiment& experiment) {
-  DisplaySpec& display = experiment.display;
-  const std::optional<std::string> stereo = reader.string("stereo");
-  if (!stereo) return;
-  experiment.stereo_where = reader.value_location("stereo");
-  if (*stereo == "none") {
-    display.stereo = StereoMode::none;
-  } else if (*stereo == "side_by_side") {
-    display.stereo = StereoMode::side_by_side;
-    if (display.width_px % 2 != 0)
-      reader.fail("stereo", "side_by_side gives each eye half of width_px, so width_px must be even, found " +
-                                std::to_string(display.width_px));
-  } else {
-    reader.fail("stereo", "must be \"none\" or \"side_by_side\", found \"" + *stereo + "\"");
-  }
-}
-
 void read_display_section(TableReader& top, Experiment& experiment, const std::string& base_dir) {
   const toml::table* table = top.table("display");
   if (table == nullptr) return;
@@ -220,6 +201,7 @@ void read_display_section(TableReader& top, Experiment& experiment, const std::s
   display.monitor = read_int(reader, "monitor", display.monitor, 0, kMaxMonitorIndex);
   display.fullscreen = reader.boolean("fullscreen").value_or(display.fullscreen);
   read_display_stereo(reader, experiment);
+  read_display_output(reader, experiment);
   // What makes the frames (stimuli/frame_engine.h; docs/EXPERIMENT_FILES.md): `--engine` wins.
   if (const std::optional<std::string> engine = reader.string("engine")) {
     const std::optional<FrameEngineRequest> parsed = parse_spelling<FrameEngineRequest>(*engine);

@@ -209,6 +209,7 @@ std::string resolved_config_toml(const Experiment& experiment) {
   // Written only for stereo, so a mono experiment's resolved text is what it always was.
   if (display.stereo == StereoMode::side_by_side) display_table.insert("stereo", "side_by_side");
   if (display.bits_per_channel != 0) display_table.insert("bits_per_channel", display.bits_per_channel);
+  if (!experiment.display_output.empty()) display_table.insert("output", experiment.display_output);
   // Written only when one was asked for, so that a resolved experiment without it reads as before.
   if (experiment.engine != FrameEngineRequest::automatic)
     display_table.insert("engine", std::string(spelling(experiment.engine)));

@@ -200,7 +200,7 @@ void FrameRenderer::encode_rect(const DisplaySpec& display, const PixelRect& rec
   if (quantise) prepare_display_target(display.bits_per_channel);
   const bool table = display.encoding == DisplayEncoding::table;
   if (table) prepare_calibration_table(display.calibration);
-  const GLuint target = quantise ? display_framebuffer_.get() : 0;
+  const GLuint target = quantise ? display_framebuffer_.get() : display_output_;
   glBindFramebuffer(GL_FRAMEBUFFER, target);
   glViewport(0, 0, width_px_, height_px_);
   glDisable(GL_BLEND);
@@ -245,9 +245,9 @@ void FrameRenderer::encode_rect(const DisplaySpec& display, const PixelRect& rec
   if (quantise) {
     // The default framebuffer gets the quantised frame (a window's is requested at this depth).
     glDisable(GL_SCISSOR_TEST);  // the blit takes its rectangle, not the scissor
-    glBlitNamedFramebuffer(target, 0, rect.x_px, gl_y0, rect.x_px + rect.width_px, gl_y0 + rect.height_px, rect.x_px, gl_y0,
+    glBlitNamedFramebuffer(target, display_output_, rect.x_px, gl_y0, rect.x_px + rect.width_px, gl_y0 + rect.height_px, rect.x_px, gl_y0,
                            rect.x_px + rect.width_px, gl_y0 + rect.height_px, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, display_output_);
   }
   glDisable(GL_SCISSOR_TEST);
   read_from_target_ = quantise;
@@ -342,7 +342,7 @@ GLuint FrameRenderer::encode_program(int encoding, bool dither) {
 }
 
 ImageRGBA FrameRenderer::read_display() const {
-  return read_framebuffer(read_from_target_ ? display_framebuffer_.get() : 0, width_px_, height_px_);
+  return read_framebuffer(read_from_target_ ? display_framebuffer_.get() : display_output_, width_px_, height_px_);
 }
 
 }  // namespace glarelab

@@ -84,6 +84,11 @@ class FrameRenderer {
   int width_px() const { return width_px_; }
   int height_px() const { return height_px_; }
 
+  // The framebuffer encode_to_display writes the frame into: 0, the default framebuffer (a window,
+  // an offscreen buffer), or a display's own float frame (the OpenXR display's, whose halves become
+  // its views' images: DisplayBackend::frame_framebuffer). Set before the first encode.
+  void set_display_framebuffer(unsigned framebuffer) { display_output_ = framebuffer; }
+
  private:
   // Checks the rectangle and uploads `values` (`channels` per pixel, GL type `type`) into it, rows
   // bottom-up.
@@ -101,6 +106,7 @@ class FrameRenderer {
 
   int width_px_;
   int height_px_;
+  GLuint display_output_ = 0;  // where encodes go (set_display_framebuffer)
   gl::Texture stimulus_texture_;
   gl::Framebuffer stimulus_framebuffer_;
   gl::VertexArray empty_vertex_array_;  // core profile needs a bound VAO even without attributes

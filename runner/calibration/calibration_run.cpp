@@ -32,9 +32,10 @@ class PatchPresenter {
 
   void show(std::size_t index) {
     const CalibrationPatch& patch = plan_.patches[index];
-    draw_calibration_patch(display_.width_px(), display_.height_px(), options_.patch_fraction, patch.rgb_drive());
+    draw_calibration_patch(display_.width_px(), display_.height_px(), options_.patch_fraction, patch.rgb_drive(),
+                           display_.frame_framebuffer());
     if (!options_.save_patches_dir.empty() && !saved_[index]) {
-      save(index, read_default_framebuffer(display_.width_px(), display_.height_px()));
+      save(index, read_default_framebuffer(display_.width_px(), display_.height_px(), display_.frame_framebuffer()));
       saved_[index] = true;
     }
     display_.present();

@@ -10,8 +10,9 @@
 
 namespace glarelab {
 
-void draw_calibration_patch(int width_px, int height_px, double patch_fraction, const std::array<double, 3>& rgb_drive) {
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+void draw_calibration_patch(int width_px, int height_px, double patch_fraction, const std::array<double, 3>& rgb_drive,
+                            unsigned framebuffer) {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
   // Nothing may change the cleared values on their way to the framebuffer: GL_DITHER is on by
   // default, and an sRGB-capable framebuffer would encode them again.
   glDisable(GL_DITHER);
@@ -35,9 +36,9 @@ void draw_calibration_patch(int width_px, int height_px, double patch_fraction, 
   gl::check_gl_error("calibrate: drawing a patch");
 }
 
-ImageRGBA read_default_framebuffer(int width_px, int height_px) {
+ImageRGBA read_default_framebuffer(int width_px, int height_px, unsigned framebuffer) {
   ImageRGBA image(width_px, height_px);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   std::vector<float> bottom_up(image.rgba.size());
   glReadPixels(0, 0, width_px, height_px, GL_RGBA, GL_FLOAT, bottom_up.data());

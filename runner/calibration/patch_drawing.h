@@ -10,11 +10,13 @@
 
 namespace glarelab {
 
-// Clears the current default framebuffer (width_px x height_px) to black and the centred
-// rectangle of `patch_fraction` of its width and height (1: the whole screen) to `rgb_drive`.
-void draw_calibration_patch(int width_px, int height_px, double patch_fraction, const std::array<double, 3>& rgb_drive);
+// Clears the display's frame (`framebuffer`: DisplayBackend::frame_framebuffer, 0 the default
+// framebuffer; width_px x height_px) to black and the centred rectangle of `patch_fraction` of its
+// width and height (1: the whole screen) to `rgb_drive`.
+void draw_calibration_patch(int width_px, int height_px, double patch_fraction, const std::array<double, 3>& rgb_drive,
+                            unsigned framebuffer = 0);
 
-// The default framebuffer as drawn (before it is presented), drive values in [0, 1], row 0 at the top.
-ImageRGBA read_default_framebuffer(int width_px, int height_px);
+// The display's frame as drawn (before it is presented), drive values in [0, 1], row 0 at the top.
+ImageRGBA read_default_framebuffer(int width_px, int height_px, unsigned framebuffer = 0);
 
 }  // namespace glarelab

@@ -23,9 +23,10 @@ Action add_run_command(CLI::App& app) {
   run->add_option("--participant", options->participant, "Participant code stored with the session")
       ->capture_default_str();
   run->add_option("--db", options->db_path, "Results database (default: results/<experiment name>.db)");
-  run->add_option("--display", options->display,
+  auto* display_option = run->add_option("--display", options->display,
                   "Where frames go: window, openxr (a headset through the OpenXR runtime, with a mirror window), "
-                  "or offscreen (EGL, else OSMesa; egl or osmesa to insist on one)")
+                  "or offscreen (EGL, else OSMesa; egl or osmesa to insist on one); default: the file's [display] "
+                  "output, else window")
       ->check(CLI::IsMember({"window", "openxr", "offscreen", "egl", "osmesa"}))
       ->capture_default_str();
   run->add_option("--observer", options->observer, "Who answers: keyboard, simulated or script:FILE")
@@ -86,6 +87,7 @@ Action add_run_command(CLI::App& app) {
     if (participant_number_option->count() > 0) options->participant_number = *participant_number;
     if (resume_option->count() > 0) options->resume_session_id = *resume;
     if (stop_option->count() > 0) options->stop_after_trials = *stop_after;
+    options->display_chosen = display_option->count() > 0;
     return report_errors([&]() {
       RunResult result;
       {
@@ -105,7 +107,7 @@ Action add_run_command(CLI::App& app) {
         // Every word shell-quoted (core/text_limits.h): the line is meant to be pasted into a shell.
         std::cout << "  stopped early; finish with: glarelab run " << shell_quoted(options->experiment_path) << " --db "
                   << shell_quoted(result.db_path) << " --resume " << result.session_id << " --display "
-                  << shell_quoted(options->display) << " --observer " << shell_quoted(options->observer)
+                  << shell_quoted(result.display) << " --observer " << shell_quoted(options->observer)
                   << (options->tracker.spec != "none" ? " --tracker " + shell_quoted(options->tracker.spec) : std::string())
                   << (options->response_device.selector.empty()
                           ? std::string()

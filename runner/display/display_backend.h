@@ -58,6 +58,10 @@ class DisplayBackend : public GlContext {
   // offscreen buffer; a window's back buffer is undefined after a swap): a frame drawn there once
   // need not be drawn again for the next flip.
   virtual bool keeps_presented_frame() const { return false; }
+  // The framebuffer a frame is drawn into for present(): 0, the default framebuffer, for a window
+  // and offscreen; the OpenXR display's own float frame (runner/display/openxr_display.h), whose
+  // halves go to its views' swapchain images unrounded and which it shows in its mirror window.
+  virtual unsigned frame_framebuffer() const { return 0; }
   // Keys pressed and wheel clicks since the last call, in order (window); none offscreen.
   virtual std::vector<InputEvent> poll_input() = 0;
   // The keys of poll_input(); wheel clicks are dropped (the wheel only adjusts, it never answers).
@@ -67,8 +71,10 @@ class DisplayBackend : public GlContext {
       if (event.is_key()) keys.push_back(event.name);
     return keys;
   }
-  // The user closed the window.
+  // The user closed the window (or, in a headset, its runtime ended the session).
   virtual bool close_requested() const = 0;
+  // Why, in the words stored as the aborted session's reason.
+  virtual std::string close_reason() const { return "window closed"; }
   // How the picture reaches the screen, for the session log (runner/display/display_info.h): a
   // window's monitor and its video mode, full screen or windowed; offscreen, the buffer's size.
   virtual std::string display_mode() const {

@@ -40,6 +40,26 @@ class HeadPoseSource {
   virtual std::vector<HeadPoseSample> take_head_poses() = 0;
 };
 
+// A view's field of view as the runtime locates it (XrFovf, in degrees): the angles of its left,
+// right, top and bottom edges from the view's axis, left and down negative (OpenXR 1.0, XrFovf).
+struct ViewFieldOfView {
+  double left_deg = 0.0;
+  double right_deg = 0.0;
+  double up_deg = 0.0;
+  double down_deg = 0.0;
+  double width_deg() const { return right_deg - left_deg; }
+  double height_deg() const { return up_deg - down_deg; }
+};
+
+// A display whose views have fields of view of their own (the OpenXR display: each eye's view,
+// located when its session began, before anything of the session is written).
+class ViewFieldSource {
+ public:
+  virtual ~ViewFieldSource() = default;
+  // One per view, in the views' order (left eye first).
+  virtual std::vector<ViewFieldOfView> view_fields_of_view() const = 0;
+};
+
 class PredictedFlipClock final : public SessionClock {
  public:
   // start_offset_s lets a resumed session continue its time line after the last logged flip.

@@ -9,7 +9,7 @@ namespace {
 
 std::mutex kept_views_mutex;
 bool keeping_views = false;
-std::vector<ImageRGBA> kept_views;
+std::vector<std::vector<ImageRGBA>> kept_views;  // one entry per frame submitted while keeping
 
 }  // namespace
 
@@ -20,6 +20,11 @@ void keep_submitted_views(bool keep) {
 }
 
 std::vector<ImageRGBA> last_submitted_views() {
+  const std::lock_guard lock(kept_views_mutex);
+  return kept_views.empty() ? std::vector<ImageRGBA>{} : kept_views.back();
+}
+
+std::vector<std::vector<ImageRGBA>> submitted_views() {
   const std::lock_guard lock(kept_views_mutex);
   return kept_views;
 }
@@ -60,7 +65,10 @@ namespace {
 
 bool is_srgb_format(std::int64_t format) { return format == GL_SRGB8_ALPHA8 || format == GL_SRGB8; }
 
-class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource, public HeadPoseSource {
+class OpenXrDisplay final : public DisplayBackend,
+                            public PredictedFlipSource,
+                            public HeadPoseSource,
+                            public ViewFieldSource {
  public:
   explicit OpenXrDisplay(const DisplayRequest& request) {
     if (request.width_px < 2 || request.width_px % 2 != 0 || request.height_px < 1)
@@ -80,7 +88,7 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource, p
     info_ = mirror_->gl_info();
     xr_->check_gl_version(info_.major, info_.minor);
     xr_->open_session_on_current_glx_context();
-    copier_ = std::make_unique<OpenXrViewCopier>();
+    copier_ = std::make_unique<OpenXrViewCopier>(request.width_px, request.height_px);
     refresh_hz_ = xr_->begin();
     info_.platform += "; OpenXR " + xr_->describe();
   }
@@ -94,8 +102,13 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource, p
   std::string kind() const override { return "openxr"; }
   const GlInfo& gl_info() const override { return info_; }
   void make_current() override { mirror_->make_current(); }
-  int width_px() const override { return mirror_->width_px(); }
-  int height_px() const override { return mirror_->height_px(); }
+  // The frame's size ([display] width_px x height_px), drawn into frame_framebuffer(); the mirror
+  // window shows it at whatever size the window manager gave it.
+  int width_px() const override { return 2 * view_width_px_; }
+  int height_px() const override { return view_height_px_; }
+  unsigned frame_framebuffer() const override { return copier_->frame_framebuffer(); }
+  // The float frame keeps what was drawn into it (the mirror is shown from it, not swapped).
+  bool keeps_presented_frame() const override { return true; }
   double refresh_hz() const override { return refresh_hz_; }
   bool real_time() const override { return true; }
   std::optional<std::chrono::steady_clock::time_point> predicted_display_time() const override {
@@ -114,7 +127,6 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource, p
         keep = keeping_views;
       }
       std::vector<ImageRGBA> views;
-      copier_->take_frame(width_px(), height_px());
       const HeadPoseSample frame = xr_->submit_frame([&](int view, GLuint image, std::int64_t format) {
         const bool linear = !is_srgb_format(format);
         copier_->copy_view(image, view * view_width_px_, view_width_px_, view_height_px_, linear);
@@ -124,19 +136,26 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource, p
       head_poses_.push_back(frame);
       if (keep && !views.empty()) {
         const std::lock_guard lock(kept_views_mutex);
-        kept_views = std::move(views);
+        kept_views.push_back(std::move(views));
       }
     }
+    copier_->show_in_mirror(mirror_->width_px(), mirror_->height_px());
     mirror_->present();
+    take_mirror_inputs();  // every frame, so an Escape reaches the runtime whoever answers
   }
 
   std::vector<HeadPoseSample> take_head_poses() override { return std::exchange(head_poses_, {}); }
+  std::vector<ViewFieldOfView> view_fields_of_view() const override { return xr_->fields_of_view(); }
 
   std::vector<InputEvent> poll_input() override {
     poll_runtime();
-    return mirror_->poll_input();
+    take_mirror_inputs();
+    return std::exchange(pending_inputs_, {});
   }
   bool close_requested() const override { return mirror_->close_requested() || xr_->ended(); }
+  std::string close_reason() const override {
+    return xr_->ended() ? xr_->ended_reason() : mirror_->close_reason();
+  }
 
  private:
   // The runtime's events; when it ends the session, the display asks to close (the session is
@@ -147,6 +166,19 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource, p
       told_end_ = true;
       std::fprintf(stderr, "note: OpenXR: %s; the session ends as when its window is closed (aborted, resumable)\n",
                    xr_->ended_reason().c_str());
+    }
+  }
+
+  // The mirror window's keys, kept in order for poll_input(). Escape, while the runtime runs the
+  // session, asks the runtime to end it (the headset's own way out) instead of ending it here: the
+  // session then ends when the runtime has stopped it (STOPPING), stored aborted with the
+  // runtime's reason, as any end by the runtime.
+  void take_mirror_inputs() {
+    for (InputEvent& input : mirror_->poll_input()) {
+      if (input.name == "escape" && xr_->running())
+        xr_->request_exit("exit requested with Escape in the mirror window");
+      else
+        pending_inputs_.push_back(std::move(input));
     }
   }
 
@@ -161,6 +193,7 @@ class OpenXrDisplay final : public DisplayBackend, public PredictedFlipSource, p
   std::optional<std::chrono::steady_clock::time_point> predicted_;
   std::vector<HeadPoseSample> head_poses_;  // of the frames submitted since take_head_poses()
   bool told_end_ = false;
+  std::vector<InputEvent> pending_inputs_;  // the mirror's, since the last poll_input()
 };
 
 }  // namespace

@@ -322,7 +322,33 @@ double OpenXrConnection::begin() {
     previous_ns = frame.predictedDisplayTime;
     period_ns_ = frame.predictedDisplayPeriod;
   }
+  locate_fields_of_view(previous_ns);
   return 1e9 / static_cast<double>(period_ns_);
+}
+
+void OpenXrConnection::request_exit(const std::string& why) {
+  if (!running_ || !exit_requested_.empty()) return;
+  exit_requested_ = why;
+  check(xrRequestExitSession(session_.get()), instance_.get(), "xrRequestExitSession");
+}
+
+void OpenXrConnection::locate_fields_of_view(XrTime time) {
+  auto locate = xr_struct<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
+  locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+  locate.displayTime = time;
+  locate.space = view_space_.get();
+  auto view_state = xr_struct<XrViewState>(XR_TYPE_VIEW_STATE);
+  XrView located[2] = {xr_struct<XrView>(XR_TYPE_VIEW), xr_struct<XrView>(XR_TYPE_VIEW)};
+  std::uint32_t count = 0;
+  check(xrLocateViews(session_.get(), &locate, &view_state, 2, &count, located), instance_.get(),
+        "xrLocateViews (the views' fields of view)");
+  constexpr double kDegreesPerRadian = 57.295779513082320876798;
+  fields_of_view_.clear();
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const XrFovf& fov = located[i].fov;
+    fields_of_view_.push_back({fov.angleLeft * kDegreesPerRadian, fov.angleRight * kDegreesPerRadian,
+                               fov.angleUp * kDegreesPerRadian, fov.angleDown * kDegreesPerRadian});
+  }
 }
 
 void OpenXrConnection::poll_events() {
@@ -353,7 +379,9 @@ void OpenXrConnection::on_state(XrSessionState state) {
     case XR_SESSION_STATE_STOPPING:
       if (running_) xrEndSession(session_.get());
       running_ = false;
-      if (ended_reason_.empty()) ended_reason_ = "the OpenXR runtime stopped the session";
+      if (ended_reason_.empty())
+        ended_reason_ = exit_requested_.empty() ? "the OpenXR runtime stopped the session"
+                                                : "the OpenXR runtime stopped the session (" + exit_requested_ + ")";
       return;
     case XR_SESSION_STATE_LOSS_PENDING:
       running_ = false;
@@ -450,6 +478,15 @@ std::string OpenXrConnection::describe() const {
        << view_height_px_ << " (recommended " << recommended_width_px_ << "x" << recommended_height_px_
        << ") in " << format_name(format_) << ", display period "
        << static_cast<double>(period_ns_) * 1e-6 << " ms";
+  // Each view's edges (left, right, up, down) from its axis, as located when the session began.
+  for (std::size_t i = 0; i < fields_of_view_.size(); ++i) {
+    const ViewFieldOfView& fov = fields_of_view_[i];
+    char edges[128];
+    std::snprintf(edges, sizeof edges, "%s(%.2f, %.2f, %.2f, %.2f)", i == 0 ? ", fields of view " : " and ",
+                  fov.left_deg, fov.right_deg, fov.up_deg, fov.down_deg);
+    text << edges;
+  }
+  if (!fields_of_view_.empty()) text << " deg (left, right, up, down edges)";
   return text.str();
 }
 

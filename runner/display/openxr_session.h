@@ -61,13 +61,19 @@ class OpenXrConnection {
   // The session on the GLX context current on this thread, its spaces and swapchains.
   void open_session_on_current_glx_context();
   // Waits for READY (up to 10 s), begins the session and runs empty frames until the runtime's
-  // frame timing has settled; returns its refresh rate (Hz), one over the display period.
+  // frame timing has settled; returns its refresh rate (Hz), one over the display period. The
+  // views are located at the last of those frames (fields_of_view()).
   double begin();
+  // Each view's field of view (left eye first), as located when the session began.
+  const std::vector<ViewFieldOfView>& fields_of_view() const { return fields_of_view_; }
 
   // Drains the runtime's events and follows its session states: READY begins the session,
   // STOPPING ends it, LOSS_PENDING and EXITING (and instance loss) end it for good.
   void poll_events();
   bool running() const { return running_; }
+  // Asks the runtime to end the session (xrRequestExitSession): it then goes through STOPPING,
+  // which ends it as any end by the runtime does; `why` is named in ended_reason().
+  void request_exit(const std::string& why);
   // The runtime ended the session (ended_reason() says how); the display asks to close.
   bool ended() const { return !ended_reason_.empty(); }
   const std::string& ended_reason() const { return ended_reason_; }
@@ -90,6 +96,7 @@ class OpenXrConnection {
     std::vector<std::uint32_t> gl_textures;
   };
   void on_state(XrSessionState state);
+  void locate_fields_of_view(XrTime time);
   std::chrono::steady_clock::time_point to_steady(XrTime time) const;
 
   XrOwner<XrInstance, xrDestroyInstance> instance_;
@@ -98,6 +105,7 @@ class OpenXrConnection {
   XrOwner<XrSpace, xrDestroySpace> view_space_;
   XrOwner<XrSpace, xrDestroySpace> local_space_;
   std::vector<View> views_;
+  std::vector<ViewFieldOfView> fields_of_view_;
   int view_width_px_;
   int view_height_px_;
   std::uint32_t recommended_width_px_ = 0;
@@ -109,6 +117,7 @@ class OpenXrConnection {
   XrSessionState state_ = XR_SESSION_STATE_UNKNOWN;
   bool running_ = false;
   std::string ended_reason_;
+  std::string exit_requested_;  // why request_exit() asked, empty when it did not
 };
 
 }  // namespace glarelab

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/errors.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab {
@@ -57,27 +58,38 @@ float srgb_encode(float linear) {
 
 }  // namespace
 
-OpenXrViewCopier::OpenXrViewCopier()
-    : program_(gl::build_program({"stimuli/shaders/fullscreen.vert", "runner/display/openxr_view.frag"})),
+OpenXrViewCopier::OpenXrViewCopier(int width_px, int height_px)
+    : width_px_(width_px),
+      height_px_(height_px),
+      frame_(gl::create_texture(GL_TEXTURE_2D)),
+      framebuffer_(gl::create_framebuffer()),
+      program_(gl::build_program({"stimuli/shaders/fullscreen.vert", "runner/display/openxr_view.frag"})),
       vertex_array_(gl::create_vertex_array()),
       target_(gl::create_framebuffer()) {
+  // 32-bit float, as the offscreen displays' buffers: the encoded drive values are kept as the
+  // encode computed them (no 8-bit window in between), so each view gets them to the precision
+  // of its swapchain format.
+  glTextureStorage2D(frame_.get(), 1, GL_RGBA32F, width_px, height_px);
+  glTextureParameteri(frame_.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(frame_.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glNamedFramebufferTexture(framebuffer_.get(), GL_COLOR_ATTACHMENT0, frame_.get(), 0);
+  if (glCheckNamedFramebufferStatus(framebuffer_.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw DisplayError("OpenXR: the float frame's framebuffer is incomplete");
+  const float black[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+  glClearNamedFramebufferfv(framebuffer_.get(), GL_COLOR, 0, black);
   left_px_location_ = glGetUniformLocation(program_.get(), "left_px");
   to_linear_location_ = glGetUniformLocation(program_.get(), "to_linear");
+  gl::check_gl_error("OpenXR: making the float frame");
 }
 
-void OpenXrViewCopier::take_frame(int width_px, int height_px) {
+void OpenXrViewCopier::show_in_mirror(int mirror_width_px, int mirror_height_px) {
   const SavedGlState saved;
-  if (!frame_ || width_px != frame_width_px_ || height_px != frame_height_px_) {
-    // 32-bit float: whatever depth the default framebuffer has reaches the views unrounded.
-    frame_ = gl::create_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(frame_.get(), 1, GL_RGBA32F, width_px, height_px);
-    frame_width_px_ = width_px;
-    frame_height_px_ = height_px;
-  }
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  glReadBuffer(GL_BACK);
-  glCopyTextureSubImage2D(frame_.get(), 0, 0, 0, 0, 0, width_px, height_px);
-  gl::check_gl_error("OpenXR: copying the side-by-side frame");
+  glDisable(GL_FRAMEBUFFER_SRGB);  // the drive values as they are, as a window shows its frame
+  glDisable(GL_SCISSOR_TEST);
+  const bool same = mirror_width_px == width_px_ && mirror_height_px == height_px_;
+  glBlitNamedFramebuffer(framebuffer_.get(), 0, 0, 0, width_px_, height_px_, 0, 0, mirror_width_px, mirror_height_px,
+                         GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
+  gl::check_gl_error("OpenXR: showing the frame in the mirror window");
 }
 
 void OpenXrViewCopier::copy_view(GLuint image, int left_px, int width_px, int height_px, bool to_linear) {

@@ -30,7 +30,7 @@ std::optional<Response> SessionLoop::adjust_interactively(const TrialPlan& plan,
     check_interrupt();
     if (!aborted_ && display_.close_requested()) {
       aborted_ = true;
-      abort_reason_ = "window closed";
+      abort_reason_ = display_.close_reason();
     }
     if (aborted_) return std::nullopt;
     for (const TimedInput& input : adjustment_inputs(plan, onset_s)) {

@@ -130,7 +130,7 @@ ResponseDeviceInput::PauseResult ResponseDeviceInput::pause(int trial_index, Dis
   };
   while (true) {
     if (interrupt_requested()) return end("interrupted (Ctrl-C or SIGTERM)");
-    if (display.close_requested()) return end("window closed");
+    if (display.close_requested()) return end(display.close_reason());
     for (const std::string& key : display.poll_keys()) {
       if (key == "escape") return end("Escape pressed");
       store_.log_event(session_id_, clock.now_s(), "ignored_key",

@@ -22,6 +22,7 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
       overlays_(renderer_, prepared.experiment),
       // Ratings and adjustment never read `layout`: it keeps its default there.
       sequential_(prepared.experiment.forced_choice.layout == "sequential") {
+  renderer_.set_display_framebuffer(display.frame_framebuffer());
   for (const auto& [name, scene] : prepared_.scenes->scenes()) {
     const SceneTexture& texture = textures_.emplace(name, renderer_.upload(scene.image_cd_m2)).first->second;
     composition_.add_scene(texture, scene.image_cd_m2);
@@ -44,7 +45,7 @@ bool SessionLoop::calibrate_pupil() {
       check_interrupt();
       if (!aborted_ && display_.close_requested()) {
         aborted_ = true;
-        abort_reason_ = "window closed";
+        abort_reason_ = display_.close_reason();
       }
       if (aborted_) return false;
     }

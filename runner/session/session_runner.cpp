@@ -16,6 +16,7 @@
 #include "runner/display/openxr_clock.h"
 #include "runner/session/adjustment_keys.h"
 #include "runner/session/device_pause_screen.h"
+#include "runner/session/headset_views.h"
 #include "runner/session/interrupt.h"
 #include "runner/session/keyboard_responses.h"
 #include "runner/session/refresh_rate_check.h"
@@ -132,6 +133,15 @@ void attach_preview(SessionLoop& loop, PreparedSession& prepared, const Stimulus
     show_condition_in_preview(*prepared.procedure, prepared.experiment, preview.conditions.front());
 }
 
+// The session's display, and what a headset's views can show (their fields of view are known once
+// its session began): refused before the session's row (runner/session/headset_views.h).
+std::unique_ptr<DisplayBackend> open_display(const RunOptions& options, const PreparedSession& prepared) {
+  if (options.status) options.status->set_step("opening the display");
+  auto display = create_display(options.display, display_request(prepared.experiment));
+  check_scenes_fit_views(prepared.experiment, *prepared.scenes, *display);
+  return display;
+}
+
 }  // namespace
 
 RunResult run_session(const RunOptions& asked, std::ostream& progress) {
@@ -141,8 +151,9 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   // 1. Everything that can be wrong with the input is found before anything is written.
   if (asked.status) asked.status->set_step("loading the experiment and its scenes");
   SessionStart start = load_session_start(asked, progress);
-  const RunOptions options = keep_resumed_clock(asked, start);
+  const RunOptions options = keep_resumed_clock(display_of_experiment(asked, start.experiment), start);
   result.db_path = start.db_path;
+  result.display = options.display;
   PreparedSession prepared = prepare_session(std::move(start.experiment), options);
   result.scene_notes = scene_load_notes(*prepared.scenes);
   for (const std::string& note : result.scene_notes) progress << "note: " << note << "\n";
@@ -157,8 +168,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   check_virtual_clock(options, tracker, device);
 
   // 2. The display (a device failure is reported before a session exists).
-  if (options.status) options.status->set_step("opening the display");
-  auto display = create_display(options.display, display_request(prepared.experiment));
+  auto display = open_display(options, prepared);
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock = make_session_clock(*display, tracker, device, start, options);
 

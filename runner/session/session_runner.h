@@ -21,7 +21,10 @@ struct RunOptions {
   std::string experiment_path;
   std::string participant = "anonymous";
   std::string db_path;                  // empty: results/<experiment name>.db
-  std::string display = "window";       // window | offscreen
+  std::string display = "window";       // window | openxr | offscreen | egl | osmesa
+  // False when `run` was given no --display: the experiment's [display] output, if it has one,
+  // then replaces `display` (the flag wins over the file).
+  bool display_chosen = true;
   std::string observer = "keyboard";    // keyboard | simulated | script:FILE
   // --clock: empty for the display's own (a window's real clock; offscreen: the virtual clock unless
   // a live tracker or response device needs the real one), "real" (an offscreen run paced by the
@@ -58,6 +61,7 @@ struct RunOptions {
 struct RunResult {
   std::int64_t session_id = 0;
   std::string status;  // completed | aborted | running (stopped early)
+  std::string display;  // the display the session ran on (RunOptions::display, or the file's output)
   std::string db_path;
   int trials_in_design = 0;
   int trials_run_now = 0;

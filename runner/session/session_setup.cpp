@@ -226,14 +226,18 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   if (device && prepared.observer)
     throw ConfigError({"--response-device", 0, 0}, "response-device",
                       "a response device is answered by a person: use it with --observer keyboard, not " + options.observer);
-  // A headset shows each eye its half of a side-by-side frame (runner/display/openxr_display.h).
+  // A headset shows each eye its half of a side-by-side frame (runner/display/openxr_display.h);
+  // refused at [display] output where the file chose the headset, else at --display.
+  const bool file_chose = !options.display_chosen && !prepared.experiment.display_output.empty();
+  const SourceLocation display_where = file_chose ? prepared.experiment.display_output_where : SourceLocation{"--display", 0, 0};
+  const std::string display_key = file_chose ? "display.output" : "display";
   if (options.display == "openxr" && prepared.experiment.display.stereo != StereoMode::side_by_side)
-    throw ConfigError({"--display", 0, 0}, "display",
+    throw ConfigError(display_where, display_key,
                       "openxr shows each eye its half of a side-by-side frame: the experiment needs [display] stereo = "
                       "\"side_by_side\" (docs/STEREO.md)");
   // Its mirror window is the keyboard's, not the participant's screen: a full screen is for a window.
   if (options.display == "openxr" && prepared.experiment.display.fullscreen)
-    throw ConfigError({"--display", 0, 0}, "display",
+    throw ConfigError(display_where, display_key,
                       "openxr shows the frames in the headset, with a mirror window for the keyboard: [display] "
                       "fullscreen = true is for --display window (docs/STEREO.md)");
   // A window and a headset (its mirror window) have a keyboard at them; offscreen has none.
@@ -274,6 +278,11 @@ DisplayRequest display_request(const Experiment& experiment) {
   // refuses to open shallower than asked (docs/DISPLAY_CALIBRATION.md).
   request.bits_per_channel = experiment.display.bits_per_channel;
   return request;
+}
+
+RunOptions display_of_experiment(RunOptions options, const Experiment& experiment) {
+  if (!options.display_chosen && !experiment.display_output.empty()) options.display = experiment.display_output;
+  return options;
 }
 
 RunOptions keep_resumed_clock(RunOptions options, const SessionStart& start) {

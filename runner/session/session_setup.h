@@ -59,6 +59,8 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
 // names it already; another clock, or a window for a virtual-clock session, is a ConfigError.
 // A new session's options are returned as they are.
 RunOptions keep_resumed_clock(RunOptions options, const SessionStart& start);
+// The experiment's [display] output as the display when `run` was given no --display.
+RunOptions display_of_experiment(RunOptions options, const Experiment& experiment);
 
 // Scenes, procedure and observer of the experiment, and the checks that tie them to the options.
 PreparedSession prepare_session(Experiment experiment, const RunOptions& options);

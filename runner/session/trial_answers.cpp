@@ -15,6 +15,11 @@ void SessionLoop::check_interrupt() {
   if (interrupt_requested()) {
     aborted_ = true;
     abort_reason_ = "interrupted (Ctrl-C or SIGTERM)";
+  } else if (!aborted_ && display_.close_requested()) {
+    // Whoever answers: a simulated or scripted observer's session ends too when the window is
+    // closed or a headset's runtime ends its session (runner/display/openxr_display.h).
+    aborted_ = true;
+    abort_reason_ = display_.close_reason();
   }
 }
 
@@ -23,7 +28,7 @@ void SessionLoop::ignore_keys(const TrialPlan& plan, const std::string& why) {
   if (aborted_) return;
   if (display_.close_requested()) {
     aborted_ = true;
-    abort_reason_ = "window closed";
+    abort_reason_ = display_.close_reason();
     return;
   }
   for (const std::string& key : display_.poll_keys()) {
@@ -42,7 +47,7 @@ std::optional<Response> SessionLoop::poll_keyboard(const TrialPlan& plan, double
   if (aborted_) return std::nullopt;
   if (display_.close_requested()) {
     aborted_ = true;
-    abort_reason_ = "window closed";
+    abort_reason_ = display_.close_reason();
     return std::nullopt;
   }
   // Every key of the batch is looked at: the first allowed one answers, an Escape anywhere in the

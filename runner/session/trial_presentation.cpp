@@ -215,7 +215,7 @@ bool SessionLoop::show_screen(const TrialPlan& plan, const ScreenText& screen, T
       check_interrupt();
       if (!aborted_ && display_.close_requested()) {
         aborted_ = true;
-        abort_reason_ = "window closed";
+        abort_reason_ = display_.close_reason();
       }
       for (const std::string& key : aborted_ ? std::vector<std::string>{} : display_.poll_keys()) {
         if (key == "escape") {

@@ -31,8 +31,8 @@ std::vector<int> tearing_bar_lefts_px(int width_px, long frame_index) {
   return lefts;
 }
 
-void draw_timing_pattern(TimingPattern pattern, long frame_index, int width_px, int height_px) {
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+void draw_timing_pattern(TimingPattern pattern, long frame_index, int width_px, int height_px, unsigned framebuffer) {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
   glDisable(GL_SCISSOR_TEST);
   glViewport(0, 0, width_px, height_px);
   const float background = pattern == TimingPattern::flicker && frame_index % 2 == 0 ? 1.0f : 0.0f;

@@ -25,7 +25,8 @@ inline constexpr double kTearingStepFraction = 1.0 / 64.0;
 // The left edges (pixels, possibly negative: a bar entering from the left) of the bars of frame k.
 std::vector<int> tearing_bar_lefts_px(int width_px, long frame_index);
 
-// Draws frame `frame_index` of `pattern` into the current default framebuffer.
-void draw_timing_pattern(TimingPattern pattern, long frame_index, int width_px, int height_px);
+// Draws frame `frame_index` of `pattern` into the display's frame (`framebuffer`:
+// DisplayBackend::frame_framebuffer, 0 the default framebuffer).
+void draw_timing_pattern(TimingPattern pattern, long frame_index, int width_px, int height_px, unsigned framebuffer = 0);
 
 }  // namespace glarelab

@@ -75,7 +75,8 @@ TimingTestResult run_timing_test(const TimingTestOptions& options, std::ostream&
   long missed = 0;
   for (std::size_t k = 0; k < frames && !abort_reason; ++k) {
     const auto start = std::chrono::steady_clock::now();
-    draw_timing_pattern(options.pattern, static_cast<long>(k), display->width_px(), display->height_px());
+    draw_timing_pattern(options.pattern, static_cast<long>(k), display->width_px(), display->height_px(),
+                        display->frame_framebuffer());
     const auto drawn = std::chrono::steady_clock::now();
     display->present();
     const auto returned = std::chrono::steady_clock::now();
