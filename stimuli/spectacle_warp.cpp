@@ -263,9 +263,18 @@ class BilinearSampler {
 
 ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
                                   const SpectacleWarpOptions& options) {
+  ImageRGBA out;
+  warp_through_spectacles(scene, lens, frame, options, out);
+  return out;
+}
+
+void warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                             const SpectacleWarpOptions& options, ImageRGBA& out) {
   const std::vector<GridInterpolation> grids = channel_grids(scene, lens, frame, options);
   const int width = frame.width_px, g = options.grid_vertices;
-  ImageRGBA out(width, frame.height_px, 0.0f);
+  if (&out == &scene) refuse("the output frame must not be the scene");
+  if (out.width_px != width || out.height_px != frame.height_px) out = ImageRGBA(width, frame.height_px, 0.0f);
+  out.depth.clear();
   std::vector<GridInterpolation::Row> columns(static_cast<std::size_t>(width));
   for (int x = 0; x < width; ++x) columns[static_cast<std::size_t>(x)] = grids[0].column(x);
   const BilinearSampler sampler(scene);
@@ -314,7 +323,6 @@ ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& l
       }
     }
   });
-  return out;
 }
 
 ImageRGBA warp_through_spectacles_reference(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,

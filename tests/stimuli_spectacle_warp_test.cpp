@@ -298,8 +298,14 @@ TEST(SpectacleWarp, FloatWarpMatchesItsFloat64Reference) {
         for (std::size_t i = 0; i < fast.rgba.size(); i += 4) outside_pixels += reference.rgba[i] == 0.5f ? 1 : 0;
         options.threads = 3;
         EXPECT_EQ(warp_through_spectacles(scene, lens, frame, options).rgba, fast.rgba);
+        ImageRGBA reused(frame.width_px, frame.height_px, 7.0f);  // into a frame of the right size: every value written
+        warp_through_spectacles(scene, lens, frame, options, reused);
+        EXPECT_EQ(reused.rgba, fast.rgba);
       }
   EXPECT_GT(outside_pixels, 1000);  // the minus lens looks past the scene's edge
+  ImageRGBA same = scene;
+  expect_warp_refused([&] { warp_through_spectacles(same, SpectacleLens(lens_spec(-6.0, 2.0)), frame, {}, same); },
+                      "must not be the scene");
 }
 
 }  // namespace

@@ -244,15 +244,21 @@ struct AcuityStage {
 
   // The cap's kernel on a block, out[j] = sum_k w_k taps[k][j] (taps[k]: the block's 16 values
   // moved by k - radius along the pass), in float: positive weights summing to 1 over at most 61
-  // values keep the sum within 1e-6 relative. Four registers of sums (an array of sums went back
-  // to memory at every tap).
+  // values keep the sum within 1e-6 relative.
   void cap_sums(const float* const* taps, float* out) const {
-    Float4 sum[4] = {Float4::all(0.0f), Float4::all(0.0f), Float4::all(0.0f), Float4::all(0.0f)};
+    Float4 s0 = Float4::all(0.0f), s1 = s0, s2 = s0, s3 = s0;  // named: GCC kept an array of them in memory
     for (int k = 0; k <= 2 * radius; ++k) {
       const Float4 w = Float4::all(cap_kernel[static_cast<std::size_t>(k)]);
-      for (int q = 0; q < 4; ++q) sum[q] = sum[q] + w * Float4::load(taps[k] + 4 * q);
+      const float* tap = taps[k];
+      s0 = s0 + w * Float4::load(tap);
+      s1 = s1 + w * Float4::load(tap + 4);
+      s2 = s2 + w * Float4::load(tap + 8);
+      s3 = s3 + w * Float4::load(tap + 12);
     }
-    for (int q = 0; q < 4; ++q) sum[q].store(out + 4 * q);
+    s0.store(out);
+    s1.store(out + 4);
+    s2.store(out + 8);
+    s3.store(out + 12);
   }
 };
 
