@@ -25,7 +25,8 @@ struct AxisTap {
 
 // Area resampling along one axis: output pixel o covers [o * n_in / n_out, (o + 1) * n_in / n_out)
 // in input pixels; every input pixel contributes the length it shares with that span, divided by
-// the span's length. Rows of weights sum to 1.
+// the span's length. Rows of weights sum to 1. An output's taps are the input pixels first..last
+// in order, each with an overlap > 0 (the span starts inside `first` and ends inside `last`).
 std::vector<std::vector<AxisTap>> area_taps(int n_in, int n_out) {
   std::vector<std::vector<AxisTap>> taps(static_cast<std::size_t>(n_out));
   const double scale = static_cast<double>(n_in) / n_out;
@@ -130,10 +131,13 @@ double weighted_luminance_sum(const float* row, const int* tap_index, const doub
   double red = 0.0, green = 0.0, blue = 0.0;
   int k = begin;
 #if defined(__SSE2__)
+  // area_taps' pixels of one output run contiguously from the first, so they are stepped through
+  // rather than looked up (checked: a gap would take the loop below).
+  const bool contiguous = end > begin && tap_index[end - 1] - tap_index[begin] == end - 1 - begin;
+  const float* p = row + 4 * static_cast<std::ptrdiff_t>(end > begin ? tap_index[begin] : 0);
   __m128d rg0 = _mm_setzero_pd(), ba0 = _mm_setzero_pd(), rg1 = _mm_setzero_pd(), ba1 = _mm_setzero_pd();
-  for (; k + 2 <= end; k += 2) {
-    const __m128 p0 = _mm_loadu_ps(row + 4 * static_cast<std::ptrdiff_t>(tap_index[k]));
-    const __m128 p1 = _mm_loadu_ps(row + 4 * static_cast<std::ptrdiff_t>(tap_index[k + 1]));
+  for (; contiguous && k + 2 <= end; k += 2, p += 8) {
+    const __m128 p0 = _mm_loadu_ps(p), p1 = _mm_loadu_ps(p + 4);
     const __m128d w0 = _mm_set1_pd(tap_weight[k]), w1 = _mm_set1_pd(tap_weight[k + 1]);
     rg0 = _mm_add_pd(rg0, _mm_mul_pd(w0, _mm_cvtps_pd(p0)));
     ba0 = _mm_add_pd(ba0, _mm_mul_pd(w0, _mm_cvtps_pd(_mm_movehl_ps(p0, p0))));
@@ -146,10 +150,10 @@ double weighted_luminance_sum(const float* row, const int* tap_index, const doub
   blue = _mm_cvtsd_f64(ba);
 #endif
   for (; k < end; ++k) {
-    const float* p = row + 4 * static_cast<std::ptrdiff_t>(tap_index[k]);
-    red += tap_weight[k] * p[0];
-    green += tap_weight[k] * p[1];
-    blue += tap_weight[k] * p[2];
+    const float* q = row + 4 * static_cast<std::ptrdiff_t>(tap_index[k]);
+    red += tap_weight[k] * q[0];
+    green += tap_weight[k] * q[1];
+    blue += tap_weight[k] * q[2];
   }
   return luidolt_luminance_cd_m2(red, green, blue);
 }
