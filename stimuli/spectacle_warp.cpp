@@ -15,6 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/parallel_for.h"
+#include "stimuli/float4.h"
 
 namespace glarelab {
 namespace {
@@ -102,6 +103,11 @@ class GridInterpolation {
   Row row(int y) const { return locate(y, step_y_); }
   Row column(int x) const { return locate(x, step_x_); }
   glm::dvec2 at(const Row& row, int x) const { return at(row, column(x)); }
+  // The row's positions at each vertex column, (1 - fy) top + fy bottom, into edge[0 .. g).
+  void row_edges(const Row& row, glm::dvec2* edge) const {
+    const std::size_t top = static_cast<std::size_t>(row.cell) * g_, bottom = top + g_;
+    for (int i = 0; i < g_; ++i) edge[i] = (1.0 - row.fraction) * vertex_[top + i] + row.fraction * vertex_[bottom + i];
+  }
   // Grids of one frame and vertex count share their rows and columns: found once, used for each.
   glm::dvec2 at(const Row& row, const Row& column) const {
     const std::size_t top = static_cast<std::size_t>(row.cell) * g_ + column.cell, bottom = top + g_;
@@ -193,8 +199,11 @@ SourceMap traced_source_map(const SpectacleLens& lens, const SpectacleFrame& fra
   return map;
 }
 
-ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
-                                  const SpectacleWarpOptions& options) {
+namespace {
+
+// The checks of warp_through_spectacles and the three channels' traced grids.
+std::vector<GridInterpolation> channel_grids(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                                             const SpectacleWarpOptions& options) {
   validate_frame(frame);
   if (scene.width_px != frame.width_px || scene.height_px != frame.height_px)
     refuse("the scene is " + std::to_string(scene.width_px) + " x " + std::to_string(scene.height_px) + " but the frame " +
@@ -205,6 +214,120 @@ ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& l
     grids.emplace_back(frame,
                        trace_grid_vertices(lens, frame, options.wavelengths_nm[channel], options.grid_vertices, options.scene_distance_mm),
                        options.grid_vertices);
+  return grids;
+}
+
+// A bilinear sample of all four channels at a continuous pixel position, in float: the position
+// in double (a position off by 1e-12 px moves a value beside a 1e7 : 1 edge by 1e-5 of itself),
+// its fractions rounded to float only as the weights, 1 - f taken in double first, so each weight
+// keeps float's relative precision and the sum of four non-negative products its 4e-7.
+class BilinearSampler {
+ public:
+  explicit BilinearSampler(const ImageRGBA& scene)
+      : scene_(scene),
+        last_x_(scene.width_px - 1.0),
+        last_y_(scene.height_px - 1.0),
+        step_x_(scene.width_px > 1 ? 4 : 0),
+        step_y_(scene.height_px > 1 ? 4 * static_cast<std::ptrdiff_t>(scene.width_px) : 0) {}
+  bool inside(glm::dvec2 at) const { return at.x >= 0.0 && at.y >= 0.0 && at.x <= last_x_ && at.y <= last_y_; }
+  // Within [0, last - margin) on both axes: the cell's corner is the truncated position, no clamp.
+  bool clear_of_edges(glm::dvec2 at, double margin) const {
+    return at.x >= margin && at.y >= margin && at.x < last_x_ - margin && at.y < last_y_ - margin;
+  }
+  // At a position `inside` accepts (the last pixel centre's cell is the one before it).
+  Float4 at(glm::dvec2 at) const {
+    const int x0 = std::min(static_cast<int>(at.x), std::max(scene_.width_px - 2, 0));
+    const int y0 = std::min(static_cast<int>(at.y), std::max(scene_.height_px - 2, 0));
+    return blend(scene_.pixel(x0, y0), at.x - x0, at.y - y0);
+  }
+  // At a position clear_of_edges accepts.
+  Float4 at_clear(glm::dvec2 at) const {
+    const int x0 = static_cast<int>(at.x), y0 = static_cast<int>(at.y);
+    return blend(scene_.pixel(x0, y0), at.x - x0, at.y - y0);
+  }
+
+ private:
+  Float4 blend(const float* corner, double fx, double fy) const {
+    const Float4 wx0 = Float4::all(static_cast<float>(1.0 - fx)), wx1 = Float4::all(static_cast<float>(fx));
+    const Float4 wy0 = Float4::all(static_cast<float>(1.0 - fy)), wy1 = Float4::all(static_cast<float>(fy));
+    const Float4 top = wx0 * Float4::load(corner) + wx1 * Float4::load(corner + step_x_);
+    const Float4 bottom = wx0 * Float4::load(corner + step_y_) + wx1 * Float4::load(corner + step_y_ + step_x_);
+    return wy0 * top + wy1 * bottom;
+  }
+  const ImageRGBA& scene_;
+  double last_x_, last_y_;
+  std::ptrdiff_t step_x_, step_y_;
+};
+
+}  // namespace
+
+ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                                  const SpectacleWarpOptions& options) {
+  ImageRGBA out;
+  warp_through_spectacles(scene, lens, frame, options, out);
+  return out;
+}
+
+void warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                             const SpectacleWarpOptions& options, ImageRGBA& out) {
+  const std::vector<GridInterpolation> grids = channel_grids(scene, lens, frame, options);
+  const int width = frame.width_px, g = options.grid_vertices;
+  if (&out == &scene) refuse("the output frame must not be the scene");
+  if (out.width_px != width || out.height_px != frame.height_px) out = ImageRGBA(width, frame.height_px, 0.0f);
+  out.depth.clear();
+  std::vector<GridInterpolation::Row> columns(static_cast<std::size_t>(width));
+  for (int x = 0; x < width; ++x) columns[static_cast<std::size_t>(x)] = grids[0].column(x);
+  const BilinearSampler sampler(scene);
+  const float outside_values[4] = {options.outside_cd_m2[0], options.outside_cd_m2[1], options.outside_cd_m2[2], 1.0f};
+  const Float4 outside = Float4::load(outside_values);
+  const Mask4 red = Mask4::of(true, false, false, false), blue = Mask4::of(false, false, true, false);
+  // Margin of the segments taken without per-pixel checks: far above the 1e-13 px by which a
+  // position along a segment may round past its ends.
+  constexpr double kMarginPx = 1e-6;
+  parallel_chunks(frame.height_px, options.threads, [&](int first, int last) {
+    // Per row, each channel's positions at the vertex columns and their steps to the next column:
+    // along a row the grid's bilinear interpolation is linear within a cell, so a pixel's position
+    // is its cell's left edge plus the column fraction times the step (GridInterpolation::at
+    // rearranged; the same to 1e-13 px).
+    std::vector<glm::dvec2> edge(3 * static_cast<std::size_t>(g)), step(edge.size());
+    std::vector<char> clear(static_cast<std::size_t>(g), 0);
+    for (int y = first; y < last; ++y) {
+      const GridInterpolation::Row row = grids[0].row(y);
+      for (int c = 0; c < 3; ++c) {
+        glm::dvec2* e = &edge[static_cast<std::size_t>(c) * g];
+        grids[static_cast<std::size_t>(c)].row_edges(row, e);
+        for (int i = 0; i + 1 < g; ++i) step[static_cast<std::size_t>(c) * g + i] = e[i + 1] - e[i];
+      }
+      // A cell whose ends lie clear of the scene's edges for every channel holds every position
+      // between them (a box is convex): its pixels skip the checks.
+      for (int i = 0; i + 1 < g; ++i) {
+        bool all_clear = true;
+        for (int c = 0; c < 3; ++c)
+          for (int end = 0; end < 2; ++end)
+            all_clear = all_clear && sampler.clear_of_edges(edge[static_cast<std::size_t>(c) * g + i + end], kMarginPx);
+        clear[static_cast<std::size_t>(i)] = all_clear ? 1 : 0;
+      }
+      for (int x = 0; x < width; ++x) {
+        const GridInterpolation::Row& column = columns[static_cast<std::size_t>(x)];
+        const auto cell = static_cast<std::size_t>(column.cell);
+        glm::dvec2 at[3];
+        for (std::size_t c = 0; c < 3; ++c) at[c] = edge[c * g + cell] + column.fraction * step[c * g + cell];
+        Float4 seen[3];
+        if (clear[cell]) {
+          for (int c = 0; c < 3; ++c) seen[c] = sampler.at_clear(at[c]);
+        } else {
+          for (int c = 0; c < 3; ++c) seen[c] = sampler.inside(at[c]) ? sampler.at(at[c]) : outside;
+        }
+        // R from the red position, B from the blue, G and alpha from the green.
+        select(red, seen[0], select(blue, seen[2], seen[1])).store(out.pixel(x, y));
+      }
+    }
+  });
+}
+
+ImageRGBA warp_through_spectacles_reference(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                                            const SpectacleWarpOptions& options) {
+  const std::vector<GridInterpolation> grids = channel_grids(scene, lens, frame, options);
   ImageRGBA out(frame.width_px, frame.height_px, 0.0f);
   // The three grids share their vertices' pixels: each column's cell is found once per frame, each
   // row's once per row, and the green position serves alpha too.

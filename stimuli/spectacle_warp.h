@@ -80,5 +80,16 @@ SourceMap traced_source_map(const SpectacleLens& lens, const SpectacleFrame& fra
 // or a wavelength outside 360-830 nm.
 ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
                                   const SpectacleWarpOptions& options = {});
+// The same into `out` (not the scene), whose memory is reused when it has the frame's size: a
+// session's frames then write into pages already mapped, as the streaming floor does (a fresh
+// frame's page faults and zeroing are a cost of their own: docs/PERFORMANCE.md).
+void warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                             const SpectacleWarpOptions& options, ImageRGBA& out);
+// Its float64 reference: each pixel's position by the grid's bilinear formula and each sample in
+// double. warp_through_spectacles takes the positions along each row cell by cell (linear there)
+// and the samples in float, within 1e-5 of this by stage_timing.h's pixel metric
+// (tests/stimuli_spectacle_warp_test.cpp); the bench prints the error beside its time.
+ImageRGBA warp_through_spectacles_reference(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
+                                            const SpectacleWarpOptions& options = {});
 
 }  // namespace glarelab
