@@ -171,7 +171,14 @@ void CpuFloatGlare::convolve_regions_finished(const ImageRGBA& frame, const std:
     finish(y, x_from, x_to, rgba);
   };
   regions_into(frame, boxes, display_psf, out, &with_alpha, frame_token);
-  const std::vector<PixelRect> reached = boxes_reached(boxes, display_psf.size_px, frame.width_px, frame.height_px);
+  // Where write_full wrote: each box grown by M/2 before and M - 1 - M/2 after (boxes_reached grows
+  // by M/2 after too, one pixel more for an even M, where the glare is exactly 0).
+  const int m = display_psf.size_px, before = m / 2, after = m - 1 - m / 2;
+  std::vector<PixelRect> reached;
+  for (const PixelRect& box : boxes)
+    reached.push_back(intersection(PixelRect{box.x_px - before, box.y_px - before, box.width_px + before + after,
+                                             box.height_px + before + after},
+                                   image_rect(frame)));
   parallel_chunks(frame.height_px, kGlareCpuThreads, [&](int first, int last) {
     std::vector<std::pair<int, int>> spans;  // the row's reached spans, left to right
     for (int y = first; y < last; ++y) {
