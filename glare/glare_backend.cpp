@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/errors.h"
+#include "core/parallel_for.h"
 #include "glare/cpu/float_glare.h"
 #include "glare/cpu/backend.h"
 #include "glare/cpu/fftw_wisdom.h"
@@ -55,6 +56,16 @@ void GlareBackend::convolve_regions(const ImageRGBA& frame, const std::vector<Pi
     part.depth.clear();  // convolve() takes colour only; out keeps the frame's depth
     paste(out, convolve(part, display_psf), area);
   }
+}
+
+void GlareBackend::convolve_regions_finished(const ImageRGBA& frame, const std::vector<PixelRect>& boxes,
+                                             const Psf& display_psf, ImageRGBA& out, const RowFinish& finish,
+                                             std::uint64_t) {
+  out = frame;
+  convolve_regions(frame, boxes, display_psf, out);
+  parallel_chunks(out.height_px, kGlareCpuThreads, [&](int first, int last) {
+    for (int y = first; y < last; ++y) finish(y, 0, out.width_px, out.pixel(0, y));
+  });
 }
 
 namespace {

@@ -11,6 +11,7 @@
 // the GL path is the fast one; on a software rasteriser (Mesa llvmpipe/softpipe/swrast, VMware
 // SVGA3D) the GL path runs on the same CPU cores and is slower than FFTW there (docs/PERFORMANCE.md,
 // "Measurements behind the code's choices"), so `auto` takes the CPU.
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +23,7 @@
 #include "glare/cpu/fft.h"
 #include "glare/wave/fresnel.h"
 #include "glare/glare_backend_kind.h"
+#include "glare/cpu/float_convolution.h"
 #include "glare/cpu/lit_regions.h"
 #include "glare/wave/psf.h"
 
@@ -67,6 +69,16 @@ class GlareBackend {
   // convolves each box's whole linear convolution into place (CpuFloatGlare::convolve_regions).
   virtual void convolve_regions(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
                                 ImageRGBA& out);
+  // convolve_regions into `out` made here from a copy of `frame`: R, G, B the boxes' glare where it
+  // reaches and the frame's own elsewhere, alpha the frame's, then `finish` called once on every row
+  // segment of `out`, from any thread (a per-pixel pass, such as the hybrid eye's far field added
+  // and the energies turned back into luminance, that the planned path does while each row it
+  // writes is in cache instead of in another pass over the frame). `frame_token`: non-zero names
+  // the pixels of `frame` (the same token, the same pixels, while the caller uses it), so that a
+  // kept spectrum of the same pixels is taken without comparing them; 0: compared.
+  virtual void convolve_regions_finished(const ImageRGBA& frame, const std::vector<PixelRect>& boxes,
+                                         const Psf& display_psf, ImageRGBA& out, const RowFinish& finish,
+                                         std::uint64_t frame_token = 0);
 };
 
 // Whether a spectral PSF of this aperture takes one FFT per wavelength with the eye's LCA

@@ -11,6 +11,10 @@
 #include "glare/refraction/dioptric_power.h"
 #include "glare/analytic/display_kernel_convolution.h"
 #include "glare/cpu/fftw_floor.h"
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
+#include "core/fft_size.h"
+#include "stimuli/display_model.h"
 #include "stimuli/glare_stage.h"
 
 namespace glarelab {
@@ -37,6 +41,30 @@ void errors(const ImageRGBA& fast, const ImageRGBA& exact, double& max_error, do
     }
   max_error = peak > 0.0 ? worst / peak : 0.0;
   l2_error = ref2 > 0.0 ? std::sqrt(diff2 / ref2) : 0.0;
+}
+
+// The floor of a frame of an interval: the PSF's 3 forward and the 3 inverse real transforms of
+// the frame padded by the display PSF (the frame's spectrum is kept), the same size and threads.
+// The default eye's error: the same frame (same eye, same time) with the near part's PSF and
+// convolution on the float64 reference backend; the far part is the same two-level CIE frame in
+// both (its own error is the two-level rows').
+void default_eye_floor_and_error(const GlareSpec& spec, const DisplaySpec& display, const ImageRGBA& frame,
+                                 double field_cd_m2, const ImageRGBA& last_human, const AnalyticBenchmarkOptions& options,
+                                 AnalyticBenchmarkResult& result) {
+  const int psf_px = display_psf_size_px(spec.grid_px, psf_degrees_per_pixel(kReferenceWavelengthNm, spec.aperture_width_mm),
+                                         DisplayModel(display).degrees_per_pixel_at_centre());
+  result.stage_fft_cols = smooth_fft_size(options.width_px + psf_px - 1);
+  result.stage_fft_rows = smooth_fft_size(options.height_px + psf_px - 1);
+  result.stage_floor_s = fftw_floor_s(result.stage_fft_rows, result.stage_fft_cols, options.frames);
+  if (options.progress) options.progress("glare stage: human dynamic frame on the float64 reference backend");
+  GlareSpec reference_spec = spec;
+  reference_spec.model = GlareModel::human;
+  reference_spec.backend = GlareBackendRequest::cpu;
+  GlareStage reference(reference_spec, display, 1);
+  for (int k = 0; k <= options.frames; ++k) {
+    const ImageRGBA glared = reference.apply(frame, GlareMode::dynamic, 0.5 + k / 60.0, nullptr, std::nullopt, field_cd_m2);
+    if (k == options.frames) errors(last_human, glared, result.human_max_error, result.human_l2_error);
+  }
 }
 
 }  // namespace
@@ -108,20 +136,27 @@ AnalyticBenchmarkResult run_analytic_benchmark(const AnalyticBenchmarkOptions& o
   spec.grid_px = options.ritschel_grid_px;
   spec.wavelength_samples = 16;
   spec.skip_invisible = false;
+  // As a session gives them (stimuli/frame_engine.h): the field luminance the eye adapts to, and
+  // the composed frame's facts, kept with it for the frames of an interval.
+  const double field_cd_m2 = mean_luminance(frame);
+  ImageRGBA last_human;
   for (GlareModel model : {GlareModel::ritschel, GlareModel::hybrid, GlareModel::human}) {
     spec.model = model;
     say("glare stage: " + to_string(model) + " dynamic frames at " + std::to_string(options.width_px) + " x " +
         std::to_string(options.height_px));
     GlareStage stage(spec, display, 1);
+    FrameFacts facts;
     const auto setup = std::chrono::steady_clock::now();
-    stage.apply(frame, GlareMode::dynamic, 0.5);  // makes the backend and, for the hybrid, the far kernel
+    // Makes the backend and, for the hybrid, the far kernel.
+    stage.apply(frame, GlareMode::dynamic, 0.5, nullptr, std::nullopt, field_cd_m2, &facts);
     if (model == GlareModel::hybrid) result.hybrid_setup_s = seconds_since(setup);
     if (model == GlareModel::human) result.human_setup_s = seconds_since(setup);
     double best = 1e300;
     for (int k = 1; k <= options.frames; ++k) {
       const auto start = std::chrono::steady_clock::now();
-      stage.apply(frame, GlareMode::dynamic, 0.5 + k / 60.0);
+      ImageRGBA glared = stage.apply(frame, GlareMode::dynamic, 0.5 + k / 60.0, nullptr, std::nullopt, field_cd_m2, &facts);
       best = std::min(best, seconds_since(start));
+      if (model == GlareModel::human && k == options.frames) last_human = std::move(glared);
     }
     (model == GlareModel::ritschel ? result.ritschel_frame_s
      : model == GlareModel::hybrid ? result.hybrid_frame_s
@@ -133,10 +168,13 @@ AnalyticBenchmarkResult run_analytic_benchmark(const AnalyticBenchmarkOptions& o
     result.human_new_frame_s = 1e300;
     for (int k = 1; k <= options.frames; ++k) {
       const auto start = std::chrono::steady_clock::now();
-      stage.apply(k % 2 == 0 ? frame : other, GlareMode::dynamic, 0.5 + (options.frames + k) / 60.0);
+      FrameFacts new_facts;  // a new composed frame comes with facts of its own
+      stage.apply(k % 2 == 0 ? frame : other, GlareMode::dynamic, 0.5 + (options.frames + k) / 60.0, nullptr,
+                  std::nullopt, field_cd_m2, &new_facts);
       result.human_new_frame_s = std::min(result.human_new_frame_s, seconds_since(start));
     }
   }
+  default_eye_floor_and_error(spec, display, frame, field_cd_m2, last_human, options, result);
   // The observer's refraction (docs/REFRACTION.md, "In a session"): one FFT per wavelength.
   spec.model = GlareModel::ritschel;
   result.wavelength_samples = spec.wavelength_samples;
@@ -189,7 +227,14 @@ std::string format_analytic_benchmark(const AnalyticBenchmarkResult& result) {
       << "x the plain Ritschel frame; the far glare does not move with the eye and is kept), "
       << result.human_new_frame_s * 1e3 << " ms when every frame is a new composed frame ("
       << (result.ritschel_frame_s > 0.0 ? result.human_new_frame_s / result.ritschel_frame_s : 0.0)
-      << "x); its kernels once per session: " << result.human_setup_s << " s.\n";
+      << "x); its kernels once per session: " << result.human_setup_s << " s. The floor of a frame of an interval "
+      << "(the PSF's 3 forward and 3 inverse real transforms of the frame padded by the display PSF, "
+      << result.stage_fft_cols << " x " << result.stage_fft_rows << ", FFTW, the same threads, this run): "
+      << result.stage_floor_s * 1e3 << " ms; the default eye " << result.human_frame_s / result.stage_floor_s
+      << "x it, the Ritschel frame " << result.ritschel_frame_s / result.stage_floor_s
+      << "x. The default eye's frame against the same frame on the float64 reference backend (near part; the "
+         "far part's two-level error is in the two-level rows): max |error| / peak "
+      << std::scientific << result.human_max_error << ", L2 " << result.human_l2_error << std::defaultfloat << ".\n";
   out << "\nRitschel frame with the observer's refraction (residual -1 / -1 x 45 D; the spectral PSF one FFT per "
          "wavelength, "
       << result.wavelength_samples

@@ -49,6 +49,10 @@ struct AnalyticBenchmarkResult {
                                   // composed frame again and again as in a dynamic interval (far glare kept)
   double human_new_frame_s = 0.0; // the same with a different composed frame every time (far glare computed)
   double human_setup_s = 0.0;     // its far kernel and near rings, once per session
+  double stage_floor_s = 0.0;     // FFTW floor of a frame of an interval (3 forward + 3 inverse)
+  int stage_fft_cols = 0, stage_fft_rows = 0;  // its padded size: the frame grown by the display PSF
+  double human_max_error = 0.0;   // the default eye's frame against the float64 backend's: max / peak
+  double human_l2_error = 0.0;    // and relative L2
   int wavelength_samples = 0;     // of the stage's spectral PSFs
   double refraction_dynamic_frame_s = 0.0;  // Ritschel dynamic frame with a refraction
   double refraction_static_first_s = 0.0;   // static: the first frame (PSF and convolution)

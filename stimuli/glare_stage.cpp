@@ -68,14 +68,6 @@ std::string GlareStage::refraction_backend_reason() {
          ") with the eye's longitudinal chromatic aberration (Thibos et al. 1992)";
 }
 
-HandoverPixels GlareStage::hybrid_handover() const {
-  HybridHandover handover{spec_.hybrid_handover_inner_deg, spec_.hybrid_handover_outer_deg};
-  const double reach = wave_psf_reach_deg(spec_.grid_px, psf_degrees_per_pixel(kReferenceWavelengthNm, spec_.aperture_width_mm));
-  if (handover.outer_deg <= 0.0) handover = default_handover(reach);
-  check_handover(handover, reach);
-  return handover_pixels(handover, DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm});
-}
-
 AnalyticGlare& GlareStage::analytic_for(GlareModel model, int width_px, int height_px) {
   const auto key = std::tuple{static_cast<int>(model), width_px, height_px};
   auto found = analytic_.find(key);
@@ -98,17 +90,6 @@ const PixelSolidAngle& GlareStage::solid_angle_for(int width_px, int height_px) 
   if (!solid_angle_ || solid_angle_->width_px() != width_px || solid_angle_->height_px() != height_px)
     solid_angle_.emplace(DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm}, width_px, height_px);
   return *solid_angle_;
-}
-
-const DisplayKernel& GlareStage::human_near_kernel() {
-  if (human_near_kernel_) return *human_near_kernel_;
-  // The unweighted CIE kernel out to the hand-over's outer radius: the rings the near part is
-  // calibrated on (a few hundred pixels, once per session).
-  const int reach = static_cast<int>(std::ceil(hybrid_handover().outer_px)) + 1;
-  human_near_kernel_ = analytic_display_kernel(AnalyticPsf::cie(spec_.observer_eye),
-                                               DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
-                                               reach, reach);
-  return *human_near_kernel_;
 }
 
 GlareStage::~GlareStage() = default;
@@ -370,44 +351,6 @@ ImageRGBA GlareStage::apply_analytic(const ImageRGBA& frame, const ImageRGBA& so
   return with_gain(frame, source, std::move(glared));
 }
 
-ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
-                                   double mean_cd_m2, GlareFrameReport& r) {
-  const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
-  if (!wave) return frame;
-  r.wing_fraction = psf_wing_fraction(*wave);
-  const bool human = condition_model_ == GlareModel::human;
-  AnalyticGlare& far = analytic_for(condition_model_, frame.width_px, frame.height_px);
-  far.adapt(mean_cd_m2);
-  if (!human && spec_.hybrid_far_field == GlareModel::spencer) r.spencer_mixture = far.mixture();
-  // The near part (s w P_wave, or the human eye's g_k w P_wave ring by ring), convolved as the
-  // wave-optics PSF is (cropped to where light reaches); the far part by the analytic engine; their
-  // sum is the hybrid kernel's convolution.
-  const Psf near = human ? calibrated_near_psf(*wave, human_near_kernel(), hybrid_handover())
-                         : hybrid_near_psf(*wave, far.energy_inside_handover(), hybrid_handover());
-  // Both parts carry energy per pixel (the far kernel reaches across the display, where pixels
-  // subtend less): the source's luminance to energy, the sum back to luminance.
-  const PixelSolidAngle& solid_angle = solid_angle_for(source.width_px, source.height_px);
-  const ImageRGBA source_energy = solid_angle.to_energy(source);
-  ImageRGBA glared = convolve_frame(source_energy, near);
-  far.add_convolution(source_energy, glared);
-  if (human) {
-    // The lenticular halo of the fibre gratings this pupil uncovers, its light taken from the
-    // source's own pixel (glare/analytic/lenticular_halo.h).
-    const HaloGratings gratings = halo_gratings(spec_.eye);
-    r.halo_energy = lenticular_halo_energy(eye_for(mode, mean_cd_m2).lens().grating_lines(), gratings, r.pupil_diameter_mm);
-    if (r.halo_energy > 0.0) {
-      if (!lenticular_halo_ || lenticular_halo_->width_px() != frame.width_px || lenticular_halo_->height_px() != frame.height_px)
-        lenticular_halo_ = std::make_unique<LenticularHaloGlare>(
-            LenticularHalo(gratings), DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
-            frame.width_px, frame.height_px);
-      lenticular_halo_->add(source_energy, r.halo_energy, glared);
-    }
-  }
-  solid_angle.to_luminance(glared);
-  r.convolved = true;
-  return with_gain(frame, source, std::move(glared));
-}
-
 ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
                             const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2,
                             FrameFacts* facts) {
@@ -442,7 +385,7 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     // whole frame: its glare is the frame's, confined by the window's blend (docs/GLARE_OPTICS.md 7a).
     const bool analytic = condition_model_ == GlareModel::spencer || condition_model_ == GlareModel::cie;
     ImageRGBA glared = analytic ? apply_analytic(frame_cd_m2, source, mean_cd_m2, r)
-                                : apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r);
+                                : apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r, excess ? nullptr : facts);
     if (spec_.gaze_window_px == 0 || !r.convolved) return glared;
     GazeWindowOptions options;
     options.window_px = spec_.gaze_window_px;

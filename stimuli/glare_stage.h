@@ -80,6 +80,9 @@ struct GlareFrameReport {
 struct FrameFacts {
   std::optional<std::pair<double, double>> luminance_range_cd_m2;  // smallest and largest Rec.709 luminance
   std::map<int, std::vector<PixelRect>> lit_boxes;                  // glare/cpu/lit_regions.h, by gap (the PSF's size)
+  // The hybrid and human eyes: the token of the state the stage keeps for this image (0: none yet),
+  // so that a frame bringing it again is known without comparing its pixels.
+  std::uint64_t glare_source_token = 0;
 };
 
 // A gaze point in normalised display coordinates (0..1 from the left and from the top).
@@ -193,8 +196,20 @@ class GlareStage {
   // frame + gain (glared - source), clipped at 0; gain 1 and the frame as source: glared itself.
   ImageRGBA with_gain(const ImageRGBA& frame, const ImageRGBA& source, ImageRGBA glared) const;
   ImageRGBA apply_analytic(const ImageRGBA& frame, const ImageRGBA& source, double mean_cd_m2, GlareFrameReport& r);
+  // stimuli/glare_stage_hybrid.cpp. `facts`: the frame's when the frame is the source, else nothing.
   ImageRGBA apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
-                         double mean_cd_m2, GlareFrameReport& r);
+                         double mean_cd_m2, GlareFrameReport& r, FrameFacts* facts);
+  // What the hybrid and human eyes keep of the last composed frame they glared (the source), for
+  // the frames that bring it again (an interval's): its energies per pixel, its lit boxes by PSF
+  // size, and the token under which the analytic engine, the halo and the backend keep their parts.
+  struct HybridSource {
+    ImageRGBA source;  // bit for bit, to know it again
+    ImageRGBA energy;  // PixelSolidAngle::to_energy(source)
+    std::map<int, std::vector<PixelRect>> lit_boxes;
+    std::uint64_t token = 0;
+  };
+  std::optional<HybridSource> hybrid_source_;
+  HybridSource& hybrid_source(const ImageRGBA& source, FrameFacts* facts);
   HandoverPixels hybrid_handover() const;
   // The human eye's CIE kernel near the source, unweighted (calibrated_near_psf's rings), made once.
   const DisplayKernel& human_near_kernel();

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "glare/analytic/kernel_cache.h"
 #include "glare/analytic/spencer_flare_lines.h"
 
 namespace glarelab {
@@ -64,7 +65,11 @@ AnalyticGlare::AnalyticGlare(const AnalyticGlareOptions& options, int threads)
   }
   std::vector<DisplayKernel> kernels;
   for (std::size_t j = 0; j < psfs.size(); ++j) {
-    DisplayKernel kernel = analytic_display_kernel(psfs[j], options.geometry, options.width_px - 1, options.height_px - 1, threads);
+    // The CIE kernel of a large display from the cross-session cache (glare/analytic/kernel_cache.h).
+    KernelCacheOutcome outcome = KernelCacheOutcome::not_kept;
+    DisplayKernel kernel = cached_analytic_display_kernel(psfs[j], options.geometry, options.width_px - 1,
+                                                          options.height_px - 1, threads, kCachedKernelMinimumPixels, &outcome);
+    if (outcome == KernelCacheOutcome::read) ++kernels_from_cache_;
     if (options.flare_lines)
       if (const std::optional<FlareLineSet> set = flare_line_set_of_component(component_index_[j]))
         apply_flare_lines(kernel, FlareLines(*set, options.flare_seed), options.geometry, threads);
@@ -118,6 +123,7 @@ const ImageRGBA& AnalyticGlare::glare_of(const ImageRGBA& source, ImageRGBA& scr
     return scratch;
   }
   last_kept_ = false;  // until the new glare is in place
+  last_token_ = 0;
   compute(source, last_glare_);
   last_source_ = source;
   last_kept_ = true;
@@ -128,6 +134,13 @@ void AnalyticGlare::compute(const ImageRGBA& source, ImageRGBA& out) {
   if (full_) full_->convolve(source, out);
   else two_level_->convolve(source, out);
   ++convolutions_computed_;
+}
+
+const ImageRGBA& AnalyticGlare::glare(const ImageRGBA& source, std::uint64_t source_token) {
+  if (last_kept_ && source_token != 0 && source_token == last_token_) return last_glare_;
+  const ImageRGBA& glare = glare_of(source, scratch_);
+  last_token_ = last_kept_ ? source_token : 0;
+  return glare;
 }
 
 void AnalyticGlare::convolve(const ImageRGBA& source, ImageRGBA& out) {
@@ -223,8 +236,8 @@ std::string AnalyticGlare::describe() const {
   if (options_.flare_lines) out << " with flare lines (seed " << options_.flare_seed << ")";
   out << " (age " << options_.eye.age_years << " years";
   if (options_.model == GlareModel::cie) out << ", pigmentation " << options_.eye.pigmentation;
-  out << "), kernel " << 2 * options_.width_px - 1 << " x " << 2 * options_.height_px - 1 << " px integrated in "
-      << build_s_ << " s, FFT " << fft_cols() << " x " << fft_rows();
+  out << "), kernel " << 2 * options_.width_px - 1 << " x " << 2 * options_.height_px - 1 << " px "
+      << (kernels_from_cache_ > 0 ? "read from the kernel cache" : "integrated") << " in " << build_s_ << " s, FFT " << fft_cols() << " x " << fft_rows();
   if (two_level_ && two_level_->has_far_level())
     out << " near (radius " << options_.split.near_inner_px << "-" << options_.split.near_outer_px << " px) + "
         << two_level_->far_fft_cols() << " x " << two_level_->far_fft_rows() << " far at 1/" << options_.split.factor;

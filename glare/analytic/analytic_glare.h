@@ -68,6 +68,11 @@ class AnalyticGlare {
   // sum += the frame convolved, colour channels only (the hybrid's far part added to its near
   // part). A kept frame is added from where it is kept: no frame-sized copy.
   void add_convolution(const ImageRGBA& source, ImageRGBA& sum);
+  // The glare of `source` itself, kept (as convolve() keeps it) until the next source or a new
+  // mixture: valid until then. `source_token`: non-zero names the source's pixels for the caller
+  // (the same token, the same pixels), so that the kept glare of that token is taken without
+  // comparing them; 0: compared.
+  const ImageRGBA& glare(const ImageRGBA& source, std::uint64_t source_token = 0);
   // How many convolutions were computed (not kept), for tests and the bench.
   long long convolutions_computed() const { return convolutions_computed_; }
   // Hybrid: sum(w K) per channel for the current mixture (the near part's energy).
@@ -81,6 +86,8 @@ class AnalyticGlare {
   // "Spencer adaptive (mixture ...), kernel W x H px, built in S s, N MB of spectra".
   std::string describe() const;
   double kernel_build_s() const { return build_s_; }
+  // How many of its kernels came from the cross-session cache (glare/analytic/kernel_cache.h).
+  int kernels_from_cache() const { return kernels_from_cache_; }
   std::size_t memory_bytes() const;
   // The convolution in use (automatic resolved).
   AnalyticConvolution convolution() const { return full_ ? AnalyticConvolution::full : AnalyticConvolution::two_level; }
@@ -112,9 +119,11 @@ class AnalyticGlare {
   spencer::Mixture mixture_;
   bool adapted_ = false;
   double build_s_ = 0.0;
+  int kernels_from_cache_ = 0;
   // The last source and its glare under the current kernel (cleared when the weights change).
-  ImageRGBA last_source_, last_glare_;
+  ImageRGBA last_source_, last_glare_, scratch_;
   bool last_kept_ = false;
+  std::uint64_t last_token_ = 0;  // the caller's token for last_source_ (0: none)
   long long convolutions_computed_ = 0;
 };
 

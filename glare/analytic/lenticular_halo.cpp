@@ -247,20 +247,28 @@ void LenticularHaloGlare::add(const ImageRGBA& source_energy, double halo_energy
   if (!(halo_energy > 0.0)) return;
   if (glared_energy.width_px != source_energy.width_px || glared_energy.height_px != source_energy.height_px)
     throw std::invalid_argument("glare/analytic/lenticular_halo: the glared frame and its source differ in size");
+  ring(source_energy);
+  for (std::size_t i = 0; i < glared_energy.rgba.size(); i += 4)
+    for (std::size_t c = 0; c < 3; ++c)
+      glared_energy.rgba[i + c] += static_cast<float>(
+          halo_energy * (static_cast<double>(last_ring_.rgba[i + c]) - static_cast<double>(source_energy.rgba[i + c])));
+}
+
+const ImageRGBA& LenticularHaloGlare::ring(const ImageRGBA& source_energy, std::uint64_t source_token) {
+  if (kept_ && source_token != 0 && source_token == kept_token_) return last_ring_;
   const bool same = kept_ && last_source_.width_px == source_energy.width_px &&
                     last_source_.height_px == source_energy.height_px &&
                     std::memcmp(last_source_.rgba.data(), source_energy.rgba.data(),
                                 source_energy.rgba.size() * sizeof(float)) == 0;
   if (!same) {
+    kept_ = false;  // until the new ring is in place
     convolution_->convolve(source_energy, last_ring_);
     last_source_ = source_energy;
     kept_ = true;
     ++convolutions_computed_;
   }
-  for (std::size_t i = 0; i < glared_energy.rgba.size(); i += 4)
-    for (std::size_t c = 0; c < 3; ++c)
-      glared_energy.rgba[i + c] += static_cast<float>(
-          halo_energy * (static_cast<double>(last_ring_.rgba[i + c]) - static_cast<double>(source_energy.rgba[i + c])));
+  kept_token_ = source_token;
+  return last_ring_;
 }
 
 }  // namespace glarelab

@@ -28,6 +28,7 @@
 // and the colours outside Rec.709's gamut are moved towards grey at their own luminance (no
 // channel negative); each channel's ring has unit energy.
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -95,6 +96,11 @@ class LenticularHaloGlare {
   // glared_energy += halo_energy (ring * source - source), per channel: the ring's light, taken from
   // the source's own pixel. Energies per pixel (glare/analytic/pixel_solid_angle.h).
   void add(const ImageRGBA& source_energy, double halo_energy, ImageRGBA& glared_energy);
+  // The ring of unit energy convolved with `source_energy` (no light taken from the source), kept
+  // until the next source. `source_token`: non-zero names the source's pixels for the caller (the
+  // same token, the same pixels), so that the kept ring of that token is taken without comparing
+  // them; 0: compared.
+  const ImageRGBA& ring(const ImageRGBA& source_energy, std::uint64_t source_token = 0);
   long long convolutions_computed() const { return convolutions_computed_; }
   int width_px() const { return width_px_; }
   int height_px() const { return height_px_; }
@@ -104,6 +110,7 @@ class LenticularHaloGlare {
   std::unique_ptr<DisplayKernelConvolution> convolution_;
   ImageRGBA last_source_, last_ring_;
   bool kept_ = false;
+  std::uint64_t kept_token_ = 0;  // the caller's token for last_source_ (0: none)
   long long convolutions_computed_ = 0;
 };
 

@@ -227,7 +227,7 @@ void CpuFloatConvolution::convolve(const Psf& psf, ImageRGBA& out) {
   });
 }
 
-void CpuFloatConvolution::write_full(int slot, ImageRGBA& frame, int x0, int y0) {
+void CpuFloatConvolution::write_full(int slot, ImageRGBA& frame, int x0, int y0, const RowFinish* finish) {
   if (output_ != ConvolutionOutput::full) throw std::logic_error("glare/cpu/float_convolution: write_full needs `full` output");
   if (slot < 0 || slot >= slots_ || !has_scene_[static_cast<std::size_t>(slot)] || !has_kernel_)
     throw std::logic_error("glare/cpu/float_convolution: write_full before set_scene and set_kernel");
@@ -238,12 +238,14 @@ void CpuFloatConvolution::write_full(int slot, ImageRGBA& frame, int x0, int y0)
   if (fy1 <= fy0 || fx1 <= fx0) return;
   std::complex<float>* product = multiply_and_invert_columns(slot);
   inverse_rows(product, fy0, fy1 - fy0, [&](int fy, const float* red, const float* green, const float* blue) {
-    float* target = frame.pixel(x0 - m / 2 + fx0, y0 - m / 2 + fy);
+    float* const row = frame.pixel(x0 - m / 2 + fx0, y0 - m / 2 + fy);
+    float* target = row;
     for (int fx = fx0; fx < fx1; ++fx, target += 4) {
       target[0] = red[fx];
       target[1] = green[fx];
       target[2] = blue[fx];
     }
+    if (finish != nullptr) (*finish)(y0 - m / 2 + fy, x0 - m / 2 + fx0, x0 - m / 2 + fx1, row);
   });
 }
 

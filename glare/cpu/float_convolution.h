@@ -18,6 +18,7 @@
 // separate lit regions of one frame), all convolved with one transform of the frame's PSF.
 // Checked against convolve_image_cpu in float64 (tests/glare_cpu_float_test.cpp).
 #include <complex>
+#include <functional>
 #include <vector>
 
 #include "core/image.h"
@@ -27,6 +28,11 @@
 namespace glarelab {
 
 enum class ConvolutionOutput { same, full };
+
+// A pass over the pixels a convolution writes, done while they are in cache: called with (y,
+// x_from, x_to, the RGBA of pixel (x_from, y)) for each row segment written, from the
+// convolution's threads (it must touch only those pixels).
+using RowFinish = std::function<void(int y, int x_from, int x_to, float* rgba)>;
 
 class CpuFloatConvolution {
  public:
@@ -51,8 +57,9 @@ class CpuFloatConvolution {
   void set_kernel(const Psf& psf);
   // `full` output: the slot's scene, placed in `frame` at (x0, y0), convolved with the set_kernel()
   // PSF; the whole linear convolution (the scene grown by the PSF's reach, M/2 before, M - 1 - M/2
-  // after) written over R, G, B of `frame` there, clipped to the frame; alpha untouched.
-  void write_full(int slot, ImageRGBA& frame, int x0, int y0);
+  // after) written over R, G, B of `frame` there, clipped to the frame; alpha untouched. `finish`,
+  // when given, is called on each row segment once it is written.
+  void write_full(int slot, ImageRGBA& frame, int x0, int y0, const RowFinish* finish = nullptr);
 
  private:
   int width_ = 0, height_ = 0, kernel_px_ = 0, rows_ = 0, cols_ = 0, threads_ = 1, slots_ = 1;

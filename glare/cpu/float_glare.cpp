@@ -4,6 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "core/parallel_for.h"
 #include "glare/cpu/fftw_float_plan.h"
 #include "glare/wave/psf_scale.h"
 #include "glare/wave/spectral_psf.h"
@@ -153,6 +154,53 @@ constexpr std::size_t kRegionPlans = 8;
 
 void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
                                      ImageRGBA& out) {
+  regions_into(frame, boxes, display_psf, out, nullptr, 0);
+}
+
+void CpuFloatGlare::convolve_regions_finished(const ImageRGBA& frame, const std::vector<PixelRect>& boxes,
+                                              const Psf& display_psf, ImageRGBA& out, const RowFinish& finish,
+                                              std::uint64_t frame_token) {
+  // Every pixel is written once: the boxes' reach by the inverse transform (the reaches of two boxes
+  // do not overlap: they lie at least the PSF's size apart, and each grows by M - 1 in all), the
+  // rest copied from the frame; so `out` starts empty rather than as a copy of the frame.
+  out = ImageRGBA(frame.width_px, frame.height_px);
+  out.depth = frame.depth;
+  const RowFinish with_alpha = [&](int y, int x_from, int x_to, float* rgba) {
+    const float* from = frame.pixel(x_from, y);
+    for (int x = x_from; x < x_to; ++x) rgba[4 * (x - x_from) + 3] = from[4 * (x - x_from) + 3];
+    finish(y, x_from, x_to, rgba);
+  };
+  regions_into(frame, boxes, display_psf, out, &with_alpha, frame_token);
+  // Where write_full wrote: each box grown by M/2 before and M - 1 - M/2 after (boxes_reached grows
+  // by M/2 after too, one pixel more for an even M, where the glare is exactly 0).
+  const int m = display_psf.size_px, before = m / 2, after = m - 1 - m / 2;
+  std::vector<PixelRect> reached;
+  for (const PixelRect& box : boxes)
+    reached.push_back(intersection(PixelRect{box.x_px - before, box.y_px - before, box.width_px + before + after,
+                                             box.height_px + before + after},
+                                   image_rect(frame)));
+  parallel_chunks(frame.height_px, kGlareCpuThreads, [&](int first, int last) {
+    std::vector<std::pair<int, int>> spans;  // the row's reached spans, left to right
+    for (int y = first; y < last; ++y) {
+      spans.clear();
+      for (const PixelRect& area : reached)
+        if (y >= area.y_px && y < area.y_px + area.height_px) spans.emplace_back(area.x_px, area.x_px + area.width_px);
+      std::sort(spans.begin(), spans.end());
+      int x = 0;
+      spans.emplace_back(frame.width_px, frame.width_px);
+      for (const auto& [from, to] : spans) {
+        if (from > x) {
+          std::copy_n(frame.pixel(x, y), 4 * static_cast<std::size_t>(from - x), out.pixel(x, y));
+          finish(y, x, from, out.pixel(x, y));
+        }
+        x = std::max(x, to);
+      }
+    }
+  });
+}
+
+void CpuFloatGlare::regions_into(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
+                                 ImageRGBA& out, const RowFinish* finish, std::uint64_t frame_token) {
   if (out.width_px != frame.width_px || out.height_px != frame.height_px)
     throw std::invalid_argument("glare/cpu/float_glare: the output is not the frame's size");
   if (region_kernel_px_ != display_psf.size_px) {
@@ -176,22 +224,32 @@ void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<P
       plan.convolution = std::make_unique<CpuFloatConvolution>(size.first, size.second, display_psf.size_px,
                                                                 kGlareCpuThreads, ConvolutionOutput::full, slots);
       plan.pixels.resize(static_cast<std::size_t>(slots));
+      plan.tokens.assign(static_cast<std::size_t>(slots), 0);
       found = region_plans_.insert_or_assign(size, std::move(plan)).first;
     }
     RegionPlan& plan = found->second;
     for (int slot = 0; slot < slots; ++slot) {
       const PixelRect& box = *sized[static_cast<std::size_t>(slot)];
       ImageRGBA& kept = plan.pixels[static_cast<std::size_t>(slot)];
-      if (same_pixels(kept, frame, box)) continue;
+      std::uint64_t& token = plan.tokens[static_cast<std::size_t>(slot)];
+      // The same token: the caller vouches for the same pixels (and so the same box); else compared.
+      if (frame_token != 0 && token == frame_token && kept.width_px == box.width_px && kept.height_px == box.height_px)
+        continue;
+      if (same_pixels(kept, frame, box)) {
+        token = frame_token;
+        continue;
+      }
       reused_scene_ = false;
       kept = ImageRGBA();  // a refused scene leaves no stale match behind
+      token = 0;
       plan.convolution->set_scene(frame, box.x_px, box.y_px, slot);
       kept = crop(frame, box);
+      token = frame_token;
     }
     plan.convolution->set_kernel(display_psf);
     for (int slot = 0; slot < slots; ++slot) {
       const PixelRect& box = *sized[static_cast<std::size_t>(slot)];
-      plan.convolution->write_full(slot, out, box.x_px, box.y_px);
+      plan.convolution->write_full(slot, out, box.x_px, box.y_px, finish);
     }
   }
 }

@@ -11,6 +11,7 @@
 // float32 FFT per wavelength with the eye's LCA (glare/cpu/float_chromatic_psf.h), the float64
 // reference's operator (glare/wave/chromatic_psf.h) within 1e-5 of its peak
 // (tests/refraction_float_engine_test.cpp).
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -80,6 +81,12 @@ class CpuFloatGlare : public GlareBackend {
   // Inf and negative pixels in the boxes (std::invalid_argument).
   void convolve_regions(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
                         ImageRGBA& out) override;
+  // The same with `finish` done on each row of a box's glare as the inverse transform writes it
+  // (in cache, on the convolution's threads) and on the rest of `out` (the frame's pixels) after;
+  // no copy of the frame. A box's kept spectrum made under the same non-zero `frame_token` is
+  // taken without comparing its pixels.
+  void convolve_regions_finished(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
+                                 ImageRGBA& out, const RowFinish& finish, std::uint64_t frame_token = 0) override;
   // The phase sampling check of the last display_psf() (the eye's whole power error, defocus plus
   // refraction; glare/cpu/float_psf.h): the aliasing warning, or empty. With LCA, that of the most aliased
   // wavelength (glare/cpu/float_chromatic_psf.h).
@@ -112,7 +119,11 @@ class CpuFloatGlare : public GlareBackend {
   struct RegionPlan {
     std::unique_ptr<CpuFloatConvolution> convolution;
     std::vector<ImageRGBA> pixels;
+    std::vector<std::uint64_t> tokens;  // per slot, the frame token its spectrum was made under (0: none)
   };
+  // convolve_regions with an optional finish of each written row and a frame token.
+  void regions_into(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf, ImageRGBA& out,
+                    const RowFinish* finish, std::uint64_t frame_token);
   std::map<std::pair<int, int>, RegionPlan> region_plans_;
   int region_kernel_px_ = 0;
 };

@@ -1,0 +1,134 @@
+// The glare stage's hybrid and human eyes (glare/analytic/hybrid_psf.h): the wave-optics near part
+// per frame, the analytic far part and the lenticular halo kept for the composed frame while it comes
+// again, and the three joined in one pass over the near part's rows as the convolution writes them.
+//
+// Why kept: within a dynamic interval the composed frame is the same from frame to frame and only
+// the eye moves. The far glare and the halo's ring are linear in the frame and do not move with
+// the eye (the halo's share, the pupil's, scales the ring), so they are made once per composed
+// frame; so are the frame's energies per pixel and its lit boxes. A frame then costs the near
+// PSF, one transform of it, one product with the kept spectrum of the frame and the inverse
+// transform, whose rows are finished (far glare and halo added, energy back to luminance) while in
+// cache. The arithmetic per pixel is the one of the passes it replaces, in the same order and
+// precision, so the frames are the same bit for bit.
+#include <atomic>
+#include <cmath>
+#include <cstring>
+
+#include "glare/cpu/psf.h"
+#include "glare/wave/psf_scale.h"
+#include "stimuli/glare_stage.h"
+
+namespace glarelab {
+namespace {
+
+// Names the composed frames the stage keeps state for, unique in the process (0 is no name).
+std::uint64_t new_source_token() {
+  static std::atomic<std::uint64_t> next{0};
+  return ++next;
+}
+
+bool same_rgba(const ImageRGBA& a, const ImageRGBA& b) {
+  return a.width_px == b.width_px && a.height_px == b.height_px && a.rgba.size() == b.rgba.size() &&
+         a.depth == b.depth && std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
+}
+
+}  // namespace
+
+HandoverPixels GlareStage::hybrid_handover() const {
+  HybridHandover handover{spec_.hybrid_handover_inner_deg, spec_.hybrid_handover_outer_deg};
+  const double reach = wave_psf_reach_deg(spec_.grid_px, psf_degrees_per_pixel(kReferenceWavelengthNm, spec_.aperture_width_mm));
+  if (handover.outer_deg <= 0.0) handover = default_handover(reach);
+  check_handover(handover, reach);
+  return handover_pixels(handover, DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm});
+}
+
+const DisplayKernel& GlareStage::human_near_kernel() {
+  if (human_near_kernel_) return *human_near_kernel_;
+  // The unweighted CIE kernel out to the hand-over's outer radius: the rings the near part is
+  // calibrated on (a few hundred pixels, once per session).
+  const int reach = static_cast<int>(std::ceil(hybrid_handover().outer_px)) + 1;
+  human_near_kernel_ = analytic_display_kernel(AnalyticPsf::cie(spec_.observer_eye),
+                                               DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
+                                               reach, reach);
+  return *human_near_kernel_;
+}
+
+GlareStage::HybridSource& GlareStage::hybrid_source(const ImageRGBA& source, FrameFacts* facts) {
+  // The facts of an image come with it and die with it: their token names the kept state when they
+  // carry its token; otherwise the pixels are compared (a new image may bring the same pixels).
+  const bool same = hybrid_source_ && ((facts != nullptr && facts->glare_source_token == hybrid_source_->token) ||
+                                       same_rgba(source, hybrid_source_->source));
+  if (!same) {
+    hybrid_source_.reset();  // until the new state is whole
+    HybridSource kept;
+    kept.energy = solid_angle_for(source.width_px, source.height_px).to_energy(source);
+    kept.source = source;
+    kept.token = new_source_token();
+    hybrid_source_ = std::move(kept);
+  }
+  if (facts != nullptr) facts->glare_source_token = hybrid_source_->token;
+  return *hybrid_source_;
+}
+
+ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
+                                   double mean_cd_m2, GlareFrameReport& r, FrameFacts* facts) {
+  const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
+  if (!wave) return frame;
+  r.wing_fraction = psf_wing_fraction(*wave);
+  const bool human = condition_model_ == GlareModel::human;
+  AnalyticGlare& far = analytic_for(condition_model_, frame.width_px, frame.height_px);
+  far.adapt(mean_cd_m2);
+  if (!human && spec_.hybrid_far_field == GlareModel::spencer) r.spencer_mixture = far.mixture();
+  // The near part (s w P_wave, or the human eye's g_k w P_wave ring by ring), convolved as the
+  // wave-optics PSF is (cropped to where light reaches); the far part by the analytic engine; their
+  // sum is the hybrid kernel's convolution.
+  const Psf near = human ? calibrated_near_psf(*wave, human_near_kernel(), hybrid_handover())
+                         : hybrid_near_psf(*wave, far.energy_inside_handover(), hybrid_handover());
+  // Both parts carry energy per pixel (the far kernel reaches across the display, where pixels
+  // subtend less): the source's luminance to energy, the sum back to luminance.
+  HybridSource& kept = hybrid_source(source, facts);
+  const ImageRGBA& energy = kept.energy;
+  auto boxes = kept.lit_boxes.find(near.size_px);
+  if (boxes == kept.lit_boxes.end()) boxes = kept.lit_boxes.emplace(near.size_px, lit_regions(energy, near.size_px)).first;
+  const ImageRGBA& far_glare = far.glare(energy, kept.token);
+  // The lenticular halo of the fibre gratings this pupil uncovers, its light taken from the
+  // source's own pixel (glare/analytic/lenticular_halo.h): halo_energy (ring - source).
+  const ImageRGBA* ring = nullptr;
+  if (human) {
+    const HaloGratings gratings = halo_gratings(spec_.eye);
+    r.halo_energy = lenticular_halo_energy(eye_for(mode, mean_cd_m2).lens().grating_lines(), gratings, r.pupil_diameter_mm);
+    if (r.halo_energy > 0.0) {
+      if (!lenticular_halo_ || lenticular_halo_->width_px() != frame.width_px || lenticular_halo_->height_px() != frame.height_px)
+        lenticular_halo_ = std::make_unique<LenticularHaloGlare>(
+            LenticularHalo(gratings), DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
+            frame.width_px, frame.height_px);
+      ring = &lenticular_halo_->ring(energy, kept.token);
+    }
+  }
+  const double halo_energy = r.halo_energy;
+  const PixelSolidAngle& solid_angle = solid_angle_for(source.width_px, source.height_px);
+  // Per pixel, in the order and precision of the passes this replaces (AnalyticGlare::add_convolution,
+  // LenticularHaloGlare::add, PixelSolidAngle::to_luminance): near + far, + halo, / solid angle.
+  const RowFinish finish = [&](int y, int x_from, int x_to, float* rgba) {
+    const std::size_t first = static_cast<std::size_t>(y) * frame.width_px + x_from;
+    const float* far_rgba = &far_glare.rgba[4 * first];
+    const float* ring_rgba = ring != nullptr ? &ring->rgba[4 * first] : nullptr;
+    const float* energy_rgba = &energy.rgba[4 * first];
+    for (int x = x_from; x < x_to; ++x, rgba += 4, far_rgba += 4, energy_rgba += 4) {
+      const float weight = solid_angle.relative(x, y);
+      for (int c = 0; c < 3; ++c) {
+        float value = rgba[c] + far_rgba[c];
+        if (ring_rgba != nullptr)
+          value += static_cast<float>(halo_energy * (static_cast<double>(ring_rgba[c]) - static_cast<double>(energy_rgba[c])));
+        rgba[c] = value / weight;
+      }
+      if (ring_rgba != nullptr) ring_rgba += 4;
+    }
+  };
+  ImageRGBA glared;
+  backend().convolve_regions_finished(energy, boxes->second, near, glared, finish, kept.token);
+  r.convolved = true;
+  return with_gain(frame, source, std::move(glared));
+}
+
+}  // namespace glarelab
