@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
 # Builds everything with AddressSanitizer + UndefinedBehaviorSanitizer in build-asan/ and runs the
 # whole CTest suite there (docs/HARDENING.md). Warnings stay errors.
-#   scripts/sanitize.sh            gcc (the project's compiler)
+#   scripts/sanitize.sh                  gcc (the project's compiler), every target, the whole suite
 #   CC=clang CXX=clang++ scripts/sanitize.sh
-# Environment: JOBS (build and test jobs, default 2).
+#   scripts/sanitize.sh REGEX [REGEX...] builds what the suite runs (glarelab, glarelab_tests, the
+#                                        fuzz replays) and runs the CTest tests matching any REGEX
+#                                        (ctest -R, e.g. '^(TomlReader|ResultStore)\.' or '^fuzz\.')
+# Environment: JOBS (build and test jobs, default 2). On a shared machine:
+#   JOBS=1 nice -n 19 scripts/sanitize.sh ...
 # Leaks: LeakSanitizer is on; leaks whose allocation stack lies wholly in the third-party libraries
 # named in scripts/lsan_suppressions.txt (Mesa's OpenGL stack, see the comments there) are not
 # ours and are suppressed. Any other leak, any ASan report and any UBSan report fails the test it
@@ -17,7 +21,17 @@ if command -v ccache >/dev/null; then
 fi
 start=$(date +%s)
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLARELAB_SANITIZE=ON "${launcher[@]}"
-cmake --build build-asan -j"${JOBS:-2}"
+selection=()
+if [ $# -eq 0 ]; then
+  cmake --build build-asan -j"${JOBS:-2}"
+else
+  replays=(experiment_file_replay csv_table_replay exr_replay script_observer_replay replay_tracker_replay
+           pupil_labs_replay condition_json_replay)
+  cmake --build build-asan -j"${JOBS:-2}" --target glarelab glarelab_tests "${replays[@]}"
+  regex="$(IFS='|'; echo "$*")"
+  selection=(-R "$regex")
+  echo "sanitize: tests matching $regex"
+fi
 built=$(date +%s)
 
 status=0
@@ -26,7 +40,7 @@ status=0
   export ASAN_OPTIONS="detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
   export LSAN_OPTIONS="suppressions=$(pwd)/../scripts/lsan_suppressions.txt:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
-  ctest -j"${JOBS:-2}" --timeout 900 --output-on-failure
+  ctest -j"${JOBS:-2}" --timeout 900 --output-on-failure "${selection[@]}"
 ) || status=$?
 end=$(date +%s)
 echo "sanitize: build $((built - start)) s, tests $((end - built)) s; ctest exit status $status"

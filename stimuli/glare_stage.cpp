@@ -142,6 +142,8 @@ EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
   parameters.initial_field_luminance_cd_m2 = std::max(field_luminance_cd_m2, kMinimumFieldLuminance_cd_m2);
   if (mode == GlareMode::dynamic) {
     parameters.mode = GlareMode::dynamic;
+    if (dynamic_start_cd_m2_)
+      parameters.initial_field_luminance_cd_m2 = std::max(*dynamic_start_cd_m2_, kMinimumFieldLuminance_cd_m2);
     if (!dynamic_eye_) {
       dynamic_eye_ = std::make_unique<EyeModel>(parameters, seed_);
       for (const auto& [time_s, diameter_mm] : measured_pupils_) dynamic_eye_->record_measured_pupil(time_s, diameter_mm);
@@ -156,6 +158,13 @@ EyeModel& GlareStage::eye_for(GlareMode mode, double field_luminance_cd_m2) {
   if (found == static_eyes_.end())
     found = static_eyes_.emplace(parameters.initial_field_luminance_cd_m2, std::make_unique<EyeModel>(parameters, seed_)).first;
   return *found->second;
+}
+
+void GlareStage::set_dynamic_eye_start(double field_luminance_cd_m2) {
+  if (dynamic_eye_) throw std::logic_error("glare stage: the dynamic eye's start is set before its first frame");
+  if (!std::isfinite(field_luminance_cd_m2) || field_luminance_cd_m2 < 0.0)
+    throw std::invalid_argument("glare stage: the dynamic eye's start needs a finite luminance >= 0 cd/m2");
+  dynamic_start_cd_m2_ = field_luminance_cd_m2;
 }
 
 void GlareStage::record_dynamic_frame(double time_s, double field_luminance_cd_m2) {

@@ -168,6 +168,13 @@ class GlareStage {
   const std::string& backend_reason();
   GlareBackend& backend();
 
+  // What the dynamic eye is adapted to before its first frame: a session's display background,
+  // which the participant looked at (fixation, inter-trial interval, screens) before the first
+  // stimulus frame. Its field luminance then starts there and moves to the frames' means by
+  // Luidolt 2020 Eq. 5.2 (glare/eye/pupil_model.h), as the perception stages' eye does. Not given
+  // (a stage outside a session): the eye starts adapted to its first frame. Call before any frame.
+  void set_dynamic_eye_start(double field_luminance_cd_m2);
+
   // The tracker's filtered pupil from time_s on (dynamic eye; see EyeModel::record_measured_pupil).
   void record_measured_pupil(double time_s, double diameter_mm);
   // Every blink detected so far, onsets ascending (the last one may still be open): from now on
@@ -226,9 +233,11 @@ class GlareStage {
   GlareBackendKind backend_kind_ = GlareBackendKind::cpu_float64;
   std::string backend_reason_;
   std::optional<DioptricPower> refraction_;
-  // Dynamic: one eye for the whole session, starting adapted to the first frame it sees, recording
-  // every frame's mean luminance (its pupil follows the field luminance).
+  // Dynamic: one eye for the whole session, starting adapted to dynamic_start_cd_m2_ (else to the
+  // first frame it sees), recording every frame's mean luminance (its pupil follows the field
+  // luminance).
   std::unique_ptr<EyeModel> dynamic_eye_;
+  std::optional<double> dynamic_start_cd_m2_;
   double last_recorded_s_ = -1.0;
   // Tracker inputs, kept to hand to the dynamic eye when it is made.
   std::vector<std::pair<double, double>> measured_pupils_;

@@ -88,12 +88,18 @@ TEST(LiveGlare, WithATrackerEachLiveFramesGazeAgeIsLogged) {
     const auto at = message.find("gaze to flip mean ");
     ASSERT_NE(at, std::string::npos) << message;
     const double mean_ms = std::stod(message.substr(at + 18));
-    EXPECT_GT(mean_ms, 0.0) << message;
+    // Trial 0's frame is prepared before the session's first flip, when the tracker is read at
+    // that flip's time (t = 0 on the virtual clock): its gaze is as old as that flip, 0 ms.
+    if (message.rfind("trial 0 ", 0) == 0)
+      EXPECT_GE(mean_ms, 0.0) << message;
+    else
+      EXPECT_GT(mean_ms, 0.0) << message;
     EXPECT_LT(mean_ms, 100.0) << message;
     EXPECT_NE(message.find("live glare frame(s)"), std::string::npos) << message;
   }
   // Each live glare frame's row holds its gaze age: the flip minus the gaze sample's time, at least
-  // one refresh period (samples are read after a flip) and positive; no other flip has one.
+  // one refresh period (samples are read after a flip) and positive; no other flip has one. The
+  // session's first frame is the exception: read before any flip, at its flip's time, age 0.
   const ResultStore store(db.string());
   int aged = 0;
   for (const TrialRecord& trial : store.load_trials(store.load_sessions().at(0).id))
@@ -101,7 +107,8 @@ TEST(LiveGlare, WithATrackerEachLiveFramesGazeAgeIsLogged) {
       if (!frame.gaze_age_s) continue;
       ++aged;
       EXPECT_GE(frame.frame_index, 0);
-      EXPECT_GE(*frame.gaze_age_s, 1.0 / 60.0 - 1e-9);
+      const bool first_of_session = trial.trial_index == 0 && frame.frame_index == 0;
+      EXPECT_GE(*frame.gaze_age_s, first_of_session ? 0.0 : 1.0 / 60.0 - 1e-9) << "trial " << trial.trial_index;
       EXPECT_LT(*frame.gaze_age_s, 0.1);
     }
   EXPECT_GT(aged, 0);
@@ -174,7 +181,10 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
 // gap less the lateness of the late flips within it must stay within the pacing's few periods of
 // the others. Preparation the interval did not absorb would stay in the gap unexplained, since the
 // flip that follows the preparation is not a late flip. The interval is 1.5 s, several times what
-// the preparation takes here even when other work shares the cores, so that it can absorb it all.
+// the preparation takes here on an idle machine. A trial prepared ahead on a worker beside the one
+// before logs how long its onset waited for that worker (trial_preparation): on a loaded machine
+// (load 15 on two cores) 20 dynamic frames took the worker 2 s and more, and the onset waited for
+// them; that wait is the log's too, so it is taken out of the gap as the late flips' lateness is.
 TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) {
   const test::ScratchDir scratch;
   const auto dir = scratch.path();
@@ -192,6 +202,16 @@ TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) 
   const ResultStore store(db.string());
   const std::vector<TrialRecord> trials = store.load_trials(store.load_sessions().at(0).id);
   ASSERT_EQ(trials.size(), 6u);
+  // "trial N: frames prepared ahead beside trial N-1 (...); the onset waited W ms for them; ...".
+  std::vector<double> onset_wait_s(trials.size(), 0.0);
+  for (const std::string& message : test::session_event_messages(db.string(), "trial_preparation")) {
+    const std::string waited = "the onset waited ";
+    const auto at = message.find(waited);
+    if (at == std::string::npos) continue;
+    const auto trial = static_cast<std::size_t>(std::stoi(message.substr(std::string("trial ").size())));
+    ASSERT_LT(trial, trials.size()) << message;
+    onset_wait_s[trial] = 1e-3 * std::stod(message.substr(at + waited.size()));
+  }
   std::vector<double> gaps_s, unexplained_s;
   std::string described;
   bool dynamic_seen = false;
@@ -222,10 +242,11 @@ TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) 
       previous_s = frame.flip_s;
     }
     gaps_s.push_back(first_s - last_s);
-    unexplained_s.push_back(gaps_s.back() - late_excess_s);
+    unexplained_s.push_back(gaps_s.back() - late_excess_s - onset_wait_s[t]);
     dynamic_seen = dynamic_seen || trials[t].condition.find("\"glare_a\":\"dynamic\"") != std::string::npos;
     described += " " + std::to_string(1000.0 * gaps_s.back()) + " ms, " + std::to_string(late_flips) +
-                 " late flip(s) adding " + std::to_string(1000.0 * late_excess_s) + " ms (" +
+                 " late flip(s) adding " + std::to_string(1000.0 * late_excess_s) + " ms, onset waited " +
+                 std::to_string(1000.0 * onset_wait_s[t]) + " ms (" +
                  trials[t].condition.substr(0, 24) + ");";
   }
   ASSERT_TRUE(dynamic_seen) << described;

@@ -240,10 +240,10 @@ TEST(PerceptionSession, AdaptationSetsTheGlaresFieldLuminance) {
 // The adaptation luminance is the frame weighted around the gaze (Eq. 5.1): with a tracker, the
 // tracker's gaze, not the display centre. A replayed track holds the gaze on the left lamp, then
 // (a second session) on the right one. An interval's frames are prepared before its onset with the
-// gaze known then: the session's first interval is prepared at time 0, before any sample, so it
-// adapts at the display centre; the second trial (after 30 frames of fixation, the track running)
-// equals the stages run for the eye adapted at the tracker's gaze point, and the two sessions'
-// adapted luminances differ as the two lamps do.
+// gaze known then: the session's first interval is prepared at time 0, before any flip, when the
+// tracker is read (issue 33: it used to adapt at the display centre there), so both trials equal
+// the stages run for the eye adapted at the tracker's gaze point, and the two sessions' adapted
+// luminances differ as the two lamps do.
 TEST(PerceptionSession, AdaptationWeightsTheFrameAroundTheTrackersGaze) {
   const test::ScratchDir scratch;
   const auto plain_dir = scratch.path() / "plain";
@@ -275,17 +275,18 @@ TEST(PerceptionSession, AdaptationWeightsTheFrameAroundTheTrackersGaze) {
     const PerceptionSettings& settings = run.experiment.perception;
     const double period_s = 1.0 / run.experiment.display.refresh_hz;
     centre_cd_m2 = frame_adaptation_luminance_cd_m2(composed, 0.5, 0.5, settings.adaptation_weighting);
-    // Trial 0: no sample yet when it was prepared, the display centre; the eye comes from the
-    // background.
+    const double at_gaze_cd_m2 = frame_adaptation_luminance_cd_m2(composed, gaze_x, 0.5, settings.adaptation_weighting);
+    // Trial 0: the tracker's sample at t = 0, read when the trial was prepared; the eye comes from
+    // the background.
     TemporalAdaptation eye(run.experiment.display.background_cd_m2, settings.adaptation_time_constants);
-    const PerceptionResult first = run_perception_stages(composed, {0.5, 0.5, period_s}, eye, settings, run.experiment.display);
+    const PerceptionResult first =
+        run_perception_stages(composed, {gaze_x, 0.5, period_s}, eye, settings, run.experiment.display);
     expect_frames_equal(saved_frame(run, 0), first.image, "trial 0, gaze x " + std::to_string(gaze_x));
-    eye.advance(centre_cd_m2, period_s);  // trial 0's second frame
+    eye.advance(at_gaze_cd_m2, period_s);  // trial 0's second frame
     const double gap_s = rows[1].first_flip_s - (rows[0].first_flip_s + 2 * period_s);
     ASSERT_GT(gap_s, 0.0);
     eye.advance(run.experiment.display.background_cd_m2, gap_s);
     // Trial 1: the tracker's gaze.
-    const double at_gaze_cd_m2 = frame_adaptation_luminance_cd_m2(composed, gaze_x, 0.5, settings.adaptation_weighting);
     const PerceptionResult second =
         run_perception_stages(composed, {gaze_x, 0.5, period_s}, eye, settings, run.experiment.display);
     expect_frames_equal(saved_frame(run, 1), second.image, "trial 1, gaze x " + std::to_string(gaze_x));

@@ -107,8 +107,8 @@ std::string binocular_track(const test::ScratchDir& scratch, const std::string& 
 // the right half alone, bit for bit.
 TEST(StereoSessionTest, EachEyeTakesItsOwnPupilFromABinocularTracker) {
   const test::ScratchDir scratch;
-  // Two trials: before trial 0's glare no flip has polled the tracker yet (each eye then has its
-  // model's pupil, as a mono session has).
+  // Two trials; trial 1's frames and stereo_eyes event are compared (trial 0 reads the tracker at
+  // t = 0, before the session's first flip).
   const auto run_with = [&](const std::string& name, double right_mm) {
     const std::filesystem::path dir = scratch.path() / name;
     const std::string track = binocular_track(scratch, name + ".csv", right_mm);

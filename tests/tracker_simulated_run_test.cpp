@@ -55,8 +55,8 @@ std::vector<std::string> event_messages(const std::string& db, const std::string
 }
 
 // Every row dynamic, a 64 px gaze window, blinks from the tracker: the session logs its glare
-// backend and inputs once and the window of every trial, centred on the tracker's gaze once the
-// tracker has delivered one (the first trial is prepared before any flip, so before any sample).
+// backend and inputs once and the window of every trial, centred on the tracker's gaze (the first
+// trial is prepared before any flip: the tracker is read then, at t = 0).
 TEST(TrackerSimulatedRun, GazeWindowFollowsTheTrackerAndIsLoggedPerTrial) {
   test::ScratchDir dir;
   const auto experiment =
@@ -77,9 +77,17 @@ TEST(TrackerSimulatedRun, GazeWindowFollowsTheTrackerAndIsLoggedPerTrial) {
   EXPECT_NE(inputs[0].find("gaze window 64 px around the tracker's latest gaze"), std::string::npos) << inputs[0];
   const auto windows = event_messages(tracked_db, "glare_window");
   ASSERT_EQ(windows.size(), 2u);
-  EXPECT_NE(windows[0].find("trial 0 (dynamic): gaze window 64x64 px at (224, 96), centred on the display centre (no gaze)"),
-            std::string::npos)
-      << windows[0];
+  // Trial 0: the latest sample at t = 0 is k = 0 of the left eye (issue 33: it was the display
+  // centre, 224, 96, before the tracker had been read).
+  const auto window_of = [](const TrackerSample& sample) {
+    const int x0 = std::clamp(static_cast<int>(std::lround(sample.gaze_x * 512 - 32)), 0, 512 - 64);
+    const int y0 = std::clamp(static_cast<int>(std::lround(sample.gaze_y * 256 - 32)), 0, 256 - 64);
+    return "gaze window 64x64 px at (" + std::to_string(x0) + ", " + std::to_string(y0) + "), centred on gaze (" +
+           std::to_string(sample.gaze_x) + ", " + std::to_string(sample.gaze_y) + ") from the tracker";
+  };
+  const TrackerSample first = SimulatedTracker(5).sample(0, 1);
+  ASSERT_TRUE(first.valid);
+  EXPECT_NE(windows[0].find("trial 0 (dynamic): " + window_of(first)), std::string::npos) << windows[0];
   // Trial 1 is prepared after trial 0's two flips (t = 0, 1/60 s): the latest sample is k = 2 at
   // 1/60 s; its gaze is the simulated tracker's first fixation.
   const TrackerSample sample = SimulatedTracker(5).sample(2, 1);

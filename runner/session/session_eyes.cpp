@@ -9,13 +9,18 @@
 
 namespace glarelab {
 
+// Each eye's dynamic eye starts adapted to the display's background, what the participant saw
+// before the session's first stimulus frame (docs/PERCEPTION.md, "One eye per session"), as its
+// perception eye does (stimuli/session_perception.cpp), not adapted to that frame's mean.
 SessionEye::SessionEye(const EyeView& eye_view, const Experiment& experiment, GlContextFactory gl_context)
     : view(eye_view),
       own_tracker_samples(true),
       display(eye_display(experiment.display, eye_view)),
       seed(eye_seed(experiment.seed, eye_view.tracker_eye)),
       engine(experiment.glare, experiment.perception.adaptation_time_constants, display, seed, std::move(gl_context),
-             experiment.engine) {}
+             experiment.engine) {
+  engine.glare().set_dynamic_eye_start(display.background_cd_m2);
+}
 
 SessionEye::SessionEye(const Experiment& experiment, int frame_width_px, int frame_height_px,
                        GlContextFactory gl_context)
@@ -23,7 +28,9 @@ SessionEye::SessionEye(const Experiment& experiment, int frame_width_px, int fra
       display(experiment.display),
       seed(experiment.seed),
       engine(experiment.glare, experiment.perception.adaptation_time_constants, display, seed, std::move(gl_context),
-             experiment.engine) {}
+             experiment.engine) {
+  engine.glare().set_dynamic_eye_start(display.background_cd_m2);
+}
 
 std::vector<std::unique_ptr<SessionEye>> make_session_eyes(const Experiment& experiment, int frame_width_px,
                                                            int frame_height_px, GlContextFactory gl_context) {

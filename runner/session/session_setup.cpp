@@ -122,6 +122,15 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
     start.resumed = start.store->load_session(*options.resume_session_id);
     if (!start.resumed)
       throw StoreError("SQLite: " + start.db_path + ": no session " + std::to_string(*options.resume_session_id));
+    // The session is claimed before anything of it is read: a session another live process runs is
+    // refused; one whose process was killed is taken over. Its status and trials are read under
+    // the claim, so a run that completes (and lets go) between this process's first look and its
+    // claim is seen completed, and is not finished a second time over its own trials.
+    start.lease = std::make_unique<SessionLease>(*start.store, start.resumed->id);
+    start.resumed = start.store->load_session(*options.resume_session_id);
+    if (!start.resumed)
+      throw StoreError("SQLite: " + start.db_path + ": session " + std::to_string(*options.resume_session_id) +
+                       " was removed while it was claimed");
     // Nothing left to run: what was asked is wrong, the database is fine (exit 2, not 4).
     if (start.resumed->status == "completed")
       throw ConfigError({"--resume", 0, 0}, "resume",
@@ -156,9 +165,6 @@ SessionStart load_session_start(const RunOptions& options, std::ostream& progres
                          " has a gap in its trials at index " + std::to_string(i));
     for (const std::string& stored : stored_scene_fingerprints(*start.store, start.resumed->id))
       check_scene_fingerprints(stored, start.experiment.scenes, from_file.scenes, start.resumed->id);
-    // Last of the checks: a session another live process runs is refused; one whose process was
-    // killed is taken over.
-    start.lease = std::make_unique<SessionLease>(*start.store, start.resumed->id);
   } else {
     start.experiment = load_experiment(options.experiment_path);
     if (options.seed) start.experiment.seed = *options.seed;

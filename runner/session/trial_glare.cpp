@@ -77,6 +77,11 @@ std::string modes_label(const TrialPlan& plan, GlareMode mode, const std::vector
 // (prepared), or at each frame (live).
 IntervalGlare SessionGlare::begin_interval(const TrialPlan& plan, const std::vector<Placement>& placements,
                                            int flips_before) {
+  // A trial prepared before the session's first flip (no inter-trial interval or screen before
+  // it) would find the tracker unread and take the display centre: the tracker is read up to now,
+  // so that the first trial's gaze, pupil and blinks are the latest samples, as every later
+  // trial's are (docs/PERCEPTION.md: the gaze known at the interval's first flip).
+  if (tracker_.active() && !tracker_.polled()) tracker_.on_frame(clock_.now_s());
   return begin_interval_at(plan, placements, clock_.now_s() + (1 + flips_before) * period_s_, nullptr);
 }
 

@@ -45,6 +45,7 @@ void TrackerSession::attach_log(const std::string& db_path, std::int64_t session
 
 void TrackerSession::on_frame(double now_s) {
   if (!source_) return;
+  polled_ = true;
   TrackerBatch batch = source_->poll(now_s);
   if (batch.empty()) return;
   samples_ += static_cast<std::int64_t>(batch.samples.size());

@@ -53,6 +53,9 @@ class TrackerSession {
   void attach_log(const std::string& db_path, std::int64_t session_id);
   // Once per frame: poll, filter, hand to the logger. Never blocks on the database.
   void on_frame(double now_s);
+  // Whether on_frame has run: before the session's first flip it has not, and what the tracker
+  // sent since start() is not read yet.
+  bool polled() const { return polled_; }
   // Calibration phases: samples filtered while a phase is open are kept for calibrate().
   void begin_calibration_phase(bool black_screen);
   // Ends calibration; returns the log line (the range, or why it failed and that the measured pupil is used).
@@ -103,6 +106,7 @@ class TrackerSession {
   std::vector<FilteredPupil> black_phase_, white_phase_;
   std::optional<PupilRange> range_;
   bool finished_ = false;
+  bool polled_ = false;
   void track_gaze_and_blinks(const TrackerBatch& batch, const std::vector<FilteredPupil>& filtered);
   std::optional<TrackerGaze> latest_gaze_;
   GazeTrack gaze_track_;
