@@ -58,7 +58,10 @@ if(TARGET tomlplusplus::tomlplusplus)
 endif()
 # runner: displays, command line, the store, trackers and devices (below).
 add_library(glarelab_deps_runner INTERFACE)
-target_link_libraries(glarelab_deps_runner INTERFACE glfw CLI11::CLI11 PkgConfig::OSMESA PkgConfig::EGL PkgConfig::SQLITE3)
+# OSMesa's header only: runner/display/osmesa_display.cpp opens libOSMesa when it is first needed
+# (it loads libLLVM, a cost every process paid at start when it was linked).
+target_include_directories(glarelab_deps_runner INTERFACE ${OSMESA_INCLUDE_DIRS})
+target_link_libraries(glarelab_deps_runner INTERFACE glfw CLI11::CLI11 PkgConfig::EGL PkgConfig::SQLITE3 ${CMAKE_DL_LIBS})
 
 # OpenXR (libopenxr-dev; docs/STEREO.md): the headset display links the loader only where it is
 # found, with GLX and Xlib for the OpenGL binding on X11; elsewhere `--display openxr` exits 3 saying so.
