@@ -9,6 +9,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -316,9 +318,20 @@ TEST_F(LenticularHaloSession, SavedFrameShowsTheHaloAtThreeDegreesWithASixMillim
 }
 
 // With a 2.5 mm pupil (the field's mean 100 cd/m2) no grating is uncovered: through the halo's
-// band the azimuthal mean falls ring by ring, as CIE 146's profile does.
+// band the azimuthal mean falls ring by ring, as CIE 146's profile does. A session's dynamic eye
+// starts adapted to what the participant saw before the first frame, the display's background
+// (docs/PERCEPTION.md): the background is the field's mean here, so the pupil is 2.5 mm from the
+// first frame (the scene covers the whole display, so the background itself is not shown).
 TEST_F(LenticularHaloSession, RenderedFrameHasNoRingWithATwoAndAHalfMillimetrePupil) {
   write(100.0f * kSide * kSide / 4.0f, "");
+  {
+    std::ifstream in(experiment);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string peak = "peak_luminance_cd_m2 = 250.0\n";
+    ASSERT_NE(text.find(peak), std::string::npos);
+    text.replace(text.find(peak), peak.size(), peak + "background_cd_m2 = 100.0\n");
+    std::ofstream(experiment) << text;
+  }
   const auto render = [&](const std::string& condition) {
     const auto out = dir.path() / (condition + ".exr");
     const auto run = test::run_glarelab({"render", experiment, "--condition", condition, "--out", out.string()}, dir.path());
