@@ -19,6 +19,8 @@
 #include <system_error>
 #include <vector>
 
+#include "core/user_cache_folder.h"
+
 namespace glarelab {
 namespace {
 
@@ -44,10 +46,7 @@ KernelCachePlace place_from_environment() {
     if (value.empty() || value == "none") return {"", "GLARELAB_KERNEL_CACHE=none"};
     return place_at(value);
   }
-  if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache != nullptr && cache[0] == '/')
-    return place_at(std::filesystem::path(cache) / "glarelab" / "kernels");
-  if (const char* home = std::getenv("HOME"); home != nullptr && home[0] == '/')
-    return place_at(std::filesystem::path(home) / ".cache" / "glarelab" / "kernels");
+  if (const std::optional<std::filesystem::path> folder = user_cache_folder()) return place_at(*folder / "kernels");
   return {"", "neither GLARELAB_KERNEL_CACHE, XDG_CACHE_HOME nor HOME is set"};
 }
 

@@ -12,9 +12,12 @@
 #include <fstream>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <system_error>
 #include <vector>
+
+#include "core/user_cache_folder.h"
 
 namespace glarelab {
 namespace {
@@ -52,10 +55,7 @@ FftwWisdomPlace place_from_environment() {
     return place_at(value);
   }
   const std::string file = "fftwf-" + host_name() + ".wisdom";
-  if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache != nullptr && cache[0] == '/')
-    return place_at(std::filesystem::path(cache) / "glarelab" / file);
-  if (const char* home = std::getenv("HOME"); home != nullptr && home[0] == '/')
-    return place_at(std::filesystem::path(home) / ".cache" / "glarelab" / file);
+  if (const std::optional<std::filesystem::path> folder = user_cache_folder()) return place_at(*folder / file);
   return {"", "neither GLARELAB_FFTW_WISDOM, XDG_CACHE_HOME nor HOME is set"};
 }
 
