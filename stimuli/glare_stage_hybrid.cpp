@@ -12,8 +12,8 @@
 // precision, so the frames are the same bit for bit.
 #include <atomic>
 #include <cmath>
-#include <cstring>
 
+#include "core/same_pixels.h"
 #include "glare/cpu/psf.h"
 #include "glare/wave/psf_scale.h"
 #include "stimuli/glare_stage.h"
@@ -27,10 +27,7 @@ std::uint64_t new_source_token() {
   return ++next;
 }
 
-bool same_rgba(const ImageRGBA& a, const ImageRGBA& b) {
-  return a.width_px == b.width_px && a.height_px == b.height_px && a.rgba.size() == b.rgba.size() &&
-         a.depth == b.depth && std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
-}
+bool same_rgba(const ImageRGBA& a, const ImageRGBA& b) { return same_pixel_bits(a, b) && a.depth == b.depth; }
 
 }  // namespace
 

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/same_pixels.h"
 #include "glare/analytic/kernel_cache.h"
 #include "glare/analytic/spencer_flare_lines.h"
 
@@ -106,18 +106,8 @@ std::string to_string(AnalyticConvolution convolution) {
   return "unknown";
 }
 
-namespace {
-
-// Bit for bit: NaN or a signed zero in the source is a new frame, never a false match.
-bool same_bits(const ImageRGBA& a, const ImageRGBA& b) {
-  return a.width_px == b.width_px && a.height_px == b.height_px && a.rgba.size() == b.rgba.size() &&
-         std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
-}
-
-}  // namespace
-
 const ImageRGBA& AnalyticGlare::glare_of(const ImageRGBA& source, ImageRGBA& scratch) {
-  if (last_kept_ && same_bits(source, last_source_)) return last_glare_;
+  if (last_kept_ && same_pixel_bits(source, last_source_)) return last_glare_;
   if (!options_.keep_repeated_frame) {
     compute(source, scratch);
     return scratch;

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <cstring>
 #include <numbers>
 #include <stdexcept>
 
 #include "core/parallel_for.h"
+#include "core/same_pixels.h"
 #include "glare/analytic/analytic_psf.h"
 #include "glare/wave/cie_cmf.h"
 #include "glare/eye/eye_parameters.h"
@@ -256,10 +256,7 @@ void LenticularHaloGlare::add(const ImageRGBA& source_energy, double halo_energy
 
 const ImageRGBA& LenticularHaloGlare::ring(const ImageRGBA& source_energy, std::uint64_t source_token) {
   if (kept_ && source_token != 0 && source_token == kept_token_) return last_ring_;
-  const bool same = kept_ && last_source_.width_px == source_energy.width_px &&
-                    last_source_.height_px == source_energy.height_px &&
-                    std::memcmp(last_source_.rgba.data(), source_energy.rgba.data(),
-                                source_energy.rgba.size() * sizeof(float)) == 0;
+  const bool same = kept_ && same_pixel_bits(last_source_, source_energy);
   if (!same) {
     kept_ = false;  // until the new ring is in place
     convolution_->convolve(source_energy, last_ring_);
