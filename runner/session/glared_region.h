@@ -27,6 +27,14 @@ enum class RegionPrecision {
 };
 
 struct GlaredRegion {
+  GlaredRegion() = default;
+  GlaredRegion(const GlaredRegion&) = default;
+  GlaredRegion(GlaredRegion&&) noexcept = default;
+  GlaredRegion& operator=(const GlaredRegion&) = default;
+  GlaredRegion& operator=(GlaredRegion&&) noexcept = default;
+  // Hands `half_rgb`'s storage back for the next region changed_region() keeps (glared_region.cpp).
+  ~GlaredRegion();
+
   int x0_px = 0, y0_px = 0;  // top left, row 0 at the top
   int width_px = 0, height_px = 0;
   // Rows bottom-up (OpenGL's order), so a region uploads as it is, with no copy per flip
