@@ -279,6 +279,19 @@ TEST(OpenXrDisplay, WithoutAPixelPitchTheViewsGiveItToTheSession) {
   ASSERT_NE(stored, std::string::npos) << config;
   // The edges are printed to 0.01 deg: the pitch from them is that close.
   EXPECT_NEAR(std::stod(config.substr(stored + std::strlen("pixel_pitch_mm = "))), pitch_mm, 2e-4 * pitch_mm) << config;
+
+  // Resumed, the stored configuration states the pitch it took: the views agree with it.
+  const ShellRun resumed = shell("xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " + test::monado_environment() +
+                                     " '" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                     "' --display openxr --observer simulated --stop-after 1 --resume 1 --db '" +
+                                     db.string() + "'",
+                                 scratch.path() / "resumed.txt");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const test::RawDb after(db.string());
+  EXPECT_EQ(after.value("SELECT count(*) FROM trials"), "2");
+  const auto models = after.rows("SELECT message FROM session_events WHERE kind = 'display_model' ORDER BY id");
+  ASSERT_EQ(models.size(), 2u);
+  EXPECT_NE(models[1][0].find("agrees within 1 %"), std::string::npos) << models[1][0];
 }
 
 TEST(OpenXrDisplay, SessionUnderMonadoStoresEveryTrialWithPredictedFlipsOnePeriodApart) {
