@@ -10,6 +10,7 @@
 
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +23,8 @@
 #include <vector>
 
 #include "cli_process.h"
+#include "core/exr_io.h"
+#include "core/image.h"
 #include "openxr_runtime.h"
 #include "raw_db.h"
 #include "runner/display/display_backend.h"
@@ -292,6 +295,72 @@ TEST(OpenXrDisplay, WithoutAPixelPitchTheViewsGiveItToTheSession) {
   const auto models = after.rows("SELECT message FROM session_events WHERE kind = 'display_model' ORDER BY id");
   ASSERT_EQ(models.size(), 2u);
   EXPECT_NE(models[1][0].find("agrees within 1 %"), std::string::npos) << models[1][0];
+}
+
+// Sizes in degrees take the views' degrees: Spencer's disc (generated at 4 deg across, inside a
+// 6-deg annulus of a third of its luminance) in a headset study without a pitch spans
+// 2 d tan(2 deg) / pitch pixels of each eye's half, the pitch being the views'
+// (600 (tan(right) - tan(left)) / 512 mm, from the display event's edges): 19.5 px. The first
+// stimulus frame (--save-frames, linear cd/m2, no glare) is measured along the disc's middle row,
+// each pixel by its share of the way from the annulus to the disc (the edges are antialiased by
+// area). At the file's default 0.25 mm the disc would be 168 px across. (The file is read before
+// the views are known: its generated scenes must also fit their size_px at the default pitch,
+// docs/STEREO.md.)
+TEST(OpenXrDisplay, ASceneSizedInDegreesSpansItsDegreesOfTheViews) {
+  if (const auto missing = test::openxr_runtime_missing(true)) GTEST_SKIP() << *missing;
+  const test::ScratchDir scratch;
+  std::filesystem::create_directories(scratch.path());
+  test::write_bytes((scratch.path() / "discs.csv").string(), "name,scene_a,scene_b\ndiscs,disc,disc\n");
+  const std::filesystem::path experiment = stereo_demo(
+      scratch.path(), {{"pixel_pitch_mm", ""},
+                       {"file", "file = \"" + (scratch.path() / "discs.csv").string() + "\""},
+                       {"bright_3077", "disc = { generator = \"disc_annulus\", size_px = 254, disc_diameter_deg = 4.0, "
+                                       "annulus_diameter_deg = 6.0, disc_fraction_of_peak = 1.0 }"}});
+  const std::filesystem::path db = scratch.path() / "session.db";
+  const ShellRun run = shell("xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " + test::monado_environment() +
+                                 " '" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                 "' --display openxr --observer simulated --stop-after 1 --db '" + db.string() +
+                                 "' --save-frames '" + (scratch.path() / "frames").string() + "'",
+                             scratch.path() / "output.txt");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const test::RawDb raw(db.string());
+  const std::string display = raw.value("SELECT message FROM session_events WHERE kind = 'display'");
+  double left_deg = 0.0, right_deg = 0.0, up_deg = 0.0, down_deg = 0.0;
+  const std::size_t edges = display.find("fields of view (");
+  ASSERT_NE(edges, std::string::npos) << display;
+  ASSERT_EQ(std::sscanf(display.c_str() + edges, "fields of view (%lf, %lf, %lf, %lf)", &left_deg, &right_deg, &up_deg,
+                        &down_deg),
+            4);
+  const double radians = 3.14159265358979323846 / 180.0;
+  const double pitch_mm = 600.0 * (std::tan(right_deg * radians) - std::tan(left_deg * radians)) / 512.0;
+  const double disc_px = 2.0 * 600.0 * std::tan(2.0 * radians) / pitch_mm;
+
+  const ImageRGBA frame = read_exr((scratch.path() / "frames" / "trial_0000.exr").string()).image;
+  ASSERT_EQ(frame.width_px, 1024);
+  ASSERT_EQ(frame.height_px, 551);
+  // Each eye's half: two columns of 256 px, the disc centred in each; its middle row.
+  const int row = 551 / 2;
+  for (int eye = 0; eye < 2; ++eye)
+    for (int column = 0; column < 2; ++column) {
+      const int left_px = eye * 512 + column * 256;
+      double disc_cd_m2 = 0.0, annulus_cd_m2 = 1e300;
+      for (int x = left_px; x < left_px + 256; ++x) {
+        const float* p = frame.pixel(x, row);
+        disc_cd_m2 = std::max(disc_cd_m2, luminance_rec709(p[0], p[1], p[2]));
+      }
+      // The annulus: the middle of the ring between the disc's and the annulus' edges.
+      const double ring_px = (disc_px / 2.0 + 2.0 * 600.0 * std::tan(3.0 * radians) / pitch_mm / 2.0) / 2.0;
+      const float* ring = frame.pixel(left_px + 128 + static_cast<int>(std::lround(ring_px)), row);
+      annulus_cd_m2 = luminance_rec709(ring[0], ring[1], ring[2]);
+      ASSERT_NEAR(annulus_cd_m2, disc_cd_m2 / 3.0, 0.02 * disc_cd_m2) << "eye " << eye << " column " << column;
+      double covered_px = 0.0;  // the disc's pixels, each by its share of the disc over the annulus
+      for (int x = left_px; x < left_px + 256; ++x) {
+        const float* p = frame.pixel(x, row);
+        const double share = (luminance_rec709(p[0], p[1], p[2]) - annulus_cd_m2) / (disc_cd_m2 - annulus_cd_m2);
+        if (share > 0.0) covered_px += std::min(share, 1.0);
+      }
+      EXPECT_NEAR(covered_px, disc_px, 0.5) << "eye " << eye << " column " << column << ": pitch " << pitch_mm;
+    }
 }
 
 TEST(OpenXrDisplay, SessionUnderMonadoStoresEveryTrialWithPredictedFlipsOnePeriodApart) {

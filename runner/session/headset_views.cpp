@@ -92,6 +92,21 @@ std::optional<HeadsetDisplayModel> headset_display_model(const Experiment& exper
   return model;
 }
 
+void check_headset_experiment(const Experiment& experiment, const std::string& display, bool display_chosen) {
+  if (display != "openxr") return;
+  const bool file_chose = !display_chosen && !experiment.display_output.empty();
+  const SourceLocation where = file_chose ? experiment.display_output_where : SourceLocation{"--display", 0, 0};
+  const std::string key = file_chose ? "display.output" : "display";
+  if (experiment.display.stereo != StereoMode::side_by_side)
+    throw ConfigError(where, key,
+                      "openxr shows each eye its half of a side-by-side frame: the experiment needs [display] stereo = "
+                      "\"side_by_side\" (docs/STEREO.md)");
+  if (experiment.display.fullscreen)
+    throw ConfigError(where, key,
+                      "openxr shows the frames in the headset, with a mirror window for the keyboard: [display] "
+                      "fullscreen = true is for --display window (docs/STEREO.md)");
+}
+
 void check_scenes_fit_views(const Experiment& experiment, const SceneLibrary& scenes, const DisplayBackend& display) {
   const auto* source = dynamic_cast<const ViewFieldSource*>(&display);
   if (source == nullptr) return;

@@ -41,6 +41,12 @@ struct HeadsetDisplayModel {
 // within 1 % (naming the height that makes them so): the headset would stretch every scene.
 std::optional<HeadsetDisplayModel> headset_display_model(const Experiment& experiment, const DisplayBackend& display);
 
+// A headset shows each eye its half of a side-by-side frame (runner/display/openxr_display.h), and
+// its mirror window is the keyboard's, not the participant's screen: with display "openxr", an
+// experiment without stereo = "side_by_side", or with fullscreen, is refused (ConfigError, exit 2)
+// at [display] output where the file chose the headset (`display_chosen` false), else at --display.
+void check_headset_experiment(const Experiment& experiment, const std::string& display, bool display_chosen);
+
 // Throws ConfigError at the scene's [scenes] key; nothing for a display without views of its own.
 void check_scenes_fit_views(const Experiment& experiment, const SceneLibrary& scenes, const DisplayBackend& display);
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "protocols/comparison_luminance.h"
+#include "protocols/stated_keys.h"
 #include "runner/display/openxr_clock.h"
 #include "runner/session/adjustment_keys.h"
 #include "runner/session/controller_answers.h"
@@ -134,25 +135,29 @@ void attach_preview(SessionLoop& loop, PreparedSession& prepared, const Stimulus
     show_condition_in_preview(*prepared.procedure, prepared.experiment, preview.conditions.front());
 }
 
-std::unique_ptr<DisplayBackend> open_display(const RunOptions& options, const PreparedSession& prepared) {
+std::unique_ptr<DisplayBackend> open_display(const RunOptions& options, const Experiment& experiment) {
   if (options.status) options.status->set_step("opening the display");
-  return create_display(options.display, display_request(prepared.experiment));
+  return create_display(options.display, display_request(experiment));
 }
 
-// A headset's display model from its views (their fields of view are known once its session
-// began; runner/session/headset_views.h): a file without pixel_pitch_mm is prepared again with the
-// views' pitch, so scenes, text and glare take the views' degrees; a contradiction, or a scene the
-// views cannot show, is refused before the session's row. Nothing for other displays.
-std::optional<HeadsetDisplayModel> take_headset_display_model(PreparedSession& prepared, const DisplayBackend& display,
-                                                              const RunOptions& options, const SessionStart& start) {
-  std::optional<HeadsetDisplayModel> model = headset_display_model(prepared.experiment, display);
-  if (model && model->derived && model->pixel_pitch_mm != prepared.experiment.display.pixel_pitch_mm) {
-    prepared.experiment.display.pixel_pitch_mm = model->pixel_pitch_mm;
-    prepared = prepare_session(std::move(prepared.experiment), options);
-    replay_done_trials(*prepared.procedure, start);
-  }
-  check_scenes_fit_views(prepared.experiment, *prepared.scenes, display);
-  return model;
+// A headset study whose file states no pixel pitch takes the views' (runner/session/headset_views.h;
+// their fields of view are known once the runtime's session began), and the scenes' pixels, the
+// text's and the glare's follow from the pitch: its display opens before the experiment is prepared
+// (after the refusals of an experiment no headset can show), and the views' pitch goes into it.
+// Nothing for other displays, or a file that states its pitch (checked against the views later).
+struct HeadsetFirst {
+  std::unique_ptr<DisplayBackend> display;
+  std::optional<HeadsetDisplayModel> model;
+};
+HeadsetFirst open_headset_first(const RunOptions& options, Experiment& experiment) {
+  HeadsetFirst headset;
+  if (options.display != "openxr" || stated_key(experiment.source_file, "display", "pixel_pitch_mm").value)
+    return headset;
+  check_headset_experiment(experiment, options.display, options.display_chosen);
+  headset.display = open_display(options, experiment);
+  headset.model = headset_display_model(experiment, *headset.display);
+  if (headset.model) experiment.display.pixel_pitch_mm = headset.model->pixel_pitch_mm;
+  return headset;
 }
 
 // What the display brings to the session's log: a headset's display model (headset_views.h), and a
@@ -180,6 +185,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   const RunOptions options = keep_resumed_clock(display_of_experiment(asked, start.experiment), start);
   result.db_path = start.db_path;
   result.display = options.display;
+  HeadsetFirst headset = open_headset_first(options, start.experiment);
   PreparedSession prepared = prepare_session(std::move(start.experiment), options);
   result.scene_notes = scene_load_notes(*prepared.scenes);
   for (const std::string& note : result.scene_notes) progress << "note: " << note << "\n";
@@ -194,9 +200,9 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   check_virtual_clock(options, tracker, device);
 
   // 2. The display (a device failure is reported before a session exists).
-  auto display = open_display(options, prepared);
-  const std::optional<HeadsetDisplayModel> headset_model = take_headset_display_model(prepared, *display, options, start);
-  result.scene_notes = scene_load_notes(*prepared.scenes);
+  auto display = headset.display ? std::move(headset.display) : open_display(options, prepared.experiment);
+  const auto headset_model = headset.model ? headset.model : headset_display_model(prepared.experiment, *display);
+  check_scenes_fit_views(prepared.experiment, *prepared.scenes, *display);
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock = make_session_clock(*display, tracker, device, start, options);
 
