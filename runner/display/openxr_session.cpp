@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <memory>
 #include <ctime>
+#include <memory>
 #include <sstream>
 #include <thread>
 
@@ -69,14 +69,9 @@ std::string version_text(XrVersion version) {
   return std::to_string(XR_VERSION_MAJOR(version)) + "." + std::to_string(XR_VERSION_MINOR(version));
 }
 
-}  // namespace
-
-namespace {
-
-// Whether the runtime (or an enabled layer's) offers `name`; false when the loader finds no runtime
-// (xrCreateInstance then says why).
-// What the loader writes meanwhile is kept back when it found no runtime (xrCreateInstance then
-// says it again, quoted in its error) and written as it was otherwise.
+// Whether the runtime (or an enabled layer) offers `name`; false when the loader finds no runtime.
+// What the loader writes meanwhile is kept back then (xrCreateInstance says it again, quoted in its
+// error) and written as it was otherwise.
 bool runtime_offers_extension(const char* name) {
   StderrCapture loader_output;
   std::uint32_t count = 0;

@@ -1,7 +1,5 @@
 #pragma once
-// Standard error taken into a string while a library speaks (the OpenXR loader, which has no other
-// way to say why it found no runtime), so that an error can quote it; on success it is written back
-// by the caller. Used by runner/display/openxr_session.cpp.
+// Standard error taken into a string while a library speaks (runner/display/openxr_session.cpp).
 #include <unistd.h>
 
 #include <cstdio>
