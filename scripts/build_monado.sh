@@ -13,7 +13,9 @@ jobs=${1:-$(nproc)}
 out=build/monado
 manifest=$out/build/openxr_monado-dev.json
 
-if [ -f "$manifest" ] && [ -f "$out/built" ]; then
+# What the build holds: a runtime built before a driver was added here is built again.
+drivers="simulated remote"
+if [ -f "$manifest" ] && [ -f "$out/built" ] && [ "$(cat "$out/built")" = "$drivers" ]; then
   echo "build_monado: already built ($repository/$manifest)"
   exit 0
 fi
@@ -53,24 +55,27 @@ mkdir -p "$out/src"
 echo "build_monado: unpacking $(basename "$tarball") into $out/src"
 tar -xzf "$tarball" -C "$out/src" --strip-components=1
 
-# Every driver off but the simulated headset (those declared with a plain option(), such as North
-# Star's, too); an in-process runtime (no service, no IPC). The main compositor stays on: the
+# Every driver off but the simulated headset and the remote one (those declared with a plain
+# option(), such as North Star's, too); an in-process runtime (no service, no IPC). The remote
+# driver (src/xrt/drivers/remote, chosen with P_OVERRIDE_ACTIVE_CONFIG=remote) is a headset and two
+# Index controllers whose state a TCP client sets (struct r_remote_data): the controller tests press
+# its buttons through it. It needs aux_vive (the Index controller's bindings). The main compositor stays on: the
 # in-process target always links it (off fails with "cannot find -lcomp_main"); the null
 # compositor is chosen at run time with XRT_COMPOSITOR_NULL=1. -O2 without debug information: the
 # tests never debug Monado, and debug information took about 30 % of its compile time
 # (docs/PERFORMANCE.md, "The test suite").
 drivers_off=()
 for driver in $(grep -oE 'option(_with_deps)?\(XRT_BUILD_DRIVER_[A-Z0-9_]*' "$out/src/CMakeLists.txt" | sed 's/.*(//' | sort -u); do
-  [ "$driver" = XRT_BUILD_DRIVER_SIMULATED ] || drivers_off+=("-D$driver=OFF")
+  [ "$driver" = XRT_BUILD_DRIVER_SIMULATED ] || [ "$driver" = XRT_BUILD_DRIVER_REMOTE ] || drivers_off+=("-D$driver=OFF")
 done
 echo "build_monado: configuring in $out/build"
 cmake -G Ninja -S "$out/src" -B "$out/build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_C_FLAGS_RELEASE="-O2 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" \
   -DXRT_FEATURE_SERVICE=OFF -DXRT_MODULE_IPC=OFF -DXRT_MODULE_COMPOSITOR_MAIN=ON \
   -DXRT_MODULE_COMPOSITOR_NULL=ON -DBUILD_TESTING=OFF -DXRT_BUILD_SAMPLES=OFF \
-  -DXRT_MODULE_MONADO_CLI=OFF -DXRT_MODULE_AUX_VIVE=OFF -DXRT_FEATURE_STEAMVR_PLUGIN=OFF \
+  -DXRT_MODULE_MONADO_CLI=OFF -DXRT_MODULE_AUX_VIVE=ON -DXRT_FEATURE_STEAMVR_PLUGIN=OFF \
   -DXRT_HAVE_OPENCV=OFF -DXRT_HAVE_GST=OFF -DXRT_HAVE_SDL2=OFF \
-  "${drivers_off[@]}" -DXRT_BUILD_DRIVER_SIMULATED=ON > "$out/configure.log" 2>&1 \
+  "${drivers_off[@]}" -DXRT_BUILD_DRIVER_SIMULATED=ON -DXRT_BUILD_DRIVER_REMOTE=ON > "$out/configure.log" 2>&1 \
   || { tail -40 "$out/configure.log"; echo "build_monado: configuring Monado failed ($out/configure.log)"; exit 1; }
 # Only the runtime the tests load (openxr_monado) and what it links: not the debug GUI's state
 # tracker and its bundled imgui and implot (the largest sources of the tree), nor the mock
@@ -82,5 +87,5 @@ if [ ! -f "$manifest" ]; then
   echo "build_monado: the build finished without $manifest"
   exit 1
 fi
-touch "$out/built"
+echo "$drivers" > "$out/built"
 echo "build_monado: built in $((SECONDS - started_s)) s: XR_RUNTIME_JSON=$repository/$manifest"

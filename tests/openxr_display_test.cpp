@@ -10,10 +10,12 @@
 
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -21,6 +23,8 @@
 #include <vector>
 
 #include "cli_process.h"
+#include "core/exr_io.h"
+#include "core/image.h"
 #include "openxr_runtime.h"
 #include "raw_db.h"
 #include "runner/display/display_backend.h"
@@ -32,18 +36,35 @@
 namespace glarelab {
 namespace {
 
-// The demo's lamps side by side in each eye's half: a stereo display 1024 x 256 (two 512 x 256
-// views), two stimulus frames a trial, five rows x two sides = 10 trials.
-std::filesystem::path stereo_demo(const std::filesystem::path& dir) {
+// The demo's lamps side by side in each eye's half: a stereo display 1024 x 551 (two 512 x 551
+// views), two stimulus frames a trial, five rows x two sides = 10 trials. The display model is the
+// headset's (docs/STEREO.md, "Degrees in the headset"): Monado's simulated views span 85 deg across,
+// 2 atan(tan(42.5 deg) x 0.07 / 0.065) = 89.2 deg high (its display's 65 x 70 mm per eye,
+// simulated_hmd.c), so 512 px across make a pixel 600 x 2 tan(42.5 deg) / 512 = 2.1477 mm at
+// 600 mm, and 512 x 0.07 / 0.065 = 551 px high keep it square. `more` replaces further lines.
+std::filesystem::path stereo_demo(const std::filesystem::path& dir,
+                                  const std::vector<std::pair<std::string, std::string>>& more = {}) {
   std::filesystem::create_directories(dir);
   test::write_demo_conditions_without_glare(dir / "conditions.csv");
-  return test::demo_variant(dir, {{"file", "file = \"" + (dir / "conditions.csv").string() + "\""},
-                                  {"width_px", "width_px = 1024"},
-                                  {"height_px", "height_px = 256"},
-                                  {"encoding", "encoding = \"srgb\"\nstereo = \"side_by_side\""},
-                                  {"stimulus_frames", "stimulus_frames = 2"},
-                                  {"question", "question = \"\""},
-                                  {"wavelength_samples", "wavelength_samples = 8"}});
+  std::vector<std::pair<std::string, std::string>> lines = {
+      {"file", "file = \"" + (dir / "conditions.csv").string() + "\""},
+      {"width_px", "width_px = 1024"},
+      {"height_px", "height_px = 551"},
+      {"pixel_pitch_mm", "pixel_pitch_mm = 2.1477"},
+      {"encoding", "encoding = \"srgb\"\nstereo = \"side_by_side\""},
+      {"stimulus_frames", "stimulus_frames = 2"},
+      {"question", "question = \"\""},
+      {"wavelength_samples", "wavelength_samples = 8"}};
+  for (const auto& [key, line] : more) {
+    bool replaced = false;
+    for (auto& [known, known_line] : lines)
+      if (known == key) {
+        known_line = line;
+        replaced = true;
+      }
+    if (!replaced) lines.emplace_back(key, line);
+  }
+  return test::demo_variant(dir, lines);
 }
 
 struct ShellRun {
@@ -177,39 +198,169 @@ TEST(OpenXrDisplay, TheFilesOutputChoosesTheHeadsetAndTheDisplayFlagWins) {
       << refused.output;
 }
 
-// A scene the headset cannot show at its angular size: with the display model at 1 mm a pixel seen
-// from 100 mm, each 256-pixel lamp subtends 2 atan(128 / 100) = 104.0 deg, more than the 85 deg
-// across Monado's simulated views. Refused at the scene's key once the runtime has given the views'
-// fields of view, before anything is written; the demo's own model (6.1 deg) runs (the tests above).
-TEST(OpenXrDisplay, ASceneWiderThanAViewsFieldOfViewIsRefusedAtItsKeyBeforeAnythingIsWritten) {
+// The display model's degrees are the views' (docs/STEREO.md, "Degrees in the headset"): a pitch
+// the file states must agree with them. At 100 mm, 512 px across the simulated views' 85 deg make a
+// pixel 100 x 2 tan(42.5 deg) / 512 = 0.3579 mm; the file's 1 mm (each lamp would span
+// 2 atan(128 / 100) = 104 deg, more than a view) is refused at its key once the runtime has given
+// the views, before anything is written.
+TEST(OpenXrDisplay, APixelPitchThatContradictsTheViewsIsRefusedAtItsKeyBeforeAnythingIsWritten) {
   if (const auto missing = test::openxr_runtime_missing(true)) GTEST_SKIP() << *missing;
   const test::ScratchDir scratch;
-  std::filesystem::create_directories(scratch.path());
-  test::write_demo_conditions_without_glare(scratch.path() / "conditions.csv");
-  const std::filesystem::path experiment = test::demo_variant(
-      scratch.path(), {{"file", "file = \"" + (scratch.path() / "conditions.csv").string() + "\""},
-                       {"width_px", "width_px = 1024"},
-                       {"height_px", "height_px = 256"},
-                       {"viewing_distance_mm", "viewing_distance_mm = 100.0"},
-                       {"pixel_pitch_mm", "pixel_pitch_mm = 1.0"},
-                       {"encoding", "encoding = \"srgb\"\nstereo = \"side_by_side\""},
-                       {"stimulus_frames", "stimulus_frames = 2"}});
+  const std::filesystem::path experiment = stereo_demo(
+      scratch.path(), {{"viewing_distance_mm", "viewing_distance_mm = 100.0"}, {"pixel_pitch_mm", "pixel_pitch_mm = 1.0"}});
   const std::filesystem::path db = scratch.path() / "session.db";
   const ShellRun run = shell("xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " + test::monado_environment() +
                                  " '" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
                                  "' --display openxr --observer simulated --db '" + db.string() + "'",
                              scratch.path() / "output.txt");
   EXPECT_EQ(run.exit_code, 2) << run.output;
-  char subtends[64];
-  const double degrees = 2.0 * std::atan(128.0 * 1.0 / 100.0) * 180.0 / 3.14159265358979323846;
-  std::snprintf(subtends, sizeof subtends, "subtends %.1f x %.1f deg", degrees, degrees);
-  // The first scene of [scenes], at its key.
-  EXPECT_NE(run.output.find(line_of(experiment, "bright_3077") + "1: key 'scenes.bright_3077': scene 'bright_3077' (256 x 256 px) " +
-                            subtends),
+  char pitch[32];
+  std::snprintf(pitch, sizeof pitch, "%.4f", 100.0 * 2.0 * std::tan(42.5 * 3.14159265358979323846 / 180.0) / 512.0);
+  EXPECT_NE(run.output.find(line_of(experiment, "pixel_pitch_mm") + "18: key 'display.pixel_pitch_mm': 1 mm contradicts "
+                            "the headset's views: 512 x 551 px across the left eye's view's 85.0 x 89.2 deg make a "
+                            "pixel " + std::string(pitch) + " mm at viewing_distance_mm 100"),
             std::string::npos)
       << run.output;
-  EXPECT_NE(run.output.find("more than the headset's left eye's view shows, 85.0 x "), std::string::npos) << run.output;
   EXPECT_FALSE(std::filesystem::exists(db));
+}
+
+// A view's pixels must be square: halves of 512 x 256 px would stretch every scene to twice its
+// height in the views (89.2 deg over 256 px against 85 deg over 512). Refused at height_px, naming
+// the height that makes them square, 512 x 0.07 / 0.065 = 551.4 px.
+TEST(OpenXrDisplay, AHeightThatStretchesTheViewsPixelsIsRefusedAtItsKey) {
+  if (const auto missing = test::openxr_runtime_missing(true)) GTEST_SKIP() << *missing;
+  const test::ScratchDir scratch;
+  const std::filesystem::path experiment = stereo_demo(scratch.path(), {{"height_px", "height_px = 256"}});
+  const std::filesystem::path db = scratch.path() / "session.db";
+  const ShellRun run = shell("xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " + test::monado_environment() +
+                                 " '" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                 "' --display openxr --observer simulated --db '" + db.string() + "'",
+                             scratch.path() / "output.txt");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find(line_of(experiment, "height_px") + "13: key 'display.height_px': the headset's left eye's "
+                            "view is 85.0 x 89.2 deg: with halves of 512 x 256 px its pixels are 2.1477 mm across"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("height_px = 551 makes them square"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(db));
+}
+
+// A study for a headset need not state a pitch: the views give it, from each view's field of view
+// as the runtime locates it (the display event's edges) and the half's 512 px, at the file's 600 mm:
+// 600 (tan(right) - tan(left)) / 512. The session is prepared with it (its stored configuration
+// says so, so a resumed session keeps it) and the display_model event says where it came from.
+TEST(OpenXrDisplay, WithoutAPixelPitchTheViewsGiveItToTheSession) {
+  if (const auto missing = test::openxr_runtime_missing(true)) GTEST_SKIP() << *missing;
+  const test::ScratchDir scratch;
+  const std::filesystem::path experiment = stereo_demo(scratch.path(), {{"pixel_pitch_mm", ""}});
+  ASSERT_EQ(test::read_bytes(experiment.string()).find("pixel_pitch_mm"), std::string::npos);
+  const std::filesystem::path db = scratch.path() / "session.db";
+  const ShellRun run = shell("xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " + test::monado_environment() +
+                                 " '" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                 "' --display openxr --observer simulated --stop-after 1 --db '" + db.string() + "'",
+                             scratch.path() / "output.txt");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const test::RawDb raw(db.string());
+  const std::string display = raw.value("SELECT message FROM session_events WHERE kind = 'display'");
+  const std::size_t edges = display.find("fields of view (");
+  ASSERT_NE(edges, std::string::npos) << display;
+  double left_deg = 0.0, right_deg = 0.0, up_deg = 0.0, down_deg = 0.0;
+  ASSERT_EQ(std::sscanf(display.c_str() + edges, "fields of view (%lf, %lf, %lf, %lf)", &left_deg, &right_deg, &up_deg,
+                        &down_deg),
+            4)
+      << display;
+  const double radians = 3.14159265358979323846 / 180.0;
+  const double pitch_mm = 600.0 * (std::tan(right_deg * radians) - std::tan(left_deg * radians)) / 512.0;
+  char expected[160];
+  std::snprintf(expected, sizeof expected, "pixel_pitch_mm not stated: the session takes %.4f mm", pitch_mm);
+  const std::string model = raw.value("SELECT message FROM session_events WHERE kind = 'display_model'");
+  EXPECT_NE(model.find(expected), std::string::npos) << model;
+  EXPECT_EQ(model.rfind("from the headset's views: 512 x 551 px across the left eye's view's 85.0 x 89.2 deg", 0), 0u)
+      << model;
+  const std::string config = raw.value("SELECT config FROM sessions");
+  const std::size_t stored = config.find("pixel_pitch_mm = ");
+  ASSERT_NE(stored, std::string::npos) << config;
+  // The edges are printed to 0.01 deg: the pitch from them is that close.
+  EXPECT_NEAR(std::stod(config.substr(stored + std::strlen("pixel_pitch_mm = "))), pitch_mm, 2e-4 * pitch_mm) << config;
+
+  // Resumed, the stored configuration states the pitch it took: the views agree with it.
+  const ShellRun resumed = shell("xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " + test::monado_environment() +
+                                     " '" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                     "' --display openxr --observer simulated --stop-after 1 --resume 1 --db '" +
+                                     db.string() + "'",
+                                 scratch.path() / "resumed.txt");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const test::RawDb after(db.string());
+  EXPECT_EQ(after.value("SELECT count(*) FROM trials"), "2");
+  const auto models = after.rows("SELECT message FROM session_events WHERE kind = 'display_model' ORDER BY id");
+  ASSERT_EQ(models.size(), 2u);
+  EXPECT_NE(models[1][0].find("agrees within 1 %"), std::string::npos) << models[1][0];
+}
+
+// Sizes in degrees take the views' degrees: Spencer's disc (generated at 4 deg across, inside a
+// 6-deg annulus of a third of its luminance) in a headset study without a pitch spans
+// 2 d tan(2 deg) / pitch pixels of each eye's half, the pitch being the views'
+// (600 (tan(right) - tan(left)) / 512 mm, from the display event's edges): 19.5 px. The first
+// stimulus frame (--save-frames, linear cd/m2, no glare) is measured along the disc's middle row,
+// each pixel by its share of the way from the annulus to the disc (the edges are antialiased by
+// area). At the file's default 0.25 mm the disc would be 168 px across. (The file is read before
+// the views are known: its generated scenes must also fit their size_px at the default pitch,
+// docs/STEREO.md.)
+TEST(OpenXrDisplay, ASceneSizedInDegreesSpansItsDegreesOfTheViews) {
+  if (const auto missing = test::openxr_runtime_missing(true)) GTEST_SKIP() << *missing;
+  const test::ScratchDir scratch;
+  std::filesystem::create_directories(scratch.path());
+  test::write_bytes((scratch.path() / "discs.csv").string(), "name,scene_a,scene_b\ndiscs,disc,disc\n");
+  const std::filesystem::path experiment = stereo_demo(
+      scratch.path(), {{"pixel_pitch_mm", ""},
+                       {"file", "file = \"" + (scratch.path() / "discs.csv").string() + "\""},
+                       {"bright_3077", "disc = { generator = \"disc_annulus\", size_px = 254, disc_diameter_deg = 4.0, "
+                                       "annulus_diameter_deg = 6.0, disc_fraction_of_peak = 1.0 }"}});
+  const std::filesystem::path db = scratch.path() / "session.db";
+  const ShellRun run = shell("xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " + test::monado_environment() +
+                                 " '" + std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
+                                 "' --display openxr --observer simulated --stop-after 1 --db '" + db.string() +
+                                 "' --save-frames '" + (scratch.path() / "frames").string() + "'",
+                             scratch.path() / "output.txt");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const test::RawDb raw(db.string());
+  const std::string display = raw.value("SELECT message FROM session_events WHERE kind = 'display'");
+  double left_deg = 0.0, right_deg = 0.0, up_deg = 0.0, down_deg = 0.0;
+  const std::size_t edges = display.find("fields of view (");
+  ASSERT_NE(edges, std::string::npos) << display;
+  ASSERT_EQ(std::sscanf(display.c_str() + edges, "fields of view (%lf, %lf, %lf, %lf)", &left_deg, &right_deg, &up_deg,
+                        &down_deg),
+            4);
+  const double radians = 3.14159265358979323846 / 180.0;
+  const double pitch_mm = 600.0 * (std::tan(right_deg * radians) - std::tan(left_deg * radians)) / 512.0;
+  const double disc_px = 2.0 * 600.0 * std::tan(2.0 * radians) / pitch_mm;
+
+  const ImageRGBA frame = read_exr((scratch.path() / "frames" / "trial_0000.exr").string()).image;
+  ASSERT_EQ(frame.width_px, 1024);
+  ASSERT_EQ(frame.height_px, 551);
+  // Each eye's half: two columns of 256 px, the disc centred in each; its middle row.
+  const int row = 551 / 2;
+  for (int eye = 0; eye < 2; ++eye)
+    for (int column = 0; column < 2; ++column) {
+      const int left_px = eye * 512 + column * 256;
+      double disc_cd_m2 = 0.0, annulus_cd_m2 = 1e300;
+      for (int x = left_px; x < left_px + 256; ++x) {
+        const float* p = frame.pixel(x, row);
+        disc_cd_m2 = std::max(disc_cd_m2, luminance_rec709(p[0], p[1], p[2]));
+      }
+      // The annulus: the middle of the ring between the disc's and the annulus' edges.
+      const double ring_px = (disc_px / 2.0 + 2.0 * 600.0 * std::tan(3.0 * radians) / pitch_mm / 2.0) / 2.0;
+      const float* ring = frame.pixel(left_px + 128 + static_cast<int>(std::lround(ring_px)), row);
+      annulus_cd_m2 = luminance_rec709(ring[0], ring[1], ring[2]);
+      ASSERT_NEAR(annulus_cd_m2, disc_cd_m2 / 3.0, 0.02 * disc_cd_m2) << "eye " << eye << " column " << column;
+      double covered_px = 0.0;  // the disc's pixels, each by its share of the disc over the annulus
+      for (int x = left_px; x < left_px + 256; ++x) {
+        const float* p = frame.pixel(x, row);
+        const double share = (luminance_rec709(p[0], p[1], p[2]) - annulus_cd_m2) / (disc_cd_m2 - annulus_cd_m2);
+        if (share > 0.0) covered_px += std::min(share, 1.0);
+      }
+      EXPECT_NEAR(covered_px, disc_px, 0.5) << "eye " << eye << " column " << column << ": pitch " << pitch_mm;
+    }
 }
 
 TEST(OpenXrDisplay, SessionUnderMonadoStoresEveryTrialWithPredictedFlipsOnePeriodApart) {
@@ -241,8 +392,17 @@ TEST(OpenXrDisplay, SessionUnderMonadoStoresEveryTrialWithPredictedFlipsOnePerio
   EXPECT_EQ(raw.rows("SELECT count(*) FROM trials")[0][0], "10");
   const auto display_event = raw.rows("SELECT message FROM session_events WHERE kind = 'display'");
   ASSERT_EQ(display_event.size(), 1u);
-  EXPECT_NE(display_event[0][0].find("system 'Monado: Simulated HMD', 2 views 512x256"), std::string::npos)
+  EXPECT_NE(display_event[0][0].find("system 'Monado: Simulated HMD', 2 views 512x551"), std::string::npos)
       << display_event[0][0];
+  // The simulated headset has no eye tracker: the display event says so.
+  EXPECT_NE(display_event[0][0].find("eye gaze: none (XR_EXT_eye_gaze_interaction offered, the system has no eye "
+                                     "tracker)"),
+            std::string::npos)
+      << display_event[0][0];
+  // The file's pitch agrees with the views' (stereo_demo): the session keeps it, and says so.
+  EXPECT_NE(raw.value("SELECT message FROM session_events WHERE kind = 'display_model'")
+                .find("the file's pixel_pitch_mm 2.1477 mm agrees within 1 %"),
+            std::string::npos);
 
   // Every flip is a submitted frame's predicted display time: the runtime's period (50 ms with the
   // null compositor) apart, or a whole number of periods where a frame missed its slot (the session
@@ -517,7 +677,7 @@ TEST(OpenXrViews, EachEyesSwapchainImageIsItsHalfOfASideBySideSessionOfTheSameSe
   ASSERT_NE(trial_0, nullptr) << "the preview captured no frame of trial 0";
   const ImageRGBA& reference = trial_0->display_drive;
   ASSERT_EQ(reference.width_px, 1024);
-  ASSERT_EQ(reference.height_px, 256);
+  ASSERT_EQ(reference.height_px, 551);
 
   const std::vector<ImageRGBA>& views = submitted[0];
   ASSERT_EQ(views.size(), 2u);
@@ -526,7 +686,7 @@ TEST(OpenXrViews, EachEyesSwapchainImageIsItsHalfOfASideBySideSessionOfTheSameSe
   for (int eye = 0; eye < 2; ++eye) {
     const ImageRGBA& view = views[static_cast<std::size_t>(eye)];
     ASSERT_EQ(view.width_px, 512);
-    ASSERT_EQ(view.height_px, 256);
+    ASSERT_EQ(view.height_px, 551);
     for (int y = 0; y < view.height_px; ++y)
       for (int x = 0; x < view.width_px; ++x)
         for (int c = 0; c < 3; ++c) {
@@ -573,16 +733,8 @@ TEST(OpenXrViews, ASessionTheRuntimeEndsIsStoredAbortedAndResumesToCompletion) {
   if (std::system("command -v xdotool > /dev/null") != 0) GTEST_SKIP() << "xdotool is missing (scripts/setup.sh)";
   test::set_monado_environment();
   const test::ScratchDir scratch;
-  std::filesystem::create_directories(scratch.path());
-  test::write_demo_conditions_without_glare(scratch.path() / "conditions.csv");
   const std::filesystem::path experiment =
-      test::demo_variant(scratch.path(), {{"file", "file = \"" + (scratch.path() / "conditions.csv").string() + "\""},
-                                          {"width_px", "width_px = 1024"},
-                                          {"height_px", "height_px = 256"},
-                                          {"encoding", "encoding = \"srgb\"\nstereo = \"side_by_side\""},
-                                          {"stimulus_frames", "stimulus_frames = 10"},
-                                          {"question", "question = \"\""},
-                                          {"wavelength_samples", "wavelength_samples = 8"}});
+      stereo_demo(scratch.path(), {{"stimulus_frames", "stimulus_frames = 10"}});
   const std::filesystem::path db = scratch.path() / "session.db";
   const std::filesystem::path output = scratch.path() / "output.txt";
   {

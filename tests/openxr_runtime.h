@@ -3,6 +3,7 @@
 // scripts/build_monado.sh into build/monado, as an in-process runtime with its simulated headset
 // and null compositor (20 Hz, no window) under Xvfb (../shared/third_party/README.md). Where it is
 // not built, or Xvfb or the validation layer is missing, the tests skip and say why.
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
@@ -32,11 +33,45 @@ inline std::optional<std::string> openxr_runtime_missing(bool needs_xvfb_run) {
   return std::nullopt;
 }
 
+// Why Monado's remote driver cannot be used here, or nothing when it can: it is built with the
+// runtime since its controllers were first needed (build/monado/built names the drivers).
+inline std::optional<std::string> monado_remote_missing() {
+  if (const auto missing = openxr_runtime_missing(true)) return missing;
+  const std::filesystem::path built = monado_manifest().parent_path().parent_path() / "built";
+  std::FILE* file = std::fopen(built.c_str(), "r");
+  char drivers[128] = {};
+  if (file != nullptr) {
+    if (std::fgets(drivers, sizeof drivers, file) == nullptr) drivers[0] = '\0';
+    std::fclose(file);
+  }
+  if (std::string(drivers).find("remote") == std::string::npos)
+    return "Monado was built without its remote driver (" + built.string() + "): scripts/build_monado.sh builds it again";
+  return std::nullopt;
+}
+
 // The environment that selects Monado's simulated headset and null compositor, software GL and
 // Vulkan, and the core validation layer, as "NAME=value" words for env(1).
 inline std::string monado_environment() {
   return "XR_RUNTIME_JSON=" + monado_manifest().string() +
          " XRT_COMPOSITOR_NULL=1 SIMULATED_ENABLE=1 LIBGL_ALWAYS_SOFTWARE=1"
+         " VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json"
+         " XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation";
+}
+
+// Monado's remote driver instead of the simulated headset (scripts/build_monado.sh builds it): a
+// headset and two Valve Index controllers whose state a TCP client on `port` sets (struct
+// r_remote_data, src/xrt/drivers/remote/r_interface.h). The port is read from Monado's
+// configuration file, config_v0.json in $XDG_CONFIG_HOME/monado, which this writes under
+// `config_home`; P_OVERRIDE_ACTIVE_CONFIG=remote chooses the driver (u_config_json.c).
+inline std::string monado_remote_environment(const std::filesystem::path& config_home, int port) {
+  std::filesystem::create_directories(config_home / "monado");
+  std::FILE* file = std::fopen((config_home / "monado" / "config_v0.json").c_str(), "w");
+  if (file != nullptr) {
+    std::fprintf(file, "{\"remote\": {\"version\": 0, \"port\": %d, \"view_count\": 2}}\n", port);
+    std::fclose(file);
+  }
+  return "XR_RUNTIME_JSON=" + monado_manifest().string() + " XDG_CONFIG_HOME=" + config_home.string() +
+         " P_OVERRIDE_ACTIVE_CONFIG=remote XRT_COMPOSITOR_NULL=1 LIBGL_ALWAYS_SOFTWARE=1"
          " VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json"
          " XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation";
 }

@@ -55,6 +55,7 @@ std::unique_ptr<DisplayBackend> create_openxr_display(const DisplayRequest&) {
 #include <thread>
 #include <utility>
 
+#include "runner/display/controller_presses.h"
 #include "runner/display/glfw_display.h"
 #include "runner/display/openxr_clock.h"
 #include "runner/display/openxr_session.h"
@@ -68,7 +69,8 @@ bool is_srgb_format(std::int64_t format) { return format == GL_SRGB8_ALPHA8 || f
 class OpenXrDisplay final : public DisplayBackend,
                             public PredictedFlipSource,
                             public HeadPoseSource,
-                            public ViewFieldSource {
+                            public ViewFieldSource,
+                            public ControllerPressSource {
  public:
   explicit OpenXrDisplay(const DisplayRequest& request) {
     if (request.width_px < 2 || request.width_px % 2 != 0 || request.height_px < 1)
@@ -146,6 +148,7 @@ class OpenXrDisplay final : public DisplayBackend,
 
   std::vector<HeadPoseSample> take_head_poses() override { return std::exchange(head_poses_, {}); }
   std::vector<ViewFieldOfView> view_fields_of_view() const override { return xr_->fields_of_view(); }
+  std::vector<ControllerPress> take_controller_presses() override { return xr_->take_controller_presses(); }
 
   std::vector<InputEvent> poll_input() override {
     poll_runtime();

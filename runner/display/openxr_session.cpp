@@ -8,11 +8,15 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
+#include <memory>
 #include <sstream>
 #include <thread>
 
 #include "core/errors.h"
+#include "runner/display/openxr_actions.h"
+#include "runner/display/stderr_capture.h"
 
 // glad first (it blocks GL/gl.h), then the X11 and GLX types the OpenXR platform header names.
 #include <glad/gl.h>
@@ -25,15 +29,6 @@
 
 namespace glarelab {
 namespace {
-
-// An OpenXR input or output structure with its type set and every other member zero (the `{TYPE}`
-// idiom of the specification's examples, without leaving members to aggregate initialisation).
-template <typename Struct>
-Struct xr_struct(XrStructureType type) {
-  Struct value{};
-  value.type = type;
-  return value;
-}
 
 std::string result_text(XrInstance instance, XrResult result) {
   char name[XR_MAX_RESULT_STRING_SIZE] = {};
@@ -51,46 +46,6 @@ std::string result_text(XrInstance instance, XrResult result) {
 void check(XrResult result, XrInstance instance, const std::string& what) {
   if (XR_FAILED(result)) throw DisplayError("OpenXR: " + what + " failed (" + result_text(instance, result) + ")");
 }
-
-// What the loader writes to stderr while it looks for a runtime (it has no other way to say why
-// none was found), taken so that the error can quote it; on success it is written back.
-class StderrCapture {
- public:
-  StderrCapture() {
-    std::fflush(stderr);
-    file_ = std::tmpfile();
-    if (file_ != nullptr) {
-      saved_ = dup(STDERR_FILENO);
-      if (saved_ >= 0) dup2(fileno(file_), STDERR_FILENO);
-    }
-  }
-  ~StderrCapture() { restore(); }
-  StderrCapture(const StderrCapture&) = delete;
-  StderrCapture& operator=(const StderrCapture&) = delete;
-  // Stops capturing; what was written, as it was.
-  std::string finish() {
-    restore();
-    std::string text;
-    if (file_ == nullptr) return text;
-    std::rewind(file_);
-    char chunk[4096];
-    for (std::size_t n; (n = std::fread(chunk, 1, sizeof chunk, file_)) > 0;) text.append(chunk, n);
-    std::fclose(file_);
-    file_ = nullptr;
-    return text;
-  }
-
- private:
-  void restore() {
-    if (saved_ < 0) return;
-    std::fflush(stderr);
-    dup2(saved_, STDERR_FILENO);
-    close(saved_);
-    saved_ = -1;
-  }
-  std::FILE* file_ = nullptr;
-  int saved_ = -1;
-};
 
 template <typename Function>
 Function instance_function(XrInstance instance, const char* name) {
@@ -114,18 +69,39 @@ std::string version_text(XrVersion version) {
   return std::to_string(XR_VERSION_MAJOR(version)) + "." + std::to_string(XR_VERSION_MINOR(version));
 }
 
+// Whether the runtime (or an enabled layer) offers `name`; false when the loader finds no runtime.
+// What the loader writes meanwhile is kept back then (xrCreateInstance says it again, quoted in its
+// error) and written as it was otherwise.
+bool runtime_offers_extension(const char* name) {
+  StderrCapture loader_output;
+  std::uint32_t count = 0;
+  bool listed = XR_SUCCEEDED(xrEnumerateInstanceExtensionProperties(nullptr, 0, &count, nullptr));
+  std::vector<XrExtensionProperties> offered(count, xr_struct<XrExtensionProperties>(XR_TYPE_EXTENSION_PROPERTIES));
+  listed = listed && XR_SUCCEEDED(xrEnumerateInstanceExtensionProperties(nullptr, count, &count, offered.data()));
+  const std::string said = loader_output.finish();
+  if (!listed) return false;
+  std::fputs(said.c_str(), stderr);
+  for (std::uint32_t i = 0; i < count; ++i)
+    if (std::strcmp(offered[i].extensionName, name) == 0) return true;
+  return false;
+}
+
 }  // namespace
 
 OpenXrConnection::OpenXrConnection(int view_width_px, int view_height_px)
     : view_width_px_(view_width_px), view_height_px_(view_height_px) {
-  const char* extensions[] = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME};
+  // XR_EXT_eye_gaze_interaction is enabled where the runtime offers it, only to ask whether the
+  // system has eye gaze: the display event says so (docs/STEREO.md, "Eye gaze").
+  eye_gaze_offered_ = runtime_offers_extension(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+  std::vector<const char*> extensions = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME};
+  if (eye_gaze_offered_) extensions.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
   auto create = xr_struct<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
   std::snprintf(create.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "%s", "glarelab");
   create.applicationInfo.applicationVersion = 1;
   std::snprintf(create.applicationInfo.engineName, XR_MAX_ENGINE_NAME_SIZE, "%s", "glarelab");
   create.applicationInfo.apiVersion = XR_MAKE_VERSION(1, 0, 0);
-  create.enabledExtensionCount = 2;
-  create.enabledExtensionNames = extensions;
+  create.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+  create.enabledExtensionNames = extensions.data();
   StderrCapture loader_output;
   const XrResult created = xrCreateInstance(&create, instance_.out());
   const std::string loader_said = loader_output.finish();
@@ -162,8 +138,11 @@ OpenXrConnection::OpenXrConnection(int view_width_px, int view_height_px)
     throw DisplayError("OpenXR: the runtime " + runtime_name_ + " has no head-mounted display (xrGetSystem: " +
                        result_text(instance_.get(), found) + ")");
   auto system_properties = xr_struct<XrSystemProperties>(XR_TYPE_SYSTEM_PROPERTIES);
+  auto eye_gaze = xr_struct<XrSystemEyeGazeInteractionPropertiesEXT>(XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT);
+  if (eye_gaze_offered_) system_properties.next = &eye_gaze;
   check(xrGetSystemProperties(instance_.get(), system_, &system_properties), instance_.get(), "xrGetSystemProperties");
   system_name_ = system_properties.systemName;
+  eye_gaze_supported_ = eye_gaze_offered_ && eye_gaze.supportsEyeGazeInteraction == XR_TRUE;
 
   std::uint32_t count = 0;
   check(xrEnumerateViewConfigurationViews(instance_.get(), system_, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0,
@@ -199,6 +178,7 @@ OpenXrConnection::~OpenXrConnection() {
       if (running_) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
+  answers_.reset();
   views_.clear();
   view_space_.reset();
   local_space_.reset();
@@ -241,6 +221,7 @@ void OpenXrConnection::open_session_on_current_glx_context() {
   create.next = &binding;
   create.systemId = system_;
   check(xrCreateSession(instance_.get(), &create, session_.out()), instance_.get(), "xrCreateSession on the GLX context");
+  answers_ = std::make_unique<OpenXrAnswerActions>(instance_.get(), session_.get());
 
   auto space = xr_struct<XrReferenceSpaceCreateInfo>(XR_TYPE_REFERENCE_SPACE_CREATE_INFO);
   space.poseInReferenceSpace.orientation.w = 1.0f;
@@ -413,6 +394,7 @@ HeadPoseSample OpenXrConnection::submit_frame(const DrawView& draw_view) {
   auto begin_frame = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
   check(xrBeginFrame(session_.get(), &begin_frame), instance_.get(), "xrBeginFrame");
   period_ns_ = frame.predictedDisplayPeriod;
+  answers_->sync(presses_);  // the controllers' answers, each frame
 
   XrCompositionLayerProjectionView projected[2] = {
       xr_struct<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW),
@@ -472,6 +454,14 @@ HeadPoseSample OpenXrConnection::submit_frame(const DrawView& draw_view) {
   return head_pose;
 }
 
+std::vector<ControllerPress> OpenXrConnection::take_controller_presses() {
+  std::vector<ControllerPress> presses;
+  for (const OpenXrAnswerActions::Press& press : presses_)
+    presses.push_back({press.button, press.answer_position, to_steady(press.time)});
+  presses_.clear();
+  return presses;
+}
+
 std::string OpenXrConnection::describe() const {
   std::ostringstream text;
   text << "runtime '" << runtime_name_ << "' system '" << system_name_ << "', 2 views " << view_width_px_ << "x"
@@ -487,6 +477,12 @@ std::string OpenXrConnection::describe() const {
     text << edges;
   }
   if (!fields_of_view_.empty()) text << " deg (left, right, up, down edges)";
+  if (answers_) text << "; " << answers_->describe();
+  // Gaze in the headset comes from a tracker (--tracker): a system with eye gaze is named, not used.
+  text << "; eye gaze: "
+       << (!eye_gaze_offered_ ? "none (the runtime does not offer XR_EXT_eye_gaze_interaction)"
+           : !eye_gaze_supported_ ? "none (XR_EXT_eye_gaze_interaction offered, the system has no eye tracker)"
+                                  : "the system has it (XR_EXT_eye_gaze_interaction), not used: gaze comes from --tracker");
   return text.str();
 }
 

@@ -7,43 +7,15 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
+#include "runner/display/controller_presses.h"
+#include "runner/display/openxr_actions.h"
 #include "runner/display/openxr_clock.h"
 
 namespace glarelab {
-
-// Owns one OpenXR handle and destroys it with `Destroy` (xrDestroyInstance, ...). Move-only.
-template <typename Handle, XrResult (*Destroy)(Handle)>
-class XrOwner {
- public:
-  XrOwner() = default;
-  ~XrOwner() { reset(); }
-  XrOwner(XrOwner&& other) noexcept : handle_(std::exchange(other.handle_, XR_NULL_HANDLE)) {}
-  XrOwner& operator=(XrOwner&& other) noexcept {
-    if (this != &other) {
-      reset();
-      handle_ = std::exchange(other.handle_, XR_NULL_HANDLE);
-    }
-    return *this;
-  }
-  XrOwner(const XrOwner&) = delete;
-  XrOwner& operator=(const XrOwner&) = delete;
-  Handle get() const { return handle_; }
-  Handle* out() {
-    reset();
-    return &handle_;
-  }
-  void reset() {
-    if (handle_ != XR_NULL_HANDLE) Destroy(handle_);
-    handle_ = XR_NULL_HANDLE;
-  }
-
- private:
-  Handle handle_ = XR_NULL_HANDLE;
-};
 
 class OpenXrConnection {
  public:
@@ -86,8 +58,13 @@ class OpenXrConnection {
   using DrawView = std::function<void(int view, std::uint32_t gl_texture, std::int64_t gl_format)>;
   HeadPoseSample submit_frame(const DrawView& draw_view);
 
+  // The controllers' presses (the answer action set, runner/display/openxr_actions.h, read at each
+  // submitted frame) since the last call, their times on steady_clock.
+  std::vector<ControllerPress> take_controller_presses();
+
   // "runtime 'Monado(XRT) by Collabora et al ...' system 'Monado: Simulated HMD', 2 views 512x256
-  // (recommended 320x240) in GL_RGBA16F, display period 50 ms"
+  // (recommended 320x240) in GL_RGBA16F, display period 50 ms, fields of view ...; answers from the
+  // controllers ... bound for ...; eye gaze: ..."
   std::string describe() const;
 
  private:
@@ -118,6 +95,10 @@ class OpenXrConnection {
   bool running_ = false;
   std::string ended_reason_;
   std::string exit_requested_;  // why request_exit() asked, empty when it did not
+  std::unique_ptr<OpenXrAnswerActions> answers_;
+  std::vector<OpenXrAnswerActions::Press> presses_;  // since take_controller_presses()
+  bool eye_gaze_offered_ = false;    // the runtime offers XR_EXT_eye_gaze_interaction (enabled then)
+  bool eye_gaze_supported_ = false;  // and the system has eye gaze
 };
 
 }  // namespace glarelab

@@ -18,6 +18,7 @@
 #include "core/clock.h"
 #include "runner/display/display_backend.h"
 #include "runner/session/condition_refraction.h"
+#include "runner/session/controller_answers.h"
 #include "runner/session/cpu_composition.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interval_glare.h"
@@ -103,6 +104,8 @@ class SessionLoop {
   // false as for an abort) and is to be run again from its onset; true once per such trial.
   bool take_trial_rerun();
   // --- end response device ---
+  // A headset's controllers (runner/session/controller_answers.h): they answer and continue screens.
+  void attach_controllers(ControllerAnswers* controllers) { controllers_ = controllers; }
 
   // --- tracker (runner/tracker/) ---
   // runner/session/session_loop.cpp
@@ -268,6 +271,7 @@ class SessionLoop {
   bool aborted_ = false;
   std::string abort_reason_;
   ResponseDeviceInput* device_ = nullptr;
+  ControllerAnswers* controllers_ = nullptr;
   bool rerun_trial_ = false;
   std::optional<SceneTexture> pause_message_;
   bool fast_forward_ = false;

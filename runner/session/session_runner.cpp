@@ -13,8 +13,10 @@
 #include <vector>
 
 #include "protocols/comparison_luminance.h"
+#include "protocols/stated_keys.h"
 #include "runner/display/openxr_clock.h"
 #include "runner/session/adjustment_keys.h"
+#include "runner/session/controller_answers.h"
 #include "runner/session/device_pause_screen.h"
 #include "runner/session/headset_views.h"
 #include "runner/session/interrupt.h"
@@ -133,13 +135,42 @@ void attach_preview(SessionLoop& loop, PreparedSession& prepared, const Stimulus
     show_condition_in_preview(*prepared.procedure, prepared.experiment, preview.conditions.front());
 }
 
-// The session's display, and what a headset's views can show (their fields of view are known once
-// its session began): refused before the session's row (runner/session/headset_views.h).
-std::unique_ptr<DisplayBackend> open_display(const RunOptions& options, const PreparedSession& prepared) {
+std::unique_ptr<DisplayBackend> open_display(const RunOptions& options, const Experiment& experiment) {
   if (options.status) options.status->set_step("opening the display");
-  auto display = create_display(options.display, display_request(prepared.experiment));
-  check_scenes_fit_views(prepared.experiment, *prepared.scenes, *display);
-  return display;
+  return create_display(options.display, display_request(experiment));
+}
+
+// A headset study whose file states no pixel pitch takes the views' (runner/session/headset_views.h;
+// their fields of view are known once the runtime's session began), and the scenes' pixels, the
+// text's and the glare's follow from the pitch: its display opens before the experiment is prepared
+// (after the refusals of an experiment no headset can show), and the views' pitch goes into it.
+// Nothing for other displays, or a file that states its pitch (checked against the views later).
+struct HeadsetFirst {
+  std::unique_ptr<DisplayBackend> display;
+  std::optional<HeadsetDisplayModel> model;
+};
+HeadsetFirst open_headset_first(const RunOptions& options, Experiment& experiment) {
+  HeadsetFirst headset;
+  if (options.display != "openxr" || stated_key(experiment.source_file, "display", "pixel_pitch_mm").value)
+    return headset;
+  check_headset_experiment(experiment, options.display, options.display_chosen);
+  headset.display = open_display(options, experiment);
+  headset.model = headset_display_model(experiment, *headset.display);
+  if (headset.model) experiment.display.pixel_pitch_mm = headset.model->pixel_pitch_mm;
+  return headset;
+}
+
+// What the display brings to the session's log: a headset's display model (headset_views.h), and a
+// refresh rate other than the file's (durations are frames of [display] refresh_hz: another actual
+// rate scales every one of them).
+void log_display_setup(ResultStore& store, std::int64_t session_id, double now_s, const PreparedSession& prepared,
+                       const DisplayBackend& display, const std::optional<HeadsetDisplayModel>& headset_model) {
+  if (headset_model) store.log_event(session_id, now_s, "display_model", headset_model->description);
+  const std::string refresh_warning = refresh_rate_warning(prepared.experiment.display.refresh_hz, display.refresh_hz());
+  if (!refresh_warning.empty()) {
+    std::cerr << "warning: " << refresh_warning << "\n";
+    store.log_event(session_id, now_s, "refresh_rate", refresh_warning);
+  }
 }
 
 }  // namespace
@@ -154,6 +185,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   const RunOptions options = keep_resumed_clock(display_of_experiment(asked, start.experiment), start);
   result.db_path = start.db_path;
   result.display = options.display;
+  HeadsetFirst headset = open_headset_first(options, start.experiment);
   PreparedSession prepared = prepare_session(std::move(start.experiment), options);
   result.scene_notes = scene_load_notes(*prepared.scenes);
   for (const std::string& note : result.scene_notes) progress << "note: " << note << "\n";
@@ -168,7 +200,9 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   check_virtual_clock(options, tracker, device);
 
   // 2. The display (a device failure is reported before a session exists).
-  auto display = open_display(options, prepared);
+  auto display = headset.display ? std::move(headset.display) : open_display(options, prepared.experiment);
+  const auto headset_model = headset.model ? headset.model : headset_display_model(prepared.experiment, *display);
+  check_scenes_fit_views(prepared.experiment, *prepared.scenes, *display);
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock = make_session_clock(*display, tracker, device, start, options);
 
@@ -208,13 +242,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   // that cannot be computed) ends the session as aborted with its reason, never left running.
   try {
 
-    // Durations are frames of [display] refresh_hz: another actual rate scales every one of them.
-    const std::string refresh_warning =
-        refresh_rate_warning(prepared.experiment.display.refresh_hz, display->refresh_hz());
-    if (!refresh_warning.empty()) {
-      std::cerr << "warning: " << refresh_warning << "\n";
-      store.log_event(result.session_id, clock->now_s(), "refresh_rate", refresh_warning);
-    }
+    log_display_setup(store, result.session_id, clock->now_s(), prepared, *display, headset_model);
 
     announce_session(progress, result, prepared, display->kind());
 
@@ -225,10 +253,12 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
     if (device.active()) store.log_event(result.session_id, clock->now_s(), "response_device", device.description());
     if (device_note) store.log_event(result.session_id, clock->now_s(), "response_device_absent", *device_note);
     ResponseDeviceInput device_input(device, store, result.session_id);
+    const auto controllers = ControllerAnswers::of_display(*display, *clock, store, result.session_id);
 
     // 4. The trials.
     SessionLoop loop(prepared, *display, *clock, store, result.session_id, tracker, pacer.get());
     if (device.active()) loop.attach_response_device(&device_input, pause_message);
+    if (controllers) loop.attach_controllers(controllers.get());
     if (options.preview) attach_preview(loop, prepared, *options.preview);
     if (!options.save_frames_dir.empty()) loop.save_first_frames_to(options.save_frames_dir);
     loop.attach_status(options.status);

@@ -16,6 +16,7 @@
 #include "runner/display/display_info.h"
 #include "runner/display/openxr_clock.h"
 #include "runner/session/condition_depth_of_field.h"
+#include "runner/session/headset_views.h"
 #include "runner/session/condition_refraction.h"
 #include "runner/session/scene_fingerprints.h"
 #include "runner/session/scene_places.h"
@@ -232,20 +233,7 @@ PreparedSession prepare_session(Experiment experiment, const RunOptions& options
   if (device && prepared.observer)
     throw ConfigError({"--response-device", 0, 0}, "response-device",
                       "a response device is answered by a person: use it with --observer keyboard, not " + options.observer);
-  // A headset shows each eye its half of a side-by-side frame (runner/display/openxr_display.h);
-  // refused at [display] output where the file chose the headset, else at --display.
-  const bool file_chose = !options.display_chosen && !prepared.experiment.display_output.empty();
-  const SourceLocation display_where = file_chose ? prepared.experiment.display_output_where : SourceLocation{"--display", 0, 0};
-  const std::string display_key = file_chose ? "display.output" : "display";
-  if (options.display == "openxr" && prepared.experiment.display.stereo != StereoMode::side_by_side)
-    throw ConfigError(display_where, display_key,
-                      "openxr shows each eye its half of a side-by-side frame: the experiment needs [display] stereo = "
-                      "\"side_by_side\" (docs/STEREO.md)");
-  // Its mirror window is the keyboard's, not the participant's screen: a full screen is for a window.
-  if (options.display == "openxr" && prepared.experiment.display.fullscreen)
-    throw ConfigError(display_where, display_key,
-                      "openxr shows the frames in the headset, with a mirror window for the keyboard: [display] "
-                      "fullscreen = true is for --display window (docs/STEREO.md)");
+  check_headset_experiment(prepared.experiment, options.display, options.display_chosen);
   // A window and a headset (its mirror window) have a keyboard at them; offscreen has none.
   const bool person_display = options.display == "window" || options.display == "openxr";
   if (device && !person_display && options.response_device.optional)

@@ -1,4 +1,4 @@
-// Collecting a trial's answer: keys and response-device presses while answers count (the first
+// Collecting a trial's answer: keys, response-device and controller presses while answers count (the first
 // allowed one answers, the rest are logged), keys outside that period, Escape, Ctrl-C and a closed
 // window.
 #include <optional>
@@ -59,6 +59,11 @@ std::optional<Response> SessionLoop::poll_keyboard(const TrialPlan& plan, double
     answer = device_->answer(plan, onset_s, answers_from_s, &unplugged);
     if (unplugged) pause_for_response_device(plan.trial_index);
     if (aborted_) return std::nullopt;
+  }
+  // A headset's controllers next: stamped by the runtime when it saw them, before this poll.
+  if (controllers_ != nullptr) {
+    const std::optional<Response> pressed = controllers_->answer(plan, onset_s, answers_from_s, answer.has_value());
+    if (!answer) answer = pressed;
   }
   for (const std::string& key : display_.poll_keys()) {
     const double key_time_s = clock_.now_s();

@@ -237,6 +237,9 @@ bool SessionLoop::show_screen(const TrialPlan& plan, const ScreenText& screen, T
         proceed = device_->continues_screen(plan, screen.kind, long_enough, &unplugged) || proceed;
         if (unplugged) pause_for_response_device(plan.trial_index);
       }
+      if (!aborted_ && controllers_ != nullptr) {
+        proceed = controllers_->continues_screen(plan, screen.kind, first_flip_s, long_enough) || proceed;
+      }
     }
     if (aborted_) return false;
   }

@@ -1,0 +1,241 @@
+// Answers from a headset's controllers (docs/STEREO.md, "Controllers") against a real runtime:
+// Monado's remote driver (tests/openxr_runtime.h), whose two Valve Index controllers this test
+// presses over its TCP hub while a keyboard-observer session runs in the headset under Xvfb with the
+// core validation layer. A press continues the instructions; each trial's answer is the hand the test pressed (left hand: the first
+// response, right hand: the second), its response time counts to the press the runtime saw, and
+// every press is logged with its button; the menu button (B) gives the third response, which a
+// two-alternative choice does not have.
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <arpa/inet.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli_process.h"
+#include "openxr_runtime.h"
+#include "raw_db.h"
+
+namespace glarelab {
+namespace {
+
+// Monado's struct r_remote_data ("mndrmt3"; src/xrt/drivers/remote/r_interface.h), field for field:
+// what the remote hub reads from its client, one whole struct at a time.
+struct RemotePose {
+  float orientation_xyzw[4];
+  float position_m[3];
+};
+struct RemoteView {
+  float fov_rad[4];  // left, right, up, down
+  RemotePose pose;
+  std::uint32_t pad;
+};
+struct RemoteHead {
+  RemoteView views[2];
+  RemotePose center;
+  bool per_view_data_valid, pad0, pad1, pad2;
+};
+struct RemoteController {
+  RemotePose pose;
+  float linear_velocity[3], angular_velocity[3], hand_curl[5];
+  float trigger_value, squeeze_value, squeeze_force, thumbstick[2], trackpad_force, trackpad[2];
+  bool hand_tracking_active, active, system_click, system_touch, a_click, a_touch, b_click, b_touch, trigger_click,
+      trigger_touch, thumbstick_click, thumbstick_touch, trackpad_touch, pad0, pad1, pad2;
+};
+struct RemoteData {
+  std::uint64_t header;
+  RemoteHead head;
+  RemoteController left, right;
+};
+static_assert(sizeof(RemotePose) == 28 && sizeof(RemoteHead) == 128 && sizeof(RemoteController) == 120);
+static_assert(sizeof(RemoteData) == 376, "r_remote_data is 376 bytes");
+
+// The hub's start state (r_hub.c, r_create_devices): the head 1.6 m up, both controllers active.
+RemoteData resting_state() {
+  RemoteData data{};
+  std::memcpy(&data.header, "mndrmt3\0", 8);
+  data.head.center.orientation_xyzw[3] = 1.0f;
+  data.head.center.position_m[1] = 1.6f;
+  for (RemoteController* hand : {&data.left, &data.right}) {
+    hand->active = true;
+    hand->pose.orientation_xyzw[3] = 1.0f;
+    hand->pose.position_m[0] = hand == &data.left ? -0.2f : 0.2f;
+    hand->pose.position_m[1] = 1.3f;
+    hand->pose.position_m[2] = -0.5f;
+  }
+  return data;
+}
+
+// A TCP port nobody listens on now (the kernel's choice for port 0), for this test's hub.
+int free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  int port = 0;
+  if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0)
+    port = ntohs(address.sin_port);
+  ::close(fd);
+  return port;
+}
+
+// The connection to the hub, once the runtime in the session's process listens.
+int connect_to_hub(int port, const std::atomic<bool>& session_done) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(90);
+  while (!session_done && std::chrono::steady_clock::now() < deadline) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) return fd;
+    ::close(fd);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return -1;
+}
+
+bool send_state(int fd, const RemoteData& data) {
+  const char* bytes = reinterpret_cast<const char*>(&data);
+  for (std::size_t sent = 0; sent < sizeof data;) {
+    const ssize_t n = ::send(fd, bytes + sent, sizeof data - sent, MSG_NOSIGNAL);
+    if (n <= 0) return false;
+    sent += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+struct ShellRun {
+  int exit_code = -1;
+  std::string output;
+};
+
+TEST(OpenXrControllers, PressesAnswerTrialsLikeKeysAndAreLoggedWithTheirButton) {
+  if (const auto missing = test::monado_remote_missing()) GTEST_SKIP() << *missing;
+  const test::ScratchDir scratch;
+  std::filesystem::create_directories(scratch.path());
+  test::write_demo_conditions_without_glare(scratch.path() / "conditions.csv");
+  // The demo's lamps in the headset: halves of 512 x 551 px at the pitch that spans the remote
+  // headset's views (85 deg across, as the simulated one's: docs/STEREO.md).
+  const std::filesystem::path experiment =
+      test::demo_variant(scratch.path(), {{"file", "file = \"" + (scratch.path() / "conditions.csv").string() +
+                                                       "\"\n\n[presentation]\ninstructions = \"Press a trigger to "
+                                                       "begin.\"\nscreen_min_frames = 4\ntext_height_deg = 2.0"},
+                                          {"width_px", "width_px = 1024"},
+                                          {"height_px", "height_px = 551"},
+                                          {"pixel_pitch_mm", "pixel_pitch_mm = 2.1477"},
+                                          {"encoding", "encoding = \"srgb\"\nstereo = \"side_by_side\""},
+                                          {"stimulus_frames", "stimulus_frames = 2"},
+                                          {"question", "question = \"\""}});
+  const std::filesystem::path db = scratch.path() / "session.db";
+  const std::filesystem::path validation = scratch.path() / "validation.txt";
+  const int port = free_port();
+  ASSERT_GT(port, 0);
+  const std::string command =
+      "timeout 180 xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " +
+      test::monado_remote_environment(scratch.path() / "config", port) +
+      " XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME='" + validation.string() + "' '" +
+      std::string(GLARELAB_BINARY) + "' run '" + experiment.string() + "' --display openxr --stop-after 4 --db '" +
+      db.string() + "' > '" + (scratch.path() / "output.txt").string() + "' 2>&1";
+  std::atomic<bool> done{false};
+  int status = -1;
+  std::thread session([&] {
+    status = std::system(command.c_str());
+    done = true;
+  });
+
+  // Presses in turn: the right hand's trigger, the left's, the right's B (menu); each held 0.2 s
+  // (4 of the null compositor's 50 ms frames), 0.3 s apart, until the session has ended.
+  const int fd = connect_to_hub(port, done);
+  std::map<std::string, int> pressed;  // button as the session logs it -> presses sent
+  if (fd >= 0) {
+    RemoteData state = resting_state();
+    send_state(fd, state);
+    for (int k = 0; !done; ++k) {
+      const char* button = k % 3 == 0 ? "right hand select" : k % 3 == 1 ? "left hand select" : "menu";
+      RemoteController& hand = k % 3 == 1 ? state.left : state.right;
+      if (k % 3 == 2) {
+        hand.b_click = true;
+      } else {
+        hand.trigger_click = true;
+        hand.trigger_value = 1.0f;
+      }
+      if (!send_state(fd, state)) break;
+      ++pressed[button];
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      hand.b_click = hand.trigger_click = false;
+      hand.trigger_value = 0.0f;
+      if (!send_state(fd, state)) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    }
+    ::close(fd);
+  }
+  session.join();
+  const std::string output = test::read_bytes((scratch.path() / "output.txt").string());
+  ASSERT_GE(fd, 0) << "the remote hub never listened on port " << port << ": " << output;
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  EXPECT_EQ(std::filesystem::exists(validation) ? test::read_bytes(validation.string()) : std::string(), "");
+  EXPECT_EQ(output.find("VUID"), std::string::npos) << output;
+
+  const test::RawDb raw(db.string());
+  const std::string display = raw.value("SELECT message FROM session_events WHERE kind = 'display'");
+  EXPECT_NE(display.find("answers from the controllers (left hand select 1, right hand select 2, menu 3) bound for "
+                         "khr/simple_controller, valve/index_controller, htc/vive_controller, oculus/touch_controller;"),
+            std::string::npos)
+      << display;
+  EXPECT_NE(display.find("eye gaze: none (XR_EXT_eye_gaze_interaction offered, the system has no eye tracker)"),
+            std::string::npos)
+      << display;
+
+  // The instructions before trial 0 continued by a press once shown for their 4 frames.
+  EXPECT_EQ(raw.value("SELECT count(*) FROM session_events WHERE kind = 'controller' AND message LIKE "
+                      "'trial 0: instructions screen: controller ''%'' continued'"),
+            "1");
+  // Each trial answered by one press, the hand's response ("left" for the left hand, the first of
+  // the demo's responses), its time from the onset to the press's stamp.
+  const auto trials = raw.rows("SELECT trial_index, response, response_time_s, onset_s FROM trials ORDER BY trial_index");
+  ASSERT_EQ(trials.size(), 4u);
+  for (const auto& trial : trials) {
+    const auto answered = raw.rows("SELECT session_time_s, message FROM session_events WHERE kind = 'controller' AND "
+                                   "message LIKE 'trial " + trial[0] + ": controller %'");
+    ASSERT_EQ(answered.size(), 1u) << "trial " << trial[0];
+    const std::string& message = answered[0][1];
+    const std::string expected_button = trial[1] == "left" ? "left hand select" : "right hand select";
+    EXPECT_EQ(message, "trial " + trial[0] + ": controller '" + expected_button + "' answered '" + trial[1] + "'");
+    EXPECT_NEAR(std::stod(trial[2]), std::stod(answered[0][0]) - std::stod(trial[3]), 1e-6) << message;
+    EXPECT_GT(std::stod(trial[2]), 0.0) << message;
+  }
+  // Every logged press is one the test made, with its button; the menu never answers (two
+  // alternatives: "3" is no response), though like any button it continues a screen.
+  std::map<std::string, int> logged;
+  for (const auto& event : raw.rows("SELECT kind, message FROM session_events WHERE kind IN ('controller', "
+                                    "'ignored_controller') ORDER BY id")) {
+    const std::size_t open = event[1].find("controller '");
+    ASSERT_NE(open, std::string::npos) << event[1];
+    const std::size_t start = open + std::strlen("controller '");
+    const std::string button = event[1].substr(start, event[1].find('\'', start) - start);
+    ++logged[button];
+    if (button == "menu" && event[1].find(" screen: ") == std::string::npos) {
+      EXPECT_EQ(event[0], "ignored_controller") << event[1];
+    }
+  }
+  for (const auto& [button, count] : logged) EXPECT_LE(count, pressed[button]) << button;
+  EXPECT_GE(logged["left hand select"] + logged["right hand select"], 4);
+}
+
+}  // namespace
+}  // namespace glarelab
