@@ -154,14 +154,16 @@ TEST(FrameTiming, InjectedSlowFlipsAreCountedWithTheirTrial) {
 // a live trial then drops glare frames (here every 7th flip comes a period late), the layout goes
 // back to prepared frames from the next trial on, once, and the log says why with the counts.
 TEST(FrameTiming, AutoTakesALayoutBackToPreparedFramesWhenLiveFramesDrop) {
-  // A small glare grid on a 10 Hz display: a glare frame costs a few ms against a 75 ms budget, so
-  // "auto" settles the layout live however loaded the machine is (at 60 Hz with the demo's grid a
-  // loaded 2-core machine measured 14 ms, past the 12.5 ms budget; at 30 Hz, with four builds on
-  // the two cores, 24 ms for the frame and 18 ms to draw it, past 25 ms, and prepared it). The
-  // session runs on the virtual clock, so the slower refresh costs no wall time.
+  // A small glare grid on a 2 Hz display: a glare frame and its drawing cost a few ms of the
+  // program's own work against a 375 ms budget, so "auto" settles the layout live however loaded
+  // the machine is. The cost is measured on the wall clock, which a loaded host stretches: at 60 Hz
+  // with the demo's grid a loaded 2-core machine measured 14 ms, past the 12.5 ms budget; at 30 Hz,
+  // with four builds on the two cores, 24 ms for the frame and 18 ms to draw it, past 25 ms; at
+  // 10 Hz (75 ms) the test still failed one run in twelve under load 8 to 20. The session runs on the
+  // virtual clock, so the slower refresh costs no wall time.
   // The wave-optics eye alone, the frame whose cost this budget was measured on.
   const std::vector<std::pair<std::string, std::string>> keys = {{"grid_px", "grid_px = 128\nmodel = \"ritschel\""},
-                                                                 {"refresh_hz", "refresh_hz = 10.0"}};
+                                                                 {"refresh_hz", "refresh_hz = 2.0"}};
   const test::ScratchDir calm_scratch;
   const SessionCounts calm = run_demo(calm_scratch, std::nullopt, keys);
   ASSERT_EQ(calm.presentation_events.size(), 1u);
