@@ -11,6 +11,10 @@ double MonotonicClock::now_s() const {
   return start_offset_s_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
+double MonotonicClock::on_flip_at(std::chrono::steady_clock::time_point presented) {
+  return start_offset_s_ + std::chrono::duration<double>(presented - start_).count();
+}
+
 VirtualClock::VirtualClock(double refresh_hz, double start_s, std::int64_t start_frame)
     : period_s_(0.0), start_s_(start_s), frames_(start_frame) {
   if (!(refresh_hz > 0.0)) throw std::invalid_argument("VirtualClock: refresh_hz must be positive");

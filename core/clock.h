@@ -16,6 +16,14 @@ class SessionClock {
   virtual double now_s() const = 0;
   // Called by the presenter right after a frame was presented; returns that flip's time (s).
   virtual double on_flip() = 0;
+  // Called instead of on_flip() by a presenter that knows when, on steady_clock, its frame went
+  // out: an offscreen display paced to a refresh grid flips at the boundary it waited for, however
+  // late the host woke the process after it (runner/tracker/real_time_pacer.h). Returns that
+  // flip's time (s). A clock whose flips are not steady_clock times takes its own flip time.
+  virtual double on_flip_at(std::chrono::steady_clock::time_point presented) {
+    static_cast<void>(presented);
+    return on_flip();
+  }
   // "monotonic" or "virtual": written to the log so every time can be traced to its clock.
   virtual std::string name() const = 0;
 };
@@ -26,6 +34,7 @@ class MonotonicClock final : public SessionClock {
   explicit MonotonicClock(double start_offset_s = 0.0);
   double now_s() const override;
   double on_flip() override { return now_s(); }
+  double on_flip_at(std::chrono::steady_clock::time_point presented) override;
   std::string name() const override { return "monotonic"; }
 
  private:

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "core/clock.h"
+#include "runner/session/slow_flip_clock.h"
 #include "runner/tracker/real_time_pacer.h"
 
 namespace glarelab {
@@ -74,6 +75,44 @@ TEST(Clock, RealTimePacerWaitsForTheNextBoundaryAfterALateFrame) {
   pacer.wait_for_next_frame();
   EXPECT_GE(pacer.boundary(), after_late + 1);
   EXPECT_GE(elapsed_s(), static_cast<double>(pacer.boundary()) * period_s);
+}
+
+// The flip is the boundary waited for, not the moment the process woke: each wait returns its
+// boundary, one period after the last when the frames keep up (whatever the host did meanwhile),
+// and never a time still to come.
+TEST(Clock, RealTimePacerReturnsTheBoundaryItWaitedFor) {
+  const double period_s = 0.01;
+  RealTimePacer pacer(1.0 / period_s);
+  const auto first = pacer.wait_for_next_frame();
+  EXPECT_LE(first, std::chrono::steady_clock::now());
+  const std::int64_t first_boundary = pacer.boundary();
+  const auto second = pacer.wait_for_next_frame();
+  EXPECT_LE(second, std::chrono::steady_clock::now());
+  const double apart_s = std::chrono::duration<double>(second - first).count();
+  EXPECT_NEAR(apart_s, static_cast<double>(pacer.boundary() - first_boundary) * period_s, 1e-8);
+  EXPECT_GE(pacer.boundary(), first_boundary + 1);
+}
+
+// A flip known to have happened at a steady_clock time is that time on the monotonic session
+// clock (with a resumed session's offset), and a slow-flip self-test delays it as it delays
+// on_flip(); the virtual clock keeps its own grid.
+TEST(Clock, AFlipAtAKnownSteadyTimeIsStampedAtThatTime) {
+  const auto before = std::chrono::steady_clock::now();
+  MonotonicClock clock(100.0);
+  const auto after = std::chrono::steady_clock::now();
+  const auto presented = after + std::chrono::milliseconds(250);
+  const double flip_s = clock.on_flip_at(presented);
+  EXPECT_GE(flip_s, 100.25);
+  EXPECT_LE(flip_s, 100.25 + std::chrono::duration<double>(after - before).count() + 1e-9);
+  EXPECT_NEAR(clock.on_flip_at(presented + std::chrono::microseconds(16667)) - flip_s, 0.016667, 1e-9);
+
+  SlowFlipClock slowed(std::make_unique<MonotonicClock>(0.0), 60.0, 2);
+  const double unslowed_s = slowed.on_flip_at(presented);
+  EXPECT_NEAR(slowed.on_flip_at(presented) - unslowed_s, 1.0 / 60.0, 1e-9) << "every 2nd flip a period late";
+
+  VirtualClock virtual_clock(60.0);
+  EXPECT_EQ(virtual_clock.on_flip_at(presented), 0.0);
+  EXPECT_EQ(virtual_clock.on_flip_at(presented), 1.0 / 60.0);
 }
 
 }  // namespace

@@ -41,6 +41,40 @@ TEST(FrameTimingMonitor, CountsFlipsLaterThanOneAndAHalfPeriods) {
   EXPECT_NEAR(monitor.dropped()[1].interval_s, 0.030, 1e-12);
 }
 
+// A late onset is no dropped frame, but it is reported with its interval, its likely cause (the
+// session's work that covers half the lateness, else a host stall) and that work by kind.
+TEST(FrameTimingMonitor, ALateOnsetIsReportedWithItsCauseAndTheSessionsWorkMeanwhile) {
+  FrameTimingMonitor monitor(100.0);  // 10 ms period
+  monitor.on_flip(0.000, 0, 0);
+  monitor.on_flip(0.010, 0, -1);
+  EXPECT_FALSE(monitor.on_flip(0.020, 1, 0));  // on time
+  EXPECT_FALSE(monitor.late_onset().has_value());
+  monitor.on_flip(0.030, 1, -1);
+  // 40 ms late; 4 ms of drawing is not half of it: the host held the process.
+  monitor.add_work(FlipWork::drawing, 0.004);
+  EXPECT_FALSE(monitor.on_flip(0.080, 2, 0)) << "an onset is not a dropped frame";
+  ASSERT_TRUE(monitor.late_onset().has_value());
+  EXPECT_NEAR(monitor.late_onset()->interval_s, 0.050, 1e-12);
+  EXPECT_EQ(monitor.late_onset()->cause, kHostStallCause);
+  EXPECT_EQ(monitor.late_onset()->describe(2),
+            "trial 2 onset: 50.000 ms since the previous flip (host stall); the session's work since that flip: "
+            "glare preparation 0.000 ms, perception stages 0.000 ms, drawing 4.000 ms, recording the trial 0.000 ms");
+  monitor.on_flip(0.090, 2, 1);
+  EXPECT_FALSE(monitor.late_onset().has_value()) << "only the onset's own flip reports it";
+  // 30 ms late; 25 ms of waiting for glare frames covers half of it.
+  monitor.add_work(FlipWork::glare_preparation, 0.025);
+  monitor.add_work(FlipWork::recording, 0.002);
+  monitor.on_flip(0.130, 3, 0);
+  ASSERT_TRUE(monitor.late_onset().has_value());
+  EXPECT_EQ(monitor.late_onset()->cause, static_cast<int>(FlipWork::glare_preparation));
+  EXPECT_NEAR(monitor.late_onset()->work_s[static_cast<int>(FlipWork::glare_preparation)], 0.025, 1e-15);
+  EXPECT_NEAR(monitor.late_onset()->work_s[static_cast<int>(FlipWork::recording)], 0.002, 1e-15);
+  monitor.on_timed_flip(0.140);
+  EXPECT_FALSE(monitor.late_onset().has_value());
+  EXPECT_EQ(monitor.summary().late_onsets, 2);
+  EXPECT_EQ(monitor.summary().late_onsets_by_cause[kHostStallCause], 1);
+}
+
 struct SessionCounts {
   RunResult result;
   std::int64_t dropped_in_frames_table = 0;
@@ -120,14 +154,16 @@ TEST(FrameTiming, InjectedSlowFlipsAreCountedWithTheirTrial) {
 // a live trial then drops glare frames (here every 7th flip comes a period late), the layout goes
 // back to prepared frames from the next trial on, once, and the log says why with the counts.
 TEST(FrameTiming, AutoTakesALayoutBackToPreparedFramesWhenLiveFramesDrop) {
-  // A small glare grid on a 10 Hz display: a glare frame costs a few ms against a 75 ms budget, so
-  // "auto" settles the layout live however loaded the machine is (at 60 Hz with the demo's grid a
-  // loaded 2-core machine measured 14 ms, past the 12.5 ms budget; at 30 Hz, with four builds on
-  // the two cores, 24 ms for the frame and 18 ms to draw it, past 25 ms, and prepared it). The
-  // session runs on the virtual clock, so the slower refresh costs no wall time.
+  // A small glare grid on a 2 Hz display: a glare frame and its drawing cost a few ms of the
+  // program's own work against a 375 ms budget, so "auto" settles the layout live however loaded
+  // the machine is. The cost is measured on the wall clock, which a loaded host stretches: at 60 Hz
+  // with the demo's grid a loaded 2-core machine measured 14 ms, past the 12.5 ms budget; at 30 Hz,
+  // with four builds on the two cores, 24 ms for the frame and 18 ms to draw it, past 25 ms; at
+  // 10 Hz (75 ms) the test still failed one run in twelve under load 8 to 20. The session runs on the
+  // virtual clock, so the slower refresh costs no wall time.
   // The wave-optics eye alone, the frame whose cost this budget was measured on.
   const std::vector<std::pair<std::string, std::string>> keys = {{"grid_px", "grid_px = 128\nmodel = \"ritschel\""},
-                                                                 {"refresh_hz", "refresh_hz = 10.0"}};
+                                                                 {"refresh_hz", "refresh_hz = 2.0"}};
   const test::ScratchDir calm_scratch;
   const SessionCounts calm = run_demo(calm_scratch, std::nullopt, keys);
   ASSERT_EQ(calm.presentation_events.size(), 1u);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -123,9 +124,16 @@ TEST(LiveGlare, WithATrackerEachLiveFramesGazeAgeIsLogged) {
 }
 
 // --clock real: an offscreen run paced by the wall clock. Each present waits for a refresh boundary,
-// as a window's swap waits for the vertical blank: no two flips fall in one period, the run takes
-// at least its flips' periods of wall time, the session says it ran on the monotonic clock, and the
-// presentation_mode event gives the glare cost per frame against the period.
+// as a window's swap waits for the vertical blank, and the flip is stamped at that boundary: every
+// flip lies on the run's refresh grid, a whole number of periods after the one before and never
+// in the same period, however late a loaded host woke the process after a boundary. A flip more
+// than one period after the one before is a late flip and is logged as one (a stimulus frame's
+// row says dropped; a trial's onset has its late_onset event). The run takes at least its flips'
+// periods of wall time, the session says it ran on the monotonic clock, and the presentation_mode
+// event gives the glare cost per frame against the period. Caught: a run that does not wait for
+// the boundaries (flips off the grid), flips stamped when the process woke rather than at their
+// boundary (off the grid after a stall), two flips in one period, and a late flip the log does
+// not call late.
 TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost) {
   const test::ScratchDir scratch;
   const auto started = std::chrono::steady_clock::now();
@@ -136,18 +144,40 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
   const ResultStore store(run.db.string());
   const SessionRecord session = store.load_sessions().at(0);
   EXPECT_EQ(session.clock, "monotonic");
-  std::vector<double> flips_s;
+  struct Flip {
+    double flip_s;
+    int trial_index, frame_index;
+    bool dropped;
+  };
+  std::vector<Flip> flips;
   for (const TrialRecord& trial : store.load_trials(session.id))
-    for (const FrameRecord& frame : store.load_frames(trial.id)) flips_s.push_back(frame.flip_s);
-  // The stimulus flips (3 a trial), in time order: each on a later refresh boundary than the one
-  // before, so never two in one period. A stamp is taken when the wait returns, a little after
-  // its boundary on a busy machine, so the margin is half a period (a run that did not wait, or
-  // caught up on late frames by flipping at once, stamps flips a fraction of a millisecond apart).
-  std::sort(flips_s.begin(), flips_s.end());
-  ASSERT_EQ(flips_s.size(), 18u);
-  for (std::size_t k = 1; k < flips_s.size(); ++k)
-    ASSERT_GE(flips_s[k] - flips_s[k - 1], 0.5 * period_s) << "flips " << k - 1 << " and " << k << " in one period";
-  EXPECT_LE(flips_s.back() - flips_s.front(), wall_s);
+    for (const FrameRecord& frame : store.load_frames(trial.id))
+      flips.push_back({frame.flip_s, trial.trial_index, frame.frame_index, frame.dropped});
+  std::sort(flips.begin(), flips.end(), [](const Flip& a, const Flip& b) { return a.flip_s < b.flip_s; });
+  ASSERT_EQ(flips.size(), 18u);  // the stimulus flips, 3 a trial
+  std::vector<std::string> late_onsets = test::session_event_messages(run.db.string(), "late_onset");
+  std::size_t late_onsets_seen = 0;
+  for (std::size_t k = 1; k < flips.size(); ++k) {
+    const double periods = (flips[k].flip_s - flips[k - 1].flip_s) / period_s;
+    const double whole = std::round(periods);
+    ASSERT_GE(whole, 1.0) << "flips " << k - 1 << " and " << k << " in one period";
+    ASSERT_NEAR(periods, whole, 1e-6) << "flip " << k << " is off the refresh grid";
+    const bool late = whole >= 2.0;
+    if (flips[k].frame_index > 0) {
+      EXPECT_EQ(flips[k].dropped, late) << "trial " << flips[k].trial_index << " frame " << flips[k].frame_index
+                                        << ": " << periods << " periods after the flip before";
+    } else if (late) {
+      // "trial N onset: X ms since the previous flip (cause)".
+      const std::string prefix = "trial " + std::to_string(flips[k].trial_index) + " onset: ";
+      const auto logged = std::find_if(late_onsets.begin(), late_onsets.end(),
+                                       [&](const std::string& message) { return message.rfind(prefix, 0) == 0; });
+      ASSERT_NE(logged, late_onsets.end()) << prefix << periods << " periods after the flip before, not logged";
+      EXPECT_NEAR(1e-3 * std::stod(logged->substr(prefix.size())), flips[k].flip_s - flips[k - 1].flip_s, 2e-6) << *logged;
+      ++late_onsets_seen;
+    }
+  }
+  EXPECT_EQ(late_onsets_seen, late_onsets.size()) << "a late_onset event for an onset that was not late";
+  EXPECT_LE(flips.back().flip_s - flips.front().flip_s, wall_s);
   const auto mode = test::session_event_messages(run.db.string(), "presentation_mode");
   // One event settling the layout; on a loaded machine a live trial may drop a frame on this real
   // clock, and then exactly one more takes the layout back to prepared frames (and only then).
@@ -177,14 +207,17 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
 // absent (within the pacing's few periods), not longer by the preparation (20 frames of dynamic
 // glare: about a dozen periods here). The host may stall (a loaded machine stops the process for
 // 100 ms and more now and then); every flip that came late is logged as late (frames.dropped, more
-// than 1.5 periods after the flip before it), so what a stall adds is read from the log: each
-// gap less the lateness of the late flips within it must stay within the pacing's few periods of
-// the others. Preparation the interval did not absorb would stay in the gap unexplained, since the
-// flip that follows the preparation is not a late flip. The interval is 1.5 s, several times what
-// the preparation takes here on an idle machine. A trial prepared ahead on a worker beside the one
-// before logs how long its onset waited for that worker (trial_preparation): on a loaded machine
-// (load 15 on two cores) 20 dynamic frames took the worker 2 s and more, and the onset waited for
-// them; that wait is the log's too, so it is taken out of the gap as the late flips' lateness is.
+// than 1.5 periods after the flip before it; a trial's onset, a late_onset event with the likely
+// cause), so what a stall adds is read from the log: each gap less the lateness of the late flips
+// within it must stay within the pacing's few periods of the others. Preparation the interval did
+// not absorb would stay in the gap unexplained: the flip that follows the preparation is not a late
+// flip, or the onset it delays is logged late with glare preparation as the session's work since
+// the flip before, which is not taken out unless it was the logged wait for the worker. The
+// interval is 1.5 s, several times what the preparation takes here on an idle machine. A trial
+// prepared ahead on a worker beside the one before logs how long its onset waited for that worker
+// (trial_preparation): on a loaded machine (load 15 on two cores) 20 dynamic frames took the worker
+// 2 s and more, and the onset waited for them; that wait is the log's too, so it is taken out of
+// the gap as the late flips' lateness is.
 TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) {
   const test::ScratchDir scratch;
   const auto dir = scratch.path();
@@ -211,6 +244,21 @@ TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) 
     const auto trial = static_cast<std::size_t>(std::stoi(message.substr(std::string("trial ").size())));
     ASSERT_LT(trial, trials.size()) << message;
     onset_wait_s[trial] = 1e-3 * std::stod(message.substr(at + waited.size()));
+  }
+  // "trial N onset: X ms since the previous flip (cause); the session's work since that flip: glare
+  // preparation G ms, ...": a late onset's lateness is explained by the log but for the glare
+  // preparation in it that was not the logged wait for the worker (preparation the interval did
+  // not absorb).
+  std::vector<double> onset_explained_s(trials.size(), 0.0);
+  for (const std::string& message : test::session_event_messages(db.string(), "late_onset")) {
+    const auto trial = static_cast<std::size_t>(std::stoi(message.substr(std::string("trial ").size())));
+    ASSERT_LT(trial, trials.size()) << message;
+    const double lateness_s = 1e-3 * std::stod(message.substr(message.find(" onset: ") + 8)) - period_s;
+    const std::string glare = "glare preparation ";
+    const auto at = message.find(glare, message.find("work since that flip"));
+    ASSERT_NE(at, std::string::npos) << message;
+    const double glare_s = 1e-3 * std::stod(message.substr(at + glare.size()));
+    onset_explained_s[trial] = lateness_s - std::max(0.0, glare_s - onset_wait_s[trial]);
   }
   std::vector<double> gaps_s, unexplained_s;
   std::string described;
@@ -242,11 +290,12 @@ TEST(LiveGlare, OnARealClockPreparedGlareTakesItsTimeFromTheInterTrialInterval) 
       previous_s = frame.flip_s;
     }
     gaps_s.push_back(first_s - last_s);
-    unexplained_s.push_back(gaps_s.back() - late_excess_s - onset_wait_s[t]);
+    unexplained_s.push_back(gaps_s.back() - late_excess_s - onset_explained_s[t]);
     dynamic_seen = dynamic_seen || trials[t].condition.find("\"glare_a\":\"dynamic\"") != std::string::npos;
     described += " " + std::to_string(1000.0 * gaps_s.back()) + " ms, " + std::to_string(late_flips) +
                  " late flip(s) adding " + std::to_string(1000.0 * late_excess_s) + " ms, onset waited " +
-                 std::to_string(1000.0 * onset_wait_s[t]) + " ms (" +
+                 std::to_string(1000.0 * onset_wait_s[t]) + " ms, onset lateness the log explains " +
+                 std::to_string(1000.0 * onset_explained_s[t]) + " ms (" +
                  trials[t].condition.substr(0, 24) + ");";
   }
   ASSERT_TRUE(dynamic_seen) << described;

@@ -4,6 +4,8 @@
 // every sample on the session's time line and the fault in the log.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -205,7 +207,15 @@ TEST(TrackerFaults, ALostBlinkOffsetIsEndedAndLoggedInTheSession) {
   ASSERT_FALSE(tracker.detected_blinks().empty());
   const TrackerBlinkInterval blink = tracker.detected_blinks().back();
   ASSERT_TRUE(std::isfinite(blink.offset_s)) << "the blink must end";
-  EXPECT_NEAR(blink.offset_s - blink.onset_s, 1.0, 0.05);
+  // It ends at the first sample after max_blink_s (1 s). The emulator publishes from a thread of
+  // this process, which a loaded host holds up now and then (64 ms at load 18): the first sample
+  // after the timeout then comes that much later, as the stream's longest gap says.
+  const auto published = emulator.published();
+  double longest_gap_s = 0.0;
+  for (std::size_t k = 1; k < published.size(); ++k)
+    longest_gap_s = std::max(longest_gap_s, published[k].pupil_time_s - published[k - 1].pupil_time_s);
+  EXPECT_GE(blink.offset_s - blink.onset_s, 1.0 - 0.05);
+  EXPECT_LE(blink.offset_s - blink.onset_s, 1.0 + 0.05 + longest_gap_s) << "longest gap " << longest_gap_s << " s";
 }
 
 std::int64_t count_rows(const std::string& db, const std::string& sql) { return std::stoll(test::RawDb(db).value(sql)); }
@@ -230,9 +240,16 @@ TEST(TrackerFaults, ARunWithATrackerAnsweringNanKeepsEverySample) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_EQ(count_rows(db, "SELECT count(*) FROM session_events WHERE kind = 'tracker_clock_fault'"), 1);
   EXPECT_GE(count_rows(db, "SELECT count(*) FROM tracker_samples"), 200);
+  // Up to the tracker's stop, logged as its summary's time: a loaded host can hold the session's
+  // end (the last commit, the summary) more than a few tenths of a second after the last flip,
+  // and samples arrive until the stop.
   EXPECT_EQ(count_rows(db, "SELECT count(*) FROM tracker_samples WHERE session_time_s IS NULL OR session_time_s < -0.5 "
-                           "OR session_time_s > (SELECT max(flip_s) + 0.5 FROM frames)"),
+                           "OR session_time_s > (SELECT session_time_s + 0.5 FROM session_events WHERE kind = "
+                           "'tracker_summary')"),
             0);
+  EXPECT_EQ(count_rows(db, "SELECT count(*) FROM session_events WHERE kind = 'tracker_summary' AND session_time_s >= "
+                           "(SELECT max(flip_s) FROM frames)"),
+            1);
   EXPECT_NE(run.output.find("2 clock replies that were not a time"), std::string::npos) << run.output;
 }
 

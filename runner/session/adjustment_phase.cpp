@@ -22,8 +22,7 @@ std::optional<Response> SessionLoop::adjust_interactively(const TrialPlan& plan,
   while (true) {
     shown.scene_scale = {setting(0) / comparison_peak_cd_m2, 1.0, setting(1) / comparison_peak_cd_m2};
     draw(layout(shown));
-    present();
-    const double flip_s = clock_.on_flip();
+    const double flip_s = present();
     timing_.on_flip(flip_s, plan.trial_index, -1);
     after_flip(flip_s);
     record_flip(run, {FlipPhase::response, -1, -1}, flip_s, flip_s, false);

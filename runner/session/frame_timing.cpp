@@ -29,6 +29,7 @@ void FrameTimingMonitor::flipped(double flip_s) {
 
 bool FrameTimingMonitor::on_flip(double flip_s, int trial_index, int frame_index) {
   bool late = false;
+  late_onset_.reset();
   if (frame_index >= 0) {
     ++frames_shown_;
     if (has_previous_) {
@@ -46,6 +47,8 @@ bool FrameTimingMonitor::on_flip(double flip_s, int trial_index, int frame_index
             if (kind != kHostStallCause && work_s_[kind] > work_s_[cause]) cause = kind;
           if (!(work_s_[cause] >= 0.5 * (interval_s - period_s_))) cause = kHostStallCause;
           ++late_onsets_by_cause_[cause];
+          late_onset_ = LateOnset{interval_s, cause, {}};
+          for (int kind = 0; kind < kLateOnsetCauses; ++kind) late_onset_->work_s[kind] = work_s_[kind];
         }
       } else if (interval_s > 1.5 * period_s_) {
         late = true;
@@ -59,6 +62,7 @@ bool FrameTimingMonitor::on_flip(double flip_s, int trial_index, int frame_index
 
 std::optional<double> FrameTimingMonitor::on_timed_flip(double flip_s) {
   std::optional<double> late;
+  late_onset_.reset();
   if (has_previous_ && flip_s - previous_flip_s_ > 1.5 * period_s_) {
     late = flip_s - previous_flip_s_;
     ++timed_flips_late_;
@@ -86,6 +90,20 @@ FrameTimingSummary FrameTimingMonitor::summary() const {
     s.flip_interval_median_ms = 1000.0 * *middle;
   }
   return s;
+}
+
+std::string LateOnset::describe(int trial_index) const {
+  char number[64];
+  std::snprintf(number, sizeof number, "%.3f", 1000.0 * interval_s);
+  std::string line = "trial " + std::to_string(trial_index) + " onset: " + number + " ms since the previous flip (" +
+                     late_onset_cause_name(cause) + "); the session's work since that flip:";
+  bool first = true;
+  for (const int kind : {0, 1, 2, 4}) {
+    std::snprintf(number, sizeof number, "%.3f", 1000.0 * work_s[kind]);
+    line += std::string(first ? " " : ", ") + late_onset_cause_name(kind) + " " + number + " ms";
+    first = false;
+  }
+  return line;
 }
 
 std::string FrameTimingSummary::describe() const {

@@ -47,6 +47,20 @@ struct FrameTimingSummary {
   std::string describe() const;  // one line for the log and the terminal
 };
 
+// A trial's onset that came more than 1.5 periods after the flip before it (the onset itself is
+// no dropped frame: no stimulus frame was lost, the blank before it lasted longer).
+struct LateOnset {
+  double interval_s = 0.0;  // since the previous flip
+  int cause = kHostStallCause;  // as FrameTimingSummary::late_onsets_by_cause
+  // The session's own work since the previous flip, by FlipWork (wall-clock seconds; the host
+  // stall's entry is 0): what of the lateness the session did, the rest being the host's.
+  double work_s[kLateOnsetCauses] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  // "trial 7 onset: 116.667 ms since the previous flip (host stall); the session's work since that
+  // flip: glare preparation 0.000 ms, perception stages 0.000 ms, drawing 2.135 ms, recording the
+  // trial 0.000 ms": the late_onset event.
+  std::string describe(int trial_index) const;
+};
+
 class FrameTimingMonitor {
  public:
   explicit FrameTimingMonitor(double refresh_hz) : period_s_(1.0 / refresh_hz) {}
@@ -59,6 +73,9 @@ class FrameTimingMonitor {
   // after the previous one: the interval since that flip; counted in FrameTimingSummary::timed_flips_late,
   // not as stimulus frames.
   std::optional<double> on_timed_flip(double flip_s);
+  // After on_flip() of a trial's onset (frame_index 0): the onset, when it came late; empty after
+  // any other flip.
+  const std::optional<LateOnset>& late_onset() const { return late_onset_; }
   // Work the session did since the previous flip (wall-clock seconds), read at the next onset if it
   // comes late: the kind with most of it is the onset's cause when it covers at least half the
   // lateness (the interval less one period), else the host stalled.
@@ -80,6 +97,7 @@ class FrameTimingMonitor {
   double work_s_[kLateOnsetCauses] = {0.0, 0.0, 0.0, 0.0, 0.0};  // since the previous flip, by FlipWork
   int late_onsets_by_cause_[kLateOnsetCauses] = {0, 0, 0, 0, 0};
   std::vector<double> intervals_s_;  // between successive flips, for the median
+  std::optional<LateOnset> late_onset_;  // of the last flip
   void flipped(double flip_s);
 };
 

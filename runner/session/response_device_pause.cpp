@@ -22,8 +22,7 @@ void SessionLoop::pause_for_response_device(int trial_index) {
     renderer_.compose({centred_placement(*pause_message_, display_.width_px(), display_.height_px())},
                       prepared_.experiment.display.background_cd_m2);
     encode();
-    present();
-    const double flip_s = clock_.on_flip();
+    const double flip_s = present();
     timing_.on_flip(flip_s, trial_index, -1);
     after_flip(flip_s);
   };

@@ -40,8 +40,7 @@ bool SessionLoop::calibrate_pupil() {
     while (clock_.now_s() - phase_start_s < tracker_.calibration_screen_s()) {
       renderer_.compose({}, luminance_cd_m2);
       encode();
-      present();
-      after_flip(clock_.on_flip());
+      after_flip(present());
       check_interrupt();
       if (!aborted_ && display_.close_requested()) {
         aborted_ = true;

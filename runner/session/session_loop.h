@@ -124,13 +124,15 @@ class SessionLoop {
   // What interval `interval` shows: the whole plan side by side, or in a sequential trial the plan
   // narrowed to its position `interval` (its scene alone, centred, with that position's glare).
   TrialPlan interval_plan(const TrialPlan& plan, int interval) const;
-  // Flipping: a preview's fast-forward (the trials before the one it captures) advances the clock
-  // flip by flip without drawing or presenting anything. An offscreen run on the real clock then
-  // waits for the next refresh boundary, as a window's swap waits for the vertical blank, so the
-  // flip is stamped there (runner/tracker/real_time_pacer.h).
-  void present() {
+  // Flipping, and the flip's time on the session clock: a preview's fast-forward (the trials
+  // before the one it captures) advances the clock flip by flip without drawing or presenting
+  // anything. An offscreen run on the real clock then waits for the next refresh boundary, as a
+  // window's swap waits for the vertical blank, and the flip is stamped at that boundary
+  // (runner/tracker/real_time_pacer.h).
+  double present() {
     if (!fast_forward_) display_.present();
-    if (pacer_ != nullptr) pacer_->wait_for_next_frame();
+    if (pacer_ == nullptr) return clock_.on_flip();
+    return clock_.on_flip_at(pacer_->wait_for_next_frame());
   }
   // Encodes the stimulus framebuffer into the display's, unless an offscreen display still holds
   // its encoding (runner/session/trial_presentation.cpp).
@@ -139,6 +141,8 @@ class SessionLoop {
   void record_flip(TrialRun& run, const PhaseFlip& phase, double scheduled_s, double flip_s, bool dropped,
                    std::optional<double> gaze_age_s = std::nullopt);
   void log_late_flip(const TrialPlan& plan, double flip_s, const std::string& which, double interval_s);
+  // A 'late_onset' event: the onset's interval since the flip before it and its likely cause.
+  void log_late_onset(const TrialPlan& plan, double flip_s, const LateOnset& late);
   // `frames` flips of the background (with `overlays`), timed from the first of them.
   // continues_blank: these flips go on a blank already shown (the inter-trial interval after its
   // glare was prepared): the first one's distance from the last flip is no late flip, nothing

@@ -154,6 +154,12 @@ void SessionLoop::log_late_flip(const TrialPlan& plan, double flip_s, const std:
                                      std::to_string(1000.0 * interval_s) + " ms since the previous flip"});
 }
 
+void SessionLoop::log_late_onset(const TrialPlan& plan, double flip_s, const LateOnset& late) {
+  // Held for the commit as a dropped frame's event is: the onset's interval, its likely cause and
+  // the session's own work meanwhile, so a reader can tell a stall from a wait.
+  events_with_commit_.push_back({flip_s, "late_onset", late.describe(plan.trial_index)});
+}
+
 bool SessionLoop::present_timed_blank(const TrialPlan& plan, TrialRun& run, FlipPhase phase, int frames,
                                       const std::vector<Placement>& overlays, bool continues_blank) {
   double start_s = 0.0;
@@ -164,8 +170,7 @@ bool SessionLoop::present_timed_blank(const TrialPlan& plan, TrialRun& run, Flip
       draw({}, nullptr, overlays);
     else
       encode();
-    present();
-    const double flip_s = clock_.on_flip();
+    const double flip_s = present();
     after_flip(flip_s);
     if (k == 0) start_s = flip_s;
     if (k == 0 && continues_blank) {
@@ -201,8 +206,7 @@ bool SessionLoop::show_screen(const TrialPlan& plan, const ScreenText& screen, T
       draw({}, nullptr, text);
     else
       encode();
-    present();
-    last_flip_s = clock_.on_flip();
+    last_flip_s = present();
     timing_.on_flip(last_flip_s, plan.trial_index, -1);
     after_flip(last_flip_s);
     if (flips++ == 0) first_flip_s = last_flip_s;

@@ -210,8 +210,7 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
     } else {
       draw({}, nullptr, question);
     }
-    present();
-    const double flip_s = clock_.on_flip();
+    const double flip_s = present();
     after_flip(flip_s);
     if (i == 0) sequence_start_s = flip_s;
     if (i == schedule.onset_flip) run.onset_s = flip_s;
@@ -221,6 +220,7 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
       const bool dropped = timing_.on_flip(flip_s, plan.trial_index, flip.stimulus_frame);
       if (dropped)
         log_late_flip(plan, flip_s, "frame " + std::to_string(flip.stimulus_frame), timing_.dropped().back().interval_s);
+      if (const std::optional<LateOnset>& late = timing_.late_onset()) log_late_onset(plan, flip_s, *late);
       IntervalGlare& shown_glare = intervals.glare[static_cast<std::size_t>(flip.interval)];
       // A live glare frame that came late: "auto" takes its layout back to prepared frames.
       if (glare_.shown_live(shown_glare)) {
@@ -284,8 +284,7 @@ bool SessionLoop::collect_response(const TrialPlan& plan, const std::vector<Plac
         break;
       }
       draw({}, nullptr, question);
-      present();
-      const double flip_s = clock_.on_flip();
+      const double flip_s = present();
       timing_.on_flip(flip_s, plan.trial_index, -1);
       after_flip(flip_s);
       record_flip(run, {FlipPhase::response, -1, -1}, flip_s, flip_s, false);
