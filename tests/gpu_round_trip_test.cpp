@@ -92,7 +92,7 @@ TEST_F(GpuRoundTrip, AFrameOnTheGpuReachesTheStimulusFrameUnchanged) {
   for (int y = 0; y < 9; ++y)
     for (int x = 0; x < 16; ++x) {
       const bool inside = x >= 5 && x < 11 && y >= 2 && y < 6;
-      const float want = inside ? 1000.0f * (y - 2) + 10.0f * (x - 5) + 0.25f : 3.5f;
+      const float want = inside ? static_cast<float>(1000 * (y - 2) + 10 * (x - 5)) + 0.25f : 3.5f;
       ASSERT_EQ(got.pixel(x, y)[0], want) << "pixel (" << x << ", " << y << ")";
     }
   EXPECT_THROW(from_gpu.replace_stimulus_region_from_buffer(frame.buffer(), 12, 2, 6, 4), DisplayError);
