@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/gl/gl_context.h"
@@ -57,6 +58,14 @@ class GlareBackend {
   // Linear convolution (no wrap-around) of R, G, B with the PSF at the image's pixel scale; alpha
   // passes through. Refuses NaN, Inf and negative pixels (glare/image_sanitiser.h repairs them).
   virtual ImageRGBA convolve(const ImageRGBA& image, const Psf& psf) = 0;
+  // convolve() left on the GPU where this backend works there (the GL backend): the name of a GL
+  // shader storage buffer in its context holding the result (RGBA32F, ImageRGBA's layout, row 0
+  // first), nothing read back, valid until the backend's next call; 0: this backend keeps nothing
+  // on a GPU (the caller convolves on the host).
+  virtual unsigned convolve_on_gpu(const ImageRGBA& /*image*/, const Psf& /*psf*/) { return 0; }
+  // The last convolution's stages timed on the GPU's clock (timer queries), seconds, in the order
+  // they ran; empty for a backend on the CPU.
+  virtual std::vector<std::pair<std::string, double>> last_gpu_stages_s() const { return {}; }
   // A non-empty warning from the last psf() call (an aliased phase), else empty.
   virtual std::string last_warning() const { return {}; }
   // The PSF on the pixels of a display whose centre pixel subtends display_degrees_per_pixel:

@@ -34,7 +34,7 @@ built=$(date +%s)
 
 # The tests that run OpenGL: the GL glare backend's transforms, PSFs and convolution against the
 # CPU double reference, the GL frame engine against the CPU engine, and the offscreen display.
-gl_tests='Gl*:FrameEngineGl*:GlareBackendAgreement*:OffscreenBackend*'
+gl_tests='Gl*:FrameEngineGl*:GlareBackendAgreement*:OffscreenBackend*:GpuRoundTrip*:Examples/NoRoundTrip*'
 step "GL tests ($gl_tests)"
 "$build/tests/glarelab_tests" --gtest_filter="$gl_tests" > "$build/gl_tests.log" 2>&1
 tests_status=$?

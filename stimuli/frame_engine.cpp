@@ -15,6 +15,15 @@ class FrameEngine::Stages {
   virtual PerceptionResult run(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
                                const PerceptionSettings& settings, const DisplaySpec& display,
                                const PerceptionGlare& glare) = 0;
+  // run() with the perceived frame left on the GPU (`out`), the glare handing its frame over on the
+  // GPU where it can; an engine that keeps nothing on a GPU answers with run()'s host image.
+  virtual PerceptionResult run_on_gpu(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
+                                      const PerceptionSettings& settings, const DisplaySpec& display,
+                                      const PerceptionGlare& glare, gl::GlFrameBuffer*& glare_out,
+                                      std::shared_ptr<gl::GlFrameBuffer>& /*out*/) {
+    glare_out = nullptr;
+    return run(scene, input, eye, settings, display, glare);
+  }
 };
 
 namespace {
@@ -48,6 +57,24 @@ class GlStages final : public FrameEngine::Stages {
       };
     return stages_.run(scene, input, eye, settings, display, in_context);
   }
+  // `glare` (the session's, through SessionPerception) writes its frame into `glare_out` on the GPU
+  // where it can and returns an empty image, else returns the glared image, which is uploaded.
+  PerceptionResult run_on_gpu(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
+                              const PerceptionSettings& settings, const DisplaySpec& display,
+                              const PerceptionGlare& glare, gl::GlFrameBuffer*& glare_out,
+                              std::shared_ptr<gl::GlFrameBuffer>& out) override {
+    context_->make_current();
+    gl::GlPerceptionStages::GlareOnGpu on_gpu;
+    if (glare)
+      on_gpu = [&](const ImageRGBA& adapted_cd_m2, gl::GlFrameBuffer& into) {
+        glare_out = &into;
+        const ImageRGBA glared = glare(adapted_cd_m2);
+        glare_out = nullptr;
+        context_->make_current();
+        if (!glared.empty()) into.upload(glared);
+      };
+    return stages_.run_on_gpu(scene, input, eye, settings, display, on_gpu, out);
+  }
 
  private:
   std::unique_ptr<GlContext> context_;
@@ -77,8 +104,11 @@ constexpr EngineCandidate kEngines[] = {
      },
      "the glare runs on OpenGL, so the perception stages do too (stimuli/perception/gl_perception_stages.h)",
      "gl (stimuli/perception/gl_perception_stages.h)",
-     "the glared frame after the convolution and the perceived frame after the stages, every frame, to the "
-     "host for the display's upload"},
+     "in a session none of the frame for the wave-optics, hybrid and human eyes' glare and the perception "
+     "stages: they stay on the GPU, in the display's context, and the display draws them; what comes back is "
+     "each new PSF and the adaptation pyramid's top cells (core/gl/read_back.h); the hybrid and human eyes' far "
+     "part and halo are made on the host once per composed frame and uploaded; the analytic models, a gaze "
+     "window, a gain other than 1, source excess and a layer keeping its peak are made on the host"},
     // [glare] backend = "cpu" keeps the float64 reference; "auto" and "gl" give the planned float32
     // path (no GL for its glare).
     {FrameEngineKind::cpu, FrameEngineRequest::cpu, [](GlareBackendKind) { return true; },
@@ -191,10 +221,49 @@ const std::string& FrameEngine::reason() {
 
 EyeFrame FrameEngine::frame(const EyeFrameRequest& request) {
   EyeFrame result;
+  const bool on_gpu = request.on_gpu && kind() == FrameEngineKind::gl;
+  // On the GPU: where the glare of the frame goes when it stays there (the perception stages'
+  // buffer; nullptr: the glare's own frame, made here).
+  gl::GlFrameBuffer* glare_out = nullptr;
+  // The glare of the image left on the GPU where the glare stage can (a wave-optics model whole,
+  // GlareStage::apply_on_gpu): copied into `into` there, or into a buffer of the frame's own, and an
+  // empty image returned; else the glared image.
+  const auto glare_on_gpu = [&](const ImageRGBA& image_cd_m2, std::optional<double> field_cd_m2, FrameFacts* facts,
+                                gl::GlFrameBuffer* into) -> ImageRGBA {
+    GlareFrameReport report;
+    GlareStage::GlaredOnGpu glared = glare_.apply_on_gpu(image_cd_m2, request.mode, request.time_s, &report,
+                                                         request.gaze, field_cd_m2.value_or(request.field_cd_m2), facts);
+    result.reports.push_back(report);
+    if (glared.gpu_buffer == 0) return std::move(glared.image);
+    for (const auto& [stage, seconds] : glare_.backend().last_gpu_stages_s())
+      result.gpu_stages_s.emplace_back("convolution " + stage, seconds);
+    if (into == nullptr) {
+      result.gpu_image_cd_m2 = std::make_shared<gl::GlFrameBuffer>(image_cd_m2.width_px, image_cd_m2.height_px);
+      into = result.gpu_image_cd_m2.get();
+    }
+    into->copy_from(glared.gpu_buffer);
+    return {};
+  };
   // The glare of an image on the eye adapted to `field_cd_m2` (nothing: the image's mean
   // luminance); `facts`: the seen image's, for that image only.
   const auto glare_of = [&](const ImageRGBA& image_cd_m2, std::optional<double> field_cd_m2, FrameFacts* facts) {
-    if (request.layers != nullptr && !request.layers->empty())
+    const bool layered = request.layers != nullptr && !request.layers->empty();
+    if (on_gpu && !layered) return glare_on_gpu(image_cd_m2, field_cd_m2, facts, glare_out);
+    if (on_gpu) {
+      if (!layer_sum_) layer_sum_ = std::make_unique<GpuLayerSum>();
+      std::shared_ptr<gl::GlFrameBuffer> glared =
+          apply_layered_glare_on_gpu(glare_, *layer_sum_, image_cd_m2, *request.layers, request.time_s, request.gaze,
+                                     &result.reports, field_cd_m2, request.static_layers);
+      if (glared) {
+        if (glare_out != nullptr) {
+          glare_out->copy_from(glared->buffer());
+        } else {
+          result.gpu_image_cd_m2 = std::move(glared);
+        }
+        return ImageRGBA();
+      }
+    }
+    if (layered)
       return apply_layered_glare(glare_, image_cd_m2, *request.layers, request.time_s, request.gaze, &result.reports,
                                  field_cd_m2, request.static_layers);
     GlareFrameReport report;
@@ -212,15 +281,20 @@ EyeFrame FrameEngine::frame(const EyeFrameRequest& request) {
     return glare_of(adapted_cd_m2, field_cd_m2, nullptr);
   };
   Stages& engine = stages();
+  std::shared_ptr<gl::GlFrameBuffer> perceived_on_gpu;
   const PerceptionStagesRun run = [&](const ImageRGBA& scene, const PerceptionFrameInput& input,
                                       TemporalAdaptation& eye, const PerceptionSettings& settings,
                                       const DisplaySpec& display, const PerceptionGlare& glare) {
+    if (on_gpu) return engine.run_on_gpu(scene, input, eye, settings, display, glare, glare_out, perceived_on_gpu);
     return engine.run(scene, input, eye, settings, display, glare);
   };
   PerceptionResult stages_result =
       perception_.process(request.seen_cd_m2, *request.perception, request.time_s, request.frame_time_s, gaze.x, gaze.y,
                           request.glared ? stage_glare : FieldGlare(), run);
   result.image_cd_m2 = std::move(stages_result.image);
+  result.gpu_image_cd_m2 = std::move(perceived_on_gpu);
+  result.gpu_stages_s.insert(result.gpu_stages_s.begin(), stages_result.gpu_stages_s.begin(),
+                             stages_result.gpu_stages_s.end());
   result.frame_luminance_cd_m2 = stages_result.frame_luminance_cd_m2;
   result.adapted_luminance_cd_m2 = stages_result.adapted_luminance_cd_m2;
   return result;

@@ -13,6 +13,11 @@
 // Engines: the CPU engine runs the perception stages on the CPU; the GL engine ("gpu") runs them
 // with OpenGL 4.5 (stimuli/perception/gl_perception_stages.h) beside the GL glare backend. The
 // spectacle warp and the depth of field run on the CPU in both, before the engine gets the view.
+// Asked for (EyeFrameRequest::on_gpu), the GL engine leaves the frame on the GPU: the glare's
+// result (wave-optics, hybrid and human eyes; GlareStage::apply_on_gpu) goes from the GL glare
+// backend's buffer to the perception stages' (or to the frame's own buffer) by a copy on the GPU, and the perceived frame stays in a buffer the display
+// draws from (stimuli/frame_renderer.h); the frame's read-backs are then the adaptation pyramid's
+// top cells and each new PSF (core/gl/read_back.h counts them).
 // Asked for by name (`[display] engine`, `--engine`: core/frame_engine_request.h), the engine sets
 // the glare backend it needs (frame_engine.cpp's table): "gpu" the GL backend, "cpu" a CPU one (the
 // float64 reference when [glare] backend = "cpu" names it, else the planned float32 path). "auto"
@@ -37,6 +42,7 @@
 #include "core/spelling.h"
 #include "glare/glare_spec.h"
 #include "stimuli/glare_stage.h"
+#include "stimuli/perception/gl_frame_buffer.h"
 #include "stimuli/position_glare.h"
 #include "stimuli/session_perception.h"
 
@@ -64,14 +70,26 @@ struct EyeFrameRequest {
   std::optional<GazePoint> gaze;  // normalised in the eye's view; nothing: its centre
   double field_cd_m2 = 0.0;       // what the eye adapts to without the perception stages
   FrameFacts* facts = nullptr;    // the seen image's, kept from frame to frame (nothing: found afresh)
+  // The GL engine may leave the frame on the GPU (EyeFrame::gpu_image_cd_m2) instead of reading it
+  // back. Only where every context the engine's GlContextFactory makes is one and the same (a
+  // session's: the display's own, so that the display draws the frame from that buffer).
+  bool on_gpu = false;
 };
 
 struct EyeFrame {
-  ImageRGBA image_cd_m2;
+  ImageRGBA image_cd_m2;  // empty when the frame stayed on the GPU
+  // The frame on the GPU (EyeFrameRequest::on_gpu, the GL engine: the glare where it stays there,
+  // GlareStage::apply_on_gpu, and the perception stages): RGBA32F rows from the top in a GL buffer of the engine's context,
+  // one per frame. Else null, and the frame is image_cd_m2.
+  std::shared_ptr<gl::GlFrameBuffer> gpu_image_cd_m2;
   std::vector<GlareFrameReport> reports;  // one per glared image (a layer each when the sides differ)
   // With the perception stages: this frame's adaptation luminance (section 5.1) and L_i (Eq. 5.2).
   std::optional<double> frame_luminance_cd_m2;
   std::optional<double> adapted_luminance_cd_m2;
+  // The GL engine: each GPU stage's time on the GPU's clock (timer queries), seconds, in the order
+  // they ran: the perception stages' ("adaptation", "glare", "acuity", ...) and the convolution's
+  // ("convolution image FFT", ...; glare/gl/convolution.h) where the glare ran there. Empty on the CPU.
+  std::vector<std::pair<std::string, double>> gpu_stages_s;
 };
 
 // The compute choice behind every frame engine: what computes the eye's PSFs and convolves its
@@ -126,6 +144,7 @@ class FrameEngine {
   GlareStage glare_;
   SessionPerception perception_;
   std::unique_ptr<Stages> stages_;
+  std::unique_ptr<GpuLayerSum> layer_sum_;  // layered glare on the GPU, made on first use
   FrameEngineKind kind_ = FrameEngineKind::cpu;
   std::string reason_;
 };

@@ -36,6 +36,10 @@ struct FrameEngineBenchmarkRow {
   double max_relative_error = 0.0;  // against the reference frame, per pixel at the floor
   double relative_l2_error = 0.0;   // against the reference frame, over all pixels
   double floor_s = 0.0;             // the FFTW floor, measured right after this engine's frames
+  // The GL engine, its frames kept on the GPU: the fastest frame's GPU time by stage (EyeFrame::
+  // gpu_stages_s) and what it read back (core/gl/read_back.h); empty for the CPU engine.
+  std::vector<std::pair<std::string, double>> gpu_stages_s;
+  std::string read_backs_per_frame;
   double ratio() const { return floor_s > 0.0 ? fastest_frame_s / floor_s : 0.0; }
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/errors.h"
+#include "core/gl/read_back.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab {
@@ -10,10 +11,8 @@ namespace {
 
 ImageRGBA read_framebuffer(GLuint framebuffer, int width_px, int height_px) {
   ImageRGBA image(width_px, height_px);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
   std::vector<float> bottom_up(image.rgba.size());
-  glReadPixels(0, 0, width_px, height_px, GL_RGBA, GL_FLOAT, bottom_up.data());
+  gl::read_back_framebuffer_rgba(framebuffer, 0, 0, width_px, height_px, bottom_up.data(), gl::ReadBackKind::frame);
   gl::check_gl_error("reading back a frame");
   // GL rows start at the bottom; glarelab images start at the top.
   const std::size_t row_floats = static_cast<std::size_t>(width_px) * 4;
@@ -323,6 +322,36 @@ void FrameRenderer::upload_stimulus_region(const void* values, std::size_t count
                       channels == 3 ? GL_RGB : GL_RGBA, type, values);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   gl::check_gl_error(what);
+}
+
+void FrameRenderer::replace_stimulus_region_from_buffer(unsigned buffer, int x0_px, int y0_px, int width_px,
+                                                        int height_px) {
+  if (width_px == 0 || height_px == 0) return;
+  if (x0_px < 0 || y0_px < 0 || width_px < 0 || height_px < 0 || x0_px + width_px > width_px_ ||
+      y0_px + height_px > height_px_)
+    throw DisplayError("frame renderer: a " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+                       " frame on the GPU at (" + std::to_string(x0_px) + ", " + std::to_string(y0_px) +
+                       ") outside the " + std::to_string(width_px_) + "x" + std::to_string(height_px_) + " stimulus");
+  if (!from_buffer_program_) from_buffer_program_ = gl::build_program({"stimuli/shaders/stimulus_from_buffer.comp"});
+  ++stimulus_generation_;
+  mark_unencoded(PixelRect{x0_px, y0_px, width_px, height_px});
+  const GLuint program = from_buffer_program_.get();
+  glUseProgram(program);
+  glUniform2i(glGetUniformLocation(program, "uOrigin"), x0_px, y0_px);
+  glUniform2i(glGetUniformLocation(program, "uSize"), width_px, height_px);
+  glUniform1i(glGetUniformLocation(program, "uStimulusHeight"), height_px_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
+  glBindImageTexture(0, stimulus_texture_.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  constexpr GLuint kTile = 16;  // the shader's local size
+  glDispatchCompute((static_cast<GLuint>(width_px) + kTile - 1) / kTile, (static_cast<GLuint>(height_px) + kTile - 1) / kTile,
+                    1);
+  // The encode samples the texture and a read-back or blend reads the framebuffer next.
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+  glUseProgram(0);
+  gl::check_gl_error("drawing a frame from the GPU into the stimulus frame");
 }
 
 void FrameRenderer::finish() const { glFinish(); }

@@ -78,6 +78,11 @@ class FrameRenderer {
   void replace_stimulus_region_half_rgb(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px, int y0_px,
                                         int width_px, int height_px);
 
+  // The same from a frame left on the GPU (the GL frame engine's, stimuli/frame_engine.h): a shader
+  // storage buffer of this context holding width x height RGBA32F pixels, row 0 at the top, copied
+  // into the rectangle on the GPU; nothing comes to the host.
+  void replace_stimulus_region_from_buffer(unsigned buffer, int x0_px, int y0_px, int width_px, int height_px);
+
   // Waits until the GL work issued so far is done (glFinish): what a draw cost, timed.
   void finish() const;
 
@@ -123,6 +128,7 @@ class FrameRenderer {
   PixelRect unencoded_;     // written since the last encode (top-left origin); 0 x 0: nothing
   bool encoded_once_ = false;
   gl::Program encode_table_program_;     // encoding = "table" (encode_display_table.frag), built on first use
+  gl::Program from_buffer_program_;      // stimulus_from_buffer.comp, built on first use
   gl::Texture calibration_texture_;      // rows x 1 RGBA32F: (drive, gain r, gain g, gain b)
   gl::Texture code_gain_texture_;        // 256 x 1 RGBA32F: gains at drive k / 255
   DisplayCalibration uploaded_calibration_;

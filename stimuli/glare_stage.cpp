@@ -363,6 +363,20 @@ ImageRGBA GlareStage::apply_analytic(const ImageRGBA& frame, const ImageRGBA& so
 ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
                             const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2,
                             FrameFacts* facts) {
+  return apply_to(frame_cd_m2, mode, time_s, report, gaze, field_luminance_cd_m2, facts, nullptr);
+}
+
+GlareStage::GlaredOnGpu GlareStage::apply_on_gpu(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s,
+                                                 GlareFrameReport* report, const std::optional<GazePoint>& gaze,
+                                                 std::optional<double> field_luminance_cd_m2, FrameFacts* facts) {
+  GlaredOnGpu glared;
+  glared.image = apply_to(frame_cd_m2, mode, time_s, report, gaze, field_luminance_cd_m2, facts, &glared.gpu_buffer);
+  return glared;
+}
+
+ImageRGBA GlareStage::apply_to(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
+                               const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2,
+                               FrameFacts* facts, unsigned* gpu_buffer) {
   GlareFrameReport local;
   GlareFrameReport& r = report != nullptr ? *report : local;
   r = GlareFrameReport{};
@@ -393,8 +407,14 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     // The analytic, hybrid and human kernels reach every pixel, so a gaze window's exact apron is the
     // whole frame: its glare is the frame's, confined by the window's blend (docs/GLARE_OPTICS.md 7a).
     const bool analytic = condition_model_ == GlareModel::spencer || condition_model_ == GlareModel::cie;
+    // The hybrid and human eyes' frame may stay on the GPU (its far part and halo made on the host
+    // once per composed frame): at gain 1, the frame its own source, no gaze window.
+    unsigned* hybrid_on_gpu =
+        !analytic && spec_.gaze_window_px == 0 && condition_gain_ == 1.0 && !excess ? gpu_buffer : nullptr;
     ImageRGBA glared = analytic ? apply_analytic(frame_cd_m2, source, mean_cd_m2, r)
-                                : apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r, excess ? nullptr : facts);
+                                : apply_hybrid(frame_cd_m2, source, mode, time_s, mean_cd_m2, r,
+                                               excess ? nullptr : facts, hybrid_on_gpu);
+    if (hybrid_on_gpu != nullptr && *hybrid_on_gpu != 0) return glared;  // empty: the frame is on the GPU
     if (spec_.gaze_window_px == 0 || !r.convolved) return glared;
     GazeWindowOptions options;
     options.window_px = spec_.gaze_window_px;
@@ -425,6 +445,13 @@ ImageRGBA GlareStage::apply(const ImageRGBA& frame_cd_m2, GlareMode mode, double
     // The frame as its own source at gain 1: the glared frame is convolve_frame's, so it changes
     // only where that says.
     const bool confined = condition_gain_ == 1.0 && !excess;
+    if (gpu_buffer != nullptr && confined) {
+      // The whole frame convolved where the backend keeps it on the GPU (no lit boxes: they would
+      // be cut out of the frame on the host; outside them the whole frame's glare is 0 plus the
+      // FFT's rounding, 1e-7 of the dim part's energy, the bright pixels being summed directly).
+      *gpu_buffer = backend().convolve_on_gpu(source, *psf);
+      if (*gpu_buffer != 0) return {};
+    }
     std::vector<PixelRect> changed;
     // The frame's facts hold for the source only when the source is the frame.
     ImageRGBA glared = convolve_frame(source, *psf, confined ? &changed : nullptr, excess ? nullptr : facts);

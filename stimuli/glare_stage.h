@@ -39,6 +39,7 @@
 #include "glare/glare_spec.h"
 #include "glare/cpu/lit_regions.h"
 #include "core/image.h"
+#include "stimuli/gpu_hybrid_finish.h"
 
 namespace glarelab {
 
@@ -129,6 +130,21 @@ class GlareStage {
                   const std::optional<GazePoint>& gaze = std::nullopt,
                   std::optional<double> field_luminance_cd_m2 = std::nullopt, FrameFacts* facts = nullptr);
 
+  // apply() with the glared frame left on the GPU where it can be: a frame glared whole by a
+  // wave-optics kernel (Ritschel, Luidolt) or by the hybrid and human eyes (their near part there,
+  // their far part and halo made on the host once per composed frame: GpuHybridFinish) at gain 1
+  // with the frame as its source and no gaze window, on a backend that keeps frames on the GPU
+  // (GlareBackend::convolve_on_gpu: the GL backend). Then `gpu_buffer` names the backend's buffer holding it (RGBA32F, ImageRGBA's layout,
+  // in the backend's GL context, valid until the backend's next call) and `image` is empty; else
+  // `gpu_buffer` is 0 and `image` is apply()'s.
+  struct GlaredOnGpu {
+    unsigned gpu_buffer = 0;
+    ImageRGBA image;
+  };
+  GlaredOnGpu apply_on_gpu(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
+                           const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2,
+                           FrameFacts* facts);
+
   // The glare model and gain of the frames to come (a trial's condition: the "glare_model" and
   // "glare_gain" columns); until called, GlareSpec::model and 1.
   void set_condition(GlareModel model, double gain);
@@ -182,6 +198,11 @@ class GlareStage {
   void set_detected_blinks(const std::vector<DetectedBlink>& blinks);
 
  private:
+  // apply()'s work; with `gpu_buffer` the frame's glare is left on the GPU where it can be
+  // (apply_on_gpu), the buffer named there and an empty image returned.
+  ImageRGBA apply_to(const ImageRGBA& frame_cd_m2, GlareMode mode, double time_s, GlareFrameReport* report,
+                     const std::optional<GazePoint>& gaze, std::optional<double> field_luminance_cd_m2,
+                     FrameFacts* facts, unsigned* gpu_buffer);
   EyeModel& eye_for(GlareMode mode, double field_luminance_cd_m2);
   // `changed`, when given, receives the boxes outside which the result is the frame itself.
   // `facts`: the frame's, for its lit boxes (nothing: found afresh).
@@ -204,8 +225,11 @@ class GlareStage {
   ImageRGBA with_gain(const ImageRGBA& frame, const ImageRGBA& source, ImageRGBA glared) const;
   ImageRGBA apply_analytic(const ImageRGBA& frame, const ImageRGBA& source, double mean_cd_m2, GlareFrameReport& r);
   // stimuli/glare_stage_hybrid.cpp. `facts`: the frame's when the frame is the source, else nothing.
+  // `gpu_buffer`: the frame left on the GPU where the backend keeps the near part there (its buffer
+  // named, an empty image returned; GpuHybridFinish).
   ImageRGBA apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
-                         double mean_cd_m2, GlareFrameReport& r, FrameFacts* facts);
+                         double mean_cd_m2, GlareFrameReport& r, FrameFacts* facts, unsigned* gpu_buffer = nullptr);
+  std::unique_ptr<GpuHybridFinish> gpu_hybrid_finish_;  // made on the first hybrid frame kept on the GPU
   // What the hybrid and human eyes keep of the last composed frame they glared (the source), for
   // the frames that bring it again (an interval's): its energies per pixel, its lit boxes by PSF
   // size, and the token under which the analytic engine, the halo and the backend keep their parts.

@@ -68,7 +68,7 @@ GlareStage::HybridSource& GlareStage::hybrid_source(const ImageRGBA& source, Fra
 }
 
 ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
-                                   double mean_cd_m2, GlareFrameReport& r, FrameFacts* facts) {
+                                   double mean_cd_m2, GlareFrameReport& r, FrameFacts* facts, unsigned* gpu_buffer) {
   const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
   if (!wave) return frame;
   r.wing_fraction = psf_wing_fraction(*wave);
@@ -122,6 +122,15 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
       if (ring_rgba != nullptr) ring_rgba += 4;
     }
   };
+  if (gpu_buffer != nullptr) {
+    // The near part convolved whole on the GPU and finished there by the same per-pixel sum.
+    if (const unsigned near_on_gpu = backend().convolve_on_gpu(energy, near); near_on_gpu != 0) {
+      if (!gpu_hybrid_finish_) gpu_hybrid_finish_ = std::make_unique<GpuHybridFinish>();
+      *gpu_buffer = gpu_hybrid_finish_->finish(near_on_gpu, energy, far_glare, ring, halo_energy, solid_angle, kept.token);
+      r.convolved = true;
+      return {};
+    }
+  }
   ImageRGBA glared;
   backend().convolve_regions_finished(energy, boxes->second, near, glared, finish, kept.token);
   r.convolved = true;

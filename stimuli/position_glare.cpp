@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/gl/shader_program.h"
 #include "core/parallel_for.h"
 #include "glare/cpu/fftw_float_plan.h"
 
@@ -38,7 +39,7 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
     glaring.push_back(l);
     std::optional<StaticLayerGlare::Kept>* keep =
         kept != nullptr && layer.mode == GlareMode::static_eye ? &kept->layers[l] : nullptr;
-    if (keep != nullptr && *keep && same_gaze((*keep)->gaze, gaze) &&
+    if (keep != nullptr && *keep && !(*keep)->glared_on_gpu && same_gaze((*keep)->gaze, gaze) &&
         (*keep)->field_luminance_cd_m2 == field_luminance_cd_m2) {
       glare_of[l] = &(*keep)->glared_cd_m2;
       changed_of[l] = (*keep)->report.changed_boxes;
@@ -58,7 +59,7 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
     changed_of[l] = report.changed_boxes;
     if (reports != nullptr) reports->push_back(report);
     if (keep != nullptr) {
-      *keep = StaticLayerGlare::Kept{glared[l], report, gaze, field_luminance_cd_m2};
+      *keep = StaticLayerGlare::Kept{glared[l], report, gaze, field_luminance_cd_m2, nullptr};
       glare_of[l] = &(*keep)->glared_cd_m2;
     } else {
       glare_of[l] = &glared[l];
@@ -122,6 +123,72 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
     for (int p = first; p < last; ++p) combine(4 * static_cast<std::size_t>(p), result.rgba.data() + 4 * static_cast<std::size_t>(p));
   });
   return std::move(result);
+}
+
+void GpuLayerSum::add(gl::GlFrameBuffer& frame, const gl::GlFrameBuffer& layer, const gl::GlFrameBuffer& glared) {
+  if (!program_) program_ = gl::build_program({"stimuli/shaders/layer_glare_sum.comp"});
+  const auto pixels = static_cast<GLuint>(frame.width_px()) * static_cast<GLuint>(frame.height_px());
+  glUseProgram(program_.get());
+  glUniform1ui(glGetUniformLocation(program_.get(), "uPixels"), pixels);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, frame.buffer());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, layer.buffer());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, glared.buffer());
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  glDispatchCompute((pixels + 255) / 256, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  glUseProgram(0);
+  gl::check_gl_error("glare layers: summing a layer's glare on the GPU");
+}
+
+std::shared_ptr<gl::GlFrameBuffer> apply_layered_glare_on_gpu(GlareStage& stage, GpuLayerSum& sum,
+                                                              const ImageRGBA& composed_cd_m2,
+                                                              const std::vector<GlareLayer>& layers, double time_s,
+                                                              const std::optional<GazePoint>& gaze,
+                                                              std::vector<GlareFrameReport>* reports,
+                                                              std::optional<double> field_luminance,
+                                                              StaticLayerGlare* kept) {
+  for (const GlareLayer& layer : layers)
+    if (layer.mode != GlareMode::control && layer.keep_peak) return nullptr;
+  const double field_luminance_cd_m2 = field_luminance ? *field_luminance : mean_luminance(composed_cd_m2);
+  for (const GlareLayer& layer : layers)
+    if (layer.image_cd_m2.width_px != composed_cd_m2.width_px || layer.image_cd_m2.height_px != composed_cd_m2.height_px)
+      throw std::invalid_argument("glare layers: a layer of " + std::to_string(layer.image_cd_m2.width_px) + "x" +
+                                  std::to_string(layer.image_cd_m2.height_px) + " px for a frame of " +
+                                  std::to_string(composed_cd_m2.width_px) + "x" +
+                                  std::to_string(composed_cd_m2.height_px) + " px");
+  if (kept != nullptr && kept->layers.size() != layers.size()) kept->layers.assign(layers.size(), std::nullopt);
+  const auto same_gaze = [](const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
+    return a.has_value() == b.has_value() && (!a || (a->x == b->x && a->y == b->y));
+  };
+  const int width = composed_cd_m2.width_px, height = composed_cd_m2.height_px;
+  auto frame = std::make_shared<gl::GlFrameBuffer>(composed_cd_m2);
+  const auto add_layer = [&](const ImageRGBA& layer_cd_m2, const gl::GlFrameBuffer& glared) {
+    sum.add(*frame, gl::GlFrameBuffer(layer_cd_m2), glared);
+  };
+  for (std::size_t l = 0; l < layers.size(); ++l) {
+    const GlareLayer& layer = layers[l];
+    if (layer.mode == GlareMode::control) continue;
+    std::optional<StaticLayerGlare::Kept>* keep =
+        kept != nullptr && layer.mode == GlareMode::static_eye ? &kept->layers[l] : nullptr;
+    if (keep != nullptr && *keep && (*keep)->glared_on_gpu && same_gaze((*keep)->gaze, gaze) &&
+        (*keep)->field_luminance_cd_m2 == field_luminance_cd_m2) {
+      if (reports != nullptr) reports->push_back((*keep)->report);
+      add_layer(layer.image_cd_m2, *(*keep)->glared_on_gpu);
+      continue;
+    }
+    GlareFrameReport report;
+    GlareStage::GlaredOnGpu glared =
+        stage.apply_on_gpu(layer.image_cd_m2, layer.mode, time_s, &report, gaze, field_luminance_cd_m2, &layer.facts);
+    auto on_gpu = std::make_shared<gl::GlFrameBuffer>(width, height);
+    if (glared.gpu_buffer != 0)
+      on_gpu->copy_from(glared.gpu_buffer);
+    else
+      on_gpu->upload(glared.image);
+    if (reports != nullptr) reports->push_back(report);
+    add_layer(layer.image_cd_m2, *on_gpu);
+    if (keep != nullptr) *keep = StaticLayerGlare::Kept{ImageRGBA(), report, gaze, field_luminance_cd_m2, on_gpu};
+  }
+  return frame;
 }
 
 }  // namespace glarelab

@@ -8,11 +8,13 @@
 // are summed with the background part, which is left as it is (exact for the usual black
 // background; for a uniform background a unit-sum PSF changes it only at the layers' edges).
 // Convolution is linear, so layers sharing one mode give the whole-frame glare of that mode.
+#include <memory>
 #include <optional>
 #include <vector>
 
-#include "stimuli/glare_stage.h"
 #include "core/image.h"
+#include "stimuli/glare_stage.h"
+#include "stimuli/perception/gl_frame_buffer.h"
 
 namespace glarelab {
 
@@ -43,6 +45,8 @@ struct StaticLayerGlare {
     GlareFrameReport report;
     std::optional<GazePoint> gaze;
     double field_luminance_cd_m2 = 0.0;
+    // The glare on the GPU (apply_layered_glare_on_gpu), where glared_cd_m2 is empty.
+    std::shared_ptr<gl::GlFrameBuffer> glared_on_gpu;
   };
   std::vector<std::optional<Kept>> layers;  // by layer index
 };
@@ -58,5 +62,29 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
                               std::vector<GlareFrameReport>* reports = nullptr,
                               std::optional<double> field_luminance_cd_m2 = std::nullopt,
                               StaticLayerGlare* kept = nullptr);
+
+// apply_layered_glare with the frame left on the GPU (the GL engine, stimuli/frame_engine.h): each
+// glaring layer glared by GlareStage::apply_on_gpu (its host result uploaded where it has one), and
+// the sum made on the GPU (stimuli/shaders/layer_glare_sum.comp) into a buffer made for this frame;
+// static layers' glare kept on the GPU. The stage's GL context must be current and shared with the
+// caller's. Nothing (the caller glares on the host) when a layer keeps its peak (its scale needs
+// the glared layer's maximum).
+// The sum's pass (stimuli/shaders/layer_glare_sum.comp: frame += glared layer - layer), its program
+// made on first use in the current context. Requires that context current whenever it is used or
+// destroyed; not thread-safe.
+class GpuLayerSum {
+ public:
+  void add(gl::GlFrameBuffer& frame, const gl::GlFrameBuffer& layer, const gl::GlFrameBuffer& glared);
+
+ private:
+  gl::Program program_;
+};
+std::shared_ptr<gl::GlFrameBuffer> apply_layered_glare_on_gpu(GlareStage& stage, GpuLayerSum& sum,
+                                                              const ImageRGBA& composed_cd_m2,
+                                                              const std::vector<GlareLayer>& layers, double time_s,
+                                                              const std::optional<GazePoint>& gaze,
+                                                              std::vector<GlareFrameReport>* reports,
+                                                              std::optional<double> field_luminance_cd_m2,
+                                                              StaticLayerGlare* kept);
 
 }  // namespace glarelab

@@ -34,4 +34,9 @@ class GlContext {
 // none can be made. runner/display/compute_context.h has the one the program uses (offscreen).
 using GlContextFactory = std::function<std::unique_ptr<GlContext>()>;
 
+// A factory whose every context is a handle to `context` (made current by it, never destroying it):
+// what GL work made in one of them is seen in all, so a frame one stage leaves in a GL buffer the
+// next takes without a copy through the host. `context` must outlive every handle.
+GlContextFactory one_context_factory(GlContext& context);
+
 }  // namespace glarelab

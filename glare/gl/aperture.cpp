@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/gl/read_back.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
@@ -178,7 +179,7 @@ void GlAperture::draw(const ApertureGeometry& geometry) {
 std::vector<float> read_r32f(GLuint texture, int width, int height) {
   std::vector<float> values(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(texture, 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(values.size() * sizeof(float)), values.data());
+  read_back_texture(texture, GL_RED, GL_FLOAT, values.size() * sizeof(float), values.data(), ReadBackKind::kernel);
   check_gl_error("GL aperture: reading an R32F texture");
   return values;
 }

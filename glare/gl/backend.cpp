@@ -62,7 +62,12 @@ Psf GlGlareBackend::psf(const ApertureGeometry& geometry, const PsfOptions& opti
 
 ImageRGBA GlGlareBackend::convolve(const ImageRGBA& image, const Psf& psf) {
   context_->make_current();
-  return convolution_->convolve(image, psf);
+  return convolution_->convolve(image, psf, {}, &last_report_);
+}
+
+unsigned GlGlareBackend::convolve_on_gpu(const ImageRGBA& image, const Psf& psf) {
+  context_->make_current();
+  return convolution_->convolve_on_gpu(image, psf, {}, &last_report_);
 }
 
 }  // namespace glarelab::gl

@@ -22,6 +22,8 @@ class GlGlareBackend : public GlareBackend {
   GlareBackendKind kind() const override { return GlareBackendKind::gl; }
   Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) override;
   ImageRGBA convolve(const ImageRGBA& image, const Psf& psf) override;
+  unsigned convolve_on_gpu(const ImageRGBA& image, const Psf& psf) override;
+  std::vector<std::pair<std::string, double>> last_gpu_stages_s() const override { return last_report_.gpu_stages_s; }
   const GlInfo& gl_info() const { return context_->gl_info(); }
   // The sampling check of the last psf() (glare/wave/fresnel.h, or glare/refraction/astigmatic_phase.h's strongest meridian
   // for an astigmatic error): the warning when the phase aliases on the grid, else empty.
@@ -33,6 +35,7 @@ class GlGlareBackend : public GlareBackend {
   PsfOptions psf_layout_;  // grid, width and supersampling psf_ was made for
   std::unique_ptr<GlConvolution> convolution_;
   std::string last_warning_;
+  GlConvolutionReport last_report_;  // the last convolution's
 };
 
 }  // namespace glarelab::gl

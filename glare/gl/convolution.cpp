@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/gl/read_back.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
@@ -290,6 +291,21 @@ void GlConvolution::read_gpu_stages(GlConvolutionReport& report) const {
 
 ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options,
                                   GlConvolutionReport* report) {
+  ImageRGBA output(image.width_px, image.height_px);
+  run(image, psf, options, report, &output);
+  return output;
+}
+
+GLuint GlConvolution::convolve_on_gpu(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options,
+                                      GlConvolutionReport* report) {
+  run(image, psf, options, report, nullptr);
+  // The result is read next by shaders (a storage buffer) or copied (glCopyNamedBufferSubData).
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  return result_.get();
+}
+
+void GlConvolution::run(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options,
+                        GlConvolutionReport* report, ImageRGBA* output) {
   validate_psf(psf);
   const int width = image.width_px, height = image.height_px, k = psf.size_px;
   if (image.empty()) throw std::invalid_argument("GL convolution: the image is empty");
@@ -357,8 +373,8 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   stage_done();
   crop(grid, image.rgba.size() * sizeof(float));
   stage_done();
-  ImageRGBA output(width, height);
-  glGetNamedBufferSubData(result_.get(), 0, static_cast<GLsizeiptr>(output.rgba.size() * sizeof(float)), output.rgba.data());
+  if (output != nullptr)
+    read_back_buffer(result_.get(), 0, output->rgba.size() * sizeof(float), output->rgba.data(), ReadBackKind::frame);
   stage_done();
   check_gl_error("GL convolution");
   if (!kernel_cached) {
@@ -369,7 +385,6 @@ ImageRGBA GlConvolution::convolve(const ImageRGBA& image, const Psf& psf, const 
   if (!image_cached) image_spectrum_ = std::move(fresh_spectrum);
   read_gpu_stages(local_report);
   if (report != nullptr) *report = local_report;
-  return output;
 }
 
 }  // namespace glarelab::gl

@@ -63,6 +63,11 @@ class GlConvolution {
   // (with their counts), a malformed PSF, or a padded size above 4096.
   ImageRGBA convolve(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options = {},
                      GlConvolutionReport* report = nullptr);
+  // The same convolution left on the GPU: the name of the buffer holding the result (RGBA32F,
+  // width x height, row 0 first as in ImageRGBA), nothing read back. The buffer is this object's,
+  // valid until its next call; the report's "read back" stage is then 0.
+  GLuint convolve_on_gpu(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options = {},
+                         GlConvolutionReport* report = nullptr);
   // Drops the kept PSF spectrum, so the next call transforms its PSF again (as for a new PSF each
   // frame in dynamic glare; the benchmark times that case).
   void forget_psf() { kernel_ready_ = false; }
@@ -77,6 +82,9 @@ class GlConvolution {
   // convolve()'s steps, in its order: the image checked and split into bright and dim parts (on
   // the CPU), the dim part padded onto the grid, the PSF padded and transformed, the spectra
   // multiplied, the bright pixels added directly, the result cropped; then the stages' GPU times.
+  // convolve() and convolve_on_gpu(): the result read back into `output` unless it is null.
+  void run(const ImageRGBA& image, const Psf& psf, const GlConvolutionOptions& options, GlConvolutionReport* report,
+           ImageRGBA* output);
   static std::unique_ptr<ImageSpectrum> split_image(const ImageRGBA& image, const GlConvolutionOptions& options);
   void pad_image(const ImageRGBA& image, const ImageSpectrum& scene, const Grid& grid);
   void transform_psf(const Psf& psf, const Grid& grid);

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "core/gl/read_back.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
@@ -117,8 +118,7 @@ void GlFft::upload(const std::vector<std::complex<float>>& values) {
 std::vector<std::complex<float>> GlFft::download() const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   std::vector<std::complex<float>> values(element_count());
-  glGetNamedBufferSubData(data_.get(), 0, static_cast<GLsizeiptr>(values.size() * sizeof(std::complex<float>)),
-                          values.data());
+  read_back_buffer(data_.get(), 0, values.size() * sizeof(std::complex<float>), values.data(), ReadBackKind::kernel);
   check_gl_error("GL FFT: download");
   return values;
 }

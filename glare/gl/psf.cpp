@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/gl/read_back.h"
 #include "glare/refraction/astigmatic_phase.h"
 #include "glare/refraction/chromatic_eye.h"
 #include "glare/wave/fresnel.h"
@@ -286,10 +287,10 @@ Psf GlPsf::read(int channels, double wavelength_nm) const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   const std::size_t count = static_cast<std::size_t>(channels) * size_px_ * size_px_;
   std::vector<float> values(count);
-  glGetNamedBufferSubData(result_buffer(channels), 0, static_cast<GLsizeiptr>(count * sizeof(float)), values.data());
+  read_back_buffer(result_buffer(channels), 0, count * sizeof(float), values.data(), ReadBackKind::kernel);
   std::vector<float> sums(static_cast<std::size_t>(channels));
-  glGetNamedBufferSubData(channels == 1 ? power_sums_.get() : spectral_sums_.get(), 0,
-                          static_cast<GLsizeiptr>(sums.size() * sizeof(float)), sums.data());
+  read_back_buffer(channels == 1 ? power_sums_.get() : spectral_sums_.get(), 0, sums.size() * sizeof(float),
+                   sums.data(), ReadBackKind::reduction);
   check_gl_error("GL PSF: reading back");
   for (const float sum : sums)
     if (!(sum > 0.0f))

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/gl/read_back.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab {
@@ -38,10 +39,8 @@ void draw_calibration_patch(int width_px, int height_px, double patch_fraction, 
 
 ImageRGBA read_default_framebuffer(int width_px, int height_px, unsigned framebuffer) {
   ImageRGBA image(width_px, height_px);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
   std::vector<float> bottom_up(image.rgba.size());
-  glReadPixels(0, 0, width_px, height_px, GL_RGBA, GL_FLOAT, bottom_up.data());
+  gl::read_back_framebuffer_rgba(framebuffer, 0, 0, width_px, height_px, bottom_up.data(), gl::ReadBackKind::frame);
   gl::check_gl_error("calibrate: reading a patch back");
   // GL rows start at the bottom; glarelab images start at the top.
   const std::size_t row_floats = static_cast<std::size_t>(width_px) * 4;

@@ -12,6 +12,8 @@ std::unique_ptr<DisplayBackend> create_compute_context() {
   return create_display("offscreen", request);
 }
 
+GlContextFactory display_context_factory(DisplayBackend& display) { return one_context_factory(display); }
+
 GlContextFactory compute_context_factory() {
   return []() -> std::unique_ptr<GlContext> { return create_compute_context(); };
 }

@@ -13,4 +13,10 @@ namespace glarelab::gl {
 std::unique_ptr<DisplayBackend> create_compute_context();
 GlContextFactory compute_context_factory();
 
+// The display's own context handed out as a GlContextFactory: each context it makes is a handle to
+// `display`'s (made current by it, never destroying it), so that what GL work below runner/ makes
+// there (the GL frame engine's frames) the display draws without a copy through the host. The
+// display must outlive every handle.
+GlContextFactory display_context_factory(DisplayBackend& display);
+
 }  // namespace glarelab::gl

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/errors.h"
+#include "core/gl/read_back.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab {
@@ -118,11 +119,9 @@ ImageRGBA OpenXrViewCopier::read_view(GLuint image, int width_px, int height_px,
   const gl::Framebuffer source = gl::create_framebuffer();
   glNamedFramebufferTexture(source.get(), GL_COLOR_ATTACHMENT0, image, 0);
   glNamedFramebufferReadBuffer(source.get(), GL_COLOR_ATTACHMENT0);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, source.get());
   glDisable(GL_FRAMEBUFFER_SRGB);
   ImageRGBA bottom_up(width_px, height_px);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, width_px, height_px, GL_RGBA, GL_FLOAT, bottom_up.rgba.data());
+  gl::read_back_framebuffer_rgba(source.get(), 0, 0, width_px, height_px, bottom_up.rgba.data(), gl::ReadBackKind::frame);
   gl::check_gl_error("OpenXR: reading a swapchain image back");
   ImageRGBA view(width_px, height_px);
   for (int y = 0; y < height_px; ++y)

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/number_text.h"
+#include "core/gl/read_back.h"
 #include "core/pixel_rect.h"
 #include "runner/session/session_glare.h"
 #include "stimuli/perception/frame_adaptation_luminance.h"
@@ -158,7 +159,7 @@ void SessionGlare::record_interval(const IntervalGlare& glare, const ImageRGBA& 
 // Eye e's part of frame k: what it sees of the interval's frame through its perception stages
 // (Fig. 6.1: adaptation -> glare -> acuity -> tone mapping -> scotopic colour, at its gaze or its
 // view's centre) or through its glare alone.
-ImageRGBA SessionGlare::eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports) {
+EyeFrame SessionGlare::eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports) {
   SessionEye& eye = *eyes_[e];
   EyeIntervalGlare& part = glare.eyes[e];
   EyeFrameRequest request{part.seen_cd_m2(glare.composed_cd_m2)};
@@ -172,15 +173,18 @@ ImageRGBA SessionGlare::eye_frame(std::size_t e, IntervalGlare& glare, int k, st
   request.gaze = part.gaze;
   request.field_cd_m2 = part.field_cd_m2;
   request.facts = &part.seen_facts;
+  // The engine shares the display's context (SessionGlare's constructor): the GL engine's frame
+  // stays on the GPU until the display draws it.
+  request.on_gpu = true;
   EyeFrame frame = eye.engine.frame(request);
   reports.insert(reports.end(), frame.reports.begin(), frame.reports.end());
-  if (!glare.perceived()) return std::move(frame.image_cd_m2);
+  if (!glare.perceived()) return frame;
   part.adapted_cd_m2.push_back(*frame.adapted_luminance_cd_m2);
   // One frame serving the interval: the eye still sees the rest of it.
   if (k + 1 == glare.frames_needed)
     eye.engine.perception().see(*frame.frame_luminance_cd_m2, glare.first_flip_s, period_s_, glare.frames_needed,
                                 glare.stimulus_frames);
-  return std::move(frame.image_cd_m2);
+  return frame;
 }
 
 void SessionGlare::compute_frame(IntervalGlare& glare, int k) {
@@ -190,6 +194,7 @@ void SessionGlare::compute_frame(IntervalGlare& glare, int k) {
 bool SessionGlare::make_frame(IntervalGlare& glare, int k) {
   if (!glare.computed() || k >= glare.frames_needed || static_cast<int>(glare.frames.size()) > k) return false;
   const auto start = std::chrono::steady_clock::now();
+  const gl::ReadBackTally read_backs_before = gl::read_back_tally();
   std::optional<double> gaze_time_s;
   // The tracker first: a frame prepared ahead on a worker (never with a tracker) must not read the
   // presentations the display's thread settles meanwhile.
@@ -206,9 +211,13 @@ bool SessionGlare::make_frame(IntervalGlare& glare, int k) {
   // Where the frame can differ from the composed one: inside each eye's changed boxes where the eye
   // sees its part as it is and its glare says where it changed it; else anywhere.
   std::optional<PixelRect> differs_within = PixelRect{};
+  // The eyes' parts that stayed on the GPU (the GL engine), and those made on the host.
+  std::vector<GlaredRegion::GpuPart> gpu_parts;
+  std::vector<std::pair<ImageRGBA, PixelRect>> host_parts;
   for (std::size_t e = 0; e < eyes_.size(); ++e) {
     std::vector<GlareFrameReport> eye_reports;
-    ImageRGBA part = eye_frame(e, glare, k, eye_reports);
+    EyeFrame part = eye_frame(e, glare, k, eye_reports);
+    glare.add_gpu_stage_times(part.gpu_stages_s);
     const PixelRect& view = eyes_[e]->view.viewport;
     const std::optional<PixelRect> bound = changed_bound(eye_reports);
     if (glare.perceived() || glare.eyes[e].through_spectacles || !bound)
@@ -216,11 +225,10 @@ bool SessionGlare::make_frame(IntervalGlare& glare, int k) {
     else if (differs_within)
       differs_within = bounding_rect(*differs_within, PixelRect{bound->x_px + view.x_px, bound->y_px + view.y_px,
                                                                 bound->width_px, bound->height_px});
-    if (covers_frame(glare.composed_cd_m2, view)) {
-      shown = std::move(part);
+    if (part.gpu_image_cd_m2) {
+      gpu_parts.push_back({std::move(part.gpu_image_cd_m2), view});
     } else {
-      if (!shown) shown = glare.composed_cd_m2;
-      paste_view(*shown, part, view);
+      host_parts.emplace_back(std::move(part.image_cd_m2), view);
     }
     for (const GlareFrameReport& report : eye_reports)
       if (report.pupil_diameter_mm > 0.0) {
@@ -229,14 +237,35 @@ bool SessionGlare::make_frame(IntervalGlare& glare, int k) {
       }
     reports.insert(reports.end(), eye_reports.begin(), eye_reports.end());
   }
-  // Frame 0 is what --save-frames and glarelab render record, so it is kept exact; the others
-  // only reach the display encoder and are kept at half precision, 6 bytes a pixel against 16
-  // (runner/session/glared_region.h: the codes shown stay within one of the exact frame's).
-  const RegionPrecision kept_at = k == 0 ? RegionPrecision::exact : RegionPrecision::half_rgb;
-  glare.frames.push_back(changed_region(glare.composed_cd_m2, *shown, kept_at, differs_within));
+  if (!gpu_parts.empty()) {
+    // On the GPU, where it is drawn from: an eye answered on the host beside it is uploaded.
+    for (const auto& [image, view] : host_parts)
+      gpu_parts.push_back({std::make_shared<gl::GlFrameBuffer>(image), view});
+    glare.frames.push_back(gpu_region(std::move(gpu_parts)));
+  } else {
+    for (auto& [image, view] : host_parts) {
+      if (covers_frame(glare.composed_cd_m2, view)) {
+        shown = std::move(image);
+      } else {
+        if (!shown) shown = glare.composed_cd_m2;
+        paste_view(*shown, image, view);
+      }
+    }
+    // Frame 0 is what --save-frames and glarelab render record, so it is kept exact; the others
+    // only reach the display encoder and are kept at half precision, 6 bytes a pixel against 16
+    // (runner/session/glared_region.h: the codes shown stay within one of the exact frame's).
+    const RegionPrecision kept_at = k == 0 ? RegionPrecision::exact : RegionPrecision::half_rgb;
+    glare.frames.push_back(changed_region(glare.composed_cd_m2, *shown, kept_at, differs_within));
+  }
   if (k == 0 && capture_.frame && capture_.frame->reports.empty()) capture_.frame->reports = reports;
   count_glare_reports(glare, reports);
   glare.frame_compute_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  // What frame 0 read back, and the tally the interval's later read-backs are counted from
+  // (report_interval's `read_backs` event).
+  if (k == 0) {
+    glare.read_backs_first_frame = gl::read_back_tally().since(read_backs_before);
+    glare.read_backs_after_first_from = gl::read_back_tally();
+  }
   return true;
 }
 

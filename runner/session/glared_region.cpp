@@ -70,9 +70,27 @@ class HalfStoragePool {
   std::size_t idle_bytes_ = 0;
 };
 
+std::uint64_t next_region_serial() {
+  static std::atomic<std::uint64_t> next_serial{1};
+  return next_serial.fetch_add(1, std::memory_order_relaxed);
+}
+
 }  // namespace
 
 GlaredRegion::~GlaredRegion() { HalfStoragePool::instance().give(std::move(half_rgb)); }
+
+GlaredRegion gpu_region(std::vector<GlaredRegion::GpuPart> parts) {
+  GlaredRegion region;
+  region.serial = next_region_serial();
+  PixelRect bound;
+  for (const GlaredRegion::GpuPart& part : parts) bound = bounding_rect(bound, part.view);
+  region.x0_px = bound.x_px;
+  region.y0_px = bound.y_px;
+  region.width_px = bound.width_px;
+  region.height_px = bound.height_px;
+  region.gpu_parts = std::move(parts);
+  return region;
+}
 
 GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
                             const std::optional<PixelRect>& differs_within) {
@@ -91,9 +109,8 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
     while (std::memcmp(a + 4 * last, b + 4 * last, pixel_bytes) == 0) --last;
     x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
   }
-  static std::atomic<std::uint64_t> next_serial{1};
   GlaredRegion region;
-  region.serial = next_serial.fetch_add(1, std::memory_order_relaxed);
+  region.serial = next_region_serial();
   if (x1 < 0) return region;
   region.x0_px = x0;
   region.y0_px = y0;

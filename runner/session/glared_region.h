@@ -6,11 +6,13 @@
 // per stimulus frame (30 whole 1920 x 1080 float32 RGBA frames are 1.0 GB).
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "core/image.h"
 #include "core/pixel_rect.h"
+#include "stimuli/perception/gl_frame_buffer.h"
 
 namespace glarelab {
 
@@ -41,6 +43,14 @@ struct GlaredRegion {
   // (stimuli/frame_renderer.h); one of the two is filled, as `precision` asked.
   std::vector<float> exact_rgba;        // RegionPrecision::exact: 4 x width x height floats
   std::vector<std::uint16_t> half_rgb;  // RegionPrecision::half_rgb: 3 x width x height halves
+  // Or the frame left on the GPU by the GL frame engine (stimuli/frame_engine.h), kept there until
+  // it is drawn: each eye's part in a GL buffer of the display's context (RGBA32F, row 0 at the
+  // top), drawn into its view; the rectangle is the views' bounding box, nothing is on the host.
+  struct GpuPart {
+    std::shared_ptr<const gl::GlFrameBuffer> frame;
+    PixelRect view;
+  };
+  std::vector<GpuPart> gpu_parts;
   // Unique to each region changed_region() makes (from 1; a copy keeps it): a flip of the region
   // the stimulus framebuffer already holds only re-encodes it (SessionLoop::draw), as for static
   // glare, whose interval shows one region at every flip.
@@ -57,6 +67,9 @@ struct GlaredRegion {
 // on a 1920 x 1080 display changes a small part of it). A box reaching past the frame is clipped.
 GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
                             const std::optional<PixelRect>& differs_within = std::nullopt);
+
+// A frame kept on the GPU as the eyes' parts (each part's buffer the size of its view).
+GlaredRegion gpu_region(std::vector<GlaredRegion::GpuPart> parts);
 
 // The linear cd/m2 a region holds (float32 RGBA, row 0 at the top; a half region's alpha is 1).
 ImageRGBA region_pixels(const GlaredRegion& region);

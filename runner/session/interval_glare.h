@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "core/gl/read_back.h"
 #include "core/image.h"
 #include "core/perception_settings.h"
 #include "runner/session/glared_region.h"
@@ -94,6 +96,27 @@ struct IntervalGlare {
   // region put in, overlays, the encode, the GL work finished), the rest of a live frame's cost.
   std::vector<double> frame_draw_s;
   std::vector<EyeIntervalGlare> eyes;  // one per eye of the session (runner/session/session_eyes.h)
+  // Read-backs from the GPU (core/gl/read_back.h): those computing frame 0, and the process's tally
+  // when it was done, which the interval's later frames and flips are counted from.
+  gl::ReadBackTally read_backs_first_frame;
+  std::optional<gl::ReadBackTally> read_backs_after_first_from;
+  // The GL engine: each GPU stage's time summed over the frames that timed it (EyeFrame::gpu_stages_s),
+  // in the order the stages first ran, and how many frames each sum holds.
+  struct GpuStageSum {
+    std::string stage;
+    double seconds = 0.0;
+    int frames = 0;
+  };
+  std::vector<GpuStageSum> gpu_stage_sums;
+  void add_gpu_stage_times(const std::vector<std::pair<std::string, double>>& stages_s) {
+    for (const auto& [stage, seconds] : stages_s) {
+      auto sum = std::find_if(gpu_stage_sums.begin(), gpu_stage_sums.end(),
+                              [&](const GpuStageSum& s) { return s.stage == stage; });
+      if (sum == gpu_stage_sums.end()) sum = gpu_stage_sums.insert(gpu_stage_sums.end(), GpuStageSum{stage});
+      sum->seconds += seconds;
+      ++sum->frames;
+    }
+  }
 
   double frame_time_s(int k) const { return first_flip_s + k * period_s; }
   std::optional<double> gaze_time_of(int k) const {

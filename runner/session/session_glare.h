@@ -70,6 +70,11 @@ class SessionGlare {
   SessionGlare(const PreparedSession& prepared, FrameRenderer& renderer, DisplayBackend& display, SessionClock& clock,
                ResultStore& store, std::int64_t session_id, TrackerSession& tracker, PreviewCapture& capture);
 
+  // Intervals begun on the display's thread compose their frame on the CPU by `composition` where
+  // it gives GL's frame bit for bit (CpuComposition::exact), not in GL read back: no read-back of
+  // the composed frame. `composition` must outlive this object.
+  void compose_on_cpu_where_exact(const CpuComposition* composition) { exact_composition_ = composition; }
+
   // --- an interval's inputs and frames (runner/session/trial_glare.cpp) ---
   // The interval's glare set up before the fixation: modes, composed frame, what each eye sees of
   // it, and tracker inputs. `flips_before`: timed flips between now and the interval's first
@@ -174,7 +179,10 @@ class SessionGlare {
   void see_interval(const IntervalGlare& glare, const ImageRGBA* composed_cd_m2);
   // A preview passing by: each eye sees the interval's frames as computing them would have made it.
   void record_interval(const IntervalGlare& glare, const ImageRGBA& composed_cd_m2);
-  ImageRGBA eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports);
+  EyeFrame eye_frame(std::size_t e, IntervalGlare& glare, int k, std::vector<GlareFrameReport>& reports);
+  // After the timed sequence, where an eye's frame engine is the GL one: a `read_backs` event with
+  // what frame 0 of the interval read back (core/gl/read_back.h) and what was read back after it.
+  void log_read_backs(const TrialPlan& plan, const IntervalGlare& glare);
   // Once per session, stereo only: a 'stereo' event with each eye's view, seed and inputs.
   void log_stereo_setup();
   // Stereo only: the interval's stereo_eyes event (each eye's pupil, gaze and adapted luminance).
@@ -183,6 +191,7 @@ class SessionGlare {
   // A trial's own event: held for its commit when hold_trial_events_in was called, else written now.
   void log_trial_event(double at_s, const std::string& kind, std::string message);
   std::vector<HeldEvent>* held_events_ = nullptr;
+  const CpuComposition* exact_composition_ = nullptr;  // compose_on_cpu_where_exact
 
   const PreparedSession& prepared_;
   FrameRenderer& renderer_;

@@ -27,6 +27,7 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
     const SceneTexture& texture = textures_.emplace(name, renderer_.upload(scene.image_cd_m2)).first->second;
     composition_.add_scene(texture, scene.image_cd_m2);
   }
+  glare_.compose_on_cpu_where_exact(&composition_);
   upload_straylight_stimulus();
   glare_.hold_trial_events_in(&events_with_commit_);
 }

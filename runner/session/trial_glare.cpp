@@ -93,6 +93,8 @@ IntervalGlare SessionGlare::begin_interval_off_display(const TrialPlan& plan, co
 ImageRGBA SessionGlare::composed(const std::vector<Placement>& placements, double background_cd_m2,
                                  const CpuComposition* composition) {
   if (composition != nullptr) return composition->compose(placements, background_cd_m2);
+  if (exact_composition_ != nullptr && exact_composition_->exact(placements))
+    return exact_composition_->compose(placements, background_cd_m2);
   renderer_.compose(placements, background_cd_m2);
   return renderer_.read_stimulus();
 }

@@ -74,7 +74,11 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   const PixelRect glared_box =
       glared != nullptr ? PixelRect{glared->x0_px, glared->y0_px, glared->width_px, glared->height_px} : PixelRect{};
   const auto replace_region = [&] {
-    if (!glared->half_rgb.empty())
+    if (!glared->gpu_parts.empty()) {
+      for (const GlaredRegion::GpuPart& part : glared->gpu_parts)
+        renderer_.replace_stimulus_region_from_buffer(part.frame->buffer(), part.view.x_px, part.view.y_px,
+                                                      part.view.width_px, part.view.height_px);
+    } else if (!glared->half_rgb.empty())
       renderer_.replace_stimulus_region_half_rgb(glared->half_rgb, glared->x0_px, glared->y0_px, glared->width_px,
                                                  glared->height_px);
     else

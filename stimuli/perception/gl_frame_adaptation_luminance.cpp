@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "core/gl/read_back.h"
 #include "core/gl/shader_program.h"
 
 namespace glarelab::gl {
@@ -90,7 +91,8 @@ double GlFrameAdaptationLuminance::luminance_cd_m2(const GlFrameBuffer& frame, d
   check_gl_error("perception adaptation");
 
   std::vector<float> cells(static_cast<std::size_t>(top) * top * 2);
-  glGetNamedBufferSubData(source, 0, static_cast<GLsizeiptr>(cells.size() * sizeof(float)), cells.data());
+  // The pyramid's top cells: a reduction of a few values, not the frame.
+  read_back_buffer(source, 0, cells.size() * sizeof(float), cells.data(), ReadBackKind::reduction);
   double weighted = 0.0, weights = 0.0;
   for (std::size_t i = 0; i < cells.size(); i += 2) {
     weighted += cells[i];

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/gl/read_back.h"
+
 namespace glarelab::gl {
 namespace {
 
@@ -47,9 +49,14 @@ void GlFrameBuffer::upload(const ImageRGBA& frame) {
 ImageRGBA GlFrameBuffer::download() const {
   ImageRGBA frame(width_px_, height_px_);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  glGetNamedBufferSubData(buffer_.get(), 0, static_cast<GLsizeiptr>(frame.rgba.size() * sizeof(float)),
-                          frame.rgba.data());
+  read_back_buffer(buffer_.get(), 0, frame.rgba.size() * sizeof(float), frame.rgba.data(), ReadBackKind::frame);
   return frame;
+}
+
+void GlFrameBuffer::copy_from(GLuint source_buffer) {
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  glCopyNamedBufferSubData(source_buffer, buffer_.get(), 0, 0,
+                           static_cast<GLsizeiptr>(float_count(width_px_, height_px_) * sizeof(float)));
 }
 
 void dispatch_per_pixel(int width_px, int height_px) {

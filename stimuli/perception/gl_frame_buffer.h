@@ -22,7 +22,10 @@ class GlFrameBuffer {
   GLuint buffer() const { return buffer_.get(); }
 
   void upload(const ImageRGBA& frame);  // same size, else std::invalid_argument
-  ImageRGBA download() const;           // waits for the GPU (glGetNamedBufferSubData)
+  ImageRGBA download() const;           // waits for the GPU (a counted read-back, core/gl/read_back.h)
+  // Copies a buffer of this frame's size and layout (another frame's, or the GL glare backend's
+  // result: GlareBackend::convolve_on_gpu) on the GPU; nothing comes to the host.
+  void copy_from(GLuint source_buffer);
 
  private:
   int width_px_;

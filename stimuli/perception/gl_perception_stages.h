@@ -5,8 +5,13 @@
 // a scalar, on the CPU: TemporalAdaptation) -> glare (the caller's, on the CPU: the frame is read
 // back and uploaded again around it) -> acuity loss (GlAcuityLoss) -> tone mapping (GlToneMapping)
 // -> scotopic colour (GlScotopicColour). One upload, one read-back per frame (two more with glare).
+// run_on_gpu leaves the frame on the GPU instead: its glare hands the glared frame over in a GL
+// buffer where it can, and the perceived frame stays in a buffer the caller keeps; the only
+// read-back is then the adaptation pyramid's top cells (a reduction of a few values).
 // Requires a current OpenGL 4.5 context; not thread-safe.
+#include <functional>
 #include <memory>
+#include <vector>
 
 #include "stimuli/perception/gl_acuity_loss.h"
 #include "stimuli/perception/gl_frame_adaptation_luminance.h"
@@ -27,12 +32,31 @@ class GlPerceptionStages {
                        const PerceptionSettings& settings, const DisplaySpec& display,
                        const PerceptionGlare& glare = {});
 
+  // The glare between adaptation and acuity writing the glared scene into `out` (the scene's size),
+  // on the GPU where it can (a GL buffer copied, nothing read back), else uploaded from the host.
+  using GlareOnGpu = std::function<void(const ImageRGBA& scene, GlFrameBuffer& out)>;
+  // run() with the perceived frame left on the GPU, in a buffer made for this frame (`out`, so that
+  // frames made ahead of their flips are each kept): `result.image` stays empty.
+  PerceptionResult run_on_gpu(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
+                              const PerceptionSettings& settings, const DisplaySpec& display, const GlareOnGpu& glare,
+                              std::shared_ptr<GlFrameBuffer>& out);
+
  private:
+  // The stages up to the frame's last one; returns the buffer that holds it (frame_ or blurred_).
+  GlFrameBuffer& run_stages(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
+                            const PerceptionSettings& settings, const DisplaySpec& display, const GlareOnGpu& glare,
+                            PerceptionResult& result);
   GlFrameAdaptationLuminance adaptation_;
   GlAcuityLoss acuity_;
   GlToneMapping tone_mapping_;
   GlScotopicColour scotopic_;
   std::unique_ptr<GlFrameBuffer> frame_, blurred_;  // kept while the frame size stays the same
+  // GL_TIMESTAMP queries: one before the first stage and one after each that ran (and after the
+  // frame is kept, run_on_gpu), made on first use; read into result.gpu_stages_s at the frame's end.
+  std::vector<Query> timestamps_;
+  std::vector<const char*> stamped_;  // the stage each query after the first ends
+  void stamp(const char* stage_done);
+  void read_stamps(PerceptionResult& result);
 };
 
 }  // namespace glarelab::gl

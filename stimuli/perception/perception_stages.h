@@ -11,6 +11,7 @@
 // table maps onto (protocols/perception_config.h).
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/display_spec.h"
@@ -46,6 +47,10 @@ struct PerceptionResult {
   double frame_luminance_cd_m2 = 0.0;       // this frame's adaptation luminance (5.1)
   double adapted_luminance_cd_m2 = 0.0;     // L_i (Eq. 5.2), what tone mapping and scotopic used
   std::vector<PerceptionStage> stages_run;  // in the order they ran
+  // The GL stages: each stage's time on the GPU's clock (GL_TIMESTAMP queries between them, in the
+  // order they ran: "adaptation", "glare", "acuity", "tone mapping", "scotopic", "kept"), seconds;
+  // empty on the CPU.
+  std::vector<std::pair<std::string, double>> gpu_stages_s;
 };
 
 // Runs the enabled stages on one frame of scene luminances (linear Rec.709, cd/m2) and advances
