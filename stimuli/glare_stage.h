@@ -29,6 +29,7 @@
 #include "core/display_spec.h"
 #include "core/gl/gl_context.h"
 #include "glare/analytic/analytic_glare.h"
+#include "glare/analytic/ciliary_corona.h"
 #include "glare/analytic/lenticular_halo.h"
 #include "glare/analytic/pixel_solid_angle.h"
 #include "glare/refraction/dioptric_power.h"
@@ -52,6 +53,9 @@ struct GlareFrameReport {
   // The human eye: the share of the light its fibre gratings send into the lenticular halo
   // (glare/analytic/lenticular_halo.h); 0 when the pupil hides them.
   double halo_energy = 0.0;
+  // The human eye: the compact bright sources whose glare carries the ciliary corona's lines
+  // (glare/analytic/ciliary_corona.h); 0 when the frame has none.
+  int corona_sources = 0;
   // The lids closed the pupil completely (a blink): no light, no PSF. A dynamic eye then holds the
   // PSF of the last frame it saw open (a closed eye's PSF is undefined, and dropping the glare for
   // the ~0.1 s of closure would flash the frame); with no such frame the glare is skipped.
@@ -238,6 +242,11 @@ class GlareStage {
     ImageRGBA energy;  // PixelSolidAngle::to_energy(source)
     std::map<int, std::vector<PixelRect>> lit_boxes;
     std::uint64_t token = 0;
+    // The human eye: the frame's corona sources, found once, and the far glare with their lines
+    // added (made from the analytic engine's far glare numbered far_made; -1: not yet).
+    std::optional<std::vector<CompactSource>> corona_sources;
+    ImageRGBA far_with_corona;
+    long long far_made = -1;
   };
   std::optional<HybridSource> hybrid_source_;
   HybridSource& hybrid_source(const ImageRGBA& source, FrameFacts* facts);
@@ -247,6 +256,11 @@ class GlareStage {
   std::optional<DisplayKernel> human_near_kernel_;
   // The human eye's lenticular halo on frames of one size (its kernel's spectrum made once).
   std::unique_ptr<LenticularHaloGlare> lenticular_halo_;
+  // The human eye's far glare with the ciliary corona's lines of the kept frame's compact sources:
+  // the far glare itself when it has none. Made once per composed frame.
+  const ImageRGBA& far_glare_with_corona(HybridSource& kept, const ImageRGBA& far_glare, long long far_made,
+                                         GlareFrameReport& r);
+  std::unique_ptr<CiliaryCorona> corona_;
 
   GlareSpec spec_;
   DisplaySpec display_;

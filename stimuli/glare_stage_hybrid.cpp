@@ -9,7 +9,10 @@
 // PSF, one transform of it, one product with the kept spectrum of the frame and the inverse
 // transform, whose rows are finished (far glare and halo added, energy back to luminance) while in
 // cache. The arithmetic per pixel is the one of the passes it replaces, in the same order and
-// precision, so the frames are the same bit for bit.
+// precision, so the frames are the same bit for bit. The human eye's far glare carries the ciliary
+// corona's lines around the frame's compact sources (glare/analytic/ciliary_corona.h), added to a
+// copy of it once per composed frame, so a frame of the interval reads the lines with the far glare.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -67,6 +70,34 @@ GlareStage::HybridSource& GlareStage::hybrid_source(const ImageRGBA& source, Fra
   return *hybrid_source_;
 }
 
+const ImageRGBA& GlareStage::far_glare_with_corona(HybridSource& kept, const ImageRGBA& far_glare, long long far_made,
+                                                   GlareFrameReport& r) {
+  if (!corona_)
+    corona_ = std::make_unique<CiliaryCorona>(spec_.observer_eye,
+                                              DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm}, seed_);
+  if (!kept.corona_sources) kept.corona_sources = compact_sources(kept.source, kept.energy, corona_->source_rule());
+  r.corona_sources = static_cast<int>(kept.corona_sources->size());
+  if (kept.corona_sources->empty()) return far_glare;
+  if (kept.far_made != far_made) {
+    kept.far_made = -1;  // until the new one is whole
+    ImageRGBA lines(far_glare.width_px, far_glare.height_px, 0.0f);
+    for (const CompactSource& source : *kept.corona_sources) corona_->add(source, lines, kGlareCpuThreads);
+    // far + lines; the lines take from a source's own veil no more than it holds there (the
+    // centroid's smooth kernel and the far glare of the source's pixels differ by rounding and by
+    // the source's extent), so no pixel goes below 0.
+    kept.far_with_corona = far_glare;
+    for (std::size_t i = 0; i < lines.rgba.size(); i += 4)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const float added = lines.rgba[i + c];
+        if (added == 0.0f) continue;
+        float& value = kept.far_with_corona.rgba[i + c];
+        value = std::max(0.0f, value + added);
+      }
+    kept.far_made = far_made;
+  }
+  return kept.far_with_corona;
+}
+
 ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
                                    double mean_cd_m2, GlareFrameReport& r, FrameFacts* facts, unsigned* gpu_buffer) {
   const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
@@ -87,7 +118,11 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   const ImageRGBA& energy = kept.energy;
   auto boxes = kept.lit_boxes.find(near.size_px);
   if (boxes == kept.lit_boxes.end()) boxes = kept.lit_boxes.emplace(near.size_px, lit_regions(energy, near.size_px)).first;
-  const ImageRGBA& far_glare = far.glare(energy, kept.token);
+  // The human eye's far glare carries the ciliary corona's lines around the frame's compact sources
+  // (remade only when the engine computed a new far glare).
+  const ImageRGBA& smooth_far_glare = far.glare(energy, kept.token);
+  const ImageRGBA& far_glare =
+      human ? far_glare_with_corona(kept, smooth_far_glare, far.convolutions_computed(), r) : smooth_far_glare;
   // The lenticular halo of the fibre gratings this pupil uncovers, its light taken from the
   // source's own pixel (glare/analytic/lenticular_halo.h): halo_energy (ring - source).
   const ImageRGBA* ring = nullptr;

@@ -17,9 +17,14 @@
 namespace glarelab {
 namespace {
 
-constexpr int kWidth = 1024, kHeight = 512, kLampX = 768, kLampY = 256, kLampRadiusPx = 5;
+// The lamp: a disc of 25 px radius (1.2 degrees) holding the energy of the demo's 5 px lamp of
+// 4000 cd/m2 (4000 x (5 / 25)^2 = 160 cd/m2). A disc that large is an areal light, for which the
+// ciliary corona draws no lines (Spencer 1995, section 2.2; glare/analytic/ciliary_corona.h), so
+// the veil here is the smooth CIE 146 one this test is about; a small lamp's lines are
+// tests/glare_ciliary_corona_test.cpp's.
+constexpr int kWidth = 1024, kHeight = 512, kLampX = 768, kLampY = 256, kLampRadiusPx = 25;
 constexpr double kPeakCdM2 = 250.0;
-constexpr float kLampCdM2 = 4000.0f;
+constexpr float kLampCdM2 = 160.0f;
 
 std::string experiment_text() {
   return R"([experiment]

@@ -144,13 +144,29 @@ double FlareLines::normalised(double angle_deg, double azimuth_rad, double sourc
     if (ratio >= 1.0) return 1.0;  // inside the source: every direction's lines pass here
     b = std::asin(ratio);
   }
-  const bool wraps = h + b > kPi;
+  const double reach = h + b;
+  const bool wraps = reach > kPi;
   double sum = 0.0;
-  for (const FlareLine& line : lines_) {
-    const double y = std::remainder(azimuth_rad - line.azimuth_rad, 2.0 * kPi);
-    double g = blurred_box(y, h, b);
-    if (wraps) g += blurred_box(y - 2.0 * kPi, h, b) + blurred_box(y + 2.0 * kPi, h, b);
-    sum += line.intensity * g;
+  if (wraps) {
+    for (const FlareLine& line : lines_) {
+      const double y = std::remainder(azimuth_rad - line.azimuth_rad, 2.0 * kPi);
+      sum += line.intensity * (blurred_box(y, h, b) + blurred_box(y - 2.0 * kPi, h, b) + blurred_box(y + 2.0 * kPi, h, b));
+    }
+  } else {
+    // A blurred box is exactly 0 farther than h + b from its line: only the lines within that reach
+    // of the azimuth (sorted by azimuth; the search wraps at 2 pi) are summed.
+    double start = std::fmod(azimuth_rad - reach, 2.0 * kPi);
+    if (start < 0.0) start += 2.0 * kPi;
+    const auto first = std::lower_bound(lines_.begin(), lines_.end(), start,
+                                        [](const FlareLine& line, double a) { return line.azimuth_rad < a; });
+    std::size_t index = static_cast<std::size_t>(first - lines_.begin());
+    for (std::size_t step = 0; step < lines_.size(); ++step, ++index) {
+      const FlareLine& line = lines_[index % lines_.size()];
+      double ahead = line.azimuth_rad - start;
+      if (ahead < 0.0) ahead += 2.0 * kPi;
+      if (ahead > 2.0 * reach) break;
+      sum += line.intensity * blurred_box(std::remainder(azimuth_rad - line.azimuth_rad, 2.0 * kPi), h, b);
+    }
   }
   // Each blurred box holds 2h of azimuth, so the ring's mean is intensity_sum 2h / (2 pi).
   return sum / (intensity_sum_ * h / kPi);
