@@ -1,16 +1,16 @@
-# Unity groups: each layer's sources compiled a few at a time as unity sources, so the headers they
-# share (the standard library, glm, toml++, CLI11, Boost) are compiled once per group instead of
-# once per file: most of a cold build's time (README.md, "First run"). cmake/unity_groups.py forms
-# the groups: a group never holds two files with the same file-local name (each file's anonymous
-# namespace becomes one in a unity source, where same-named functions would overload each other
-# silently), a file that defines a macro or has compile options of its own is compiled alone, and
-# a file added after configuring is compiled alone until the next configure. Before each build a
-# check (the same script) fails, naming the files and the names, when an edit has since put the
-# same file-local name into two files of one group.
+# Unity groups: the sources of each layer's library and of the benchmarks compiled a few at a time
+# as unity sources, so the headers they share (the standard library, glm, toml++, CLI11, Boost) are
+# compiled once per group instead of once per file: most of a cold build's time (README.md, "First
+# run"). cmake/unity_groups.py forms the groups: a group never holds two files with the same
+# file-local name (each file's anonymous namespace becomes one in a unity source, where same-named
+# functions would overload each other silently), a file that defines a macro or has compile options
+# or definitions of its own is compiled alone, and a file added after configuring is compiled alone
+# until the next configure. Before each build a check (the same script) fails, naming the files and
+# the names, when an edit has since put the same file-local name into two files of one group.
 #
 # Off (-DGLARELAB_UNITY_GROUPS=OFF) every file compiles on its own: quicker rebuilds while editing
 # one file. Without Python 3 or Universal Ctags the option has no effect, and configure says so.
-option(GLARELAB_UNITY_GROUPS "Compile each library's sources as a few unity sources (a quicker cold build)" ON)
+option(GLARELAB_UNITY_GROUPS "Compile each library's and the benchmarks' sources as a few unity sources (a quicker cold build)" ON)
 set(GLARELAB_UNITY_GROUP_FILES 8 CACHE STRING "Most source files in one unity group")
 
 if(GLARELAB_UNITY_GROUPS)
@@ -23,19 +23,29 @@ if(GLARELAB_UNITY_GROUPS)
 endif()
 
 # glarelab_unity_groups(target): groups the target's own source files (generated ones, and files
-# with per-file compile options, stay alone).
+# with per-file compile options or definitions, stay alone).
+#
+# Each group's unity source is written here rather than by CMake's UNITY_BUILD, which names its
+# files by their absolute paths: a unity source's text would then differ between two checkouts and
+# the compiler cache could never reuse an object compiled in another folder (tests/test_paths.h
+# says the same of the test program). Here each file is named relative to the source tree and
+# found through the target's include directory (the source tree's root, on every layer's include
+# path), so the text is the same in every checkout.
 function(glarelab_unity_groups target)
   if(NOT GLARELAB_UNITY_GROUPS)
     return()
   endif()
   get_target_property(sources ${target} SOURCES)
+  get_target_property(source_dir ${target} SOURCE_DIR)
   set(candidates "")
   foreach(source IN LISTS sources)
     if(NOT IS_ABSOLUTE "${source}")
-      set(source "${CMAKE_SOURCE_DIR}/${source}")
+      set(source "${source_dir}/${source}")
     endif()
-    get_source_file_property(options "${source}" COMPILE_OPTIONS)
-    if(source MATCHES "\\.cpp$" AND EXISTS "${source}" AND NOT options AND source MATCHES "^${CMAKE_SOURCE_DIR}/")
+    get_source_file_property(options "${source}" TARGET_DIRECTORY ${target} COMPILE_OPTIONS)
+    get_source_file_property(definitions "${source}" TARGET_DIRECTORY ${target} COMPILE_DEFINITIONS)
+    if(source MATCHES "\\.cpp$" AND EXISTS "${source}" AND NOT options AND NOT definitions
+       AND source MATCHES "^${CMAKE_SOURCE_DIR}/")
       list(APPEND candidates "${source}")
     endif()
   endforeach()
@@ -54,10 +64,18 @@ function(glarelab_unity_groups target)
   foreach(group_line IN LISTS group_lines)
     string(REPLACE "|" ";" members "${group_line}")
     list(POP_FRONT members group_name)
-    set_source_files_properties(${members} TARGET_DIRECTORY ${target} PROPERTIES UNITY_GROUP ${group_name})
+    set(text "// Unity group ${group_name} (cmake/UnityGroups.cmake, cmake/unity_groups.py).\n")
+    foreach(member IN LISTS members)
+      file(RELATIVE_PATH relative "${CMAKE_SOURCE_DIR}" "${member}")
+      string(APPEND text "#include \"${relative}\"\n")
+    endforeach()
+    # Written only when the text changes, so that configuring again recompiles nothing.
+    set(unity_source "${CMAKE_BINARY_DIR}/unity_groups/${group_name}.cpp")
+    file(CONFIGURE OUTPUT "${unity_source}" CONTENT "${text}" @ONLY)
+    set_source_files_properties(${members} TARGET_DIRECTORY ${target} PROPERTIES HEADER_FILE_ONLY ON)
+    target_sources(${target} PRIVATE "${unity_source}")
     list(APPEND grouped ${members})
   endforeach()
-  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
   # gcc warns when a class defined outside the main file has a member of a type from an anonymous
   # namespace, which in a header would break the one-definition rule; in a unity source every file
   # is outside the main file, and the class is still defined in one translation unit only.

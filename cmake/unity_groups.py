@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Unity groups for one library: which of its sources may be compiled together as one unity source.
+"""Unity groups for one target (a library, the benchmarks): which of its sources may be compiled
+together as one unity source.
 
 A unity source #includes several .cpp files into one translation unit, so the headers they share
 (the standard library, glm, toml++, CLI11, Boost) are compiled once per group instead of once per
@@ -7,7 +8,7 @@ file. What each file keeps to itself then meets its neighbours': every file's an
 becomes one namespace, and a macro a file defines reaches the files after it. Two file-local
 functions of the same name and different parameters would then overload each other without a
 compiler error, so a group never holds two files that define the same file-local name; a file that
-defines a macro or has its own compile options is compiled on its own.
+defines a macro or has its own compile options or definitions is compiled on its own.
 
 The file-local names come from Universal Ctags (Debian's universal-ctags): functions, variables,
 types, enumerators and aliases declared in an anonymous namespace or `static` at namespace scope,
@@ -28,6 +29,19 @@ import sys
 
 LOCAL_KINDS = {"function", "variable", "struct", "class", "enum", "typedef", "union", "enumerator", "prototype"}
 
+# The test and benchmark macros, told to ctags as what they define. GoogleTest's TEST(Suite, Name)
+# declares the class Suite_Name_Test (GTEST_TEST_CLASS_NAME_ in gtest-internal.h), unique in the
+# program, and defines its TestBody(); Google Benchmark's BENCHMARK(function) defines a static
+# registration variable that benchmark.h names uniquely with __COUNTER__ (named here after the
+# function). Unexpanded, ctags reads every test as a file-local function named TEST (and every
+# registration as one named BENCHMARK), and two test files could never share a group.
+TEST_MACROS = [
+    *(f"-D{macro}(suite,name)=class suite##_##name##_Test {{}}; void suite##_##name##_Test::TestBody()"
+      for macro in ("TEST", "TEST_F", "TEST_P")),
+    "-DBENCHMARK(function)=static int function##_registration",
+    "-DBENCHMARK_CAPTURE(function,name,...)=static int function##_##name##_registration",
+]
+
 
 def file_locals(ctags, paths):
     """{path: (set of file-local names, set of macro names)} for every path."""
@@ -36,7 +50,7 @@ def file_locals(ctags, paths):
         return result
     out = subprocess.run(
         [ctags, "--fields=+sKZ", "--kinds-C++=+fvcsgtuepd", "-o", "-", "--output-format=u-ctags",
-         "--language-force=C++", *paths],
+         "--language-force=C++", *TEST_MACROS, *paths],
         capture_output=True, text=True, check=True).stdout
     for line in out.splitlines():
         parts = line.split("\t")
