@@ -10,17 +10,29 @@
 
 namespace glarelab {
 
-ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers,
-                              double time_s, const std::optional<GazePoint>& gaze,
-                              std::vector<GlareFrameReport>* reports, std::optional<double> field_luminance,
-                              StaticLayerGlare* kept) {
-  const double field_luminance_cd_m2 = field_luminance ? *field_luminance : mean_luminance(composed_cd_m2);
+namespace {
+
+void check_layer_sizes(const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers) {
   for (const GlareLayer& layer : layers)
     if (layer.image_cd_m2.width_px != composed_cd_m2.width_px || layer.image_cd_m2.height_px != composed_cd_m2.height_px)
       throw std::invalid_argument("glare layers: a layer of " + std::to_string(layer.image_cd_m2.width_px) + "x" +
                                   std::to_string(layer.image_cd_m2.height_px) + " px for a frame of " +
                                   std::to_string(composed_cd_m2.width_px) + "x" +
                                   std::to_string(composed_cd_m2.height_px) + " px");
+}
+
+bool same_gaze(const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
+  return a.has_value() == b.has_value() && (!a || (a->x == b->x && a->y == b->y));
+}
+
+}  // namespace
+
+ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2, const std::vector<GlareLayer>& layers,
+                              double time_s, const std::optional<GazePoint>& gaze,
+                              std::vector<GlareFrameReport>* reports, std::optional<double> field_luminance,
+                              StaticLayerGlare* kept) {
+  const double field_luminance_cd_m2 = field_luminance ? *field_luminance : mean_luminance(composed_cd_m2);
+  check_layer_sizes(composed_cd_m2, layers);
   // Each glaring layer's glare. A control layer's glare is the layer itself, so its two terms in
   // the sum below cancel and are left out (exactly: where it is not zero the composed frame holds
   // the same value and no other layer is drawn).
@@ -30,9 +42,6 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
   // Where each glaring layer's glare changed it (GlareFrameReport::changed_boxes); nothing: anywhere.
   std::vector<std::optional<std::vector<PixelRect>>> changed_of(layers.size());
   if (kept != nullptr && kept->layers.size() != layers.size()) kept->layers.assign(layers.size(), std::nullopt);
-  const auto same_gaze = [](const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
-    return a.has_value() == b.has_value() && (!a || (a->x == b->x && a->y == b->y));
-  };
   for (std::size_t l = 0; l < layers.size(); ++l) {
     const GlareLayer& layer = layers[l];
     if (layer.mode == GlareMode::control) continue;
@@ -150,16 +159,8 @@ std::shared_ptr<gl::GlFrameBuffer> apply_layered_glare_on_gpu(GlareStage& stage,
   for (const GlareLayer& layer : layers)
     if (layer.mode != GlareMode::control && layer.keep_peak) return nullptr;
   const double field_luminance_cd_m2 = field_luminance ? *field_luminance : mean_luminance(composed_cd_m2);
-  for (const GlareLayer& layer : layers)
-    if (layer.image_cd_m2.width_px != composed_cd_m2.width_px || layer.image_cd_m2.height_px != composed_cd_m2.height_px)
-      throw std::invalid_argument("glare layers: a layer of " + std::to_string(layer.image_cd_m2.width_px) + "x" +
-                                  std::to_string(layer.image_cd_m2.height_px) + " px for a frame of " +
-                                  std::to_string(composed_cd_m2.width_px) + "x" +
-                                  std::to_string(composed_cd_m2.height_px) + " px");
+  check_layer_sizes(composed_cd_m2, layers);
   if (kept != nullptr && kept->layers.size() != layers.size()) kept->layers.assign(layers.size(), std::nullopt);
-  const auto same_gaze = [](const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
-    return a.has_value() == b.has_value() && (!a || (a->x == b->x && a->y == b->y));
-  };
   const int width = composed_cd_m2.width_px, height = composed_cd_m2.height_px;
   auto frame = std::make_shared<gl::GlFrameBuffer>(composed_cd_m2);
   const auto add_layer = [&](const ImageRGBA& layer_cd_m2, const gl::GlFrameBuffer& glared) {

@@ -16,6 +16,23 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kRadPerDeg = kPi / 180.0;
 
+// Visits, in order of azimuth, each of the lines (sorted by azimuth) whose azimuth lies within
+// `span_rad` after `start_rad` (in [0, 2 pi)), the search wrapping at 2 pi: the lines that can
+// reach one azimuth, where a sum over all of them would add zeros.
+template <typename Lines, typename Visit>
+void for_lines_within(const Lines& lines, double start_rad, double span_rad, Visit visit) {
+  const auto first = std::lower_bound(lines.begin(), lines.end(), start_rad,
+                                      [](const auto& line, double a) { return line.azimuth_rad < a; });
+  std::size_t index = static_cast<std::size_t>(first - lines.begin());
+  for (std::size_t step = 0; step < lines.size(); ++step, ++index) {
+    const auto& line = lines[index % lines.size()];
+    double ahead = line.azimuth_rad - start_rad;
+    if (ahead < 0.0) ahead += 2.0 * kPi;
+    if (ahead > span_rad) break;
+    visit(line);
+  }
+}
+
 // A convex polygon of at most 8 vertices (a square clipped by two half-planes has at most 6).
 struct Polygon {
   std::array<double, 16> xy{};
@@ -122,16 +139,8 @@ double FlareLines::pixel_coverage(int dx, int dy, const DisplayGeometry& geometr
   }
   double start = std::atan2(cy, cx) - reach;
   if (start < 0.0) start += 2.0 * kPi;
-  const auto first = std::lower_bound(lines_.begin(), lines_.end(), start,
-                                      [](const FlareLine& line, double a) { return line.azimuth_rad < a; });
-  std::size_t index = static_cast<std::size_t>(first - lines_.begin());
-  for (std::size_t step = 0; step < lines_.size(); ++step, ++index) {
-    const FlareLine& line = lines_[index % lines_.size()];
-    double ahead = line.azimuth_rad - start;
-    if (ahead < 0.0) ahead += 2.0 * kPi;
-    if (ahead > 2.0 * reach) break;
-    sum += line.intensity * pixel_fraction(cx, cy, line.azimuth_rad, h);
-  }
+  for_lines_within(lines_, start, 2.0 * reach,
+                   [&](const auto& line) { sum += line.intensity * pixel_fraction(cx, cy, line.azimuth_rad, h); });
   return sum;
 }
 
@@ -157,16 +166,9 @@ double FlareLines::normalised(double angle_deg, double azimuth_rad, double sourc
     // of the azimuth (sorted by azimuth; the search wraps at 2 pi) are summed.
     double start = std::fmod(azimuth_rad - reach, 2.0 * kPi);
     if (start < 0.0) start += 2.0 * kPi;
-    const auto first = std::lower_bound(lines_.begin(), lines_.end(), start,
-                                        [](const FlareLine& line, double a) { return line.azimuth_rad < a; });
-    std::size_t index = static_cast<std::size_t>(first - lines_.begin());
-    for (std::size_t step = 0; step < lines_.size(); ++step, ++index) {
-      const FlareLine& line = lines_[index % lines_.size()];
-      double ahead = line.azimuth_rad - start;
-      if (ahead < 0.0) ahead += 2.0 * kPi;
-      if (ahead > 2.0 * reach) break;
+    for_lines_within(lines_, start, 2.0 * reach, [&](const auto& line) {
       sum += line.intensity * blurred_box(std::remainder(azimuth_rad - line.azimuth_rad, 2.0 * kPi), h, b);
-    }
+    });
   }
   // Each blurred box holds 2h of azimuth, so the ring's mean is intensity_sum 2h / (2 pi).
   return sum / (intensity_sum_ * h / kPi);
