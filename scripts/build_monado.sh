@@ -2,7 +2,8 @@
 # Builds Monado, an open OpenXR runtime, from its source tarball in ../shared/third_party/ into
 # build/monado, once: the OpenXR display backend's tests (tests/openxr_*_test.cpp) run against its
 # simulated headset and null compositor, headless under Xvfb (docs/STEREO.md). The source stays
-# outside the repository; it is unpacked into build/monado/src.
+# outside the repository; it is unpacked into build/monado/src and the patches of scripts/monado/
+# are applied there (a changed patch builds the runtime again).
 #   scripts/build_monado.sh [JOBS]     JOBS defaults to nproc
 # Exit 0 when the runtime is built (or was already), and also, with a "skipped:" line saying why,
 # when the tarball or a package the build needs is missing: the OpenXR tests then skip likewise.
@@ -13,9 +14,17 @@ jobs=${1:-$(nproc)}
 out=build/monado
 manifest=$out/build/openxr_monado-dev.json
 
-# What the build holds: a runtime built before a driver was added here is built again.
-drivers="simulated remote"
-if [ -f "$manifest" ] && [ -f "$out/built" ] && [ "$(cat "$out/built")" = "$drivers" ]; then
+# What the build holds: the drivers and the patches applied to the unpacked source (each by its
+# content's hash), so that a runtime built before a driver was added, or before a patch changed,
+# is built again.
+shopt -s nullglob
+patches=(scripts/monado/*.patch)
+shopt -u nullglob
+built_text="simulated remote"
+for patch_file in "${patches[@]}"; do
+  built_text+=" $(basename "$patch_file"):$(sha256sum "$patch_file" | cut -c1-16)"
+done
+if [ -f "$manifest" ] && [ -f "$out/built" ] && [ "$(cat "$out/built")" = "$built_text" ]; then
   echo "build_monado: already built ($repository/$manifest)"
   exit 0
 fi
@@ -36,7 +45,7 @@ tarball=${tarballs[0]}
 # README), beside the OpenXR loader and headers the backend itself builds against.
 PACKAGES=(cmake ninja-build pkg-config glslang-tools libvulkan-dev mesa-vulkan-drivers libeigen3-dev
           libx11-dev libx11-xcb-dev libxcb1-dev libxcb-randr0-dev libxrandr-dev libgl-dev libegl-dev libwayland-dev libusb-1.0-0-dev
-          libudev-dev libhidapi-dev libbsd-dev libcjson-dev libopenxr-dev)
+          libudev-dev libhidapi-dev libbsd-dev libcjson-dev libopenxr-dev patch)
 missing=()
 for package in "${PACKAGES[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
@@ -54,6 +63,14 @@ rm -rf "$out"
 mkdir -p "$out/src"
 echo "build_monado: unpacking $(basename "$tarball") into $out/src"
 tar -xzf "$tarball" -C "$out/src" --strip-components=1
+# The patches (scripts/monado/), applied to the unpacked copy; the tarball stays as it came.
+# remote_eye_gaze.patch gives the remote driver an eye tracker (XR_EXT_eye_gaze_interaction,
+# REMOTE_EYE_GAZE=1) whose gaze the test client sends: the eye-gaze tests run against it.
+for patch_file in "${patches[@]}"; do
+  echo "build_monado: applying $(basename "$patch_file")"
+  patch -d "$out/src" -p1 --quiet < "$patch_file" \
+    || { echo "build_monado: $patch_file does not apply to $(basename "$tarball")"; exit 1; }
+done
 
 # Every driver off but the simulated headset and the remote one (those declared with a plain
 # option(), such as North Star's, too); an in-process runtime (no service, no IPC). The remote
@@ -68,24 +85,29 @@ drivers_off=()
 for driver in $(grep -oE 'option(_with_deps)?\(XRT_BUILD_DRIVER_[A-Z0-9_]*' "$out/src/CMakeLists.txt" | sed 's/.*(//' | sort -u); do
   [ "$driver" = XRT_BUILD_DRIVER_SIMULATED ] || [ "$driver" = XRT_BUILD_DRIVER_REMOTE ] || drivers_off+=("-D$driver=OFF")
 done
+# ccache where installed: a build made again for a changed patch compiles only what it changed.
+launcher=()
+if command -v ccache > /dev/null; then
+  launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
 echo "build_monado: configuring in $out/build"
-cmake -G Ninja -S "$out/src" -B "$out/build" -DCMAKE_BUILD_TYPE=Release \
+CCACHE_BASEDIR=$repository cmake -G Ninja -S "$out/src" -B "$out/build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_C_FLAGS_RELEASE="-O2 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" \
   -DXRT_FEATURE_SERVICE=OFF -DXRT_MODULE_IPC=OFF -DXRT_MODULE_COMPOSITOR_MAIN=ON \
   -DXRT_MODULE_COMPOSITOR_NULL=ON -DBUILD_TESTING=OFF -DXRT_BUILD_SAMPLES=OFF \
   -DXRT_MODULE_MONADO_CLI=OFF -DXRT_MODULE_AUX_VIVE=ON -DXRT_FEATURE_STEAMVR_PLUGIN=OFF \
   -DXRT_HAVE_OPENCV=OFF -DXRT_HAVE_GST=OFF -DXRT_HAVE_SDL2=OFF \
-  "${drivers_off[@]}" -DXRT_BUILD_DRIVER_SIMULATED=ON -DXRT_BUILD_DRIVER_REMOTE=ON > "$out/configure.log" 2>&1 \
+  "${launcher[@]}" "${drivers_off[@]}" -DXRT_BUILD_DRIVER_SIMULATED=ON -DXRT_BUILD_DRIVER_REMOTE=ON > "$out/configure.log" 2>&1 \
   || { tail -40 "$out/configure.log"; echo "build_monado: configuring Monado failed ($out/configure.log)"; exit 1; }
 # Only the runtime the tests load (openxr_monado) and what it links: not the debug GUI's state
 # tracker and its bundled imgui and implot (the largest sources of the tree), nor the mock
 # compositor, which nothing here loads.
 echo "build_monado: building the runtime with $jobs jobs (about 2 minutes on 2 cores)"
-cmake --build "$out/build" -j"$jobs" --target openxr_monado > "$out/build.log" 2>&1 \
+CCACHE_BASEDIR=$repository cmake --build "$out/build" -j"$jobs" --target openxr_monado > "$out/build.log" 2>&1 \
   || { tail -40 "$out/build.log"; echo "build_monado: building Monado failed ($out/build.log)"; exit 1; }
 if [ ! -f "$manifest" ]; then
   echo "build_monado: the build finished without $manifest"
   exit 1
 fi
-echo "$drivers" > "$out/built"
+echo "$built_text" > "$out/built"
 echo "build_monado: built in $((SECONDS - started_s)) s: XR_RUNTIME_JSON=$repository/$manifest"

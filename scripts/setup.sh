@@ -26,7 +26,7 @@ PACKAGES=(
   libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libopenxr-utils  # OpenXR: --display openxr, its validation layer, hello_xr
   # Monado, the OpenXR runtime the OpenXR tests run against (scripts/build_monado.sh builds it)
   ninja-build libvulkan-dev mesa-vulkan-drivers libeigen3-dev libx11-dev libx11-xcb-dev libxcb1-dev libxcb-randr0-dev
-  libxrandr-dev libwayland-dev libudev-dev libbsd-dev libcjson-dev
+  libxrandr-dev libwayland-dev libudev-dev libbsd-dev libcjson-dev patch
 )
 
 missing=()

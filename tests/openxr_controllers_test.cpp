@@ -6,12 +6,8 @@
 // every press is logged with its button; the menu button (B) gives the third response, which a
 // two-alternative choice does not have.
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <arpa/inet.h>
 
 #include <atomic>
 #include <chrono>
@@ -25,99 +21,19 @@
 #include <vector>
 
 #include "cli_process.h"
+#include "monado_remote.h"
 #include "openxr_runtime.h"
 #include "raw_db.h"
 
 namespace glarelab {
 namespace {
 
-// Monado's struct r_remote_data ("mndrmt3"; src/xrt/drivers/remote/r_interface.h), field for field:
-// what the remote hub reads from its client, one whole struct at a time.
-struct RemotePose {
-  float orientation_xyzw[4];
-  float position_m[3];
-};
-struct RemoteView {
-  float fov_rad[4];  // left, right, up, down
-  RemotePose pose;
-  std::uint32_t pad;
-};
-struct RemoteHead {
-  RemoteView views[2];
-  RemotePose center;
-  bool per_view_data_valid, pad0, pad1, pad2;
-};
-struct RemoteController {
-  RemotePose pose;
-  float linear_velocity[3], angular_velocity[3], hand_curl[5];
-  float trigger_value, squeeze_value, squeeze_force, thumbstick[2], trackpad_force, trackpad[2];
-  bool hand_tracking_active, active, system_click, system_touch, a_click, a_touch, b_click, b_touch, trigger_click,
-      trigger_touch, thumbstick_click, thumbstick_touch, trackpad_touch, pad0, pad1, pad2;
-};
-struct RemoteData {
-  std::uint64_t header;
-  RemoteHead head;
-  RemoteController left, right;
-};
-static_assert(sizeof(RemotePose) == 28 && sizeof(RemoteHead) == 128 && sizeof(RemoteController) == 120);
-static_assert(sizeof(RemoteData) == 376, "r_remote_data is 376 bytes");
-
-// The hub's start state (r_hub.c, r_create_devices): the head 1.6 m up, both controllers active.
-RemoteData resting_state() {
-  RemoteData data{};
-  std::memcpy(&data.header, "mndrmt3\0", 8);
-  data.head.center.orientation_xyzw[3] = 1.0f;
-  data.head.center.position_m[1] = 1.6f;
-  for (RemoteController* hand : {&data.left, &data.right}) {
-    hand->active = true;
-    hand->pose.orientation_xyzw[3] = 1.0f;
-    hand->pose.position_m[0] = hand == &data.left ? -0.2f : 0.2f;
-    hand->pose.position_m[1] = 1.3f;
-    hand->pose.position_m[2] = -0.5f;
-  }
-  return data;
-}
-
-// A TCP port nobody listens on now (the kernel's choice for port 0), for this test's hub.
-int free_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  int port = 0;
-  if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
-      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0)
-    port = ntohs(address.sin_port);
-  ::close(fd);
-  return port;
-}
-
-// The connection to the hub, once the runtime in the session's process listens.
-int connect_to_hub(int port, const std::atomic<bool>& session_done) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(90);
-  while (!session_done && std::chrono::steady_clock::now() < deadline) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(static_cast<std::uint16_t>(port));
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) return fd;
-    ::close(fd);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return -1;
-}
-
-bool send_state(int fd, const RemoteData& data) {
-  const char* bytes = reinterpret_cast<const char*>(&data);
-  for (std::size_t sent = 0; sent < sizeof data;) {
-    const ssize_t n = ::send(fd, bytes + sent, sizeof data - sent, MSG_NOSIGNAL);
-    if (n <= 0) return false;
-    sent += static_cast<std::size_t>(n);
-  }
-  return true;
-}
+using test::connect_to_hub;
+using test::free_port;
+using test::RemoteController;
+using test::RemoteData;
+using test::resting_state;
+using test::send_state;
 
 struct ShellRun {
   int exit_code = -1;

@@ -34,7 +34,9 @@ inline std::optional<std::string> openxr_runtime_missing(bool needs_xvfb_run) {
 }
 
 // Why Monado's remote driver cannot be used here, or nothing when it can: it is built with the
-// runtime since its controllers were first needed (build/monado/built names the drivers).
+// runtime since its controllers were first needed, and patched since its eye tracker was
+// (scripts/monado/remote_eye_gaze.patch, which also sets the layout of the data the tests send;
+// build/monado/built names the drivers and the patches).
 inline std::optional<std::string> monado_remote_missing() {
   if (const auto missing = openxr_runtime_missing(true)) return missing;
   const std::filesystem::path built = monado_manifest().parent_path().parent_path() / "built";
@@ -46,6 +48,9 @@ inline std::optional<std::string> monado_remote_missing() {
   }
   if (std::string(drivers).find("remote") == std::string::npos)
     return "Monado was built without its remote driver (" + built.string() + "): scripts/build_monado.sh builds it again";
+  if (std::string(drivers).find("remote_eye_gaze.patch") == std::string::npos)
+    return "Monado was built without scripts/monado/remote_eye_gaze.patch (" + built.string() +
+           "): scripts/build_monado.sh builds it again";
   return std::nullopt;
 }
 
@@ -62,8 +67,11 @@ inline std::string monado_environment() {
 // headset and two Valve Index controllers whose state a TCP client on `port` sets (struct
 // r_remote_data, src/xrt/drivers/remote/r_interface.h). The port is read from Monado's
 // configuration file, config_v0.json in $XDG_CONFIG_HOME/monado, which this writes under
-// `config_home`; P_OVERRIDE_ACTIVE_CONFIG=remote chooses the driver (u_config_json.c).
-inline std::string monado_remote_environment(const std::filesystem::path& config_home, int port) {
+// `config_home`; P_OVERRIDE_ACTIVE_CONFIG=remote chooses the driver (u_config_json.c). With
+// `eye_gaze`, REMOTE_EYE_GAZE=1 adds the patch's eye tracker (XR_EXT_eye_gaze_interaction), whose
+// gaze the client sends too; without, the remote headset has none, as the stock driver.
+inline std::string monado_remote_environment(const std::filesystem::path& config_home, int port,
+                                             bool eye_gaze = false) {
   std::filesystem::create_directories(config_home / "monado");
   std::FILE* file = std::fopen((config_home / "monado" / "config_v0.json").c_str(), "w");
   if (file != nullptr) {
@@ -71,7 +79,8 @@ inline std::string monado_remote_environment(const std::filesystem::path& config
     std::fclose(file);
   }
   return "XR_RUNTIME_JSON=" + monado_manifest().string() + " XDG_CONFIG_HOME=" + config_home.string() +
-         " P_OVERRIDE_ACTIVE_CONFIG=remote XRT_COMPOSITOR_NULL=1 LIBGL_ALWAYS_SOFTWARE=1"
+         " P_OVERRIDE_ACTIVE_CONFIG=remote XRT_COMPOSITOR_NULL=1 LIBGL_ALWAYS_SOFTWARE=1" +
+         std::string(eye_gaze ? " REMOTE_EYE_GAZE=1" : "") +
          " VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json"
          " XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation";
 }

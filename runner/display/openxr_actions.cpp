@@ -112,21 +112,9 @@ OpenXrAnswerActions::OpenXrAnswerActions(XrInstance instance, XrSession session)
   }
   if (bound_profiles_.empty())
     throw DisplayError("OpenXR: the runtime takes none of the controllers' interaction profiles for the answers");
-  auto attach = xr_struct<XrSessionActionSetsAttachInfo>(XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO);
-  XrActionSet sets[] = {set_.get()};
-  attach.countActionSets = 1;
-  attach.actionSets = sets;
-  check(xrAttachSessionActionSets(session_, &attach), instance_, "xrAttachSessionActionSets (answers)");
 }
 
-void OpenXrAnswerActions::sync(std::vector<Press>& presses) {
-  XrActiveActionSet active{set_.get(), XR_NULL_PATH};
-  auto sync_info = xr_struct<XrActionsSyncInfo>(XR_TYPE_ACTIONS_SYNC_INFO);
-  sync_info.countActiveActionSets = 1;
-  sync_info.activeActionSets = &active;
-  const XrResult synced = xrSyncActions(session_, &sync_info);
-  check(synced, instance_, "xrSyncActions");
-  if (synced == XR_SESSION_NOT_FOCUSED) return;
+void OpenXrAnswerActions::read(std::vector<Press>& presses) {
   for (const Answer& answer : answers_) {
     auto get = xr_struct<XrActionStateGetInfo>(XR_TYPE_ACTION_STATE_GET_INFO);
     get.action = answer.action.get();

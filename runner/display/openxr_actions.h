@@ -1,8 +1,9 @@
 #pragma once
 // The answer keys of a headset's controllers as an OpenXR action set (docs/STEREO.md,
 // "Controllers"): three boolean actions standing for the trial's first, second and third allowed
-// response, with suggested bindings for the common controllers' profiles, attached to the session
-// and read at each frame (xrSyncActions). Only built where CMake found the loader.
+// response, with suggested bindings for the common controllers' profiles; the connection attaches
+// the set to the session and syncs it at each frame (runner/display/openxr_session.cpp), then the
+// presses are read. Only built where CMake found the loader.
 #include <openxr/openxr.h>
 
 #include <string>
@@ -21,17 +22,19 @@ class OpenXrAnswerActions {
     XrTime time = 0;
   };
 
-  // Creates the set and its actions, suggests each profile's bindings (a profile the runtime does
-  // not know is left out and named in describe()) and attaches the set to the session. Throws
-  // DisplayError "OpenXR: ..." when the runtime refuses the set or takes no profile at all.
+  // Creates the set and its actions and suggests each profile's bindings (a profile the runtime
+  // does not know is left out and named in describe()). Throws DisplayError "OpenXR: ..." when the
+  // runtime refuses the set or takes no profile at all.
   OpenXrAnswerActions(XrInstance instance, XrSession session);
   OpenXrAnswerActions(const OpenXrAnswerActions&) = delete;
   OpenXrAnswerActions& operator=(const OpenXrAnswerActions&) = delete;
 
-  // xrSyncActions, then each action whose state changed to pressed since the last sync is appended
-  // to `presses`. While the session is not focused the runtime reports every action inactive
-  // (XR_SESSION_NOT_FOCUSED) and nothing is appended.
-  void sync(std::vector<Press>& presses);
+  // The set, to attach and to sync.
+  XrActionSet action_set() const { return set_.get(); }
+  // After an xrSyncActions of a focused session (not XR_SESSION_NOT_FOCUSED, when the runtime
+  // reports every action inactive): each action whose state changed to pressed since the last sync
+  // is appended to `presses`.
+  void read(std::vector<Press>& presses);
 
   // "answer actions bound for khr/simple_controller, valve/index_controller, ..." for the display event.
   std::string describe() const;

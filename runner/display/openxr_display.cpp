@@ -57,6 +57,7 @@ std::unique_ptr<DisplayBackend> create_openxr_display(const DisplayRequest&) {
 
 #include "runner/display/controller_presses.h"
 #include "runner/display/glfw_display.h"
+#include "runner/display/headset_gaze.h"
 #include "runner/display/openxr_clock.h"
 #include "runner/display/openxr_session.h"
 #include "runner/display/openxr_views.h"
@@ -70,7 +71,8 @@ class OpenXrDisplay final : public DisplayBackend,
                             public PredictedFlipSource,
                             public HeadPoseSource,
                             public ViewFieldSource,
-                            public ControllerPressSource {
+                            public ControllerPressSource,
+                            public HeadsetGazeSource {
  public:
   explicit OpenXrDisplay(const DisplayRequest& request) {
     if (request.width_px < 2 || request.width_px % 2 != 0 || request.height_px < 1)
@@ -149,6 +151,12 @@ class OpenXrDisplay final : public DisplayBackend,
   std::vector<HeadPoseSample> take_head_poses() override { return std::exchange(head_poses_, {}); }
   std::vector<ViewFieldOfView> view_fields_of_view() const override { return xr_->fields_of_view(); }
   std::vector<ControllerPress> take_controller_presses() override { return xr_->take_controller_presses(); }
+  bool has_eye_gaze() const override { return xr_->has_eye_gaze(); }
+  void keep_eye_gaze(bool keep) override { xr_->keep_eye_gaze(keep); }
+  std::vector<HeadsetGazeSample> take_eye_gaze() override { return xr_->take_eye_gaze(); }
+  std::string eye_gaze_description() const override {
+    return "'" + xr_->system_name() + "' through XR_EXT_eye_gaze_interaction";
+  }
 
   std::vector<InputEvent> poll_input() override {
     poll_runtime();

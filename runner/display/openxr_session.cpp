@@ -13,6 +13,7 @@
 #include <memory>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "core/errors.h"
 #include "runner/display/openxr_actions.h"
@@ -90,8 +91,8 @@ bool runtime_offers_extension(const char* name) {
 
 OpenXrConnection::OpenXrConnection(int view_width_px, int view_height_px)
     : view_width_px_(view_width_px), view_height_px_(view_height_px) {
-  // XR_EXT_eye_gaze_interaction is enabled where the runtime offers it, only to ask whether the
-  // system has eye gaze: the display event says so (docs/STEREO.md, "Eye gaze").
+  // XR_EXT_eye_gaze_interaction is enabled where the runtime offers it: a system with eye gaze then
+  // gives the session its gaze (docs/STEREO.md, "Eye gaze").
   eye_gaze_offered_ = runtime_offers_extension(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
   std::vector<const char*> extensions = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME};
   if (eye_gaze_offered_) extensions.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
@@ -179,6 +180,7 @@ OpenXrConnection::~OpenXrConnection() {
     }
   }
   answers_.reset();
+  eye_gaze_.reset();
   views_.clear();
   view_space_.reset();
   local_space_.reset();
@@ -222,6 +224,14 @@ void OpenXrConnection::open_session_on_current_glx_context() {
   create.systemId = system_;
   check(xrCreateSession(instance_.get(), &create, session_.out()), instance_.get(), "xrCreateSession on the GLX context");
   answers_ = std::make_unique<OpenXrAnswerActions>(instance_.get(), session_.get());
+  if (eye_gaze_supported_) eye_gaze_ = std::make_unique<OpenXrEyeGaze>(instance_.get(), session_.get());
+  std::vector<XrActionSet> sets = {answers_->action_set()};
+  if (eye_gaze_) sets.push_back(eye_gaze_->action_set());
+  auto attach = xr_struct<XrSessionActionSetsAttachInfo>(XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO);
+  attach.countActionSets = static_cast<std::uint32_t>(sets.size());
+  attach.actionSets = sets.data();
+  check(xrAttachSessionActionSets(session_.get(), &attach), instance_.get(), "xrAttachSessionActionSets");
+  if (eye_gaze_) eye_gaze_->create_space();
 
   auto space = xr_struct<XrReferenceSpaceCreateInfo>(XR_TYPE_REFERENCE_SPACE_CREATE_INFO);
   space.poseInReferenceSpace.orientation.w = 1.0f;
@@ -386,74 +396,6 @@ std::chrono::steady_clock::time_point OpenXrConnection::to_steady(XrTime time) c
                                                std::chrono::nanoseconds(monotonic.tv_nsec));
 }
 
-HeadPoseSample OpenXrConnection::submit_frame(const DrawView& draw_view) {
-  HeadPoseSample head_pose;
-  auto frame = xr_struct<XrFrameState>(XR_TYPE_FRAME_STATE);
-  auto wait = xr_struct<XrFrameWaitInfo>(XR_TYPE_FRAME_WAIT_INFO);
-  check(xrWaitFrame(session_.get(), &wait, &frame), instance_.get(), "xrWaitFrame");
-  auto begin_frame = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
-  check(xrBeginFrame(session_.get(), &begin_frame), instance_.get(), "xrBeginFrame");
-  period_ns_ = frame.predictedDisplayPeriod;
-  answers_->sync(presses_);  // the controllers' answers, each frame
-
-  XrCompositionLayerProjectionView projected[2] = {
-      xr_struct<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW),
-      xr_struct<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW)};
-  auto layer = xr_struct<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
-  const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
-  auto end = xr_struct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
-  end.displayTime = frame.predictedDisplayTime;
-  end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
-  if (frame.shouldRender == XR_TRUE) {
-    auto locate = xr_struct<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
-    locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
-    locate.displayTime = frame.predictedDisplayTime;
-    locate.space = view_space_.get();
-    auto view_state = xr_struct<XrViewState>(XR_TYPE_VIEW_STATE);
-    XrView located[2] = {xr_struct<XrView>(XR_TYPE_VIEW), xr_struct<XrView>(XR_TYPE_VIEW)};
-    std::uint32_t count = 0;
-    check(xrLocateViews(session_.get(), &locate, &view_state, 2, &count, located), instance_.get(), "xrLocateViews");
-    for (int eye = 0; eye < 2; ++eye) {
-      View& view = views_[static_cast<std::size_t>(eye)];
-      std::uint32_t index = 0;
-      auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
-      check(xrAcquireSwapchainImage(view.swapchain.get(), &acquire, &index), instance_.get(), "xrAcquireSwapchainImage");
-      auto wait_image = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
-      wait_image.timeout = XR_INFINITE_DURATION;
-      check(xrWaitSwapchainImage(view.swapchain.get(), &wait_image), instance_.get(), "xrWaitSwapchainImage");
-      draw_view(eye, view.gl_textures[index], format_);
-      auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
-      check(xrReleaseSwapchainImage(view.swapchain.get(), &release), instance_.get(), "xrReleaseSwapchainImage");
-      XrCompositionLayerProjectionView& shown = projected[eye];
-      shown.pose = located[eye].pose;
-      shown.fov = located[eye].fov;
-      shown.subImage.swapchain = view.swapchain.get();
-      shown.subImage.imageRect = {{0, 0}, {view_width_px_, view_height_px_}};
-    }
-    layer.space = view_space_.get();
-    layer.viewCount = 2;
-    layer.views = projected;
-    end.layerCount = 1;
-    end.layers = layers;
-
-    auto head = xr_struct<XrSpaceLocation>(XR_TYPE_SPACE_LOCATION);
-    check(xrLocateSpace(view_space_.get(), local_space_.get(), frame.predictedDisplayTime, &head), instance_.get(),
-          "xrLocateSpace (head in LOCAL)");
-    const XrSpaceLocationFlags tracked = XR_SPACE_LOCATION_POSITION_VALID_BIT | XR_SPACE_LOCATION_ORIENTATION_VALID_BIT;
-    head_pose.valid = (head.locationFlags & tracked) == tracked;
-    head_pose.position_m[0] = head.pose.position.x;
-    head_pose.position_m[1] = head.pose.position.y;
-    head_pose.position_m[2] = head.pose.position.z;
-    head_pose.orientation_xyzw[0] = head.pose.orientation.x;
-    head_pose.orientation_xyzw[1] = head.pose.orientation.y;
-    head_pose.orientation_xyzw[2] = head.pose.orientation.z;
-    head_pose.orientation_xyzw[3] = head.pose.orientation.w;
-  }
-  check(xrEndFrame(session_.get(), &end), instance_.get(), "xrEndFrame");
-  head_pose.predicted = to_steady(frame.predictedDisplayTime);
-  return head_pose;
-}
-
 std::vector<ControllerPress> OpenXrConnection::take_controller_presses() {
   std::vector<ControllerPress> presses;
   for (const OpenXrAnswerActions::Press& press : presses_)
@@ -478,11 +420,14 @@ std::string OpenXrConnection::describe() const {
   }
   if (!fields_of_view_.empty()) text << " deg (left, right, up, down edges)";
   if (answers_) text << "; " << answers_->describe();
-  // Gaze in the headset comes from a tracker (--tracker): a system with eye gaze is named, not used.
+  // A system with eye gaze is the session's tracker unless --tracker names another
+  // (runner/tracker/headset_gaze_tracker.h); the tracker's own events say which it was.
   text << "; eye gaze: "
        << (!eye_gaze_offered_ ? "none (the runtime does not offer XR_EXT_eye_gaze_interaction)"
            : !eye_gaze_supported_ ? "none (XR_EXT_eye_gaze_interaction offered, the system has no eye tracker)"
-                                  : "the system has it (XR_EXT_eye_gaze_interaction), not used: gaze comes from --tracker");
+                                  : "the system's eye tracker (XR_EXT_eye_gaze_interaction, "
+                                    "/user/eyes_ext/input/gaze_ext/pose located at each frame), the session's "
+                                    "tracker unless --tracker names another");
   return text.str();
 }
 

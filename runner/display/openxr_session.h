@@ -1,7 +1,8 @@
 #pragma once
 // The OpenXR side of the OpenXR display (runner/display/openxr_display.cpp): instance, system,
 // session, reference spaces and one swapchain per view, each an RAII owner; the runtime's session
-// states; and one frame of the runtime's loop. Only built where CMake found the loader.
+// states; and one frame of the runtime's loop (runner/display/openxr_frame.cpp). Only built where
+// CMake found the loader.
 #include <openxr/openxr.h>
 
 #include <chrono>
@@ -14,6 +15,7 @@
 #include "runner/display/controller_presses.h"
 #include "runner/display/openxr_actions.h"
 #include "runner/display/openxr_clock.h"
+#include "runner/display/openxr_eye_gaze.h"
 
 namespace glarelab {
 
@@ -62,9 +64,17 @@ class OpenXrConnection {
   // submitted frame) since the last call, their times on steady_clock.
   std::vector<ControllerPress> take_controller_presses();
 
+  // The system's eye tracker (XR_EXT_eye_gaze_interaction, runner/display/openxr_eye_gaze.h): where
+  // it has one, while keep_eye_gaze(true), each submitted frame of a focused session locates the
+  // gaze at its predicted display time (runner/display/headset_gaze.h).
+  bool has_eye_gaze() const { return eye_gaze_ != nullptr; }
+  void keep_eye_gaze(bool keep);
+  std::vector<HeadsetGazeSample> take_eye_gaze();
+  const std::string& system_name() const { return system_name_; }
+
   // "runtime 'Monado(XRT) by Collabora et al ...' system 'Monado: Simulated HMD', 2 views 512x256
   // (recommended 320x240) in GL_RGBA16F, display period 50 ms, fields of view ...; answers from the
-  // controllers ... bound for ...; eye gaze: ..."
+  // controllers ... bound for ...; eye gaze: ..." (the eye tracker, or why there is none)
   std::string describe() const;
 
  private:
@@ -73,6 +83,8 @@ class OpenXrConnection {
     std::vector<std::uint32_t> gl_textures;
   };
   void on_state(XrSessionState state);
+  // xrSyncActions of the answers' set and the eye gaze's; false when the session is not focused.
+  bool sync_actions();
   void locate_fields_of_view(XrTime time);
   std::chrono::steady_clock::time_point to_steady(XrTime time) const;
 
@@ -99,6 +111,9 @@ class OpenXrConnection {
   std::vector<OpenXrAnswerActions::Press> presses_;  // since take_controller_presses()
   bool eye_gaze_offered_ = false;    // the runtime offers XR_EXT_eye_gaze_interaction (enabled then)
   bool eye_gaze_supported_ = false;  // and the system has eye gaze
+  std::unique_ptr<OpenXrEyeGaze> eye_gaze_;  // where the system has eye gaze
+  bool keeping_eye_gaze_ = false;
+  std::vector<HeadsetGazeSample> eye_gaze_samples_;  // since take_eye_gaze(), while keeping
 };
 
 }  // namespace glarelab

@@ -14,6 +14,7 @@
 
 #include "protocols/comparison_luminance.h"
 #include "protocols/stated_keys.h"
+#include "runner/display/headset_gaze.h"
 #include "runner/display/openxr_clock.h"
 #include "runner/session/adjustment_keys.h"
 #include "runner/session/controller_answers.h"
@@ -26,6 +27,7 @@
 #include "runner/session/session_setup.h"
 #include "runner/session/status_line.h"
 #include "runner/store/lock_wait.h"
+#include "runner/tracker/headset_gaze_tracker.h"
 
 namespace glarelab {
 namespace {
@@ -173,6 +175,15 @@ void log_display_setup(ResultStore& store, std::int64_t session_id, double now_s
   }
 }
 
+// A headset with an eye tracker gives the gaze when --tracker names no tracker (docs/STEREO.md,
+// "Eye gaze"). The stopper returned, declared after the display, stops the tracker before the
+// display closes.
+TrackerSourceStopper adopt_headset_gaze(TrackerSession& tracker, DisplayBackend& display) {
+  if (auto* gaze = dynamic_cast<HeadsetGazeSource*>(&display); gaze != nullptr && gaze->has_eye_gaze())
+    tracker.adopt_display_tracker(std::make_unique<HeadsetGazeTracker>(*gaze));
+  return TrackerSourceStopper(tracker);
+}
+
 }  // namespace
 
 RunResult run_session(const RunOptions& asked, std::ostream& progress) {
@@ -203,6 +214,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   auto display = headset.display ? std::move(headset.display) : open_display(options, prepared.experiment);
   const auto headset_model = headset.model ? headset.model : headset_display_model(prepared.experiment, *display);
   check_scenes_fit_views(prepared.experiment, *prepared.scenes, *display);
+  const TrackerSourceStopper tracker_stopper = adopt_headset_gaze(tracker, *display);
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock = make_session_clock(*display, tracker, device, start, options);
 

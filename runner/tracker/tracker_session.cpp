@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "core/errors.h"
 #include "core/clock.h"
@@ -25,6 +26,10 @@ TrackerSession::TrackerSession(const TrackerOptions& options, std::uint64_t seed
 
 TrackerSession::~TrackerSession() {
   if (source_) source_->stop();
+}
+
+void TrackerSession::adopt_display_tracker(std::unique_ptr<TrackerSource> source) {
+  if (!source_) source_ = std::move(source);
 }
 
 std::optional<std::string> TrackerSession::start(const SessionClock& clock) {

@@ -41,6 +41,11 @@ class TrackerSession {
   TrackerSession(const TrackerOptions& options, std::uint64_t seed);
   ~TrackerSession();
 
+  // The display's own tracker (a headset's eye gaze, runner/tracker/headset_gaze_tracker.h) when
+  // --tracker chose none: it is the session's tracker from here on, started, logged and read as any.
+  // Ignored when a --tracker source exists (that one is the session's).
+  void adopt_display_tracker(std::unique_ptr<TrackerSource> source);
+
   bool active() const { return source_ != nullptr; }
   bool live() const { return source_ && source_->live(); }
   bool wants_calibration() const { return active() && options_.pupil_model == "calibrated"; }
@@ -95,6 +100,10 @@ class TrackerSession {
   const std::vector<TrackerBlinkInterval>& detected_eye_blinks(int eye) const { return eye_blinks_[eye_index(eye)]; }
   // Stops the source, writes what is left, returns a one-line summary (empty without a tracker).
   std::string finish(double now_s);
+  // Stops the source only (idempotent): before the display a display's tracker reads from closes.
+  void stop_source() {
+    if (source_) source_->stop();
+  }
 
  private:
   TrackerOptions options_;
@@ -117,6 +126,20 @@ class TrackerSession {
   std::optional<TrackerGaze> eye_gaze_[2];
   GazeTrack eye_gaze_track_[2];
   std::vector<TrackerBlinkInterval> eye_blinks_[2];
+};
+
+// Stops a session's tracker source when it goes out of scope: declared after the display, it
+// stops a tracker that reads from the display (a headset's eye gaze) before the display closes,
+// however the session ends.
+class TrackerSourceStopper {
+ public:
+  explicit TrackerSourceStopper(TrackerSession& tracker) : tracker_(tracker) {}
+  ~TrackerSourceStopper() { tracker_.stop_source(); }
+  TrackerSourceStopper(const TrackerSourceStopper&) = delete;
+  TrackerSourceStopper& operator=(const TrackerSourceStopper&) = delete;
+
+ private:
+  TrackerSession& tracker_;
 };
 
 }  // namespace glarelab
