@@ -60,9 +60,18 @@ void GlareBackend::convolve_regions(const ImageRGBA& frame, const std::vector<Pi
 
 void GlareBackend::convolve_regions_finished(const ImageRGBA& frame, const std::vector<PixelRect>& boxes,
                                              const Psf& display_psf, ImageRGBA& out, const RowFinish& finish,
-                                             std::uint64_t) {
-  out = frame;
-  convolve_regions(frame, boxes, display_psf, out);
+                                             std::uint64_t, const ImageRGBA* added_to) {
+  if (added_to != nullptr && (added_to->width_px != frame.width_px || added_to->height_px != frame.height_px))
+    throw std::invalid_argument("glare backend: the image the glare is added to is not the frame's size");
+  ImageRGBA convolved = frame;
+  convolve_regions(frame, boxes, display_psf, convolved);
+  if (added_to == nullptr) {
+    out = std::move(convolved);
+  } else {
+    out = *added_to;
+    for (std::size_t i = 0; i < out.rgba.size(); i += 4)
+      for (std::size_t c = 0; c < 3; ++c) out.rgba[i + c] += convolved.rgba[i + c];
+  }
   parallel_chunks(out.height_px, kGlareCpuThreads, [&](int first, int last) {
     for (int y = first; y < last; ++y) finish(y, 0, out.width_px, out.pixel(0, y));
   });

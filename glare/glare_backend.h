@@ -84,10 +84,12 @@ class GlareBackend {
   // and the energies turned back into luminance, that the planned path does while each row it
   // writes is in cache instead of in another pass over the frame). `frame_token`: non-zero names
   // the pixels of `frame` (the same token, the same pixels, while the caller uses it), so that a
-  // kept spectrum of the same pixels is taken without comparing them; 0: compared.
+  // kept spectrum of the same pixels is taken without comparing them; 0: compared. `added_to`
+  // (the frame's size), when given: `out` is made from a copy of it instead, and R, G, B of the
+  // convolution (the boxes' glare, the frame's own elsewhere) are added to its own; alpha is its.
   virtual void convolve_regions_finished(const ImageRGBA& frame, const std::vector<PixelRect>& boxes,
                                          const Psf& display_psf, ImageRGBA& out, const RowFinish& finish,
-                                         std::uint64_t frame_token = 0);
+                                         std::uint64_t frame_token = 0, const ImageRGBA* added_to = nullptr);
 };
 
 // Whether a spectral PSF of this aperture takes one FFT per wavelength with the eye's LCA

@@ -247,6 +247,14 @@ class GlareStage {
     std::optional<std::vector<CompactSource>> corona_sources;
     ImageRGBA far_with_corona;
     long long far_made = -1;
+    // What a frame's near part is added to and finished with: per pixel {far glare, the frame's
+    // alpha} for the far glare `finish_far_of` numbered finish_far_made, and {ring - energy (0
+    // without a ring), 1 / w} (w the pixel's solid angle), the ring's part made once it is given.
+    ImageRGBA finish_far;
+    const ImageRGBA* finish_far_of = nullptr;
+    long long finish_far_made = -1;
+    ImageRGBA finish_halo;
+    bool finish_halo_has_ring = false;
   };
   std::optional<HybridSource> hybrid_source_;
   HybridSource& hybrid_source(const ImageRGBA& source, FrameFacts* facts);
@@ -261,6 +269,10 @@ class GlareStage {
   const ImageRGBA& far_glare_with_corona(HybridSource& kept, const ImageRGBA& far_glare, long long far_made,
                                          GlareFrameReport& r);
   std::unique_ptr<CiliaryCorona> corona_;
+  // The kept frame's finish terms (HybridSource::finish_far, finish_halo) for this far glare and
+  // ring (or none), made when they are not yet.
+  void make_finish_terms(HybridSource& kept, const ImageRGBA& far_glare, long long far_made, const ImageRGBA* ring,
+                         const PixelSolidAngle& solid_angle);
 
   GlareSpec spec_;
   DisplaySpec display_;

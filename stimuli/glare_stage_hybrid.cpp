@@ -5,17 +5,23 @@
 // Why kept: within a dynamic interval the composed frame is the same from frame to frame and only
 // the eye moves. The far glare and the halo's ring are linear in the frame and do not move with
 // the eye (the halo's share, the pupil's, scales the ring), so they are made once per composed
-// frame; so are the frame's energies per pixel and its lit boxes. A frame then costs the near
-// PSF, one transform of it, one product with the kept spectrum of the frame and the inverse
-// transform, whose rows are finished (far glare and halo added, energy back to luminance) while in
-// cache. The arithmetic per pixel is the one of the passes it replaces, in the same order and
-// precision, so the frames are the same bit for bit. The human eye's far glare carries the ciliary
+// frame; so are the frame's energies per pixel and its lit boxes, and what the finish needs per
+// pixel: the far glare with the frame's alpha, which the inverse transform adds the near part to,
+// and one stream of {ring - energy, 1 / solid angle}. A frame then costs the near PSF, one
+// transform of it, one product with the kept spectrum of the frame, a copy of the kept far glare
+// and the inverse transform, whose rows are finished (the halo's share added, energy back to
+// luminance) while in cache: the Ritschel frame's passes, with the finish's one kept stream where
+// that frame compares its pixels (docs/PERFORMANCE.md, "The default eye's frame against the
+// Ritschel frame"). The sum is the passes' it replaces in their
+// order, near + far, + halo, / solid angle, in float32 with the solid angle's reciprocal (within a
+// few float32 roundings of them). The human eye's far glare carries the ciliary
 // corona's lines around the frame's compact sources (glare/analytic/ciliary_corona.h), added to a
 // copy of it once per composed frame, so a frame of the interval reads the lines with the far glare.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 
+#include "core/parallel_for.h"
 #include "core/same_pixels.h"
 #include "glare/cpu/psf.h"
 #include "glare/wave/psf_scale.h"
@@ -98,6 +104,41 @@ const ImageRGBA& GlareStage::far_glare_with_corona(HybridSource& kept, const Ima
   return kept.far_with_corona;
 }
 
+void GlareStage::make_finish_terms(HybridSource& kept, const ImageRGBA& far_glare, long long far_made, const ImageRGBA* ring,
+                                   const PixelSolidAngle& solid_angle) {
+  const ImageRGBA& energy = kept.energy;
+  const int width = energy.width_px;
+  // Per row on the glare's threads, once per composed frame (and per far glare: a new adaptation
+  // may bring one), so that a frame of the interval starts from one kept image and reads one more.
+  const auto rows = [&](ImageRGBA& terms, const auto& pixel) {
+    terms = ImageRGBA(width, energy.height_px);
+    parallel_chunks(energy.height_px, kGlareCpuThreads, [&](int first, int last) {
+      for (int y = first; y < last; ++y)
+        for (int x = 0; x < width; ++x) {
+          const std::size_t i = 4 * (static_cast<std::size_t>(y) * width + x);
+          pixel(solid_angle.relative(x, y), i, &terms.rgba[i]);
+        }
+    });
+  };
+  if (kept.finish_far_of != &far_glare || kept.finish_far_made != far_made) {
+    kept.finish_far_of = nullptr;  // until the new terms are whole
+    rows(kept.finish_far, [&](float, std::size_t i, float* terms) {
+      for (std::size_t c = 0; c < 3; ++c) terms[c] = far_glare.rgba[i + c];
+      terms[3] = energy.rgba[i + 3];
+    });
+    kept.finish_far_of = &far_glare;
+    kept.finish_far_made = far_made;
+  }
+  if (kept.finish_halo.empty() || (ring != nullptr && !kept.finish_halo_has_ring)) {
+    kept.finish_halo_has_ring = ring != nullptr;
+    rows(kept.finish_halo, [&](float weight, std::size_t i, float* terms) {
+      for (std::size_t c = 0; c < 3; ++c)
+        terms[c] = ring != nullptr ? static_cast<float>(static_cast<double>(ring->rgba[i + c]) - energy.rgba[i + c]) : 0.0f;
+      terms[3] = 1.0f / weight;
+    });
+  }
+}
+
 ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& source, GlareMode mode, double time_s,
                                    double mean_cd_m2, GlareFrameReport& r, FrameFacts* facts, unsigned* gpu_buffer) {
   const std::optional<Psf> wave = wave_psf(mode, time_s, mean_cd_m2, r);
@@ -139,23 +180,28 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   }
   const double halo_energy = r.halo_energy;
   const PixelSolidAngle& solid_angle = solid_angle_for(source.width_px, source.height_px);
-  // Per pixel, in the order and precision of the passes this replaces (AnalyticGlare::add_convolution,
-  // LenticularHaloGlare::add, PixelSolidAngle::to_luminance): near + far, + halo, / solid angle.
+  // Per pixel, in the order of the passes this replaces (AnalyticGlare::add_convolution,
+  // LenticularHaloGlare::add, PixelSolidAngle::to_luminance): near + far, + h (ring - energy), to
+  // luminance. The near part is added to the kept far glare as the inverse transform writes it;
+  // this finishes each row from one kept stream (make_finish_terms).
+  const float halo_share = static_cast<float>(halo_energy);
   const RowFinish finish = [&](int y, int x_from, int x_to, float* rgba) {
-    const std::size_t first = static_cast<std::size_t>(y) * frame.width_px + x_from;
-    const float* far_rgba = &far_glare.rgba[4 * first];
-    const float* ring_rgba = ring != nullptr ? &ring->rgba[4 * first] : nullptr;
-    const float* energy_rgba = &energy.rgba[4 * first];
-    for (int x = x_from; x < x_to; ++x, rgba += 4, far_rgba += 4, energy_rgba += 4) {
-      const float weight = solid_angle.relative(x, y);
-      for (int c = 0; c < 3; ++c) {
-        float value = rgba[c] + far_rgba[c];
-        if (ring_rgba != nullptr)
-          value += static_cast<float>(halo_energy * (static_cast<double>(ring_rgba[c]) - static_cast<double>(energy_rgba[c])));
-        rgba[c] = value / weight;
+    const float* terms = &kept.finish_halo.rgba[4 * (static_cast<std::size_t>(y) * frame.width_px + x_from)];
+    const float h = halo_share;  // a local: the row's stores cannot change it
+    if (ring == nullptr)
+      for (int x = x_from; x < x_to; ++x, rgba += 4, terms += 4) {
+        const float to_luminance = terms[3];
+        rgba[0] *= to_luminance;
+        rgba[1] *= to_luminance;
+        rgba[2] *= to_luminance;
       }
-      if (ring_rgba != nullptr) ring_rgba += 4;
-    }
+    else
+      for (int x = x_from; x < x_to; ++x, rgba += 4, terms += 4) {
+        const float to_luminance = terms[3];
+        rgba[0] = (rgba[0] + h * terms[0]) * to_luminance;
+        rgba[1] = (rgba[1] + h * terms[1]) * to_luminance;
+        rgba[2] = (rgba[2] + h * terms[2]) * to_luminance;
+      }
   };
   if (gpu_buffer != nullptr) {
     // The near part convolved whole on the GPU and finished there by the same per-pixel sum.
@@ -166,8 +212,9 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
       return {};
     }
   }
+  make_finish_terms(kept, far_glare, far.convolutions_computed(), ring, solid_angle);
   ImageRGBA glared;
-  backend().convolve_regions_finished(energy, boxes->second, near, glared, finish, kept.token);
+  backend().convolve_regions_finished(energy, boxes->second, near, glared, finish, kept.token, &kept.finish_far);
   r.convolved = true;
   return with_gain(frame, source, std::move(glared));
 }

@@ -129,5 +129,47 @@ TEST(HybridInterval, FusedFinishEqualsTheGenericPass) {
   EXPECT_TRUE(unreached);
 }
 
+// Added to another image (the hybrid eye's kept far glare): the fused pass, the generic one and the
+// sum written out (that image plus the plain convolution, pixel by pixel, then the finish), bit for
+// bit; alpha is that image's.
+TEST(HybridInterval, FusedFinishAddedToAnImageEqualsTheSum) {
+  const DisplaySpec display = small_display();
+  const ImageRGBA frame = room(display.width_px, display.height_px);
+  CpuFloatGlareSettings settings;
+  settings.grid_px = 128;
+  settings.wavelength_samples = 8;
+  settings.display_degrees_per_pixel = DisplayModel(display).degrees_per_pixel_at_centre();
+  CpuFloatGlare planned(settings);
+  ApertureGeometry geometry;
+  geometry.pupil_diameter_mm = 4.0;
+  const Psf psf = planned.display_psf(geometry);
+  const std::vector<PixelRect> boxes = lit_regions(frame, psf.size_px);
+  ImageRGBA base(display.width_px, display.height_px);
+  for (int y = 0; y < base.height_px; ++y)
+    for (int x = 0; x < base.width_px; ++x)
+      for (int c = 0; c < 4; ++c) base.pixel(x, y)[c] = 0.25f + static_cast<float>((x * 7 + y * 3 + c) % 11) * 0.125f;
+  const RowFinish finish = [](int y, int x_from, int x_to, float* rgba) {
+    for (int x = x_from; x < x_to; ++x, rgba += 4)
+      for (int c = 0; c < 3; ++c) rgba[c] = rgba[c] * 1.5f + static_cast<float>(x + 1000 * y + c) * 1e-3f;
+  };
+  ImageRGBA convolved = frame;
+  planned.convolve_regions(frame, boxes, psf, convolved);
+  ImageRGBA expected = base;
+  for (std::size_t i = 0; i < expected.rgba.size(); i += 4)
+    for (std::size_t c = 0; c < 3; ++c) expected.rgba[i + c] += convolved.rgba[i + c];
+  for (int y = 0; y < expected.height_px; ++y) finish(y, 0, expected.width_px, expected.pixel(0, y));
+  ImageRGBA generic, fused, again;
+  planned.GlareBackend::convolve_regions_finished(frame, boxes, psf, generic, finish, 0, &base);
+  planned.convolve_regions_finished(frame, boxes, psf, fused, finish, 43, &base);
+  planned.convolve_regions_finished(frame, boxes, psf, again, finish, 43, &base);
+  EXPECT_TRUE(same_bits(expected, generic));
+  EXPECT_TRUE(same_bits(expected, fused));
+  EXPECT_TRUE(same_bits(expected, again));
+  EXPECT_EQ(fused.pixel(5, 5)[3], base.pixel(5, 5)[3]);
+  // Not the frame's size: refused.
+  const ImageRGBA small(10, 10);
+  EXPECT_THROW(planned.convolve_regions_finished(frame, boxes, psf, fused, finish, 43, &small), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace glarelab

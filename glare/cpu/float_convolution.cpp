@@ -227,7 +227,8 @@ void CpuFloatConvolution::convolve(const Psf& psf, ImageRGBA& out) {
   });
 }
 
-void CpuFloatConvolution::write_full(int slot, ImageRGBA& frame, int x0, int y0, const RowFinish* finish) {
+void CpuFloatConvolution::write_full(int slot, ImageRGBA& frame, int x0, int y0, const RowFinish* finish,
+                                     FullWrite write) {
   if (output_ != ConvolutionOutput::full) throw std::logic_error("glare/cpu/float_convolution: write_full needs `full` output");
   if (slot < 0 || slot >= slots_ || !has_scene_[static_cast<std::size_t>(slot)] || !has_kernel_)
     throw std::logic_error("glare/cpu/float_convolution: write_full before set_scene and set_kernel");
@@ -240,11 +241,18 @@ void CpuFloatConvolution::write_full(int slot, ImageRGBA& frame, int x0, int y0,
   inverse_rows(product, fy0, fy1 - fy0, [&](int fy, const float* red, const float* green, const float* blue) {
     float* const row = frame.pixel(x0 - m / 2 + fx0, y0 - m / 2 + fy);
     float* target = row;
-    for (int fx = fx0; fx < fx1; ++fx, target += 4) {
-      target[0] = red[fx];
-      target[1] = green[fx];
-      target[2] = blue[fx];
-    }
+    if (write == FullWrite::add)
+      for (int fx = fx0; fx < fx1; ++fx, target += 4) {
+        target[0] += red[fx];
+        target[1] += green[fx];
+        target[2] += blue[fx];
+      }
+    else
+      for (int fx = fx0; fx < fx1; ++fx, target += 4) {
+        target[0] = red[fx];
+        target[1] = green[fx];
+        target[2] = blue[fx];
+      }
     if (finish != nullptr) (*finish)(y0 - m / 2 + fy, x0 - m / 2 + fx0, x0 - m / 2 + fx1, row);
   });
 }

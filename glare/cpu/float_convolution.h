@@ -28,6 +28,8 @@
 namespace glarelab {
 
 enum class ConvolutionOutput { same, full };
+// How write_full puts the convolution into the frame: over its R, G, B, or added to them.
+enum class FullWrite { replace, add };
 
 // A pass over the pixels a convolution writes, done while they are in cache: called with (y,
 // x_from, x_to, the RGBA of pixel (x_from, y)) for each row segment written, from the
@@ -57,9 +59,10 @@ class CpuFloatConvolution {
   void set_kernel(const Psf& psf);
   // `full` output: the slot's scene, placed in `frame` at (x0, y0), convolved with the set_kernel()
   // PSF; the whole linear convolution (the scene grown by the PSF's reach, M/2 before, M - 1 - M/2
-  // after) written over R, G, B of `frame` there, clipped to the frame; alpha untouched. `finish`,
-  // when given, is called on each row segment once it is written.
-  void write_full(int slot, ImageRGBA& frame, int x0, int y0, const RowFinish* finish = nullptr);
+  // after) written over R, G, B of `frame` there (FullWrite::add: added to them), clipped to the
+  // frame; alpha untouched. `finish`, when given, is called on each row segment once it is written.
+  void write_full(int slot, ImageRGBA& frame, int x0, int y0, const RowFinish* finish = nullptr,
+                  FullWrite write = FullWrite::replace);
 
  private:
   int width_ = 0, height_ = 0, kernel_px_ = 0, rows_ = 0, cols_ = 0, threads_ = 1, slots_ = 1;

@@ -159,18 +159,16 @@ void CpuFloatGlare::convolve_regions(const ImageRGBA& frame, const std::vector<P
 
 void CpuFloatGlare::convolve_regions_finished(const ImageRGBA& frame, const std::vector<PixelRect>& boxes,
                                               const Psf& display_psf, ImageRGBA& out, const RowFinish& finish,
-                                              std::uint64_t frame_token) {
-  // Every pixel is written once: the boxes' reach by the inverse transform (the reaches of two boxes
-  // do not overlap: they lie at least the PSF's size apart, and each grows by M - 1 in all), the
-  // rest copied from the frame; so `out` starts empty rather than as a copy of the frame.
-  out = ImageRGBA(frame.width_px, frame.height_px);
-  out.depth = frame.depth;
-  const RowFinish with_alpha = [&](int y, int x_from, int x_to, float* rgba) {
-    const float* from = frame.pixel(x_from, y);
-    for (int x = x_from; x < x_to; ++x) rgba[4 * (x - x_from) + 3] = from[4 * (x - x_from) + 3];
-    finish(y, x_from, x_to, rgba);
-  };
-  regions_into(frame, boxes, display_psf, out, &with_alpha, frame_token);
+                                              std::uint64_t frame_token, const ImageRGBA* added_to) {
+  if (added_to != nullptr && (added_to->width_px != frame.width_px || added_to->height_px != frame.height_px))
+    throw std::invalid_argument("glare/cpu/float_glare: the image the glare is added to is not the frame's size");
+  // A copy, as the generic pass makes it: alpha and the pixels no box's glare reaches come with it
+  // in one pass (a fresh image would be zeroed, filled and then given the frame's alpha: three
+  // passes where this is one); the boxes' reaches are written over, or added to, by the inverse
+  // transform.
+  out = added_to != nullptr ? *added_to : frame;
+  regions_into(frame, boxes, display_psf, out, &finish, frame_token,
+               added_to != nullptr ? FullWrite::add : FullWrite::replace);
   // Where write_full wrote: each box grown by M/2 before and M - 1 - M/2 after (boxes_reached grows
   // by M/2 after too, one pixel more for an even M, where the glare is exactly 0).
   const int m = display_psf.size_px, before = m / 2, after = m - 1 - m / 2;
@@ -189,10 +187,7 @@ void CpuFloatGlare::convolve_regions_finished(const ImageRGBA& frame, const std:
       int x = 0;
       spans.emplace_back(frame.width_px, frame.width_px);
       for (const auto& [from, to] : spans) {
-        if (from > x) {
-          std::copy_n(frame.pixel(x, y), 4 * static_cast<std::size_t>(from - x), out.pixel(x, y));
-          finish(y, x, from, out.pixel(x, y));
-        }
+        if (from > x) finish(y, x, from, out.pixel(x, y));
         x = std::max(x, to);
       }
     }
@@ -200,7 +195,7 @@ void CpuFloatGlare::convolve_regions_finished(const ImageRGBA& frame, const std:
 }
 
 void CpuFloatGlare::regions_into(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
-                                 ImageRGBA& out, const RowFinish* finish, std::uint64_t frame_token) {
+                                 ImageRGBA& out, const RowFinish* finish, std::uint64_t frame_token, FullWrite write) {
   if (out.width_px != frame.width_px || out.height_px != frame.height_px)
     throw std::invalid_argument("glare/cpu/float_glare: the output is not the frame's size");
   if (region_kernel_px_ != display_psf.size_px) {
@@ -249,7 +244,7 @@ void CpuFloatGlare::regions_into(const ImageRGBA& frame, const std::vector<Pixel
     plan.convolution->set_kernel(display_psf);
     for (int slot = 0; slot < slots; ++slot) {
       const PixelRect& box = *sized[static_cast<std::size_t>(slot)];
-      plan.convolution->write_full(slot, out, box.x_px, box.y_px, finish);
+      plan.convolution->write_full(slot, out, box.x_px, box.y_px, finish, write);
     }
   }
 }

@@ -82,11 +82,13 @@ class CpuFloatGlare : public GlareBackend {
   void convolve_regions(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
                         ImageRGBA& out) override;
   // The same with `finish` done on each row of a box's glare as the inverse transform writes it
-  // (in cache, on the convolution's threads) and on the rest of `out` (the frame's pixels) after;
-  // no copy of the frame. A box's kept spectrum made under the same non-zero `frame_token` is
-  // taken without comparing its pixels.
+  // (in cache, on the convolution's threads) and on the rest of `out` after. A box's kept spectrum
+  // made under the same non-zero `frame_token` is taken without comparing its pixels. With
+  // `added_to`, the boxes' glare is added to its copy where it reaches; elsewhere the frame is
+  // black (the boxes hold every lit pixel), so the copy is the sum there as it is.
   void convolve_regions_finished(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf,
-                                 ImageRGBA& out, const RowFinish& finish, std::uint64_t frame_token = 0) override;
+                                 ImageRGBA& out, const RowFinish& finish, std::uint64_t frame_token = 0,
+                                 const ImageRGBA* added_to = nullptr) override;
   // The phase sampling check of the last display_psf() (the eye's whole power error, defocus plus
   // refraction; glare/cpu/float_psf.h): the aliasing warning, or empty. With LCA, that of the most aliased
   // wavelength (glare/cpu/float_chromatic_psf.h).
@@ -123,7 +125,7 @@ class CpuFloatGlare : public GlareBackend {
   };
   // convolve_regions with an optional finish of each written row and a frame token.
   void regions_into(const ImageRGBA& frame, const std::vector<PixelRect>& boxes, const Psf& display_psf, ImageRGBA& out,
-                    const RowFinish* finish, std::uint64_t frame_token);
+                    const RowFinish* finish, std::uint64_t frame_token, FullWrite write = FullWrite::replace);
   std::map<std::pair<int, int>, RegionPlan> region_plans_;
   int region_kernel_px_ = 0;
 };
