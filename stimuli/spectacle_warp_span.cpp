@@ -7,7 +7,6 @@
 #endif
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
-#define GLARELAB_WARP_AVX2 1
 #endif
 
 #include "stimuli/float4.h"
@@ -69,17 +68,7 @@ void warp_clear_span_sse2(const float* scene, std::ptrdiff_t row_floats, const W
 }
 #endif
 
-#if defined(GLARELAB_WARP_AVX2)
-// One channel's sample: a corner row's two pixels in one load, each weighted by its lane's weight
-// (`spread` picks the channel's lane of the top and bottom weights), the halves added.
-__attribute__((target("avx2,fma"), always_inline)) inline __m128 sample_avx2(const float* corner, int row_floats, __m256 w_top,
-                                                                              __m256 w_bottom, __m256i spread) {
-  const __m256 top = _mm256_loadu_ps(corner), bottom = _mm256_loadu_ps(corner + row_floats);
-  const __m256 sum = _mm256_fmadd_ps(bottom, _mm256_permutevar8x32_ps(w_bottom, spread),
-                                     _mm256_mul_ps(top, _mm256_permutevar8x32_ps(w_top, spread)));
-  return _mm_add_ps(_mm256_castps256_ps128(sum), _mm256_extractf128_ps(sum, 1));
-}
-
+#if defined(__x86_64__) && defined(__GNUC__)
 __attribute__((target("avx2,fma"))) void warp_clear_span_avx2(const float* scene, int row_floats, const WarpCellLine line[3],
                                                                const double* fraction, int first, int last, float* out_row) {
   // Lanes R, G, B, G: the fourth lane repeats green, whose position alpha takes too.
@@ -89,10 +78,6 @@ __attribute__((target("avx2,fma"))) void warp_clear_span_avx2(const float* scene
   const __m256d step_y = _mm256_setr_pd(line[0].step_y, line[1].step_y, line[2].step_y, line[1].step_y);
   const __m256d one = _mm256_set1_pd(1.0);
   const __m128i row_stride = _mm_set1_epi32(row_floats);
-  // Channel c's corner weights spread over a corner row's two pixels: lanes 0-3 the left pixel's
-  // weight (low half of the weights), lanes 4-7 the right one's (high half).
-  const __m256i spread_r = _mm256_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4), spread_g = _mm256_setr_epi32(1, 1, 1, 1, 5, 5, 5, 5);
-  const __m256i spread_b = _mm256_setr_epi32(2, 2, 2, 2, 6, 6, 6, 6);
   for (int x = first; x < last; ++x) {
     const __m256d f = _mm256_broadcast_sd(fraction + x);
     const __m256d at_x = _mm256_fmadd_pd(f, step_x, edge_x), at_y = _mm256_fmadd_pd(f, step_y, edge_y);
@@ -104,10 +89,20 @@ __attribute__((target("avx2,fma"))) void warp_clear_span_avx2(const float* scene
     const __m256 w_top = _mm256_insertf128_ps(_mm256_castps128_ps256(w_tl), w_tr, 1);
     const __m256 w_bottom = _mm256_insertf128_ps(_mm256_castps128_ps256(w_bl), w_br, 1);
     const __m128i offset = _mm_add_epi32(_mm_mullo_epi32(cell_y, row_stride), _mm_slli_epi32(cell_x, 2));
-    const __m128 r = sample_avx2(scene + _mm_cvtsi128_si32(offset), row_floats, w_top, w_bottom, spread_r);
-    const __m128 g = sample_avx2(scene + _mm_extract_epi32(offset, 1), row_floats, w_top, w_bottom, spread_g);
-    const __m128 b = sample_avx2(scene + _mm_extract_epi32(offset, 2), row_floats, w_top, w_bottom, spread_b);
-    _mm_storeu_ps(out_row + 4 * static_cast<std::ptrdiff_t>(x), _mm_blend_ps(_mm_blend_ps(g, r, 0x1), b, 0x4));
+    // Each lane's corner values from its channel's position (R, G, B from the red, green and blue
+    // cells, alpha from the green), a corner row's two pixels in one load: lane k then weighs its
+    // own channel's values by its own weights, with no weight moved between lanes.
+    const float* red = scene + _mm_cvtsi128_si32(offset);
+    const float* green = scene + _mm_extract_epi32(offset, 1);
+    const float* blue = scene + _mm_extract_epi32(offset, 2);
+    const __m256 top =
+        _mm256_blend_ps(_mm256_blend_ps(_mm256_loadu_ps(green), _mm256_loadu_ps(red), 0x11), _mm256_loadu_ps(blue), 0x44);
+    const __m256 bottom = _mm256_blend_ps(
+        _mm256_blend_ps(_mm256_loadu_ps(green + row_floats), _mm256_loadu_ps(red + row_floats), 0x11),
+        _mm256_loadu_ps(blue + row_floats), 0x44);
+    const __m256 sum = _mm256_fmadd_ps(bottom, w_bottom, _mm256_mul_ps(top, w_top));
+    _mm_storeu_ps(out_row + 4 * static_cast<std::ptrdiff_t>(x),
+                  _mm_add_ps(_mm256_castps256_ps128(sum), _mm256_extractf128_ps(sum, 1)));
   }
 }
 #endif
@@ -117,7 +112,7 @@ __attribute__((target("avx2,fma"))) void warp_clear_span_avx2(const float* scene
 void warp_clear_span(const float* scene, int width_px, int height_px, const WarpCellLine line[3], const double* fraction,
                      int first, int last, float* out_row, VectorIsa isa) {
   const std::ptrdiff_t row_floats = 4 * static_cast<std::ptrdiff_t>(width_px);
-#if defined(GLARELAB_WARP_AVX2)
+#if defined(__x86_64__) && defined(__GNUC__)
   if (isa == VectorIsa::avx2_fma && row_floats * height_px < (std::int64_t{1} << 31)) {
     warp_clear_span_avx2(scene, static_cast<int>(row_floats), line, fraction, first, last, out_row);
     return;

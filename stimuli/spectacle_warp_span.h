@@ -12,9 +12,9 @@
 //   1 - f taken in double first, and the sample wy0 (wx0 TL + wx1 TR) + wy1 (wx0 BL + wx1 BR) of
 //   all four floats of each corner pixel, the three results' lanes then selected.
 // - avx2_fma: the three channels' positions at once (four double lanes: R, G, B, G), the four
-//   corner weights as products of the fractions in double, each rounded once to float; a corner
-//   row's two pixels are one 256-bit load, weighted by a permutation of the weights, and the two
-//   halves added. Each weight keeps float's relative precision and the four non-negative products
+//   corner weights as products of the fractions in double, each rounded once to float, lane by
+//   lane; a corner row's two pixels are one 256-bit load per channel, the lanes blended so each
+//   holds its own channel's values (alpha the green position's), and the two halves added. Each weight keeps float's relative precision and the four non-negative products
 //   sum to within a few float roundings, so a 1e7 : 1 edge keeps the same relative error.
 #include <cstddef>
 
