@@ -16,6 +16,7 @@
 
 #include "core/parallel_for.h"
 #include "stimuli/float4.h"
+#include "stimuli/spectacle_warp_span.h"
 
 namespace glarelab {
 namespace {
@@ -234,15 +235,15 @@ class BilinearSampler {
   bool clear_of_edges(glm::dvec2 at, double margin) const {
     return at.x >= margin && at.y >= margin && at.x < last_x_ - margin && at.y < last_y_ - margin;
   }
+  // Both points beyond the same edge of the scene by more than margin: so is every point between them.
+  bool beyond_one_edge(glm::dvec2 a, glm::dvec2 b, double margin) const {
+    return (a.x < -margin && b.x < -margin) || (a.y < -margin && b.y < -margin) || (a.x > last_x_ + margin && b.x > last_x_ + margin) ||
+           (a.y > last_y_ + margin && b.y > last_y_ + margin);
+  }
   // At a position `inside` accepts (the last pixel centre's cell is the one before it).
   Float4 at(glm::dvec2 at) const {
     const int x0 = std::min(static_cast<int>(at.x), std::max(scene_.width_px - 2, 0));
     const int y0 = std::min(static_cast<int>(at.y), std::max(scene_.height_px - 2, 0));
-    return blend(scene_.pixel(x0, y0), at.x - x0, at.y - y0);
-  }
-  // At a position clear_of_edges accepts.
-  Float4 at_clear(glm::dvec2 at) const {
-    const int x0 = static_cast<int>(at.x), y0 = static_cast<int>(at.y);
     return blend(scene_.pixel(x0, y0), at.x - x0, at.y - y0);
   }
 
@@ -284,13 +285,21 @@ void warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, 
   // Margin of the segments taken without per-pixel checks: far above the 1e-13 px by which a
   // position along a segment may round past its ends.
   constexpr double kMarginPx = 1e-6;
+  if (!vector_isa_available(options.vector_isa)) refuse("this CPU does not run the AVX2 and FMA form of the warp");
+  // Each cell's first column (columns' cells never fall along x) and each column's fraction.
+  std::vector<int> cell_first(static_cast<std::size_t>(g), width);
+  std::vector<double> fraction(static_cast<std::size_t>(width));
+  for (int x = width - 1; x >= 0; --x) {
+    cell_first[static_cast<std::size_t>(columns[static_cast<std::size_t>(x)].cell)] = x;
+    fraction[static_cast<std::size_t>(x)] = columns[static_cast<std::size_t>(x)].fraction;
+  }
+  for (int i = g - 2; i >= 0; --i) cell_first[static_cast<std::size_t>(i)] = std::min(cell_first[static_cast<std::size_t>(i)], cell_first[static_cast<std::size_t>(i) + 1]);
   parallel_chunks(frame.height_px, options.threads, [&](int first, int last) {
     // Per row, each channel's positions at the vertex columns and their steps to the next column:
     // along a row the grid's bilinear interpolation is linear within a cell, so a pixel's position
     // is its cell's left edge plus the column fraction times the step (GridInterpolation::at
     // rearranged; the same to 1e-13 px).
     std::vector<glm::dvec2> edge(3 * static_cast<std::size_t>(g)), step(edge.size());
-    std::vector<char> clear(static_cast<std::size_t>(g), 0);
     for (int y = first; y < last; ++y) {
       const GridInterpolation::Row row = grids[0].row(y);
       for (int c = 0; c < 3; ++c) {
@@ -298,28 +307,54 @@ void warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, 
         grids[static_cast<std::size_t>(c)].row_edges(row, e);
         for (int i = 0; i + 1 < g; ++i) step[static_cast<std::size_t>(c) * g + i] = e[i + 1] - e[i];
       }
-      // A cell whose ends lie clear of the scene's edges for every channel holds every position
-      // between them (a box is convex): its pixels skip the checks.
       for (int i = 0; i + 1 < g; ++i) {
-        bool all_clear = true;
-        for (int c = 0; c < 3; ++c)
-          for (int end = 0; end < 2; ++end)
-            all_clear = all_clear && sampler.clear_of_edges(edge[static_cast<std::size_t>(c) * g + i + end], kMarginPx);
-        clear[static_cast<std::size_t>(i)] = all_clear ? 1 : 0;
-      }
-      for (int x = 0; x < width; ++x) {
-        const GridInterpolation::Row& column = columns[static_cast<std::size_t>(x)];
-        const auto cell = static_cast<std::size_t>(column.cell);
-        glm::dvec2 at[3];
-        for (std::size_t c = 0; c < 3; ++c) at[c] = edge[c * g + cell] + column.fraction * step[c * g + cell];
-        Float4 seen[3];
-        if (clear[cell]) {
-          for (int c = 0; c < 3; ++c) seen[c] = sampler.at_clear(at[c]);
-        } else {
-          for (int c = 0; c < 3; ++c) seen[c] = sampler.inside(at[c]) ? sampler.at(at[c]) : outside;
+        const int x_first = cell_first[static_cast<std::size_t>(i)], x_last = cell_first[static_cast<std::size_t>(i) + 1];
+        if (x_first >= x_last) continue;
+        // A cell whose ends lie clear of the scene's edges for every channel holds every position
+        // between them (a box is convex): its pixels skip the checks.
+        // One whose ends lie beyond the same edge for every channel shows the outside throughout.
+        bool all_clear = true, all_beyond = true;
+        WarpCellLine line[3];
+        for (std::size_t c = 0; c < 3; ++c) {
+          const glm::dvec2 e = edge[c * g + i], s = step[c * g + i];
+          line[c] = {e.x, e.y, s.x, s.y};
+          for (int end = 0; end < 2; ++end) all_clear = all_clear && sampler.clear_of_edges(edge[c * g + i + end], kMarginPx);
+          all_beyond = all_beyond && sampler.beyond_one_edge(edge[c * g + i], edge[c * g + i + 1], kMarginPx);
         }
-        // R from the red position, B from the blue, G and alpha from the green.
-        select(red, seen[0], select(blue, seen[2], seen[1])).store(out.pixel(x, y));
+        if (all_beyond) {
+          for (int x = x_first; x < x_last; ++x) outside.store(out.pixel(x, y));
+          continue;
+        }
+        if (all_clear) {
+          warp_clear_span(scene.rgba.data(), scene.width_px, scene.height_px, line, fraction.data(), x_first, x_last,
+                          out.pixel(0, y), options.vector_isa);
+          continue;
+        }
+        // Else pixel by pixel: the runs of pixels whose three positions are clear as above, the
+        // others checked (a position may look past the scene's edge).
+        const auto clear_run = [&](int run_first, int run_last) {
+          if (run_first < run_last)
+            warp_clear_span(scene.rgba.data(), scene.width_px, scene.height_px, line, fraction.data(), run_first, run_last,
+                            out.pixel(0, y), options.vector_isa);
+        };
+        int run_first = x_first;
+        for (int x = x_first; x < x_last; ++x) {
+          const double f = fraction[static_cast<std::size_t>(x)];
+          glm::dvec2 at[3];
+          bool clear = true;
+          for (std::size_t c = 0; c < 3; ++c) {
+            at[c] = glm::dvec2(line[c].edge_x + f * line[c].step_x, line[c].edge_y + f * line[c].step_y);
+            clear = clear && sampler.clear_of_edges(at[c], kMarginPx);
+          }
+          if (clear) continue;
+          clear_run(run_first, x);
+          run_first = x + 1;
+          Float4 seen[3];
+          for (std::size_t c = 0; c < 3; ++c) seen[c] = sampler.inside(at[c]) ? sampler.at(at[c]) : outside;
+          // R from the red position, B from the blue, G and alpha from the green.
+          select(red, seen[0], select(blue, seen[2], seen[1])).store(out.pixel(x, y));
+        }
+        clear_run(run_first, x_last);
       }
     }
   });

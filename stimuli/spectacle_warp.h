@@ -26,6 +26,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/image.h"
+#include "core/vector_isa.h"
 #include "glare/refraction/spectacle_lens.h"
 
 namespace glarelab {
@@ -50,6 +51,9 @@ struct SpectacleWarpOptions {
   std::array<float, 3> outside_cd_m2{0.0f, 0.0f, 0.0f};
   std::optional<double> scene_distance_mm;  // unset: a distant scene
   int threads = 1;
+  // The form of the per-pixel loop (stimuli/spectacle_warp_span.h): the widest this CPU runs,
+  // unless a test pins one; one this CPU does not run is refused.
+  VectorIsa vector_isa = widest_vector_isa();
 };
 
 // For every output pixel, the continuous scene pixel position it shows (pixel i's centre at i).

@@ -65,16 +65,23 @@ ImageRGBA hard_frame() {
 
 TEST(PerceptionFloat, AdaptationLuminanceMatchesTheFloat64Reference) {
   const ImageRGBA frame = hard_frame();
-  for (const double gaze_x : {0.5, 0.31, 0.02, 1.4, 40.0}) {  // 40 frame widths away: every weight underflows
-    const double reference = frame_adaptation_luminance_cd_m2(frame, gaze_x, 0.35);
-    for (const int threads : {1, 2, 3}) {
-      const double fast = frame_adaptation_luminance_float_cd_m2(frame, gaze_x, 0.35, {}, threads);
-      EXPECT_NEAR(fast, reference, 1e-12 * reference) << "gaze x " << gaze_x << ", " << threads << " threads";
+  // Each form of the tap sums this CPU runs (core/vector_isa.h).
+  for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+    if (!vector_isa_available(isa)) continue;
+    for (const double gaze_x : {0.5, 0.31, 0.02, 1.4, 40.0}) {  // 40 frame widths away: every weight underflows
+      const double reference = frame_adaptation_luminance_cd_m2(frame, gaze_x, 0.35);
+      for (const int threads : {1, 2, 3}) {
+        const double fast = frame_adaptation_luminance_float_cd_m2(frame, gaze_x, 0.35, {}, threads, isa);
+        EXPECT_NEAR(fast, reference, 1e-12 * reference)
+            << "gaze x " << gaze_x << ", " << threads << " threads, form " << static_cast<int>(isa);
+      }
     }
+    // A uniform field adapts to its own luminance (section 5.1's weighted mean).
+    const ImageRGBA uniform(1920, 1080, 10.0f);
+    EXPECT_NEAR(frame_adaptation_luminance_float_cd_m2(uniform, 0.2, 0.9, {}, 2, isa), 10.0, 1e-12);
+    const ImageRGBA small_uniform(33, 17, 10.0f);
+    EXPECT_NEAR(frame_adaptation_luminance_float_cd_m2(small_uniform, 0.2, 0.9, {}, 2, isa), 10.0, 1e-12);
   }
-  // A uniform field adapts to its own luminance (section 5.1's weighted mean).
-  const ImageRGBA uniform(33, 17, 10.0f);
-  EXPECT_NEAR(frame_adaptation_luminance_float_cd_m2(uniform, 0.2, 0.9, {}, 2), 10.0, 1e-12);
   EXPECT_THROW(frame_adaptation_luminance_float_cd_m2(ImageRGBA{}, 0.5, 0.5, {}, 2), std::invalid_argument);
 }
 

@@ -271,7 +271,8 @@ TEST(SpectacleWarp, RefusesAFieldOfViewTheLensDoesNotCover) {
 // float64 reference by stage_timing.h's pixel metric, within the 1e-5: on the perception
 // test frame (1e-3 to 1e4 cd/m2 with sharp 1e3 and 1e4 cd/m2 edges in its dark part, odd sizes)
 // through a minus lens that looks past the scene's edge, a plus lens, a cylinder and a decentred
-// lens, a distant and a near scene, two grid sizes. The result does not depend on the threads.
+// lens, a distant and a near scene, two grid sizes; each form of the per-pixel loop the CPU runs
+// (core/vector_isa.h). The result does not depend on the threads.
 TEST(SpectacleWarp, FloatWarpMatchesItsFloat64Reference) {
   const SpectacleFrame frame{301, 203, 0.08};
   const ImageRGBA scene = perception_test_frame(frame.width_px, frame.height_px);
@@ -289,18 +290,24 @@ TEST(SpectacleWarp, FloatWarpMatchesItsFloat64Reference) {
         options.scene_distance_mm = scene_distance_mm;
         options.outside_cd_m2 = {0.5f, 0.25f, 0.125f};
         const ImageRGBA reference = warp_through_spectacles_reference(scene, lens, frame, options);
-        const ImageRGBA fast = warp_through_spectacles(scene, lens, frame, options);
-        EXPECT_LE(max_relative_pixel_error(fast, reference, 1e-6), 1e-5)
-            << spec.prescription.sphere_dioptres << " D, " << vertices << " vertices";
-        double alpha_error = 0.0;
-        for (std::size_t i = 3; i < fast.rgba.size(); i += 4) alpha_error = std::max(alpha_error, std::abs(static_cast<double>(fast.rgba[i]) - reference.rgba[i]));
-        EXPECT_LE(alpha_error, 1e-6);
-        for (std::size_t i = 0; i < fast.rgba.size(); i += 4) outside_pixels += reference.rgba[i] == 0.5f ? 1 : 0;
-        options.threads = 3;
-        EXPECT_EQ(warp_through_spectacles(scene, lens, frame, options).rgba, fast.rgba);
-        ImageRGBA reused(frame.width_px, frame.height_px, 7.0f);  // into a frame of the right size: every value written
-        warp_through_spectacles(scene, lens, frame, options, reused);
-        EXPECT_EQ(reused.rgba, fast.rgba);
+        for (std::size_t i = 0; i < reference.rgba.size(); i += 4) outside_pixels += reference.rgba[i] == 0.5f ? 1 : 0;
+        // Each form of the per-pixel loop this CPU runs (stimuli/spectacle_warp_span.h).
+        for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+          if (!vector_isa_available(isa)) continue;
+          options.vector_isa = isa;
+          options.threads = 1;
+          const ImageRGBA fast = warp_through_spectacles(scene, lens, frame, options);
+          EXPECT_LE(max_relative_pixel_error(fast, reference, 1e-6), 1e-5)
+              << spec.prescription.sphere_dioptres << " D, " << vertices << " vertices, form " << static_cast<int>(isa);
+          double alpha_error = 0.0;
+          for (std::size_t i = 3; i < fast.rgba.size(); i += 4) alpha_error = std::max(alpha_error, std::abs(static_cast<double>(fast.rgba[i]) - reference.rgba[i]));
+          EXPECT_LE(alpha_error, 1e-6);
+          options.threads = 3;
+          EXPECT_EQ(warp_through_spectacles(scene, lens, frame, options).rgba, fast.rgba);
+          ImageRGBA reused(frame.width_px, frame.height_px, 7.0f);  // into a frame of the right size: every value written
+          warp_through_spectacles(scene, lens, frame, options, reused);
+          EXPECT_EQ(reused.rgba, fast.rgba);
+        }
       }
   EXPECT_GT(outside_pixels, 1000);  // the minus lens looks past the scene's edge
   ImageRGBA same = scene;

@@ -23,6 +23,7 @@
 // both directions.
 #include "core/image.h"
 #include "core/perception_settings.h"
+#include "core/vector_isa.h"
 
 namespace glarelab {
 
@@ -44,8 +45,11 @@ double frame_adaptation_luminance_cd_m2(const ImageRGBA& frame, double gaze_x, d
 // only the weighted luminance is resampled pixel by pixel. What
 // sessions run (stimuli/perception/perception_stages_float.h); the function above is its reference
 // (tests/perception_float_test.cpp: within 1e-12 relative). The result does not depend on `threads`.
+// `isa`: the form of the tap sums (core/vector_isa.h; both within 1e-12, each test runs both); one
+// this CPU does not run takes the SSE2 form.
 double frame_adaptation_luminance_float_cd_m2(const ImageRGBA& frame, double gaze_x, double gaze_y,
-                                              const AdaptationWeighting& weighting, int threads);
+                                              const AdaptationWeighting& weighting, int threads,
+                                              VectorIsa isa = widest_vector_isa());
 
 // The weight the gaze Gaussian gives the pixel (x, y) of a width x height frame (pixel centres at
 // x + 0.5, y + 0.5); exposed for tests and the documentation's numbers.
