@@ -14,20 +14,22 @@ namespace {
 
 constexpr double kPeriodS = 1.0 / 60.0;
 
-// 30 frames at 20 ms each on the worker, a 60 Hz display: with the 1.5 margin a frame takes 30 ms
-// against 16.67 ms a flip. The last frame (j = 29) is ready (30 - made) x 30 ms from now and is due
-// 30 periods less half a period from now, 491.67 ms: (30 - made) <= 16.39, so made >= 14.
+// 30 frames at 20 ms each on the worker, a 60 Hz display: with the margin of 2 a frame takes 40 ms
+// against 16.67 ms a flip. The last frame (j = 29) is ready (30 - made) x 40 ms from now and is due
+// 30 periods less half a period from now, 491.67 ms: (30 - made) <= 12.29, so made >= 18.
 TEST(FrameStream, AnOnsetWaitsUntilTheFramesStillToMakeCanFollowTheFlips) {
-  EXPECT_FALSE(FrameStream::onset_fits(13, 30, 0.020, kPeriodS));
-  EXPECT_TRUE(FrameStream::onset_fits(14, 30, 0.020, kPeriodS));
-  // 100 ms a frame (150 ms with the margin): the last frame asks for 30 - made <= 3.28 (made >=
-  // 27); the first one still to make, for 150 <= (made + 1) x 16.67 - 8.33 (made >= 9).
-  EXPECT_FALSE(FrameStream::onset_fits(26, 30, 0.100, kPeriodS));
-  EXPECT_TRUE(FrameStream::onset_fits(27, 30, 0.100, kPeriodS));
-  // A worker faster than the display: the first three frames, no fewer.
+  EXPECT_FALSE(FrameStream::onset_fits(17, 30, 0.020, kPeriodS));
+  EXPECT_TRUE(FrameStream::onset_fits(18, 30, 0.020, kPeriodS));
+  // 100 ms a frame (200 ms with the margin): the last frame asks for 30 - made <= 2.46 (made >=
+  // 28); the first one still to make, for 200 <= (made + 1) x 16.67 - 8.33 (made >= 12).
+  EXPECT_FALSE(FrameStream::onset_fits(27, 30, 0.100, kPeriodS));
+  EXPECT_TRUE(FrameStream::onset_fits(28, 30, 0.100, kPeriodS));
+  // A worker well ahead of the display: the first three frames, no fewer.
   EXPECT_FALSE(FrameStream::onset_fits(2, 30, 0.005, kPeriodS));
-  EXPECT_TRUE(FrameStream::onset_fits(3, 30, 0.005, kPeriodS));
-  EXPECT_TRUE(FrameStream::onset_fits(3, 30, 0.010, kPeriodS));  // 27 x 15 = 405 <= 491.67 ms
+  EXPECT_TRUE(FrameStream::onset_fits(3, 30, 0.005, kPeriodS));  // 27 x 10 = 270 <= 491.67 ms
+  // 10 ms a frame, 20 with the margin: 30 - made <= 24.58, so made >= 6.
+  EXPECT_FALSE(FrameStream::onset_fits(5, 30, 0.010, kPeriodS));
+  EXPECT_TRUE(FrameStream::onset_fits(6, 30, 0.010, kPeriodS));
   // The pace not known yet: every frame. One frame serving the interval: that frame.
   EXPECT_FALSE(FrameStream::onset_fits(29, 30, 0.0, kPeriodS));
   EXPECT_TRUE(FrameStream::onset_fits(30, 30, 0.0, kPeriodS));
@@ -73,19 +75,19 @@ TEST(FrameStream, TheOnsetCountsWhatWasReadyAndAStoppedWorkerEndsTheWait) {
   stream.begin({30});
   // Frame 0 (the interval's first, which also prepares its composed frame) is left out of the pace.
   stream.publish(0, 0, &frames[0], 0.300);
-  for (int k = 1; k < 13; ++k) stream.publish(0, k, &frames[static_cast<std::size_t>(k)], 0.020);
+  for (int k = 1; k < 17; ++k) stream.publish(0, k, &frames[static_cast<std::size_t>(k)], 0.020);
   std::thread worker([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    stream.publish(0, 13, &frames[13], 0.020);  // 14 of 30 at 20 ms a frame: the onset may come
-    stream.finish();                            // stopped before frame 14
+    stream.publish(0, 17, &frames[17], 0.020);  // 18 of 30 at 20 ms a frame: the onset may come
+    stream.finish();                            // stopped before frame 18
   });
   stream.wait_until_onset_fits(kPeriodS);
-  EXPECT_EQ(stream.ready(), 14);  // 13 did not fit
+  EXPECT_EQ(stream.ready(), 18);  // 17 did not fit
   worker.join();
   const GlaredRegion* frame = nullptr;
-  ASSERT_TRUE(stream.wait_for(0, 13, frame));
-  EXPECT_EQ(frame, &frames[13]);
-  EXPECT_FALSE(stream.wait_for(0, 14, frame));
+  ASSERT_TRUE(stream.wait_for(0, 17, frame));
+  EXPECT_EQ(frame, &frames[17]);
+  EXPECT_FALSE(stream.wait_for(0, 18, frame));
   EXPECT_EQ(frame, nullptr);
   EXPECT_FALSE(stream.complete());
 }

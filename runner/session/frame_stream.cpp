@@ -59,7 +59,7 @@ bool FrameStream::onset_fits_now(double period_s) const {
   if (finished_) return true;
   if (!begun_) return false;
   const int made = std::accumulate(published_.begin(), published_.end(), 0);
-  return onset_fits(made, total_, paced_frames_ >= 2 ? paced_s_ / paced_frames_ : 0.0, period_s);
+  return onset_fits(made, total_, paced_frames_ >= kPacedFrames ? paced_s_ / paced_frames_ : 0.0, period_s);
 }
 
 void FrameStream::wait_until_onset_fits(double period_s) {

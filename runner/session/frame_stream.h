@@ -32,7 +32,7 @@ class FrameStream {
   // kLeadFrames of them ready, and, at the worker's measured pace (the mean of the frames made so
   // far after each interval's first, which also prepares the interval's composed frame) with a
   // margin of kPaceMargin, the last frame due half a period before its flip. All of them when the
-  // pace is not known yet (fewer than two frames after an interval's first).
+  // pace is not known yet (fewer than kPacedFrames frames after an interval's first).
   void wait_until_onset_fits(double period_s);
   // Frame `k` of `interval` (its last one when the interval has fewer: a frame serving the whole
   // interval), waiting for it. `frame` is set to it, or to nullptr when the interval computes no
@@ -45,7 +45,10 @@ class FrameStream {
   bool finished() const;  // finish() was called
 
   static constexpr int kLeadFrames = 3;
-  static constexpr double kPaceMargin = 1.5;
+  static constexpr int kPacedFrames = 4;
+  // Twice the pace: the worker's frames slow once the interval's flips draw beside it (a margin of
+  // 1.5 left the demo's first dynamic trial's flips waiting 674 ms in one run at load 3).
+  static constexpr double kPaceMargin = 2.0;
   // The rule wait_until_onset_fits waits for: `made` of `total` frames there, the worker's mean
   // time per frame `mean_frame_s` (0: not known yet), a refresh period of `period_s`.
   static bool onset_fits(int made, int total, double mean_frame_s, double period_s);
