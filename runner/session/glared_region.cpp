@@ -57,6 +57,19 @@ class HalfStoragePool {
     return storage;
   }
 
+  // Storages of `values` halves until the idle ones reach the bound.
+  void fill(std::size_t values) {
+    const std::size_t bytes = values * sizeof(std::uint16_t);
+    if (bytes == 0) return;
+    for (;;) {
+      {
+        const std::lock_guard lock(mutex_);
+        if (idle_bytes_ + bytes > kIdleBytes) return;
+      }
+      give(std::vector<std::uint16_t>(values));
+    }
+  }
+
   void give(std::vector<std::uint16_t>&& storage) {
     const std::size_t bytes = storage.capacity() * sizeof(std::uint16_t);
     if (bytes == 0) return;
@@ -120,6 +133,8 @@ std::uint64_t next_region_serial() {
 }  // namespace
 
 GlaredRegion::~GlaredRegion() { HalfStoragePool::instance().give(std::move(half_rgb)); }
+
+void fill_half_storage(std::size_t values) { HalfStoragePool::instance().fill(values); }
 
 GlaredRegion gpu_region(std::vector<GlaredRegion::GpuPart> parts) {
   GlaredRegion region;
