@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <iostream>
@@ -127,6 +128,48 @@ TEST(GlaredRegion, ABoxTheDifferencesLieInGivesTheSameRegion) {
 
 // Each region changed_region() makes has its own serial (a flip of the region the framebuffer
 // already holds only re-encodes it: SessionLoop::draw); a copy, with the same pixels, keeps it.
+// A frame's halves are made four values at a time where the processor has F16C: every value kept
+// is half_from_float's, bit for bit, across the float range (a walk over bit patterns: every
+// exponent, subnormals, infinities, NaNs) and at the edges (ties to even, the clamp at 65520, the
+// smallest subnormal half and the float below half of it).
+TEST(GlaredRegion, HalfPrecisionKeepsHalfFromFloatsBitsForEveryValue) {
+  const int width = 67, height = 53;
+  ImageRGBA composed = opaque_black(width, height), glared = composed;
+  const float edges[] = {1.0f + 0x1p-11f,  1.0f + 0x3p-11f, -(1.0f + 0x1p-11f), 65503.9f, 65504.0f, 65519.99f,
+                         65520.0f,         70000.0f,        -1e9f,              INFINITY, -INFINITY, NAN,
+                         -NAN,             0x1p-14f,        0x1p-24f,           0x1p-25f, 0x1.8p-25f, 1e-40f,
+                         -0.0f,            0.5f,            4000.0f,            0x1.ffep-15f};
+  std::uint32_t bits = 0x3f800000u;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 4 + c;
+        bits = bits * 1664525u + 1013904223u;  // a fixed walk over the 32-bit patterns
+        glared.rgba[i] = i < std::size(edges) * 4 && c < 3 ? edges[i / 4 % std::size(edges)] * (c == 2 ? -1.0f : 1.0f)
+                                                           : std::bit_cast<float>(bits);
+      }
+  glared.pixel(0, 0)[0] = 1.0f;  // the region is the whole frame
+  glared.pixel(width - 1, height - 1)[0] = 1.0f;
+  const GlaredRegion region = changed_region(composed, glared, RegionPrecision::half_rgb);
+  ASSERT_EQ(region.width_px, width);
+  ASSERT_EQ(region.height_px, height);
+  int nan = 0, clamped = 0, subnormal = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float value = glared.pixel(x, y)[c];
+        const std::uint16_t kept = region.half_rgb[3 * (width * static_cast<std::size_t>(height - 1 - y) + x) + c];
+        ASSERT_EQ(kept, half_from_float(value)) << x << ", " << y << ", " << c << ": " << value;
+        nan += std::isnan(value);
+        clamped += !std::isnan(value) && std::abs(value) >= 65520.0f;
+        subnormal += std::abs(value) > 0.0f && std::abs(value) < 0x1p-14f;
+      }
+  // The walk reaches the cases the fast path hands back, and subnormal halves.
+  EXPECT_GT(nan, 10);
+  EXPECT_GT(clamped, 100);
+  EXPECT_GT(subnormal, 10);
+}
+
 TEST(GlaredRegion, EveryRegionMadeHasItsOwnSerialAndACopyKeepsIt) {
   const ImageRGBA composed(8, 6, 1.0f);
   ImageRGBA glared = composed;

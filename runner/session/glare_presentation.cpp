@@ -140,6 +140,8 @@ void SessionGlare::log_glare_setup() {
     const auto sides = position_glare_modes(row);
     any_glare = any_glare || glare_mode_for(spec, row) != GlareMode::control ||
                 (sides && *sides != std::pair{GlareMode::control, GlareMode::control});
+    frame_sequences_ = frame_sequences_ || glare_mode_for(spec, row) == GlareMode::dynamic ||
+                       (sides && (sides->first == GlareMode::dynamic || sides->second == GlareMode::dynamic));
   }
   for (const ConditionRow& row : prepared_.experiment.conditions)
     engines_chosen_ = engines_chosen_ || any_glare || any_perception_stage(perception_for(prepared_.experiment.perception, row));

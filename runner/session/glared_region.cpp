@@ -8,6 +8,10 @@
 #include <mutex>
 #include <utility>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include "core/half_float.h"
 
 namespace glarelab {
@@ -53,6 +57,19 @@ class HalfStoragePool {
     return storage;
   }
 
+  // Storages of `values` halves until the idle ones reach the bound.
+  void fill(std::size_t values) {
+    const std::size_t bytes = values * sizeof(std::uint16_t);
+    if (bytes == 0) return;
+    for (;;) {
+      {
+        const std::lock_guard lock(mutex_);
+        if (idle_bytes_ + bytes > kIdleBytes) return;
+      }
+      give(std::vector<std::uint16_t>(values));
+    }
+  }
+
   void give(std::vector<std::uint16_t>&& storage) {
     const std::size_t bytes = storage.capacity() * sizeof(std::uint16_t);
     if (bytes == 0) return;
@@ -70,6 +87,44 @@ class HalfStoragePool {
   std::size_t idle_bytes_ = 0;
 };
 
+// One row of RGBA floats to RGB halves, half_from_float's bits value for value.
+void row_to_halves(const float* in, std::uint16_t* out, std::size_t pixels) {
+  for (std::size_t x = 0; x < pixels; ++x)
+    for (std::size_t c = 0; c < 3; ++c) out[3 * x + c] = half_from_float(in[4 * x + c]);
+}
+
+#if defined(__x86_64__)
+// The same with the F16C instruction, four values a pixel at once (round to nearest even, as
+// half_from_float; subnormal halves alike). It differs from half_from_float only where that one
+// clamps (magnitudes from 65520 on, infinities) and for NaN payloads: a pixel with such a value in
+// R, G or B is converted by half_from_float. A dynamic frame's changed rectangle in the demo is most
+// of the 1024 x 512 frame: about 2 ms of the worker's frame by the scalar loop.
+__attribute__((target("avx,f16c"))) void row_to_halves_f16c(const float* in, std::uint16_t* out, std::size_t pixels) {
+  const __m128 magnitude_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128 clamped_from = _mm_set1_ps(65520.0f);
+  for (std::size_t x = 0; x < pixels; ++x) {
+    const __m128 rgba = _mm_loadu_ps(in + 4 * x);
+    // Not below 65520 in magnitude, or unordered (NaN).
+    const __m128 special = _mm_cmp_ps(_mm_and_ps(rgba, magnitude_mask), clamped_from, _CMP_NLT_UQ);
+    if ((_mm_movemask_ps(special) & 0x7) != 0) {
+      row_to_halves(in + 4 * x, out + 3 * x, 1);
+      continue;
+    }
+    const __m128i halves = _mm_cvtps_ph(rgba, _MM_FROUND_TO_NEAREST_INT);
+    const auto bits = static_cast<std::uint64_t>(_mm_cvtsi128_si64(halves));
+    std::memcpy(out + 3 * x, &bits, 3 * sizeof(std::uint16_t));  // little endian: R, G, B first
+  }
+}
+#endif
+
+void to_halves(const float* in, std::uint16_t* out, std::size_t pixels) {
+#if defined(__x86_64__)
+  static const bool f16c = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+  if (f16c) return row_to_halves_f16c(in, out, pixels);
+#endif
+  row_to_halves(in, out, pixels);
+}
+
 std::uint64_t next_region_serial() {
   static std::atomic<std::uint64_t> next_serial{1};
   return next_serial.fetch_add(1, std::memory_order_relaxed);
@@ -78,6 +133,8 @@ std::uint64_t next_region_serial() {
 }  // namespace
 
 GlaredRegion::~GlaredRegion() { HalfStoragePool::instance().give(std::move(half_rgb)); }
+
+void fill_half_storage(std::size_t values) { HalfStoragePool::instance().fill(values); }
 
 GlaredRegion gpu_region(std::vector<GlaredRegion::GpuPart> parts) {
   GlaredRegion region;
@@ -125,12 +182,8 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
     return region;
   }
   region.half_rgb = HalfStoragePool::instance().take(3 * width * static_cast<std::size_t>(region.height_px));
-  for (int y = y0; y <= y1; ++y) {
-    std::uint16_t* out = region.half_rgb.data() + 3 * width * static_cast<std::size_t>(y1 - y);
-    const float* in = glared.pixel(x0, y);
-    for (std::size_t x = 0; x < width; ++x)
-      for (std::size_t c = 0; c < 3; ++c) out[3 * x + c] = half_from_float(in[4 * x + c]);
-  }
+  for (int y = y0; y <= y1; ++y)
+    to_halves(glared.pixel(x0, y), region.half_rgb.data() + 3 * width * static_cast<std::size_t>(y1 - y), width);
   return region;
 }
 

@@ -68,6 +68,12 @@ struct GlaredRegion {
 GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
                             const std::optional<PixelRect>& differs_within = std::nullopt);
 
+// Fills the storage that half precision regions take from (and hand back when freed) up to its
+// bound with storages of `values` halves: a session whose intervals make a frame per flip does it
+// before its first trial, so that its first such interval's frames neither allocate nor zero
+// theirs (in the demo, a quarter of the worker's time for its first dynamic trial).
+void fill_half_storage(std::size_t values);
+
 // A frame kept on the GPU as the eyes' parts (each part's buffer the size of its view).
 GlaredRegion gpu_region(std::vector<GlaredRegion::GpuPart> parts);
 

@@ -101,6 +101,9 @@ class SessionGlare {
   // Whether frames can be computed on a thread other than the display's: every eye's engine is the
   // CPU engine (choosing it now, on the display's thread, if no frame has yet).
   bool computes_off_display_thread();
+  // Whether some condition's intervals can make a frame per flip (dynamic glare on a side, or the
+  // adaptation stage), known after the setup.
+  bool makes_frame_sequences() const { return frame_sequences_ || adapts_; }
   // Frame k of the interval, computed for its flip time if it is needed and not yet there: each
   // eye's part, joined.
   void compute_frame(IntervalGlare& glare, int k);
@@ -216,6 +219,7 @@ class SessionGlare {
   // Otherwise no frame is ever computed, and no engine is made.
   bool engines_chosen_ = false;
   bool perception_logged_ = false;
+  bool frame_sequences_ = false;  // some condition has dynamic glare (log_glare_setup)
   // Each condition's refraction by condition name (runner/session/condition_refraction.h); empty
   // when the experiment does not model the observer's optics.
   std::map<std::string, ConditionRefraction> condition_refractions_;

@@ -30,6 +30,12 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
   glare_.compose_on_cpu_where_exact(&composition_);
   upload_straylight_stimulus();
   glare_.hold_trial_events_in(&events_with_commit_);
+  // Frames kept at half precision take their storage from a pool the frames of the interval before
+  // hand back; for the first interval of a frame per flip it is filled now, before the first trial,
+  // with storages a whole frame fits (runner/session/glared_region.h).
+  if (glare_.makes_frame_sequences())
+    fill_half_storage(3 * static_cast<std::size_t>(prepared.experiment.display.width_px) *
+                      static_cast<std::size_t>(prepared.experiment.display.height_px));
 }
 
 // --- tracker (runner/tracker/) ---

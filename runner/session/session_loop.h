@@ -20,6 +20,7 @@
 #include "runner/session/condition_refraction.h"
 #include "runner/session/controller_answers.h"
 #include "runner/session/cpu_composition.h"
+#include "runner/session/frame_stream.h"
 #include "runner/session/frame_timing.h"
 #include "runner/session/interval_glare.h"
 #include "runner/session/session_glare.h"
@@ -240,6 +241,14 @@ class SessionLoop {
   bool take_trial_ahead(const TrialPlan& plan, const TrialSchedule& schedule, TrialIntervals& intervals);
   // Stops the worker at its next frame and joins it; what it prepared is dropped.
   void drop_trial_ahead();
+  // The trial taken at its onset while its worker still makes its frames (FrameStream): the frame
+  // a stimulus flip of `interval` shows, waited for (nullptr where the interval computes none);
+  // false when no stream covers it (the frame is then the interval's own, computed as without a
+  // worker). The wait is glare preparation in the flip's work.
+  bool streamed_frame(int interval, int k, const GlaredRegion*& frame);
+  // Once the stream is complete (or at once, `stop`: the trial ended early): joins its worker,
+  // rethrows its error, and counts its frames into the trial's preparation.
+  void finish_stream(bool stop = false);
   // Once per trial with computed frames: a 'trial_preparation' event saying where its frames were
   // computed and how many were left to compute at its onset.
   void log_trial_preparation(const TrialPlan& plan, const TrialIntervals& intervals);
@@ -305,6 +314,7 @@ class SessionLoop {
     bool composed_on_worker = false;
     std::uint64_t display_writes = 0;
     std::vector<int> frames_to_compute;  // per interval: all (-1) or none (0); the worker's
+    FrameStream stream;                  // the frames, as the worker makes them
     std::thread worker;
     std::atomic<bool> stop{false};
     std::exception_ptr error;
@@ -312,6 +322,9 @@ class SessionLoop {
     double worker_s = 0.0;
   };
   std::unique_ptr<TrialAhead> ahead_;
+  // The trial shown now, taken before its worker was done: its intervals are the trial's own
+  // (moved out), the worker making their remaining frames in place.
+  std::unique_ptr<TrialAhead> streaming_;
   bool ahead_begun_ = false;  // for the trial running now
   std::string next_not_ahead_;  // why the next trial is not being prepared ahead
   struct TrialPreparation {
@@ -323,6 +336,8 @@ class SessionLoop {
     bool composed_on_worker = false;
     std::uint64_t display_writes = 0;  // to the stimulus framebuffer, for it, on the display's thread
     double onset_wait_s = 0.0; // how long the trial waited for the worker after its inter-trial interval
+    int ready_at_onset = -1;   // frames the worker had made at the onset (-1: all, it was done)
+    double flip_wait_s = 0.0;  // how long the trial's flips waited for the rest
     std::string not_ahead;     // why the trial was not prepared ahead (empty when it was)
     int onset_frames_computed = 0;  // glare frames computed on the display's thread before the onset flip
   };

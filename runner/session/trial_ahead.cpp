@@ -11,6 +11,7 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -27,8 +28,10 @@ namespace glarelab {
 namespace {
 
 // The worker runs below the display's thread so a flip is never queued behind a frame's glare on
-// a busy machine (a niceness of 5: still ahead of background builds at the usual 10).
-constexpr int kWorkerNiceness = 5;
+// a busy machine, and ahead of background jobs: at a niceness of 2 (CFS weight 655 against the
+// display thread's 1024) it has twice the share of a build at niceness 5 (335); at 5 it had the
+// same, and on two cores with a build beside it a dynamic trial's frames took it twice as long.
+constexpr int kWorkerNiceness = 2;
 
 std::string ms_text(double seconds) { return number_text(std::round(seconds * 1e4) / 10.0); }
 
@@ -60,6 +63,10 @@ int frames_ahead(const IntervalGlare& glare) { return glare.computed() ? -1 : 0;
 
 SessionLoop::~SessionLoop() {
   drop_trial_ahead();
+  if (streaming_) {
+    streaming_->stop = true;
+    if (streaming_->worker.joinable()) streaming_->worker.join();
+  }
   // A session ended by an error: the answered trial's commit still lands (its own error, if any,
   // is the lesser one and is not thrown from here).
   if (committer_.joinable()) committer_.join();
@@ -74,6 +81,11 @@ void SessionLoop::drop_trial_ahead() {
 
 void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedule& schedule, std::size_t flip,
                                     double flip_s, const TrialIntervals& shown) {
+  // The eyes' engines are the current trial's worker's until it has made its last frame.
+  if (streaming_) {
+    if (!streaming_->stream.complete()) return;
+    finish_stream();
+  }
   // Only once none of the current trial's frames is left to compute: the eyes' engines are then
   // the worker's alone until the next trial takes its frames.
   for (const IntervalGlare& glare : shown.glare)
@@ -170,16 +182,36 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
             a->intervals.shown_plans[i], a->intervals.placements[i], a->first_flip_s[i], composition_));
         a->frames_to_compute.push_back(frames_ahead(glare));
       }
+      // Each frame's place is reserved before the first, so a frame published stays where it is
+      // while the display's thread shows it; from begin() on, the intervals may be moved into the
+      // trial (the vector's elements stay in place), and only these pointers reach them.
+      std::vector<IntervalGlare*> glares;
+      std::vector<int> counts;
       for (std::size_t i = 0; i < a->intervals.glare.size(); ++i) {
         IntervalGlare& glare = a->intervals.glare[i];
-        const std::size_t before = glare.frames.size();
-        glare_.prepare_frames(glare, [a] { return a->stop.load(); }, a->frames_to_compute[i], /*display_thread=*/false);
-        a->frames += static_cast<int>(glare.frames.size() - before);
+        const int needed = glare.computed() ? glare.frames_needed : 0;
+        counts.push_back(a->frames_to_compute[i] < 0 ? needed : std::min(needed, a->frames_to_compute[i]));
+        glare.frames.reserve(static_cast<std::size_t>(glare.frames_needed));
+        glares.push_back(&glare);
+      }
+      a->stream.begin(counts);
+      const auto stopped = [a] { return a->stop.load(); };
+      for (std::size_t i = 0; i < glares.size(); ++i) {
+        for (int k = 0; k < counts[i] && !a->stop; ++k) {
+          IntervalGlare& glare = *glares[i];
+          const std::size_t before = glare.frames.size();
+          glare_.prepare_frames(glare, stopped, k + 1, /*display_thread=*/false);
+          if (glare.frames.size() <= static_cast<std::size_t>(k)) break;
+          a->frames += static_cast<int>(glare.frames.size() - before);
+          a->stream.publish(static_cast<int>(i), k, &glare.frames[static_cast<std::size_t>(k)],
+                            glare.frame_compute_s.empty() ? 0.0 : glare.frame_compute_s.back());
+        }
       }
     } catch (...) {
       a->error = std::current_exception();
     }
     a->worker_s = seconds_since(worker_start);
+    a->stream.finish();
   });
 }
 
@@ -208,11 +240,17 @@ bool SessionLoop::take_trial_ahead(const TrialPlan& plan, const TrialSchedule& s
       }
     }
   }
+  // The onset waits until the frames still to make can follow its flips (FrameStream), or for the
+  // worker to be done; what it has not made by then it makes while the interval is shown.
   const auto wait_start = std::chrono::steady_clock::now();
-  if (ahead_->worker.joinable()) ahead_->worker.join();
+  const bool working = ahead_->worker.joinable();
+  if (working) ahead_->stream.wait_until_onset_fits(period_s_);
+  // Every frame there: the worker is at its end, and is joined.
+  const bool streams = working && !ahead_->stream.finished() && !ahead_->stream.complete();
+  if (working && !streams) ahead_->worker.join();
   const double wait_s = seconds_since(wait_start);
   timing_.add_work(FlipWork::glare_preparation, wait_s);
-  if (ahead_->error) {
+  if (!streams && ahead_->error) {
     const std::exception_ptr error = ahead_->error;
     ahead_.reset();
     std::rethrow_exception(error);
@@ -220,15 +258,43 @@ bool SessionLoop::take_trial_ahead(const TrialPlan& plan, const TrialSchedule& s
   preparation_.ahead = true;
   preparation_.not_ahead.clear();
   preparation_.beside_trial = ahead_->beside_trial;
-  preparation_.worker_frames = ahead_->frames;
-  preparation_.worker_s = ahead_->worker_s;
+  if (!streams) {  // else counted when the worker is done (finish_stream)
+    preparation_.worker_frames = ahead_->frames;
+    preparation_.worker_s = ahead_->worker_s;
+  }
   preparation_.layout_ms = 1e3 * ahead_->layout_s;
   preparation_.composed_on_worker = ahead_->composed_on_worker;
   preparation_.display_writes = ahead_->display_writes;
   preparation_.onset_wait_s = wait_s;
+  preparation_.ready_at_onset = streams ? ahead_->stream.ready() : -1;
+  // The intervals move into the trial; their elements stay where the worker makes their frames.
   intervals = std::move(ahead_->intervals);
-  ahead_.reset();
+  if (streams)
+    streaming_ = std::move(ahead_);
+  else
+    ahead_.reset();
   return true;
+}
+
+bool SessionLoop::streamed_frame(int interval, int k, const GlaredRegion*& frame) {
+  if (!streaming_) return false;
+  const auto wait_start = std::chrono::steady_clock::now();
+  const bool there = streaming_->stream.wait_for(interval, k, frame);
+  preparation_.flip_wait_s += seconds_since(wait_start);
+  if (there) return true;
+  // Stopped or failed without it: its error thrown; else the interval's own frames from here on.
+  finish_stream();
+  return false;
+}
+
+void SessionLoop::finish_stream(bool stop) {
+  if (!streaming_) return;
+  if (stop) streaming_->stop = true;
+  if (streaming_->worker.joinable()) streaming_->worker.join();
+  const std::unique_ptr<TrialAhead> done = std::move(streaming_);
+  if (done->error && !stop) std::rethrow_exception(done->error);
+  preparation_.worker_frames = done->frames;
+  preparation_.worker_s = done->worker_s;
 }
 
 void SessionLoop::log_trial_preparation(const TrialPlan& plan, const TrialIntervals& intervals) {
@@ -236,7 +302,7 @@ void SessionLoop::log_trial_preparation(const TrialPlan& plan, const TrialInterv
   for (const IntervalGlare& glare : intervals.glare) computed = computed || glare.computed();
   if (!computed) return;
   std::string text = "trial " + std::to_string(plan.trial_index) + ": ";
-  if (preparation_.ahead)
+  if (preparation_.ahead) {
     text += "frames prepared ahead beside trial " + std::to_string(preparation_.beside_trial) + " (" +
             std::to_string(preparation_.worker_frames) + " glare frame(s) on a worker in " +
             ms_text(preparation_.worker_s) + " ms, its scenes composed " +
@@ -244,9 +310,14 @@ void SessionLoop::log_trial_preparation(const TrialPlan& plan, const TrialInterv
             number_text(std::round(preparation_.layout_ms * 10) / 10) + " ms on the display's thread, " +
             std::to_string(preparation_.display_writes) +
             " write(s) to the stimulus framebuffer); the onset waited " + ms_text(preparation_.onset_wait_s) + " ms for them";
-  else
+    if (preparation_.ready_at_onset >= 0)
+      text += " (" + std::to_string(preparation_.ready_at_onset) +
+              " of them made by then, the rest while the interval was shown: its flips waited " +
+              ms_text(preparation_.flip_wait_s) + " ms for them)";
+  } else {
     text += "frames prepared at the trial, not ahead: " +
             (preparation_.not_ahead.empty() ? std::string("the first trial of the run") : preparation_.not_ahead);
+  }
   text += "; glare frames computed on the display's thread for the onset: " + std::to_string(preparation_.onset_frames_computed);
   // Written with the trial's commit, beside the next onset (trial_commit.cpp): a synced write here
   // would sit between this trial's last flip and the next onset.

@@ -70,6 +70,12 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   // Each interval's placements and glare, prepared before the fixation so the timed sequence
   // runs flip after flip.
   TrialIntervals intervals;
+  // A worker still making the trial's frames in `intervals` is stopped and joined before they go,
+  // however the trial ends; once the frames are all shown it is done (finish_stream).
+  struct StreamStop {
+    SessionLoop& loop;
+    ~StreamStop() { loop.finish_stream(/*stop=*/true); }
+  } stream_stop{*this};
   if (!(ahead && take_trial_ahead(plan, schedule, intervals)) &&
       !begin_intervals(plan, schedule, interval_flips_after, prepare_in_interval, intervals))
     return false;
@@ -91,6 +97,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   for (const Placement& placement : overlays_.question(plan.question, intervals.stimulus_rects)) question.push_back(placement);
 
   if (!run_timed_sequence(plan, schedule, intervals, question, run)) return false;
+  finish_stream();  // every frame was shown: the worker has made its last one
   const auto report_start = std::chrono::steady_clock::now();
   for (const IntervalGlare& interval_glare : intervals.glare) glare_.report_interval(plan, interval_glare);
   log_trial_preparation(plan, intervals);
@@ -179,13 +186,18 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
       draw({}, nullptr, overlays_.fixation());
     } else if (flip.phase == FlipPhase::interval) {
       IntervalGlare& shown_glare = intervals.glare[static_cast<std::size_t>(flip.interval)];
-      // Live: this frame's glare now, with the gaze of this moment (nothing when already there).
+      // Live: this frame's glare now, with the gaze of this moment (nothing when already there);
+      // or the frame the worker still making the trial's frames has made (waited for).
       const auto compute_start = std::chrono::steady_clock::now();
-      const std::size_t frames_before = shown_glare.frames.size();
-      glare_.compute_frame(shown_glare, flip.frame_in_interval);
+      const GlaredRegion* region = nullptr;
+      if (!streamed_frame(flip.interval, flip.frame_in_interval, region)) {
+        const std::size_t frames_before = shown_glare.frames.size();
+        glare_.compute_frame(shown_glare, flip.frame_in_interval);
+        if (flip.stimulus_frame == 0)
+          preparation_.onset_frames_computed += static_cast<int>(shown_glare.frames.size() - frames_before);
+        region = shown_glare.shown(flip.frame_in_interval);
+      }
       timing_.add_work(work_kind(shown_glare), seconds_since(compute_start));
-      if (flip.stimulus_frame == 0)
-        preparation_.onset_frames_computed += static_cast<int>(shown_glare.frames.size() - frames_before);
       // Until the presentation is settled, each glare flip's drawing is timed (with its GL work
       // finished): with the glare's own cost it is what a live frame takes.
       const bool timed = shown_glare.made == IntervalFrames::glare && shown_glare.frames_needed > 1 &&
@@ -193,7 +205,7 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
       const auto draw_start = std::chrono::steady_clock::now();
       draw(plan.straylight ? straylight_frame(plan, flip.frame_in_interval)
                            : intervals.placements[static_cast<std::size_t>(flip.interval)],
-           shown_glare.shown(flip.frame_in_interval), question);
+           region, question);
       timing_.add_work(FlipWork::drawing, seconds_since(draw_start));
       if (timed && !fast_forward_) {
         renderer_.finish();
@@ -227,9 +239,12 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
         ++shown_glare.live_frames_shown;
         if (dropped) ++shown_glare.live_frames_dropped;
       }
-      // Live glare with a tracker: how old this frame's gaze was when it flipped.
+      // Live glare with a tracker: how old this frame's gaze was when it flipped (never a trial
+      // whose worker still makes its frames: no tracker runs then).
       std::optional<double> gaze_age_s;
-      if (const std::optional<double> gaze_time_s = shown_glare.gaze_time_of(flip.frame_in_interval)) {
+      const std::optional<double> gaze_time_s =
+          streaming_ ? std::nullopt : shown_glare.gaze_time_of(flip.frame_in_interval);
+      if (gaze_time_s) {
         gaze_age_s = flip_s - *gaze_time_s;
         shown_glare.gaze_to_flip_s.push_back(*gaze_age_s);
       }
