@@ -9,21 +9,14 @@
 #include <utility>
 
 #include "core/errors.h"
+#include "runner/display/openxr_check.h"
 
 namespace glarelab {
 namespace {
 
-void check(XrResult result, XrInstance instance, const std::string& what) {
-  if (!XR_FAILED(result)) return;
-  char name[XR_MAX_RESULT_STRING_SIZE] = {};
-  if (xrResultToString(instance, result, name) != XR_SUCCESS)
-    std::snprintf(name, sizeof name, "XrResult %d", static_cast<int>(result));
-  throw DisplayError("OpenXR: " + what + " failed (" + name + ")");
-}
-
 XrPath path_of(XrInstance instance, const std::string& text) {
   XrPath path = XR_NULL_PATH;
-  check(xrStringToPath(instance, text.c_str(), &path), instance, "xrStringToPath(" + text + ")");
+  check_openxr(xrStringToPath(instance, text.c_str(), &path), instance, "xrStringToPath(" + text + ")");
   return path;
 }
 
@@ -80,14 +73,14 @@ OpenXrAnswerActions::OpenXrAnswerActions(XrInstance instance, XrSession session)
   auto set_info = xr_struct<XrActionSetCreateInfo>(XR_TYPE_ACTION_SET_CREATE_INFO);
   std::snprintf(set_info.actionSetName, XR_MAX_ACTION_SET_NAME_SIZE, "%s", "glarelab_answers");
   std::snprintf(set_info.localizedActionSetName, XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE, "%s", "glarelab answers");
-  check(xrCreateActionSet(instance_, &set_info, set_.out()), instance_, "xrCreateActionSet (answers)");
+  check_openxr(xrCreateActionSet(instance_, &set_info, set_.out()), instance_, "xrCreateActionSet (answers)");
   for (const AnswerSpec& spec : kAnswers) {
     auto action_info = xr_struct<XrActionCreateInfo>(XR_TYPE_ACTION_CREATE_INFO);
     action_info.actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
     std::snprintf(action_info.actionName, XR_MAX_ACTION_NAME_SIZE, "%s", spec.name);
     std::snprintf(action_info.localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE, "%s", spec.button);
     Answer answer;
-    check(xrCreateAction(set_.get(), &action_info, answer.action.out()), instance_,
+    check_openxr(xrCreateAction(set_.get(), &action_info, answer.action.out()), instance_,
           std::string("xrCreateAction (") + spec.name + ")");
     answer.button = spec.button;
     answer.answer_position = spec.answer_position;
@@ -107,7 +100,7 @@ OpenXrAnswerActions::OpenXrAnswerActions(XrInstance instance, XrSession session)
       refused_profiles_.push_back(name);
       continue;
     }
-    check(result, instance_, "xrSuggestInteractionProfileBindings (" + name + ")");
+    check_openxr(result, instance_, "xrSuggestInteractionProfileBindings (" + name + ")");
     bound_profiles_.push_back(name);
   }
   if (bound_profiles_.empty())
@@ -119,7 +112,7 @@ void OpenXrAnswerActions::read(std::vector<Press>& presses) {
     auto get = xr_struct<XrActionStateGetInfo>(XR_TYPE_ACTION_STATE_GET_INFO);
     get.action = answer.action.get();
     auto state = xr_struct<XrActionStateBoolean>(XR_TYPE_ACTION_STATE_BOOLEAN);
-    check(xrGetActionStateBoolean(session_, &get, &state), instance_, "xrGetActionStateBoolean (" + answer.button + ")");
+    check_openxr(xrGetActionStateBoolean(session_, &get, &state), instance_, "xrGetActionStateBoolean (" + answer.button + ")");
     if (state.isActive == XR_TRUE && state.changedSinceLastSync == XR_TRUE && state.currentState == XR_TRUE)
       presses.push_back({answer.button, answer.answer_position, state.lastChangeTime});
   }

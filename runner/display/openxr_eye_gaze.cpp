@@ -7,23 +7,16 @@
 #include <cstdio>
 
 #include "core/errors.h"
+#include "runner/display/openxr_check.h"
 
 namespace glarelab {
 namespace {
 
 constexpr double kDegreesPerRadian = 57.295779513082320877;
 
-void check(XrResult result, XrInstance instance, const std::string& what) {
-  if (!XR_FAILED(result)) return;
-  char name[XR_MAX_RESULT_STRING_SIZE] = {};
-  if (xrResultToString(instance, result, name) != XR_SUCCESS)
-    std::snprintf(name, sizeof name, "XrResult %d", static_cast<int>(result));
-  throw DisplayError("OpenXR: " + what + " failed (" + name + ")");
-}
-
 XrPath path_of(XrInstance instance, const char* text) {
   XrPath path = XR_NULL_PATH;
-  check(xrStringToPath(instance, text, &path), instance, std::string("xrStringToPath(") + text + ")");
+  check_openxr(xrStringToPath(instance, text, &path), instance, std::string("xrStringToPath(") + text + ")");
   return path;
 }
 
@@ -33,18 +26,18 @@ OpenXrEyeGaze::OpenXrEyeGaze(XrInstance instance, XrSession session) : instance_
   auto set_info = xr_struct<XrActionSetCreateInfo>(XR_TYPE_ACTION_SET_CREATE_INFO);
   std::snprintf(set_info.actionSetName, XR_MAX_ACTION_SET_NAME_SIZE, "%s", "glarelab_eye_gaze");
   std::snprintf(set_info.localizedActionSetName, XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE, "%s", "glarelab eye gaze");
-  check(xrCreateActionSet(instance_, &set_info, set_.out()), instance_, "xrCreateActionSet (eye gaze)");
+  check_openxr(xrCreateActionSet(instance_, &set_info, set_.out()), instance_, "xrCreateActionSet (eye gaze)");
   auto action_info = xr_struct<XrActionCreateInfo>(XR_TYPE_ACTION_CREATE_INFO);
   action_info.actionType = XR_ACTION_TYPE_POSE_INPUT;
   std::snprintf(action_info.actionName, XR_MAX_ACTION_NAME_SIZE, "%s", "eye_gaze");
   std::snprintf(action_info.localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE, "%s", "eye gaze");
-  check(xrCreateAction(set_.get(), &action_info, gaze_.out()), instance_, "xrCreateAction (eye gaze)");
+  check_openxr(xrCreateAction(set_.get(), &action_info, gaze_.out()), instance_, "xrCreateAction (eye gaze)");
   const XrActionSuggestedBinding binding{gaze_.get(), path_of(instance_, "/user/eyes_ext/input/gaze_ext/pose")};
   auto suggested = xr_struct<XrInteractionProfileSuggestedBinding>(XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING);
   suggested.interactionProfile = path_of(instance_, "/interaction_profiles/ext/eye_gaze_interaction");
   suggested.countSuggestedBindings = 1;
   suggested.suggestedBindings = &binding;
-  check(xrSuggestInteractionProfileBindings(instance_, &suggested), instance_,
+  check_openxr(xrSuggestInteractionProfileBindings(instance_, &suggested), instance_,
         "xrSuggestInteractionProfileBindings (ext/eye_gaze_interaction)");
 }
 
@@ -52,14 +45,14 @@ void OpenXrEyeGaze::create_space() {
   auto space_info = xr_struct<XrActionSpaceCreateInfo>(XR_TYPE_ACTION_SPACE_CREATE_INFO);
   space_info.action = gaze_.get();
   space_info.poseInActionSpace.orientation.w = 1.0f;
-  check(xrCreateActionSpace(session_, &space_info, space_.out()), instance_, "xrCreateActionSpace (eye gaze)");
+  check_openxr(xrCreateActionSpace(session_, &space_info, space_.out()), instance_, "xrCreateActionSpace (eye gaze)");
 }
 
 HeadsetGazeSample OpenXrEyeGaze::locate(XrSpace view_space, XrTime time, const XrView views[2]) const {
   HeadsetGazeSample sample;
   sample.runtime_time_ns = time;
   auto location = xr_struct<XrSpaceLocation>(XR_TYPE_SPACE_LOCATION);
-  check(xrLocateSpace(space_.get(), view_space, time, &location), instance_, "xrLocateSpace (eye gaze in VIEW)");
+  check_openxr(xrLocateSpace(space_.get(), view_space, time, &location), instance_, "xrLocateSpace (eye gaze in VIEW)");
   // Only the orientation carries the gaze: its position (between the eyes) is not needed for a
   // direction, and an eye tracker that lost the eyes clears the orientation's bit.
   sample.tracked = (location.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT) != 0;

@@ -5,33 +5,22 @@
 // One frame of the runtime's loop, for OpenXrConnection (runner/display/openxr_session.h): wait,
 // begin, sync the action sets, locate the views, draw each into its swapchain image, locate the
 // head and the gaze at the frame's predicted display time, end with a projection layer.
-#include <cstdio>
 #include <string>
 #include <utility>
 
 #include "core/errors.h"
+#include "runner/display/openxr_check.h"
 #include "runner/display/openxr_session.h"
 
 namespace glarelab {
-namespace {
-
-void check(XrResult result, XrInstance instance, const std::string& what) {
-  if (!XR_FAILED(result)) return;
-  char name[XR_MAX_RESULT_STRING_SIZE] = {};
-  if (xrResultToString(instance, result, name) != XR_SUCCESS)
-    std::snprintf(name, sizeof name, "XrResult %d", static_cast<int>(result));
-  throw DisplayError("OpenXR: " + what + " failed (" + name + ")");
-}
-
-}  // namespace
 
 HeadPoseSample OpenXrConnection::submit_frame(const DrawView& draw_view) {
   HeadPoseSample head_pose;
   auto frame = xr_struct<XrFrameState>(XR_TYPE_FRAME_STATE);
   auto wait = xr_struct<XrFrameWaitInfo>(XR_TYPE_FRAME_WAIT_INFO);
-  check(xrWaitFrame(session_.get(), &wait, &frame), instance_.get(), "xrWaitFrame");
+  check_openxr(xrWaitFrame(session_.get(), &wait, &frame), instance_.get(), "xrWaitFrame");
   auto begin_frame = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
-  check(xrBeginFrame(session_.get(), &begin_frame), instance_.get(), "xrBeginFrame");
+  check_openxr(xrBeginFrame(session_.get(), &begin_frame), instance_.get(), "xrBeginFrame");
   period_ns_ = frame.predictedDisplayPeriod;
   const bool focused = sync_actions();
   if (focused) answers_->read(presses_);  // the controllers' answers, each frame
@@ -52,18 +41,18 @@ HeadPoseSample OpenXrConnection::submit_frame(const DrawView& draw_view) {
     auto view_state = xr_struct<XrViewState>(XR_TYPE_VIEW_STATE);
     XrView located[2] = {xr_struct<XrView>(XR_TYPE_VIEW), xr_struct<XrView>(XR_TYPE_VIEW)};
     std::uint32_t count = 0;
-    check(xrLocateViews(session_.get(), &locate, &view_state, 2, &count, located), instance_.get(), "xrLocateViews");
+    check_openxr(xrLocateViews(session_.get(), &locate, &view_state, 2, &count, located), instance_.get(), "xrLocateViews");
     for (int eye = 0; eye < 2; ++eye) {
       View& view = views_[static_cast<std::size_t>(eye)];
       std::uint32_t index = 0;
       auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
-      check(xrAcquireSwapchainImage(view.swapchain.get(), &acquire, &index), instance_.get(), "xrAcquireSwapchainImage");
+      check_openxr(xrAcquireSwapchainImage(view.swapchain.get(), &acquire, &index), instance_.get(), "xrAcquireSwapchainImage");
       auto wait_image = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
       wait_image.timeout = XR_INFINITE_DURATION;
-      check(xrWaitSwapchainImage(view.swapchain.get(), &wait_image), instance_.get(), "xrWaitSwapchainImage");
+      check_openxr(xrWaitSwapchainImage(view.swapchain.get(), &wait_image), instance_.get(), "xrWaitSwapchainImage");
       draw_view(eye, view.gl_textures[index], format_);
       auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
-      check(xrReleaseSwapchainImage(view.swapchain.get(), &release), instance_.get(), "xrReleaseSwapchainImage");
+      check_openxr(xrReleaseSwapchainImage(view.swapchain.get(), &release), instance_.get(), "xrReleaseSwapchainImage");
       XrCompositionLayerProjectionView& shown = projected[eye];
       shown.pose = located[eye].pose;
       shown.fov = located[eye].fov;
@@ -77,7 +66,7 @@ HeadPoseSample OpenXrConnection::submit_frame(const DrawView& draw_view) {
     end.layers = layers;
 
     auto head = xr_struct<XrSpaceLocation>(XR_TYPE_SPACE_LOCATION);
-    check(xrLocateSpace(view_space_.get(), local_space_.get(), frame.predictedDisplayTime, &head), instance_.get(),
+    check_openxr(xrLocateSpace(view_space_.get(), local_space_.get(), frame.predictedDisplayTime, &head), instance_.get(),
           "xrLocateSpace (head in LOCAL)");
     const XrSpaceLocationFlags tracked = XR_SPACE_LOCATION_POSITION_VALID_BIT | XR_SPACE_LOCATION_ORIENTATION_VALID_BIT;
     head_pose.valid = (head.locationFlags & tracked) == tracked;
@@ -97,7 +86,7 @@ HeadPoseSample OpenXrConnection::submit_frame(const DrawView& draw_view) {
       eye_gaze_samples_.push_back(gaze);
     }
   }
-  check(xrEndFrame(session_.get(), &end), instance_.get(), "xrEndFrame");
+  check_openxr(xrEndFrame(session_.get(), &end), instance_.get(), "xrEndFrame");
   head_pose.predicted = to_steady(frame.predictedDisplayTime);
   return head_pose;
 }
@@ -109,7 +98,7 @@ bool OpenXrConnection::sync_actions() {
   sync_info.countActiveActionSets = eye_gaze_ ? 2 : 1;
   sync_info.activeActionSets = active;
   const XrResult synced = xrSyncActions(session_.get(), &sync_info);
-  check(synced, instance_.get(), "xrSyncActions");
+  check_openxr(synced, instance_.get(), "xrSyncActions");
   return synced != XR_SESSION_NOT_FOCUSED;
 }
 

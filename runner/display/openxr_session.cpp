@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "core/errors.h"
+#include "runner/display/openxr_check.h"
 #include "runner/display/openxr_actions.h"
 #include "runner/display/stderr_capture.h"
 
@@ -31,27 +32,10 @@
 namespace glarelab {
 namespace {
 
-std::string result_text(XrInstance instance, XrResult result) {
-  char name[XR_MAX_RESULT_STRING_SIZE] = {};
-  if (instance != XR_NULL_HANDLE && xrResultToString(instance, result, name) == XR_SUCCESS) return name;
-  switch (result) {
-    case XR_ERROR_RUNTIME_UNAVAILABLE: return "XR_ERROR_RUNTIME_UNAVAILABLE";
-    case XR_ERROR_RUNTIME_FAILURE: return "XR_ERROR_RUNTIME_FAILURE";
-    case XR_ERROR_EXTENSION_NOT_PRESENT: return "XR_ERROR_EXTENSION_NOT_PRESENT";
-    case XR_ERROR_API_LAYER_NOT_PRESENT: return "XR_ERROR_API_LAYER_NOT_PRESENT";
-    case XR_ERROR_INITIALIZATION_FAILED: return "XR_ERROR_INITIALIZATION_FAILED";
-    default: return "XrResult " + std::to_string(static_cast<int>(result));
-  }
-}
-
-void check(XrResult result, XrInstance instance, const std::string& what) {
-  if (XR_FAILED(result)) throw DisplayError("OpenXR: " + what + " failed (" + result_text(instance, result) + ")");
-}
-
 template <typename Function>
 Function instance_function(XrInstance instance, const char* name) {
   PFN_xrVoidFunction function = nullptr;
-  check(xrGetInstanceProcAddr(instance, name, &function), instance, std::string("xrGetInstanceProcAddr(") + name + ")");
+  check_openxr(xrGetInstanceProcAddr(instance, name, &function), instance, std::string("xrGetInstanceProcAddr(") + name + ")");
   return reinterpret_cast<Function>(function);
 }
 
@@ -116,7 +100,7 @@ OpenXrConnection::OpenXrConnection(int view_width_px, int view_height_px)
       if (!line.empty()) said += (said.empty() ? "" : "; ") + line;
       start = end + 1;
     }
-    std::string message = "OpenXR: no runtime could be started (xrCreateInstance: " + result_text(XR_NULL_HANDLE, created);
+    std::string message = "OpenXR: no runtime could be started (xrCreateInstance: " + openxr_result_text(XR_NULL_HANDLE, created);
     if (created == XR_ERROR_EXTENSION_NOT_PRESENT)
       message += "; the runtime lacks XR_KHR_opengl_enable or XR_KHR_convert_timespec_time";
     message += ")";
@@ -126,7 +110,7 @@ OpenXrConnection::OpenXrConnection(int view_width_px, int view_height_px)
   std::fputs(loader_said.c_str(), stderr);
 
   auto instance_properties = xr_struct<XrInstanceProperties>(XR_TYPE_INSTANCE_PROPERTIES);
-  check(xrGetInstanceProperties(instance_.get(), &instance_properties), instance_.get(), "xrGetInstanceProperties");
+  check_openxr(xrGetInstanceProperties(instance_.get(), &instance_properties), instance_.get(), "xrGetInstanceProperties");
   runtime_name_ = std::string(instance_properties.runtimeName) + " " +
                   std::to_string(XR_VERSION_MAJOR(instance_properties.runtimeVersion)) + "." +
                   std::to_string(XR_VERSION_MINOR(instance_properties.runtimeVersion)) + "." +
@@ -137,20 +121,20 @@ OpenXrConnection::OpenXrConnection(int view_width_px, int view_height_px)
   const XrResult found = xrGetSystem(instance_.get(), &system_info, &system_);
   if (XR_FAILED(found))
     throw DisplayError("OpenXR: the runtime " + runtime_name_ + " has no head-mounted display (xrGetSystem: " +
-                       result_text(instance_.get(), found) + ")");
+                       openxr_result_text(instance_.get(), found) + ")");
   auto system_properties = xr_struct<XrSystemProperties>(XR_TYPE_SYSTEM_PROPERTIES);
   auto eye_gaze = xr_struct<XrSystemEyeGazeInteractionPropertiesEXT>(XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT);
   if (eye_gaze_offered_) system_properties.next = &eye_gaze;
-  check(xrGetSystemProperties(instance_.get(), system_, &system_properties), instance_.get(), "xrGetSystemProperties");
+  check_openxr(xrGetSystemProperties(instance_.get(), system_, &system_properties), instance_.get(), "xrGetSystemProperties");
   system_name_ = system_properties.systemName;
   eye_gaze_supported_ = eye_gaze_offered_ && eye_gaze.supportsEyeGazeInteraction == XR_TRUE;
 
   std::uint32_t count = 0;
-  check(xrEnumerateViewConfigurationViews(instance_.get(), system_, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0,
+  check_openxr(xrEnumerateViewConfigurationViews(instance_.get(), system_, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0,
                                           &count, nullptr),
         instance_.get(), "xrEnumerateViewConfigurationViews (PRIMARY_STEREO)");
   std::vector<XrViewConfigurationView> views(count, xr_struct<XrViewConfigurationView>(XR_TYPE_VIEW_CONFIGURATION_VIEW));
-  check(xrEnumerateViewConfigurationViews(instance_.get(), system_, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, count,
+  check_openxr(xrEnumerateViewConfigurationViews(instance_.get(), system_, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, count,
                                           &count, views.data()),
         instance_.get(), "xrEnumerateViewConfigurationViews (PRIMARY_STEREO)");
   if (count != 2)
@@ -191,7 +175,7 @@ void OpenXrConnection::check_gl_version(int major, int minor) {
   auto requirements_of = instance_function<PFN_xrGetOpenGLGraphicsRequirementsKHR>(
       instance_.get(), "xrGetOpenGLGraphicsRequirementsKHR");
   auto requirements = xr_struct<XrGraphicsRequirementsOpenGLKHR>(XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_KHR);
-  check(requirements_of(instance_.get(), system_, &requirements), instance_.get(), "xrGetOpenGLGraphicsRequirementsKHR");
+  check_openxr(requirements_of(instance_.get(), system_, &requirements), instance_.get(), "xrGetOpenGLGraphicsRequirementsKHR");
   const XrVersion context = XR_MAKE_VERSION(major, minor, 0);
   if (context < requirements.minApiVersionSupported)
     throw DisplayError("OpenXR: " + runtime_name_ + " needs OpenGL " + version_text(requirements.minApiVersionSupported) +
@@ -222,7 +206,7 @@ void OpenXrConnection::open_session_on_current_glx_context() {
   auto create = xr_struct<XrSessionCreateInfo>(XR_TYPE_SESSION_CREATE_INFO);
   create.next = &binding;
   create.systemId = system_;
-  check(xrCreateSession(instance_.get(), &create, session_.out()), instance_.get(), "xrCreateSession on the GLX context");
+  check_openxr(xrCreateSession(instance_.get(), &create, session_.out()), instance_.get(), "xrCreateSession on the GLX context");
   answers_ = std::make_unique<OpenXrAnswerActions>(instance_.get(), session_.get());
   if (eye_gaze_supported_) eye_gaze_ = std::make_unique<OpenXrEyeGaze>(instance_.get(), session_.get());
   std::vector<XrActionSet> sets = {answers_->action_set()};
@@ -230,22 +214,22 @@ void OpenXrConnection::open_session_on_current_glx_context() {
   auto attach = xr_struct<XrSessionActionSetsAttachInfo>(XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO);
   attach.countActionSets = static_cast<std::uint32_t>(sets.size());
   attach.actionSets = sets.data();
-  check(xrAttachSessionActionSets(session_.get(), &attach), instance_.get(), "xrAttachSessionActionSets");
+  check_openxr(xrAttachSessionActionSets(session_.get(), &attach), instance_.get(), "xrAttachSessionActionSets");
   if (eye_gaze_) eye_gaze_->create_space();
 
   auto space = xr_struct<XrReferenceSpaceCreateInfo>(XR_TYPE_REFERENCE_SPACE_CREATE_INFO);
   space.poseInReferenceSpace.orientation.w = 1.0f;
   space.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
-  check(xrCreateReferenceSpace(session_.get(), &space, view_space_.out()), instance_.get(), "xrCreateReferenceSpace (VIEW)");
+  check_openxr(xrCreateReferenceSpace(session_.get(), &space, view_space_.out()), instance_.get(), "xrCreateReferenceSpace (VIEW)");
   space.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
-  check(xrCreateReferenceSpace(session_.get(), &space, local_space_.out()), instance_.get(), "xrCreateReferenceSpace (LOCAL)");
+  check_openxr(xrCreateReferenceSpace(session_.get(), &space, local_space_.out()), instance_.get(), "xrCreateReferenceSpace (LOCAL)");
 
   // The best format offered: a float one (the runtime takes it as linear light, HDR-capable and
   // finer than 8 bits), else sRGB, else a linear fixed-point one.
   std::uint32_t count = 0;
-  check(xrEnumerateSwapchainFormats(session_.get(), 0, &count, nullptr), instance_.get(), "xrEnumerateSwapchainFormats");
+  check_openxr(xrEnumerateSwapchainFormats(session_.get(), 0, &count, nullptr), instance_.get(), "xrEnumerateSwapchainFormats");
   std::vector<std::int64_t> offered(count);
-  check(xrEnumerateSwapchainFormats(session_.get(), count, &count, offered.data()), instance_.get(), "xrEnumerateSwapchainFormats");
+  check_openxr(xrEnumerateSwapchainFormats(session_.get(), count, &count, offered.data()), instance_.get(), "xrEnumerateSwapchainFormats");
   for (const std::int64_t preferred : {std::int64_t{GL_RGBA16F}, std::int64_t{GL_RGBA32F}, std::int64_t{GL_SRGB8_ALPHA8},
                                        std::int64_t{GL_RGB10_A2}, std::int64_t{GL_RGBA8}})
     if (std::find(offered.begin(), offered.end(), preferred) != offered.end()) {
@@ -265,11 +249,11 @@ void OpenXrConnection::open_session_on_current_glx_context() {
     create_swapchain.arraySize = 1;
     create_swapchain.mipCount = 1;
     View view;
-    check(xrCreateSwapchain(session_.get(), &create_swapchain, view.swapchain.out()), instance_.get(), "xrCreateSwapchain");
+    check_openxr(xrCreateSwapchain(session_.get(), &create_swapchain, view.swapchain.out()), instance_.get(), "xrCreateSwapchain");
     std::uint32_t images = 0;
-    check(xrEnumerateSwapchainImages(view.swapchain.get(), 0, &images, nullptr), instance_.get(), "xrEnumerateSwapchainImages");
+    check_openxr(xrEnumerateSwapchainImages(view.swapchain.get(), 0, &images, nullptr), instance_.get(), "xrEnumerateSwapchainImages");
     std::vector<XrSwapchainImageOpenGLKHR> gl_images(images, xr_struct<XrSwapchainImageOpenGLKHR>(XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR));
-    check(xrEnumerateSwapchainImages(view.swapchain.get(), images, &images,
+    check_openxr(xrEnumerateSwapchainImages(view.swapchain.get(), images, &images,
                                      reinterpret_cast<XrSwapchainImageBaseHeader*>(gl_images.data())),
           instance_.get(), "xrEnumerateSwapchainImages");
     for (const XrSwapchainImageOpenGLKHR& image : gl_images) view.gl_textures.push_back(image.image);
@@ -299,13 +283,13 @@ double OpenXrConnection::begin() {
        ++frame_count) {
     auto frame = xr_struct<XrFrameState>(XR_TYPE_FRAME_STATE);
     auto wait = xr_struct<XrFrameWaitInfo>(XR_TYPE_FRAME_WAIT_INFO);
-    check(xrWaitFrame(session_.get(), &wait, &frame), instance_.get(), "xrWaitFrame");
+    check_openxr(xrWaitFrame(session_.get(), &wait, &frame), instance_.get(), "xrWaitFrame");
     auto begin_frame = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
-    check(xrBeginFrame(session_.get(), &begin_frame), instance_.get(), "xrBeginFrame");
+    check_openxr(xrBeginFrame(session_.get(), &begin_frame), instance_.get(), "xrBeginFrame");
     auto end = xr_struct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
     end.displayTime = frame.predictedDisplayTime;
     end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
-    check(xrEndFrame(session_.get(), &end), instance_.get(), "xrEndFrame");
+    check_openxr(xrEndFrame(session_.get(), &end), instance_.get(), "xrEndFrame");
     if (frame.predictedDisplayPeriod <= 0)
       throw DisplayError("OpenXR: " + runtime_name_ + " predicts no display period");
     const bool steady = previous_ns != 0 && frame.predictedDisplayTime - previous_ns == frame.predictedDisplayPeriod;
@@ -320,7 +304,7 @@ double OpenXrConnection::begin() {
 void OpenXrConnection::request_exit(const std::string& why) {
   if (!running_ || !exit_requested_.empty()) return;
   exit_requested_ = why;
-  check(xrRequestExitSession(session_.get()), instance_.get(), "xrRequestExitSession");
+  check_openxr(xrRequestExitSession(session_.get()), instance_.get(), "xrRequestExitSession");
 }
 
 void OpenXrConnection::locate_fields_of_view(XrTime time) {
@@ -331,7 +315,7 @@ void OpenXrConnection::locate_fields_of_view(XrTime time) {
   auto view_state = xr_struct<XrViewState>(XR_TYPE_VIEW_STATE);
   XrView located[2] = {xr_struct<XrView>(XR_TYPE_VIEW), xr_struct<XrView>(XR_TYPE_VIEW)};
   std::uint32_t count = 0;
-  check(xrLocateViews(session_.get(), &locate, &view_state, 2, &count, located), instance_.get(),
+  check_openxr(xrLocateViews(session_.get(), &locate, &view_state, 2, &count, located), instance_.get(),
         "xrLocateViews (the views' fields of view)");
   constexpr double kDegreesPerRadian = 57.295779513082320876798;
   fields_of_view_.clear();
@@ -363,7 +347,7 @@ void OpenXrConnection::on_state(XrSessionState state) {
       if (running_ || ended()) return;
       auto begin_session = xr_struct<XrSessionBeginInfo>(XR_TYPE_SESSION_BEGIN_INFO);
       begin_session.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
-      check(xrBeginSession(session_.get(), &begin_session), instance_.get(), "xrBeginSession");
+      check_openxr(xrBeginSession(session_.get(), &begin_session), instance_.get(), "xrBeginSession");
       running_ = true;
       return;
     }
@@ -390,7 +374,7 @@ void OpenXrConnection::on_state(XrSessionState state) {
 std::chrono::steady_clock::time_point OpenXrConnection::to_steady(XrTime time) const {
   auto convert = instance_function<PFN_xrConvertTimeToTimespecTimeKHR>(instance_.get(), "xrConvertTimeToTimespecTimeKHR");
   timespec monotonic{};
-  check(convert(instance_.get(), time, &monotonic), instance_.get(), "xrConvertTimeToTimespecTimeKHR");
+  check_openxr(convert(instance_.get(), time, &monotonic), instance_.get(), "xrConvertTimeToTimespecTimeKHR");
   // libstdc++'s steady_clock is CLOCK_MONOTONIC, the clock XR_KHR_convert_timespec_time converts to.
   return std::chrono::steady_clock::time_point(std::chrono::seconds(monotonic.tv_sec) +
                                                std::chrono::nanoseconds(monotonic.tv_nsec));
