@@ -238,13 +238,16 @@ void SessionGlare::log_perception_stages(const TrialPlan& plan, const IntervalGl
   const double per_frame_s = steady_median_s(glare.frame_compute_s);
   const PerceptionSettings& s = prepared_.experiment.perception;
   const PerceptionSettings& shown = glare.perception;
-  std::string text = "Fig. 6.1 order on the CPU (double precision), frames prepared before onset; [perception] " +
+  // Where the stages run is the frame engine's (its `engine` event); when each trial's frames were
+  // made, ahead on the worker or at the trial, its `trial_preparation` event.
+  std::string text = "Fig. 6.1 order on the frame engine's stages (the engine event names them); [perception] " +
                      perception_stages_label(s) + "; trial " + std::to_string(plan.trial_index) + " ran " +
                      perception_stages_label(shown) + (glare.glared() ? " with its glare after adaptation" : "") + ": " +
                      ms_text(per_frame_s) + " ms per frame (median of " +
                      std::to_string(measured - (measured > 1 ? 1 : 0)) + " frame(s)" +
                      (measured > 1 ? ", the first left out" : "") + ") against a refresh period of " +
-                     ms_text(period_s_) + " ms";
+                     ms_text(period_s_) + " ms" +
+                     (per_frame_s < period_s_ ? " (a frame within its period)" : " (longer than a period)");
   text += "; adaptation: gaze sigma " + number_text(s.adaptation_weighting.gaze_sigma_frame_widths) +
           " frame widths (gaze: " + (tracker_.active() ? "the tracker's" : "the display centre") + "), tau_rod " +
           number_text(s.adaptation_time_constants.rod_time_constant_s) + " s, tau_cone " +
