@@ -55,17 +55,19 @@ bool FrameStream::onset_fits(int made, int total, double mean_frame_s, double pe
   return in_time(made) && in_time(total - 1);
 }
 
+int FrameStream::published_total() const { return std::accumulate(published_.begin(), published_.end(), 0); }
+
 bool FrameStream::onset_fits_now(double period_s) const {
   if (finished_) return true;
   if (!begun_) return false;
-  const int made = std::accumulate(published_.begin(), published_.end(), 0);
+  const int made = published_total();
   return onset_fits(made, total_, paced_frames_ >= kPacedFrames ? paced_s_ / paced_frames_ : 0.0, period_s);
 }
 
 void FrameStream::wait_until_onset_fits(double period_s) {
   std::unique_lock lock(mutex_);
   changed_.wait(lock, [&] { return onset_fits_now(period_s); });
-  ready_ = std::accumulate(published_.begin(), published_.end(), 0);
+  ready_ = published_total();
 }
 
 bool FrameStream::wait_for(int interval, int k, const GlaredRegion*& frame) {
@@ -95,7 +97,7 @@ int FrameStream::total() const {
 
 bool FrameStream::complete() const {
   const std::lock_guard lock(mutex_);
-  return begun_ && std::accumulate(published_.begin(), published_.end(), 0) >= total_;
+  return begun_ && published_total() >= total_;
 }
 
 bool FrameStream::finished() const {

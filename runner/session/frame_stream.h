@@ -55,6 +55,7 @@ class FrameStream {
 
  private:
   bool onset_fits_now(double period_s) const;  // mutex_ held
+  int published_total() const;                 // mutex_ held: frames published over all intervals
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   bool begun_ = false, finished_ = false;
