@@ -178,7 +178,7 @@ TEST(FrameTiming, AutoTakesALayoutBackToPreparedFramesWhenLiveFramesDrop) {
             calm.presentation_events[0].substr(0, calm.presentation_events[0].find(';')));
   ASSERT_EQ(counts.presentation_events[0].rfind("glare trials: live from trial ", 0), 0u) << counts.presentation_events[0];
   // "live from trial N where the glare is L, ..." then "prepared before onset from trial M where the
-  // glare is L: live, trial M - 1 dropped K of its 5 glare frame(s) (...)".
+  // glare is L: live, trial M - 1 dropped K of its 5 computed frame(s) (...)".
   const std::string& back = counts.presentation_events[1];
   const std::string prefix = "glare trials: frames prepared before onset from trial ";
   ASSERT_EQ(back.rfind(prefix, 0), 0u) << back;
@@ -191,7 +191,7 @@ TEST(FrameTiming, AutoTakesALayoutBackToPreparedFramesWhenLiveFramesDrop) {
   const int dropped = std::stoi(back.substr(dropped_at));
   EXPECT_GE(dropped, 1);
   EXPECT_LE(dropped, 5);
-  EXPECT_NE(back.find(" of its 5 glare frame(s) (its glare frames took "), std::string::npos) << back;
+  EXPECT_NE(back.find(" of its 5 computed frame(s) (its frames took "), std::string::npos) << back;
   EXPECT_NE(back.find(" ms at most, against a refresh period of "), std::string::npos) << back;
 }
 

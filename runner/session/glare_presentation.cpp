@@ -35,7 +35,7 @@ std::string ms_text(double seconds) { return number_text(std::round(seconds * 1e
 
 // The glare modes of an interval's positions, sorted, whatever their sides: "control + dynamic",
 // "dynamic + static", or one mode for the whole frame.
-std::string glare_layout(const IntervalGlare& glare) {
+std::string glare_modes(const IntervalGlare& glare) {
   if (glare.layer_modes.empty()) return to_string(glare.mode);
   std::vector<std::string> modes;
   for (const GlareMode mode : glare.layer_modes) modes.push_back(to_string(mode));
@@ -45,19 +45,35 @@ std::string glare_layout(const IntervalGlare& glare) {
   return layout;
 }
 
+// What settles a presentation together: the glare modes and, for perception intervals, the stages
+// (one frame of "glare" alone and one of "glare" through every stage cost different times).
+std::string frame_layout(const IntervalGlare& glare) {
+  if (!glare.perceived()) return glare_modes(glare);
+  return "perception " + perception_stages_label(glare.perception) +
+         (glare.glared() ? " with " + glare_modes(glare) + " glare" : std::string(" without glare"));
+}
+
+// The trials an interval's presentation speaks of.
+std::string trials_named(const IntervalGlare& glare) { return glare.perceived() ? "perception trials" : "glare trials"; }
+
+// "where the glare is dynamic", "where the frame is perception tone_mapping with dynamic glare".
+std::string where_layout(const IntervalGlare& glare) {
+  return (glare.perceived() ? "where the frame is " : "where the glare is ") + frame_layout(glare);
+}
+
 }  // namespace
 
 SessionGlare::GlarePresentation SessionGlare::presentation_for(const IntervalGlare& glare) const {
   const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
   if (asked == GlarePresentationRequest::live) return GlarePresentation::live;
   if (asked == GlarePresentationRequest::prepared) return GlarePresentation::prepared;
-  const auto settled = settled_presentations_.find(glare_layout(glare));
+  const auto settled = settled_presentations_.find(frame_layout(glare));
   return settled == settled_presentations_.end() ? GlarePresentation::prepared : settled->second;
 }
 
 void SessionGlare::review_live_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
   if (prepared_.experiment.glare.presentation != GlarePresentationRequest::automatic || glare.live_frames_dropped == 0) return;
-  const std::string layout = glare_layout(glare);
+  const std::string layout = frame_layout(glare);
   const auto settled = settled_presentations_.find(layout);
   if (settled == settled_presentations_.end() || settled->second != GlarePresentation::live) return;
   // The settling measured a median; a real clock's frames vary around it (the machine's other
@@ -67,31 +83,34 @@ void SessionGlare::review_live_presentation(const TrialPlan& plan, const Interva
   std::string cost;
   if (!glare.frame_compute_s.empty()) {
     const double longest_s = *std::max_element(glare.frame_compute_s.begin(), glare.frame_compute_s.end());
-    cost = " (its glare frames took " + ms_text(steady_median_s(glare.frame_compute_s)) + " ms as a median, " +
+    cost = " (its frames took " + ms_text(steady_median_s(glare.frame_compute_s)) + " ms as a median, " +
            ms_text(longest_s) + " ms at most, against a refresh period of " + ms_text(period_s_) + " ms)";
   }
   log_trial_event(clock_.now_s(), "presentation_mode",
-                  "glare trials: frames prepared before onset from trial " + std::to_string(plan.trial_index + 1) +
-                       " where the glare is " + layout + ": live, trial " + std::to_string(plan.trial_index) + " dropped " +
-                       std::to_string(glare.live_frames_dropped) + " of its " + std::to_string(glare.live_frames_shown) +
-                       " glare frame(s)" + cost + "; " + kPreparedEqualsLive);
+                  trials_named(glare) + ": frames prepared before onset from trial " +
+                       std::to_string(plan.trial_index + 1) + " " + where_layout(glare) + ": live, trial " +
+                       std::to_string(plan.trial_index) + " dropped " + std::to_string(glare.live_frames_dropped) +
+                       " of its " + std::to_string(glare.live_frames_shown) + " computed frame(s)" + cost + "; " +
+                       kPreparedEqualsLive);
 }
 
 bool SessionGlare::presentation_settled(const IntervalGlare& glare) const {
   const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
   if (asked != GlarePresentationRequest::automatic) return presentation_logged_;
-  return settled_presentations_.count(glare_layout(glare)) > 0;
+  return settled_presentations_.count(frame_layout(glare)) > 0;
 }
 
-// How glare trials are presented ([glare] presentation): "prepared" and "live" as asked (logged
-// once, with the first glare interval's cost); "auto" prepares the first glare interval of each
-// glare layout before onset, measuring what a frame costs (its glare, and drawing it: the region,
-// the overlays, the encode), and presents that layout live from then on when the two together
-// fit kLiveBudgetFraction of the refresh period (the rest is the flip's margin). Each settled
-// layout is logged as a 'presentation_mode' event.
+// How computed intervals are presented ([glare] presentation): "prepared" and "live" as asked
+// (logged once, with the first computed interval's cost); "auto" prepares the first interval of
+// each layout (its glare modes, and its perception stages where it has any) before onset,
+// measuring what a frame costs (its glare and stages, and drawing it: the region, the overlays,
+// the encode), and presents that layout live from then on when the two together fit
+// kLiveBudgetFraction of the refresh period (the rest is the flip's margin). Perception frames
+// live are computed in the order they flip, as prepared ones are, so the eye's adaptation
+// (Luidolt 2020, Eq. 5.2) sees the same sequence either way. Each settled layout is logged as a
+// 'presentation_mode' event.
 void SessionGlare::settle_glare_presentation(const TrialPlan& plan, const IntervalGlare& glare) {
-  // Perception intervals are always prepared: their cost is the perception_stages event's.
-  if (glare.made != IntervalFrames::glare || glare.frame_compute_s.empty() || presentation_settled(glare)) return;
+  if (!glare.computed() || glare.frame_compute_s.empty() || presentation_settled(glare)) return;
   const GlarePresentationRequest asked = prepared_.experiment.glare.presentation;
   // The first frame of a session also makes the FFTW plans and buffers: the steady cost is the
   // median of the frames after it, so "auto" waits for an interval of two frames or more (a dynamic
@@ -103,31 +122,32 @@ void SessionGlare::settle_glare_presentation(const TrialPlan& plan, const Interv
   // cost: on a GPU a fraction of a millisecond, on a software renderer one or more.
   const double draw_s = steady_median_s(glare.frame_draw_s);
   const double per_frame_s = compute_s + draw_s;
-  const std::string cost = ms_text(compute_s) + " ms per glare frame on this machine" +
+  const std::string cost = ms_text(compute_s) + (glare.perceived() ? " ms per perception frame" : " ms per glare frame") +
+                           " on this machine" +
                            (glare.frame_draw_s.empty() ? std::string() : " and " + ms_text(draw_s) + " ms to draw it") +
                            " (median of " + std::to_string(measured - (measured > 1 ? 1 : 0)) + " frame(s) of trial " +
                            std::to_string(plan.trial_index) + (measured > 1 ? ", its first frame left out" : "") +
                            ") against a refresh period of " + ms_text(period_s_) + " ms";
-  const std::string layout = glare_layout(glare);
+  const std::string layout = frame_layout(glare);
   std::string message;
   if (asked == GlarePresentationRequest::live) {
-    message = "glare trials: live, each frame computed just before its flip ([glare] presentation = \"live\"); " +
+    message = trials_named(glare) + ": live, each frame computed just before its flip ([glare] presentation = \"live\"); " +
               cost + (per_frame_s > period_s_ ? ": longer than a period, so a real-time display drops frames" : "");
   } else if (asked == GlarePresentationRequest::prepared) {
-    message = "glare trials: frames prepared before onset ([glare] presentation = \"prepared\"); " + cost;
+    message = trials_named(glare) + ": frames prepared before onset ([glare] presentation = \"prepared\"); " + cost;
   } else if (per_frame_s <= kLiveBudgetFraction * period_s_) {
     settled_presentations_[layout] = GlarePresentation::live;
-    message = "glare trials: live from trial " + std::to_string(plan.trial_index + 1) + " where the glare is " + layout +
-              ", each frame computed just before its flip with the gaze of that moment; " + cost +
+    message = trials_named(glare) + ": live from trial " + std::to_string(plan.trial_index + 1) + " " +
+              where_layout(glare) + ", each frame computed just before its flip with the gaze of that moment; " + cost +
               (glare.frame_draw_s.empty() ? " fits " : ", together " + ms_text(per_frame_s) + " ms, fit ") +
               number_text(kLiveBudgetFraction * 100.0) + " % of it (trial " + std::to_string(plan.trial_index) +
               " was prepared before onset to measure it)";
   } else {
     settled_presentations_[layout] = GlarePresentation::prepared;
-    message = "glare trials: frames prepared before onset where the glare is " + layout + "; " + cost +
+    message = trials_named(glare) + ": frames prepared before onset " + where_layout(glare) + "; " + cost +
               (glare.frame_draw_s.empty() ? " exceeds " : ", together " + ms_text(per_frame_s) + " ms, exceed ") +
               number_text(kLiveBudgetFraction * 100.0) +
-              " % of it, so live glare would drop frames (" + kPreparedEqualsLive + ")";
+              " % of it, so live frames would be dropped (" + kPreparedEqualsLive + ")";
   }
   presentation_logged_ = true;
   store_.log_event(session_id_, clock_.now_s(), "presentation_mode", message + "; control trials: composed live at every refresh");

@@ -35,13 +35,11 @@ SessionGlare::SessionGlare(const PreparedSession& prepared, FrameRenderer& rende
 }
 
 bool SessionGlare::prepared_before_onset(const IntervalGlare& glare) const {
-  // Perception stages are prepared before onset whatever the glare's presentation: the session's
-  // eye then sees its frames in the order they flip.
-  return presentation_for(glare) == GlarePresentation::prepared || glare.perceived();
+  return presentation_for(glare) == GlarePresentation::prepared;
 }
 
 bool SessionGlare::shown_live(const IntervalGlare& glare) const {
-  return glare.made == IntervalFrames::glare && presentation_for(glare) == GlarePresentation::live;
+  return glare.computed() && presentation_for(glare) == GlarePresentation::live;
 }
 
 void SessionGlare::report_interval(const TrialPlan& plan, const IntervalGlare& glare) {

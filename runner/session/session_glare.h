@@ -87,8 +87,8 @@ class SessionGlare {
   // no tracker runs and no preview captures, and nothing else asks the eyes for frames meanwhile.
   IntervalGlare begin_interval_off_display(const TrialPlan& plan, const std::vector<Placement>& placements,
                                            double first_flip_s, const CpuComposition& composition);
-  // Whether the interval's frames are all computed before onset (prepared presentation, or the
-  // perception stages, whose eye sees its frames in the order they flip).
+  // Whether the interval's frames are all computed before onset (prepared presentation; glare and
+  // perception frames alike: live ones are computed in the order they flip, as prepared ones are).
   bool prepared_before_onset(const IntervalGlare& glare) const;
   // Every frame of the interval before onset (the first `frames` with frames >= 0); stops, returning
   // false, when `interrupted` says so (checked before each frame: preparing a trial's frames can

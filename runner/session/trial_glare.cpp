@@ -347,7 +347,8 @@ void SessionGlare::log_interval_glare(const TrialPlan& plan, const IntervalGlare
     log_trial_event(now_s, "gaze_latency",
                      trial + "gaze to flip mean " + number_text(std::round(mean_ms * 1000.0) / 1000.0) + " ms, max " +
                          number_text(std::round(1000.0 * largest_s * 1000.0) / 1000.0) + " ms over " +
-                         std::to_string(glare.gaze_to_flip_s.size()) + " live glare frame(s)");
+                         std::to_string(glare.gaze_to_flip_s.size()) +
+                         (glare.perceived() ? " live perception frame(s)" : " live glare frame(s)"));
   }
 }
 

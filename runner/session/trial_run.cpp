@@ -198,9 +198,9 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
         region = shown_glare.shown(flip.frame_in_interval);
       }
       timing_.add_work(work_kind(shown_glare), seconds_since(compute_start));
-      // Until the presentation is settled, each glare flip's drawing is timed (with its GL work
-      // finished): with the glare's own cost it is what a live frame takes.
-      const bool timed = shown_glare.made == IntervalFrames::glare && shown_glare.frames_needed > 1 &&
+      // Until the presentation is settled, each computed flip's drawing is timed (with its GL work
+      // finished): with the frame's own cost it is what a live frame takes.
+      const bool timed = shown_glare.computed() && shown_glare.frames_needed > 1 &&
                          !glare_.presentation_settled(shown_glare);
       const auto draw_start = std::chrono::steady_clock::now();
       draw(plan.straylight ? straylight_frame(plan, flip.frame_in_interval)
