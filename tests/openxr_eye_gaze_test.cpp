@@ -161,6 +161,10 @@ TEST(OpenXrEyeGaze, TheHeadsetsGazeIsLoggedAndFeedsTheGlareLikeATrackersAndItsLo
             std::string::npos)
       << display;
 
+  // The summary counts the headset's samples as gaze alone, not as pupils the filter rejected.
+  const std::string summary = raw.value("SELECT message FROM session_events WHERE kind = 'tracker_summary'");
+  EXPECT_NE(summary.find(" with gaze alone (no pupil), 0 rejected by the pupil filter"), std::string::npos) << summary;
+
   // Every sample of either eye lies at the point of a sent direction on its own view, to float
   // precision (the runtime's poses and angles are floats: 1e-5 allowed); before the test's first
   // state reached the hub, at the centre of the hub's own symmetric views (its resting gaze is

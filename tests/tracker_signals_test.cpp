@@ -184,6 +184,39 @@ TEST(TrackerPupilFilter, HoldsThroughBlinksAndRejectsOutliers) {
   EXPECT_FALSE(filter.add(pupil(k * dt, 2.0)).accepted);
 }
 
+// A tracker that reports gaze alone (a headset's OpenXR eye gaze: no pupil, no confidence in one)
+// is neither a rejected pupil sample nor a closed eye: between two pupil samples, a run of gaze-only
+// samples leaves the filter as it was (the next pupil sample is taken at once, with no blink margin)
+// and is counted apart.
+TEST(TrackerPupilFilter, GazeOnlySamplesAreNeitherRejectedNorBlinks) {
+  PupilFilterSettings settings;
+  settings.low_pass_cutoff_hz = 1e6;  // no smoothing: the accepted value passes exactly
+  PupilFilter filter(settings);
+  const double dt = 1.0 / 120.0;
+  int k = 0;
+  for (; k < 20; ++k) ASSERT_TRUE(filter.add(pupil(k * dt, 4.0)).accepted) << k;
+  for (int i = 0; i < 30; ++i, ++k) {
+    TrackerSample gaze = pupil(k * dt, 0.0, 1.0);
+    gaze.has_pupil = false;
+    gaze.valid = true;  // as the headset's: the runtime located the gaze
+    gaze.gaze_x = 0.3;
+    gaze.gaze_y = 0.6;
+    const FilteredPupil out = filter.add(gaze);
+    EXPECT_FALSE(out.accepted);
+    EXPECT_FALSE(out.blink) << "gaze alone says nothing of the lid";
+    EXPECT_EQ(out.model_pupil_mm, 4.0);
+  }
+  EXPECT_EQ(filter.rejected(), 0u);
+  EXPECT_EQ(filter.gaze_only(), 30u);
+  // 30 samples (250 ms) later the next pupil sample is taken at once: no gap opened, no margin.
+  EXPECT_TRUE(filter.add(pupil(k * dt, 4.1)).accepted);
+  EXPECT_EQ(filter.model_pupil_mm(), 4.1);
+  // The same sample with has_pupil left true is a pupil of 0 mm: rejected and counted, as before.
+  ++k;
+  EXPECT_FALSE(filter.add(pupil(k * dt, 0.0, 1.0)).accepted);
+  EXPECT_EQ(filter.rejected(), 1u);
+}
+
 TEST(TrackerPupilFilter, LowPassIsFirstOrder) {
   // A step from 4 to 5 mm at 120 Hz through a 4 Hz first-order low-pass reaches 1 - exp(-t / tau).
   PupilFilterSettings settings;

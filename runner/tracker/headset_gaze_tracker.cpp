@@ -61,6 +61,7 @@ TrackerBatch HeadsetGazeTracker::poll(double) {
       sample.device_time_s = static_cast<double>(gaze.runtime_time_ns) * 1e-9;
       sample.session_time_s = t_s;
       sample.pupil_diameter_mm = 0.0;  // OpenXR reports no pupil
+      sample.has_pupil = false;
       if (point) {
         sample.gaze_x = point->x;
         sample.gaze_y = point->y;

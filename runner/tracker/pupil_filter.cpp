@@ -47,6 +47,13 @@ FilteredPupil PupilFilter::add(const TrackerSample& sample) {
   out.eye = std::clamp(sample.eye, 0, 1);
   EyeState& eye = eyes_[out.eye];
   const double t = sample.session_time_s;
+  if (!sample.has_pupil) {
+    // Gaze alone: neither a pupil to filter nor evidence of a blink; the eye's state is untouched.
+    ++gaze_only_;
+    out.eye_pupil_mm = eye.has_value ? eye.filtered_mm : settings_.initial_mm;
+    out.model_pupil_mm = model_pupil_mm();
+    return out;
+  }
   if (blink_topic_active_ && t - blink_topic_onset_s_ > settings_.max_blink_s) {
     blink_topic_active_ = false;
     blink_topic_end_s_ = blink_topic_onset_s_ + settings_.max_blink_s;

@@ -43,7 +43,7 @@ struct PupilFilterSettings {
 struct FilteredPupil {
   double session_time_s = 0.0;
   int eye = 0;
-  bool accepted = false;
+  bool accepted = false;             // a pupil sample the filter took (never a gaze-only one)
   bool blink = false;                // a blink is in progress (topic or confidence)
   double eye_pupil_mm = 0.0;         // this eye's filtered value
   double model_pupil_mm = 0.0;       // mean over eyes: what the glare model gets
@@ -64,6 +64,8 @@ class PupilFilter {
   // Whether any sample has been accepted (before that model_pupil_mm() is settings.initial_mm).
   bool has_measurement() const { return eyes_[0].has_value || eyes_[1].has_value; }
   std::size_t rejected() const { return rejected_; }
+  // Samples that carried gaze alone (TrackerSample::has_pupil false), left out of the filter.
+  std::size_t gaze_only() const { return gaze_only_; }
   // Blink onsets whose offset did not come within settings.max_blink_s.
   std::size_t timed_out_blinks() const { return timed_out_blinks_; }
   const PupilFilterSettings& settings() const { return settings_; }
@@ -88,6 +90,7 @@ class PupilFilter {
   double blink_topic_end_s_ = -1e300;
   double blink_topic_onset_s_ = 0.0;
   std::size_t rejected_ = 0;
+  std::size_t gaze_only_ = 0;
   std::size_t timed_out_blinks_ = 0;
 };
 

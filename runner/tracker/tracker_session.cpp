@@ -140,8 +140,10 @@ std::string TrackerSession::finish(double now_s) {
   const TrackerStatus status = source_->status();
   std::ostringstream line;
   line.precision(3);
-  line << "tracker " << source_->description() << ": " << samples_ << " samples, " << filter_.rejected()
-       << " rejected by the pupil filter, " << status.malformed_messages << " malformed messages skipped";
+  line << "tracker " << source_->description() << ": " << samples_ << " samples, ";
+  if (filter_.gaze_only() > 0) line << filter_.gaze_only() << " with gaze alone (no pupil), ";
+  line << filter_.rejected() << " rejected by the pupil filter, " << status.malformed_messages
+       << " malformed messages skipped";
   if (source_->live())
     line << ", " << status.connection_losses << " connection losses, " << status.reconnections
          << " reconnections (longest gap " << status.longest_gap_s << " s), " << status.clock_faults

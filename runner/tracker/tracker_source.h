@@ -32,6 +32,9 @@ struct TrackerSample {
   double gaze_y = -1.0;            // 0..1 from the top; both < 0 when no gaze is known
   double confidence = 0.0;         // 0..1
   bool valid = false;              // the tracker's own judgement (confidence > 0 and a diameter)
+  // false: the tracker reports gaze alone (a headset's OpenXR eye gaze): no pupil and no blink
+  // signal, so the pupil filter leaves the sample out rather than reading it as a closed eye.
+  bool has_pupil = true;
   bool has_gaze() const { return gaze_x >= 0.0 && gaze_y >= 0.0; }
 };
 
