@@ -35,12 +35,13 @@ class HalfStoragePool {
     {
       const std::lock_guard lock(mutex_);
       // The idle storage whose capacity fits best: equal sizes are the rule (one frame's region
-      // after another's). When none holds enough, the smallest is let go (frames of another size
-      // came before), so storage of sizes no longer asked for does not stay.
+      // after another's), and among equals the one freed last (its memory the warmest in the
+      // caches). When none holds enough, the smallest is let go (frames of another size came
+      // before), so storage of sizes no longer asked for does not stay.
       std::size_t best = idle_.size(), smallest = idle_.size();
       for (std::size_t i = 0; i < idle_.size(); ++i) {
         const std::size_t capacity = idle_[i].capacity();
-        if (capacity >= values && (best == idle_.size() || capacity < idle_[best].capacity())) best = i;
+        if (capacity >= values && (best == idle_.size() || capacity <= idle_[best].capacity())) best = i;
         if (smallest == idle_.size() || capacity < idle_[smallest].capacity()) smallest = i;
       }
       const bool fits = best < idle_.size();
