@@ -65,7 +65,7 @@ ImageRGBA hard_frame() {
 
 TEST(PerceptionFloat, AdaptationLuminanceMatchesTheFloat64Reference) {
   const ImageRGBA frame = hard_frame();
-  // Each form of the tap sums this CPU runs (core/vector_isa.h).
+  // Each form of the row sums this CPU runs (core/vector_isa.h).
   for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
     if (!vector_isa_available(isa)) continue;
     for (const double gaze_x : {0.5, 0.31, 0.02, 1.4, 40.0}) {  // 40 frame widths away: every weight underflows
