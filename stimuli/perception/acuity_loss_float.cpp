@@ -85,16 +85,17 @@ float lightness_of(float t) {
   return t > static_cast<float>(kDeltaCubed) ? 116.0f * cube_root(t) - 16.0f : kLightnessPerT * t;
 }
 
-// L* of `count` pixels of rgba. In a block, four pixels at a time; four on the linear branch (the
-// dark part of a frame) take no cube root, else both branches are computed and one kept.
-void lightness_block(const RelativeLuminance& luminance, const float* rgba, float* lightness, int count) {
+// L* of `count` pixels of relative luminance t. In a block, four pixels at a time; four on the
+// linear branch (the dark part of a frame) take no cube root, else both branches are computed and
+// one kept.
+void lightness_block(const float* relative, float* lightness, int count) {
   if (count != kBlockPx) {
-    for (int k = 0; k < count; ++k) lightness[k] = lightness_of(luminance.of(rgba + 4 * k));
+    for (int k = 0; k < count; ++k) lightness[k] = lightness_of(relative[k]);
     return;
   }
   const Float4 threshold = Float4::all(static_cast<float>(kDeltaCubed)), per_t = Float4::all(kLightnessPerT);
   for (int q = 0; q < kBlockPx; q += 4) {
-    const Float4 t = luminance.of4(rgba + 4 * q);
+    const Float4 t = Float4::load(relative + q);
     const Mask4 cube = t > threshold;
     const Float4 on_line = per_t * t;
     (cube.any() ? select(cube, Float4::all(116.0f) * cube_root(t) - Float4::all(16.0f), on_line) : on_line).store(lightness + q);
@@ -285,6 +286,7 @@ class AcuitySweep {
         near_dark_(dark_.size(), 0),
         near_count_(static_cast<std::size_t>(blocks_), 0),
         ring_(static_cast<std::size_t>(2 * stage.radius + 1) * width_),
+        relative_ring_(ring_.size()),
         padded_(static_cast<std::size_t>(width_ + 2 * stage.radius)),
         halo_(halo) {}
 
@@ -301,6 +303,9 @@ class AcuitySweep {
   std::uint8_t& dark(int y, int b) { return dark_[static_cast<std::size_t>(y - map_first_) * blocks_ + b]; }
   std::uint8_t near_dark(int y, int b) const { return near_dark_[static_cast<std::size_t>(y - map_first_) * blocks_ + b]; }
   float* horizontal_row(int y) { return ring_.data() + static_cast<std::size_t>(y % (2 * s_.radius + 1)) * width_; }
+  // Y / Y_n of row y's pixels, found as the row is marked and kept until its vertical pass (rows
+  // y to y + 2 radius are held), so the later passes take it without reading the pixels again.
+  float* relative_row(int y) { return relative_ring_.data() + static_cast<std::size_t>(y % (2 * s_.radius + 1)) * width_; }
   // Row y of the frame as it was before the stage.
   const float* source_row(int y) const {
     if (y >= first_ && y < last_) return s_.frame.pixel(0, y);
@@ -319,7 +324,7 @@ class AcuitySweep {
   std::vector<std::uint8_t> dark_, near_dark_;  // per marked row and block
   std::vector<int> near_count_;                 // per block: marked rows near a dark one within radius of the row
   int counted_through_ = -1;                    // the last row whose near_dark_ is in near_count_
-  std::vector<float> ring_, padded_;
+  std::vector<float> ring_, relative_ring_, padded_;
   const float* taps_[2 * 30 + 1] = {};
   KernelCache kernels_;
   const std::vector<float>& halo_;
@@ -328,14 +333,24 @@ class AcuitySweep {
 // Which blocks of row y hold a dark pixel, and which lie within a kernel of one along the row.
 void AcuitySweep::mark_row(int y) {
   const float* row = source_row(y);
+  float* relative = relative_row(y);
   const int reach = (s_.radius + kBlockPx - 1) / kBlockPx;
   for (int b = 0; b < blocks_; ++b) {
     const int x0 = b * kBlockPx, count = std::min(kBlockPx, width_ - x0);
     bool any = false;
     if (count == kBlockPx) {
-      for (int q = 0; q < kBlockPx; q += 4) any = any || dark4(s_.luminance.of4(row + 4 * (x0 + q))).any();
+      Mask4 dark_lanes = Mask4::of(false, false, false, false);
+      for (int q = 0; q < kBlockPx; q += 4) {
+        const Float4 t = s_.luminance.of4(row + 4 * (x0 + q));
+        t.store(relative + x0 + q);
+        dark_lanes = dark_lanes | dark4(t);
+      }
+      any = dark_lanes.any();
     } else {
-      for (int k = 0; k < count; ++k) any = any || is_dark(s_.luminance.of(row + 4 * (x0 + k)));
+      for (int k = 0; k < count; ++k) {
+        relative[x0 + k] = s_.luminance.of(row + 4 * (x0 + k));
+        any = any || is_dark(relative[x0 + k]);
+      }
     }
     dark(y, b) = any ? 1 : 0;
     if (any)
@@ -358,9 +373,9 @@ void AcuitySweep::first_pass_row(int y) {
     for (int b = 0; b < blocks_; ++b) near_count_[static_cast<std::size_t>(b)] -= near_dark(y - r - 1, b);
   const auto needed = [&](int b) { return near_count_[static_cast<std::size_t>(b)] > 0; };
   float* lightness = padded_.data() + r;
-  const float* row = source_row(y);
+  const float* relative = relative_row(y);
   for (int b = 0; b < blocks_; ++b)
-    if (needed(b)) lightness_block(s_.luminance, row + 4 * b * kBlockPx, lightness + b * kBlockPx, std::min(kBlockPx, width_ - b * kBlockPx));
+    if (needed(b)) lightness_block(relative + b * kBlockPx, lightness + b * kBlockPx, std::min(kBlockPx, width_ - b * kBlockPx));
   std::fill(padded_.begin(), padded_.begin() + r, lightness[0]);
   std::fill(padded_.end() - r, padded_.end(), lightness[width_ - 1]);
   float* out = horizontal_row(y);
@@ -394,7 +409,7 @@ void AcuitySweep::first_pass_row(int y) {
 // The vertical pass and the rebuild of one dark pixel with its own kernel, in double.
 void AcuitySweep::second_pass_pixel(int x, int y) {
   float* rgb = s_.frame.pixel(x, y);
-  const float t = s_.luminance.of(rgb);
+  const float t = relative_row(y)[x];
   if (!is_dark(t)) return;
   const float lightness = kLightnessPerT * t;
   const float filtered = horizontal_row(y)[x];
@@ -417,13 +432,13 @@ void AcuitySweep::second_pass_pixel(int x, int y) {
 bool AcuitySweep::second_pass_block(int x0, int y) {
   float* pixels = s_.frame.pixel(x0, y);
   const float* filtered = horizontal_row(y) + x0;
+  const float* relative = relative_row(y) + x0;
   const bool from_filtered = s_.settings.second_pass == SecondPassSigma::filtered_lightness;
-  Float4 rgba[4][4], lightness[4];
+  Float4 lightness[4];
   Mask4 dark_lanes[4];
   float source[kBlockPx];
   for (int q = 0; q < 4; ++q) {
-    load_rgba4(pixels + 16 * q, rgba[q][0], rgba[q][1], rgba[q][2], rgba[q][3]);
-    const Float4 t = s_.luminance.of(rgba[q][0], rgba[q][1], rgba[q][2]);
+    const Float4 t = Float4::load(relative + 4 * q);
     dark_lanes[q] = dark4(t);
     lightness[q] = Float4::all(kLightnessPerT) * t;
     // Not dark: L* 1, no blur and no rebuild.
@@ -438,10 +453,12 @@ bool AcuitySweep::second_pass_block(int x0, int y) {
                                   Float4::load(filtered + 4 * q));
     const Mask4 changed = dark_lanes[q] & (blurred != lightness[q]);  // untouched pixels keep their exact values
     if (!changed.any()) continue;
-    Float4 rgb[3] = {rgba[q][0], rgba[q][1], rgba[q][2]};
+    Float4 rgba[4];
+    load_rgba4(pixels + 16 * q, rgba[0], rgba[1], rgba[2], rgba[3]);
+    Float4 rgb[3] = {rgba[0], rgba[1], rgba[2]};
     s_.rebuild.four(rgb, blurred);
-    store_rgba4(pixels + 16 * q, select(changed, rgb[0], rgba[q][0]), select(changed, rgb[1], rgba[q][1]),
-                select(changed, rgb[2], rgba[q][2]), rgba[q][3]);
+    store_rgba4(pixels + 16 * q, select(changed, rgb[0], rgba[0]), select(changed, rgb[1], rgba[1]),
+                select(changed, rgb[2], rgba[2]), rgba[3]);
   }
   return true;
 }
