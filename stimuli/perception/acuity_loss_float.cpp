@@ -212,27 +212,6 @@ class PixelRebuild {
   float from_relative_[3][3];
 };
 
-// The same rebuild for one pixel in double (the blocks that take per-pixel kernels).
-double f_offset(double t) { return t > kDeltaCubed ? std::cbrt(t) - 4.0 / 29.0 : t / kLinearSlope; }
-double t_of_f_offset(double g) {
-  const double f = g + 4.0 / 29.0;
-  return f > kDelta ? f * f * f : kLinearSlope * g;
-}
-void rebuild_pixel(float* rgb, double blurred, double reference_white_cd_m2) {
-  const double scale = reference_white_cd_m2 / kWhite[1];
-  double relative[3];
-  for (int r = 0; r < 3; ++r)
-    relative[r] = (kRec709ToXyz[r][0] * rgb[0] + kRec709ToXyz[r][1] * rgb[1] + kRec709ToXyz[r][2] * rgb[2]) /
-                  (kWhite[r] * scale);
-  const double new_y_offset = blurred / 116.0;
-  const double shift = new_y_offset - f_offset(relative[1]);
-  double xyz[3];
-  for (int r = 0; r < 3; ++r)
-    xyz[r] = kWhite[r] * scale * t_of_f_offset(r == 1 ? new_y_offset : f_offset(relative[r]) + shift);
-  for (int c = 0; c < 3; ++c)
-    rgb[c] = static_cast<float>(kXyzToRec709[c][0] * xyz[0] + kXyzToRec709[c][1] * xyz[1] + kXyzToRec709[c][2] * xyz[2]);
-}
-
 // What every row chunk shares: the frame, the sigma rule, the cap's kernel in float, the rebuild.
 struct AcuityStage {
   ImageRGBA& frame;
@@ -256,10 +235,7 @@ struct AcuityStage {
       s2 = s2 + w * Float4::load(tap + 8);
       s3 = s3 + w * Float4::load(tap + 12);
     }
-    s0.store(out);
-    s1.store(out + 4);
-    s2.store(out + 8);
-    s3.store(out + 12);
+    s0.store(out), s1.store(out + 4), s2.store(out + 8), s3.store(out + 12);
   }
 };
 
@@ -424,7 +400,7 @@ void AcuitySweep::second_pass_pixel(int x, int y) {
       blurred += kernel[static_cast<std::size_t>(k + kr)] * horizontal_row(std::clamp(y + k, 0, height_ - 1))[x];
   }
   if (static_cast<float>(blurred) == lightness) return;  // untouched pixels keep their exact values
-  rebuild_pixel(rgb, blurred, s_.settings.reference_white_cd_m2);
+  replace_lab_lightness(rgb, blurred, s_.settings.reference_white_cd_m2);  // the same rebuild in double
 }
 
 // The vertical pass and the rebuilt pixels of one full block whose dark pixels all take the cap's
