@@ -122,6 +122,7 @@ class SigmaOfLightness {
     double lo = 0.0, hi = 1.0;
     if (capped(std::nextafter(1.0, 0.0))) {
       capped_below_ = 1.0;
+      capped_below_float_ = 1.0f;
       return;
     }
     for (int step = 0; step < 64 && std::nextafter(lo, hi) < hi; ++step) {
@@ -129,6 +130,9 @@ class SigmaOfLightness {
       (capped(middle) ? lo : hi) = middle;
     }
     capped_below_ = lo;  // capped at lo, so at every L* below it
+    // For a float L*, L* < lo (in double) exactly when L* < the least float >= lo.
+    capped_below_float_ = static_cast<float>(lo);
+    if (static_cast<double>(capped_below_float_) < lo) capped_below_float_ = std::nextafter(capped_below_float_, INFINITY);
   }
   double operator()(double lightness) const {
     if (!(lightness < 1.0)) return 0.0;
@@ -136,18 +140,22 @@ class SigmaOfLightness {
     return acuity_sigma_px(lightness, settings_, pixels_per_degree_);
   }
   // True when every value of the block is either without blur (L* >= 1) or at the cap, so the
-  // block takes the cap's kernel alone.
+  // block takes the cap's kernel alone. Four values at a time, against the cap's float bound.
   bool capped_or_clear(const float* lightness) const {
-    int other = 0;
-    for (int k = 0; k < kBlockPx; ++k)
-      other += (lightness[k] < 1.0f) & !(static_cast<double>(lightness[k]) < capped_below_) ? 1 : 0;
-    return other == 0;
+    const Float4 one = Float4::all(1.0f), cap = Float4::all(capped_below_float_);
+    Mask4 other = Mask4::of(false, false, false, false);
+    for (int q = 0; q < kBlockPx; q += 4) {
+      const Float4 value = Float4::load(lightness + q);
+      other = other | ((value < one) & (cap <= value));  // blurred, and not below the cap
+    }
+    return !other.any();
   }
 
  private:
   AcuitySettings settings_;
   double pixels_per_degree_;
   double capped_below_ = -INFINITY;
+  float capped_below_float_ = -INFINITY;
 };
 
 // acuity_kernel of the last sigma asked for (neighbouring pixels mostly share one: the cap).
