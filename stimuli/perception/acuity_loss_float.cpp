@@ -12,6 +12,7 @@
 
 #include "core/parallel_for.h"
 #include "stimuli/float4.h"
+#include "stimuli/perception/acuity_marking.h"
 #include "stimuli/perception/acuity_loss.h"
 #include "stimuli/perception/lab_colour.h"
 
@@ -28,26 +29,7 @@ constexpr double kWhite[3] = {kRec709ToXyz[0][0] + kRec709ToXyz[0][1] + kRec709T
 // Rows are worked in blocks of this many pixels: loops of a fixed count, which the compiler
 // vectorises at -O2 (its cheap cost model takes no loop of unknown count); a block is also the unit
 // of the passes' bookkeeping (which blocks hold a dark pixel, which need L*).
-constexpr int kBlockPx = 16;
-
-// Y / Y_n of a pixel, in float (lab_colour.h: Y_n is the reference white).
-struct RelativeLuminance {
-  float coefficient[3];
-  explicit RelativeLuminance(double reference_white_cd_m2) {
-    for (int c = 0; c < 3; ++c)
-      coefficient[c] = static_cast<float>(kRec709ToXyz[1][c] / reference_white_cd_m2);
-  }
-  float of(const float* rgb) const { return coefficient[0] * rgb[0] + coefficient[1] * rgb[1] + coefficient[2] * rgb[2]; }
-  // Of four pixels' lanes, in the same order of operations (the same bits).
-  Float4 of(Float4 r, Float4 g, Float4 b) const {
-    return Float4::all(coefficient[0]) * r + Float4::all(coefficient[1]) * g + Float4::all(coefficient[2]) * b;
-  }
-  Float4 of4(const float* rgba) const {
-    Float4 r, g, b, a;
-    load_rgba4(rgba, r, g, b, a);
-    return of(r, g, b);
-  }
-};
+constexpr int kBlockPx = AcuityMarking::kBlockPx;
 
 // The cube root of t > 0 in float, in operations a compiler can run four at a time: a first guess
 // from the bits (a float's bits are a shifted, scaled log2, so dividing them by 3 and adding the
@@ -106,9 +88,6 @@ void lightness_block(const float* relative, float* lightness, int count) {
 Mask4 dark4(Float4 t) {
   return (t <= Float4::all(static_cast<float>(kDeltaCubed))) & (Float4::all(kLightnessPerT) * t < Float4::all(1.0f));
 }
-
-// Pixels whose L* < 1: lightness_of(t) < 1 holds only on the linear branch.
-bool is_dark(float t) { return (t <= static_cast<float>(kDeltaCubed)) & (kLightnessPerT * t < 1.0f); }
 
 // acuity_sigma_px, with the cap found once: below `capped_below` sigma is max_sigma_px.
 class SigmaOfLightness {
@@ -224,7 +203,7 @@ class PixelRebuild {
 struct AcuityStage {
   ImageRGBA& frame;
   const AcuitySettings& settings;
-  RelativeLuminance luminance;
+  AcuityMarking marking;  // Y / Y_n of each pixel and which blocks hold a dark one
   SigmaOfLightness sigma_of;
   int radius;                     // the cap's kernel radius: the largest any pixel takes
   std::vector<float> cap_kernel;  // acuity_kernel(max_sigma_px) in float, 2 radius + 1 weights
@@ -320,22 +299,8 @@ void AcuitySweep::mark_row(int y) {
   float* relative = relative_row(y);
   const int reach = (s_.radius + kBlockPx - 1) / kBlockPx;
   for (int b = 0; b < blocks_; ++b) {
-    const int x0 = b * kBlockPx, count = std::min(kBlockPx, width_ - x0);
-    bool any = false;
-    if (count == kBlockPx) {
-      Mask4 dark_lanes = Mask4::of(false, false, false, false);
-      for (int q = 0; q < kBlockPx; q += 4) {
-        const Float4 t = s_.luminance.of4(row + 4 * (x0 + q));
-        t.store(relative + x0 + q);
-        dark_lanes = dark_lanes | dark4(t);
-      }
-      any = dark_lanes.any();
-    } else {
-      for (int k = 0; k < count; ++k) {
-        relative[x0 + k] = s_.luminance.of(row + 4 * (x0 + k));
-        any = any || is_dark(relative[x0 + k]);
-      }
-    }
+    const int x0 = b * kBlockPx;
+    const bool any = s_.marking.block(row + 4 * x0, std::min(kBlockPx, width_ - x0), relative + x0);
     dark(y, b) = any ? 1 : 0;
     if (any)
       for (int n = std::max(0, b - reach); n <= std::min(blocks_ - 1, b + reach); ++n)
@@ -394,7 +359,7 @@ void AcuitySweep::first_pass_row(int y) {
 void AcuitySweep::second_pass_pixel(int x, int y) {
   float* rgb = s_.frame.pixel(x, y);
   const float t = relative_row(y)[x];
-  if (!is_dark(t)) return;
+  if (!s_.marking.dark(t)) return;
   const float lightness = kLightnessPerT * t;
   const float filtered = horizontal_row(y)[x];
   const bool from_filtered = s_.settings.second_pass == SecondPassSigma::filtered_lightness;
@@ -460,7 +425,8 @@ void AcuitySweep::second_pass_row(int y) {
 
 }  // namespace
 
-void apply_acuity_loss_float(ImageRGBA& frame, const AcuitySettings& settings, double pixels_per_degree, int threads) {
+void apply_acuity_loss_float(ImageRGBA& frame, const AcuitySettings& settings, double pixels_per_degree, int threads,
+                             VectorIsa isa) {
   if (frame.empty()) throw std::invalid_argument("perception acuity: the frame is empty");
   validate_acuity_settings(settings);
   if (!std::isfinite(pixels_per_degree) || pixels_per_degree <= 0.0)
@@ -470,7 +436,7 @@ void apply_acuity_loss_float(ImageRGBA& frame, const AcuitySettings& settings, d
   for (double w : acuity_kernel(settings.max_sigma_px)) cap_kernel.push_back(static_cast<float>(w));
   const AcuityStage stage{frame,
                           settings,
-                          RelativeLuminance(settings.reference_white_cd_m2),
+                          AcuityMarking(settings.reference_white_cd_m2, static_cast<float>(kDeltaCubed), kLightnessPerT, isa),
                           SigmaOfLightness(settings, pixels_per_degree),
                           acuity_kernel_radius_px(settings.max_sigma_px),  // no pixel's sigma exceeds the cap
                           std::move(cap_kernel),
