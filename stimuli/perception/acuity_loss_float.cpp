@@ -12,8 +12,8 @@
 
 #include "core/parallel_for.h"
 #include "stimuli/float4.h"
-#include "stimuli/perception/acuity_marking.h"
 #include "stimuli/perception/acuity_loss.h"
+#include "stimuli/perception/acuity_marking.h"
 #include "stimuli/perception/lab_colour.h"
 
 namespace glarelab {
