@@ -185,9 +185,10 @@ class PixelRebuild {
       offset[r] = (cube.any() ? select(cube, cube_root(relative[r]) - four_29, on_line) : on_line) + shift;
     }
     offset[1] = new_y;
-    for (int r = 0; r < 3; ++r) {
-      const Float4 f = offset[r] + four_29;
-      relative[r] = select(f > Float4::all(static_cast<float>(kDelta)), f * f * f, Float4::all(static_cast<float>(kLinearSlope)) * offset[r]);
+    for (int r = 0; r < 3; ++r) {  // the cube only where a lane leaves the linear branch (a dark pixel seldom does)
+      const Float4 f = offset[r] + four_29, on_line = Float4::all(static_cast<float>(kLinearSlope)) * offset[r];
+      const Mask4 cube = f > Float4::all(static_cast<float>(kDelta));
+      relative[r] = cube.any() ? select(cube, f * f * f, on_line) : on_line;
     }
     for (int c = 0; c < 3; ++c)
       rgb[c] = Float4::all(from_relative_[c][0]) * relative[0] + Float4::all(from_relative_[c][1]) * relative[1] +
@@ -406,8 +407,11 @@ bool AcuitySweep::second_pass_block(int x0, int y) {
     load_rgba4(pixels + 16 * q, rgba[0], rgba[1], rgba[2], rgba[3]);
     Float4 rgb[3] = {rgba[0], rgba[1], rgba[2]};
     s_.rebuild.four(rgb, blurred);
-    store_rgba4(pixels + 16 * q, select(changed, rgb[0], rgba[0]), select(changed, rgb[1], rgba[1]),
-                select(changed, rgb[2], rgba[2]), rgba[3]);
+    if (changed.all())
+      store_rgba4(pixels + 16 * q, rgb[0], rgb[1], rgb[2], rgba[3]);
+    else
+      store_rgba4(pixels + 16 * q, select(changed, rgb[0], rgba[0]), select(changed, rgb[1], rgba[1]),
+                  select(changed, rgb[2], rgba[2]), rgba[3]);
   }
   return true;
 }
