@@ -196,7 +196,7 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
       const LayerConvolution method = cheaper_layer_convolution(pixels, spans, kernel);
       ++counts.blurred_layers;
       ++(method == LayerConvolution::direct ? counts.direct_layers : counts.fft_layers);
-      pixels = blur_layer(pixels, spans, kernel, method, settings.threads);
+      pixels = blur_layer(pixels, spans, kernel, method, settings.threads, settings.vector_isa);
       spans = blurred_row_spans(spans, kernel);
     }
     add_transmitted(sum, transmission, width, height, pixels, spans, settings.threads);

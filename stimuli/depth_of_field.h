@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/vector_isa.h"
 #include "stimuli/depth_layers.h"
 
 namespace glarelab {
@@ -54,6 +55,8 @@ struct DepthOfFieldSettings {
   EyeErrorAtDistance residual_error;  // the eye's power error for each distance
   double tolerance_px = kDefaultLayerTolerancePx;
   int threads = 1;
+  // The form of the direct blur's row adds (depth_of_field_blur.h): the same bits in each.
+  VectorIsa vector_isa = widest_vector_isa();
 };
 
 struct DepthOfFieldReport {

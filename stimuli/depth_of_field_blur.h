@@ -11,6 +11,7 @@
 // the measured crossover, cheaper_layer_convolution the rule drawn from it.
 #include <vector>
 
+#include "core/vector_isa.h"
 #include "stimuli/elliptical_kernel.h"
 
 namespace glarelab {
@@ -41,11 +42,14 @@ enum class LayerConvolution { direct, fft };
 // `threads`; each output value is computed by the same operations in the same order whatever the
 // thread count, so the result does not depend on it.
 // `spans`: nonzero_row_spans(layer), or any spans outside which the layer is zero.
+// `isa`: the form of the direct sum's row adds (core/vector_isa.h): with AVX2 two pixels at a time,
+// a product and a sum each rounded as in the SSE2 form (no fused multiply-add), so the same bits;
+// one this CPU does not run takes SSE2.
 LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
-                      LayerConvolution method, int threads);
+                      LayerConvolution method, int threads, VectorIsa isa = widest_vector_isa());
 inline LayerImage blur_layer(const LayerImage& layer, const EllipticalKernel& kernel, LayerConvolution method,
-                             int threads) {
-  return blur_layer(layer, nonzero_row_spans(layer), kernel, method, threads);
+                             int threads, VectorIsa isa = widest_vector_isa()) {
+  return blur_layer(layer, nonzero_row_spans(layer), kernel, method, threads, isa);
 }
 
 // The method expected to be faster for this layer and kernel: direct costs its rows' nonzero spans

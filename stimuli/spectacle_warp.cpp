@@ -202,20 +202,25 @@ SourceMap traced_source_map(const SpectacleLens& lens, const SpectacleFrame& fra
 
 namespace {
 
+void validate_scene_size(const ImageRGBA& scene, const SpectacleFrame& frame) {
+  if (scene.width_px != frame.width_px || scene.height_px != frame.height_px)
+    refuse("the scene is " + std::to_string(scene.width_px) + " x " + std::to_string(scene.height_px) + " but the frame " +
+           std::to_string(frame.width_px) + " x " + std::to_string(frame.height_px));
+}
+
+// The three channels' grids as interpolations.
+std::vector<GridInterpolation> channel_grids(const SpectacleWarpGrids& traced) {
+  std::vector<GridInterpolation> grids;
+  for (int channel = 0; channel < 3; ++channel) grids.emplace_back(traced.frame(), traced.vertices(channel), traced.grid_vertices());
+  return grids;
+}
+
 // The checks of warp_through_spectacles and the three channels' traced grids.
 std::vector<GridInterpolation> channel_grids(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
                                              const SpectacleWarpOptions& options) {
   validate_frame(frame);
-  if (scene.width_px != frame.width_px || scene.height_px != frame.height_px)
-    refuse("the scene is " + std::to_string(scene.width_px) + " x " + std::to_string(scene.height_px) + " but the frame " +
-           std::to_string(frame.width_px) + " x " + std::to_string(frame.height_px));
-  for (double wavelength : options.wavelengths_nm) validate_wavelength(wavelength);
-  std::vector<GridInterpolation> grids;
-  for (int channel = 0; channel < 3; ++channel)
-    grids.emplace_back(frame,
-                       trace_grid_vertices(lens, frame, options.wavelengths_nm[channel], options.grid_vertices, options.scene_distance_mm),
-                       options.grid_vertices);
-  return grids;
+  validate_scene_size(scene, frame);
+  return channel_grids(SpectacleWarpGrids(lens, frame, options));
 }
 
 // A bilinear sample of all four channels at a continuous pixel position, in float: the position
@@ -271,7 +276,53 @@ ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& l
 
 void warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
                              const SpectacleWarpOptions& options, ImageRGBA& out) {
-  const std::vector<GridInterpolation> grids = channel_grids(scene, lens, frame, options);
+  validate_frame(frame);
+  validate_scene_size(scene, frame);
+  warp_through_spectacles(scene, SpectacleWarpGrids(lens, frame, options), options, out);
+}
+
+ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleWarpGrids& grids, const SpectacleWarpOptions& options) {
+  ImageRGBA out;
+  warp_through_spectacles(scene, grids, options, out);
+  return out;
+}
+
+SpectacleWarpGrids::SpectacleWarpGrids(const SpectacleLens& lens, const SpectacleFrame& frame, const SpectacleWarpOptions& options)
+    : frame_(frame),
+      grid_vertices_(options.grid_vertices),
+      wavelengths_nm_(options.wavelengths_nm),
+      scene_distance_mm_(options.scene_distance_mm) {
+  validate_frame(frame);
+  for (double wavelength : options.wavelengths_nm) validate_wavelength(wavelength);
+  for (int channel = 0; channel < 3; ++channel)
+    vertices_[static_cast<std::size_t>(channel)] =
+        trace_grid_vertices(lens, frame, options.wavelengths_nm[static_cast<std::size_t>(channel)], options.grid_vertices,
+                            options.scene_distance_mm);
+}
+
+bool SpectacleWarpGrids::traced_for(const SpectacleFrame& frame, const SpectacleWarpOptions& options) const {
+  return frame.width_px == frame_.width_px && frame.height_px == frame_.height_px &&
+         frame.degrees_per_pixel_at_centre == frame_.degrees_per_pixel_at_centre && options.grid_vertices == grid_vertices_ &&
+         options.wavelengths_nm == wavelengths_nm_ && options.scene_distance_mm == scene_distance_mm_;
+}
+
+SpectacleWarpGridCache::SpectacleWarpGridCache(std::shared_ptr<const SpectacleLens> lens) : lens_(std::move(lens)) {
+  if (!lens_) refuse("a grid cache needs a lens");
+}
+
+std::shared_ptr<const SpectacleWarpGrids> SpectacleWarpGridCache::grids(const SpectacleFrame& frame, const SpectacleWarpOptions& options) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!grids_ || !grids_->traced_for(frame, options)) grids_ = std::make_shared<const SpectacleWarpGrids>(*lens_, frame, options);
+  return grids_;
+}
+
+void warp_through_spectacles(const ImageRGBA& scene, const SpectacleWarpGrids& traced, const SpectacleWarpOptions& options,
+                             ImageRGBA& out) {
+  const SpectacleFrame& frame = traced.frame();
+  validate_scene_size(scene, frame);
+  if (!traced.traced_for(frame, options))
+    refuse("the grids were traced for other wavelengths, grid_vertices or scene_distance_mm than the warp's options");
+  const std::vector<GridInterpolation> grids = channel_grids(traced);
   const int width = frame.width_px, g = options.grid_vertices;
   if (&out == &scene) refuse("the output frame must not be the scene");
   if (out.width_px != width || out.height_px != frame.height_px) out = ImageRGBA(width, frame.height_px, 0.0f);

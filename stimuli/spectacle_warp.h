@@ -19,6 +19,8 @@
 // bilinearly (continuous pixel coordinates, pixel i's centre at i), and seen as `outside_cd_m2`
 // where the lens looks past the scene's edge.
 #include <array>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -89,6 +91,51 @@ ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& l
 // frame's page faults and zeroing are a cost of their own: docs/PERFORMANCE.md).
 void warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
                              const SpectacleWarpOptions& options, ImageRGBA& out);
+// The three channels' grids of one lens and frame, traced at the options' wavelengths, vertex count
+// and scene distance: the part of a frame's warp that does not depend on the scene (3 x 33 x 33
+// traced rays, about 2 ms of one thread's CPU at 1920 x 1080, docs/PERFORMANCE.md), kept by a caller
+// whose lens and frame stay the same from frame to frame. Throws as grid_source_map does, and for a
+// wavelength outside 360-830 nm.
+class SpectacleWarpGrids {
+ public:
+  SpectacleWarpGrids(const SpectacleLens& lens, const SpectacleFrame& frame, const SpectacleWarpOptions& options);
+  // True when these grids serve this frame with these options: the same frame (size and scale) and
+  // the same wavelengths, vertex count and scene distance (the options' other fields are the warp's).
+  bool traced_for(const SpectacleFrame& frame, const SpectacleWarpOptions& options) const;
+  const SpectacleFrame& frame() const { return frame_; }
+  int grid_vertices() const { return grid_vertices_; }
+  // Channel c's (R, G, B) vertices, row-major as trace_grid_vertices gives them.
+  const std::vector<glm::dvec2>& vertices(int channel) const { return vertices_[static_cast<std::size_t>(channel)]; }
+
+ private:
+  SpectacleFrame frame_;
+  int grid_vertices_;
+  std::array<double, 3> wavelengths_nm_;
+  std::optional<double> scene_distance_mm_;
+  std::array<std::vector<glm::dvec2>, 3> vertices_;
+};
+
+// The grids of one lens, traced when first asked for and again only when the frame or the tracing
+// options change; shared by the threads of a session (a lock around the look-up).
+class SpectacleWarpGridCache {
+ public:
+  explicit SpectacleWarpGridCache(std::shared_ptr<const SpectacleLens> lens);
+  const SpectacleLens& lens() const { return *lens_; }
+  std::shared_ptr<const SpectacleWarpGrids> grids(const SpectacleFrame& frame, const SpectacleWarpOptions& options);
+
+ private:
+  std::shared_ptr<const SpectacleLens> lens_;
+  std::mutex mutex_;
+  std::shared_ptr<const SpectacleWarpGrids> grids_;
+};
+
+// The warp through grids already traced: the same frame as warp_through_spectacles with the lens
+// they were traced for. Throws as warp_through_spectacles does, and when the grids were not traced
+// for the options' wavelengths, vertex count and scene distance.
+void warp_through_spectacles(const ImageRGBA& scene, const SpectacleWarpGrids& grids, const SpectacleWarpOptions& options,
+                             ImageRGBA& out);
+ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleWarpGrids& grids, const SpectacleWarpOptions& options);
+
 // Its float64 reference: each pixel's position by the grid's bilinear formula and each sample in
 // double. warp_through_spectacles takes the positions along each row cell by cell (linear there)
 // and the samples in float, within 1e-5 of this by stage_timing.h's pixel metric

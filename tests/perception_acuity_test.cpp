@@ -53,6 +53,27 @@ TEST(PerceptionAcuity, LabRoundTripAndGreyAxis) {
   EXPECT_NEAR(rgb[2], 7.0, 1e-12);
 }
 
+// A pixel's L* replaced with its a*, b* kept agrees with the round trip through LabColour, dark
+// saturated pixels (off the linear branch in X or Z only) and bright ones alike.
+TEST(PerceptionAcuity, ReplacedLightnessKeepsTheChromaticity) {
+  const double pixels[][3] = {{0.02, 0.05, 0.07}, {0.001, 0.0, 0.3}, {0.09, 0.01, 0.0}, {20.0, 3.0, 0.5}};
+  for (const auto& pixel : pixels)
+    for (const double lightness : {0.2, 0.9, 45.0}) {
+      LabColour lab = rec709_to_lab(pixel[0], pixel[1], pixel[2], 100.0);
+      lab.lightness = lightness;
+      double expected[3];
+      lab_to_rec709(lab, 100.0, expected);
+      float rgb[3] = {static_cast<float>(pixel[0]), static_cast<float>(pixel[1]), static_cast<float>(pixel[2])};
+      const LabColour from_float = rec709_to_lab(rgb[0], rgb[1], rgb[2], 100.0);
+      replace_lab_lightness(rgb, lightness, 100.0);
+      const LabColour replaced = rec709_to_lab(rgb[0], rgb[1], rgb[2], 100.0);
+      EXPECT_NEAR(replaced.lightness, lightness, 1e-5 * std::max(1.0, lightness));
+      EXPECT_NEAR(replaced.a, from_float.a, 1e-4 * std::max(1.0, std::abs(from_float.a)));
+      EXPECT_NEAR(replaced.b, from_float.b, 1e-4 * std::max(1.0, std::abs(from_float.b)));
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb[c], expected[c], 1e-6 * std::max(1.0, std::abs(expected[c])));
+    }
+}
+
 TEST(PerceptionAcuity, DisplayPixelsPerDegreeFromGeometry) {
   DisplaySpec display;
   display.viewing_distance_mm = 600.0;

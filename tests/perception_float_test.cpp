@@ -65,7 +65,7 @@ ImageRGBA hard_frame() {
 
 TEST(PerceptionFloat, AdaptationLuminanceMatchesTheFloat64Reference) {
   const ImageRGBA frame = hard_frame();
-  // Each form of the tap sums this CPU runs (core/vector_isa.h).
+  // Each form of the row sums this CPU runs (core/vector_isa.h).
   for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
     if (!vector_isa_available(isa)) continue;
     for (const double gaze_x : {0.5, 0.31, 0.02, 1.4, 40.0}) {  // 40 frame widths away: every weight underflows
@@ -118,6 +118,14 @@ TEST(PerceptionFloat, AcuityDoesNotDependOnTheThreadCount) {
   apply_acuity_loss_float(one, {}, 41.9, 1);
   apply_acuity_loss_float(three, {}, 41.9, 3);
   EXPECT_EQ(one.rgba, three.rgba);
+  // Nor on the form of the rows' marking (stimuli/perception/acuity_marking.h), each this CPU runs;
+  // 97 px wide, so every row ends in a part block.
+  for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+    if (!vector_isa_available(isa)) continue;
+    ImageRGBA form = frame;
+    apply_acuity_loss_float(form, {}, 41.9, 2, isa);
+    EXPECT_EQ(form.rgba, one.rgba) << "form " << static_cast<int>(isa);
+  }
   ImageRGBA empty;
   EXPECT_THROW(apply_acuity_loss_float(empty, {}, 41.9, 2), std::invalid_argument);
   EXPECT_THROW(apply_acuity_loss_float(one, {}, 0.0, 2), std::invalid_argument);

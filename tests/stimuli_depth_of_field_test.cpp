@@ -500,6 +500,12 @@ TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
     ASSERT_NEAR(fft.rgba[k], direct.rgba[k], 1e-4 * (1.0 + std::abs(direct.rgba[k]))) << k;
   EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2).rgba, direct.rgba);
   EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::fft, 3).rgba, fft.rgba);
+  // Each form of the direct sum's row adds this CPU runs gives the same bits (odd spans: a last
+  // pixel after the pairs).
+  for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+    if (!vector_isa_available(isa)) continue;
+    EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2, isa).rgba, direct.rgba) << static_cast<int>(isa);
+  }
 }
 
 TEST(DepthOfFieldTest, BlurredSpansHoldEveryNonzeroValueOfTheBlurredLayer) {

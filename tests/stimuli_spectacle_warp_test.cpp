@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -313,6 +314,40 @@ TEST(SpectacleWarp, FloatWarpMatchesItsFloat64Reference) {
   ImageRGBA same = scene;
   expect_warp_refused([&] { warp_through_spectacles(same, SpectacleLens(lens_spec(-6.0, 2.0)), frame, {}, same); },
                       "must not be the scene");
+}
+
+// Grids traced once and kept give the frame a fresh trace gives, bit for bit, frame after frame; a
+// cache traces again only for another frame or other tracing options, and grids are refused for
+// options they were not traced with.
+TEST(SpectacleWarp, KeptGridsGiveTheFrameAFreshTraceGives) {
+  const SpectacleFrame frame{211, 157, 0.1};
+  const ImageRGBA scene = perception_test_frame(frame.width_px, frame.height_px);
+  const auto lens = std::make_shared<const SpectacleLens>(lens_spec(-6.0, 2.0));
+  SpectacleWarpOptions options;
+  options.scene_distance_mm = 600.0;
+  options.threads = 2;
+  const ImageRGBA fresh = warp_through_spectacles(scene, *lens, frame, options);
+  SpectacleWarpGridCache cache(lens);
+  const std::shared_ptr<const SpectacleWarpGrids> grids = cache.grids(frame, options);
+  EXPECT_TRUE(grids->traced_for(frame, options));
+  for (int frame_index = 0; frame_index < 2; ++frame_index) {
+    EXPECT_EQ(cache.grids(frame, options), grids);  // kept, not traced again
+    EXPECT_EQ(warp_through_spectacles(scene, *cache.grids(frame, options), options).rgba, fresh.rgba);
+  }
+  options.threads = 1;  // the warp's own options do not ask for a new trace
+  options.outside_cd_m2 = {1.0f, 1.0f, 1.0f};
+  EXPECT_EQ(cache.grids(frame, options), grids);
+  SpectacleWarpOptions other = options;
+  other.scene_distance_mm.reset();
+  EXPECT_FALSE(grids->traced_for(frame, other));
+  expect_warp_refused([&] { warp_through_spectacles(scene, *grids, other); }, "were traced for other");
+  const std::shared_ptr<const SpectacleWarpGrids> distant = cache.grids(frame, other);
+  EXPECT_NE(distant, grids);
+  EXPECT_EQ(warp_through_spectacles(scene, *distant, other).rgba, warp_through_spectacles(scene, *lens, frame, other).rgba);
+  const SpectacleFrame wider{frame.width_px + 2, frame.height_px, frame.degrees_per_pixel_at_centre};
+  EXPECT_FALSE(distant->traced_for(wider, other));
+  EXPECT_EQ(cache.grids(wider, other)->frame().width_px, wider.width_px);
+  expect_warp_refused([&] { warp_through_spectacles(scene, *cache.grids(wider, other), other); }, "the scene is 211 x 157");
 }
 
 }  // namespace

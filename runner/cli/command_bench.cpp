@@ -18,6 +18,7 @@
 #include "runner/cli/bench_memory.h"
 #include "stimuli/frame_engine.h"
 #include "stimuli/frame_engine_benchmark.h"
+#include "stimuli/whole_frame_benchmark.h"
 #include "runner/cli/commands.h"
 #include "runner/cli/option_checks.h"
 #include "runner/display/compute_context.h"
@@ -85,6 +86,13 @@ void print_frame_engine_rows(const BenchArguments& args) {
                "engine's with the float64 glare by the perception rows' metric.\n\n"
             << format_frame_engine_benchmark(run_frame_engine_benchmark(options));
   print_load_average("the frame engine rows");
+  WholeFrameBenchmarkOptions whole;
+  whole.repeats = options.repeats;
+  std::cerr << "whole frame: depth of field, default eye's glare and every perception stage, CPU engine" << std::endl;
+  std::cout << "\nThe CPU engine's whole frame: depth of field, the default eye's glare and every perception stage, "
+               "beside the sum of its floors measured in the same run (stimuli/whole_frame_benchmark.h).\n\n"
+            << format_whole_frame_benchmark(run_whole_frame_benchmark(whole));
+  print_load_average("the whole-frame row");
 }
 
 // Kakimoto 2007's depth of field over a 1024 x 768 frame with Z on 2 threads, beside its error

@@ -87,6 +87,7 @@ ConditionRefraction modelled_condition_refraction(const Experiment& experiment, 
     spec.near_add_dioptres = pair->near_add_dioptres;
     try {
       out.traced_lens = std::make_shared<const SpectacleLens>(spec);
+      out.warp_grids = std::make_shared<SpectacleWarpGridCache>(out.traced_lens);
     } catch (const std::invalid_argument& error) {
       throw ConfigError(row.where, "condition '" + row.name() + "' spectacles",
                         "[spectacles." + pair->name + "] cannot be made as a lens: " + error.what());
@@ -122,7 +123,9 @@ ImageRGBA frame_through_spectacles(const ConditionRefraction& refraction, const 
   SpectacleWarpOptions options;
   options.scene_distance_mm = display.viewing_distance_mm;  // the display is the scene, at its distance
   options.threads = threads;
-  return warp_through_spectacles(composed_cd_m2, *refraction.traced_lens, display_frame(display), options);
+  const SpectacleFrame frame = display_frame(display);
+  if (!refraction.warp_grids) return warp_through_spectacles(composed_cd_m2, *refraction.traced_lens, frame, options);
+  return warp_through_spectacles(composed_cd_m2, *refraction.warp_grids->grids(frame, options), options);
 }
 
 std::vector<ConditionRefraction> condition_refractions(const Experiment& experiment) {

@@ -21,6 +21,8 @@
 
 namespace glarelab {
 
+class SpectacleWarpGridCache;  // stimuli/spectacle_warp.h
+
 struct ConditionRefraction {
   std::string condition;               // the condition's name
   std::string spectacles = "none";     // the [spectacles.NAME] worn, or "none"
@@ -29,6 +31,9 @@ struct ConditionRefraction {
   // glare/refraction/spectacle_lens.h), through which the frame is warped (stimuli/spectacle_warp.h): magnification,
   // distortion, prism and transverse chromatic aberration. Shared: the lens is immutable.
   std::shared_ptr<const SpectacleLens> traced_lens;
+  // The lens' traced warp grids, kept from frame to frame while the display's frame stays the same
+  // (shared by the condition's copies, as the lens is).
+  std::shared_ptr<SpectacleWarpGridCache> warp_grids;
   double accommodation_amplitude_dioptres = 0.0;
   EyeRefraction eye;                   // the eye itself, amplitude included (depth of field uses it)
   std::string amplitude_source;        // where the amplitude came from, for the record

@@ -13,6 +13,7 @@
 #include "core/parallel_for.h"
 #include "stimuli/float4.h"
 #include "stimuli/perception/acuity_loss.h"
+#include "stimuli/perception/acuity_marking.h"
 #include "stimuli/perception/lab_colour.h"
 
 namespace glarelab {
@@ -28,26 +29,7 @@ constexpr double kWhite[3] = {kRec709ToXyz[0][0] + kRec709ToXyz[0][1] + kRec709T
 // Rows are worked in blocks of this many pixels: loops of a fixed count, which the compiler
 // vectorises at -O2 (its cheap cost model takes no loop of unknown count); a block is also the unit
 // of the passes' bookkeeping (which blocks hold a dark pixel, which need L*).
-constexpr int kBlockPx = 16;
-
-// Y / Y_n of a pixel, in float (lab_colour.h: Y_n is the reference white).
-struct RelativeLuminance {
-  float coefficient[3];
-  explicit RelativeLuminance(double reference_white_cd_m2) {
-    for (int c = 0; c < 3; ++c)
-      coefficient[c] = static_cast<float>(kRec709ToXyz[1][c] / reference_white_cd_m2);
-  }
-  float of(const float* rgb) const { return coefficient[0] * rgb[0] + coefficient[1] * rgb[1] + coefficient[2] * rgb[2]; }
-  // Of four pixels' lanes, in the same order of operations (the same bits).
-  Float4 of(Float4 r, Float4 g, Float4 b) const {
-    return Float4::all(coefficient[0]) * r + Float4::all(coefficient[1]) * g + Float4::all(coefficient[2]) * b;
-  }
-  Float4 of4(const float* rgba) const {
-    Float4 r, g, b, a;
-    load_rgba4(rgba, r, g, b, a);
-    return of(r, g, b);
-  }
-};
+constexpr int kBlockPx = AcuityMarking::kBlockPx;
 
 // The cube root of t > 0 in float, in operations a compiler can run four at a time: a first guess
 // from the bits (a float's bits are a shifted, scaled log2, so dividing them by 3 and adding the
@@ -85,16 +67,17 @@ float lightness_of(float t) {
   return t > static_cast<float>(kDeltaCubed) ? 116.0f * cube_root(t) - 16.0f : kLightnessPerT * t;
 }
 
-// L* of `count` pixels of rgba. In a block, four pixels at a time; four on the linear branch (the
-// dark part of a frame) take no cube root, else both branches are computed and one kept.
-void lightness_block(const RelativeLuminance& luminance, const float* rgba, float* lightness, int count) {
+// L* of `count` pixels of relative luminance t. In a block, four pixels at a time; four on the
+// linear branch (the dark part of a frame) take no cube root, else both branches are computed and
+// one kept.
+void lightness_block(const float* relative, float* lightness, int count) {
   if (count != kBlockPx) {
-    for (int k = 0; k < count; ++k) lightness[k] = lightness_of(luminance.of(rgba + 4 * k));
+    for (int k = 0; k < count; ++k) lightness[k] = lightness_of(relative[k]);
     return;
   }
   const Float4 threshold = Float4::all(static_cast<float>(kDeltaCubed)), per_t = Float4::all(kLightnessPerT);
   for (int q = 0; q < kBlockPx; q += 4) {
-    const Float4 t = luminance.of4(rgba + 4 * q);
+    const Float4 t = Float4::load(relative + q);
     const Mask4 cube = t > threshold;
     const Float4 on_line = per_t * t;
     (cube.any() ? select(cube, Float4::all(116.0f) * cube_root(t) - Float4::all(16.0f), on_line) : on_line).store(lightness + q);
@@ -105,9 +88,6 @@ void lightness_block(const RelativeLuminance& luminance, const float* rgba, floa
 Mask4 dark4(Float4 t) {
   return (t <= Float4::all(static_cast<float>(kDeltaCubed))) & (Float4::all(kLightnessPerT) * t < Float4::all(1.0f));
 }
-
-// Pixels whose L* < 1: lightness_of(t) < 1 holds only on the linear branch.
-bool is_dark(float t) { return (t <= static_cast<float>(kDeltaCubed)) & (kLightnessPerT * t < 1.0f); }
 
 // acuity_sigma_px, with the cap found once: below `capped_below` sigma is max_sigma_px.
 class SigmaOfLightness {
@@ -121,6 +101,7 @@ class SigmaOfLightness {
     double lo = 0.0, hi = 1.0;
     if (capped(std::nextafter(1.0, 0.0))) {
       capped_below_ = 1.0;
+      capped_below_float_ = 1.0f;
       return;
     }
     for (int step = 0; step < 64 && std::nextafter(lo, hi) < hi; ++step) {
@@ -128,6 +109,9 @@ class SigmaOfLightness {
       (capped(middle) ? lo : hi) = middle;
     }
     capped_below_ = lo;  // capped at lo, so at every L* below it
+    // For a float L*, L* < lo (in double) exactly when L* < the least float >= lo.
+    capped_below_float_ = static_cast<float>(lo);
+    if (static_cast<double>(capped_below_float_) < lo) capped_below_float_ = std::nextafter(capped_below_float_, INFINITY);
   }
   double operator()(double lightness) const {
     if (!(lightness < 1.0)) return 0.0;
@@ -135,18 +119,22 @@ class SigmaOfLightness {
     return acuity_sigma_px(lightness, settings_, pixels_per_degree_);
   }
   // True when every value of the block is either without blur (L* >= 1) or at the cap, so the
-  // block takes the cap's kernel alone.
+  // block takes the cap's kernel alone. Four values at a time, against the cap's float bound.
   bool capped_or_clear(const float* lightness) const {
-    int other = 0;
-    for (int k = 0; k < kBlockPx; ++k)
-      other += (lightness[k] < 1.0f) & !(static_cast<double>(lightness[k]) < capped_below_) ? 1 : 0;
-    return other == 0;
+    const Float4 one = Float4::all(1.0f), cap = Float4::all(capped_below_float_);
+    Mask4 other = Mask4::of(false, false, false, false);
+    for (int q = 0; q < kBlockPx; q += 4) {
+      const Float4 value = Float4::load(lightness + q);
+      other = other | ((value < one) & (cap <= value));  // blurred, and not below the cap
+    }
+    return !other.any();
   }
 
  private:
   AcuitySettings settings_;
   double pixels_per_degree_;
   double capped_below_ = -INFINITY;
+  float capped_below_float_ = -INFINITY;
 };
 
 // acuity_kernel of the last sigma asked for (neighbouring pixels mostly share one: the cap).
@@ -197,9 +185,10 @@ class PixelRebuild {
       offset[r] = (cube.any() ? select(cube, cube_root(relative[r]) - four_29, on_line) : on_line) + shift;
     }
     offset[1] = new_y;
-    for (int r = 0; r < 3; ++r) {
-      const Float4 f = offset[r] + four_29;
-      relative[r] = select(f > Float4::all(static_cast<float>(kDelta)), f * f * f, Float4::all(static_cast<float>(kLinearSlope)) * offset[r]);
+    for (int r = 0; r < 3; ++r) {  // the cube only where a lane leaves the linear branch (a dark pixel seldom does)
+      const Float4 f = offset[r] + four_29, on_line = Float4::all(static_cast<float>(kLinearSlope)) * offset[r];
+      const Mask4 cube = f > Float4::all(static_cast<float>(kDelta));
+      relative[r] = cube.any() ? select(cube, f * f * f, on_line) : on_line;
     }
     for (int c = 0; c < 3; ++c)
       rgb[c] = Float4::all(from_relative_[c][0]) * relative[0] + Float4::all(from_relative_[c][1]) * relative[1] +
@@ -211,32 +200,11 @@ class PixelRebuild {
   float from_relative_[3][3];
 };
 
-// The same rebuild for one pixel in double (the blocks that take per-pixel kernels).
-double f_offset(double t) { return t > kDeltaCubed ? std::cbrt(t) - 4.0 / 29.0 : t / kLinearSlope; }
-double t_of_f_offset(double g) {
-  const double f = g + 4.0 / 29.0;
-  return f > kDelta ? f * f * f : kLinearSlope * g;
-}
-void rebuild_pixel(float* rgb, double blurred, double reference_white_cd_m2) {
-  const double scale = reference_white_cd_m2 / kWhite[1];
-  double relative[3];
-  for (int r = 0; r < 3; ++r)
-    relative[r] = (kRec709ToXyz[r][0] * rgb[0] + kRec709ToXyz[r][1] * rgb[1] + kRec709ToXyz[r][2] * rgb[2]) /
-                  (kWhite[r] * scale);
-  const double new_y_offset = blurred / 116.0;
-  const double shift = new_y_offset - f_offset(relative[1]);
-  double xyz[3];
-  for (int r = 0; r < 3; ++r)
-    xyz[r] = kWhite[r] * scale * t_of_f_offset(r == 1 ? new_y_offset : f_offset(relative[r]) + shift);
-  for (int c = 0; c < 3; ++c)
-    rgb[c] = static_cast<float>(kXyzToRec709[c][0] * xyz[0] + kXyzToRec709[c][1] * xyz[1] + kXyzToRec709[c][2] * xyz[2]);
-}
-
 // What every row chunk shares: the frame, the sigma rule, the cap's kernel in float, the rebuild.
 struct AcuityStage {
   ImageRGBA& frame;
   const AcuitySettings& settings;
-  RelativeLuminance luminance;
+  AcuityMarking marking;  // Y / Y_n of each pixel and which blocks hold a dark one
   SigmaOfLightness sigma_of;
   int radius;                     // the cap's kernel radius: the largest any pixel takes
   std::vector<float> cap_kernel;  // acuity_kernel(max_sigma_px) in float, 2 radius + 1 weights
@@ -255,10 +223,7 @@ struct AcuityStage {
       s2 = s2 + w * Float4::load(tap + 8);
       s3 = s3 + w * Float4::load(tap + 12);
     }
-    s0.store(out);
-    s1.store(out + 4);
-    s2.store(out + 8);
-    s3.store(out + 12);
+    s0.store(out), s1.store(out + 4), s2.store(out + 8), s3.store(out + 12);
   }
 };
 
@@ -285,6 +250,7 @@ class AcuitySweep {
         near_dark_(dark_.size(), 0),
         near_count_(static_cast<std::size_t>(blocks_), 0),
         ring_(static_cast<std::size_t>(2 * stage.radius + 1) * width_),
+        relative_ring_(ring_.size()),
         padded_(static_cast<std::size_t>(width_ + 2 * stage.radius)),
         halo_(halo) {}
 
@@ -301,6 +267,9 @@ class AcuitySweep {
   std::uint8_t& dark(int y, int b) { return dark_[static_cast<std::size_t>(y - map_first_) * blocks_ + b]; }
   std::uint8_t near_dark(int y, int b) const { return near_dark_[static_cast<std::size_t>(y - map_first_) * blocks_ + b]; }
   float* horizontal_row(int y) { return ring_.data() + static_cast<std::size_t>(y % (2 * s_.radius + 1)) * width_; }
+  // Y / Y_n of row y's pixels, found as the row is marked and kept until its vertical pass (rows
+  // y to y + 2 radius are held), so the later passes take it without reading the pixels again.
+  float* relative_row(int y) { return relative_ring_.data() + static_cast<std::size_t>(y % (2 * s_.radius + 1)) * width_; }
   // Row y of the frame as it was before the stage.
   const float* source_row(int y) const {
     if (y >= first_ && y < last_) return s_.frame.pixel(0, y);
@@ -319,7 +288,7 @@ class AcuitySweep {
   std::vector<std::uint8_t> dark_, near_dark_;  // per marked row and block
   std::vector<int> near_count_;                 // per block: marked rows near a dark one within radius of the row
   int counted_through_ = -1;                    // the last row whose near_dark_ is in near_count_
-  std::vector<float> ring_, padded_;
+  std::vector<float> ring_, relative_ring_, padded_;
   const float* taps_[2 * 30 + 1] = {};
   KernelCache kernels_;
   const std::vector<float>& halo_;
@@ -328,15 +297,11 @@ class AcuitySweep {
 // Which blocks of row y hold a dark pixel, and which lie within a kernel of one along the row.
 void AcuitySweep::mark_row(int y) {
   const float* row = source_row(y);
+  float* relative = relative_row(y);
   const int reach = (s_.radius + kBlockPx - 1) / kBlockPx;
   for (int b = 0; b < blocks_; ++b) {
-    const int x0 = b * kBlockPx, count = std::min(kBlockPx, width_ - x0);
-    bool any = false;
-    if (count == kBlockPx) {
-      for (int q = 0; q < kBlockPx; q += 4) any = any || dark4(s_.luminance.of4(row + 4 * (x0 + q))).any();
-    } else {
-      for (int k = 0; k < count; ++k) any = any || is_dark(s_.luminance.of(row + 4 * (x0 + k)));
-    }
+    const int x0 = b * kBlockPx;
+    const bool any = s_.marking.block(row + 4 * x0, std::min(kBlockPx, width_ - x0), relative + x0);
     dark(y, b) = any ? 1 : 0;
     if (any)
       for (int n = std::max(0, b - reach); n <= std::min(blocks_ - 1, b + reach); ++n)
@@ -358,9 +323,9 @@ void AcuitySweep::first_pass_row(int y) {
     for (int b = 0; b < blocks_; ++b) near_count_[static_cast<std::size_t>(b)] -= near_dark(y - r - 1, b);
   const auto needed = [&](int b) { return near_count_[static_cast<std::size_t>(b)] > 0; };
   float* lightness = padded_.data() + r;
-  const float* row = source_row(y);
+  const float* relative = relative_row(y);
   for (int b = 0; b < blocks_; ++b)
-    if (needed(b)) lightness_block(s_.luminance, row + 4 * b * kBlockPx, lightness + b * kBlockPx, std::min(kBlockPx, width_ - b * kBlockPx));
+    if (needed(b)) lightness_block(relative + b * kBlockPx, lightness + b * kBlockPx, std::min(kBlockPx, width_ - b * kBlockPx));
   std::fill(padded_.begin(), padded_.begin() + r, lightness[0]);
   std::fill(padded_.end() - r, padded_.end(), lightness[width_ - 1]);
   float* out = horizontal_row(y);
@@ -394,8 +359,8 @@ void AcuitySweep::first_pass_row(int y) {
 // The vertical pass and the rebuild of one dark pixel with its own kernel, in double.
 void AcuitySweep::second_pass_pixel(int x, int y) {
   float* rgb = s_.frame.pixel(x, y);
-  const float t = s_.luminance.of(rgb);
-  if (!is_dark(t)) return;
+  const float t = relative_row(y)[x];
+  if (!s_.marking.dark(t)) return;
   const float lightness = kLightnessPerT * t;
   const float filtered = horizontal_row(y)[x];
   const bool from_filtered = s_.settings.second_pass == SecondPassSigma::filtered_lightness;
@@ -409,7 +374,7 @@ void AcuitySweep::second_pass_pixel(int x, int y) {
       blurred += kernel[static_cast<std::size_t>(k + kr)] * horizontal_row(std::clamp(y + k, 0, height_ - 1))[x];
   }
   if (static_cast<float>(blurred) == lightness) return;  // untouched pixels keep their exact values
-  rebuild_pixel(rgb, blurred, s_.settings.reference_white_cd_m2);
+  replace_lab_lightness(rgb, blurred, s_.settings.reference_white_cd_m2);  // the same rebuild in double
 }
 
 // The vertical pass and the rebuilt pixels of one full block whose dark pixels all take the cap's
@@ -417,13 +382,13 @@ void AcuitySweep::second_pass_pixel(int x, int y) {
 bool AcuitySweep::second_pass_block(int x0, int y) {
   float* pixels = s_.frame.pixel(x0, y);
   const float* filtered = horizontal_row(y) + x0;
+  const float* relative = relative_row(y) + x0;
   const bool from_filtered = s_.settings.second_pass == SecondPassSigma::filtered_lightness;
-  Float4 rgba[4][4], lightness[4];
+  Float4 lightness[4];
   Mask4 dark_lanes[4];
   float source[kBlockPx];
   for (int q = 0; q < 4; ++q) {
-    load_rgba4(pixels + 16 * q, rgba[q][0], rgba[q][1], rgba[q][2], rgba[q][3]);
-    const Float4 t = s_.luminance.of(rgba[q][0], rgba[q][1], rgba[q][2]);
+    const Float4 t = Float4::load(relative + 4 * q);
     dark_lanes[q] = dark4(t);
     lightness[q] = Float4::all(kLightnessPerT) * t;
     // Not dark: L* 1, no blur and no rebuild.
@@ -438,10 +403,15 @@ bool AcuitySweep::second_pass_block(int x0, int y) {
                                   Float4::load(filtered + 4 * q));
     const Mask4 changed = dark_lanes[q] & (blurred != lightness[q]);  // untouched pixels keep their exact values
     if (!changed.any()) continue;
-    Float4 rgb[3] = {rgba[q][0], rgba[q][1], rgba[q][2]};
+    Float4 rgba[4];
+    load_rgba4(pixels + 16 * q, rgba[0], rgba[1], rgba[2], rgba[3]);
+    Float4 rgb[3] = {rgba[0], rgba[1], rgba[2]};
     s_.rebuild.four(rgb, blurred);
-    store_rgba4(pixels + 16 * q, select(changed, rgb[0], rgba[q][0]), select(changed, rgb[1], rgba[q][1]),
-                select(changed, rgb[2], rgba[q][2]), rgba[q][3]);
+    if (changed.all())
+      store_rgba4(pixels + 16 * q, rgb[0], rgb[1], rgb[2], rgba[3]);
+    else
+      store_rgba4(pixels + 16 * q, select(changed, rgb[0], rgba[0]), select(changed, rgb[1], rgba[1]),
+                  select(changed, rgb[2], rgba[2]), rgba[3]);
   }
   return true;
 }
@@ -459,7 +429,8 @@ void AcuitySweep::second_pass_row(int y) {
 
 }  // namespace
 
-void apply_acuity_loss_float(ImageRGBA& frame, const AcuitySettings& settings, double pixels_per_degree, int threads) {
+void apply_acuity_loss_float(ImageRGBA& frame, const AcuitySettings& settings, double pixels_per_degree, int threads,
+                             VectorIsa isa) {
   if (frame.empty()) throw std::invalid_argument("perception acuity: the frame is empty");
   validate_acuity_settings(settings);
   if (!std::isfinite(pixels_per_degree) || pixels_per_degree <= 0.0)
@@ -469,7 +440,7 @@ void apply_acuity_loss_float(ImageRGBA& frame, const AcuitySettings& settings, d
   for (double w : acuity_kernel(settings.max_sigma_px)) cap_kernel.push_back(static_cast<float>(w));
   const AcuityStage stage{frame,
                           settings,
-                          RelativeLuminance(settings.reference_white_cd_m2),
+                          AcuityMarking(settings.reference_white_cd_m2, static_cast<float>(kDeltaCubed), kLightnessPerT, isa),
                           SigmaOfLightness(settings, pixels_per_degree),
                           acuity_kernel_radius_px(settings.max_sigma_px),  // no pixel's sigma exceeds the cap
                           std::move(cap_kernel),

@@ -23,11 +23,14 @@
 // pixel by pixel, its kernel sums and rebuild in double.
 #include "core/image.h"
 #include "core/perception_settings.h"
+#include "core/vector_isa.h"
 
 namespace glarelab {
 
 // `frame` (linear Rec.709 cd/m2) blurred in place; alpha and depth kept. Throws std::invalid_argument
-// as apply_acuity_loss does. The result does not depend on `threads` (>= 1).
-void apply_acuity_loss_float(ImageRGBA& frame, const AcuitySettings& settings, double pixels_per_degree, int threads);
+// as apply_acuity_loss does. The result does not depend on `threads` (>= 1), nor on `isa`, the form
+// of the rows' marking (acuity_marking.h: the same bits in each).
+void apply_acuity_loss_float(ImageRGBA& frame, const AcuitySettings& settings, double pixels_per_degree, int threads,
+                             VectorIsa isa = widest_vector_isa());
 
 }  // namespace glarelab

@@ -123,25 +123,41 @@ void check_adaptation_inputs(const ImageRGBA& frame, double gaze_x, double gaze_
     throw std::invalid_argument("perception adaptation: resampled_size_px / top_level_size_px must be a power of two");
 }
 
-// Eq. 5.1 of the taps' weighted sum, sum_k w_k Y(p_k) for taps [begin, end) of one row, in double:
-// the weighted R, G and B summed first and Eq. 5.1 applied once, which is the same linear form (it
-// differs from the reference's per-pixel order by double rounding, 1e-16 relative). The per-pixel
-// luminance and its tap sum in double kept the stage at five times its floor, scalar; on SSE2 the
-// pixel's four floats go to doubles two at a time and are summed two lanes at once, in two pairs of
-// accumulators (the adds' latency). The sums stay in double: the result is held to 1e-12 of the
-// reference (tests/perception_float_test.cpp), beyond a float sum's reach.
-double weighted_luminance_sum(const float* row, const int* tap_index, const double* tap_weight, int begin, int end) {
+// The resampling, the pyramid and the top level's mean are linear and act on each axis apart
+// (resample_plane: Ry P Rx^T; pyramid_reduce: D P D^T; the mean: 1^T P 1 / top^2), so their
+// composition is sum_y b_y sum_x a_x P(x, y) with a = Rx^T D^T ... D^T 1 / top and b alike along y:
+// one weight per column and one per row. These are those weights for an axis of n_in pixels.
+std::vector<double> axis_mean_weights(int n_in, const AdaptationWeighting& weighting) {
+  static constexpr double kBinomial[5] = {1.0 / 16, 4.0 / 16, 6.0 / 16, 4.0 / 16, 1.0 / 16};
+  const int size = weighting.resampled_size_px, top = weighting.top_level_size_px;
+  std::vector<double> level(static_cast<std::size_t>(top), 1.0 / top);
+  for (int n = top; n < size; n *= 2) {  // pyramid_reduce's step from 2n to n, transposed
+    std::vector<double> finer(2 * static_cast<std::size_t>(n), 0.0);
+    for (int o = 0; o < n; ++o)
+      for (int k = -2; k <= 2; ++k)
+        finer[static_cast<std::size_t>(std::clamp(2 * o + k, 0, 2 * n - 1))] += kBinomial[k + 2] * level[static_cast<std::size_t>(o)];
+    level = std::move(finer);
+  }
+  const auto taps = area_taps(n_in, size);
+  std::vector<double> weights(static_cast<std::size_t>(n_in), 0.0);
+  for (int o = 0; o < size; ++o)
+    for (const AxisTap& tap : taps[static_cast<std::size_t>(o)])
+      weights[static_cast<std::size_t>(tap.index)] += tap.weight * level[static_cast<std::size_t>(o)];
+  return weights;
+}
+
+// The row's weighted R, G and B, sum_x weight_x (R, G, B)(x), in double: each pixel read once, its
+// four floats to doubles and added with its column's weight. The sums stay in double: the result is
+// held to 1e-12 of the reference (tests/perception_float_test.cpp), beyond a float sum's reach.
+// On SSE2 a pixel's four floats go to doubles two at a time, two pixels in flight (the adds' latency).
+void weighted_row_rgb_sse2(const float* row, const double* weight, int width, double* rgb) {
+  int x = 0;
   double red = 0.0, green = 0.0, blue = 0.0;
-  int k = begin;
 #if defined(__SSE2__)
-  // area_taps' pixels of one output run contiguously from the first, so they are stepped through
-  // rather than looked up (checked: a gap would take the loop below).
-  const bool contiguous = end > begin && tap_index[end - 1] - tap_index[begin] == end - 1 - begin;
-  const float* p = row + 4 * static_cast<std::ptrdiff_t>(end > begin ? tap_index[begin] : 0);
   __m128d rg0 = _mm_setzero_pd(), ba0 = _mm_setzero_pd(), rg1 = _mm_setzero_pd(), ba1 = _mm_setzero_pd();
-  for (; contiguous && k + 2 <= end; k += 2, p += 8) {
-    const __m128 p0 = _mm_loadu_ps(p), p1 = _mm_loadu_ps(p + 4);
-    const __m128d w0 = _mm_set1_pd(tap_weight[k]), w1 = _mm_set1_pd(tap_weight[k + 1]);
+  for (; x + 2 <= width; x += 2) {
+    const __m128 p0 = _mm_loadu_ps(row + 4 * x), p1 = _mm_loadu_ps(row + 4 * x + 4);
+    const __m128d w0 = _mm_set1_pd(weight[x]), w1 = _mm_set1_pd(weight[x + 1]);
     rg0 = _mm_add_pd(rg0, _mm_mul_pd(w0, _mm_cvtps_pd(p0)));
     ba0 = _mm_add_pd(ba0, _mm_mul_pd(w0, _mm_cvtps_pd(_mm_movehl_ps(p0, p0))));
     rg1 = _mm_add_pd(rg1, _mm_mul_pd(w1, _mm_cvtps_pd(p1)));
@@ -152,61 +168,51 @@ double weighted_luminance_sum(const float* row, const int* tap_index, const doub
   green = _mm_cvtsd_f64(_mm_unpackhi_pd(rg, rg));
   blue = _mm_cvtsd_f64(ba);
 #endif
-  for (; k < end; ++k) {
-    const float* q = row + 4 * static_cast<std::ptrdiff_t>(tap_index[k]);
-    red += tap_weight[k] * q[0];
-    green += tap_weight[k] * q[1];
-    blue += tap_weight[k] * q[2];
+  for (; x < width; ++x) {
+    const float* q = row + 4 * static_cast<std::ptrdiff_t>(x);
+    red += weight[x] * q[0];
+    green += weight[x] * q[1];
+    blue += weight[x] * q[2];
   }
-  return luidolt_luminance_cd_m2(red, green, blue);
+  rgb[0] = red;
+  rgb[1] = green;
+  rgb[2] = blue;
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-// The same sums with AVX2 and FMA, a whole row's outputs in one call: a pixel's four floats to four
-// doubles in one conversion, its weight times them added in one fused step (one rounding where the
-// SSE2 form has two), four accumulators for the adds' latency; each output's sums stored once and
-// Eq. 5.1 applied to them (a call and the lanes' extraction per output cost as much as its pixels).
-__attribute__((target("avx2,fma"))) void weighted_luminance_row_avx2(const float* row, const int* tap_begin,
-                                                                     const int* tap_index, const double* tap_weight,
-                                                                     int size, double* out) {
-  for (int o = 0; o < size; ++o) {
-    const int begin = tap_begin[o], end = tap_begin[o + 1];
-    int k = begin;
-    __m256d sum0 = _mm256_setzero_pd(), sum1 = _mm256_setzero_pd(), sum2 = _mm256_setzero_pd(), sum3 = _mm256_setzero_pd();
-    if (end > begin && tap_index[end - 1] - tap_index[begin] == end - 1 - begin) {  // contiguous: stepped through
-      const float* p = row + 4 * static_cast<std::ptrdiff_t>(tap_index[begin]);
-      for (; k + 4 <= end; k += 4, p += 16) {
-        sum0 = _mm256_fmadd_pd(_mm256_broadcast_sd(tap_weight + k), _mm256_cvtps_pd(_mm_loadu_ps(p)), sum0);
-        sum1 = _mm256_fmadd_pd(_mm256_broadcast_sd(tap_weight + k + 1), _mm256_cvtps_pd(_mm_loadu_ps(p + 4)), sum1);
-        sum2 = _mm256_fmadd_pd(_mm256_broadcast_sd(tap_weight + k + 2), _mm256_cvtps_pd(_mm_loadu_ps(p + 8)), sum2);
-        sum3 = _mm256_fmadd_pd(_mm256_broadcast_sd(tap_weight + k + 3), _mm256_cvtps_pd(_mm_loadu_ps(p + 12)), sum3);
-      }
-    }
-    sum0 = _mm256_add_pd(sum0, sum2);
-    sum1 = _mm256_add_pd(sum1, sum3);
-    for (; k < end; ++k) {
-      const float* q = row + 4 * static_cast<std::ptrdiff_t>(tap_index[k]);
-      sum1 = _mm256_fmadd_pd(_mm256_broadcast_sd(tap_weight + k), _mm256_cvtps_pd(_mm_loadu_ps(q)), sum1);
-    }
-    alignas(32) double rgba[4];
-    _mm256_store_pd(rgba, _mm256_add_pd(sum0, sum1));
-    out[o] = luidolt_luminance_cd_m2(rgba[0], rgba[1], rgba[2]);
+// The same sums with AVX2 and FMA: a pixel's four floats to four doubles in one conversion, its
+// weight times them added in one fused step (one rounding where the SSE2 form has two), four
+// pixels in flight.
+__attribute__((target("avx2,fma"))) void weighted_row_rgb_avx2(const float* row, const double* weight, int width, double* rgb) {
+  __m256d sum0 = _mm256_setzero_pd(), sum1 = _mm256_setzero_pd(), sum2 = _mm256_setzero_pd(), sum3 = _mm256_setzero_pd();
+  int x = 0;
+  for (; x + 4 <= width; x += 4) {
+    const float* p = row + 4 * static_cast<std::ptrdiff_t>(x);
+    sum0 = _mm256_fmadd_pd(_mm256_broadcast_sd(weight + x), _mm256_cvtps_pd(_mm_loadu_ps(p)), sum0);
+    sum1 = _mm256_fmadd_pd(_mm256_broadcast_sd(weight + x + 1), _mm256_cvtps_pd(_mm_loadu_ps(p + 4)), sum1);
+    sum2 = _mm256_fmadd_pd(_mm256_broadcast_sd(weight + x + 2), _mm256_cvtps_pd(_mm_loadu_ps(p + 8)), sum2);
+    sum3 = _mm256_fmadd_pd(_mm256_broadcast_sd(weight + x + 3), _mm256_cvtps_pd(_mm_loadu_ps(p + 12)), sum3);
   }
+  for (; x < width; ++x)
+    sum0 = _mm256_fmadd_pd(_mm256_broadcast_sd(weight + x), _mm256_cvtps_pd(_mm_loadu_ps(row + 4 * static_cast<std::ptrdiff_t>(x))), sum0);
+  alignas(32) double sums[4];
+  _mm256_store_pd(sums, _mm256_add_pd(_mm256_add_pd(sum0, sum2), _mm256_add_pd(sum1, sum3)));
+  rgb[0] = sums[0];
+  rgb[1] = sums[1];
+  rgb[2] = sums[2];
 }
 #endif
 
-// Eq. 5.1 of each output's weighted sum along one row, out[0 .. size).
-void weighted_luminance_row(VectorIsa isa, const float* row, const int* tap_begin, const int* tap_index,
-                            const double* tap_weight, int size, double* out) {
+void weighted_row_rgb(VectorIsa isa, const float* row, const double* weight, int width, double* rgb) {
 #if defined(__x86_64__) && defined(__GNUC__)
   if (isa == VectorIsa::avx2_fma) {
-    weighted_luminance_row_avx2(row, tap_begin, tap_index, tap_weight, size, out);
+    weighted_row_rgb_avx2(row, weight, width, rgb);
     return;
   }
 #else
   (void)isa;
 #endif
-  for (int o = 0; o < size; ++o) out[o] = weighted_luminance_sum(row, tap_index, tap_weight, tap_begin[o], tap_begin[o + 1]);
+  weighted_row_rgb_sse2(row, weight, width, rgb);
 }
 
 }  // namespace
@@ -249,48 +255,37 @@ double frame_adaptation_luminance_float_cd_m2(const ImageRGBA& frame, double gaz
                                               const AdaptationWeighting& weighting, int threads, VectorIsa isa) {
   check_adaptation_inputs(frame, gaze_x, gaze_y, weighting);
   if (!vector_isa_available(isa)) isa = VectorIsa::sse2;
-  const int width = frame.width_px, height = frame.height_px, size = weighting.resampled_size_px;
+  const int width = frame.width_px, height = frame.height_px;
   // The gaze Gaussian is separable, exp(-(dx^2 + dy^2) / 2 s^2) = exp(-dx^2 / 2 s^2) exp(-dy^2 / 2 s^2)
-  // (gaze_adaptation_weight's distances), so a frame needs width + height exponentials, and the
-  // weight plane's resampled rows are the row factor times the column factors' tap sums.
+  // (gaze_adaptation_weight's distances), and so is the reduction to the mean (axis_mean_weights):
+  // mean(w Y) = sum_y b_y w_y sum_x a_x w_x Y(x, y) and mean(w) = (sum_y b_y w_y) (sum_x a_x w_x), so
+  // the frame is read once, each pixel taking one weight, the work of the streaming floor.
   const double two_sigma_sq = 2.0 * weighting.gaze_sigma_frame_widths * weighting.gaze_sigma_frame_widths;
-  std::vector<double> column_weight(static_cast<std::size_t>(width)), row_weight(static_cast<std::size_t>(height));
+  std::vector<double> column_weight = axis_mean_weights(width, weighting), row_weight = axis_mean_weights(height, weighting);
+  double column_total = 0.0, row_total = 0.0;
   for (int x = 0; x < width; ++x) {
     const double dx = (x + 0.5) / width - gaze_x;
-    column_weight[static_cast<std::size_t>(x)] = std::exp(-dx * dx / two_sigma_sq);
+    column_weight[static_cast<std::size_t>(x)] *= std::exp(-dx * dx / two_sigma_sq);
+    column_total += column_weight[static_cast<std::size_t>(x)];
   }
   for (int y = 0; y < height; ++y) {
     const double dy = ((y + 0.5) / height - gaze_y) * static_cast<double>(height) / width;
-    row_weight[static_cast<std::size_t>(y)] = std::exp(-dy * dy / two_sigma_sq);
+    row_weight[static_cast<std::size_t>(y)] *= std::exp(-dy * dy / two_sigma_sq);
+    row_total += row_weight[static_cast<std::size_t>(y)];
   }
-  // The x taps with the column factors folded in, flattened: output o's taps are
-  // [tap_begin[o], tap_begin[o + 1]) of tap_index and tap_weight.
-  const auto x_taps = area_taps(width, size);
-  std::vector<int> tap_begin{0}, tap_index;
-  std::vector<double> tap_weight, tap_total(static_cast<std::size_t>(size), 0.0);
-  for (int o = 0; o < size; ++o) {
-    for (const AxisTap& tap : x_taps[static_cast<std::size_t>(o)]) {
-      tap_index.push_back(tap.index);
-      tap_weight.push_back(tap.weight * column_weight[static_cast<std::size_t>(tap.index)]);
-      tap_total[static_cast<std::size_t>(o)] += tap_weight.back();
-    }
-    tap_begin.push_back(static_cast<int>(tap_index.size()));
-  }
-  std::vector<double> weighted_rows(static_cast<std::size_t>(height) * size), weight_rows(weighted_rows.size());
+  // Each row's Eq. 5.1 of its weighted R, G and B, summed over the rows in order afterwards, so the
+  // result does not depend on `threads`.
+  std::vector<double> row_luminance(static_cast<std::size_t>(height));
   parallel_chunks(height, threads, [&](int first, int last) {
     for (int y = first; y < last; ++y) {
-      const float* row = frame.pixel(0, y);
-      const double w_y = row_weight[static_cast<std::size_t>(y)];
-      double* weighted = &weighted_rows[static_cast<std::size_t>(y) * size];
-      weighted_luminance_row(isa, row, tap_begin.data(), tap_index.data(), tap_weight.data(), size, weighted);
-      for (int o = 0; o < size; ++o) {
-        weighted[o] *= w_y;
-        weight_rows[static_cast<std::size_t>(y) * size + o] = w_y * tap_total[static_cast<std::size_t>(o)];
-      }
+      double rgb[3];
+      weighted_row_rgb(isa, frame.pixel(0, y), column_weight.data(), width, rgb);
+      row_luminance[static_cast<std::size_t>(y)] = luidolt_luminance_cd_m2(rgb[0], rgb[1], rgb[2]);
     }
   });
-  const double mean_weight = pyramid_mean(resample_columns(weight_rows, height, size), weighting);
-  const double mean_weighted = pyramid_mean(resample_columns(weighted_rows, height, size), weighting);
+  double mean_weighted = 0.0;
+  for (int y = 0; y < height; ++y) mean_weighted += row_weight[static_cast<std::size_t>(y)] * row_luminance[static_cast<std::size_t>(y)];
+  const double mean_weight = row_total * column_total;
   if (!(mean_weight > 0.0)) {  // as frame_adaptation_luminance_cd_m2: every weight underflowed
     AdaptationWeighting uniform = weighting;
     uniform.gaze_sigma_frame_widths = 1e300;

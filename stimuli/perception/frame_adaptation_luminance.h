@@ -41,11 +41,11 @@ double frame_adaptation_luminance_cd_m2(const ImageRGBA& frame, double gaze_x, d
 
 // The same luminance in one pass over the float32 frame, split over `threads` row chunks
 // (core/parallel_for.h): the gaze Gaussian is separable (one exponential per row and one per column
-// instead of one per pixel), and the weight plane's resampling follows from it in closed form, so
-// only the weighted luminance is resampled pixel by pixel. What
+// instead of one per pixel), and so are the resampling, the pyramid and the mean, which compose to
+// one weight per column and one per row, so each pixel is read once and takes one weight. What
 // sessions run (stimuli/perception/perception_stages_float.h); the function above is its reference
 // (tests/perception_float_test.cpp: within 1e-12 relative). The result does not depend on `threads`.
-// `isa`: the form of the tap sums (core/vector_isa.h; both within 1e-12, each test runs both); one
+// `isa`: the form of the row sums (core/vector_isa.h; both within 1e-12, each test runs both); one
 // this CPU does not run takes the SSE2 form.
 double frame_adaptation_luminance_float_cd_m2(const ImageRGBA& frame, double gaze_x, double gaze_y,
                                               const AdaptationWeighting& weighting, int threads,

@@ -24,7 +24,28 @@ double lab_f_inverse(double f) {
   return 3.0 * kDelta * kDelta * (f - 4.0 / 29.0);
 }
 
+// f(t) - 4/29 and its inverse, without forming f on the linear branch.
+double f_offset(double t) { return t > kDelta * kDelta * kDelta ? std::cbrt(t) - 4.0 / 29.0 : t / (3.0 * kDelta * kDelta); }
+double t_of_f_offset(double g) {
+  const double f = g + 4.0 / 29.0;
+  return f > kDelta ? f * f * f : 3.0 * kDelta * kDelta * g;
+}
+
 }  // namespace
+
+void replace_lab_lightness(float* rgb, double lightness, double reference_white_cd_m2) {
+  const double white[3] = {kWhiteX, kWhiteY, kWhiteZ};
+  const double scale = reference_white_cd_m2 / kWhiteY;
+  double relative[3];
+  for (int r = 0; r < 3; ++r)
+    relative[r] = (kRgbToXyz[r][0] * rgb[0] + kRgbToXyz[r][1] * rgb[1] + kRgbToXyz[r][2] * rgb[2]) / (white[r] * scale);
+  const double new_y_offset = lightness / 116.0;
+  const double shift = new_y_offset - f_offset(relative[1]);
+  double xyz[3];
+  for (int r = 0; r < 3; ++r) xyz[r] = white[r] * scale * t_of_f_offset(r == 1 ? new_y_offset : f_offset(relative[r]) + shift);
+  for (int c = 0; c < 3; ++c)
+    rgb[c] = static_cast<float>(kXyzToRgb[c][0] * xyz[0] + kXyzToRgb[c][1] * xyz[1] + kXyzToRgb[c][2] * xyz[2]);
+}
 
 double lab_lightness(double luminance_cd_m2, double reference_white_cd_m2) {
   return 116.0 * lab_f(luminance_cd_m2 / reference_white_cd_m2) - 16.0;

@@ -40,4 +40,11 @@ LabColour rec709_to_lab(double r, double g, double b, double reference_white_cd_
 // Writes linear Rec.709 (cd/m2) to rgb[0..2].
 void lab_to_rec709(const LabColour& lab, double reference_white_cd_m2, double rgb[3]);
 
+// The pixel rgb[0..2] (linear Rec.709, cd/m2) with its L* replaced by `lightness` and its a*, b*
+// kept: lab_to_rec709 of rec709_to_lab with the new L*, in double, rounded to float once. Each f is
+// carried as f - 4/29, which on the linear branch has no cancellation near black (the plain
+// f - 4/29 would lose 1e-4 of a 0.01 cd/m2 pixel in float); Y's becomes L* / 116, and X's and Z's
+// move by as much.
+void replace_lab_lightness(float* rgb, double lightness, double reference_white_cd_m2);
+
 }  // namespace glarelab
