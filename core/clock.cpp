@@ -1,8 +1,15 @@
 #include "core/clock.h"
 
+#include <ctime>
 #include <stdexcept>
 
 namespace glarelab {
+
+double process_cpu_time_s() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 MonotonicClock::MonotonicClock(double start_offset_s)
     : start_(std::chrono::steady_clock::now()), start_offset_s_(start_offset_s) {}

@@ -9,6 +9,10 @@
 
 namespace glarelab {
 
+// The process' CPU time over all its threads (CLOCK_PROCESS_CPUTIME_ID), seconds: what a benchmark
+// on a shared machine measures beside the wall clock, which other processes inflate.
+double process_cpu_time_s();
+
 class SessionClock {
  public:
   virtual ~SessionClock() = default;

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstddef>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/clock.h"
 #include "core/parallel_for.h"
 #include "core/streaming_floor.h"
 #include "glare/eye/pupil_model.h"
@@ -30,12 +30,6 @@ struct Times {
   double cpu_best_s = 0.0;  // the process' CPU time (all threads) of its least costly run
 };
 
-double process_cpu_s() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
 // `prepare` (untimed) then `work` (timed: wall clock, and the process' CPU time, which other
 // processes on a shared machine do not inflate), `repeats` times.
 template <typename Prepare, typename Work>
@@ -43,11 +37,11 @@ Times time_runs(int repeats, Prepare prepare, Work work) {
   std::vector<double> runs, cpu_runs;
   for (int r = 0; r < repeats; ++r) {
     prepare();
-    const double cpu_start = process_cpu_s();
+    const double cpu_start = process_cpu_time_s();
     const auto start = std::chrono::steady_clock::now();
     work();
     runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    cpu_runs.push_back(process_cpu_s() - cpu_start);
+    cpu_runs.push_back(process_cpu_time_s() - cpu_start);
   }
   std::sort(runs.begin(), runs.end());
   return {runs.front(), runs[runs.size() / 2], *std::min_element(cpu_runs.begin(), cpu_runs.end())};

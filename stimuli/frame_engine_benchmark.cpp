@@ -23,17 +23,6 @@
 namespace glarelab {
 namespace {
 
-// The display of the perception rows (stage_timing.h): 41.9 px/deg at the centre, peak 250 cd/m2.
-DisplaySpec bench_display(int width_px, int height_px) {
-  DisplaySpec display;
-  display.width_px = width_px;
-  display.height_px = height_px;
-  display.viewing_distance_mm = 600.0;
-  display.pixel_pitch_mm = 0.25;
-  display.peak_luminance_cd_m2 = 250.0;
-  return display;
-}
-
 GlareSpec bench_glare(GlareBackendRequest backend) {
   GlareSpec spec;
   spec.model = GlareModel::ritschel;  // the wave-optics eye alone: the glare these rows describe
@@ -42,18 +31,6 @@ GlareSpec bench_glare(GlareBackendRequest backend) {
   spec.skip_invisible = false;
   spec.backend = backend;
   return spec;
-}
-
-// ||actual - expected|| / ||expected|| over the R, G and B of every pixel.
-double relative_l2(const ImageRGBA& actual, const ImageRGBA& expected) {
-  double difference = 0.0, norm = 0.0;
-  for (std::size_t i = 0; i < expected.rgba.size(); ++i) {
-    if (i % 4 == 3) continue;
-    const double e = expected.rgba[i], d = static_cast<double>(actual.rgba[i]) - e;
-    difference += d * d;
-    norm += e * e;
-  }
-  return norm > 0.0 ? std::sqrt(difference / norm) : std::sqrt(difference);
 }
 
 // The padded sizes of the glare's convolutions of `scene`: each lit box (glare/cpu/lit_regions.h, split
@@ -124,7 +101,7 @@ std::vector<RefractionPsfBenchmarkRow> time_refraction_psfs(const DisplaySpec& d
 
 FrameEngineBenchmarkResult run_frame_engine_benchmark(const FrameEngineBenchmarkOptions& options) {
   if (options.repeats < 1) throw std::invalid_argument("frame engine benchmark: repeats must be at least 1");
-  const DisplaySpec display = bench_display(options.width_px, options.height_px);
+  const DisplaySpec display = perception_timing_display(options.width_px, options.height_px);
   const ImageRGBA scene = perception_test_frame(options.width_px, options.height_px);
   const PerceptionSettings stages;  // every stage on
   FrameEngineBenchmarkResult result;
@@ -172,7 +149,7 @@ FrameEngineBenchmarkResult run_frame_engine_benchmark(const FrameEngineBenchmark
       // The floor in the same run, right after the frames it stands beside (the machine's load then).
       row.floor_s = fftw_floor_s(floors, std::max(repeats + 1, kFloorRuns));
       row.max_relative_error = max_relative_pixel_error(first, *reference, result.floor_cd_m2);
-      row.relative_l2_error = relative_l2(first, *reference);
+      row.relative_l2_error = relative_l2_rgb(first, *reference);
     } else {
       reference = std::move(first);
     }

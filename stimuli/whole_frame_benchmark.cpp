@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
-#include <ctime>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -24,23 +23,6 @@
 
 namespace glarelab {
 namespace {
-
-double process_cpu_s() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
-// The display of the perception and frame engine rows: 41.9 px/deg at the centre, peak 250 cd/m2.
-DisplaySpec bench_display(int width_px, int height_px) {
-  DisplaySpec display;
-  display.width_px = width_px;
-  display.height_px = height_px;
-  display.viewing_distance_mm = 600.0;
-  display.pixel_pitch_mm = 0.25;
-  display.peak_luminance_cd_m2 = 250.0;
-  return display;
-}
 
 // The default eye's glare as the glare model rows take it (16 wavelengths, every pixel convolved).
 GlareSpec bench_glare(GlareBackendRequest backend) {
@@ -67,29 +49,17 @@ std::vector<float> bench_depth_m(int width_px, int height_px) {
   return depth;
 }
 
-// ||actual - expected|| / ||expected|| over the R, G and B of every pixel.
-double relative_l2(const ImageRGBA& actual, const ImageRGBA& expected) {
-  double difference = 0.0, norm = 0.0;
-  for (std::size_t i = 0; i < expected.rgba.size(); ++i) {
-    if (i % 4 == 3) continue;
-    const double e = expected.rgba[i], d = static_cast<double>(actual.rgba[i]) - e;
-    difference += d * d;
-    norm += e * e;
-  }
-  return norm > 0.0 ? std::sqrt(difference / norm) : std::sqrt(difference);
-}
-
 // The fastest of `runs` passes of a floor: wall clock and the process' CPU time, each its least.
 template <typename Run>
 std::pair<double, double> floor_times(int runs, Run run) {
   run();  // pages mapped, caches warm
   double wall = 1e300, cpu = 1e300;
   for (int k = 0; k < runs; ++k) {
-    const double cpu_start = process_cpu_s();
+    const double cpu_start = process_cpu_time_s();
     const auto start = std::chrono::steady_clock::now();
     run();
     wall = std::min(wall, seconds_since(start));
-    cpu = std::min(cpu, process_cpu_s() - cpu_start);
+    cpu = std::min(cpu, process_cpu_time_s() - cpu_start);
   }
   return {wall, cpu};
 }
@@ -101,7 +71,7 @@ WholeFrameBenchmarkResult run_whole_frame_benchmark(const WholeFrameBenchmarkOpt
   result.width_px = options.width_px;
   result.height_px = options.height_px;
   const int width = options.width_px, height = options.height_px;
-  const DisplaySpec display = bench_display(width, height);
+  const DisplaySpec display = perception_timing_display(width, height);
   const ImageRGBA scene = perception_test_frame(width, height);
   const std::vector<float> depth_m = bench_depth_m(width, height);
   DepthOfFieldSettings depth_settings = depth_of_field_bench_settings(options.threads);
@@ -124,13 +94,13 @@ WholeFrameBenchmarkResult run_whole_frame_benchmark(const WholeFrameBenchmarkOpt
   ImageRGBA first_seen, first_frame;
   double best_cpu = 1e300;
   for (int k = 0; k <= options.repeats; ++k) {
-    const double cpu_start = process_cpu_s();
+    const double cpu_start = process_cpu_time_s();
     const auto start = std::chrono::steady_clock::now();
     DepthOfFieldReport report;
     ImageRGBA seen = apply_depth_of_field(scene, depth_m, depth_settings, &report);
-    const double depth_cpu_s = process_cpu_s() - cpu_start, depth_wall_s = seconds_since(start);
+    const double depth_cpu_s = process_cpu_time_s() - cpu_start, depth_wall_s = seconds_since(start);
     EyeFrame frame = engine.frame(request_for(seen, k));
-    const double wall_s = seconds_since(start), cpu_s = process_cpu_s() - cpu_start;
+    const double wall_s = seconds_since(start), cpu_s = process_cpu_time_s() - cpu_start;
     // A row of a frame whose glare was skipped would time less than the frame: refused.
     if (frame.reports.empty() || !frame.reports.front().convolved)
       throw std::runtime_error("whole frame benchmark: the frame's glare was not convolved (" +
@@ -179,7 +149,7 @@ WholeFrameBenchmarkResult run_whole_frame_benchmark(const WholeFrameBenchmarkOpt
   // The reference: the same first frame with the glare on the float64 backend.
   FrameEngine reference(bench_glare(GlareBackendRequest::cpu), AdaptationTimeConstants{}, display, 1, GlContextFactory());
   const EyeFrame expected = reference.frame(request_for(first_seen, 0));
-  result.relative_l2_error = relative_l2(first_frame, expected.image_cd_m2);
+  result.relative_l2_error = relative_l2_rgb(first_frame, expected.image_cd_m2);
   result.max_relative_error = max_relative_pixel_error(first_frame, expected.image_cd_m2, 1e-4 * display.peak_luminance_cd_m2);
   return result;
 }

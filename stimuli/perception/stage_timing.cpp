@@ -94,6 +94,34 @@ double max_relative_pixel_error(const ImageRGBA& actual, const ImageRGBA& expect
   return worst;
 }
 
+double relative_l2_rgb(const ImageRGBA& actual, const ImageRGBA& expected) {
+  double difference = 0.0, norm = 0.0;
+  for (std::size_t i = 0; i < expected.rgba.size(); ++i) {
+    if (i % 4 == 3) continue;
+    const double e = expected.rgba[i], d = static_cast<double>(actual.rgba[i]) - e;
+    difference += d * d;
+    norm += e * e;
+  }
+  return norm > 0.0 ? std::sqrt(difference / norm) : std::sqrt(difference);
+}
+
+DisplaySpec perception_timing_display(const PerceptionTimingOptions& options) {
+  DisplaySpec display;
+  display.width_px = options.width_px;
+  display.height_px = options.height_px;
+  display.viewing_distance_mm = options.viewing_distance_mm;
+  display.pixel_pitch_mm = options.pixel_pitch_mm;
+  display.peak_luminance_cd_m2 = options.peak_luminance_cd_m2;
+  return display;
+}
+
+DisplaySpec perception_timing_display(int width_px, int height_px) {
+  PerceptionTimingOptions options;
+  options.width_px = width_px;
+  options.height_px = height_px;
+  return perception_timing_display(options);
+}
+
 PerceptionTimingResult time_perception_stages(const PerceptionTimingOptions& options) {
   if (options.width_px < 16 || options.height_px < 16 || options.width_px > 8192 || options.height_px > 8192)
     throw std::invalid_argument("perception timing: the frame must be 16 x 16 to 8192 x 8192 (got " +
@@ -105,12 +133,7 @@ PerceptionTimingResult time_perception_stages(const PerceptionTimingOptions& opt
   PerceptionTimingResult result;
   result.width_px = options.width_px;
   result.height_px = options.height_px;
-  DisplaySpec display;
-  display.width_px = options.width_px;
-  display.height_px = options.height_px;
-  display.viewing_distance_mm = options.viewing_distance_mm;
-  display.pixel_pitch_mm = options.pixel_pitch_mm;
-  display.peak_luminance_cd_m2 = options.peak_luminance_cd_m2;
+  const DisplaySpec display = perception_timing_display(options);
   const double ppd = display_pixels_per_degree(display);
   result.pixels_per_degree = ppd;
   const PerceptionSettings settings;

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "core/display_spec.h"
 #include "core/gl/gl_context.h"
 #include "core/image.h"
 
@@ -55,11 +56,20 @@ struct PerceptionTimingResult {
 // Throws std::invalid_argument for a size below 16 x 16 or above 8192, or repeats < 1; DisplayError
 // when the GL context cannot be made.
 PerceptionTimingResult time_perception_stages(const PerceptionTimingOptions& options);
+
+// The display these rows, the frame engine's and the whole frame's assume: `options`' viewing
+// distance, pixel pitch (41.9 px/deg at the centre by default) and peak luminance at its size.
+DisplaySpec perception_timing_display(const PerceptionTimingOptions& options);
+// The same at width_px x height_px with the options' defaults.
+DisplaySpec perception_timing_display(int width_px, int height_px);
 // A Markdown table: stage, CPU ms, GL ms, thesis GTX 1070 ms, max relative error, floor.
 std::string format_perception_timing(const PerceptionTimingResult& result);
 
 // The input frame described above, linear Rec.709 in cd/m2, alpha 1; deterministic in the seed.
 ImageRGBA perception_test_frame(int width_px, int height_px, std::uint64_t seed = 1);
+// ||actual - expected|| / ||expected|| over the R, G and B of every pixel (alpha left out): the
+// whole-frame error the frame engine's rows report.
+double relative_l2_rgb(const ImageRGBA& actual, const ImageRGBA& expected);
 // The image metric described above; throws std::invalid_argument for images of different sizes.
 double max_relative_pixel_error(const ImageRGBA& actual, const ImageRGBA& expected, double floor);
 
