@@ -162,8 +162,14 @@ PerceptionResult run_perception_stages_float(const ImageRGBA& scene, const Perce
   } else {
     result.adapted_luminance_cd_m2 = result.frame_luminance_cd_m2;
   }
-  result.image = settings.glare && glare ? glare(scene) : scene;
-  if (settings.glare && glare) result.stages_run.push_back(PerceptionStage::glare);
+  // Two statements, not `c ? glare(scene) : scene`: that expression's type is const ImageRGBA, so the
+  // glared frame would be copied into the result rather than moved (a whole frame a frame).
+  if (settings.glare && glare) {
+    result.image = glare(scene);
+    result.stages_run.push_back(PerceptionStage::glare);
+  } else {
+    result.image = scene;
+  }
   if (settings.acuity) {
     apply_acuity_loss_float(result.image, settings.acuity_settings, display_pixels_per_degree(display), threads);
     result.stages_run.push_back(PerceptionStage::acuity);
