@@ -86,6 +86,14 @@ AnalyticGlare& GlareStage::analytic_for(GlareModel model, int width_px, int heig
   return *analytic_.emplace(key, std::make_unique<AnalyticGlare>(options)).first->second;
 }
 
+LenticularHaloGlare& GlareStage::lenticular_halo_for(int width_px, int height_px) {
+  if (!lenticular_halo_ || lenticular_halo_->width_px() != width_px || lenticular_halo_->height_px() != height_px)
+    lenticular_halo_ = std::make_unique<LenticularHaloGlare>(LenticularHalo(halo_gratings(spec_.eye)),
+                                                             DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
+                                                             width_px, height_px);
+  return *lenticular_halo_;
+}
+
 const PixelSolidAngle& GlareStage::solid_angle_for(int width_px, int height_px) {
   if (!solid_angle_ || solid_angle_->width_px() != width_px || solid_angle_->height_px() != height_px)
     solid_angle_.emplace(DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm}, width_px, height_px);

@@ -168,6 +168,11 @@ class GlareStage {
   // on first use: its kernel is integrated over the display's pixels once (seconds for a full
   // screen), so a session makes it before its first trial.
   AnalyticGlare& analytic_for(GlareModel model, int width_px, int height_px);
+  // The human eye's lenticular halo (glare/analytic/lenticular_halo.h) for frames of this size, made
+  // on first use: its kernel depends on the display and the fibre gratings, not on the pupil, so a
+  // session makes it before its first trial with the far field's kernel (a fifth of a second on
+  // two cores at 640 x 448, which the first glare frame would otherwise take).
+  LenticularHaloGlare& lenticular_halo_for(int width_px, int height_px);
   // The frames' pixel solid angles (glare/analytic/pixel_solid_angle.h): the analytic kernels carry
   // energy per pixel, the frames luminance.
   const PixelSolidAngle& solid_angle_for(int width_px, int height_px);

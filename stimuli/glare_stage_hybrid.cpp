@@ -169,16 +169,12 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   const ImageRGBA* ring = nullptr;
   if (human) {
     const HaloGratings gratings = halo_gratings(spec_.eye);
-    // The halo's kernel depends on the display and the gratings, not on the pupil, so it is made
-    // with the eye's first frame, as its far kernels are: a pupil that first uncovers the gratings
-    // later in the session (a dynamic interval's larger pupil after static ones) then costs a frame
-    // of that interval nothing extra.
-    if (!lenticular_halo_ || lenticular_halo_->width_px() != frame.width_px || lenticular_halo_->height_px() != frame.height_px)
-      lenticular_halo_ = std::make_unique<LenticularHaloGlare>(
-          LenticularHalo(gratings), DisplayGeometry{display_.viewing_distance_mm, display_.pixel_pitch_mm},
-          frame.width_px, frame.height_px);
+    // Made before any pupil uncovers the gratings (with the eye's first frame at the latest;
+    // lenticular_halo_for): a pupil that first uncovers them later in the session (a dynamic
+    // interval's larger pupil after static ones) then costs a frame of that interval nothing extra.
+    LenticularHaloGlare& halo = lenticular_halo_for(frame.width_px, frame.height_px);
     r.halo_energy = lenticular_halo_energy(eye_for(mode, mean_cd_m2).lens().grating_lines(), gratings, r.pupil_diameter_mm);
-    if (r.halo_energy > 0.0) ring = &lenticular_halo_->ring(energy, kept.token);
+    if (r.halo_energy > 0.0) ring = &halo.ring(energy, kept.token);
   }
   const double halo_energy = r.halo_energy;
   const PixelSolidAngle& solid_angle = solid_angle_for(source.width_px, source.height_px);

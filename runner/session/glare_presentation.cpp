@@ -228,6 +228,10 @@ void SessionGlare::log_glare_setup() {
     for (std::size_t e = 1; e < eyes_.size(); ++e)
       eyes_[e]->engine.glare().analytic_for(model, eyes_[e]->display.width_px, eyes_[e]->display.height_px);
     const AnalyticGlare& analytic = stage.analytic_for(model, stage_display.width_px, stage_display.height_px);
+    // The human eye's halo kernel too, before the first trial (GlareStage::lenticular_halo_for).
+    if (model == GlareModel::human)
+      for (const std::unique_ptr<SessionEye>& eye : eyes_)
+        eye->engine.glare().lenticular_halo_for(eye->display.width_px, eye->display.height_px);
     store_.log_event(session_id_, clock_.now_s(), "glare_model",
                      to_string(model) + (model == GlareModel::hybrid || model == GlareModel::human ? " (far field " + analytic.describe() + ")"
                                                                     : ": " + analytic.describe()));
