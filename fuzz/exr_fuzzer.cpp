@@ -2,26 +2,29 @@
 // outcome for bad input: ImageError "FILE: what is wrong". An image that loads must hold
 // width x height RGBA values.
 //
-// Two kinds of input are skipped, both for the fuzzer's speed, neither a limit of the product
-// (docs/HARDENING.md):
-// - a header attribute declared longer than the file: OpenEXR (3.1) allocates and clears the
-//   declared size before it finds the file too short, up to 2 GB for a 300-byte file (read_exr
-//   then refuses the file, ImageError "truncated or corrupt"); under ASan each such input took
-//   seconds and the fuzzer ran 7 inputs/s. The allocation is OpenEXR's, not glarelab's.
-// - a data window of more than kFuzzMaxPixels (below): read_exr takes up to kMaxExrPixels and
-//   allocates up to 1 GiB for them, and OpenEXR's InputFile allocates line buffers in proportion
-//   to the window's width before read_exr can look at the header (150 MB and 3 s of CPU under
-//   ASan for a 153-byte file declaring 14.7 million by 9 pixels, which read_exr then refuses);
-//   near the old bound (the fuzzer's 2 GB memory limit) the target ran 90 inputs/s. The limit
-//   itself and its refusal before glarelab allocates are the ordinary tests' job
-//   (Exr.ADataWindowLargerThanAnyStimulusIsRefusedBeforeAllocating).
+// Inputs that make OpenEXR or read_exr allocate far more than the file holds are skipped, for the
+// fuzzer's speed; none of this is a limit of the product (docs/HARDENING.md). The target walks the
+// header as OpenEXR 3.1 reads it (a type of fixed size is read at its size whatever size the file
+// declares, so the walk follows the library, not the declared sizes) and skips an input when
+// - a value is allocated before it is read and is longer than the rest of the file (an unknown
+//   attribute, a string, a string of a string vector, a preview image): OpenEXR allocates and
+//   clears up to 2 GB for a 300-byte file before finding it short (read_exr then refuses it,
+//   ImageError "truncated or corrupt"), which under ASan took seconds an input;
+// - the data window or a tile covers more than kFuzzMaxPixels (below): read_exr takes up to
+//   kMaxExrPixels and allocates up to 1 GiB for them, and OpenEXR's InputFile allocates line
+//   buffers in proportion to the window's width before read_exr can look at the header (150 MB and
+//   3 s of CPU under ASan for a 153-byte file declaring 14.7 million by 9 pixels, which read_exr
+//   then refuses). The limit itself and its refusal before glarelab allocates are the ordinary
+//   tests' job (Exr.ADataWindowLargerThanAnyStimulusIsRefusedBeforeAllocating).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "core/exr_io.h"
 #include "fuzz/fuzz_support.h"
@@ -53,44 +56,105 @@ bool window_above_fuzz_bound(const std::uint8_t* box) {
   return width > kFuzzMaxPixels || height > kFuzzMaxPixels || width * height > kFuzzMaxPixels;
 }
 
-// Walks the header attributes (name NUL, type NUL, int32 size, value) of every part until the
-// empty name that ends a header (two in a row end a multi-part file's headers): true when one
-// declares more bytes than the file has left, or is a dataWindow the fuzzer does not read
-// (above).
+// The value sizes of OpenEXR 3.1's attribute types that read a fixed number of bytes whatever the
+// size the file declares (TypedAttribute<T>::readValueFrom reads a T): the next attribute starts
+// after these bytes, not after the declared size.
+std::optional<std::size_t> fixed_value_bytes(std::string_view type) {
+  static constexpr std::pair<std::string_view, std::size_t> kFixed[] = {
+      {"box2i", 16},  {"box2f", 16},  {"chromaticities", 32}, {"compression", 1}, {"deepImageState", 1},
+      {"double", 8},  {"envmap", 1},  {"float", 4},           {"int", 4},         {"keycode", 28},
+      {"lineOrder", 1}, {"m33f", 36}, {"m33d", 72},           {"m44f", 64},       {"m44d", 128},
+      {"rational", 8}, {"tiledesc", 9}, {"timecode", 8},      {"v2i", 8},         {"v2f", 8},
+      {"v2d", 16},    {"v3i", 12},    {"v3f", 12},            {"v3d", 24}};
+  for (const auto& [name, bytes] : kFixed) {
+    if (name == type) return bytes;
+  }
+  return std::nullopt;
+}
+
+// What OpenEXR does with one header: the verdict on the input, or where the header ends.
+enum class HeaderWalk { read, skip, refused };
+
+// Walks the header attributes (name NUL, type NUL, int32 size, value) as OpenEXR 3.1 reads them,
+// from `at` to the empty name that ends a header: skip when OpenEXR would allocate more than the
+// file holds before finding it short (a value, a preview image, a string of a string vector), or
+// the data window or a tile is larger than kFuzzMaxPixels; refused when OpenEXR stops reading the
+// header before allocating anything (so nothing is skipped).
+HeaderWalk walk_header(const std::uint8_t* data, std::size_t size, std::size_t& at) {
+  const auto left = [&](std::size_t from) { return from <= size ? size - from : 0; };
+  while (at < size) {
+    if (data[at] == 0) {  // the empty name: end of the header
+      ++at;
+      return HeaderWalk::read;
+    }
+    std::string_view field[2];  // name and type, NUL-terminated
+    for (auto& text : field) {
+      const std::size_t from = at;
+      while (at < size && data[at] != 0) ++at;
+      text = std::string_view(reinterpret_cast<const char*>(data) + from, at - from);
+      ++at;
+    }
+    if (left(at) < 4) return HeaderWalk::refused;
+    const auto declared = static_cast<std::int32_t>(little_endian_u32(data + at));
+    at += 4;
+    if (declared < 0) return HeaderWalk::refused;  // "Invalid size field"
+    const std::string_view name = field[0], type = field[1];
+    const std::size_t value_at = at;
+    if (const auto bytes = fixed_value_bytes(type)) {
+      if (left(value_at) < *bytes) return HeaderWalk::refused;  // read past the end
+      if (name == "dataWindow" && type == "box2i" && window_above_fuzz_bound(data + value_at)) {
+        return HeaderWalk::skip;
+      }
+      if (type == "tiledesc") {
+        const std::uint64_t tile_pixels = std::uint64_t{little_endian_u32(data + value_at)} *
+                                          std::uint64_t{little_endian_u32(data + value_at + 4)};
+        if (tile_pixels > static_cast<std::uint64_t>(kFuzzMaxPixels)) return HeaderWalk::skip;
+      }
+      at = value_at + *bytes;
+    } else if (type == "chlist") {  // channels (name NUL, 16 bytes) up to an empty name
+      while (at < size && data[at] != 0) {
+        while (at < size && data[at] != 0) ++at;
+        at += 1 + 16;
+      }
+      ++at;
+    } else if (type == "preview") {  // width, height, then width x height RGBA bytes, allocated first
+      if (left(value_at) < 8) return HeaderWalk::refused;
+      const std::uint64_t image_bytes = 4 * std::uint64_t{little_endian_u32(data + value_at)} *
+                                        std::uint64_t{little_endian_u32(data + value_at + 4)};
+      if (image_bytes > left(value_at + 8)) return HeaderWalk::skip;
+      at = value_at + 8 + static_cast<std::size_t>(image_bytes);
+    } else if (type == "stringvector") {  // strings (int32 length, bytes) until the declared size
+      std::size_t read = 0;
+      while (read < static_cast<std::size_t>(declared)) {
+        if (left(at) < 4) return HeaderWalk::refused;
+        const auto length = static_cast<std::int32_t>(little_endian_u32(data + at));
+        at += 4;
+        read += 4;
+        if (length < 0) return HeaderWalk::refused;
+        if (static_cast<std::size_t>(length) > left(at)) return HeaderWalk::skip;
+        at += static_cast<std::size_t>(length);
+        read += static_cast<std::size_t>(length);
+      }
+    } else {  // string, floatvector, idmanifest and unknown types: the declared size, allocated first
+      if (static_cast<std::size_t>(declared) > left(value_at)) return HeaderWalk::skip;
+      at = value_at + (type == "floatvector" ? static_cast<std::size_t>(declared) / 4 * 4
+                                             : static_cast<std::size_t>(declared));
+    }
+  }
+  return HeaderWalk::refused;  // the file ends inside the header
+}
+
+// True for an input the fuzzer does not read (above): walks every part's header (a multi-part
+// file's headers end with an empty header).
 bool skipped_input(const std::uint8_t* data, std::size_t size) {
   std::size_t at = 8;  // magic and version
   if (size < at) return false;
   const bool multi_part = (data[5] & 0x10) != 0;
-  bool previous_empty = false;
-  while (at < size) {
-    if (data[at] == 0) {  // end of one header
-      ++at;
-      if (!multi_part || previous_empty) return false;
-      previous_empty = true;
-      continue;
-    }
-    previous_empty = false;
-    std::size_t field_at[2] = {};
-    std::size_t field_length[2] = {};
-    for (int field = 0; field < 2; ++field) {  // name and type, NUL-terminated
-      field_at[field] = at;
-      while (at < size && data[at] != 0) ++at;
-      field_length[field] = at - field_at[field];
-      ++at;
-    }
-    const auto field_is = [&](int field, std::string_view text) {
-      return field_length[field] == text.size() && std::memcmp(data + field_at[field], text.data(), text.size()) == 0;
-    };
-    if (at + 4 > size) return false;
-    const std::uint32_t length = little_endian_u32(data + at);
-    at += 4;
-    if (length > size - at) return true;
-    if (length == 16 && field_is(0, "dataWindow") && field_is(1, "box2i") &&
-        window_above_fuzz_bound(data + at)) {
-      return true;
-    }
-    at += length;
-  }
+  do {
+    if (multi_part && at < size && data[at] == 0) return false;  // the empty header after the last
+    const HeaderWalk walk = walk_header(data, size, at);
+    if (walk != HeaderWalk::read) return walk == HeaderWalk::skip;
+  } while (multi_part);
   return false;
 }
 
