@@ -109,11 +109,14 @@ struct IntervalGlare {
   };
   std::vector<GpuStageSum> gpu_stage_sums;
   void add_gpu_stage_times(const std::vector<std::pair<std::string, double>>& stages_s) {
-    for (const auto& [stage, seconds] : stages_s) {
+    // A pair, not a structured binding: the lambda below captures the stage's name, which clang
+    // accepts from a structured binding only from version 16 (the fuzz and sanitizer builds use 14).
+    for (const std::pair<std::string, double>& stage_s : stages_s) {
+      const std::string& stage = stage_s.first;
       auto sum = std::find_if(gpu_stage_sums.begin(), gpu_stage_sums.end(),
-                              [&](const GpuStageSum& s) { return s.stage == stage; });
+                              [&stage](const GpuStageSum& s) { return s.stage == stage; });
       if (sum == gpu_stage_sums.end()) sum = gpu_stage_sums.insert(gpu_stage_sums.end(), GpuStageSum{stage});
-      sum->seconds += seconds;
+      sum->seconds += stage_s.second;
       ++sum->frames;
     }
   }
