@@ -3,8 +3,10 @@
 // struct r_remote_data, field for field, and the TCP connection to the hub that a session's
 // runtime opens. The struct is as scripts/monado/remote_eye_gaze.patch makes it: the stock
 // "mndrmt3" layout and then the eye gaze the patch's eye tracker reports.
+#include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <arpa/inet.h>
@@ -12,8 +14,15 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <functional>
+#include <string>
 #include <thread>
+
+#include "cli_process.h"
+#include "openxr_runtime.h"
 
 namespace glarelab::test {
 
@@ -112,6 +121,52 @@ inline bool send_state(int fd, const RemoteData& data) {
     sent += static_cast<std::size_t>(n);
   }
   return true;
+}
+
+// A session of `glarelab ARGUMENTS` (a run with --display openxr) under Xvfb with Monado's remote
+// driver listening on `port` (with the patch's eye tracker when `eye_gaze`), ended after
+// `timeout_s` at most, its validation layer writing to `validation` and its output to
+// dir/output.txt. `drive` gets the connection to the hub once the runtime listens (not called when
+// it never does) and the session's end, and sends the hub its states until then.
+struct RemoteSessionRun {
+  int status = -1;         // std::system's
+  bool connected = false;  // the hub was reached
+  std::string output;
+};
+inline RemoteSessionRun run_with_remote_hub(const std::filesystem::path& dir, int port, bool eye_gaze, int timeout_s,
+                                            const std::string& arguments, const std::filesystem::path& validation,
+                                            const std::function<void(int fd, const std::atomic<bool>& done)>& drive) {
+  const std::filesystem::path output = dir / "output.txt";
+  const std::string command = "timeout " + std::to_string(timeout_s) +
+                              " xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " +
+                              monado_remote_environment(dir / "config", port, eye_gaze) +
+                              " XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME='" +
+                              validation.string() + "' '" + std::string(GLARELAB_BINARY) + "' " + arguments + " > '" +
+                              output.string() + "' 2>&1";
+  RemoteSessionRun run;
+  std::atomic<bool> done{false};
+  std::thread session([&] {
+    run.status = std::system(command.c_str());
+    done = true;
+  });
+  const int fd = connect_to_hub(port, done);
+  run.connected = fd >= 0;
+  if (run.connected) {
+    drive(fd, done);
+    ::close(fd);
+  }
+  session.join();
+  run.output = read_bytes(output.string());
+  return run;
+}
+
+// What every such session must show: the hub reached, a clean exit, nothing from the validation
+// layer. Fatal failures here end the caller too under ASSERT_NO_FATAL_FAILURE.
+inline void expect_clean_remote_session(const RemoteSessionRun& run, int port, const std::filesystem::path& validation) {
+  ASSERT_TRUE(run.connected) << "the remote hub never listened on port " << port << ": " << run.output;
+  ASSERT_TRUE(WIFEXITED(run.status) && WEXITSTATUS(run.status) == 0) << run.output;
+  EXPECT_EQ(std::filesystem::exists(validation) ? read_bytes(validation.string()) : std::string(), "");
+  EXPECT_EQ(run.output.find("VUID"), std::string::npos) << run.output;
 }
 
 }  // namespace glarelab::test

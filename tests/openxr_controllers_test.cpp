@@ -28,17 +28,11 @@
 namespace glarelab {
 namespace {
 
-using test::connect_to_hub;
 using test::free_port;
 using test::RemoteController;
 using test::RemoteData;
 using test::resting_state;
 using test::send_state;
-
-struct ShellRun {
-  int exit_code = -1;
-  std::string output;
-};
 
 TEST(OpenXrControllers, PressesAnswerTrialsLikeKeysAndAreLoggedWithTheirButton) {
   if (const auto missing = test::monado_remote_missing()) GTEST_SKIP() << *missing;
@@ -61,51 +55,34 @@ TEST(OpenXrControllers, PressesAnswerTrialsLikeKeysAndAreLoggedWithTheirButton) 
   const std::filesystem::path validation = scratch.path() / "validation.txt";
   const int port = free_port();
   ASSERT_GT(port, 0);
-  const std::string command =
-      "timeout 180 xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " +
-      test::monado_remote_environment(scratch.path() / "config", port) +
-      " XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME='" + validation.string() + "' '" +
-      std::string(GLARELAB_BINARY) + "' run '" + experiment.string() + "' --display openxr --stop-after 4 --db '" +
-      db.string() + "' > '" + (scratch.path() / "output.txt").string() + "' 2>&1";
-  std::atomic<bool> done{false};
-  int status = -1;
-  std::thread session([&] {
-    status = std::system(command.c_str());
-    done = true;
-  });
-
   // Presses in turn: the right hand's trigger, the left's, the right's B (menu); each held 0.2 s
   // (4 of the null compositor's 50 ms frames), 0.3 s apart, until the session has ended.
-  const int fd = connect_to_hub(port, done);
   std::map<std::string, int> pressed;  // button as the session logs it -> presses sent
-  if (fd >= 0) {
-    RemoteData state = resting_state();
-    send_state(fd, state);
-    for (int k = 0; !done; ++k) {
-      const char* button = k % 3 == 0 ? "right hand select" : k % 3 == 1 ? "left hand select" : "menu";
-      RemoteController& hand = k % 3 == 1 ? state.left : state.right;
-      if (k % 3 == 2) {
-        hand.b_click = true;
-      } else {
-        hand.trigger_click = true;
-        hand.trigger_value = 1.0f;
-      }
-      if (!send_state(fd, state)) break;
-      ++pressed[button];
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-      hand.b_click = hand.trigger_click = false;
-      hand.trigger_value = 0.0f;
-      if (!send_state(fd, state)) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    }
-    ::close(fd);
-  }
-  session.join();
-  const std::string output = test::read_bytes((scratch.path() / "output.txt").string());
-  ASSERT_GE(fd, 0) << "the remote hub never listened on port " << port << ": " << output;
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
-  EXPECT_EQ(std::filesystem::exists(validation) ? test::read_bytes(validation.string()) : std::string(), "");
-  EXPECT_EQ(output.find("VUID"), std::string::npos) << output;
+  const test::RemoteSessionRun run = test::run_with_remote_hub(
+      scratch.path(), port, /*eye_gaze=*/false, 180,
+      "run '" + experiment.string() + "' --display openxr --stop-after 4 --db '" + db.string() + "'", validation,
+      [&](int fd, const std::atomic<bool>& done) {
+        RemoteData state = resting_state();
+        send_state(fd, state);
+        for (int k = 0; !done; ++k) {
+          const char* button = k % 3 == 0 ? "right hand select" : k % 3 == 1 ? "left hand select" : "menu";
+          RemoteController& hand = k % 3 == 1 ? state.left : state.right;
+          if (k % 3 == 2) {
+            hand.b_click = true;
+          } else {
+            hand.trigger_click = true;
+            hand.trigger_value = 1.0f;
+          }
+          if (!send_state(fd, state)) break;
+          ++pressed[button];
+          std::this_thread::sleep_for(std::chrono::milliseconds(200));
+          hand.b_click = hand.trigger_click = false;
+          hand.trigger_value = 0.0f;
+          if (!send_state(fd, state)) break;
+          std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        }
+      });
+  ASSERT_NO_FATAL_FAILURE(test::expect_clean_remote_session(run, port, validation));
 
   const test::RawDb raw(db.string());
   const std::string display = raw.value("SELECT message FROM session_events WHERE kind = 'display'");

@@ -114,45 +114,27 @@ TEST(OpenXrEyeGaze, TheHeadsetsGazeIsLoggedAndFeedsTheGlareLikeATrackersAndItsLo
   const std::filesystem::path validation = scratch.path() / "validation.txt";
   const int port = test::free_port();
   ASSERT_GT(port, 0);
-  const std::string command =
-      "timeout 240 xvfb-run -a -s '-screen 0 1280x1024x24 -noreset' env " +
-      test::monado_remote_environment(scratch.path() / "config", port, /*eye_gaze=*/true) +
-      " XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME='" + validation.string() + "' '" +
-      std::string(GLARELAB_BINARY) + "' run '" + experiment.string() +
-      "' --display openxr --observer simulated --stop-after 6 --db '" + db.string() + "' > '" +
-      (scratch.path() / "output.txt").string() + "' 2>&1";
-  std::atomic<bool> done{false};
-  int status = -1;
-  std::thread session([&] {
-    status = std::system(command.c_str());
-    done = true;
-  });
-
   // The gaze in turn: ahead, left-up, lost, right-down, 0.2 s each (4 of the null compositor's
   // 50 ms frames; a trial shows 8), until the session has ended.
-  const int fd = test::connect_to_hub(port, done);
   int drops = 0;
-  if (fd >= 0) {
-    test::RemoteData state = test::resting_state();
-    set_views(state);
-    for (int k = 0; !done; ++k) {
-      if (k % 4 == 2) {
-        state.eyes.valid = false;
-        ++drops;
-      } else {
-        set_gaze(state, kSent[k % 4 == 3 ? 2 : k % 4]);
-      }
-      if (!test::send_state(fd, state)) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
-    ::close(fd);
-  }
-  session.join();
-  const std::string output = test::read_bytes((scratch.path() / "output.txt").string());
-  ASSERT_GE(fd, 0) << "the remote hub never listened on port " << port << ": " << output;
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
-  EXPECT_EQ(std::filesystem::exists(validation) ? test::read_bytes(validation.string()) : std::string(), "");
-  EXPECT_EQ(output.find("VUID"), std::string::npos) << output;
+  const test::RemoteSessionRun run = test::run_with_remote_hub(
+      scratch.path(), port, /*eye_gaze=*/true, 240,
+      "run '" + experiment.string() + "' --display openxr --observer simulated --stop-after 6 --db '" + db.string() + "'",
+      validation, [&](int fd, const std::atomic<bool>& done) {
+        test::RemoteData state = test::resting_state();
+        set_views(state);
+        for (int k = 0; !done; ++k) {
+          if (k % 4 == 2) {
+            state.eyes.valid = false;
+            ++drops;
+          } else {
+            set_gaze(state, kSent[k % 4 == 3 ? 2 : k % 4]);
+          }
+          if (!test::send_state(fd, state)) break;
+          std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        }
+      });
+  ASSERT_NO_FATAL_FAILURE(test::expect_clean_remote_session(run, port, validation));
 
   const test::RawDb raw(db.string());
   const std::string display = raw.value("SELECT message FROM session_events WHERE kind = 'display'");
@@ -171,7 +153,7 @@ TEST(OpenXrEyeGaze, TheHeadsetsGazeIsLoggedAndFeedsTheGlareLikeATrackersAndItsLo
   // ahead). No pupil (OpenXR has none): stored NULL.
   const auto samples = raw.rows("SELECT eye, session_time_s, gaze_x, gaze_y, pupil_diameter_mm, confidence, valid "
                                 "FROM tracker_samples ORDER BY rowid");
-  ASSERT_GT(samples.size(), 20u) << output;
+  ASSERT_GT(samples.size(), 20u) << run.output;
   std::set<std::string> seen[2];
   for (const auto& row : samples) {
     const int eye = std::stoi(row[0]);
