@@ -45,6 +45,21 @@ DisplaySpec small_display() {
   return display;
 }
 
+// The planned path of the fused-finish tests: a 128 grid, 8 wavelengths, at the display's scale.
+CpuFloatGlareSettings small_planned_settings(const DisplaySpec& display) {
+  CpuFloatGlareSettings settings;
+  settings.grid_px = 128;
+  settings.wavelength_samples = 8;
+  settings.display_degrees_per_pixel = DisplayModel(display).degrees_per_pixel_at_centre();
+  return settings;
+}
+
+ApertureGeometry four_mm_pupil() {
+  ApertureGeometry geometry;
+  geometry.pupil_diameter_mm = 4.0;
+  return geometry;
+}
+
 // Frames of a dynamic interval (one composed frame, the eye moving) on the planned path, with the
 // frame's facts as a session keeps them, equal bit for bit to each frame computed by a stage that
 // has kept nothing: the eye's history given by record_dynamic_frame, as a preview gives it.
@@ -102,14 +117,8 @@ TEST(HybridInterval, AChangedFrameIsNotTakenForTheKeptOne) {
 TEST(HybridInterval, FusedFinishEqualsTheGenericPass) {
   const DisplaySpec display = small_display();
   const ImageRGBA frame = room(display.width_px, display.height_px);
-  CpuFloatGlareSettings settings;
-  settings.grid_px = 128;
-  settings.wavelength_samples = 8;
-  settings.display_degrees_per_pixel = DisplayModel(display).degrees_per_pixel_at_centre();
-  CpuFloatGlare planned(settings);
-  ApertureGeometry geometry;
-  geometry.pupil_diameter_mm = 4.0;
-  const Psf psf = planned.display_psf(geometry);
+  CpuFloatGlare planned(small_planned_settings(display));
+  const Psf psf = planned.display_psf(four_mm_pupil());
   const std::vector<PixelRect> boxes = lit_regions(frame, psf.size_px);
   ASSERT_GE(boxes.size(), 1u);
   // Anything per pixel that depends on the pixel's place and values: x, y and the value itself.
@@ -135,14 +144,8 @@ TEST(HybridInterval, FusedFinishEqualsTheGenericPass) {
 TEST(HybridInterval, FusedFinishAddedToAnImageEqualsTheSum) {
   const DisplaySpec display = small_display();
   const ImageRGBA frame = room(display.width_px, display.height_px);
-  CpuFloatGlareSettings settings;
-  settings.grid_px = 128;
-  settings.wavelength_samples = 8;
-  settings.display_degrees_per_pixel = DisplayModel(display).degrees_per_pixel_at_centre();
-  CpuFloatGlare planned(settings);
-  ApertureGeometry geometry;
-  geometry.pupil_diameter_mm = 4.0;
-  const Psf psf = planned.display_psf(geometry);
+  CpuFloatGlare planned(small_planned_settings(display));
+  const Psf psf = planned.display_psf(four_mm_pupil());
   const std::vector<PixelRect> boxes = lit_regions(frame, psf.size_px);
   ImageRGBA base(display.width_px, display.height_px);
   for (int y = 0; y < base.height_px; ++y)
