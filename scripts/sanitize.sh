@@ -33,6 +33,12 @@ else
   echo "sanitize: tests matching $regex"
 fi
 built=$(date +%s)
+# The OpenXR display's tests run against Monado (scripts/build_monado.sh builds it into
+# build/monado, uninstrumented: it is the headset's runtime, not code under test); where the normal
+# build holds it, the sanitizer build's tests find it there, else they skip, saying why.
+if [ -f build/monado/build/openxr_monado-dev.json ] && [ ! -e build-asan/monado ]; then
+  ln -s ../build/monado build-asan/monado
+fi
 
 status=0
 (
