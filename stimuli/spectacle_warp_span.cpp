@@ -76,31 +76,35 @@ __attribute__((target("avx2,fma"))) void warp_clear_span_avx2(const float* scene
   const __m256d edge_y = _mm256_setr_pd(line[0].edge_y, line[1].edge_y, line[2].edge_y, line[1].edge_y);
   const __m256d step_x = _mm256_setr_pd(line[0].step_x, line[1].step_x, line[2].step_x, line[1].step_x);
   const __m256d step_y = _mm256_setr_pd(line[0].step_y, line[1].step_y, line[2].step_y, line[1].step_y);
-  const __m256d one = _mm256_set1_pd(1.0);
-  const __m128i row_stride = _mm_set1_epi32(row_floats);
+  const __m256d one = _mm256_set1_pd(1.0), four = _mm256_set1_pd(4.0), row = _mm256_set1_pd(row_floats);
+  // 2^52: an integer n < 2^52 added to it is exact, and the double's low 32 bits are then n.
+  const __m256d integer_bias = _mm256_set1_pd(4503599627370496.0);
+  alignas(32) std::int64_t offset[4];
   for (int x = first; x < last; ++x) {
     const __m256d f = _mm256_broadcast_sd(fraction + x);
     const __m256d at_x = _mm256_fmadd_pd(f, step_x, edge_x), at_y = _mm256_fmadd_pd(f, step_y, edge_y);
-    const __m128i cell_x = _mm256_cvttpd_epi32(at_x), cell_y = _mm256_cvttpd_epi32(at_y);  // floors: positions >= 0
-    const __m256d fx = _mm256_sub_pd(at_x, _mm256_cvtepi32_pd(cell_x)), fy = _mm256_sub_pd(at_y, _mm256_cvtepi32_pd(cell_y));
-    const __m256d gx = _mm256_sub_pd(one, fx), gy = _mm256_sub_pd(one, fy);
-    const __m128 w_tl = _mm256_cvtpd_ps(_mm256_mul_pd(gy, gx)), w_tr = _mm256_cvtpd_ps(_mm256_mul_pd(gy, fx));
-    const __m128 w_bl = _mm256_cvtpd_ps(_mm256_mul_pd(fy, gx)), w_br = _mm256_cvtpd_ps(_mm256_mul_pd(fy, fx));
-    const __m256 w_top = _mm256_insertf128_ps(_mm256_castps128_ps256(w_tl), w_tr, 1);
-    const __m256 w_bottom = _mm256_insertf128_ps(_mm256_castps128_ps256(w_bl), w_br, 1);
-    const __m128i offset = _mm_add_epi32(_mm_mullo_epi32(cell_y, row_stride), _mm_slli_epi32(cell_x, 2));
+    const __m256d cell_x = _mm256_floor_pd(at_x), cell_y = _mm256_floor_pd(at_y);
+    const __m256d fx = _mm256_sub_pd(at_x, cell_x), fy = _mm256_sub_pd(at_y, cell_y);
+    // Each lane's corner offset in floats, cell_y row + 4 cell_x: exact in double (below 2^31).
+    _mm256_store_pd(reinterpret_cast<double*>(offset), _mm256_fmadd_pd(cell_y, row, _mm256_fmadd_pd(cell_x, four, integer_bias)));
+    // The weights' factors, each rounded once to float from its double (1 - f in double first, so
+    // each keeps float's relative precision): (1 - fx, fx) side by side, 1 - fy and fy in both halves.
+    const __m256 wx = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm256_cvtpd_ps(_mm256_sub_pd(one, fx))), _mm256_cvtpd_ps(fx), 1);
+    const __m128 gy4 = _mm256_cvtpd_ps(_mm256_sub_pd(one, fy)), fy4 = _mm256_cvtpd_ps(fy);
+    const __m256 wy_top = _mm256_insertf128_ps(_mm256_castps128_ps256(gy4), gy4, 1);
+    const __m256 wy_bottom = _mm256_insertf128_ps(_mm256_castps128_ps256(fy4), fy4, 1);
     // Each lane's corner values from its channel's position (R, G, B from the red, green and blue
     // cells, alpha from the green), a corner row's two pixels in one load: lane k then weighs its
     // own channel's values by its own weights, with no weight moved between lanes.
-    const float* red = scene + _mm_cvtsi128_si32(offset);
-    const float* green = scene + _mm_extract_epi32(offset, 1);
-    const float* blue = scene + _mm_extract_epi32(offset, 2);
+    const float* red = scene + static_cast<std::uint32_t>(offset[0]);
+    const float* green = scene + static_cast<std::uint32_t>(offset[1]);
+    const float* blue = scene + static_cast<std::uint32_t>(offset[2]);
     const __m256 top =
         _mm256_blend_ps(_mm256_blend_ps(_mm256_loadu_ps(green), _mm256_loadu_ps(red), 0x11), _mm256_loadu_ps(blue), 0x44);
     const __m256 bottom = _mm256_blend_ps(
         _mm256_blend_ps(_mm256_loadu_ps(green + row_floats), _mm256_loadu_ps(red + row_floats), 0x11),
         _mm256_loadu_ps(blue + row_floats), 0x44);
-    const __m256 sum = _mm256_fmadd_ps(bottom, w_bottom, _mm256_mul_ps(top, w_top));
+    const __m256 sum = _mm256_mul_ps(wx, _mm256_fmadd_ps(bottom, wy_bottom, _mm256_mul_ps(top, wy_top)));
     _mm_storeu_ps(out_row + 4 * static_cast<std::ptrdiff_t>(x),
                   _mm_add_ps(_mm256_castps256_ps128(sum), _mm256_extractf128_ps(sum, 1)));
   }

@@ -11,11 +11,16 @@
 // - sse2: each channel's position as an (x, y) pair, its weights' fractions rounded to float,
 //   1 - f taken in double first, and the sample wy0 (wx0 TL + wx1 TR) + wy1 (wx0 BL + wx1 BR) of
 //   all four floats of each corner pixel, the three results' lanes then selected.
-// - avx2_fma: the three channels' positions at once (four double lanes: R, G, B, G), the four
-//   corner weights as products of the fractions in double, each rounded once to float, lane by
-//   lane; a corner row's two pixels are one 256-bit load per channel, the lanes blended so each
-//   holds its own channel's values (alpha the green position's), and the two halves added. Each weight keeps float's relative precision and the four non-negative products
-//   sum to within a few float roundings, so a 1e7 : 1 edge keeps the same relative error.
+// - avx2_fma: the three channels' positions at once (four double lanes: R, G, B, G), each lane's
+//   cell by a floor in double and its corner's offset as an integer-valued double (no conversion to
+//   integers and back), the factors 1 - fx, fx, 1 - fy, fy each rounded once to float from double
+//   (1 - f taken in double) and multiplied in float: (1 - fx, fx) (wy_top top + wy_bottom bottom).
+//   A corner row's two pixels are one 256-bit load per channel, the lanes blended so each holds its
+//   own channel's values (alpha the green position's), and the two halves added. Every factor keeps
+//   float's relative precision and every product is of non-negative terms, so the sample is within a
+//   few float roundings of its exact value however steep the scene's edges (a 1e7 : 1 edge keeps the
+//   same relative error); the forms differ in their last bits (not the same operations), each
+//   within the contract.
 #include <cstddef>
 
 #include "core/vector_isa.h"
