@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <sstream>
@@ -265,6 +266,32 @@ class BilinearSampler {
   std::ptrdiff_t step_x_, step_y_;
 };
 
+// Narrows [f_low, f_high] to the fractions f at which edge + f step lies in [low, high].
+void clear_fractions(double edge, double step, double low, double high, double& f_low, double& f_high) {
+  if (step > 0.0) {
+    f_low = std::max(f_low, (low - edge) / step);
+    f_high = std::min(f_high, (high - edge) / step);
+  } else if (step < 0.0) {
+    f_low = std::max(f_low, (high - edge) / step);
+    f_high = std::min(f_high, (low - edge) / step);
+  } else if (!(edge >= low && edge <= high)) {
+    f_low = std::numeric_limits<double>::infinity();
+  }
+}
+
+// For each grid cell (row-major, grid_vertices - 1 a side), whether its four vertices lie clear of
+// the scene's edges by `margin` for all three channels.
+std::vector<bool> clear_grid_cells(const SpectacleWarpGrids& traced, const BilinearSampler& sampler, double margin) {
+  const std::size_t g = static_cast<std::size_t>(traced.grid_vertices());
+  std::vector<bool> clear((g - 1) * (g - 1), true);
+  for (int channel = 0; channel < 3; ++channel)
+    for (std::size_t j = 0; j + 1 < g; ++j)
+      for (std::size_t i = 0; i + 1 < g; ++i)
+        for (const std::size_t vertex : {j * g + i, j * g + i + 1, (j + 1) * g + i, (j + 1) * g + i + 1})
+          if (!sampler.clear_of_edges(traced.vertices(channel)[vertex], margin)) clear[j * (g - 1) + i] = false;
+  return clear;
+}
+
 }  // namespace
 
 ImageRGBA warp_through_spectacles(const ImageRGBA& scene, const SpectacleLens& lens, const SpectacleFrame& frame,
@@ -336,7 +363,9 @@ void warp_through_spectacles(const ImageRGBA& scene, const SpectacleWarpGrids& t
   // Margin of the segments taken without per-pixel checks: far above the 1e-13 px by which a
   // position along a segment may round past its ends.
   constexpr double kMarginPx = 1e-6;
-  if (!vector_isa_available(options.vector_isa)) refuse("this CPU does not run the AVX2 and FMA form of the warp");
+  if (!vector_isa_available(options.vector_isa))
+    refuse(std::string("this CPU does not run the ") + (options.vector_isa == VectorIsa::avx512 ? "AVX-512" : "AVX2 and FMA") +
+           " form of the warp");
   // Each cell's first column (columns' cells never fall along x) and each column's fraction.
   std::vector<int> cell_first(static_cast<std::size_t>(g), width);
   std::vector<double> fraction(static_cast<std::size_t>(width));
@@ -345,12 +374,17 @@ void warp_through_spectacles(const ImageRGBA& scene, const SpectacleWarpGrids& t
     fraction[static_cast<std::size_t>(x)] = columns[static_cast<std::size_t>(x)].fraction;
   }
   for (int i = g - 2; i >= 0; --i) cell_first[static_cast<std::size_t>(i)] = std::min(cell_first[static_cast<std::size_t>(i)], cell_first[static_cast<std::size_t>(i) + 1]);
+  // The grid cells whose pixels all lie clear of the scene's edges for every channel: a pixel's
+  // position is a bilinear interpolation of its cell's four vertices, a convex combination, so it
+  // lies in any box that holds all four (to the 1e-13 px of its rounding, far inside the margin).
+  const std::vector<bool> cell_clear = clear_grid_cells(traced, sampler, kMarginPx);
   parallel_chunks(frame.height_px, options.threads, [&](int first, int last) {
     // Per row, each channel's positions at the vertex columns and their steps to the next column:
     // along a row the grid's bilinear interpolation is linear within a cell, so a pixel's position
     // is its cell's left edge plus the column fraction times the step (GridInterpolation::at
     // rearranged; the same to 1e-13 px).
     std::vector<glm::dvec2> edge(3 * static_cast<std::size_t>(g)), step(edge.size());
+    std::vector<WarpCellLine> lines(3 * static_cast<std::size_t>(g - 1));
     for (int y = first; y < last; ++y) {
       const GridInterpolation::Row row = grids[0].row(y);
       for (int c = 0; c < 3; ++c) {
@@ -358,54 +392,80 @@ void warp_through_spectacles(const ImageRGBA& scene, const SpectacleWarpGrids& t
         grids[static_cast<std::size_t>(c)].row_edges(row, e);
         for (int i = 0; i + 1 < g; ++i) step[static_cast<std::size_t>(c) * g + i] = e[i + 1] - e[i];
       }
-      for (int i = 0; i + 1 < g; ++i) {
-        const int x_first = cell_first[static_cast<std::size_t>(i)], x_last = cell_first[static_cast<std::size_t>(i) + 1];
-        if (x_first >= x_last) continue;
-        // A cell whose ends lie clear of the scene's edges for every channel holds every position
-        // between them (a box is convex): its pixels skip the checks.
-        // One whose ends lie beyond the same edge for every channel shows the outside throughout.
-        bool all_clear = true, all_beyond = true;
-        WarpCellLine line[3];
+      for (std::size_t i = 0; i + 1 < static_cast<std::size_t>(g); ++i)
         for (std::size_t c = 0; c < 3; ++c) {
           const glm::dvec2 e = edge[c * g + i], s = step[c * g + i];
-          line[c] = {e.x, e.y, s.x, s.y};
-          for (int end = 0; end < 2; ++end) all_clear = all_clear && sampler.clear_of_edges(edge[c * g + i + end], kMarginPx);
-          all_beyond = all_beyond && sampler.beyond_one_edge(edge[c * g + i], edge[c * g + i + 1], kMarginPx);
+          lines[3 * i + c] = {e.x, e.y, s.x, s.y};
         }
+      const std::size_t band = static_cast<std::size_t>(row.cell) * static_cast<std::size_t>(g - 1);
+      for (int i = 0; i + 1 < g;) {
+        // A run of cells clear throughout: one call.
+        int run_end = i;
+        while (run_end + 1 < g && cell_clear[band + static_cast<std::size_t>(run_end)]) ++run_end;
+        if (run_end > i) {
+          warp_clear_cells(scene.rgba.data(), scene.width_px, scene.height_px, lines.data(), cell_first.data(), i, run_end,
+                           fraction.data(), out.pixel(0, y), options.vector_isa);
+          i = run_end;
+          continue;
+        }
+        const std::size_t cell = static_cast<std::size_t>(i++);
+        const int x_first = cell_first[cell], x_last = cell_first[cell + 1];
+        const WarpCellLine* line = &lines[3 * cell];
+        if (x_first >= x_last) continue;
+        // A cell whose ends lie beyond the same edge for every channel shows the outside throughout.
+        bool all_beyond = true;
+        for (std::size_t c = 0; c < 3; ++c)
+          all_beyond = all_beyond && sampler.beyond_one_edge(edge[c * g + cell], edge[c * g + cell + 1], kMarginPx);
         if (all_beyond) {
-          for (int x = x_first; x < x_last; ++x) outside.store(out.pixel(x, y));
+          float* pixel = out.pixel(x_first, y);
+          for (int x = x_first; x < x_last; ++x, pixel += 4) outside.store(pixel);
           continue;
         }
-        if (all_clear) {
-          warp_clear_span(scene.rgba.data(), scene.width_px, scene.height_px, line, fraction.data(), x_first, x_last,
-                          out.pixel(0, y), options.vector_isa);
-          continue;
+        // Else the pixels whose three positions lie clear of the edges run without checks: the
+        // positions being linear in the column fraction, those clear by twice the margin have
+        // fractions in one interval, found from the lines (the checks' margin leaves room for its
+        // rounding).
+        double f_low = -std::numeric_limits<double>::infinity(), f_high = std::numeric_limits<double>::infinity();
+        for (std::size_t c = 0; c < 3; ++c) {
+          clear_fractions(line[c].edge_x, line[c].step_x, 2.0 * kMarginPx, scene.width_px - 1.0 - 2.0 * kMarginPx, f_low, f_high);
+          clear_fractions(line[c].edge_y, line[c].step_y, 2.0 * kMarginPx, scene.height_px - 1.0 - 2.0 * kMarginPx, f_low, f_high);
         }
-        // Else pixel by pixel: the runs of pixels whose three positions are clear as above, the
-        // others checked (a position may look past the scene's edge).
+        int clear_first = x_first, clear_last = x_first;
+        if (f_low <= f_high) {
+          const auto begin = fraction.begin();
+          clear_first = static_cast<int>(std::lower_bound(begin + x_first, begin + x_last, f_low) - begin);
+          clear_last = static_cast<int>(std::upper_bound(begin + clear_first, begin + x_last, f_high) - begin);
+        }
+        // The others pixel by pixel: the runs of pixels whose three positions are clear, the rest
+        // checked (a position may look past the scene's edge).
         const auto clear_run = [&](int run_first, int run_last) {
           if (run_first < run_last)
             warp_clear_span(scene.rgba.data(), scene.width_px, scene.height_px, line, fraction.data(), run_first, run_last,
                             out.pixel(0, y), options.vector_isa);
         };
-        int run_first = x_first;
-        for (int x = x_first; x < x_last; ++x) {
-          const double f = fraction[static_cast<std::size_t>(x)];
-          glm::dvec2 at[3];
-          bool clear = true;
-          for (std::size_t c = 0; c < 3; ++c) {
-            at[c] = glm::dvec2(line[c].edge_x + f * line[c].step_x, line[c].edge_y + f * line[c].step_y);
-            clear = clear && sampler.clear_of_edges(at[c], kMarginPx);
+        const auto pixel_by_pixel = [&](int from, int to) {
+          int run_first = from;
+          for (int x = from; x < to; ++x) {
+            const double f = fraction[static_cast<std::size_t>(x)];
+            glm::dvec2 at[3];
+            bool clear = true;
+            for (std::size_t c = 0; c < 3; ++c) {
+              at[c] = glm::dvec2(line[c].edge_x + f * line[c].step_x, line[c].edge_y + f * line[c].step_y);
+              clear = clear && sampler.clear_of_edges(at[c], kMarginPx);
+            }
+            if (clear) continue;
+            clear_run(run_first, x);
+            run_first = x + 1;
+            Float4 seen[3];
+            for (std::size_t c = 0; c < 3; ++c) seen[c] = sampler.inside(at[c]) ? sampler.at(at[c]) : outside;
+            // R from the red position, B from the blue, G and alpha from the green.
+            select(red, seen[0], select(blue, seen[2], seen[1])).store(out.pixel(x, y));
           }
-          if (clear) continue;
-          clear_run(run_first, x);
-          run_first = x + 1;
-          Float4 seen[3];
-          for (std::size_t c = 0; c < 3; ++c) seen[c] = sampler.inside(at[c]) ? sampler.at(at[c]) : outside;
-          // R from the red position, B from the blue, G and alpha from the green.
-          select(red, seen[0], select(blue, seen[2], seen[1])).store(out.pixel(x, y));
-        }
-        clear_run(run_first, x_last);
+          clear_run(run_first, to);
+        };
+        pixel_by_pixel(x_first, clear_first);
+        clear_run(clear_first, clear_last);
+        pixel_by_pixel(clear_last, x_last);
       }
     }
   });

@@ -53,9 +53,9 @@ struct SpectacleWarpOptions {
   std::array<float, 3> outside_cd_m2{0.0f, 0.0f, 0.0f};
   std::optional<double> scene_distance_mm;  // unset: a distant scene
   int threads = 1;
-  // The form of the per-pixel loop (stimuli/spectacle_warp_span.h): the widest this CPU runs,
-  // unless a test pins one; one this CPU does not run is refused.
-  VectorIsa vector_isa = widest_vector_isa();
+  // The form of the per-pixel loop (stimuli/spectacle_warp_span.h: SSE2, AVX2 or AVX-512): the
+  // widest this CPU runs, unless a test pins one; one this CPU does not run is refused.
+  VectorIsa vector_isa = widest_vector_isa_with_avx512();
 };
 
 // For every output pixel, the continuous scene pixel position it shows (pixel i's centre at i).

@@ -293,7 +293,7 @@ TEST(SpectacleWarp, FloatWarpMatchesItsFloat64Reference) {
         const ImageRGBA reference = warp_through_spectacles_reference(scene, lens, frame, options);
         for (std::size_t i = 0; i < reference.rgba.size(); i += 4) outside_pixels += reference.rgba[i] == 0.5f ? 1 : 0;
         // Each form of the per-pixel loop this CPU runs (stimuli/spectacle_warp_span.h).
-        for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+        for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma, VectorIsa::avx512}) {
           if (!vector_isa_available(isa)) continue;
           options.vector_isa = isa;
           options.threads = 1;
