@@ -73,9 +73,13 @@ void warp_clear_span_sse2(const float* scene, std::ptrdiff_t row_floats, const W
 // The scene rows two and three below a corner's, which the next output rows read: asked for into
 // the second-level cache a row ahead, so those rows' first reads find them there (the rows of
 // one output row are not a stream the hardware's prefetcher follows across the frame's curve).
+// Near the scene's last rows those addresses lie past its end: a prefetch never faults, and the
+// address is formed as an integer, so no pointer past the array is ever made.
 inline void prefetch_rows_below(const float* corner, int row_floats) {
-  _mm_prefetch(reinterpret_cast<const char*>(corner + 2 * static_cast<std::ptrdiff_t>(row_floats)), _MM_HINT_T1);
-  _mm_prefetch(reinterpret_cast<const char*>(corner + 3 * static_cast<std::ptrdiff_t>(row_floats)), _MM_HINT_T1);
+  const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(corner);
+  const std::uintptr_t row_bytes = sizeof(float) * static_cast<std::uintptr_t>(row_floats);
+  _mm_prefetch(reinterpret_cast<const char*>(at + 2 * row_bytes), _MM_HINT_T1);
+  _mm_prefetch(reinterpret_cast<const char*>(at + 3 * row_bytes), _MM_HINT_T1);
 }
 
 // One channel-lane set of a row cell (lanes R, G, B, G: the fourth repeats green, whose position
