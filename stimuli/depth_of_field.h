@@ -40,6 +40,7 @@
 #include "core/image.h"
 #include "core/vector_isa.h"
 #include "stimuli/depth_layers.h"
+#include "stimuli/depth_of_field_rows.h"
 
 namespace glarelab {
 
@@ -76,6 +77,26 @@ struct DepthOfFieldReport {
 // The result does not depend on `threads`.
 ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
                                const DepthOfFieldSettings& settings, DepthOfFieldReport* report = nullptr);
+
+// The stage's buffers, kept by a caller that blurs frame after frame (the whole-frame bench): the
+// layer plan, each layer's row spans, the transmission, the layers' rows, the occluders' coverage
+// and the FFT's grids reused
+// instead of mapped afresh (about 100 MB a 1920 x 1080 frame, whose page faults cost more than the
+// blur itself). A result does not depend on what they held before.
+struct DepthOfFieldBuffers {
+  DepthLayerPlan plan;
+  std::vector<RowSpan> layer_spans;
+  std::vector<float> transmission;
+  LayerRows rows;
+  LayerFftBuffers fft;
+  std::vector<std::vector<float>> coverages;  // the occluding layers' coverage, returned when used
+};
+
+// The same with kept buffers, into `result` (its memory reused when it already has the image's
+// size; not the input image itself, refused as above); the same values as above.
+void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
+                          const DepthOfFieldSettings& settings, DepthOfFieldBuffers& buffers, ImageRGBA& result,
+                          DepthOfFieldReport* report = nullptr);
 
 // Checks shared with the per-pixel reference (the same refusals, the same messages).
 void check_depth_of_field_inputs(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,

@@ -55,6 +55,8 @@ inline LayerImage blur_layer(const LayerImage& layer, const EllipticalKernel& ke
 // The method expected to be faster for this layer and kernel: direct costs its rows' nonzero spans
 // times the kernel's nonzero taps, the FFT its padded rectangle times the log of its size (the
 // constant between them measured by bench/depth_of_field_bench.cpp).
+LayerConvolution cheaper_layer_convolution(int width_px, int height_px, const std::vector<RowSpan>& spans,
+                                           const EllipticalKernel& kernel);
 LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,
                                            const EllipticalKernel& kernel);
 inline LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const EllipticalKernel& kernel) {

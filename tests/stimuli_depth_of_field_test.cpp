@@ -477,6 +477,56 @@ TEST(DepthOfFieldTest, ResultDoesNotDependOnTheThreadCount) {
     EXPECT_EQ(apply_depth_of_field(image, depth, settings_for(error, threads)).rgba, one.rgba) << threads;
 }
 
+TEST(DepthOfFieldTest, KeptBuffersGiveTheFramesOfFreshOnes) {
+  // Buffers and an output kept from frame to frame (DepthOfFieldBuffers) reuse memory whatever it
+  // held: frames of other sizes, other layers and both convolutions in turn must each be the bits of
+  // a call with fresh buffers, alpha and depth channel included.
+  const EyeErrorAtDistance error = emmetrope(1.0, DioptricPower::from_prescription({0.0, -0.75, 20.0}));
+  struct Frame {
+    ImageRGBA image;
+    std::vector<float> depth;
+  };
+  const auto frame = [](int width, int height, float near_m, float far_m) {
+    Frame f{textured(width, height), {}};
+    f.depth.resize(static_cast<std::size_t>(width) * height);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        f.image.pixel(x, y)[3] = 0.25f + 0.01f * static_cast<float>(x % 7);
+        f.depth[static_cast<std::size_t>(y) * width + x] =
+            x < width / 3 ? near_m : static_cast<float>(far_m + 0.05 * y);
+      }
+    f.image.depth = f.depth;
+    return f;
+  };
+  // The second has a 0.1 m board 9 D from focus (18 px of blur: the FFT), the others only the direct sum.
+  const std::vector<Frame> frames = {frame(80, 50, 0.3f, 0.6f), frame(140, 90, 0.1f, 0.8f), frame(61, 37, 0.5f, 1.5f),
+                                     frame(80, 50, 0.3f, 0.6f)};
+  for (int threads : {1, 2}) {
+    DepthOfFieldBuffers buffers;
+    ImageRGBA kept(3, 2, 7.0f);  // the wrong size: made again
+    bool took_fft = false;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      DepthOfFieldReport kept_report, fresh_report;
+      apply_depth_of_field(frames[k].image, frames[k].depth, settings_for(error, threads), buffers, kept, &kept_report);
+      const ImageRGBA fresh =
+          apply_depth_of_field(frames[k].image, frames[k].depth, settings_for(error, threads), &fresh_report);
+      ASSERT_EQ(kept.width_px, fresh.width_px);
+      EXPECT_EQ(kept.rgba, fresh.rgba) << k << " " << threads;
+      EXPECT_EQ(kept.depth, frames[k].depth) << k;
+      EXPECT_EQ(kept_report.layers, fresh_report.layers);
+      EXPECT_EQ(kept_report.fft_layers, fresh_report.fft_layers);
+      took_fft = took_fft || kept_report.fft_layers > 0;
+      // The alpha is the input's, untouched by the blur.
+      EXPECT_EQ(kept.pixel(6, 3)[3], frames[k].image.pixel(6, 3)[3]);
+    }
+    EXPECT_TRUE(took_fft);
+  }
+  // The output cannot be its own input.
+  DepthOfFieldBuffers buffers;
+  ImageRGBA same = frames[0].image;
+  EXPECT_THROW(apply_depth_of_field(same, frames[0].depth, settings_for(error), buffers, same), std::invalid_argument);
+}
+
 TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
   LayerImage layer;
   layer.x0_px = 5;
@@ -533,9 +583,10 @@ TEST(DepthOfFieldTest, BlurredSpansHoldEveryNonzeroValueOfTheBlurredLayer) {
 }
 
 TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
-  // bench/depth_of_field_bench.cpp on a 1024 x 768 layer, 2 threads: direct 14 ms against FFT 17 ms
-  // (CPU) for a 4 px circle, 48 against 17 ms for an 8 px one; on a 32-row band direct 0.6 against
-  // 1.0 ms at 4 px, 2.0 against 0.8 ms at 8 px.
+  // bench/depth_of_field_bench.cpp's layer blurs on a 1024 x 768 layer, 2 threads (CPU, the direct
+  // sum's outputs held in registers): direct 31 ms against FFT 48 ms for an 8 px circle, 102
+  // against 41 ms for a 16 px one; on a 32-row band direct 1.05 against 1.96 ms at 8 px, 3.7
+  // against 1.9 ms at 16 px.
   const auto pick = [](int width, int height, double radius_px) {
     LayerImage layer;
     layer.width_px = width;
@@ -544,19 +595,20 @@ TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
     return cheaper_layer_convolution(layer, elliptical_kernel(PixelBlurEllipse{radius_px, radius_px, 0.0}));
   };
   EXPECT_EQ(pick(1024, 768, 4.0), LayerConvolution::direct);
-  EXPECT_EQ(pick(1024, 768, 8.0), LayerConvolution::fft);
-  EXPECT_EQ(pick(1024, 32, 4.0), LayerConvolution::direct);
-  EXPECT_EQ(pick(1024, 32, 8.0), LayerConvolution::fft);
+  EXPECT_EQ(pick(1024, 768, 8.0), LayerConvolution::direct);
+  EXPECT_EQ(pick(1024, 768, 16.0), LayerConvolution::fft);
+  EXPECT_EQ(pick(1024, 32, 8.0), LayerConvolution::direct);
+  EXPECT_EQ(pick(1024, 32, 16.0), LayerConvolution::fft);
   EXPECT_EQ(pick(1024, 768, 0.4), LayerConvolution::direct);  // the identity kernel
   // A thin diagonal band (a slice of a tilted plane) in a full-frame rectangle: the direct sum only
-  // visits its 8 px a row, so it stays cheaper at 8 px of blur.
+  // visits its 8 px a row, so it stays cheaper at 16 px of blur.
   LayerImage band;
   band.width_px = 1024;
   band.height_px = 768;
   band.rgba.assign(4 * static_cast<std::size_t>(1024) * 768, 0.0f);
   for (int y = 0; y < 768; ++y)
     for (int x = y; x < y + 8; ++x) band.pixel(x, y)[3] = 1.0f;
-  EXPECT_EQ(cheaper_layer_convolution(band, elliptical_kernel(PixelBlurEllipse{8.0, 8.0, 0.0})),
+  EXPECT_EQ(cheaper_layer_convolution(band, elliptical_kernel(PixelBlurEllipse{16.0, 16.0, 0.0})),
             LayerConvolution::direct);
 }
 
