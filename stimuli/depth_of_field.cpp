@@ -24,20 +24,27 @@ struct Rectangle {
   int x1 = -1, y1 = -1;  // inclusive
 };
 
-// Each layer's span in each frame row, spans[layer * height + y] in frame columns (first == last:
-// none), found in one pass over the plan in chunks of rows (each row's entries written by its own
-// chunk), and the layers' bounding rectangles drawn from them.
-void layer_row_spans(const DepthLayerPlan& plan, int width, int height, int threads, std::vector<RowSpan>& spans) {
+// Each frame row's runs of pixels with the same layer, blend layer and blend weight (a plane, a row
+// of a floor: a few a row), found in one pass over the plan in chunks of rows, and from them each
+// layer's span in each frame row, spans[layer * height + y] in frame columns (first == last: none),
+// each row's entries written by its own chunk.
+void plan_row_runs(const DepthLayerPlan& plan, int width, int height, int threads,
+                   std::vector<std::vector<PixelRun>>& runs, std::vector<RowSpan>& spans) {
+  runs.resize(static_cast<std::size_t>(height));
   spans.assign(plan.layers.size() * static_cast<std::size_t>(height), RowSpan{});
   parallel_chunks(height, threads, [&](int first, int last) {
     for (int y = first; y < last; ++y) {
       const std::size_t row = static_cast<std::size_t>(y) * width;
-      // Runs of pixels with the same two layers (a plane, a row of a floor) at once.
+      std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(y)];
+      row_runs.clear();
       for (int x = 0; x < width;) {
         const std::uint32_t own = plan.layer_of_pixel[row + x], blended = plan.blend_layer_of_pixel[row + x];
+        const float weight = plan.blend_weight[row + x];
         int end = x + 1;
-        while (end < width && plan.layer_of_pixel[row + end] == own && plan.blend_layer_of_pixel[row + end] == blended)
+        while (end < width && plan.layer_of_pixel[row + end] == own && plan.blend_layer_of_pixel[row + end] == blended &&
+               plan.blend_weight[row + end] == weight)
           ++end;
+        row_runs.push_back({x, end, own, blended, weight});
         for (const std::uint32_t index : {own, blended}) {
           RowSpan& span = spans[index * static_cast<std::size_t>(height) + y];
           if (span.first == span.last) span.first = x;
@@ -61,43 +68,65 @@ Rectangle bounding_rectangle(const RowSpan* spans, int height) {
   return box;
 }
 
-// The layer's pixels as premultiplied RGBA on their row spans (`frame_spans`: the layer's, one a
-// frame row) in its bounding rectangle: on its own pixels colour and coverage times 1 - their blend
-// weight, on the pixels blended into it from a neighbour times their blend weight, 0 between.
-void fill_layer_rows(const ImageRGBA& image, const DepthLayerPlan& plan, std::uint32_t index,
-                     const RowSpan* frame_spans, const Rectangle& box, const EllipticalKernel& kernel,
-                     LayerRows& rows, int threads) {
-  std::vector<RowSpan> spans(static_cast<std::size_t>(box.y1 - box.y0 + 1));
-  for (std::size_t y = 0; y < spans.size(); ++y) {
-    const RowSpan& span = frame_spans[static_cast<std::size_t>(box.y0) + y];
-    if (span.first < span.last) spans[y] = {span.first - box.x0, span.last - box.x0};
-  }
-  rows.lay_out(box.x0, box.y0, box.x1 - box.x0 + 1, box.y1 - box.y0 + 1, spans, kernel);
+// target = w x (r, g, b, 1) over `pixels` pixels of `source`: the source's alpha replaced by 1, whose
+// product is w exactly (SSE2 where compiled: the same products a lane).
+void weighted_pixels(float* __restrict target, const float* __restrict source, float weight, int pixels) {
 #if defined(__x86_64__) && defined(__GNUC__)
   const __m128 colour_mask = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
   const __m128 alpha_one = _mm_set_ps(1.0f, 0.0f, 0.0f, 0.0f);
-#endif
-  parallel_chunks(rows.height_px, threads, [&](int first_row, int last_row) {
-    for (int y = first_row; y < last_row; ++y) {
-      const RowSpan& span = rows.spans[static_cast<std::size_t>(y)];
-      if (span.first >= span.last) continue;
-      float* target = rows.span_pixels(y);
-      const std::size_t row_start = static_cast<std::size_t>(box.y0 + y) * image.width_px + box.x0;
-      for (int x = span.first; x < span.last; ++x, target += 4) {
-        const std::size_t k = row_start + static_cast<std::size_t>(x);
-        const bool own = plan.layer_of_pixel[k] == index, blended = plan.blend_layer_of_pixel[k] == index;
-        const float weight = own ? 1.0f - plan.blend_weight[k] : blended ? plan.blend_weight[k] : 0.0f;
-        const float* source = image.pixel(box.x0 + x, box.y0 + y);
-#if defined(__x86_64__) && defined(__GNUC__)
-        // (w r, w g, w b, w x 1): the source's alpha replaced by 1, whose product is w exactly.
-        const __m128 colour_and_one = _mm_or_ps(_mm_and_ps(_mm_loadu_ps(source), colour_mask), alpha_one);
-        _mm_storeu_ps(target, _mm_mul_ps(_mm_set1_ps(weight), colour_and_one));
+  const __m128 w = _mm_set1_ps(weight);
+  for (int x = 0; x < pixels; ++x, target += 4, source += 4)
+    _mm_storeu_ps(target, _mm_mul_ps(w, _mm_or_ps(_mm_and_ps(_mm_loadu_ps(source), colour_mask), alpha_one)));
 #else
-        target[0] = weight * source[0];
-        target[1] = weight * source[1];
-        target[2] = weight * source[2];
-        target[3] = weight;
+  for (int x = 0; x < pixels; ++x, target += 4, source += 4) {
+    for (int c = 0; c < 3; ++c) target[c] = weight * source[c];
+    target[3] = weight;
+  }
 #endif
+}
+
+// The layer's pixels as premultiplied RGBA on their rows' segments in its bounding rectangle, a
+// run of the plan at a time: on its own pixels colour and coverage times 1 - their blend weight, on
+// the pixels blended into it from a neighbour times their blend weight, 0 between. A segment is a
+// stretch of the layer's runs; a gap too short to part two (min_segment_gap_px) is kept as zeros.
+void fill_layer_rows(const ImageRGBA& image, const std::vector<std::vector<PixelRun>>& runs, std::uint32_t index,
+                     const Rectangle& box, const EllipticalKernel& kernel, LayerRows& rows, int threads) {
+  const int height = box.y1 - box.y0 + 1, gap = min_segment_gap_px(kernel);
+  std::vector<std::size_t> row_first(static_cast<std::size_t>(height) + 1, 0);
+  std::vector<RowSpan> segments;
+  for (int y = 0; y < height; ++y) {
+    const std::size_t row_start = segments.size();
+    for (const PixelRun& run : runs[static_cast<std::size_t>(box.y0 + y)]) {
+      if (run.own != index && run.blended != index) continue;
+      const int first = run.first - box.x0, last = run.end - box.x0;
+      if (segments.size() > row_start && first - segments.back().last < gap)
+        segments.back().last = last;
+      else
+        segments.push_back({first, last});
+    }
+    row_first[static_cast<std::size_t>(y) + 1] = segments.size();
+  }
+  rows.lay_out_segments(box.x0, box.y0, box.x1 - box.x0 + 1, height, row_first, segments, kernel);
+  parallel_chunks(height, threads, [&](int first_row, int last_row) {
+    for (int y = first_row; y < last_row; ++y) {
+      const std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(box.y0 + y)];
+      auto run = row_runs.begin();
+      for (std::size_t s = rows.first_segment[static_cast<std::size_t>(y)];
+           s < rows.first_segment[static_cast<std::size_t>(y) + 1]; ++s) {
+        const int frame_first = box.x0 + rows.segments[s].first, frame_last = box.x0 + rows.segments[s].last;
+        float* target = rows.segment_pixels(s);
+        while (run != row_runs.end() && run->end <= frame_first) ++run;
+        for (; run != row_runs.end() && run->first < frame_last; ++run) {
+          const int first = std::max(run->first, frame_first), last = std::min(run->end, frame_last);
+          float* out = target + 4 * static_cast<std::size_t>(first - frame_first);
+          if (run->own == index)
+            weighted_pixels(out, image.pixel(first, box.y0 + y), 1.0f - run->blend_weight, last - first);
+          else if (run->blended == index)
+            weighted_pixels(out, image.pixel(first, box.y0 + y), run->blend_weight, last - first);
+          else
+            std::fill_n(out, 4 * static_cast<std::size_t>(last - first), 0.0f);
+        }
+        if (run != row_runs.begin()) --run;  // the last run may reach into the next segment
       }
     }
   });
@@ -220,7 +249,7 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
   const BlurGeometry geometry{settings.degrees_per_pixel, settings.pupil_radius_m};
   plan_depth_layers(depth_m, geometry, settings.residual_error, settings.tolerance_px, settings.threads, buffers.plan);
   const DepthLayerPlan& plan = buffers.plan;
-  layer_row_spans(plan, width, height, settings.threads, buffers.layer_spans);
+  plan_row_runs(plan, width, height, settings.threads, buffers.row_runs, buffers.layer_spans);
   const std::vector<RowSpan>& frame_spans = buffers.layer_spans;
 
   DepthOfFieldReport counts;
@@ -269,7 +298,8 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
     const Rectangle box = bounding_rectangle(spans, height);
     if (box.x1 < 0) continue;  // no pixel (a layer is made only for depths the scene has)
     const EllipticalKernel& kernel = kernels[index];
-    fill_layer_rows(image_cd_m2, plan, static_cast<std::uint32_t>(index), spans, box, kernel, rows, settings.threads);
+    fill_layer_rows(image_cd_m2, buffers.row_runs, static_cast<std::uint32_t>(index), box, kernel, rows,
+                    settings.threads);
     const std::vector<RowSpan> blurred_spans = blurred_row_spans(rows.spans, kernel);
     const FramePlacement place{box.x0 - kernel.radius_x_px, box.y0 - kernel.radius_y_px, width, height};
 

@@ -98,11 +98,14 @@ void blur_rows_fft(const LayerRows& layer, const EllipticalKernel& kernel, int t
       const FftwFloatPlan forward = FftwFloatPlan::real_forward(rows, cols, 1, real, spectrum.data(), 1);
       const FftwFloatPlan inverse = FftwFloatPlan::real_inverse(rows, cols, 1, spectrum.data(), real, 1);
       for (int y = 0; y < layer.height_px; ++y) {
-        const RowSpan& span = layer.spans[static_cast<std::size_t>(y)];
-        const float* in = layer.span_pixels(y);
         float* grid_row = real + static_cast<std::size_t>(y) * cols;
-        for (int x = span.first; x < span.last; ++x)
-          grid_row[x] = in[4 * static_cast<std::size_t>(x - span.first) + channel];
+        for (std::size_t s = layer.first_segment[static_cast<std::size_t>(y)];
+             s < layer.first_segment[static_cast<std::size_t>(y) + 1]; ++s) {
+          const RowSpan& segment = layer.segments[s];
+          const float* in = layer.segment_pixels(s);
+          for (int x = segment.first; x < segment.last; ++x)
+            grid_row[x] = in[4 * static_cast<std::size_t>(x - segment.first) + channel];
+        }
       }
       forward.execute();
       for (std::size_t k = 0; k < spectrum_size; ++k) spectrum[k] *= kernel_spectrum[k] * scale;

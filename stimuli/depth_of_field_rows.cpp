@@ -141,32 +141,50 @@ BlockSum block_sum_for(VectorIsa isa) {
 
 }  // namespace
 
+int min_segment_gap_px(const EllipticalKernel& kernel) { return 2 * kernel.radius_x_px + kBlock; }
+
 void LayerRows::lay_out(int x0, int y0, int width, int height, const std::vector<RowSpan>& row_spans,
                         const EllipticalKernel& kernel) {
   if (row_spans.size() != static_cast<std::size_t>(height))
     throw std::invalid_argument("stimuli/depth_of_field_rows: " + std::to_string(row_spans.size()) +
                                 " row spans for a " + std::to_string(height) + "-row layer");
+  std::vector<std::size_t> row_first(static_cast<std::size_t>(height) + 1, 0);
+  std::vector<RowSpan> row_segments;
+  for (int y = 0; y < height; ++y) {
+    const RowSpan& span = row_spans[static_cast<std::size_t>(y)];
+    if (span.first < span.last) row_segments.push_back(span);
+    row_first[static_cast<std::size_t>(y) + 1] = row_segments.size();
+  }
+  lay_out_segments(x0, y0, width, height, row_first, row_segments, kernel);
+}
+
+void LayerRows::lay_out_segments(int x0, int y0, int width, int height, const std::vector<std::size_t>& row_first,
+                                 const std::vector<RowSpan>& row_segments, const EllipticalKernel& kernel) {
   x0_px = x0;
   y0_px = y0;
   width_px = width;
   height_px = height;
   pad_px = 2 * kernel.radius_x_px + kBlock;
-  spans = row_spans;
-  offsets.assign(static_cast<std::size_t>(height), 0);
-  std::size_t size = 0;
+  first_segment = row_first;
+  segments = row_segments;
+  spans.assign(static_cast<std::size_t>(height), RowSpan{});
   for (int y = 0; y < height; ++y) {
-    const RowSpan& span = spans[static_cast<std::size_t>(y)];
-    offsets[static_cast<std::size_t>(y)] = size;
-    if (span.first < span.last) size += 4 * static_cast<std::size_t>(span.last - span.first + 2 * pad_px);
+    const std::size_t first = first_segment[static_cast<std::size_t>(y)], last = first_segment[static_cast<std::size_t>(y) + 1];
+    if (first < last) spans[static_cast<std::size_t>(y)] = {segments[first].first, segments[last - 1].last};
+  }
+  offsets.resize(segments.size());
+  std::size_t size = 0;
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    offsets[s] = size;
+    size += 4 * static_cast<std::size_t>(segments[s].last - segments[s].first + 2 * pad_px);
   }
   reserve(size);
   const std::size_t pad_floats = 4 * static_cast<std::size_t>(pad_px);
-  for (int y = 0; y < height; ++y) {
-    const RowSpan& span = spans[static_cast<std::size_t>(y)];
-    if (span.first >= span.last) continue;
-    float* row = row_start(y);
-    std::fill_n(row, pad_floats, 0.0f);
-    std::fill_n(row + pad_floats + 4 * static_cast<std::size_t>(span.last - span.first), pad_floats, 0.0f);
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    float* stored = segment_start(s);
+    std::fill_n(stored, pad_floats, 0.0f);
+    std::fill_n(stored + pad_floats + 4 * static_cast<std::size_t>(segments[s].last - segments[s].first), pad_floats,
+                0.0f);
   }
 }
 
@@ -183,7 +201,7 @@ void copy_layer_rows(const LayerImage& layer, const std::vector<RowSpan>& spans,
     const RowSpan& span = spans[static_cast<std::size_t>(y)];
     if (span.first < span.last)
       std::copy_n(layer.pixel(span.first, y), 4 * static_cast<std::size_t>(span.last - span.first),
-                  rows.span_pixels(y));
+                  rows.segment_pixels(rows.first_segment[static_cast<std::size_t>(y)]));
   }
 }
 
@@ -194,12 +212,11 @@ LayerImage layer_image_of(const LayerRows& rows) {
   layer.width_px = rows.width_px;
   layer.height_px = rows.height_px;
   layer.rgba.assign(4 * static_cast<std::size_t>(rows.width_px) * rows.height_px, 0.0f);
-  for (int y = 0; y < rows.height_px; ++y) {
-    const RowSpan& span = rows.spans[static_cast<std::size_t>(y)];
-    if (span.first < span.last)
-      std::copy_n(rows.span_pixels(y), 4 * static_cast<std::size_t>(span.last - span.first),
-                  layer.pixel(span.first, y));
-  }
+  for (int y = 0; y < rows.height_px; ++y)
+    for (std::size_t s = rows.first_segment[static_cast<std::size_t>(y)];
+         s < rows.first_segment[static_cast<std::size_t>(y) + 1]; ++s)
+      std::copy_n(rows.segment_pixels(s), 4 * static_cast<std::size_t>(rows.segments[s].last - rows.segments[s].first),
+                  layer.pixel(rows.segments[s].first, y));
   return layer;
 }
 
@@ -223,12 +240,14 @@ void blur_rows_direct(const LayerRows& rows, const EllipticalKernel& kernel, int
       for (int dy = -ry; dy <= ry; ++dy) {
         const int sy = oy - ry - dy;
         if (sy < 0 || sy >= rows.height_px) continue;
-        const RowSpan& in = rows.spans[static_cast<std::size_t>(sy)];
         const std::vector<Tap>& row_taps = taps[static_cast<std::size_t>(dy + ry)];
-        if (in.first >= in.last || row_taps.empty()) continue;
-        const std::ptrdiff_t column0 = 4 * static_cast<std::ptrdiff_t>(rows.pad_px - in.first);
-        sources.push_back({rows.row_start(sy), column0, in.first, in.last + 2 * rx,
-                           &row_taps});
+        if (row_taps.empty()) continue;
+        for (std::size_t s = rows.first_segment[static_cast<std::size_t>(sy)];
+             s < rows.first_segment[static_cast<std::size_t>(sy) + 1]; ++s) {
+          const RowSpan& in = rows.segments[s];
+          const std::ptrdiff_t column0 = 4 * static_cast<std::ptrdiff_t>(rows.pad_px - in.first);
+          sources.push_back({rows.segment_start(s), column0, in.first, in.last + 2 * rx, &row_taps});
+        }
       }
       const int count = span.last - span.first;
       const int blocks = (count + kBlock - 1) / kBlock;

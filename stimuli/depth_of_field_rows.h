@@ -32,34 +32,47 @@ namespace glarelab {
 // Pixels the direct sum computes at once (its block); rows are padded by 2 radius_x + this.
 inline constexpr int kDirectBlockPx = 16;
 
-// A layer's rectangle as LayerImage places it, and each row's span of premultiplied RGBA.
+// A layer's rectangle as LayerImage places it, and each row's segments of premultiplied RGBA: the
+// stretches of the row that hold the layer's pixels (a board's row beside a gap and another board),
+// each stored with pad_px zero pixels on either side.
 struct LayerRows {
   int x0_px = 0, y0_px = 0;
   int width_px = 0, height_px = 0;
-  int pad_px = 0;               // zero pixels stored on each side of a row's span
-  std::vector<RowSpan> spans;   // a row's span in rectangle columns (first == last: empty)
-  std::vector<std::size_t> offsets;  // a row's first stored float (column span.first - pad_px)
+  int pad_px = 0;                          // zero pixels stored on each side of a segment
+  std::vector<RowSpan> spans;              // a row's hull: its first segment's first pixel to its last one's end
+  std::vector<std::size_t> first_segment;  // row y's segments: [first_segment[y], first_segment[y + 1])
+  std::vector<RowSpan> segments;           // rectangle columns, left to right, none empty
+  std::vector<std::size_t> offsets;        // a segment's first stored float (column first - pad_px)
 
   // Room for `floats` values without filling it (lay_out grows it as needed; reserving the
   // largest layer's size first spares the copies of growing).
   void reserve(std::size_t floats);
 
-  // Sets the rectangle, the spans and the padding for `kernel` and lays out the rows; each row's
-  // pads are zeroed and its span left for the caller to write through span_pixels.
+  // Sets the rectangle and the segments, one a row (`row_spans`; an empty span: none), with the
+  // padding for `kernel`, and lays them out: each segment's pads are zeroed and its pixels left for
+  // the caller to write through segment_pixels.
   void lay_out(int x0, int y0, int width, int height, const std::vector<RowSpan>& row_spans,
                const EllipticalKernel& kernel);
-  // The first pixel of row y's span (4 floats a pixel), writable.
-  float* span_pixels(int y) { return row_start(y) + 4 * static_cast<std::size_t>(pad_px); }
-  const float* span_pixels(int y) const { return row_start(y) + 4 * static_cast<std::size_t>(pad_px); }
-  // Row y's stored floats, from its left pad.
-  float* row_start(int y) { return storage_.get() + offsets[static_cast<std::size_t>(y)]; }
-  const float* row_start(int y) const { return storage_.get() + offsets[static_cast<std::size_t>(y)]; }
+  // The same with several segments a row (`row_first`, height + 1 entries, indexing `row_segments`);
+  // two segments of a row must lie at least min_segment_gap_px(kernel) apart, so that no block of
+  // the direct sum reads both and each output adds its products in the order of one span a row.
+  void lay_out_segments(int x0, int y0, int width, int height, const std::vector<std::size_t>& row_first,
+                        const std::vector<RowSpan>& row_segments, const EllipticalKernel& kernel);
+  // The first pixel of segment s (4 floats a pixel), writable.
+  float* segment_pixels(std::size_t s) { return segment_start(s) + 4 * static_cast<std::size_t>(pad_px); }
+  const float* segment_pixels(std::size_t s) const { return segment_start(s) + 4 * static_cast<std::size_t>(pad_px); }
+  // Segment s's stored floats, from its left pad.
+  float* segment_start(std::size_t s) { return storage_.get() + offsets[s]; }
+  const float* segment_start(std::size_t s) const { return storage_.get() + offsets[s]; }
 
  private:
   // Kept between layers: grown, never shrunk, never filled as a whole.
   std::unique_ptr<float[]> storage_;
   std::size_t capacity_ = 0;
 };
+
+// Segments of a row closer than this (2 radius_x + the block) are one segment, zeros between.
+int min_segment_gap_px(const EllipticalKernel& kernel);
 
 // The rows of `layer` on `spans` (outside which it must be zero), laid out for `kernel`.
 void copy_layer_rows(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,

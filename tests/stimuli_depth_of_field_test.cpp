@@ -17,6 +17,7 @@
 #include "stimuli/depth_of_field.h"
 #include "stimuli/depth_of_field_blur.h"
 #include "stimuli/depth_of_field_reference.h"
+#include "stimuli/depth_of_field_rows.h"
 #include "stimuli/display_model.h"
 #include "stimuli/elliptical_kernel.h"
 #include "stimuli/scene_depth.h"
@@ -556,6 +557,64 @@ TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
     if (!vector_isa_available(isa)) continue;
     EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2, isa).rgba, direct.rgba) << static_cast<int>(isa);
   }
+}
+
+TEST(DepthOfFieldTest, RowSegmentsGiveTheBitsOfOneSpanWithZerosBetween) {
+  // Two boards in the same rows, far enough apart to be stored as two segments a row: the direct
+  // sum must give every output the bits it has when each row is one span with zeros in the gap
+  // (the gap at least min_segment_gap_px, so no block reads both), on 1 and 3 threads and in each
+  // vector form.
+  const EllipticalKernel kernel = elliptical_kernel(PixelBlurEllipse{5.0, 2.5, 30.0});
+  const int gap = min_segment_gap_px(kernel);
+  const int width = 12 + gap + 17, height = 19;
+  const ImageRGBA texture = textured(width, height);
+  LayerImage layer;
+  layer.x0_px = -4;
+  layer.y0_px = 7;
+  layer.width_px = width;
+  layer.height_px = height;
+  layer.rgba.assign(4 * static_cast<std::size_t>(width) * height, 0.0f);
+  std::vector<std::size_t> row_first(static_cast<std::size_t>(height) + 1, 0);
+  std::vector<RowSpan> segments, hulls(static_cast<std::size_t>(height));
+  for (int y = 0; y < height; ++y) {
+    // Row 5 has only the left board, row 9 only the right one, row 13 none.
+    const bool left = y != 9 && y != 13, right = y != 5 && y != 13;
+    const int right_first = 12 + gap + (y % 3);  // the gap never below the least
+    if (left) segments.push_back({1, 12});
+    if (right) segments.push_back({right_first, width - (y % 2)});
+    row_first[static_cast<std::size_t>(y) + 1] = segments.size();
+    for (std::size_t s = row_first[static_cast<std::size_t>(y)]; s < segments.size(); ++s)
+      for (int x = segments[s].first; x < segments[s].last; ++x)
+        std::copy_n(texture.pixel(x, y), 4, layer.pixel(x, y));
+    if (left || right) hulls[static_cast<std::size_t>(y)] = {left ? 1 : right_first, right ? width - (y % 2) : 12};
+  }
+  LayerRows split;
+  split.lay_out_segments(layer.x0_px, layer.y0_px, width, height, row_first, segments, kernel);
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const int y = static_cast<int>(std::upper_bound(row_first.begin(), row_first.end(), s) - row_first.begin()) - 1;
+    std::copy_n(layer.pixel(segments[s].first, y), 4 * static_cast<std::size_t>(segments[s].last - segments[s].first),
+                split.segment_pixels(s));
+  }
+  ASSERT_EQ(split.spans.size(), hulls.size());
+  for (std::size_t y = 0; y < hulls.size(); ++y) {
+    EXPECT_EQ(split.spans[y].first, hulls[y].first) << y;
+    EXPECT_EQ(split.spans[y].last, hulls[y].last) << y;
+  }
+  const LayerImage whole = blur_layer(layer, hulls, kernel, LayerConvolution::direct, 1);
+  for (const int threads : {1, 3})
+    for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+      if (!vector_isa_available(isa)) continue;
+      LayerImage out = whole;
+      std::fill(out.rgba.begin(), out.rgba.end(), -1.0f);
+      blur_rows_direct(split, kernel, threads, isa, [&](int row, int first, int count, const float* rgba) {
+        std::copy_n(rgba, 4 * static_cast<std::size_t>(count), out.pixel(first, row));
+      });
+      const std::vector<RowSpan> blurred = blurred_row_spans(hulls, kernel);
+      for (int y = 0; y < out.height_px; ++y)
+        for (int x = blurred[static_cast<std::size_t>(y)].first; x < blurred[static_cast<std::size_t>(y)].last; ++x)
+          for (int c = 0; c < 4; ++c)
+            ASSERT_EQ(out.pixel(x, y)[c], whole.pixel(x, y)[c]) << x << " " << y << " " << threads;
+    }
 }
 
 TEST(DepthOfFieldTest, BlurredSpansHoldEveryNonzeroValueOfTheBlurredLayer) {
