@@ -57,7 +57,7 @@ struct DepthOfFieldSettings {
   EyeErrorAtDistance residual_error;  // the eye's power error for each distance
   double tolerance_px = kDefaultLayerTolerancePx;
   int threads = 1;
-  // The form of the direct blur's row adds (depth_of_field_blur.h): the same bits in each.
+  // The form of the direct blur's sums (depth_of_field_rows.h): the same bits in each.
   VectorIsa vector_isa = widest_vector_isa();
 };
 

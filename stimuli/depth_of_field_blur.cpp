@@ -17,11 +17,12 @@ namespace glarelab {
 namespace {
 
 // Cost of one FFT point (per log2 of the padded size, per channel and both directions) against one
-// multiply-add of the direct sum, from bench/depth_of_field_bench.cpp (BM_DepthLayerBlur*) on a
-// 1024-wide layer, 2 threads: since the direct sum holds its outputs in registers
-// (stimuli/depth_of_field_rows.h), direct and FFT take the same time at about 320 nonzero taps (a
-// circle of radius 10 px) for the whole frame and about 550 (13 px) for a 32-row band, which gives
-// 15 to 18 (it was 5, the crossover at 100 taps, with the tap-by-tap row adds).
+// multiply-add of the direct sum, from blur_layer both ways on a 1024-wide layer, 2 threads, as
+// bench/depth_of_field_bench.cpp's BM_DepthLayerBlur* rows time it (docs/DEPTH_OF_FIELD.md, section
+// 4): since the direct sum holds its outputs in registers (stimuli/depth_of_field_rows.h), direct
+// and FFT take the same time at about 320 nonzero taps (a circle of radius 10 px) for the whole
+// frame and about 550 (13 px) for a 32-row band, which gives 15 to 18 (it was 5, the crossover at
+// 100 taps, with the tap-by-tap row adds).
 constexpr double kFftPointCost = 16.0;
 
 LayerImage grown_rectangle(const LayerImage& layer, const EllipticalKernel& kernel) {

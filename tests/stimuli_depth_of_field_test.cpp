@@ -642,10 +642,10 @@ TEST(DepthOfFieldTest, BlurredSpansHoldEveryNonzeroValueOfTheBlurredLayer) {
 }
 
 TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
-  // bench/depth_of_field_bench.cpp's layer blurs on a 1024 x 768 layer, 2 threads (CPU, the direct
-  // sum's outputs held in registers): direct 31 ms against FFT 48 ms for an 8 px circle, 102
-  // against 41 ms for a 16 px one; on a 32-row band direct 1.05 against 1.96 ms at 8 px, 3.7
-  // against 1.9 ms at 16 px.
+  // blur_layer both ways on a 1024 x 768 layer, 2 threads (the process' CPU time, the direct sum's
+  // outputs held in registers; docs/DEPTH_OF_FIELD.md, section 4): direct 27 ms against FFT 40 ms
+  // for an 8 px circle, 99 against 41 ms for a 16 px one; on a 32-row band direct 1.0 against
+  // 2.0 ms at 8 px, 3.8 against 2.0 ms at 16 px.
   const auto pick = [](int width, int height, double radius_px) {
     LayerImage layer;
     layer.width_px = width;
