@@ -179,7 +179,7 @@ void layer_blur(benchmark::State& state, LayerConvolution method, int rows) {
 
 // The kernel sizes of the layer-blur rows, and their units.
 void layer_blur_args(benchmark::internal::Benchmark* rows) {
-  for (int arg : {1, 2, 4, 8, 16}) rows->Arg(arg);
+  for (int arg : {1, 2, 4, 8, 10, 12, 16}) rows->Arg(arg);
   rows->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 

@@ -62,6 +62,13 @@ double blur_error_px(const DioptricPower& first, const DioptricPower& second, co
 
 DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry,
                                  const EyeErrorAtDistance& error, double tolerance_px, int threads) {
+  DepthLayerPlan plan;
+  plan_depth_layers(depth_m, geometry, error, tolerance_px, threads, plan);
+  return plan;
+}
+
+void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
+                       double tolerance_px, int threads, DepthLayerPlan& plan) {
   if (!(geometry.degrees_per_pixel > 0.0) || !std::isfinite(geometry.degrees_per_pixel) ||
       !(geometry.pupil_radius_m > 0.0) || !std::isfinite(geometry.pupil_radius_m))
     throw std::invalid_argument("stimuli/depth_layers: degrees per pixel (" +
@@ -87,7 +94,7 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
   errors.reserve(vergences.size());
   for (double v : vergences) errors.push_back(checked_error(error, distance_for_vergence_m(v)));
 
-  DepthLayerPlan plan;
+  plan.layers.clear();
   for (std::size_t first = 0; first < vergences.size();) {
     std::size_t end = first + 1;
     while (end < vergences.size() && blur_error_px(errors[end], errors[first], geometry) <= 2.0 * tolerance_px) ++end;
@@ -105,41 +112,49 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
     first = end;
   }
 
-  // Each pixel to the layer whose vergence range holds it.
-  std::vector<double> near_bounds;
-  for (const DepthLayer& layer : plan.layers) near_bounds.push_back(layer.near_vergence_dioptres);
-  plan.layer_of_pixel.assign(depth_m.size(), 0);
-  parallel_chunks(static_cast<int>(depth_m.size()), threads, [&](int begin, int stop) {
-    for (int k = begin; k < stop; ++k) {
-      const double v = vergence_dioptres(depth_m[static_cast<std::size_t>(k)]);
-      plan.layer_of_pixel[static_cast<std::size_t>(k)] =
-          static_cast<std::uint32_t>(std::lower_bound(near_bounds.begin(), near_bounds.end(), v) - near_bounds.begin());
-    }
-  });
-  for (std::uint32_t index : plan.layer_of_pixel) ++plan.layers[index].pixel_count;
-
   // Blending with the neighbouring layer on the side of the pixel's vergence from its layer's middle.
   std::vector<bool> blends_with_next(plan.layers.size(), false);
   for (std::size_t i = 0; i + 1 < plan.layers.size(); ++i)
     blends_with_next[i] =
         blur_error_px(plan.layers[i].error, plan.layers[i + 1].error, geometry) <= kBlendSpanTolerances * tolerance_px;
-  plan.blend_layer_of_pixel = plan.layer_of_pixel;
-  plan.blend_weight.assign(depth_m.size(), 0.0f);
-  parallel_chunks(static_cast<int>(depth_m.size()), threads, [&](int begin, int stop) {
+
+  // Each pixel to the layer whose vergence range holds it, and its blend, in one pass in chunks;
+  // a run of equal depths (a plane, a row of a floor) takes the values of its first pixel.
+  std::vector<double> near_bounds;
+  for (const DepthLayer& layer : plan.layers) near_bounds.push_back(layer.near_vergence_dioptres);
+  plan.layer_of_pixel.resize(depth_m.size());
+  plan.blend_layer_of_pixel.resize(depth_m.size());
+  plan.blend_weight.resize(depth_m.size());
+  const int chunks = std::max(1, threads);
+  std::vector<std::vector<std::size_t>> counts(static_cast<std::size_t>(chunks),
+                                               std::vector<std::size_t>(plan.layers.size(), 0));
+  parallel_indexed_chunks(static_cast<int>(depth_m.size()), chunks, [&](int chunk, int begin, int stop) {
+    std::vector<std::size_t>& count = counts[static_cast<std::size_t>(chunk)];
+    float last_depth = 0.0f;  // no depth is 0 (checked above)
+    std::uint32_t own = 0, other = 0;
+    float weight = 0.0f;
     for (int k = begin; k < stop; ++k) {
       const std::size_t pixel = static_cast<std::size_t>(k);
-      const std::uint32_t own = plan.layer_of_pixel[pixel];
-      const double v = vergence_dioptres(depth_m[pixel]);
-      const double middle = plan.layers[own].vergence_dioptres;
-      std::uint32_t other = own;
-      if (v > middle && own + 1 < plan.layers.size() && blends_with_next[own]) other = own + 1;
-      if (v < middle && own > 0 && blends_with_next[own - 1]) other = own - 1;
-      if (other == own) continue;
+      if (depth_m[pixel] != last_depth) {
+        last_depth = depth_m[pixel];
+        const double v = vergence_dioptres(last_depth);
+        own = static_cast<std::uint32_t>(std::lower_bound(near_bounds.begin(), near_bounds.end(), v) -
+                                         near_bounds.begin());
+        const double middle = plan.layers[own].vergence_dioptres;
+        other = own;
+        if (v > middle && own + 1 < plan.layers.size() && blends_with_next[own]) other = own + 1;
+        if (v < middle && own > 0 && blends_with_next[own - 1]) other = own - 1;
+        weight = other == own ? 0.0f
+                              : static_cast<float>((v - middle) / (plan.layers[other].vergence_dioptres - middle));
+      }
+      plan.layer_of_pixel[pixel] = own;
       plan.blend_layer_of_pixel[pixel] = other;
-      plan.blend_weight[pixel] = static_cast<float>((v - middle) / (plan.layers[other].vergence_dioptres - middle));
+      plan.blend_weight[pixel] = weight;
+      ++count[own];
     }
   });
-  return plan;
+  for (const std::vector<std::size_t>& count : counts)
+    for (std::size_t i = 0; i < plan.layers.size(); ++i) plan.layers[i].pixel_count += count[i];
 }
 
 }  // namespace glarelab

@@ -84,6 +84,10 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
                                  const EyeErrorAtDistance& error, double tolerance_px = kDefaultLayerTolerancePx,
                                  int threads = 1);
 
+// The same into `plan`, whose vectors' memory is reused (DepthOfFieldBuffers).
+void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
+                       double tolerance_px, int threads, DepthLayerPlan& plan);
+
 // The blur error between two power errors, in pixels (spectral norm of the difference times the
 // geometry's pixels per dioptre).
 double blur_error_px(const DioptricPower& first, const DioptricPower& second, const BlurGeometry& geometry);

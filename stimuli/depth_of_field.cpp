@@ -7,8 +7,13 @@
 #include <string>
 #include <utility>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 #include "core/parallel_for.h"
 #include "stimuli/depth_of_field_blur.h"
+#include "stimuli/depth_of_field_rows.h"
 #include "stimuli/scene_depth.h"
 
 namespace glarelab {
@@ -19,111 +24,190 @@ struct Rectangle {
   int x1 = -1, y1 = -1;  // inclusive
 };
 
-// The layer's pixels as premultiplied RGBA on their bounding rectangle: on its own pixels colour
-// and coverage times 1 - their blend weight, on the pixels blended into it from a neighbour times
-// their blend weight, 0 elsewhere; `spans` gets each row's span of those pixels.
-LayerImage layer_image(const ImageRGBA& image, const DepthLayerPlan& plan, std::uint32_t index, const Rectangle& box,
-                       std::vector<RowSpan>& spans, int threads) {
-  LayerImage layer;
-  layer.x0_px = box.x0;
-  layer.y0_px = box.y0;
-  layer.width_px = box.x1 - box.x0 + 1;
-  layer.height_px = box.y1 - box.y0 + 1;
-  layer.rgba.assign(4 * static_cast<std::size_t>(layer.width_px) * layer.height_px, 0.0f);
-  spans.assign(static_cast<std::size_t>(layer.height_px), RowSpan{});
-  parallel_chunks(layer.height_px, threads, [&](int first_row, int last_row) {
+// Each frame row's runs of pixels with the same layer, blend layer and blend weight (a plane, a row
+// of a floor: a few a row), found in one pass over the plan in chunks of rows, and from them each
+// layer's span in each frame row, spans[layer * height + y] in frame columns (first == last: none),
+// each row's entries written by its own chunk.
+void plan_row_runs(const DepthLayerPlan& plan, int width, int height, int threads,
+                   std::vector<std::vector<PixelRun>>& runs, std::vector<RowSpan>& spans) {
+  runs.resize(static_cast<std::size_t>(height));
+  spans.assign(plan.layers.size() * static_cast<std::size_t>(height), RowSpan{});
+  parallel_chunks(height, threads, [&](int first, int last) {
+    for (int y = first; y < last; ++y) {
+      const std::size_t row = static_cast<std::size_t>(y) * width;
+      std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(y)];
+      row_runs.clear();
+      for (int x = 0; x < width;) {
+        const std::uint32_t own = plan.layer_of_pixel[row + x], blended = plan.blend_layer_of_pixel[row + x];
+        const float weight = plan.blend_weight[row + x];
+        int end = x + 1;
+        while (end < width && plan.layer_of_pixel[row + end] == own && plan.blend_layer_of_pixel[row + end] == blended &&
+               plan.blend_weight[row + end] == weight)
+          ++end;
+        row_runs.push_back({x, end, own, blended, weight});
+        for (const std::uint32_t index : {own, blended}) {
+          RowSpan& span = spans[index * static_cast<std::size_t>(height) + y];
+          if (span.first == span.last) span.first = x;
+          span.last = end;
+        }
+        x = end;
+      }
+    }
+  });
+}
+
+Rectangle bounding_rectangle(const RowSpan* spans, int height) {
+  Rectangle box;
+  for (int y = 0; y < height; ++y) {
+    if (spans[y].first >= spans[y].last) continue;
+    box.x0 = std::min(box.x0, spans[y].first);
+    box.x1 = std::max(box.x1, spans[y].last - 1);
+    box.y0 = std::min(box.y0, y);
+    box.y1 = std::max(box.y1, y);
+  }
+  return box;
+}
+
+// target = w x (r, g, b, 1) over `pixels` pixels of `source`: the source's alpha replaced by 1, whose
+// product is w exactly (SSE2 where compiled: the same products a lane).
+void weighted_pixels(float* __restrict target, const float* __restrict source, float weight, int pixels) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  const __m128 colour_mask = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+  const __m128 alpha_one = _mm_set_ps(1.0f, 0.0f, 0.0f, 0.0f);
+  const __m128 w = _mm_set1_ps(weight);
+  for (int x = 0; x < pixels; ++x, target += 4, source += 4)
+    _mm_storeu_ps(target, _mm_mul_ps(w, _mm_or_ps(_mm_and_ps(_mm_loadu_ps(source), colour_mask), alpha_one)));
+#else
+  for (int x = 0; x < pixels; ++x, target += 4, source += 4) {
+    for (int c = 0; c < 3; ++c) target[c] = weight * source[c];
+    target[3] = weight;
+  }
+#endif
+}
+
+// The layer's pixels as premultiplied RGBA on their rows' segments in its bounding rectangle, a
+// run of the plan at a time: on its own pixels colour and coverage times 1 - their blend weight, on
+// the pixels blended into it from a neighbour times their blend weight, 0 between. A segment is a
+// stretch of the layer's runs; a gap too short to part two (min_segment_gap_px) is kept as zeros.
+void fill_layer_rows(const ImageRGBA& image, const std::vector<std::vector<PixelRun>>& runs, std::uint32_t index,
+                     const Rectangle& box, const EllipticalKernel& kernel, LayerRows& rows, int threads) {
+  const int height = box.y1 - box.y0 + 1, gap = min_segment_gap_px(kernel);
+  std::vector<std::size_t> row_first(static_cast<std::size_t>(height) + 1, 0);
+  std::vector<RowSpan> segments;
+  for (int y = 0; y < height; ++y) {
+    const std::size_t row_start = segments.size();
+    for (const PixelRun& run : runs[static_cast<std::size_t>(box.y0 + y)]) {
+      if (run.own != index && run.blended != index) continue;
+      const int first = run.first - box.x0, last = run.end - box.x0;
+      if (segments.size() > row_start && first - segments.back().last < gap)
+        segments.back().last = last;
+      else
+        segments.push_back({first, last});
+    }
+    row_first[static_cast<std::size_t>(y) + 1] = segments.size();
+  }
+  rows.lay_out_segments(box.x0, box.y0, box.x1 - box.x0 + 1, height, row_first, segments, kernel);
+  parallel_chunks(height, threads, [&](int first_row, int last_row) {
     for (int y = first_row; y < last_row; ++y) {
-      const std::size_t row_start = static_cast<std::size_t>(box.y0 + y) * image.width_px + box.x0;
-      RowSpan span{layer.width_px, 0};
-      for (int x = 0; x < layer.width_px; ++x) {
-        const std::size_t k = row_start + static_cast<std::size_t>(x);
-        const bool own = plan.layer_of_pixel[k] == index, blended = plan.blend_layer_of_pixel[k] == index;
-        if (!own && !blended) continue;
-        const float weight = own ? 1.0f - plan.blend_weight[k] : plan.blend_weight[k];
-        const float* source = image.pixel(box.x0 + x, box.y0 + y);
-        float* target = layer.pixel(x, y);
-        target[0] = weight * source[0];
-        target[1] = weight * source[1];
-        target[2] = weight * source[2];
-        target[3] = weight;
-        span.first = std::min(span.first, x);
-        span.last = x + 1;
-      }
-      if (span.first < span.last) spans[static_cast<std::size_t>(y)] = span;
-    }
-  });
-  return layer;
-}
-
-// The rectangle of a layer that lies inside the frame, as [x_first, x_last) x [y_first, y_last).
-struct Clip {
-  int x_first, x_last, y_first, y_last;
-  bool empty() const { return x_first >= x_last || y_first >= y_last; }
-};
-Clip clip_to_frame(const LayerImage& layer, int width_px, int height_px) {
-  return {std::max(0, layer.x0_px), std::min(width_px, layer.x0_px + layer.width_px), std::max(0, layer.y0_px),
-          std::min(height_px, layer.y0_px + layer.height_px)};
-}
-
-// sum += transmission x layer (premultiplied colour and coverage alike) inside the frame, on the
-// layer's nonzero spans.
-void add_transmitted(std::vector<float>& sum, const std::vector<float>& transmission, int width_px, int height_px,
-                     const LayerImage& layer, const std::vector<RowSpan>& spans, int threads) {
-  const Clip clip = clip_to_frame(layer, width_px, height_px);
-  if (clip.empty()) return;
-  parallel_chunks(clip.y_last - clip.y_first, threads, [&](int first, int last) {
-    for (int y = clip.y_first + first; y < clip.y_first + last; ++y) {
-      const RowSpan& span = spans[static_cast<std::size_t>(y - layer.y0_px)];
-      const int x_first = std::max(clip.x_first, layer.x0_px + span.first);
-      const int x_last = std::min(clip.x_last, layer.x0_px + span.last);
-      for (int x = x_first; x < x_last; ++x) {
-        const std::size_t k = static_cast<std::size_t>(y) * width_px + x;
-        const float t = transmission[k];
-        const float* in = layer.pixel(x - layer.x0_px, y - layer.y0_px);
-        float* out = &sum[4 * k];
-        for (int c = 0; c < 4; ++c) out[c] += t * in[c];
+      const std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(box.y0 + y)];
+      auto run = row_runs.begin();
+      for (std::size_t s = rows.first_segment[static_cast<std::size_t>(y)];
+           s < rows.first_segment[static_cast<std::size_t>(y) + 1]; ++s) {
+        const int frame_first = box.x0 + rows.segments[s].first, frame_last = box.x0 + rows.segments[s].last;
+        float* target = rows.segment_pixels(s);
+        while (run != row_runs.end() && run->end <= frame_first) ++run;
+        for (; run != row_runs.end() && run->first < frame_last; ++run) {
+          const int first = std::max(run->first, frame_first), last = std::min(run->end, frame_last);
+          float* out = target + 4 * static_cast<std::size_t>(first - frame_first);
+          if (run->own == index)
+            weighted_pixels(out, image.pixel(first, box.y0 + y), 1.0f - run->blend_weight, last - first);
+          else if (run->blended == index)
+            weighted_pixels(out, image.pixel(first, box.y0 + y), run->blend_weight, last - first);
+          else
+            std::fill_n(out, 4 * static_cast<std::size_t>(last - first), 0.0f);
+        }
+        if (run != row_runs.begin()) --run;  // the last run may reach into the next segment
       }
     }
   });
 }
 
-// A blurred layer's coverage (one float a pixel, on its rectangle and spans), kept until the first
-// layer far enough behind it to be hidden by it.
+// sum += transmission x the blurred layer (premultiplied colour and coverage alike) over `pixels`
+// pixels, each product and sum rounded once (SSE2 where compiled: the same operations a lane).
+void add_transmitted_row(float* __restrict sum, const float* __restrict transmission, const float* __restrict rgba,
+                         int pixels) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  for (int x = 0; x < pixels; ++x, sum += 4, rgba += 4)
+    _mm_storeu_ps(sum, _mm_add_ps(_mm_loadu_ps(sum), _mm_mul_ps(_mm_set1_ps(transmission[x]), _mm_loadu_ps(rgba))));
+#else
+  for (int x = 0; x < pixels; ++x, sum += 4, rgba += 4) {
+    const float t = transmission[x];
+    for (int c = 0; c < 4; ++c) sum[c] += t * rgba[c];
+  }
+#endif
+}
+
+// A blurred layer's coverage (one float a pixel on its rows' spans inside the frame), kept until
+// the first layer far enough behind it to be hidden by it.
 struct PendingOccluder {
   double hides_up_to_vergence_dioptres;  // hides layers below this vergence
-  LayerImage coverage;
-  std::vector<RowSpan> spans;
+  int y0 = 0;                            // the frame row of spans[0]
+  std::vector<RowSpan> spans;            // frame columns
+  std::vector<std::size_t> offsets;      // each row's first value in coverage
+  std::vector<float> coverage;
 };
 
-LayerImage coverage_of(const LayerImage& layer, int threads) {
-  LayerImage coverage;
-  coverage.x0_px = layer.x0_px;
-  coverage.y0_px = layer.y0_px;
-  coverage.width_px = layer.width_px;
-  coverage.height_px = layer.height_px;
-  coverage.rgba.resize(static_cast<std::size_t>(layer.width_px) * layer.height_px);
-  parallel_chunks(layer.height_px, threads, [&](int first, int last) {
-    for (std::size_t k = static_cast<std::size_t>(first) * layer.width_px;
-         k < static_cast<std::size_t>(last) * layer.width_px; ++k)
-      coverage.rgba[k] = layer.rgba[4 * k + 3];
-  });
-  return coverage;
+// Where a blurred layer (its rectangle at x0, y0; `spans` on it) lies in the frame: for each of its
+// rows inside the frame, the span clipped to the frame's columns.
+struct FramePlacement {
+  int x0, y0, width_px, height_px;
+  int first_row() const { return std::max(0, -y0); }
+  int last_row(int rows) const { return std::min(rows, height_px - y0); }
+  RowSpan clipped(const RowSpan& span) const {
+    return {std::max(0, x0 + span.first), std::min(width_px, x0 + span.last)};
+  }
+};
+
+// The occluder's rows laid out for the blurred spans of a layer placed at `place`.
+PendingOccluder pending_occluder(double hides_up_to, const FramePlacement& place, const std::vector<RowSpan>& spans,
+                                 std::vector<float> coverage_memory) {
+  PendingOccluder occluder;
+  occluder.coverage = std::move(coverage_memory);
+  occluder.hides_up_to_vergence_dioptres = hides_up_to;
+  const int first = place.first_row(), last = place.last_row(static_cast<int>(spans.size()));
+  occluder.y0 = place.y0 + first;
+  std::size_t size = 0;
+  for (int row = first; row < last; ++row) {
+    const RowSpan clip = place.clipped(spans[static_cast<std::size_t>(row)]);
+    const bool empty = spans[static_cast<std::size_t>(row)].first >= spans[static_cast<std::size_t>(row)].last ||
+                       clip.first >= clip.last;
+    occluder.spans.push_back(empty ? RowSpan{} : clip);
+    occluder.offsets.push_back(size);
+    if (!empty) size += static_cast<std::size_t>(clip.last - clip.first);
+  }
+  occluder.coverage.resize(size);
+  return occluder;
+}
+
+// t *= 1 - coverage over `count` pixels (SSE2 where compiled: the same operations a lane).
+void transmit_through(float* __restrict t, const float* __restrict coverage, int count) {
+  int x = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+  const __m128 one = _mm_set1_ps(1.0f);
+  for (; x + 4 <= count; x += 4)
+    _mm_storeu_ps(t + x, _mm_mul_ps(_mm_loadu_ps(t + x), _mm_sub_ps(one, _mm_loadu_ps(coverage + x))));
+#endif
+  for (; x < count; ++x) t[x] *= 1.0f - coverage[x];
 }
 
 // transmission *= 1 - the occluder's coverage.
-void occlude(std::vector<float>& transmission, int width_px, int height_px, const PendingOccluder& occluder,
-             int threads) {
-  const LayerImage& coverage = occluder.coverage;
-  const Clip clip = clip_to_frame(coverage, width_px, height_px);
-  if (clip.empty()) return;
-  parallel_chunks(clip.y_last - clip.y_first, threads, [&](int first, int last) {
-    for (int y = clip.y_first + first; y < clip.y_first + last; ++y) {
-      const RowSpan& span = occluder.spans[static_cast<std::size_t>(y - coverage.y0_px)];
-      const int x_first = std::max(clip.x_first, coverage.x0_px + span.first);
-      const int x_last = std::min(clip.x_last, coverage.x0_px + span.last);
-      const float* row = &coverage.rgba[static_cast<std::size_t>(y - coverage.y0_px) * coverage.width_px];
-      for (int x = x_first; x < x_last; ++x)
-        transmission[static_cast<std::size_t>(y) * width_px + x] *= 1.0f - row[x - coverage.x0_px];
+void occlude(std::vector<float>& transmission, int width_px, const PendingOccluder& occluder, int threads) {
+  parallel_chunks(static_cast<int>(occluder.spans.size()), threads, [&](int first, int last) {
+    for (int row = first; row < last; ++row) {
+      const RowSpan& span = occluder.spans[static_cast<std::size_t>(row)];
+      const float* coverage = occluder.coverage.data() + occluder.offsets[static_cast<std::size_t>(row)];
+      float* t = &transmission[static_cast<std::size_t>(occluder.y0 + row) * width_px + span.first];
+      transmit_through(t, coverage, span.last - span.first);
     }
   });
 }
@@ -150,31 +234,52 @@ void check_depth_of_field_inputs(const ImageRGBA& image_cd_m2, const std::vector
 
 ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
                                const DepthOfFieldSettings& settings, DepthOfFieldReport* report) {
+  DepthOfFieldBuffers buffers;
+  ImageRGBA result;
+  apply_depth_of_field(image_cd_m2, depth_m, settings, buffers, result, report);
+  return result;
+}
+
+void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
+                          const DepthOfFieldSettings& settings, DepthOfFieldBuffers& buffers, ImageRGBA& result,
+                          DepthOfFieldReport* report) {
   check_depth_of_field_inputs(image_cd_m2, depth_m, settings);
+  if (&result == &image_cd_m2) refuse("the result cannot be written over its own input image");
   const int width = image_cd_m2.width_px, height = image_cd_m2.height_px;
   const BlurGeometry geometry{settings.degrees_per_pixel, settings.pupil_radius_m};
-  const DepthLayerPlan plan =
-      plan_depth_layers(depth_m, geometry, settings.residual_error, settings.tolerance_px, settings.threads);
-
-  std::vector<Rectangle> boxes(plan.layers.size());
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const std::size_t k = static_cast<std::size_t>(y) * width + x;
-      for (std::uint32_t index : {plan.layer_of_pixel[k], plan.blend_layer_of_pixel[k]}) {
-        Rectangle& box = boxes[index];
-        box.x0 = std::min(box.x0, x);
-        box.x1 = std::max(box.x1, x);
-        box.y0 = std::min(box.y0, y);
-        box.y1 = std::max(box.y1, y);
-      }
-    }
+  plan_depth_layers(depth_m, geometry, settings.residual_error, settings.tolerance_px, settings.threads, buffers.plan);
+  const DepthLayerPlan& plan = buffers.plan;
+  plan_row_runs(plan, width, height, settings.threads, buffers.row_runs, buffers.layer_spans);
+  const std::vector<RowSpan>& frame_spans = buffers.layer_spans;
 
   DepthOfFieldReport counts;
   counts.layers = static_cast<int>(plan.layers.size());
   const double pixels_per_dioptre = geometry.pixels_per_dioptre();
-  std::vector<float> sum(4 * static_cast<std::size_t>(width) * height, 0.0f);  // premultiplied RGB, coverage
-  std::vector<float> transmission(static_cast<std::size_t>(width) * height, 1.0f);
+  // The sum of the layers (premultiplied RGB and coverage), divided in place at the end.
+  result.width_px = width;
+  result.height_px = height;
+  result.rgba.assign(4 * static_cast<std::size_t>(width) * height, 0.0f);
+  std::vector<float>& sum = result.rgba;
+  std::vector<float>& transmission = buffers.transmission;
+  transmission.assign(static_cast<std::size_t>(width) * height, 1.0f);
   std::vector<PendingOccluder> pending;
+  // Each layer's kernel (a layer within its pixel passes through: the identity kernel's sum is each
+  // value itself), and its rows' buffer kept from layer to layer, made once as large as the largest.
+  std::vector<EllipticalKernel> kernels;
+  LayerRows& rows = buffers.rows;
+  std::size_t largest_floats = 0;
+  for (std::size_t index = 0; index < plan.layers.size(); ++index) {
+    kernels.push_back(plan.layers[index].blurred ? elliptical_kernel(plan.layers[index].ellipse)
+                                                 : EllipticalKernel{0, 0, {1.0}, 1.0});
+    const std::size_t pad = 2 * static_cast<std::size_t>(2 * kernels.back().radius_x_px + kDirectBlockPx);
+    std::size_t floats = 0;
+    for (int y = 0; y < height; ++y) {
+      const RowSpan& span = frame_spans[index * static_cast<std::size_t>(height) + static_cast<std::size_t>(y)];
+      if (span.first < span.last) floats += 4 * (static_cast<std::size_t>(span.last - span.first) + pad);
+    }
+    largest_floats = std::max(largest_floats, floats);
+  }
+  rows.reserve(largest_floats);
   // Near to far (plan.layers ascends in vergence): each layer's light is added through the
   // transmission of the nearer layers that hide it (see kOcclusionMinimumPx in the header).
   for (std::size_t index = plan.layers.size(); index-- > 0;) {
@@ -182,46 +287,86 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
     counts.max_blur_error_px = std::max(counts.max_blur_error_px, layer.max_blur_error_px);
     for (auto occluder = pending.begin(); occluder != pending.end();) {
       if (occluder->hides_up_to_vergence_dioptres > layer.vergence_dioptres) {
-        occlude(transmission, width, height, *occluder, settings.threads);
+        occlude(transmission, width, *occluder, settings.threads);
+        buffers.coverages.push_back(std::move(occluder->coverage));
         occluder = pending.erase(occluder);
       } else {
         ++occluder;
       }
     }
-    std::vector<RowSpan> spans;
-    LayerImage pixels =
-        layer_image(image_cd_m2, plan, static_cast<std::uint32_t>(index), boxes[index], spans, settings.threads);
-    if (layer.blurred) {
-      const EllipticalKernel kernel = elliptical_kernel(layer.ellipse);
-      const LayerConvolution method = cheaper_layer_convolution(pixels, spans, kernel);
-      ++counts.blurred_layers;
-      ++(method == LayerConvolution::direct ? counts.direct_layers : counts.fft_layers);
-      pixels = blur_layer(pixels, spans, kernel, method, settings.threads, settings.vector_isa);
-      spans = blurred_row_spans(spans, kernel);
-    }
-    add_transmitted(sum, transmission, width, height, pixels, spans, settings.threads);
+    const RowSpan* spans = &frame_spans[index * static_cast<std::size_t>(height)];
+    const Rectangle box = bounding_rectangle(spans, height);
+    if (box.x1 < 0) continue;  // no pixel (a layer is made only for depths the scene has)
+    const EllipticalKernel& kernel = kernels[index];
+    fill_layer_rows(image_cd_m2, buffers.row_runs, static_cast<std::uint32_t>(index), box, kernel, rows,
+                    settings.threads);
+    const std::vector<RowSpan> blurred_spans = blurred_row_spans(rows.spans, kernel);
+    const FramePlacement place{box.x0 - kernel.radius_x_px, box.y0 - kernel.radius_y_px, width, height};
+
     // Layers that blend (depth_layers.h) are slices of one surface: they never hide each other.
     const double occlusion_px = std::max(
         {0.5 * layer.ellipse.semi_major_px, kOcclusionMinimumPx, kBlendSpanTolerances * settings.tolerance_px});
     const double hides_up_to = layer.vergence_dioptres - occlusion_px / pixels_per_dioptre;
     // Kept only if some farther layer is far enough behind to be hidden by it.
-    if (index > 0 && hides_up_to > plan.layers.front().vergence_dioptres)
-      pending.push_back({hides_up_to, coverage_of(pixels, settings.threads), std::move(spans)});
-  }
+    const bool occludes = index > 0 && hides_up_to > plan.layers.front().vergence_dioptres;
+    PendingOccluder occluder;
+    if (occludes) {
+      std::vector<float> memory;
+      if (!buffers.coverages.empty()) {
+        memory = std::move(buffers.coverages.back());
+        buffers.coverages.pop_back();
+      }
+      occluder = pending_occluder(hides_up_to, place, blurred_spans, std::move(memory));
+    }
 
-  ImageRGBA result = image_cd_m2;
+    // sum += transmission x blurred row inside the frame; the occluder keeps the row's coverage.
+    const BlurredRowSink add_row = [&](int row, int first, int count, const float* rgba) {
+      const int y = place.y0 + row;
+      if (y < 0 || y >= height) return;
+      const RowSpan clip = place.clipped({first, first + count});
+      if (clip.first >= clip.last) return;
+      const std::size_t k = static_cast<std::size_t>(y) * width + clip.first;
+      const float* in = rgba + 4 * static_cast<std::size_t>(clip.first - place.x0 - first);
+      add_transmitted_row(&sum[4 * k], &transmission[k], in, clip.last - clip.first);
+      if (occludes) {
+        float* coverage = occluder.coverage.data() + occluder.offsets[static_cast<std::size_t>(y - occluder.y0)];
+        for (int x = 0; x < clip.last - clip.first; ++x) coverage[x] = in[4 * static_cast<std::size_t>(x) + 3];
+      }
+    };
+    const LayerConvolution method = layer.blurred
+                                        ? cheaper_layer_convolution(rows.width_px, rows.height_px, rows.spans, kernel)
+                                        : LayerConvolution::direct;
+    if (layer.blurred) {
+      ++counts.blurred_layers;
+      ++(method == LayerConvolution::direct ? counts.direct_layers : counts.fft_layers);
+    }
+    if (method == LayerConvolution::direct) {
+      blur_rows_direct(rows, kernel, settings.threads, settings.vector_isa, add_row);
+    } else {
+      blur_rows_fft(rows, kernel, settings.threads, add_row, buffers.fft);
+    }
+    if (occludes) pending.push_back(std::move(occluder));
+  }
+  for (PendingOccluder& occluder : pending) buffers.coverages.push_back(std::move(occluder.coverage));
+
   parallel_chunks(height, settings.threads, [&](int first, int last) {
     for (int y = first; y < last; ++y)
       for (int x = 0; x < width; ++x) {
-        const float* in = &sum[4 * (static_cast<std::size_t>(y) * width + x)];
         float* out = result.pixel(x, y);
         // Every pixel belongs to a layer whose kernel keeps light at its centre, so coverage > 0.
-        const float coverage = in[3] > 0.0f ? in[3] : 1.0f;
-        for (int c = 0; c < 3; ++c) out[c] = std::max(0.0f, in[c] / coverage);
+        const float coverage = out[3] > 0.0f ? out[3] : 1.0f;
+        const float alpha = image_cd_m2.pixel(x, y)[3];
+#if defined(__x86_64__) && defined(__GNUC__)
+        // max(x, 0) as std::max(0, x) (0 for a NaN); each lane's quotient rounded once.
+        _mm_storeu_ps(out, _mm_max_ps(_mm_div_ps(_mm_loadu_ps(out), _mm_set1_ps(coverage)), _mm_setzero_ps()));
+#else
+        for (int c = 0; c < 3; ++c) out[c] = std::max(0.0f, out[c] / coverage);
+#endif
+        out[3] = alpha;
       }
   });
+  result.depth = image_cd_m2.depth;
   if (report != nullptr) *report = counts;
-  return result;
 }
 
 }  // namespace glarelab

@@ -35,11 +35,13 @@
 // division by coverage renormalises the kernel there, so a uniform scene stays uniform up to the
 // border.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/image.h"
 #include "core/vector_isa.h"
 #include "stimuli/depth_layers.h"
+#include "stimuli/depth_of_field_rows.h"
 
 namespace glarelab {
 
@@ -55,7 +57,7 @@ struct DepthOfFieldSettings {
   EyeErrorAtDistance residual_error;  // the eye's power error for each distance
   double tolerance_px = kDefaultLayerTolerancePx;
   int threads = 1;
-  // The form of the direct blur's row adds (depth_of_field_blur.h): the same bits in each.
+  // The form of the direct blur's sums (depth_of_field_rows.h): the same bits in each.
   VectorIsa vector_isa = widest_vector_isa();
 };
 
@@ -76,6 +78,35 @@ struct DepthOfFieldReport {
 // The result does not depend on `threads`.
 ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
                                const DepthOfFieldSettings& settings, DepthOfFieldReport* report = nullptr);
+
+// The stage's buffers, kept by a caller that blurs frame after frame (the whole-frame bench): the
+// layer plan, each layer's row spans, the transmission, the layers' rows, the occluders' coverage
+// and the FFT's grids reused
+// instead of mapped afresh (about 100 MB a 1920 x 1080 frame, whose page faults cost more than the
+// blur itself). A result does not depend on what they held before.
+// Pixels [first, end) of a frame row with the same layer, blend layer and blend weight
+// (DepthLayerPlan): the layers' pixels are read a run at a time.
+struct PixelRun {
+  int first = 0, end = 0;
+  std::uint32_t own = 0, blended = 0;
+  float blend_weight = 0.0f;
+};
+
+struct DepthOfFieldBuffers {
+  DepthLayerPlan plan;
+  std::vector<std::vector<PixelRun>> row_runs;
+  std::vector<RowSpan> layer_spans;
+  std::vector<float> transmission;
+  LayerRows rows;
+  LayerFftBuffers fft;
+  std::vector<std::vector<float>> coverages;  // the occluding layers' coverage, returned when used
+};
+
+// The same with kept buffers, into `result` (its memory reused when it already has the image's
+// size; not the input image itself, refused as above); the same values as above.
+void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
+                          const DepthOfFieldSettings& settings, DepthOfFieldBuffers& buffers, ImageRGBA& result,
+                          DepthOfFieldReport* report = nullptr);
 
 // Checks shared with the per-pixel reference (the same refusals, the same messages).
 void check_depth_of_field_inputs(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,

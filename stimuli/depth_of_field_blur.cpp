@@ -8,75 +8,22 @@
 #include <stdexcept>
 #include <string>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
-
 #include "core/fft_size.h"
 #include "core/parallel_for.h"
 #include "glare/cpu/fftw_float_plan.h"
+#include "stimuli/depth_of_field_rows.h"
 
 namespace glarelab {
 namespace {
 
 // Cost of one FFT point (per log2 of the padded size, per channel and both directions) against one
-// multiply-add of the direct sum, from bench/depth_of_field_bench.cpp (BM_DepthLayerBlur*) on a
-// 1024-wide layer, 2 threads: direct and FFT take the same time at about 100 nonzero taps (a circle
-// of radius 5.5 px) both for the whole frame and for a 32-row band, which gives 4.6 to 5.5.
-constexpr double kFftPointCost = 5.0;
-
-struct Tap {
-  int dx;
-  float weight;
-};
-
-// The kernel's nonzero taps by row: direct convolution skips the zero corners of the ellipse.
-std::vector<std::vector<Tap>> taps_by_row(const EllipticalKernel& kernel) {
-  std::vector<std::vector<Tap>> rows(static_cast<std::size_t>(kernel.height()));
-  for (int dy = -kernel.radius_y_px; dy <= kernel.radius_y_px; ++dy)
-    for (int dx = -kernel.radius_x_px; dx <= kernel.radius_x_px; ++dx) {
-      const double w = kernel.at(dx, dy);
-      if (w != 0.0) rows[static_cast<std::size_t>(dy + kernel.radius_y_px)].push_back({dx, static_cast<float>(w)});
-    }
-  return rows;
-}
-
-// target += weight * source over `pixels` RGBA pixels. Written a pixel (four floats) at a time on
-// non-aliasing pointers so that it vectorises at -O2 (superword parallelism, no loop versioning).
-void add_scaled_row(float* __restrict target, const float* __restrict source, float weight, int pixels) {
-  for (int x = 0; x < pixels; ++x, target += 4, source += 4) {
-    target[0] += weight * source[0];
-    target[1] += weight * source[1];
-    target[2] += weight * source[2];
-    target[3] += weight * source[3];
-  }
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// The same adds two pixels (eight floats) at a time: AVX2 without FMA, so each value is rounded
-// after the product and after the sum, as above.
-__attribute__((target("avx2"))) void add_scaled_row_avx2(float* __restrict target, const float* __restrict source, float weight,
-                                                         int pixels) {
-  const __m256 w = _mm256_set1_ps(weight);
-  int x = 0;
-  for (; x + 2 <= pixels; x += 2, target += 8, source += 8)
-    _mm256_storeu_ps(target, _mm256_add_ps(_mm256_loadu_ps(target), _mm256_mul_ps(w, _mm256_loadu_ps(source))));
-  if (x < pixels) add_scaled_row(target, source, weight, pixels - x);
-}
-#endif
-
-// The direct sum's row adds in the form `isa` asks for.
-void add_scaled_row(VectorIsa isa, float* __restrict target, const float* __restrict source, float weight, int pixels) {
-#if defined(__x86_64__) && defined(__GNUC__)
-  if (isa == VectorIsa::avx2_fma) {
-    add_scaled_row_avx2(target, source, weight, pixels);
-    return;
-  }
-#else
-  (void)isa;
-#endif
-  add_scaled_row(target, source, weight, pixels);
-}
+// multiply-add of the direct sum, from blur_layer both ways on a 1024-wide layer, 2 threads, as
+// bench/depth_of_field_bench.cpp's BM_DepthLayerBlur* rows time it (docs/DEPTH_OF_FIELD.md, section
+// 4): since the direct sum holds its outputs in registers (stimuli/depth_of_field_rows.h), direct
+// and FFT take the same time at about 320 nonzero taps (a circle of radius 10 px) for the whole
+// frame and about 550 (13 px) for a 32-row band, which gives 15 to 18 (it was 5, the crossover at
+// 100 taps, with the tap-by-tap row adds).
+constexpr double kFftPointCost = 16.0;
 
 LayerImage grown_rectangle(const LayerImage& layer, const EllipticalKernel& kernel) {
   LayerImage out;
@@ -88,84 +35,105 @@ LayerImage grown_rectangle(const LayerImage& layer, const EllipticalKernel& kern
   return out;
 }
 
-// out(o) = sum over taps d of w(d) in(o - d): output row oy gathers input rows oy - ry - dy; each
-// tap adds a scaled copy of the input row's nonzero span (4 floats a pixel) at column offset
-// rx + dx. Skipping the zeros around the span changes no value (adding w x 0 adds nothing), so the
-// cost follows the layer's content, not its bounding rectangle (a diagonal band of a tilted plane).
-LayerImage blur_direct(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
-                       int threads, VectorIsa isa) {
+// A blur (direct or FFT, on rows) written into the blurred rectangle.
+LayerImage blur_into_rectangle(const LayerImage& layer, const std::vector<RowSpan>& spans,
+                               const EllipticalKernel& kernel, LayerConvolution method, int threads, VectorIsa isa) {
   LayerImage out = grown_rectangle(layer, kernel);
-  const std::vector<std::vector<Tap>> rows = taps_by_row(kernel);
-  parallel_chunks(out.height_px, threads, [&](int first, int last) {
-    for (int oy = first; oy < last; ++oy) {
-      float* out_row = out.pixel(0, oy);
-      for (int dy = -kernel.radius_y_px; dy <= kernel.radius_y_px; ++dy) {
-        const int sy = oy - kernel.radius_y_px - dy;
-        if (sy < 0 || sy >= layer.height_px) continue;
-        const RowSpan span = spans[static_cast<std::size_t>(sy)];
-        if (span.first >= span.last) continue;
-        const float* in_row = layer.pixel(span.first, sy);
-        for (const Tap& tap : rows[static_cast<std::size_t>(dy + kernel.radius_y_px)]) {
-          add_scaled_row(isa, out_row + 4 * static_cast<std::size_t>(kernel.radius_x_px + tap.dx + span.first), in_row,
-                         tap.weight, span.last - span.first);
-        }
-      }
-    }
-  });
-  return out;
-}
-
-// Linear convolution by circular convolution on a zero-padded grid at least as large as the output
-// (so nothing wraps), the kernel's centre at the origin. One FFTW plan a channel, single-threaded:
-// the channels run in parallel and each is computed the same way whatever the thread count.
-LayerImage blur_fft(const LayerImage& layer, const EllipticalKernel& kernel, int threads) {
-  LayerImage out = grown_rectangle(layer, kernel);
-  const int rows = good_fft_size(out.height_px), cols = good_fft_size(out.width_px);
-  const int spectrum_cols = cols / 2 + 1;
-  const std::size_t real_size = static_cast<std::size_t>(rows) * cols;
-  const std::size_t spectrum_size = static_cast<std::size_t>(rows) * spectrum_cols;
-
-  FftwFloatBuffer<float> kernel_real(real_size);
-  FftwFloatBuffer<std::complex<float>> kernel_spectrum(spectrum_size);
-  for (int dy = -kernel.radius_y_px; dy <= kernel.radius_y_px; ++dy)
-    for (int dx = -kernel.radius_x_px; dx <= kernel.radius_x_px; ++dx) {
-      const std::size_t r = static_cast<std::size_t>((dy + rows) % rows),
-                        c = static_cast<std::size_t>((dx + cols) % cols);
-      kernel_real[r * static_cast<std::size_t>(cols) + c] = static_cast<float>(kernel.at(dx, dy));
-    }
-  FftwFloatPlan::real_forward(rows, cols, 1, kernel_real.data(), kernel_spectrum.data(), 1).execute();
-  const float scale = 1.0f / static_cast<float>(real_size);
-
-  parallel_chunks(4, threads, [&](int first, int last) {
-    FftwFloatBuffer<float> real(real_size);
-    FftwFloatBuffer<std::complex<float>> spectrum(spectrum_size);
-    const FftwFloatPlan forward = FftwFloatPlan::real_forward(rows, cols, 1, real.data(), spectrum.data(), 1);
-    const FftwFloatPlan inverse = FftwFloatPlan::real_inverse(rows, cols, 1, spectrum.data(), real.data(), 1);
-    for (int channel = first; channel < last; ++channel) {
-      std::fill(real.data(), real.data() + real_size, 0.0f);
-      for (int y = 0; y < layer.height_px; ++y)
-        for (int x = 0; x < layer.width_px; ++x)
-          real[static_cast<std::size_t>(y) * cols + x] = layer.pixel(x, y)[channel];
-      forward.execute();
-      for (std::size_t k = 0; k < spectrum_size; ++k) spectrum[k] *= kernel_spectrum[k] * scale;
-      inverse.execute();
-      // Input pixel (x, y) sits at grid (x, y); output pixel (ox, oy) of the grown rectangle is
-      // grid (ox - rx, oy - ry), negative indices wrapping to the far end.
-      for (int oy = 0; oy < out.height_px; ++oy) {
-        const int r = oy - kernel.radius_y_px < 0 ? oy - kernel.radius_y_px + rows : oy - kernel.radius_y_px;
-        const float* grid_row = &real[static_cast<std::size_t>(r) * cols];
-        float* out_row = out.pixel(0, oy) + channel;
-        for (int ox = 0; ox < out.width_px; ++ox) {
-          const int c = ox - kernel.radius_x_px < 0 ? ox - kernel.radius_x_px + cols : ox - kernel.radius_x_px;
-          out_row[4 * static_cast<std::size_t>(ox)] = grid_row[c];
-        }
-      }
-    }
-  });
+  LayerRows rows;
+  copy_layer_rows(layer, spans, kernel, rows);
+  const BlurredRowSink write = [&](int row, int first, int count, const float* rgba) {
+    std::copy_n(rgba, 4 * static_cast<std::size_t>(count), out.pixel(first, row));
+  };
+  if (method == LayerConvolution::direct)
+    blur_rows_direct(rows, kernel, threads, isa, write);
+  else {
+    LayerFftBuffers buffers;
+    blur_rows_fft(rows, kernel, threads, write, buffers);
+  }
   return out;
 }
 
 }  // namespace
+
+// Linear convolution by circular convolution on a zero-padded grid at least as large as the output
+// (so nothing wraps), the kernel's centre at the origin. A grid a channel (zeroed when made, the
+// rows' spans copied in) and one FFTW plan pair a channel, single-threaded: the channels run in
+// parallel and each is computed the same way whatever the thread count. The output rows are then
+// read from the four grids on blurred_row_spans(rows.spans).
+void blur_rows_fft(const LayerRows& layer, const EllipticalKernel& kernel, int threads, const BlurredRowSink& sink,
+                   LayerFftBuffers& buffers) {
+  const int out_height = layer.height_px + 2 * kernel.radius_y_px, out_width = layer.width_px + 2 * kernel.radius_x_px;
+  const int rows = good_fft_size(out_height), cols = good_fft_size(out_width);
+  const int spectrum_cols = cols / 2 + 1;
+  const std::size_t real_size = static_cast<std::size_t>(rows) * cols;
+  const std::size_t spectrum_size = static_cast<std::size_t>(rows) * spectrum_cols;
+  if (buffers.rows != rows || buffers.cols != cols) {
+    buffers = LayerFftBuffers{};
+    for (int channel = 0; channel < 4; ++channel) {
+      buffers.grids.emplace_back(real_size);
+      buffers.spectra.emplace_back(spectrum_size);
+    }
+    buffers.kernel_real = FftwFloatBuffer<float>(real_size);
+    buffers.kernel_spectrum = FftwFloatBuffer<std::complex<float>>(spectrum_size);
+    buffers.rows = rows;
+    buffers.cols = cols;
+  } else {
+    for (FftwFloatBuffer<float>& grid : buffers.grids) std::fill(grid.data(), grid.data() + real_size, 0.0f);
+    std::fill(buffers.kernel_real.data(), buffers.kernel_real.data() + real_size, 0.0f);
+  }
+  const FftwFloatBuffer<std::complex<float>>& kernel_spectrum = buffers.kernel_spectrum;
+  for (int dy = -kernel.radius_y_px; dy <= kernel.radius_y_px; ++dy)
+    for (int dx = -kernel.radius_x_px; dx <= kernel.radius_x_px; ++dx) {
+      const std::size_t r = static_cast<std::size_t>((dy + rows) % rows),
+                        c = static_cast<std::size_t>((dx + cols) % cols);
+      buffers.kernel_real[r * static_cast<std::size_t>(cols) + c] = static_cast<float>(kernel.at(dx, dy));
+    }
+  FftwFloatPlan::real_forward(rows, cols, 1, buffers.kernel_real.data(), buffers.kernel_spectrum.data(), 1).execute();
+  const float scale = 1.0f / static_cast<float>(real_size);
+
+  std::vector<FftwFloatBuffer<float>>& grids = buffers.grids;
+  parallel_chunks(4, threads, [&](int first, int last) {
+    for (int channel = first; channel < last; ++channel) {
+      float* real = grids[static_cast<std::size_t>(channel)].data();
+      FftwFloatBuffer<std::complex<float>>& spectrum = buffers.spectra[static_cast<std::size_t>(channel)];
+      const FftwFloatPlan forward = FftwFloatPlan::real_forward(rows, cols, 1, real, spectrum.data(), 1);
+      const FftwFloatPlan inverse = FftwFloatPlan::real_inverse(rows, cols, 1, spectrum.data(), real, 1);
+      for (int y = 0; y < layer.height_px; ++y) {
+        float* grid_row = real + static_cast<std::size_t>(y) * cols;
+        for (std::size_t s = layer.first_segment[static_cast<std::size_t>(y)];
+             s < layer.first_segment[static_cast<std::size_t>(y) + 1]; ++s) {
+          const RowSpan& segment = layer.segments[s];
+          const float* in = layer.segment_pixels(s);
+          for (int x = segment.first; x < segment.last; ++x)
+            grid_row[x] = in[4 * static_cast<std::size_t>(x - segment.first) + channel];
+        }
+      }
+      forward.execute();
+      for (std::size_t k = 0; k < spectrum_size; ++k) spectrum[k] *= kernel_spectrum[k] * scale;
+      inverse.execute();
+    }
+  });
+  // Input pixel (x, y) sits at grid (x, y); output pixel (ox, oy) of the grown rectangle is grid
+  // (ox - rx, oy - ry), negative indices wrapping to the far end.
+  const std::vector<RowSpan> out_spans = blurred_row_spans(layer.spans, kernel);
+  parallel_chunks(out_height, threads, [&](int first, int last) {
+    std::vector<float> out;
+    for (int oy = first; oy < last; ++oy) {
+      const RowSpan& span = out_spans[static_cast<std::size_t>(oy)];
+      if (span.first >= span.last) continue;
+      const int r = oy - kernel.radius_y_px < 0 ? oy - kernel.radius_y_px + rows : oy - kernel.radius_y_px;
+      out.resize(4 * static_cast<std::size_t>(span.last - span.first));
+      for (int channel = 0; channel < 4; ++channel) {
+        const float* grid_row = grids[static_cast<std::size_t>(channel)].data() + static_cast<std::size_t>(r) * cols;
+        for (int ox = span.first; ox < span.last; ++ox) {
+          const int c = ox - kernel.radius_x_px < 0 ? ox - kernel.radius_x_px + cols : ox - kernel.radius_x_px;
+          out[4 * static_cast<std::size_t>(ox - span.first) + static_cast<std::size_t>(channel)] = grid_row[c];
+        }
+      }
+      sink(oy, span.first, span.last - span.first, out.data());
+    }
+  });
+}
 
 std::vector<RowSpan> nonzero_row_spans(const LayerImage& layer) {
   std::vector<RowSpan> spans(static_cast<std::size_t>(layer.height_px));
@@ -205,20 +173,24 @@ LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans
     throw std::invalid_argument("stimuli/depth_of_field_blur: " + std::to_string(spans.size()) + " row spans for a " +
                                 std::to_string(layer.height_px) + "-row layer");
   if (!vector_isa_available(isa)) isa = VectorIsa::sse2;
-  return method == LayerConvolution::direct ? blur_direct(layer, spans, kernel, threads, isa)
-                                            : blur_fft(layer, kernel, threads);
+  return blur_into_rectangle(layer, spans, kernel, method, threads, isa);
 }
 
-LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,
+LayerConvolution cheaper_layer_convolution(int width_px, int height_px, const std::vector<RowSpan>& spans,
                                            const EllipticalKernel& kernel) {
   double content_px = 0.0;
   for (const RowSpan& span : spans) content_px += span.last - span.first;
   const double direct_cost = 4.0 * content_px * kernel.nonzero_taps();
-  const double rows = good_fft_size(layer.height_px + 2 * kernel.radius_y_px);
-  const double cols = good_fft_size(layer.width_px + 2 * kernel.radius_x_px);
+  const double rows = good_fft_size(height_px + 2 * kernel.radius_y_px);
+  const double cols = good_fft_size(width_px + 2 * kernel.radius_x_px);
   // Four channels, each a forward and an inverse real transform (half a complex one each).
   const double fft_cost = kFftPointCost * 4.0 * rows * cols * std::log2(rows * cols);
   return direct_cost <= fft_cost ? LayerConvolution::direct : LayerConvolution::fft;
+}
+
+LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,
+                                           const EllipticalKernel& kernel) {
+  return cheaper_layer_convolution(layer.width_px, layer.height_px, spans, kernel);
 }
 
 }  // namespace glarelab

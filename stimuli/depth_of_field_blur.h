@@ -3,12 +3,13 @@
 // RGBA (colour times coverage, coverage in alpha), so that the blurred alpha says how much of each
 // pixel the layer's blurred surface covers (Porter and Duff 1984) and the layers can be composited.
 //
-// Two ways to the same linear convolution: direct (for each kernel tap, a scaled copy of the
-// nonzero span of each of the layer's rows added into the output's: cost ~ the layer's pixels x
-// nonzero taps) and by FFT (FFTW float,
-// zero-padded so nothing wraps: cost ~ padded area x log of it, whatever the kernel). Which is
-// faster depends on the kernel's area against the log of the layer's; docs/DEPTH_OF_FIELD.md has
-// the measured crossover, cheaper_layer_convolution the rule drawn from it.
+// Two ways to the same linear convolution, both on the layer's rows (stimuli/depth_of_field_rows.h):
+// direct (each output gathers the kernel's nonzero taps from the rows' nonzero spans: cost ~ the
+// layer's pixels x nonzero taps) and by FFT (FFTW float, zero-padded so nothing wraps: cost ~
+// padded area x log of it, whatever the kernel). Which is faster depends on the kernel's area
+// against the log of the layer's; docs/DEPTH_OF_FIELD.md has the measured crossover,
+// cheaper_layer_convolution the rule drawn from it. blur_layer is the convolution of a rectangle
+// (the tests' and the bench's); the stage blurs rows and adds them into the frame as they come.
 #include <vector>
 
 #include "core/vector_isa.h"
@@ -42,9 +43,9 @@ enum class LayerConvolution { direct, fft };
 // `threads`; each output value is computed by the same operations in the same order whatever the
 // thread count, so the result does not depend on it.
 // `spans`: nonzero_row_spans(layer), or any spans outside which the layer is zero.
-// `isa`: the form of the direct sum's row adds (core/vector_isa.h): with AVX2 two pixels at a time,
-// a product and a sum each rounded as in the SSE2 form (no fused multiply-add), so the same bits;
-// one this CPU does not run takes SSE2.
+// `isa`: the form of the direct sum (core/vector_isa.h): with AVX2 two pixels a register, each
+// product and sum rounded as in the SSE2 form (no fused multiply-add), so the same bits; one this
+// CPU does not run takes SSE2. Outside the blurred rows' spans the rectangle is 0.
 LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
                       LayerConvolution method, int threads, VectorIsa isa = widest_vector_isa());
 inline LayerImage blur_layer(const LayerImage& layer, const EllipticalKernel& kernel, LayerConvolution method,
@@ -55,6 +56,8 @@ inline LayerImage blur_layer(const LayerImage& layer, const EllipticalKernel& ke
 // The method expected to be faster for this layer and kernel: direct costs its rows' nonzero spans
 // times the kernel's nonzero taps, the FFT its padded rectangle times the log of its size (the
 // constant between them measured by bench/depth_of_field_bench.cpp).
+LayerConvolution cheaper_layer_convolution(int width_px, int height_px, const std::vector<RowSpan>& spans,
+                                           const EllipticalKernel& kernel);
 LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,
                                            const EllipticalKernel& kernel);
 inline LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const EllipticalKernel& kernel) {

@@ -92,12 +92,15 @@ WholeFrameBenchmarkResult run_whole_frame_benchmark(const WholeFrameBenchmarkOpt
   // The CPU engine (no GL context), the glare on the planned float32 path, as sessions run it.
   FrameEngine engine(bench_glare(GlareBackendRequest::automatic), AdaptationTimeConstants{}, display, 1, GlContextFactory());
   ImageRGBA first_seen, first_frame;
+  // The depth of field's buffers and output kept from frame to frame, as the engine keeps its own.
+  DepthOfFieldBuffers depth_buffers;
+  ImageRGBA seen;
   double best_cpu = 1e300;
   for (int k = 0; k <= options.repeats; ++k) {
     const double cpu_start = process_cpu_time_s();
     const auto start = std::chrono::steady_clock::now();
     DepthOfFieldReport report;
-    ImageRGBA seen = apply_depth_of_field(scene, depth_m, depth_settings, &report);
+    apply_depth_of_field(scene, depth_m, depth_settings, depth_buffers, seen, &report);
     const double depth_cpu_s = process_cpu_time_s() - cpu_start, depth_wall_s = seconds_since(start);
     EyeFrame frame = engine.frame(request_for(seen, k));
     const double wall_s = seconds_since(start), cpu_s = process_cpu_time_s() - cpu_start;
@@ -108,7 +111,7 @@ WholeFrameBenchmarkResult run_whole_frame_benchmark(const WholeFrameBenchmarkOpt
     if (k == 0) {
       result.first_frame_s = wall_s;
       result.depth_layers = report.layers;
-      first_seen = std::move(seen);
+      first_seen = seen;
       first_frame = std::move(frame.image_cd_m2);
       continue;
     }

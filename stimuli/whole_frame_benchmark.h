@@ -4,7 +4,8 @@
 // depths (stimuli/depth_of_field_benchmark.h, resampled to the frame) through the depth of field,
 // then the default eye's glare (GlareModel::human: the calibrated wave-optics near field and the CIE
 // far field, dynamic eye) between adaptation and acuity and every perception stage
-// (stimuli/frame_engine.h, the CPU engine), each frame anew. Beside it, the sum of its floors
+// (stimuli/frame_engine.h, the CPU engine), each frame anew (the depth of field's buffers kept from
+// frame to frame, DepthOfFieldBuffers, as the engine keeps its own). Beside it, the sum of its floors
 // measured in the same run:
 //   - the glare: the FFTW floor of a frame of an interval, 3 forward and 3 inverse real transforms
 //     of the frame padded by the display PSF (glare/cpu/fftw_floor.h; as the glare model rows);

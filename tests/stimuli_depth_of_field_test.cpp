@@ -17,6 +17,7 @@
 #include "stimuli/depth_of_field.h"
 #include "stimuli/depth_of_field_blur.h"
 #include "stimuli/depth_of_field_reference.h"
+#include "stimuli/depth_of_field_rows.h"
 #include "stimuli/display_model.h"
 #include "stimuli/elliptical_kernel.h"
 #include "stimuli/scene_depth.h"
@@ -477,6 +478,56 @@ TEST(DepthOfFieldTest, ResultDoesNotDependOnTheThreadCount) {
     EXPECT_EQ(apply_depth_of_field(image, depth, settings_for(error, threads)).rgba, one.rgba) << threads;
 }
 
+TEST(DepthOfFieldTest, KeptBuffersGiveTheFramesOfFreshOnes) {
+  // Buffers and an output kept from frame to frame (DepthOfFieldBuffers) reuse memory whatever it
+  // held: frames of other sizes, other layers and both convolutions in turn must each be the bits of
+  // a call with fresh buffers, alpha and depth channel included.
+  const EyeErrorAtDistance error = emmetrope(1.0, DioptricPower::from_prescription({0.0, -0.75, 20.0}));
+  struct Frame {
+    ImageRGBA image;
+    std::vector<float> depth;
+  };
+  const auto frame = [](int width, int height, float near_m, float far_m) {
+    Frame f{textured(width, height), {}};
+    f.depth.resize(static_cast<std::size_t>(width) * height);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        f.image.pixel(x, y)[3] = 0.25f + 0.01f * static_cast<float>(x % 7);
+        f.depth[static_cast<std::size_t>(y) * width + x] =
+            x < width / 3 ? near_m : static_cast<float>(far_m + 0.05 * y);
+      }
+    f.image.depth = f.depth;
+    return f;
+  };
+  // The second has a 0.1 m board 9 D from focus (18 px of blur: the FFT), the others only the direct sum.
+  const std::vector<Frame> frames = {frame(80, 50, 0.3f, 0.6f), frame(140, 90, 0.1f, 0.8f), frame(61, 37, 0.5f, 1.5f),
+                                     frame(80, 50, 0.3f, 0.6f)};
+  for (int threads : {1, 2}) {
+    DepthOfFieldBuffers buffers;
+    ImageRGBA kept(3, 2, 7.0f);  // the wrong size: made again
+    bool took_fft = false;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      DepthOfFieldReport kept_report, fresh_report;
+      apply_depth_of_field(frames[k].image, frames[k].depth, settings_for(error, threads), buffers, kept, &kept_report);
+      const ImageRGBA fresh =
+          apply_depth_of_field(frames[k].image, frames[k].depth, settings_for(error, threads), &fresh_report);
+      ASSERT_EQ(kept.width_px, fresh.width_px);
+      EXPECT_EQ(kept.rgba, fresh.rgba) << k << " " << threads;
+      EXPECT_EQ(kept.depth, frames[k].depth) << k;
+      EXPECT_EQ(kept_report.layers, fresh_report.layers);
+      EXPECT_EQ(kept_report.fft_layers, fresh_report.fft_layers);
+      took_fft = took_fft || kept_report.fft_layers > 0;
+      // The alpha is the input's, untouched by the blur.
+      EXPECT_EQ(kept.pixel(6, 3)[3], frames[k].image.pixel(6, 3)[3]);
+    }
+    EXPECT_TRUE(took_fft);
+  }
+  // The output cannot be its own input.
+  DepthOfFieldBuffers buffers;
+  ImageRGBA same = frames[0].image;
+  EXPECT_THROW(apply_depth_of_field(same, frames[0].depth, settings_for(error), buffers, same), std::invalid_argument);
+}
+
 TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
   LayerImage layer;
   layer.x0_px = 5;
@@ -508,6 +559,64 @@ TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
   }
 }
 
+TEST(DepthOfFieldTest, RowSegmentsGiveTheBitsOfOneSpanWithZerosBetween) {
+  // Two boards in the same rows, far enough apart to be stored as two segments a row: the direct
+  // sum must give every output the bits it has when each row is one span with zeros in the gap
+  // (the gap at least min_segment_gap_px, so no block reads both), on 1 and 3 threads and in each
+  // vector form.
+  const EllipticalKernel kernel = elliptical_kernel(PixelBlurEllipse{5.0, 2.5, 30.0});
+  const int gap = min_segment_gap_px(kernel);
+  const int width = 12 + gap + 17, height = 19;
+  const ImageRGBA texture = textured(width, height);
+  LayerImage layer;
+  layer.x0_px = -4;
+  layer.y0_px = 7;
+  layer.width_px = width;
+  layer.height_px = height;
+  layer.rgba.assign(4 * static_cast<std::size_t>(width) * height, 0.0f);
+  std::vector<std::size_t> row_first(static_cast<std::size_t>(height) + 1, 0);
+  std::vector<RowSpan> segments, hulls(static_cast<std::size_t>(height));
+  for (int y = 0; y < height; ++y) {
+    // Row 5 has only the left board, row 9 only the right one, row 13 none.
+    const bool left = y != 9 && y != 13, right = y != 5 && y != 13;
+    const int right_first = 12 + gap + (y % 3);  // the gap never below the least
+    if (left) segments.push_back({1, 12});
+    if (right) segments.push_back({right_first, width - (y % 2)});
+    row_first[static_cast<std::size_t>(y) + 1] = segments.size();
+    for (std::size_t s = row_first[static_cast<std::size_t>(y)]; s < segments.size(); ++s)
+      for (int x = segments[s].first; x < segments[s].last; ++x)
+        std::copy_n(texture.pixel(x, y), 4, layer.pixel(x, y));
+    if (left || right) hulls[static_cast<std::size_t>(y)] = {left ? 1 : right_first, right ? width - (y % 2) : 12};
+  }
+  LayerRows split;
+  split.lay_out_segments(layer.x0_px, layer.y0_px, width, height, row_first, segments, kernel);
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const int y = static_cast<int>(std::upper_bound(row_first.begin(), row_first.end(), s) - row_first.begin()) - 1;
+    std::copy_n(layer.pixel(segments[s].first, y), 4 * static_cast<std::size_t>(segments[s].last - segments[s].first),
+                split.segment_pixels(s));
+  }
+  ASSERT_EQ(split.spans.size(), hulls.size());
+  for (std::size_t y = 0; y < hulls.size(); ++y) {
+    EXPECT_EQ(split.spans[y].first, hulls[y].first) << y;
+    EXPECT_EQ(split.spans[y].last, hulls[y].last) << y;
+  }
+  const LayerImage whole = blur_layer(layer, hulls, kernel, LayerConvolution::direct, 1);
+  for (const int threads : {1, 3})
+    for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+      if (!vector_isa_available(isa)) continue;
+      LayerImage out = whole;
+      std::fill(out.rgba.begin(), out.rgba.end(), -1.0f);
+      blur_rows_direct(split, kernel, threads, isa, [&](int row, int first, int count, const float* rgba) {
+        std::copy_n(rgba, 4 * static_cast<std::size_t>(count), out.pixel(first, row));
+      });
+      const std::vector<RowSpan> blurred = blurred_row_spans(hulls, kernel);
+      for (int y = 0; y < out.height_px; ++y)
+        for (int x = blurred[static_cast<std::size_t>(y)].first; x < blurred[static_cast<std::size_t>(y)].last; ++x)
+          for (int c = 0; c < 4; ++c)
+            ASSERT_EQ(out.pixel(x, y)[c], whole.pixel(x, y)[c]) << x << " " << y << " " << threads;
+    }
+}
+
 TEST(DepthOfFieldTest, BlurredSpansHoldEveryNonzeroValueOfTheBlurredLayer) {
   // A diagonal band with gaps: the spans worked out from the input's must contain all the light of
   // the blurred layer, and be no wider than the band plus the kernel's width.
@@ -533,9 +642,10 @@ TEST(DepthOfFieldTest, BlurredSpansHoldEveryNonzeroValueOfTheBlurredLayer) {
 }
 
 TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
-  // bench/depth_of_field_bench.cpp on a 1024 x 768 layer, 2 threads: direct 14 ms against FFT 17 ms
-  // (CPU) for a 4 px circle, 48 against 17 ms for an 8 px one; on a 32-row band direct 0.6 against
-  // 1.0 ms at 4 px, 2.0 against 0.8 ms at 8 px.
+  // blur_layer both ways on a 1024 x 768 layer, 2 threads (the process' CPU time, the direct sum's
+  // outputs held in registers; docs/DEPTH_OF_FIELD.md, section 4): direct 27 ms against FFT 40 ms
+  // for an 8 px circle, 99 against 41 ms for a 16 px one; on a 32-row band direct 1.0 against
+  // 2.0 ms at 8 px, 3.8 against 2.0 ms at 16 px.
   const auto pick = [](int width, int height, double radius_px) {
     LayerImage layer;
     layer.width_px = width;
@@ -544,19 +654,20 @@ TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
     return cheaper_layer_convolution(layer, elliptical_kernel(PixelBlurEllipse{radius_px, radius_px, 0.0}));
   };
   EXPECT_EQ(pick(1024, 768, 4.0), LayerConvolution::direct);
-  EXPECT_EQ(pick(1024, 768, 8.0), LayerConvolution::fft);
-  EXPECT_EQ(pick(1024, 32, 4.0), LayerConvolution::direct);
-  EXPECT_EQ(pick(1024, 32, 8.0), LayerConvolution::fft);
+  EXPECT_EQ(pick(1024, 768, 8.0), LayerConvolution::direct);
+  EXPECT_EQ(pick(1024, 768, 16.0), LayerConvolution::fft);
+  EXPECT_EQ(pick(1024, 32, 8.0), LayerConvolution::direct);
+  EXPECT_EQ(pick(1024, 32, 16.0), LayerConvolution::fft);
   EXPECT_EQ(pick(1024, 768, 0.4), LayerConvolution::direct);  // the identity kernel
   // A thin diagonal band (a slice of a tilted plane) in a full-frame rectangle: the direct sum only
-  // visits its 8 px a row, so it stays cheaper at 8 px of blur.
+  // visits its 8 px a row, so it stays cheaper at 16 px of blur.
   LayerImage band;
   band.width_px = 1024;
   band.height_px = 768;
   band.rgba.assign(4 * static_cast<std::size_t>(1024) * 768, 0.0f);
   for (int y = 0; y < 768; ++y)
     for (int x = y; x < y + 8; ++x) band.pixel(x, y)[3] = 1.0f;
-  EXPECT_EQ(cheaper_layer_convolution(band, elliptical_kernel(PixelBlurEllipse{8.0, 8.0, 0.0})),
+  EXPECT_EQ(cheaper_layer_convolution(band, elliptical_kernel(PixelBlurEllipse{16.0, 16.0, 0.0})),
             LayerConvolution::direct);
 }
 

@@ -1,0 +1,263 @@
+#include "stimuli/depth_of_field_rows.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
+#include "core/parallel_for.h"
+
+namespace glarelab {
+namespace {
+
+struct Tap {
+  int dx;
+  float weight;
+};
+
+// The kernel's nonzero taps by row: the sum skips the zero corners of the ellipse.
+std::vector<std::vector<Tap>> taps_by_row(const EllipticalKernel& kernel) {
+  std::vector<std::vector<Tap>> rows(static_cast<std::size_t>(kernel.height()));
+  for (int dy = -kernel.radius_y_px; dy <= kernel.radius_y_px; ++dy)
+    for (int dx = -kernel.radius_x_px; dx <= kernel.radius_x_px; ++dx) {
+      const double w = kernel.at(dx, dy);
+      if (w != 0.0) rows[static_cast<std::size_t>(dy + kernel.radius_y_px)].push_back({dx, static_cast<float>(w)});
+    }
+  return rows;
+}
+
+// One input row as an output row gathers it: its stored floats, where its column 0 would lie in
+// them (before the buffer's start for a span far from the rectangle's left edge: only columns the
+// pads cover are read), the outputs it reaches and the taps of its kernel row.
+struct Source {
+  const float* stored;
+  std::ptrdiff_t column0;  // float index of column 0 relative to `stored`
+  int reach_first, reach_last;  // output columns [first, last) it adds to
+  const std::vector<Tap>* taps;
+};
+
+constexpr int kBlock = kDirectBlockPx;
+
+#if !(defined(__x86_64__) && defined(__GNUC__))
+// The block of kBlock output pixels starting at column x (of the blurred rectangle, whose column X
+// gathers input column X - radius_x - dx for tap dx): out = sum over sources and taps, in order, of
+// weight x input. Scalar form, where the SSE2 one below is not compiled.
+void sum_block(const Source* sources, int count, int x, int radius_x, float* __restrict out) {
+  float acc[4 * kBlock] = {};
+  for (int s = 0; s < count; ++s) {
+    const Source& source = sources[s];
+    if (x + kBlock <= source.reach_first || x >= source.reach_last) continue;
+    for (const Tap& tap : *source.taps) {
+      const float* __restrict in =
+          source.stored + (source.column0 + 4 * static_cast<std::ptrdiff_t>(x - radius_x - tap.dx));
+      for (int k = 0; k < 4 * kBlock; ++k) acc[k] += tap.weight * in[k];
+    }
+  }
+  std::copy(acc, acc + 4 * kBlock, out);
+}
+#else
+// The block of kBlock output pixels starting at column x (of the blurred rectangle, whose column X
+// gathers input column X - radius_x - dx for tap dx): out = sum over sources and taps, in order, of
+// weight x input, with SSE2 registers, one pixel each: eight accumulators held across the taps, so
+// a block is summed as two halves of eight pixels.
+void sum_half_block_sse2(const Source* sources, int count, int x, int radius_x, float* __restrict out) {
+  __m128 a0 = _mm_setzero_ps(), a1 = a0, a2 = a0, a3 = a0, a4 = a0, a5 = a0, a6 = a0, a7 = a0;
+  for (int s = 0; s < count; ++s) {
+    const Source& source = sources[s];
+    if (x + kBlock / 2 <= source.reach_first || x >= source.reach_last) continue;
+    for (const Tap& tap : *source.taps) {
+      const float* in = source.stored + (source.column0 + 4 * static_cast<std::ptrdiff_t>(x - radius_x - tap.dx));
+      const __m128 w = _mm_set1_ps(tap.weight);
+      a0 = _mm_add_ps(a0, _mm_mul_ps(w, _mm_loadu_ps(in)));
+      a1 = _mm_add_ps(a1, _mm_mul_ps(w, _mm_loadu_ps(in + 4)));
+      a2 = _mm_add_ps(a2, _mm_mul_ps(w, _mm_loadu_ps(in + 8)));
+      a3 = _mm_add_ps(a3, _mm_mul_ps(w, _mm_loadu_ps(in + 12)));
+      a4 = _mm_add_ps(a4, _mm_mul_ps(w, _mm_loadu_ps(in + 16)));
+      a5 = _mm_add_ps(a5, _mm_mul_ps(w, _mm_loadu_ps(in + 20)));
+      a6 = _mm_add_ps(a6, _mm_mul_ps(w, _mm_loadu_ps(in + 24)));
+      a7 = _mm_add_ps(a7, _mm_mul_ps(w, _mm_loadu_ps(in + 28)));
+    }
+  }
+  _mm_storeu_ps(out, a0);
+  _mm_storeu_ps(out + 4, a1);
+  _mm_storeu_ps(out + 8, a2);
+  _mm_storeu_ps(out + 12, a3);
+  _mm_storeu_ps(out + 16, a4);
+  _mm_storeu_ps(out + 20, a5);
+  _mm_storeu_ps(out + 24, a6);
+  _mm_storeu_ps(out + 28, a7);
+}
+
+void sum_block_sse2(const Source* sources, int count, int x, int radius_x, float* __restrict out) {
+  sum_half_block_sse2(sources, count, x, radius_x, out);
+  sum_half_block_sse2(sources, count, x + kBlock / 2, radius_x, out + 2 * kBlock);
+}
+
+// Two pixels a register with AVX2, no fused multiply-add: each product and sum rounded as above.
+__attribute__((target("avx2"))) void sum_block_avx2(const Source* sources, int count, int x, int radius_x,
+                                                    float* __restrict out) {
+  __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0, a4 = a0, a5 = a0, a6 = a0, a7 = a0;
+  for (int s = 0; s < count; ++s) {
+    const Source& source = sources[s];
+    if (x + kBlock <= source.reach_first || x >= source.reach_last) continue;
+    for (const Tap& tap : *source.taps) {
+      const float* in = source.stored + (source.column0 + 4 * static_cast<std::ptrdiff_t>(x - radius_x - tap.dx));
+      const __m256 w = _mm256_set1_ps(tap.weight);
+      a0 = _mm256_add_ps(a0, _mm256_mul_ps(w, _mm256_loadu_ps(in)));
+      a1 = _mm256_add_ps(a1, _mm256_mul_ps(w, _mm256_loadu_ps(in + 8)));
+      a2 = _mm256_add_ps(a2, _mm256_mul_ps(w, _mm256_loadu_ps(in + 16)));
+      a3 = _mm256_add_ps(a3, _mm256_mul_ps(w, _mm256_loadu_ps(in + 24)));
+      a4 = _mm256_add_ps(a4, _mm256_mul_ps(w, _mm256_loadu_ps(in + 32)));
+      a5 = _mm256_add_ps(a5, _mm256_mul_ps(w, _mm256_loadu_ps(in + 40)));
+      a6 = _mm256_add_ps(a6, _mm256_mul_ps(w, _mm256_loadu_ps(in + 48)));
+      a7 = _mm256_add_ps(a7, _mm256_mul_ps(w, _mm256_loadu_ps(in + 56)));
+    }
+  }
+  _mm256_storeu_ps(out, a0);
+  _mm256_storeu_ps(out + 8, a1);
+  _mm256_storeu_ps(out + 16, a2);
+  _mm256_storeu_ps(out + 24, a3);
+  _mm256_storeu_ps(out + 32, a4);
+  _mm256_storeu_ps(out + 40, a5);
+  _mm256_storeu_ps(out + 48, a6);
+  _mm256_storeu_ps(out + 56, a7);
+}
+#endif
+
+using BlockSum = void (*)(const Source*, int, int, int, float* __restrict);
+
+BlockSum block_sum_for(VectorIsa isa) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  return isa == VectorIsa::avx2_fma && vector_isa_available(isa) ? sum_block_avx2 : sum_block_sse2;
+#else
+  (void)isa;
+  return sum_block;
+#endif
+}
+
+}  // namespace
+
+int min_segment_gap_px(const EllipticalKernel& kernel) { return 2 * kernel.radius_x_px + kBlock; }
+
+void LayerRows::lay_out(int x0, int y0, int width, int height, const std::vector<RowSpan>& row_spans,
+                        const EllipticalKernel& kernel) {
+  if (row_spans.size() != static_cast<std::size_t>(height))
+    throw std::invalid_argument("stimuli/depth_of_field_rows: " + std::to_string(row_spans.size()) +
+                                " row spans for a " + std::to_string(height) + "-row layer");
+  std::vector<std::size_t> row_first(static_cast<std::size_t>(height) + 1, 0);
+  std::vector<RowSpan> row_segments;
+  for (int y = 0; y < height; ++y) {
+    const RowSpan& span = row_spans[static_cast<std::size_t>(y)];
+    if (span.first < span.last) row_segments.push_back(span);
+    row_first[static_cast<std::size_t>(y) + 1] = row_segments.size();
+  }
+  lay_out_segments(x0, y0, width, height, row_first, row_segments, kernel);
+}
+
+void LayerRows::lay_out_segments(int x0, int y0, int width, int height, const std::vector<std::size_t>& row_first,
+                                 const std::vector<RowSpan>& row_segments, const EllipticalKernel& kernel) {
+  x0_px = x0;
+  y0_px = y0;
+  width_px = width;
+  height_px = height;
+  pad_px = 2 * kernel.radius_x_px + kBlock;
+  first_segment = row_first;
+  segments = row_segments;
+  spans.assign(static_cast<std::size_t>(height), RowSpan{});
+  for (int y = 0; y < height; ++y) {
+    const std::size_t first = first_segment[static_cast<std::size_t>(y)], last = first_segment[static_cast<std::size_t>(y) + 1];
+    if (first < last) spans[static_cast<std::size_t>(y)] = {segments[first].first, segments[last - 1].last};
+  }
+  offsets.resize(segments.size());
+  std::size_t size = 0;
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    offsets[s] = size;
+    size += 4 * static_cast<std::size_t>(segments[s].last - segments[s].first + 2 * pad_px);
+  }
+  reserve(size);
+  const std::size_t pad_floats = 4 * static_cast<std::size_t>(pad_px);
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    float* stored = segment_start(s);
+    std::fill_n(stored, pad_floats, 0.0f);
+    std::fill_n(stored + pad_floats + 4 * static_cast<std::size_t>(segments[s].last - segments[s].first), pad_floats,
+                0.0f);
+  }
+}
+
+void LayerRows::reserve(std::size_t floats) {
+  if (floats <= capacity_) return;
+  storage_.reset(new float[floats]);  // not value-initialised: lay_out writes what is read
+  capacity_ = floats;
+}
+
+void copy_layer_rows(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
+                     LayerRows& rows) {
+  rows.lay_out(layer.x0_px, layer.y0_px, layer.width_px, layer.height_px, spans, kernel);
+  for (int y = 0; y < layer.height_px; ++y) {
+    const RowSpan& span = spans[static_cast<std::size_t>(y)];
+    if (span.first < span.last)
+      std::copy_n(layer.pixel(span.first, y), 4 * static_cast<std::size_t>(span.last - span.first),
+                  rows.segment_pixels(rows.first_segment[static_cast<std::size_t>(y)]));
+  }
+}
+
+LayerImage layer_image_of(const LayerRows& rows) {
+  LayerImage layer;
+  layer.x0_px = rows.x0_px;
+  layer.y0_px = rows.y0_px;
+  layer.width_px = rows.width_px;
+  layer.height_px = rows.height_px;
+  layer.rgba.assign(4 * static_cast<std::size_t>(rows.width_px) * rows.height_px, 0.0f);
+  for (int y = 0; y < rows.height_px; ++y)
+    for (std::size_t s = rows.first_segment[static_cast<std::size_t>(y)];
+         s < rows.first_segment[static_cast<std::size_t>(y) + 1]; ++s)
+      std::copy_n(rows.segment_pixels(s), 4 * static_cast<std::size_t>(rows.segments[s].last - rows.segments[s].first),
+                  layer.pixel(rows.segments[s].first, y));
+  return layer;
+}
+
+void blur_rows_direct(const LayerRows& rows, const EllipticalKernel& kernel, int threads, VectorIsa isa,
+                      const BlurredRowSink& sink) {
+  if (rows.pad_px != 2 * kernel.radius_x_px + kBlock)
+    throw std::invalid_argument("stimuli/depth_of_field_rows: rows padded by " + std::to_string(rows.pad_px) +
+                                " px were not laid out for a kernel of radius " + std::to_string(kernel.radius_x_px));
+  const std::vector<std::vector<Tap>> taps = taps_by_row(kernel);
+  const std::vector<RowSpan> out_spans = blurred_row_spans(rows.spans, kernel);
+  const BlockSum block_sum = block_sum_for(isa);
+  const int rx = kernel.radius_x_px, ry = kernel.radius_y_px;
+  parallel_chunks(static_cast<int>(out_spans.size()), threads, [&](int first, int last) {
+    std::vector<Source> sources;
+    std::vector<float> out;
+    for (int oy = first; oy < last; ++oy) {
+      const RowSpan& span = out_spans[static_cast<std::size_t>(oy)];
+      if (span.first >= span.last) continue;
+      sources.clear();
+      // Kernel rows top (dy = -ry) to bottom, as the sum's order requires.
+      for (int dy = -ry; dy <= ry; ++dy) {
+        const int sy = oy - ry - dy;
+        if (sy < 0 || sy >= rows.height_px) continue;
+        const std::vector<Tap>& row_taps = taps[static_cast<std::size_t>(dy + ry)];
+        if (row_taps.empty()) continue;
+        for (std::size_t s = rows.first_segment[static_cast<std::size_t>(sy)];
+             s < rows.first_segment[static_cast<std::size_t>(sy) + 1]; ++s) {
+          const RowSpan& in = rows.segments[s];
+          const std::ptrdiff_t column0 = 4 * static_cast<std::ptrdiff_t>(rows.pad_px - in.first);
+          sources.push_back({rows.segment_start(s), column0, in.first, in.last + 2 * rx, &row_taps});
+        }
+      }
+      const int count = span.last - span.first;
+      const int blocks = (count + kBlock - 1) / kBlock;
+      out.resize(4 * static_cast<std::size_t>(blocks) * kBlock);
+      for (int b = 0; b < blocks; ++b)
+        block_sum(sources.data(), static_cast<int>(sources.size()), span.first + b * kBlock, rx,
+                  &out[4 * static_cast<std::size_t>(b) * kBlock]);
+      sink(oy, span.first, count, out.data());
+    }
+  });
+}
+
+}  // namespace glarelab
