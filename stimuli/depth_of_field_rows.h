@@ -4,18 +4,18 @@
 //
 // Why rows. A layer's rectangle reaches across the frame (a slice of a receding floor beside a
 // board far to its side), but its pixels are a band: held as a rectangle, every layer of a frame
-// paid a frame-sized zero fill and, above glibc's mmap threshold, fresh page faults for its image
-// and again for its blurred rectangle. Here each row holds only its span, padded with zeros, in
+// would pay a frame-sized zero fill and, above glibc's mmap threshold, fresh page faults for its
+// image and again for its blurred rectangle. Here each row holds only its span, padded with zeros, in
 // one buffer the caller keeps from layer to layer; the blurred rows go to the caller one at a time
 // (added into the frame's sum, their coverage kept for occlusion) and are never stored as an image.
 //
 // The sum. Each output pixel gathers the kernel's nonzero taps (rows top to bottom, taps left to
 // right) from the input rows, sixteen pixels at a time held in registers (eight with SSE2): the
-// output is written once instead of read and written once a tap, which made the sum memory-bound.
-// Each pixel's value is the products w x in added in the same order as the tap-by-tap row adds that
-// came before, each product and each sum rounded once (no fused multiply-add), so the SSE2 and AVX2
-// forms give the same bits, and the same bits as before: the pads add w x 0 = +0, which changes no
-// sum.
+// output is written once instead of read and written once a tap, which would make the sum
+// memory-bound. Each pixel's value is the products w x in added in the order of tap-by-tap row
+// adds, each product and each sum rounded once (no fused multiply-add), so the SSE2 and AVX2 forms
+// give the same bits as each other and as a sum of whole rows tap by tap: the pads add w x 0 = +0,
+// which changes no sum.
 #include <complex>
 #include <cstddef>
 #include <functional>
