@@ -33,6 +33,14 @@ std::string info_log(GLuint name, bool is_program) {
 
 }  // namespace
 
+ShaderSourceTexts shader_source_texts(std::string_view source, std::string_view defines) {
+  if (defines.empty()) return {source, std::string(), source.substr(source.size())};
+  const std::size_t first_line_end = source.find('\n');
+  if (first_line_end == std::string_view::npos)  // the #version line alone, with no line end
+    return {source, "\n" + std::string(defines) + "\n#line 2\n", source.substr(source.size())};
+  return {source.substr(0, first_line_end + 1), std::string(defines) + "\n#line 2\n", source.substr(first_line_end + 1)};
+}
+
 Program build_program(std::initializer_list<std::string_view> shader_paths) { return build_program(shader_paths, {}); }
 
 Program build_program(std::initializer_list<std::string_view> shader_paths, std::string_view defines) {
@@ -43,13 +51,10 @@ Program build_program(std::initializer_list<std::string_view> shader_paths, std:
     const std::string_view source = embedded_shader(path);
     if (source.empty()) throw DisplayError("OpenGL: shader " + std::string(path) + " is not embedded in this build");
     Shader shader(glCreateShader(stage_of(path)));
-    // The #version line, the defines, a #line back to the source's second line, the rest.
-    const std::size_t first_line_end = defines.empty() ? source.size() : source.find('\n');
-    const std::size_t split = first_line_end == std::string_view::npos ? source.size() : first_line_end + 1;
-    const std::string specialised = defines.empty() ? std::string() : std::string(defines) + "\n#line 2\n";
-    const char* texts[3] = {source.data(), specialised.data(), source.data() + split};
-    const GLint lengths[3] = {static_cast<GLint>(split), static_cast<GLint>(specialised.size()),
-                              static_cast<GLint>(source.size() - split)};
+    const ShaderSourceTexts parts = shader_source_texts(source, defines);
+    const char* texts[3] = {parts.before_defines.data(), parts.defines_block.data(), parts.after_defines.data()};
+    const GLint lengths[3] = {static_cast<GLint>(parts.before_defines.size()), static_cast<GLint>(parts.defines_block.size()),
+                              static_cast<GLint>(parts.after_defines.size())};
     glShaderSource(shader.get(), 3, texts, lengths);
     glCompileShader(shader.get());
     GLint ok = GL_FALSE;
