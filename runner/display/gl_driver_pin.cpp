@@ -1,9 +1,8 @@
 #include "runner/display/gl_driver_pin.h"
 
-#include <dlfcn.h>
-#include <link.h>
-
 #include <string>
+
+#include "runner/display/module_pin.h"
 
 namespace glarelab {
 namespace {
@@ -16,14 +15,8 @@ bool is_gl_driver(const std::string& path) {
   return false;
 }
 
-int pin_gl_module(struct dl_phdr_info* info, std::size_t, void*) {
-  const std::string path = info->dlpi_name != nullptr ? info->dlpi_name : "";
-  if (!path.empty() && is_gl_driver(path)) dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);  // never closed
-  return 0;
-}
-
 }  // namespace
 
-void keep_gl_driver_loaded() { dl_iterate_phdr(pin_gl_module, nullptr); }
+void keep_gl_driver_loaded() { keep_modules_loaded(is_gl_driver); }
 
 }  // namespace glarelab

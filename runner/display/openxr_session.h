@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "runner/display/controller_presses.h"
+#include "runner/display/module_pin.h"
 #include "runner/display/openxr_actions.h"
 #include "runner/display/openxr_clock.h"
 #include "runner/display/openxr_eye_gaze.h"
@@ -114,6 +115,10 @@ class OpenXrConnection {
   std::unique_ptr<OpenXrEyeGaze> eye_gaze_;  // where the system has eye gaze
   bool keeping_eye_gaze_ = false;
   std::vector<HeadsetGazeSample> eye_gaze_samples_;  // since take_eye_gaze(), while keeping
+  // Made before the runtime is first loaded and destroyed before every handle above: the runtime,
+  // its API layers and the drivers they loaded stay mapped after xrDestroyInstance unloads them
+  // (runner/display/module_pin.h).
+  ModulesLoadedMeanwhileKept runtime_modules_kept_;
 };
 
 }  // namespace glarelab
