@@ -77,7 +77,7 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
 // Sets `region`'s previous_serial and changed_since_previous against `previous` when the two are
 // half-precision regions of the same rectangle: the bounding box of the pixels whose halves differ
 // (compared bit for bit). Otherwise leaves them unset. In the demo a dynamic frame differs from the
-// one before it only on the dynamic lamp's side, two fifths of the frame.
+// one before it only on the dynamic lamp's side, about a third of the frame.
 void mark_changes_since(GlaredRegion& region, const GlaredRegion& previous);
 
 // Fills the storage that half precision regions take from (and hand back when freed) up to its

@@ -94,7 +94,7 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   // When the region drawn last is the one this region was compared with when it was made (the
   // interval's frame before it, GlaredRegion::changed_since_previous), the framebuffer already holds
   // this region's values outside the rectangle where the two differ: only that rectangle is
-  // written, blended with the overlays and encoded (in the demo two fifths of the frame: the
+  // written, blended with the overlays and encoded (in the demo about a third of the frame: the
   // dynamic lamp's side).
   // Overlays placed for the display, repeated in each eye's view.
   const std::vector<Placement> placed_overlays = glare_.eye_overlays(overlays);
