@@ -303,8 +303,22 @@ void FrameRenderer::replace_stimulus_region_half_rgb(const std::vector<std::uint
                          height_px, "replacing a region of the stimulus frame from half floats");
 }
 
+void FrameRenderer::replace_stimulus_region_half_rgb_part(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px,
+                                                          int y0_px, int width_px, int height_px,
+                                                          const PixelRect& part) {
+  if (part.empty()) return;  // nothing differs: nothing written, wherever its corner lies
+  if (!PixelRect{x0_px, y0_px, width_px, height_px}.contains(part))
+    throw DisplayError("frame renderer: a " + std::to_string(part.width_px) + "x" + std::to_string(part.height_px) +
+                       " part at (" + std::to_string(part.x_px) + ", " + std::to_string(part.y_px) + ") outside its " +
+                       std::to_string(width_px) + "x" + std::to_string(height_px) + " region at (" +
+                       std::to_string(x0_px) + ", " + std::to_string(y0_px) + ")");
+  upload_stimulus_region(rgb_bottom_up.data(), rgb_bottom_up.size(), 3, GL_HALF_FLOAT, x0_px, y0_px, width_px,
+                         height_px, "replacing part of a region of the stimulus frame from half floats", &part);
+}
+
 void FrameRenderer::upload_stimulus_region(const void* values, std::size_t count, int channels, unsigned type,
-                                           int x0_px, int y0_px, int width_px, int height_px, const char* what) {
+                                           int x0_px, int y0_px, int width_px, int height_px, const char* what,
+                                           const PixelRect* part) {
   if (width_px == 0 || height_px == 0) return;
   if (x0_px < 0 || y0_px < 0 || width_px < 0 || height_px < 0 || x0_px + width_px > width_px_ ||
       y0_px + height_px > height_px_)
@@ -315,11 +329,24 @@ void FrameRenderer::upload_stimulus_region(const void* values, std::size_t count
     throw DisplayError("frame renderer: " + std::to_string(count) + " values for a " + std::to_string(width_px) + "x" +
                        std::to_string(height_px) + " region of " + std::to_string(channels) + " channels");
   ++stimulus_generation_;
-  mark_unencoded(PixelRect{x0_px, y0_px, width_px, height_px});
+  const PixelRect written = part != nullptr ? *part : PixelRect{x0_px, y0_px, width_px, height_px};
+  mark_unencoded(written);
   // Rows of half RGB (6 bytes a pixel) are only 2-byte aligned.
   glPixelStorei(GL_UNPACK_ALIGNMENT, type == GL_HALF_FLOAT ? 2 : 4);
-  glTextureSubImage2D(stimulus_texture_.get(), 0, x0_px, height_px_ - y0_px - height_px, width_px, height_px,
-                      channels == 3 ? GL_RGB : GL_RGBA, type, values);
+  if (part != nullptr) {
+    // The part's rows read where they lie in the region's (bottom-up): GL skips the columns left of
+    // it and the region's rows below it, and steps by the region's width.
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, width_px);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, part->x_px - x0_px);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, y0_px + height_px - part->bottom_px());
+  }
+  glTextureSubImage2D(stimulus_texture_.get(), 0, written.x_px, height_px_ - written.bottom_px(), written.width_px,
+                      written.height_px, channels == 3 ? GL_RGB : GL_RGBA, type, values);
+  if (part != nullptr) {
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+  }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   gl::check_gl_error(what);
 }

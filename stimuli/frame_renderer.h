@@ -77,6 +77,11 @@ class FrameRenderer {
                                          int height_px);
   void replace_stimulus_region_half_rgb(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px, int y0_px,
                                         int width_px, int height_px);
+  // Only the pixels of such a region inside `part` (frame coordinates, top-left origin, within the
+  // region), read in place from the region's rows: for a region that differs from the one the
+  // stimulus framebuffer holds only there, the rest of its rectangle already holds its values.
+  void replace_stimulus_region_half_rgb_part(const std::vector<std::uint16_t>& rgb_bottom_up, int x0_px, int y0_px,
+                                             int width_px, int height_px, const PixelRect& part);
 
   // The same from a frame left on the GPU (the GL frame engine's, stimuli/frame_engine.h): a shader
   // storage buffer of this context holding width x height RGBA32F pixels, row 0 at the top, copied
@@ -96,9 +101,9 @@ class FrameRenderer {
 
  private:
   // Checks the rectangle and uploads `values` (`channels` per pixel, GL type `type`) into it, rows
-  // bottom-up.
+  // bottom-up; with `part`, only the pixels of the rectangle inside it.
   void upload_stimulus_region(const void* values, std::size_t count, int channels, unsigned type, int x0_px, int y0_px,
-                              int width_px, int height_px, const char* what);
+                              int width_px, int height_px, const char* what, const PixelRect* part = nullptr);
   void draw_placements(const std::vector<Placement>& placements, bool overlay);
   // Widens unencoded_ by `rect` (clipped to the frame).
   void mark_unencoded(const PixelRect& rect);

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "core/half_float.h"
 #include "runner/display/display_backend.h"
 #include "stimuli/display_model.h"
 #include "stimuli/frame_renderer.h"
@@ -202,6 +203,71 @@ TEST(FrameRendererWrites, EncodingOnlyWhatChangedEqualsEncodingTheWholeFrame) {
   }
 }
 
+// A dynamic glare flip that follows the frame before it writes only the part of its half region
+// that differs from that frame's (read in place from the region's rows), blends the overlays
+// again inside that part and encodes it: the stimulus and the display then hold, bit for bit, what
+// writing the whole region into a freshly composed frame gives, for a float and a dithered 8-bit
+// target. A part outside its region is refused.
+TEST(FrameRendererWrites, APartOfAHalfRegionLeavesWhatTheWholeRegionWouldHave) {
+  DisplayRequest request;
+  request.width_px = 48;
+  request.height_px = 32;
+  auto display = create_display("offscreen", request);
+  // Two half regions of 30 x 20 at (6, 5), rows bottom-up, the second differing from the first in
+  // the region's columns 4 to 16 and rows 7 to 15 from the top (frame (10, 12), 13 x 9).
+  const int x0 = 6, y0 = 5, width = 30, height = 20;
+  std::vector<std::uint16_t> first(3 * width * height), second;
+  for (std::size_t i = 0; i < first.size(); ++i)
+    first[i] = half_from_float(0.37f * static_cast<float>(i % 97) + 0.01f * static_cast<float>(i / 97));
+  second = first;
+  const PixelRect part{10, 12, 13, 9};
+  for (int y = 7; y < 16; ++y)
+    for (int x = 4; x < 17; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t row_from_bottom = static_cast<std::size_t>(height - 1 - y);
+        second[3 * (row_from_bottom * width + x) + c] = half_from_float(40.0f + static_cast<float>(x * 3 + y + c));
+      }
+  for (const int bits : {0, 8}) {
+    DisplaySpec spec;
+    spec.peak_luminance_cd_m2 = 100.0;
+    spec.bits_per_channel = bits;
+    FrameRenderer renderer(48, 32);
+    const SceneTexture scene = renderer.upload(position_pattern(16, 8));
+    const std::vector<Placement> placements = {{&scene, 1.0, {2, 3, 16, 8}, {0, 0, 48, 32}}};
+    const Placement overlay{&scene, 0.5, {14, 10, 16, 8}, {0, 0, 48, 32}};
+    renderer.compose(placements, 0.5);
+    renderer.replace_stimulus_region_half_rgb(first, x0, y0, width, height);
+    renderer.compose_overlay({overlay});
+    renderer.encode_changes_to_display(spec);
+    Placement overlay_in_part = overlay;
+    overlay_in_part.clip = part;
+    renderer.replace_stimulus_region_half_rgb_part(second, x0, y0, width, height, part);
+    renderer.compose_overlay({overlay_in_part});
+    EXPECT_EQ(renderer.unencoded_rect(), part);
+    renderer.encode_changes_to_display(spec);
+
+    FrameRenderer fresh(48, 32);
+    const SceneTexture fresh_scene = fresh.upload(position_pattern(16, 8));
+    Placement fresh_overlay = overlay;
+    fresh_overlay.scene = &fresh_scene;
+    fresh.compose({{&fresh_scene, 1.0, {2, 3, 16, 8}, {0, 0, 48, 32}}}, 0.5);
+    fresh.replace_stimulus_region_half_rgb(second, x0, y0, width, height);
+    fresh.compose_overlay({fresh_overlay});
+    fresh.encode_to_display(spec);
+    EXPECT_EQ(renderer.read_stimulus().rgba, fresh.read_stimulus().rgba) << bits << " bits";
+    EXPECT_EQ(renderer.read_display().rgba, fresh.read_display().rgba) << bits << " bits";
+    // And the part did change the frame (a missing write would pass the comparisons otherwise).
+    FrameRenderer old_frame(48, 32);
+    const SceneTexture old_scene = old_frame.upload(position_pattern(16, 8));
+    old_frame.compose({{&old_scene, 1.0, {2, 3, 16, 8}, {0, 0, 48, 32}}}, 0.5);
+    old_frame.replace_stimulus_region_half_rgb(first, x0, y0, width, height);
+    EXPECT_NE(renderer.read_stimulus().rgba, old_frame.read_stimulus().rgba);
+
+    EXPECT_THROW(renderer.replace_stimulus_region_half_rgb_part(second, x0, y0, width, height, {30, 12, 13, 9}),
+                 DisplayError);
+  }
+}
+
 TEST(FrameRendererWrites, EveryWriteToTheStimulusCountsAndReadsAndEncodesDoNot) {
   DisplayRequest request;
   request.width_px = 32;
@@ -227,10 +293,13 @@ TEST(FrameRendererWrites, EveryWriteToTheStimulusCountsAndReadsAndEncodesDoNot) 
   wrote("replace_stimulus_region");
   renderer.replace_stimulus_region_half_rgb(std::vector<std::uint16_t>(3 * 2 * 2, 0x3c00), 1, 1, 2, 2);
   wrote("replace_stimulus_region_half_rgb");
+  renderer.replace_stimulus_region_half_rgb_part(std::vector<std::uint16_t>(3 * 2 * 2, 0x4000), 1, 1, 2, 2, {2, 1, 1, 2});
+  wrote("replace_stimulus_region_half_rgb_part");
   (void)renderer.read_stimulus();
   renderer.encode_to_display(spec);
   (void)renderer.read_display();
   renderer.replace_stimulus_region(ImageRGBA(0, 0), 0, 0);  // nothing written
+  renderer.replace_stimulus_region_half_rgb_part(std::vector<std::uint16_t>(3 * 2 * 2, 0x4000), 1, 1, 2, 2, {});
   EXPECT_EQ(renderer.stimulus_generation(), count) << "reads, encodes and empty regions write nothing";
 }
 

@@ -96,6 +96,46 @@ TEST(GlaredRegion, KeepsTheChangedRectangleExactOrAtHalfPrecision) {
   EXPECT_TRUE(changed_region(composed, composed, RegionPrecision::half_rgb).empty());
 }
 
+// A frame's change since the frame before it (what a flip that follows that frame's draws): the
+// box of the pixels whose halves differ, in frame coordinates, against two hand-made frames of the
+// same rectangle; nothing when they are the same; unknown against a region of another rectangle
+// or precision.
+TEST(GlaredRegion, ChangesSinceThePreviousFrameAreTheBoxOfTheHalvesThatDiffer) {
+  const ImageRGBA composed = opaque_black(40, 30);
+  ImageRGBA before = composed;
+  // Both frames differ from the composed one in (3, 2) to (30, 25): the same region rectangle.
+  for (int y = 2; y <= 25; ++y)
+    for (int x = 3; x <= 30; ++x) before.pixel(x, y)[1] = 0.5f + 0.01f * static_cast<float>(x + y);
+  ImageRGBA after = before;
+  after.pixel(9, 20)[0] = 77.0f;   // the box's left and bottom edges
+  after.pixel(15, 6)[2] = 0.125f;  // its right and top edges
+  after.pixel(12, 10)[1] += 1e-6f;  // below a half's step at 0.72: the same half, no change
+  const GlaredRegion first = changed_region(composed, before, RegionPrecision::half_rgb);
+  GlaredRegion second = changed_region(composed, after, RegionPrecision::half_rgb);
+  ASSERT_EQ(first.x0_px, 3);
+  ASSERT_EQ(second.x0_px, 3);
+  ASSERT_EQ(second.height_px, first.height_px);
+  EXPECT_EQ(second.previous_serial, 0u);
+  mark_changes_since(second, first);
+  EXPECT_EQ(second.previous_serial, first.serial);
+  EXPECT_EQ(second.changed_since_previous, (PixelRect{9, 6, 7, 15}));
+
+  GlaredRegion same = changed_region(composed, before, RegionPrecision::half_rgb);
+  mark_changes_since(same, first);
+  EXPECT_EQ(same.previous_serial, first.serial);
+  EXPECT_TRUE(same.changed_since_previous.empty());
+
+  // Another rectangle (one more pixel changed) or frame 0's exact precision: not known.
+  ImageRGBA wider = after;
+  wider.pixel(35, 20)[0] = 1.0f;
+  GlaredRegion other_rect = changed_region(composed, wider, RegionPrecision::half_rgb);
+  mark_changes_since(other_rect, first);
+  EXPECT_EQ(other_rect.previous_serial, 0u);
+  GlaredRegion after_exact = changed_region(composed, after, RegionPrecision::half_rgb);
+  mark_changes_since(after_exact, changed_region(composed, before, RegionPrecision::exact));
+  EXPECT_EQ(after_exact.previous_serial, 0u);
+}
+
 // Given the box the differences lie in (the glare reports' changed boxes), the same rectangle and
 // pixels as the whole-frame comparison, for boxes tight, loose, partly outside the frame and empty.
 TEST(GlaredRegion, ABoxTheDifferencesLieInGivesTheSameRegion) {

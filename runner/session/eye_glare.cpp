@@ -256,6 +256,8 @@ bool SessionGlare::make_frame(IntervalGlare& glare, int k) {
     // (runner/session/glared_region.h: the codes shown stay within one of the exact frame's).
     const RegionPrecision kept_at = k == 0 ? RegionPrecision::exact : RegionPrecision::half_rgb;
     glare.frames.push_back(changed_region(glare.composed_cd_m2, *shown, kept_at, differs_within));
+    // What changed since the frame before: all a flip that follows that frame's must draw.
+    if (glare.frames.size() >= 2) mark_changes_since(glare.frames.back(), glare.frames[glare.frames.size() - 2]);
   }
   if (k == 0 && capture_.frame && capture_.frame->reports.empty()) capture_.frame->reports = reports;
   count_glare_reports(glare, reports);

@@ -188,6 +188,35 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
   return region;
 }
 
+void mark_changes_since(GlaredRegion& region, const GlaredRegion& previous) {
+  if (region.half_rgb.empty() || previous.half_rgb.size() != region.half_rgb.size() || previous.serial == 0 ||
+      region.x0_px != previous.x0_px || region.y0_px != previous.y0_px || region.width_px != previous.width_px ||
+      region.height_px != previous.height_px)
+    return;
+  const auto row_values = 3 * static_cast<std::size_t>(region.width_px);
+  const std::size_t pixel_bytes = 3 * sizeof(std::uint16_t);
+  int x0 = region.width_px, x1 = -1, first_row = -1, last_row = -1;  // rows bottom-up, as stored
+  for (int r = 0; r < region.height_px; ++r) {
+    const std::uint16_t* a = previous.half_rgb.data() + row_values * static_cast<std::size_t>(r);
+    const std::uint16_t* b = region.half_rgb.data() + row_values * static_cast<std::size_t>(r);
+    if (std::memcmp(a, b, row_values * sizeof(std::uint16_t)) == 0) continue;
+    int first = 0, last = region.width_px - 1;
+    while (std::memcmp(a + 3 * first, b + 3 * first, pixel_bytes) == 0) ++first;
+    while (std::memcmp(a + 3 * last, b + 3 * last, pixel_bytes) == 0) --last;
+    x0 = std::min(x0, first), x1 = std::max(x1, last);
+    if (first_row < 0) first_row = r;
+    last_row = r;
+  }
+  region.previous_serial = previous.serial;
+  if (x1 < 0) {
+    region.changed_since_previous = PixelRect{};
+    return;
+  }
+  // Stored row r from the bottom is frame row y0 + height - 1 - r.
+  region.changed_since_previous = PixelRect{region.x0_px + x0, region.y0_px + region.height_px - 1 - last_row,
+                                            x1 - x0 + 1, last_row - first_row + 1};
+}
+
 ImageRGBA region_pixels(const GlaredRegion& region) {
   ImageRGBA image(region.width_px, region.height_px, 1.0f);
   const auto width = static_cast<std::size_t>(region.width_px);

@@ -55,6 +55,12 @@ struct GlaredRegion {
   // the stimulus framebuffer already holds only re-encodes it (SessionLoop::draw), as for static
   // glare, whose interval shows one region at every flip.
   std::uint64_t serial = 0;
+  // Where its values differ from those of the region with serial `previous_serial` (the interval's
+  // frame before it, of the same rectangle and precision; frame coordinates, 0 x 0 when nothing
+  // differs): a flip that follows that region's flip writes and encodes only this rectangle
+  // (SessionLoop::draw). 0: not known (frame 0, a region of another rectangle or precision).
+  std::uint64_t previous_serial = 0;
+  PixelRect changed_since_previous;
 
   bool empty() const { return width_px == 0 || height_px == 0; }  // the glared frame equals the composed one
   std::size_t bytes() const { return exact_rgba.size() * sizeof(float) + half_rgb.size() * sizeof(std::uint16_t); }
@@ -67,6 +73,12 @@ struct GlaredRegion {
 // on a 1920 x 1080 display changes a small part of it). A box reaching past the frame is clipped.
 GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
                             const std::optional<PixelRect>& differs_within = std::nullopt);
+
+// Sets `region`'s previous_serial and changed_since_previous against `previous` when the two are
+// half-precision regions of the same rectangle: the bounding box of the pixels whose halves differ
+// (compared bit for bit). Otherwise leaves them unset. In the demo a dynamic frame differs from the
+// one before it only on the dynamic lamp's side, about a third of the frame.
+void mark_changes_since(GlaredRegion& region, const GlaredRegion& previous);
 
 // Fills the storage that half precision regions take from (and hand back when freed) up to its
 // bound with storages of `values` halves: a session whose intervals make a frame per flip does it

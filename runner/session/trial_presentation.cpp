@@ -91,13 +91,25 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   // out, and the overlays are blended again inside the rectangle only (outside it the frame
   // already holds them, and blending twice would darken it). The encode then redoes only the
   // rectangle where the display keeps its frame (FrameRenderer::encode_changes_to_display).
+  // When the region drawn last is the one this region was compared with when it was made (the
+  // interval's frame before it, GlaredRegion::changed_since_previous), the framebuffer already holds
+  // this region's values outside the rectangle where the two differ: only that rectangle is
+  // written, blended with the overlays and encoded (in the demo about a third of the frame: the
+  // dynamic lamp's side).
   // Overlays placed for the display, repeated in each eye's view.
   const std::vector<Placement> placed_overlays = glare_.eye_overlays(overlays);
   if (glared != nullptr && glared_serial != 0 && drawn_ && drawn_->glared_serial != 0 &&
       drawn_->generation == renderer_.stimulus_generation() && same_rect(drawn_->glared_box, glared_box) &&
       same_placements(drawn_->placements, placements) && same_placements(drawn_->overlays, overlays)) {
-    replace_region();
-    const std::vector<Placement> within = overlays_within(placed_overlays, glared_box);
+    const bool follows_drawn = glared->previous_serial != 0 && glared->previous_serial == drawn_->glared_serial &&
+                               !glared->half_rgb.empty();
+    const PixelRect rewritten = follows_drawn ? glared->changed_since_previous : glared_box;
+    if (follows_drawn)
+      renderer_.replace_stimulus_region_half_rgb_part(glared->half_rgb, glared->x0_px, glared->y0_px,
+                                                      glared->width_px, glared->height_px, rewritten);
+    else
+      replace_region();
+    const std::vector<Placement> within = overlays_within(placed_overlays, rewritten);
     if (!within.empty()) renderer_.compose_overlay(within);
     drawn_->generation = renderer_.stimulus_generation();
     drawn_->glared_serial = glared_serial;
