@@ -551,11 +551,24 @@ TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
     ASSERT_NEAR(fft.rgba[k], direct.rgba[k], 1e-4 * (1.0 + std::abs(direct.rgba[k]))) << k;
   EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2).rgba, direct.rgba);
   EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::fft, 3).rgba, fft.rgba);
-  // Each form of the direct sum's row adds this CPU runs gives the same bits (odd spans: a last
-  // pixel after the pairs).
-  for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+  // Each form of the direct sum this CPU runs (odd spans: a last block alone) gives the same bits
+  // on 1, 2 and 3 threads, and stays within the bound between forms (depth_of_field_rows.h) of the
+  // SSE2 form: every output is a sum of at most T non-negative products w x, each form's within
+  // gamma_T = T u / (1 - T u) (u = 2^-24) of the exact S, so two forms differ by at most
+  // 2 gamma_T S <= 2 gamma_T s / (1 - gamma_T), s the SSE2 form's value.
+  const LayerImage sse2 = blur_layer(layer, kernel, LayerConvolution::direct, 1, VectorIsa::sse2);
+  std::size_t taps = 0;
+  for (const double w : kernel.weights) taps += w != 0.0 ? 1 : 0;
+  const double u = std::ldexp(1.0, -24), gamma = static_cast<double>(taps) * u / (1.0 - static_cast<double>(taps) * u);
+  for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma, VectorIsa::avx512}) {
     if (!vector_isa_available(isa)) continue;
-    EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2, isa).rgba, direct.rgba) << static_cast<int>(isa);
+    const LayerImage one = blur_layer(layer, kernel, LayerConvolution::direct, 1, isa);
+    EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2, isa).rgba, one.rgba) << static_cast<int>(isa);
+    EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 3, isa).rgba, one.rgba) << static_cast<int>(isa);
+    ASSERT_EQ(one.rgba.size(), sse2.rgba.size());
+    for (std::size_t k = 0; k < one.rgba.size(); ++k)
+      ASSERT_LE(std::abs(static_cast<double>(one.rgba[k]) - sse2.rgba[k]), 2.0 * gamma * sse2.rgba[k] / (1.0 - gamma))
+          << k << " " << static_cast<int>(isa);
   }
 }
 
@@ -600,10 +613,10 @@ TEST(DepthOfFieldTest, RowSegmentsGiveTheBitsOfOneSpanWithZerosBetween) {
     EXPECT_EQ(split.spans[y].first, hulls[y].first) << y;
     EXPECT_EQ(split.spans[y].last, hulls[y].last) << y;
   }
-  const LayerImage whole = blur_layer(layer, hulls, kernel, LayerConvolution::direct, 1);
   for (const int threads : {1, 3})
-    for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+    for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma, VectorIsa::avx512}) {
       if (!vector_isa_available(isa)) continue;
+      const LayerImage whole = blur_layer(layer, hulls, kernel, LayerConvolution::direct, 1, isa);
       LayerImage out = whole;
       std::fill(out.rgba.begin(), out.rgba.end(), -1.0f);
       blur_rows_direct(split, kernel, threads, isa, [&](int row, int first, int count, const float* rgba) {
