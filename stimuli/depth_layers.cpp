@@ -79,11 +79,12 @@ void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& ge
                                 " px must be positive and finite");
   if (!error) throw std::invalid_argument("stimuli/depth_layers: no eye error function was given");
 
-  for (std::size_t k = 0; k < depth_m.size(); ++k)
-    if (!(depth_m[k] > 0.0f))
-      throw std::invalid_argument("stimuli/depth_layers: depth " + std::to_string(depth_m[k]) + " m at index " +
-                                  std::to_string(k) +
-                                  " is not a positive distance (stimuli/scene_depth.h checks maps)");
+  if (!all_depths_positive(depth_m))
+    for (std::size_t k = 0; k < depth_m.size(); ++k)
+      if (!(depth_m[k] > 0.0f))
+        throw std::invalid_argument("stimuli/depth_layers: depth " + std::to_string(depth_m[k]) + " m at index " +
+                                    std::to_string(k) +
+                                    " is not a positive distance (stimuli/scene_depth.h checks maps)");
 
   // The distinct vergences of the scene, ascending (far to near): the distinct depths descending.
   const std::vector<float> depths = distinct_depths_m(depth_m);

@@ -147,6 +147,63 @@ void add_transmitted_row(float* __restrict sum, const float* __restrict transmis
 #endif
 }
 
+// sum = transmission x the blurred layer: the same bits as adding it to a zero sum (0 + p is p;
+// p is never -0, the layers being non-negative).
+void set_transmitted_row(float* __restrict sum, const float* __restrict transmission, const float* __restrict rgba,
+                         int pixels) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  for (int x = 0; x < pixels; ++x, sum += 4, rgba += 4)
+    _mm_storeu_ps(sum, _mm_mul_ps(_mm_set1_ps(transmission[x]), _mm_loadu_ps(rgba)));
+#else
+  for (int x = 0; x < pixels; ++x, sum += 4, rgba += 4) {
+    const float t = transmission[x];
+    for (int c = 0; c < 4; ++c) sum[c] = t * rgba[c];
+  }
+#endif
+}
+
+// The same where nothing hides the row yet (transmission 1: 1 x v is v, so the same bits).
+void add_row(float* __restrict sum, const float* __restrict rgba, int pixels) {
+  for (int k = 0; k < 4 * pixels; ++k) sum[k] += rgba[k];
+}
+
+// sum's row y on `clip` (frame columns) given the layer's blurred values there. `written` is the
+// row's stretch that holds sums (outside it the sum is zero and not stored): the values are added
+// inside it and written outside, the columns between it and `clip` zeroed, and it grows to hold
+// both. transmission: the row's, or nullptr where nothing hides it yet.
+void accumulate_row(float* sum_row, const float* transmission_row, RowSpan& written, const RowSpan& clip,
+                    const float* rgba) {
+  const auto put = [&](int first, int last, bool add) {
+    if (first >= last) return;
+    float* out = sum_row + 4 * static_cast<std::size_t>(first);
+    const float* in = rgba + 4 * static_cast<std::size_t>(first - clip.first);
+    if (transmission_row == nullptr) {
+      if (add)
+        add_row(out, in, last - first);
+      else
+        std::copy_n(in, 4 * static_cast<std::size_t>(last - first), out);
+    } else if (add) {
+      add_transmitted_row(out, transmission_row + first, in, last - first);
+    } else {
+      set_transmitted_row(out, transmission_row + first, in, last - first);
+    }
+  };
+  if (written.first >= written.last) {
+    put(clip.first, clip.last, false);
+    written = clip;
+    return;
+  }
+  // Zeros between the stretch and the clip, where they do not meet.
+  if (clip.last < written.first)
+    std::fill(sum_row + 4 * static_cast<std::size_t>(clip.last), sum_row + 4 * static_cast<std::size_t>(written.first), 0.0f);
+  if (clip.first > written.last)
+    std::fill(sum_row + 4 * static_cast<std::size_t>(written.last), sum_row + 4 * static_cast<std::size_t>(clip.first), 0.0f);
+  put(clip.first, std::min(clip.last, written.first), false);
+  put(std::max(clip.first, written.first), std::min(clip.last, written.last), true);
+  put(std::max(clip.first, written.last), clip.last, false);
+  written = {std::min(written.first, clip.first), std::max(written.last, clip.last)};
+}
+
 // A blurred layer's coverage (one float a pixel on its rows' spans inside the frame), kept until
 // the first layer far enough behind it to be hidden by it.
 struct PendingOccluder {
@@ -200,14 +257,22 @@ void transmit_through(float* __restrict t, const float* __restrict coverage, int
   for (; x < count; ++x) t[x] *= 1.0f - coverage[x];
 }
 
-// transmission *= 1 - the occluder's coverage.
-void occlude(std::vector<float>& transmission, int width_px, const PendingOccluder& occluder, int threads) {
+// transmission *= 1 - the occluder's coverage; a row hidden for the first time is set to 1 first
+// (`hidden`: the rows whose transmission is stored).
+void occlude(std::vector<float>& transmission, std::vector<char>& hidden, int width_px, const PendingOccluder& occluder,
+             int threads) {
   parallel_chunks(static_cast<int>(occluder.spans.size()), threads, [&](int first, int last) {
     for (int row = first; row < last; ++row) {
       const RowSpan& span = occluder.spans[static_cast<std::size_t>(row)];
+      if (span.first >= span.last) continue;
+      const std::size_t y = static_cast<std::size_t>(occluder.y0 + row);
+      float* t_row = &transmission[y * width_px];
+      if (!hidden[y]) {
+        std::fill_n(t_row, width_px, 1.0f);
+        hidden[y] = 1;
+      }
       const float* coverage = occluder.coverage.data() + occluder.offsets[static_cast<std::size_t>(row)];
-      float* t = &transmission[static_cast<std::size_t>(occluder.y0 + row) * width_px + span.first];
-      transmit_through(t, coverage, span.last - span.first);
+      transmit_through(t_row + span.first, coverage, span.last - span.first);
     }
   });
 }
@@ -255,13 +320,19 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
   DepthOfFieldReport counts;
   counts.layers = static_cast<int>(plan.layers.size());
   const double pixels_per_dioptre = geometry.pixels_per_dioptre();
-  // The sum of the layers (premultiplied RGB and coverage), divided in place at the end.
+  // The sum of the layers (premultiplied RGB and coverage), divided in place at the end: stored only
+  // on each row's written stretch (zero outside it), so a frame is not zero-filled first.
   result.width_px = width;
   result.height_px = height;
-  result.rgba.assign(4 * static_cast<std::size_t>(width) * height, 0.0f);
+  result.rgba.resize(4 * static_cast<std::size_t>(width) * height);
   std::vector<float>& sum = result.rgba;
+  std::vector<RowSpan>& written = buffers.written;
+  written.assign(static_cast<std::size_t>(height), RowSpan{});
+  // The nearer layers' transmission, stored only for the rows some layer hides (1 elsewhere).
   std::vector<float>& transmission = buffers.transmission;
-  transmission.assign(static_cast<std::size_t>(width) * height, 1.0f);
+  transmission.resize(static_cast<std::size_t>(width) * height);
+  std::vector<char>& hidden = buffers.hidden_rows;
+  hidden.assign(static_cast<std::size_t>(height), 0);
   std::vector<PendingOccluder> pending;
   // Each layer's kernel (a layer within its pixel passes through: the identity kernel's sum is each
   // value itself), and its rows' buffer kept from layer to layer, made once as large as the largest.
@@ -287,7 +358,7 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
     counts.max_blur_error_px = std::max(counts.max_blur_error_px, layer.max_blur_error_px);
     for (auto occluder = pending.begin(); occluder != pending.end();) {
       if (occluder->hides_up_to_vergence_dioptres > layer.vergence_dioptres) {
-        occlude(transmission, width, *occluder, settings.threads);
+        occlude(transmission, hidden, width, *occluder, settings.threads);
         buffers.coverages.push_back(std::move(occluder->coverage));
         occluder = pending.erase(occluder);
       } else {
@@ -325,9 +396,10 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
       if (y < 0 || y >= height) return;
       const RowSpan clip = place.clipped({first, first + count});
       if (clip.first >= clip.last) return;
-      const std::size_t k = static_cast<std::size_t>(y) * width + clip.first;
+      const std::size_t row_start = static_cast<std::size_t>(y) * width;
       const float* in = rgba + 4 * static_cast<std::size_t>(clip.first - place.x0 - first);
-      add_transmitted_row(&sum[4 * k], &transmission[k], in, clip.last - clip.first);
+      accumulate_row(&sum[4 * row_start], hidden[static_cast<std::size_t>(y)] ? &transmission[row_start] : nullptr,
+                     written[static_cast<std::size_t>(y)], clip, in);
       if (occludes) {
         float* coverage = occluder.coverage.data() + occluder.offsets[static_cast<std::size_t>(y - occluder.y0)];
         for (int x = 0; x < clip.last - clip.first; ++x) coverage[x] = in[4 * static_cast<std::size_t>(x) + 3];
@@ -350,12 +422,19 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
   for (PendingOccluder& occluder : pending) buffers.coverages.push_back(std::move(occluder.coverage));
 
   parallel_chunks(height, settings.threads, [&](int first, int last) {
-    for (int y = first; y < last; ++y)
+    for (int y = first; y < last; ++y) {
+      const RowSpan& stored = written[static_cast<std::size_t>(y)];
       for (int x = 0; x < width; ++x) {
         float* out = result.pixel(x, y);
+        const float alpha = image_cd_m2.pixel(x, y)[3];
+        if (x < stored.first || x >= stored.last) {
+          // A zero sum: max(0 / 1, 0).
+          out[0] = out[1] = out[2] = 0.0f;
+          out[3] = alpha;
+          continue;
+        }
         // Every pixel belongs to a layer whose kernel keeps light at its centre, so coverage > 0.
         const float coverage = out[3] > 0.0f ? out[3] : 1.0f;
-        const float alpha = image_cd_m2.pixel(x, y)[3];
 #if defined(__x86_64__) && defined(__GNUC__)
         // max(x, 0) as std::max(0, x) (0 for a NaN); each lane's quotient rounded once.
         _mm_storeu_ps(out, _mm_max_ps(_mm_div_ps(_mm_loadu_ps(out), _mm_set1_ps(coverage)), _mm_setzero_ps()));
@@ -364,6 +443,7 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
 #endif
         out[3] = alpha;
       }
+    }
   });
   result.depth = image_cd_m2.depth;
   if (report != nullptr) *report = counts;

@@ -57,8 +57,9 @@ struct DepthOfFieldSettings {
   EyeErrorAtDistance residual_error;  // the eye's power error for each distance
   double tolerance_px = kDefaultLayerTolerancePx;
   int threads = 1;
-  // The form of the direct blur's sums (depth_of_field_rows.h): the same bits in each.
-  VectorIsa vector_isa = widest_vector_isa();
+  // The form of the direct blur's sums (depth_of_field_rows.h): SSE2 apart, AVX2 and AVX-512 alike
+  // (fused multiply-adds), each within the bound derived there of the other.
+  VectorIsa vector_isa = widest_vector_isa_with_avx512();
 };
 
 struct DepthOfFieldReport {
@@ -97,6 +98,8 @@ struct DepthOfFieldBuffers {
   std::vector<std::vector<PixelRun>> row_runs;
   std::vector<RowSpan> layer_spans;
   std::vector<float> transmission;
+  std::vector<char> hidden_rows;   // rows whose transmission is stored this frame
+  std::vector<RowSpan> written;    // each row's stretch of the sum stored this frame
   LayerRows rows;
   LayerFftBuffers fft;
   std::vector<std::vector<float>> coverages;  // the occluding layers' coverage, returned when used
