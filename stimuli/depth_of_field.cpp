@@ -1,6 +1,7 @@
 #include "stimuli/depth_of_field.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -69,19 +70,32 @@ Rectangle bounding_rectangle(const RowSpan* spans, int height) {
 }
 
 // target = w x (r, g, b, 1) over `pixels` pixels of `source`: the source's alpha replaced by 1, whose
-// product is w exactly (SSE2 where compiled: the same products a lane).
-void weighted_pixels(float* __restrict target, const float* __restrict source, float weight, int pixels) {
+// product is w exactly (SSE2 where compiled: the same products a lane). Returns whether every
+// source R, G and B lies in [0, FLT_MAX] (inspect_pixels' clean pixels), found on the loads the
+// products make anyway: every pixel is read by its own layer, so the frame's check costs no pass.
+bool weighted_pixels(float* __restrict target, const float* __restrict source, float weight, int pixels) {
 #if defined(__x86_64__) && defined(__GNUC__)
   const __m128 colour_mask = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
   const __m128 alpha_one = _mm_set_ps(1.0f, 0.0f, 0.0f, 0.0f);
   const __m128 w = _mm_set1_ps(weight);
-  for (int x = 0; x < pixels; ++x, target += 4, source += 4)
-    _mm_storeu_ps(target, _mm_mul_ps(w, _mm_or_ps(_mm_and_ps(_mm_loadu_ps(source), colour_mask), alpha_one)));
-#else
+  const __m128 zero = _mm_setzero_ps(), largest = _mm_set1_ps(std::numeric_limits<float>::max());
+  __m128 in_range = _mm_castsi128_ps(_mm_set1_epi32(-1));
   for (int x = 0; x < pixels; ++x, target += 4, source += 4) {
-    for (int c = 0; c < 3; ++c) target[c] = weight * source[c];
+    const __m128 value = _mm_or_ps(_mm_and_ps(_mm_loadu_ps(source), colour_mask), alpha_one);
+    in_range = _mm_and_ps(in_range, _mm_and_ps(_mm_cmpge_ps(value, zero), _mm_cmple_ps(value, largest)));
+    _mm_storeu_ps(target, _mm_mul_ps(w, value));
+  }
+  return _mm_movemask_ps(in_range) == 0xF;
+#else
+  bool in_range = true;
+  for (int x = 0; x < pixels; ++x, target += 4, source += 4) {
+    for (int c = 0; c < 3; ++c) {
+      in_range = in_range && source[c] >= 0.0f && source[c] <= std::numeric_limits<float>::max();
+      target[c] = weight * source[c];
+    }
     target[3] = weight;
   }
+  return in_range;
 #endif
 }
 
@@ -89,7 +103,8 @@ void weighted_pixels(float* __restrict target, const float* __restrict source, f
 // run of the plan at a time: on its own pixels colour and coverage times 1 - their blend weight, on
 // the pixels blended into it from a neighbour times their blend weight, 0 between. A segment is a
 // stretch of the layer's runs; a gap too short to part two (min_segment_gap_px) is kept as zeros.
-void fill_layer_rows(const ImageRGBA& image, const std::vector<std::vector<PixelRun>>& runs, std::uint32_t index,
+// Returns whether every pixel read was in range (weighted_pixels).
+bool fill_layer_rows(const ImageRGBA& image, const std::vector<std::vector<PixelRun>>& runs, std::uint32_t index,
                      const Rectangle& box, const EllipticalKernel& kernel, LayerRows& rows, int threads) {
   const int height = box.y1 - box.y0 + 1, gap = min_segment_gap_px(kernel);
   std::vector<std::size_t> row_first(static_cast<std::size_t>(height) + 1, 0);
@@ -107,7 +122,9 @@ void fill_layer_rows(const ImageRGBA& image, const std::vector<std::vector<Pixel
     row_first[static_cast<std::size_t>(y) + 1] = segments.size();
   }
   rows.lay_out_segments(box.x0, box.y0, box.x1 - box.x0 + 1, height, row_first, segments, kernel);
+  std::atomic<bool> in_range{true};
   parallel_chunks(height, threads, [&](int first_row, int last_row) {
+    bool chunk_in_range = true;
     for (int y = first_row; y < last_row; ++y) {
       const std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(box.y0 + y)];
       auto run = row_runs.begin();
@@ -120,16 +137,18 @@ void fill_layer_rows(const ImageRGBA& image, const std::vector<std::vector<Pixel
           const int first = std::max(run->first, frame_first), last = std::min(run->end, frame_last);
           float* out = target + 4 * static_cast<std::size_t>(first - frame_first);
           if (run->own == index)
-            weighted_pixels(out, image.pixel(first, box.y0 + y), 1.0f - run->blend_weight, last - first);
+            chunk_in_range &= weighted_pixels(out, image.pixel(first, box.y0 + y), 1.0f - run->blend_weight, last - first);
           else if (run->blended == index)
-            weighted_pixels(out, image.pixel(first, box.y0 + y), run->blend_weight, last - first);
+            chunk_in_range &= weighted_pixels(out, image.pixel(first, box.y0 + y), run->blend_weight, last - first);
           else
             std::fill_n(out, 4 * static_cast<std::size_t>(last - first), 0.0f);
         }
         if (run != row_runs.begin()) --run;  // the last run may reach into the next segment
       }
     }
+    if (!chunk_in_range) in_range = false;
   });
+  return in_range;
 }
 
 // sum += transmission x the blurred layer (premultiplied colour and coverage alike) over `pixels`
@@ -279,10 +298,8 @@ void occlude(std::vector<float>& transmission, std::vector<char>& hidden, int wi
 
 void refuse(const std::string& what) { throw std::invalid_argument("stimuli/depth_of_field: " + what); }
 
-}  // namespace
-
-void check_depth_of_field_inputs(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
-                                 const DepthOfFieldSettings& settings) {
+// The checks of check_depth_of_field_inputs before its pixels' and depths'.
+void check_image_and_settings(const ImageRGBA& image_cd_m2, const DepthOfFieldSettings& settings) {
   if (image_cd_m2.empty()) refuse("the image is empty");
   if (!(settings.degrees_per_pixel > 0.0) || !std::isfinite(settings.degrees_per_pixel))
     refuse("degrees per pixel " + std::to_string(settings.degrees_per_pixel) + " must be positive and finite");
@@ -292,8 +309,19 @@ void check_depth_of_field_inputs(const ImageRGBA& image_cd_m2, const std::vector
     refuse("the layer tolerance " + std::to_string(settings.tolerance_px) + " px must be positive and finite");
   if (settings.threads < 1) refuse("threads " + std::to_string(settings.threads) + " must be at least 1");
   if (!settings.residual_error) refuse("no eye error function was given");
+}
+
+void refuse_pixels(const ImageRGBA& image_cd_m2) {
   const NonFiniteReport pixels = inspect_pixels(image_cd_m2);
   if (!pixels.clean()) refuse("the image has " + pixels.describe() + "; luminances must be finite and non-negative");
+}
+
+}  // namespace
+
+void check_depth_of_field_inputs(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
+                                 const DepthOfFieldSettings& settings) {
+  check_image_and_settings(image_cd_m2, settings);
+  refuse_pixels(image_cd_m2);
   check_scene_depth(depth_m, image_cd_m2.width_px, image_cd_m2.height_px, "the depth map");
 }
 
@@ -308,7 +336,10 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
 void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
                           const DepthOfFieldSettings& settings, DepthOfFieldBuffers& buffers, ImageRGBA& result,
                           DepthOfFieldReport* report) {
-  check_depth_of_field_inputs(image_cd_m2, depth_m, settings);
+  // check_depth_of_field_inputs' checks, the pixels' as the layers read them (fill_layer_rows): a
+  // bad pixel is refused with its message once its layer is filled.
+  check_image_and_settings(image_cd_m2, settings);
+  check_scene_depth(depth_m, image_cd_m2.width_px, image_cd_m2.height_px, "the depth map");
   if (&result == &image_cd_m2) refuse("the result cannot be written over its own input image");
   const int width = image_cd_m2.width_px, height = image_cd_m2.height_px;
   const BlurGeometry geometry{settings.degrees_per_pixel, settings.pupil_radius_m};
@@ -369,8 +400,9 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
     const Rectangle box = bounding_rectangle(spans, height);
     if (box.x1 < 0) continue;  // no pixel (a layer is made only for depths the scene has)
     const EllipticalKernel& kernel = kernels[index];
-    fill_layer_rows(image_cd_m2, buffers.row_runs, static_cast<std::uint32_t>(index), box, kernel, rows,
-                    settings.threads);
+    if (!fill_layer_rows(image_cd_m2, buffers.row_runs, static_cast<std::uint32_t>(index), box, kernel, rows,
+                         settings.threads))
+      refuse_pixels(image_cd_m2);
     const std::vector<RowSpan> blurred_spans = blurred_row_spans(rows.spans, kernel);
     const FramePlacement place{box.x0 - kernel.radius_x_px, box.y0 - kernel.radius_y_px, width, height};
 
@@ -400,6 +432,16 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
       const float* in = rgba + 4 * static_cast<std::size_t>(clip.first - place.x0 - first);
       accumulate_row(&sum[4 * row_start], hidden[static_cast<std::size_t>(y)] ? &transmission[row_start] : nullptr,
                      written[static_cast<std::size_t>(y)], clip, in);
+#if defined(__x86_64__) && defined(__GNUC__)
+      // The next row's sum on about the same columns, asked for now: its read waits on memory
+      // otherwise (a row is too short a stream for the hardware's prefetcher), and the blur of the
+      // next row runs meanwhile.
+      if (y + 1 < height) {
+        const char* next = reinterpret_cast<const char*>(&sum[4 * (row_start + width + clip.first)]);
+        const char* end = reinterpret_cast<const char*>(&sum[4 * (row_start + width + clip.last)]);
+        for (; next < end; next += 64) _mm_prefetch(next, _MM_HINT_T1);
+      }
+#endif
       if (occludes) {
         float* coverage = occluder.coverage.data() + occluder.offsets[static_cast<std::size_t>(y - occluder.y0)];
         for (int x = 0; x < clip.last - clip.first; ++x) coverage[x] = in[4 * static_cast<std::size_t>(x) + 3];

@@ -76,7 +76,8 @@ struct DepthOfFieldReport {
 // Throws std::invalid_argument naming "stimuli/depth_of_field" for an empty image, non-finite or
 // negative RGB, non-positive or non-finite degrees per pixel, pupil radius or tolerance, threads
 // < 1 or a missing error function, and ImageError (stimuli/scene_depth) for a bad depth map.
-// The result does not depend on `threads`.
+// The result does not depend on `threads`. The pixels are checked as the stage's layers read them,
+// so the kept-buffers form below may have written part of `result` when it refuses one.
 ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
                                const DepthOfFieldSettings& settings, DepthOfFieldReport* report = nullptr);
 

@@ -11,6 +11,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 #include "core/exr_io.h"
 #include "stimuli/depth_layers.h"
@@ -684,7 +685,7 @@ TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
             LayerConvolution::direct);
 }
 
-TEST(DepthOfFieldTest, BadInputIsRefusedBeforeAnythingIsComputed) {
+TEST(DepthOfFieldTest, BadInputIsRefusedWithItsMessage) {
   const ImageRGBA image = textured(8, 6);
   const std::vector<float> depth = flat_depth(8, 6, 1.0f);
   const auto refusal = [](const ImageRGBA& in, const std::vector<float>& d,
@@ -705,6 +706,30 @@ TEST(DepthOfFieldTest, BadInputIsRefusedBeforeAnythingIsComputed) {
   ImageRGBA nan_image = image;
   nan_image.pixel(1, 1)[2] = std::nanf("");
   EXPECT_THAT(refusal(nan_image, depth, settings), HasSubstr("stimuli/depth_of_field: the image has"));
+  // The stage finds bad pixels as its layers read them: the same message as the check's, through
+  // kept buffers too, on the last pixel and on two kinds at once.
+  for (const auto& [x, y, value, message] :
+       {std::tuple{7, 5, -2.0f, "the image has 1 negative pixel;"},
+        std::tuple{0, 0, std::numeric_limits<float>::infinity(), "the image has 1 Inf pixel;"},
+        std::tuple{3, 4, -std::numeric_limits<float>::infinity(), "the image has 1 Inf pixel, 1 negative pixel;"}}) {
+    ImageRGBA bad = image;
+    bad.pixel(x, y)[1] = value;
+    EXPECT_THAT(refusal(bad, depth, settings), HasSubstr(message)) << x << " " << y;
+    DepthOfFieldBuffers buffers;
+    ImageRGBA out;
+    apply_depth_of_field(image, depth, settings, buffers, out);
+    EXPECT_THROW(apply_depth_of_field(bad, depth, settings, buffers, out), std::invalid_argument);
+    try {
+      check_depth_of_field_inputs(bad, depth, settings);
+      ADD_FAILURE() << "accepted";
+    } catch (const std::invalid_argument& error) {
+      EXPECT_THAT(refusal(bad, depth, settings), HasSubstr(error.what()));
+    }
+  }
+  // Alpha is not a luminance: a NaN there is carried, not refused.
+  ImageRGBA nan_alpha = image;
+  nan_alpha.pixel(2, 2)[3] = std::nanf("");
+  EXPECT_EQ(refusal(nan_alpha, depth, settings), "(accepted)");
   DepthOfFieldSettings s = settings;
   s.pupil_radius_m = 0.0;
   EXPECT_THAT(refusal(image, depth, s), HasSubstr("stimuli/depth_of_field: the pupil radius"));
