@@ -67,8 +67,44 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
   return plan;
 }
 
-void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
-                       double tolerance_px, int threads, DepthLayerPlan& plan) {
+namespace {
+
+// A depth's layer, blend layer and blend weight, the same for every pixel of that depth.
+struct LayerAssignment {
+  std::uint32_t own = 0, other = 0;
+  float weight = 0.0f;
+};
+
+// The plan's layers made from the scene's depths, and each depth's assignment to them.
+class LayerAssigner {
+ public:
+  LayerAssigner(const std::vector<DepthLayer>& layers, std::vector<bool> blends_with_next)
+      : layers_(layers), blends_with_next_(std::move(blends_with_next)) {
+    for (const DepthLayer& layer : layers) near_bounds_.push_back(layer.near_vergence_dioptres);
+  }
+  // Blending with the neighbouring layer on the side of the depth's vergence from its layer's middle.
+  LayerAssignment operator()(float depth_m) const {
+    const double v = vergence_dioptres(depth_m);
+    LayerAssignment a;
+    a.own = static_cast<std::uint32_t>(std::lower_bound(near_bounds_.begin(), near_bounds_.end(), v) -
+                                       near_bounds_.begin());
+    const double middle = layers_[a.own].vergence_dioptres;
+    a.other = a.own;
+    if (v > middle && a.own + 1 < layers_.size() && blends_with_next_[a.own]) a.other = a.own + 1;
+    if (v < middle && a.own > 0 && blends_with_next_[a.own - 1]) a.other = a.own - 1;
+    a.weight = a.other == a.own ? 0.0f : static_cast<float>((v - middle) / (layers_[a.other].vergence_dioptres - middle));
+    return a;
+  }
+
+ private:
+  const std::vector<DepthLayer>& layers_;
+  std::vector<bool> blends_with_next_;
+  std::vector<double> near_bounds_;
+};
+
+// plan.layers for the scene's depths, and the assigner of depths to them.
+LayerAssigner plan_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
+                          double tolerance_px, DepthLayerPlan& plan) {
   if (!(geometry.degrees_per_pixel > 0.0) || !std::isfinite(geometry.degrees_per_pixel) ||
       !(geometry.pupil_radius_m > 0.0) || !std::isfinite(geometry.pupil_radius_m))
     throw std::invalid_argument("stimuli/depth_layers: degrees per pixel (" +
@@ -118,11 +154,16 @@ void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& ge
   for (std::size_t i = 0; i + 1 < plan.layers.size(); ++i)
     blends_with_next[i] =
         blur_error_px(plan.layers[i].error, plan.layers[i + 1].error, geometry) <= kBlendSpanTolerances * tolerance_px;
+  return LayerAssigner(plan.layers, std::move(blends_with_next));
+}
 
+}  // namespace
+
+void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
+                       double tolerance_px, int threads, DepthLayerPlan& plan) {
+  const LayerAssigner assign = plan_layers(depth_m, geometry, error, tolerance_px, plan);
   // Each pixel to the layer whose vergence range holds it, and its blend, in one pass in chunks;
   // a run of equal depths (a plane, a row of a floor) takes the values of its first pixel.
-  std::vector<double> near_bounds;
-  for (const DepthLayer& layer : plan.layers) near_bounds.push_back(layer.near_vergence_dioptres);
   plan.layer_of_pixel.resize(depth_m.size());
   plan.blend_layer_of_pixel.resize(depth_m.size());
   plan.blend_weight.resize(depth_m.size());
@@ -132,26 +173,58 @@ void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& ge
   parallel_indexed_chunks(static_cast<int>(depth_m.size()), chunks, [&](int chunk, int begin, int stop) {
     std::vector<std::size_t>& count = counts[static_cast<std::size_t>(chunk)];
     float last_depth = 0.0f;  // no depth is 0 (checked above)
-    std::uint32_t own = 0, other = 0;
-    float weight = 0.0f;
+    LayerAssignment a;
     for (int k = begin; k < stop; ++k) {
       const std::size_t pixel = static_cast<std::size_t>(k);
       if (depth_m[pixel] != last_depth) {
         last_depth = depth_m[pixel];
-        const double v = vergence_dioptres(last_depth);
-        own = static_cast<std::uint32_t>(std::lower_bound(near_bounds.begin(), near_bounds.end(), v) -
-                                         near_bounds.begin());
-        const double middle = plan.layers[own].vergence_dioptres;
-        other = own;
-        if (v > middle && own + 1 < plan.layers.size() && blends_with_next[own]) other = own + 1;
-        if (v < middle && own > 0 && blends_with_next[own - 1]) other = own - 1;
-        weight = other == own ? 0.0f
-                              : static_cast<float>((v - middle) / (plan.layers[other].vergence_dioptres - middle));
+        a = assign(last_depth);
       }
-      plan.layer_of_pixel[pixel] = own;
-      plan.blend_layer_of_pixel[pixel] = other;
-      plan.blend_weight[pixel] = weight;
-      ++count[own];
+      plan.layer_of_pixel[pixel] = a.own;
+      plan.blend_layer_of_pixel[pixel] = a.other;
+      plan.blend_weight[pixel] = a.weight;
+      ++count[a.own];
+    }
+  });
+  for (const std::vector<std::size_t>& count : counts)
+    for (std::size_t i = 0; i < plan.layers.size(); ++i) plan.layers[i].pixel_count += count[i];
+}
+
+void plan_depth_layer_runs(const std::vector<float>& depth_m, int width_px, int height_px, const BlurGeometry& geometry,
+                           const EyeErrorAtDistance& error, double tolerance_px, int threads, DepthLayerPlan& plan,
+                           std::vector<std::vector<PixelRun>>& runs) {
+  if (width_px <= 0 || height_px <= 0 ||
+      depth_m.size() != static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px))
+    throw std::invalid_argument("stimuli/depth_layers: " + std::to_string(depth_m.size()) + " depths for a " +
+                                std::to_string(width_px) + " x " + std::to_string(height_px) + " px frame");
+  const LayerAssigner assign = plan_layers(depth_m, geometry, error, tolerance_px, plan);
+  plan.layer_of_pixel.clear();
+  plan.blend_layer_of_pixel.clear();
+  plan.blend_weight.clear();
+  runs.resize(static_cast<std::size_t>(height_px));
+  const int chunks = std::max(1, std::min(threads, height_px));
+  std::vector<std::vector<std::size_t>> counts(static_cast<std::size_t>(chunks),
+                                               std::vector<std::size_t>(plan.layers.size(), 0));
+  // Rows in chunks: a run of equal depths takes its first pixel's values (as above), and a run
+  // with the values of the one before it joins it.
+  parallel_indexed_chunks(height_px, chunks, [&](int chunk, int first_row, int last_row) {
+    std::vector<std::size_t>& count = counts[static_cast<std::size_t>(chunk)];
+    for (int y = first_row; y < last_row; ++y) {
+      const float* depth = depth_m.data() + static_cast<std::size_t>(y) * width_px;
+      std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(y)];
+      row_runs.clear();
+      for (int x = 0; x < width_px;) {
+        int end = x + 1;
+        while (end < width_px && depth[end] == depth[x]) ++end;
+        const LayerAssignment a = assign(depth[x]);
+        count[a.own] += static_cast<std::size_t>(end - x);
+        if (!row_runs.empty() && row_runs.back().own == a.own && row_runs.back().blended == a.other &&
+            row_runs.back().blend_weight == a.weight)
+          row_runs.back().end = end;
+        else
+          row_runs.push_back({x, end, a.own, a.other, a.weight});
+        x = end;
+      }
     }
   });
   for (const std::vector<std::size_t>& count : counts)

@@ -25,35 +25,20 @@ struct Rectangle {
   int x1 = -1, y1 = -1;  // inclusive
 };
 
-// Each frame row's runs of pixels with the same layer, blend layer and blend weight (a plane, a row
-// of a floor: a few a row), found in one pass over the plan in chunks of rows, and from them each
-// layer's span in each frame row, spans[layer * height + y] in frame columns (first == last: none),
-// each row's entries written by its own chunk.
-void plan_row_runs(const DepthLayerPlan& plan, int width, int height, int threads,
-                   std::vector<std::vector<PixelRun>>& runs, std::vector<RowSpan>& spans) {
-  runs.resize(static_cast<std::size_t>(height));
-  spans.assign(plan.layers.size() * static_cast<std::size_t>(height), RowSpan{});
+// Each layer's span in each frame row from the rows' runs (DepthLayerPlan), spans[layer * height + y]
+// in frame columns (first == last: none), each row's entries written by its own chunk.
+void layer_row_spans(std::size_t layers, const std::vector<std::vector<PixelRun>>& runs, int threads,
+                     std::vector<RowSpan>& spans) {
+  const int height = static_cast<int>(runs.size());
+  spans.assign(layers * static_cast<std::size_t>(height), RowSpan{});
   parallel_chunks(height, threads, [&](int first, int last) {
-    for (int y = first; y < last; ++y) {
-      const std::size_t row = static_cast<std::size_t>(y) * width;
-      std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(y)];
-      row_runs.clear();
-      for (int x = 0; x < width;) {
-        const std::uint32_t own = plan.layer_of_pixel[row + x], blended = plan.blend_layer_of_pixel[row + x];
-        const float weight = plan.blend_weight[row + x];
-        int end = x + 1;
-        while (end < width && plan.layer_of_pixel[row + end] == own && plan.blend_layer_of_pixel[row + end] == blended &&
-               plan.blend_weight[row + end] == weight)
-          ++end;
-        row_runs.push_back({x, end, own, blended, weight});
-        for (const std::uint32_t index : {own, blended}) {
+    for (int y = first; y < last; ++y)
+      for (const PixelRun& run : runs[static_cast<std::size_t>(y)])
+        for (const std::uint32_t index : {run.own, run.blended}) {
           RowSpan& span = spans[index * static_cast<std::size_t>(height) + y];
-          if (span.first == span.last) span.first = x;
-          span.last = end;
+          if (span.first == span.last) span.first = run.first;
+          span.last = run.end;
         }
-        x = end;
-      }
-    }
   });
 }
 
@@ -343,9 +328,10 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
   if (&result == &image_cd_m2) refuse("the result cannot be written over its own input image");
   const int width = image_cd_m2.width_px, height = image_cd_m2.height_px;
   const BlurGeometry geometry{settings.degrees_per_pixel, settings.pupil_radius_m};
-  plan_depth_layers(depth_m, geometry, settings.residual_error, settings.tolerance_px, settings.threads, buffers.plan);
+  plan_depth_layer_runs(depth_m, width, height, geometry, settings.residual_error, settings.tolerance_px,
+                        settings.threads, buffers.plan, buffers.row_runs);
   const DepthLayerPlan& plan = buffers.plan;
-  plan_row_runs(plan, width, height, settings.threads, buffers.row_runs, buffers.layer_spans);
+  layer_row_spans(plan.layers.size(), buffers.row_runs, settings.threads, buffers.layer_spans);
   const std::vector<RowSpan>& frame_spans = buffers.layer_spans;
 
   DepthOfFieldReport counts;

@@ -86,14 +86,6 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
 // and the FFT's grids reused
 // instead of mapped afresh (about 100 MB a 1920 x 1080 frame, whose page faults cost more than the
 // blur itself). A result does not depend on what they held before.
-// Pixels [first, end) of a frame row with the same layer, blend layer and blend weight
-// (DepthLayerPlan): the layers' pixels are read a run at a time.
-struct PixelRun {
-  int first = 0, end = 0;
-  std::uint32_t own = 0, blended = 0;
-  float blend_weight = 0.0f;
-};
-
 struct DepthOfFieldBuffers {
   DepthLayerPlan plan;
   std::vector<std::vector<PixelRun>> row_runs;

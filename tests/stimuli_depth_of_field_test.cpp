@@ -249,6 +249,61 @@ TEST(DepthOfFieldLayersTest, LayersDoNotDependOnWherePixelsLie) {
   }
 }
 
+TEST(DepthOfFieldLayersTest, RowRunsHoldEachPixelsPlanValues) {
+  // Rows of a receding ramp with repeated depths, a board of one depth across some of them and runs
+  // of depths that blend: the runs' form must give every pixel the per-pixel plan's layer, blend
+  // layer and weight, with the same layers and counts, on 1 and 3 threads; runs cover each row in
+  // order and two neighbours never hold the same values.
+  const int width = 37, height = 23;
+  std::vector<float> depth(static_cast<std::size_t>(width) * height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const bool board = x >= 9 && x < 20 && y >= 5 && y < 15;
+      depth[static_cast<std::size_t>(y) * width + x] =
+          board ? 0.45f : static_cast<float>(1.0 / (0.3 + 0.05 * y + 0.01 * (x / 4)));
+    }
+  const BlurGeometry geometry{kDegreesPerPixel, kPupilRadiusM};
+  const DepthLayerPlan plan = plan_depth_layers(depth, geometry, emmetrope(0.6));
+  bool blends = false;
+  for (const float w : plan.blend_weight) blends = blends || w != 0.0f;
+  ASSERT_TRUE(blends);
+  for (const int threads : {1, 3}) {
+    DepthLayerPlan run_plan;
+    std::vector<std::vector<PixelRun>> runs;
+    plan_depth_layer_runs(depth, width, height, geometry, emmetrope(0.6), kDefaultLayerTolerancePx, threads, run_plan,
+                          runs);
+    ASSERT_EQ(run_plan.layers.size(), plan.layers.size());
+    for (std::size_t k = 0; k < plan.layers.size(); ++k)
+      EXPECT_EQ(run_plan.layers[k].pixel_count, plan.layers[k].pixel_count) << k;
+    EXPECT_TRUE(run_plan.layer_of_pixel.empty());
+    ASSERT_EQ(runs.size(), static_cast<std::size_t>(height));
+    for (int y = 0; y < height; ++y) {
+      int x = 0;
+      for (std::size_t r = 0; r < runs[static_cast<std::size_t>(y)].size(); ++r) {
+        const PixelRun& run = runs[static_cast<std::size_t>(y)][r];
+        ASSERT_EQ(run.first, x) << y;
+        ASSERT_GT(run.end, run.first) << y;
+        if (r > 0) {
+          const PixelRun& before = runs[static_cast<std::size_t>(y)][r - 1];
+          EXPECT_FALSE(before.own == run.own && before.blended == run.blended && before.blend_weight == run.blend_weight);
+        }
+        for (; x < run.end; ++x) {
+          const std::size_t k = static_cast<std::size_t>(y) * width + x;
+          ASSERT_EQ(run.own, plan.layer_of_pixel[k]) << x << " " << y;
+          ASSERT_EQ(run.blended, plan.blend_layer_of_pixel[k]) << x << " " << y;
+          ASSERT_EQ(run.blend_weight, plan.blend_weight[k]) << x << " " << y;
+        }
+      }
+      EXPECT_EQ(x, width) << y;
+    }
+  }
+  DepthLayerPlan run_plan;
+  std::vector<std::vector<PixelRun>> runs;
+  EXPECT_THROW(plan_depth_layer_runs(depth, width + 1, height, geometry, emmetrope(0.6), kDefaultLayerTolerancePx, 1,
+                                     run_plan, runs),
+               std::invalid_argument);
+}
+
 TEST(DepthOfFieldLayersTest, PlanesFarApartInBlurDoNotBlend) {
   // 0.25 m and 1 m: 3 D, 6 px of blur apart (> 4 x 0.25 px): each plane keeps its own kernel.
   std::vector<float> depth = flat_depth(10, 4, 1.0f);
