@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <numbers>
@@ -17,14 +18,19 @@ namespace {
 // 1 / vergence, with vergence 0 at infinity.
 double distance_for_vergence_m(double vergence) { return vergence == 0.0 ? INFINITY : 1.0 / vergence; }
 
-// The distinct depths of the map, ascending. Positive floats (and +inf) order as their 32-bit
-// patterns do, so a least-significant-byte-first radix sort of the patterns sorts them in four
-// linear passes (a comparison sort of a rendered depth map, every pixel its own depth, took most of
-// the stage's bookkeeping time). Runs of equal depth (a plane, a row of a floor) are collapsed first.
-std::vector<float> distinct_depths_m(const std::vector<float>& depth_m) {
+// The depths of the map's runs of equal depth (a plane, a row of a floor), as 32-bit patterns.
+std::vector<std::uint32_t> run_depth_keys(const std::vector<float>& depth_m) {
   std::vector<std::uint32_t> keys;
   for (std::size_t k = 0; k < depth_m.size(); ++k)
     if (k == 0 || depth_m[k] != depth_m[k - 1]) keys.push_back(std::bit_cast<std::uint32_t>(depth_m[k]));
+  return keys;
+}
+
+// The distinct depths among `keys` (positive depths' patterns), ascending. Positive floats (and
+// +inf) order as their 32-bit patterns do, so a least-significant-byte-first radix sort of the
+// patterns sorts them in four linear passes (a comparison sort of a rendered depth map, every pixel
+// its own depth, took most of the stage's bookkeeping time).
+std::vector<float> distinct_depths_m(std::vector<std::uint32_t> keys) {
   std::vector<std::uint32_t> sorted(keys.size());
   for (int shift = 0; shift < 32; shift += 8) {
     std::array<std::size_t, 257> start{};
@@ -103,8 +109,7 @@ class LayerAssigner {
 };
 
 // plan.layers for the scene's depths, and the assigner of depths to them.
-LayerAssigner plan_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
-                          double tolerance_px, DepthLayerPlan& plan) {
+void check_plan_settings(const BlurGeometry& geometry, const EyeErrorAtDistance& error, double tolerance_px) {
   if (!(geometry.degrees_per_pixel > 0.0) || !std::isfinite(geometry.degrees_per_pixel) ||
       !(geometry.pupil_radius_m > 0.0) || !std::isfinite(geometry.pupil_radius_m))
     throw std::invalid_argument("stimuli/depth_layers: degrees per pixel (" +
@@ -114,16 +119,19 @@ LayerAssigner plan_layers(const std::vector<float>& depth_m, const BlurGeometry&
     throw std::invalid_argument("stimuli/depth_layers: the layer tolerance " + std::to_string(tolerance_px) +
                                 " px must be positive and finite");
   if (!error) throw std::invalid_argument("stimuli/depth_layers: no eye error function was given");
+}
 
-  if (!all_depths_positive(depth_m))
-    for (std::size_t k = 0; k < depth_m.size(); ++k)
-      if (!(depth_m[k] > 0.0f))
-        throw std::invalid_argument("stimuli/depth_layers: depth " + std::to_string(depth_m[k]) + " m at index " +
-                                    std::to_string(k) +
-                                    " is not a positive distance (stimuli/scene_depth.h checks maps)");
+[[noreturn]] void refuse_depth(float depth_m, std::size_t index) {
+  throw std::invalid_argument("stimuli/depth_layers: depth " + std::to_string(depth_m) + " m at index " +
+                              std::to_string(index) + " is not a positive distance (stimuli/scene_depth.h checks maps)");
+}
 
+// plan.layers for the scene's depths (`keys`: run_depth_keys of a checked map, or any list
+// holding each of its depths), and the assigner of depths to them.
+LayerAssigner plan_layers(std::vector<std::uint32_t> keys, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
+                          double tolerance_px, DepthLayerPlan& plan) {
   // The distinct vergences of the scene, ascending (far to near): the distinct depths descending.
-  const std::vector<float> depths = distinct_depths_m(depth_m);
+  const std::vector<float> depths = distinct_depths_m(std::move(keys));
   std::vector<double> vergences(depths.size());
   for (std::size_t k = 0; k < depths.size(); ++k) vergences[k] = vergence_dioptres(depths[depths.size() - 1 - k]);
 
@@ -161,7 +169,11 @@ LayerAssigner plan_layers(const std::vector<float>& depth_m, const BlurGeometry&
 
 void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
                        double tolerance_px, int threads, DepthLayerPlan& plan) {
-  const LayerAssigner assign = plan_layers(depth_m, geometry, error, tolerance_px, plan);
+  check_plan_settings(geometry, error, tolerance_px);
+  if (!all_depths_positive(depth_m))
+    for (std::size_t k = 0; k < depth_m.size(); ++k)
+      if (!(depth_m[k] > 0.0f)) refuse_depth(depth_m[k], k);
+  const LayerAssigner assign = plan_layers(run_depth_keys(depth_m), geometry, error, tolerance_px, plan);
   // Each pixel to the layer whose vergence range holds it, and its blend, in one pass in chunks;
   // a run of equal depths (a plane, a row of a floor) takes the values of its first pixel.
   plan.layer_of_pixel.resize(depth_m.size());
@@ -197,18 +209,17 @@ void plan_depth_layer_runs(const std::vector<float>& depth_m, int width_px, int 
       depth_m.size() != static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px))
     throw std::invalid_argument("stimuli/depth_layers: " + std::to_string(depth_m.size()) + " depths for a " +
                                 std::to_string(width_px) + " x " + std::to_string(height_px) + " px frame");
-  const LayerAssigner assign = plan_layers(depth_m, geometry, error, tolerance_px, plan);
+  check_plan_settings(geometry, error, tolerance_px);
   plan.layer_of_pixel.clear();
   plan.blend_layer_of_pixel.clear();
   plan.blend_weight.clear();
   runs.resize(static_cast<std::size_t>(height_px));
   const int chunks = std::max(1, std::min(threads, height_px));
-  std::vector<std::vector<std::size_t>> counts(static_cast<std::size_t>(chunks),
-                                               std::vector<std::size_t>(plan.layers.size(), 0));
-  // Rows in chunks: a run of equal depths takes its first pixel's values (as above), and a run
-  // with the values of the one before it joins it.
-  parallel_indexed_chunks(height_px, chunks, [&](int chunk, int first_row, int last_row) {
-    std::vector<std::size_t>& count = counts[static_cast<std::size_t>(chunk)];
+  // Each row's runs of equal depth, the depth held in blend_weight until the layers are known,
+  // and whether each is a positive distance: the only pass over the depths.
+  std::atomic<bool> all_positive{true};
+  parallel_chunks(height_px, chunks, [&](int first_row, int last_row) {
+    bool positive = true;
     for (int y = first_row; y < last_row; ++y) {
       const float* depth = depth_m.data() + static_cast<std::size_t>(y) * width_px;
       std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(y)];
@@ -216,15 +227,40 @@ void plan_depth_layer_runs(const std::vector<float>& depth_m, int width_px, int 
       for (int x = 0; x < width_px;) {
         int end = x + 1;
         while (end < width_px && depth[end] == depth[x]) ++end;
-        const LayerAssignment a = assign(depth[x]);
-        count[a.own] += static_cast<std::size_t>(end - x);
-        if (!row_runs.empty() && row_runs.back().own == a.own && row_runs.back().blended == a.other &&
-            row_runs.back().blend_weight == a.weight)
-          row_runs.back().end = end;
-        else
-          row_runs.push_back({x, end, a.own, a.other, a.weight});
+        positive = positive && depth[x] > 0.0f;  // a NaN is a run of its own
+        row_runs.push_back({x, end, 0, 0, depth[x]});
         x = end;
       }
+    }
+    if (!positive) all_positive = false;
+  });
+  std::vector<std::uint32_t> keys;
+  for (const std::vector<PixelRun>& row_runs : runs)
+    for (const PixelRun& run : row_runs) {
+      if (!all_positive && !(run.blend_weight > 0.0f))
+        refuse_depth(run.blend_weight, static_cast<std::size_t>(&row_runs - runs.data()) * width_px + run.first);
+      keys.push_back(std::bit_cast<std::uint32_t>(run.blend_weight));
+    }
+  const LayerAssigner assign = plan_layers(std::move(keys), geometry, error, tolerance_px, plan);
+  std::vector<std::vector<std::size_t>> counts(static_cast<std::size_t>(chunks),
+                                               std::vector<std::size_t>(plan.layers.size(), 0));
+  // Each run its depth's values (as above); a run with the values of the one before it joins it.
+  parallel_indexed_chunks(height_px, chunks, [&](int chunk, int first_row, int last_row) {
+    std::vector<std::size_t>& count = counts[static_cast<std::size_t>(chunk)];
+    for (int y = first_row; y < last_row; ++y) {
+      std::vector<PixelRun>& row_runs = runs[static_cast<std::size_t>(y)];
+      std::size_t kept = 0;
+      for (std::size_t r = 0; r < row_runs.size(); ++r) {
+        const PixelRun run = row_runs[r];
+        const LayerAssignment a = assign(run.blend_weight);
+        count[a.own] += static_cast<std::size_t>(run.end - run.first);
+        if (kept > 0 && row_runs[kept - 1].own == a.own && row_runs[kept - 1].blended == a.other &&
+            row_runs[kept - 1].blend_weight == a.weight)
+          row_runs[kept - 1].end = run.end;
+        else
+          row_runs[kept++] = {run.first, run.end, a.own, a.other, a.weight};
+      }
+      row_runs.resize(kept);
     }
   });
   for (const std::vector<std::size_t>& count : counts)

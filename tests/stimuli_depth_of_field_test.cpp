@@ -302,6 +302,28 @@ TEST(DepthOfFieldLayersTest, RowRunsHoldEachPixelsPlanValues) {
   EXPECT_THROW(plan_depth_layer_runs(depth, width + 1, height, geometry, emmetrope(0.6), kDefaultLayerTolerancePx, 1,
                                      run_plan, runs),
                std::invalid_argument);
+  // A bad depth is refused with the per-pixel plan's message, naming the first one in row order.
+  const auto message = [](const auto& plan_it) -> std::string {
+    try {
+      plan_it();
+    } catch (const std::invalid_argument& error) {
+      return error.what();
+    }
+    return "(accepted)";
+  };
+  for (const float bad : {std::nanf(""), -1.0f, 0.0f, -std::numeric_limits<float>::infinity()}) {
+    std::vector<float> bad_depth = depth;
+    bad_depth[static_cast<std::size_t>(17) * width + 30] = bad;
+    bad_depth[static_cast<std::size_t>(6) * width + 12] = bad;  // on the board: the first
+    const std::string expected = message([&] { plan_depth_layers(bad_depth, geometry, emmetrope(0.6)); });
+    EXPECT_THAT(expected, HasSubstr("at index " + std::to_string(6 * width + 12) + " "));
+    for (const int threads : {1, 3})
+      EXPECT_EQ(message([&] {
+                  plan_depth_layer_runs(bad_depth, width, height, geometry, emmetrope(0.6), kDefaultLayerTolerancePx,
+                                        threads, run_plan, runs);
+                }),
+                expected);
+  }
 }
 
 TEST(DepthOfFieldLayersTest, PlanesFarApartInBlurDoNotBlend) {
