@@ -281,6 +281,37 @@ void occlude(std::vector<float>& transmission, std::vector<char>& hidden, int wi
   });
 }
 
+// The frame from the layers' sum (premultiplied, stored on each row's `written` stretch, zero
+// outside): colour divided by coverage, alpha the input's.
+void divide_by_coverage(const ImageRGBA& image_cd_m2, const std::vector<RowSpan>& written, int threads,
+                        ImageRGBA& result) {
+  const int width = result.width_px;
+  parallel_chunks(result.height_px, threads, [&](int first, int last) {
+    for (int y = first; y < last; ++y) {
+      const RowSpan& stored = written[static_cast<std::size_t>(y)];
+      for (int x = 0; x < width; ++x) {
+        float* out = result.pixel(x, y);
+        const float alpha = image_cd_m2.pixel(x, y)[3];
+        if (x < stored.first || x >= stored.last) {
+          // A zero sum: max(0 / 1, 0).
+          out[0] = out[1] = out[2] = 0.0f;
+          out[3] = alpha;
+          continue;
+        }
+        // Every pixel belongs to a layer whose kernel keeps light at its centre, so coverage > 0.
+        const float coverage = out[3] > 0.0f ? out[3] : 1.0f;
+#if defined(__x86_64__) && defined(__GNUC__)
+        // max(x, 0) as std::max(0, x) (0 for a NaN); each lane's quotient rounded once.
+        _mm_storeu_ps(out, _mm_max_ps(_mm_div_ps(_mm_loadu_ps(out), _mm_set1_ps(coverage)), _mm_setzero_ps()));
+#else
+        for (int c = 0; c < 3; ++c) out[c] = std::max(0.0f, out[c] / coverage);
+#endif
+        out[3] = alpha;
+      }
+    }
+  });
+}
+
 void refuse(const std::string& what) { throw std::invalid_argument("stimuli/depth_of_field: " + what); }
 
 // The checks of check_depth_of_field_inputs before its pixels' and depths'.
@@ -449,30 +480,7 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
   }
   for (PendingOccluder& occluder : pending) buffers.coverages.push_back(std::move(occluder.coverage));
 
-  parallel_chunks(height, settings.threads, [&](int first, int last) {
-    for (int y = first; y < last; ++y) {
-      const RowSpan& stored = written[static_cast<std::size_t>(y)];
-      for (int x = 0; x < width; ++x) {
-        float* out = result.pixel(x, y);
-        const float alpha = image_cd_m2.pixel(x, y)[3];
-        if (x < stored.first || x >= stored.last) {
-          // A zero sum: max(0 / 1, 0).
-          out[0] = out[1] = out[2] = 0.0f;
-          out[3] = alpha;
-          continue;
-        }
-        // Every pixel belongs to a layer whose kernel keeps light at its centre, so coverage > 0.
-        const float coverage = out[3] > 0.0f ? out[3] : 1.0f;
-#if defined(__x86_64__) && defined(__GNUC__)
-        // max(x, 0) as std::max(0, x) (0 for a NaN); each lane's quotient rounded once.
-        _mm_storeu_ps(out, _mm_max_ps(_mm_div_ps(_mm_loadu_ps(out), _mm_set1_ps(coverage)), _mm_setzero_ps()));
-#else
-        for (int c = 0; c < 3; ++c) out[c] = std::max(0.0f, out[c] / coverage);
-#endif
-        out[3] = alpha;
-      }
-    }
-  });
+  divide_by_coverage(image_cd_m2, written, settings.threads, result);
   result.depth = image_cd_m2.depth;
   if (report != nullptr) *report = counts;
 }
