@@ -803,6 +803,17 @@ TEST(DepthOfFieldTest, BadInputIsRefusedWithItsMessage) {
       EXPECT_THAT(refusal(bad, depth, settings), HasSubstr(error.what()));
     }
   }
+  // Rows of 7 pixels: a bad value among a row's last pixels (after the whole vectors of the fill).
+  const ImageRGBA odd = textured(7, 5);
+  for (const auto& [x, y, value, message] :
+       {std::tuple{6, 4, std::nanf(""), "the image has 1 NaN pixel;"}, std::tuple{5, 2, -0.5f, "1 negative pixel;"}}) {
+    ImageRGBA bad = odd;
+    bad.pixel(x, y)[0] = value;
+    EXPECT_THAT(refusal(bad, flat_depth(7, 5, 1.0f), settings), HasSubstr(message)) << x << " " << y;
+  }
+  ImageRGBA negative_zero = odd;
+  negative_zero.pixel(6, 4)[2] = -0.0f;  // not negative
+  EXPECT_EQ(refusal(negative_zero, flat_depth(7, 5, 1.0f), settings), "(accepted)");
   // Alpha is not a luminance: a NaN there is carried, not refused.
   ImageRGBA nan_alpha = image;
   nan_alpha.pixel(2, 2)[3] = std::nanf("");
