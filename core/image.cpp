@@ -4,6 +4,10 @@
 #include <limits>
 #include <stdexcept>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 namespace glarelab {
 
 // Colour channels take `fill`; alpha is 1 so that a new image is opaque, as an EXR without an
@@ -23,6 +27,27 @@ ImageRGBA::ImageRGBA(int width, int height, float fill) : width_px(width), heigh
 }
 
 namespace {
+
+// Whether every R, G and B value lies in [0, FLT_MAX] (-0 included: it is not negative), the
+// common case answered in one vector pass before the counting one: ordered comparisons, false for a
+// NaN, with the alpha lane taken as passing.
+bool colour_channels_in_range(const float* rgba, std::size_t pixels) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  const __m128 zero = _mm_setzero_ps(), largest = _mm_set1_ps(std::numeric_limits<float>::max());
+  const __m128 alpha_lane = _mm_castsi128_ps(_mm_set_epi32(-1, 0, 0, 0));
+  __m128 ok = _mm_castsi128_ps(_mm_set1_epi32(-1));
+  for (std::size_t i = 0; i < pixels; ++i) {
+    const __m128 v = _mm_loadu_ps(rgba + 4 * i);
+    ok = _mm_and_ps(ok, _mm_or_ps(alpha_lane, _mm_and_ps(_mm_cmpge_ps(v, zero), _mm_cmple_ps(v, largest))));
+  }
+  return _mm_movemask_ps(ok) == 0xF;
+#else
+  for (std::size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (!(rgba[4 * i + c] >= 0.0f && rgba[4 * i + c] <= std::numeric_limits<float>::max())) return false;
+  return true;
+#endif
+}
 
 std::string count_phrase(std::size_t count, const char* what) {
   return std::to_string(count) + " " + what + (count == 1 ? " pixel" : " pixels");
@@ -49,6 +74,7 @@ std::string NonFiniteReport::describe() const {
 NonFiniteReport inspect_pixels(const ImageRGBA& image) {
   NonFiniteReport report;
   const std::size_t pixels = image.rgba.size() / 4;
+  if (colour_channels_in_range(image.rgba.data(), pixels)) return report;
   for (std::size_t i = 0; i < pixels; ++i) {
     const float* p = &image.rgba[4 * i];
     bool nan = false;

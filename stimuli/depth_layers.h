@@ -88,6 +88,22 @@ DepthLayerPlan plan_depth_layers(const std::vector<float>& depth_m, const BlurGe
 void plan_depth_layers(const std::vector<float>& depth_m, const BlurGeometry& geometry, const EyeErrorAtDistance& error,
                        double tolerance_px, int threads, DepthLayerPlan& plan);
 
+// Pixels [first, end) of a frame row with the same layer, blend layer and blend weight
+// (DepthLayerPlan's per-pixel values): a stage reads the layers' pixels a run at a time.
+struct PixelRun {
+  int first = 0, end = 0;
+  std::uint32_t own = 0, blended = 0;
+  float blend_weight = 0.0f;
+};
+
+// The same layers, with each row's runs (runs[y], left to right, two neighbours never with the
+// same values) in place of the per-pixel vectors, which are left empty: one pass over the depths,
+// no per-pixel values written. Each pixel's values are those plan_depth_layers gives it. Throws
+// as plan_depth_layers, and for a depth map that does not hold width_px x height_px values.
+void plan_depth_layer_runs(const std::vector<float>& depth_m, int width_px, int height_px, const BlurGeometry& geometry,
+                           const EyeErrorAtDistance& error, double tolerance_px, int threads, DepthLayerPlan& plan,
+                           std::vector<std::vector<PixelRun>>& runs);
+
 // The blur error between two power errors, in pixels (spectral norm of the difference times the
 // geometry's pixels per dioptre).
 double blur_error_px(const DioptricPower& first, const DioptricPower& second, const BlurGeometry& geometry);

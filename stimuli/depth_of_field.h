@@ -57,8 +57,9 @@ struct DepthOfFieldSettings {
   EyeErrorAtDistance residual_error;  // the eye's power error for each distance
   double tolerance_px = kDefaultLayerTolerancePx;
   int threads = 1;
-  // The form of the direct blur's sums (depth_of_field_rows.h): the same bits in each.
-  VectorIsa vector_isa = widest_vector_isa();
+  // The form of the direct blur's sums (depth_of_field_rows.h): SSE2 apart, AVX2 and AVX-512 alike
+  // (fused multiply-adds), each within the bound derived there of the other.
+  VectorIsa vector_isa = widest_vector_isa_with_avx512();
 };
 
 struct DepthOfFieldReport {
@@ -75,7 +76,8 @@ struct DepthOfFieldReport {
 // Throws std::invalid_argument naming "stimuli/depth_of_field" for an empty image, non-finite or
 // negative RGB, non-positive or non-finite degrees per pixel, pupil radius or tolerance, threads
 // < 1 or a missing error function, and ImageError (stimuli/scene_depth) for a bad depth map.
-// The result does not depend on `threads`.
+// The result does not depend on `threads`. The pixels are checked as the stage's layers read them,
+// so the kept-buffers form below may have written part of `result` when it refuses one.
 ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>& depth_m,
                                const DepthOfFieldSettings& settings, DepthOfFieldReport* report = nullptr);
 
@@ -84,19 +86,13 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
 // and the FFT's grids reused
 // instead of mapped afresh (about 100 MB a 1920 x 1080 frame, whose page faults cost more than the
 // blur itself). A result does not depend on what they held before.
-// Pixels [first, end) of a frame row with the same layer, blend layer and blend weight
-// (DepthLayerPlan): the layers' pixels are read a run at a time.
-struct PixelRun {
-  int first = 0, end = 0;
-  std::uint32_t own = 0, blended = 0;
-  float blend_weight = 0.0f;
-};
-
 struct DepthOfFieldBuffers {
   DepthLayerPlan plan;
   std::vector<std::vector<PixelRun>> row_runs;
   std::vector<RowSpan> layer_spans;
   std::vector<float> transmission;
+  std::vector<char> hidden_rows;   // rows whose transmission is stored this frame
+  std::vector<RowSpan> written;    // each row's stretch of the sum stored this frame
   LayerRows rows;
   LayerFftBuffers fft;
   std::vector<std::vector<float>> coverages;  // the occluding layers' coverage, returned when used

@@ -33,11 +33,46 @@ std::vector<std::vector<Tap>> taps_by_row(const EllipticalKernel& kernel) {
 // One input row as an output row gathers it: its stored floats, where its column 0 would lie in
 // them (before the buffer's start for a span far from the rectangle's left edge: only columns the
 // pads cover are read), the outputs it reaches and the taps of its kernel row.
+// A kernel row's taps in the order the AVX-512 form adds them: by the input's pixel offset p = -dx
+// modulo 4 (the pixels of a 512-bit register), each class's taps by ascending p, four apart, a zero
+// weight where the row has no tap (adding w x = +0 changes no sum). Within a class, the register
+// holding output pixels 4j..4j+3 at tap m reads the input vector m + j, so a block's eight
+// registers share their loads: one load a tap instead of eight.
+struct TapClass {
+  int first_offset_px = 0;     // p of the class's first tap
+  std::vector<float> weights;  // taps p, p + 4, ...
+};
+using TapClasses = std::vector<TapClass>;
+
+TapClasses tap_classes(const std::vector<Tap>& taps) {
+  TapClasses classes;
+  for (int residue = 0; residue < 4; ++residue) {
+    int first = 0, last = 0;  // p range of the class's taps
+    bool any = false;
+    for (const Tap& tap : taps) {
+      const int p = -tap.dx;
+      if (((p % 4) + 4) % 4 != residue) continue;
+      first = any ? std::min(first, p) : p;
+      last = any ? std::max(last, p) : p;
+      any = true;
+    }
+    if (!any) continue;
+    TapClass tap_class;
+    tap_class.first_offset_px = first;
+    tap_class.weights.assign(static_cast<std::size_t>((last - first) / 4 + 1), 0.0f);
+    for (const Tap& tap : taps)
+      if (((-tap.dx % 4) + 4) % 4 == residue) tap_class.weights[static_cast<std::size_t>((-tap.dx - first) / 4)] = tap.weight;
+    classes.push_back(std::move(tap_class));
+  }
+  return classes;
+}
+
 struct Source {
   const float* stored;
   std::ptrdiff_t column0;  // float index of column 0 relative to `stored`
   int reach_first, reach_last;  // output columns [first, last) it adds to
   const std::vector<Tap>* taps;
+  const TapClasses* classes;
 };
 
 constexpr int kBlock = kDirectBlockPx;
@@ -97,9 +132,11 @@ void sum_block_sse2(const Source* sources, int count, int x, int radius_x, float
   sum_half_block_sse2(sources, count, x + kBlock / 2, radius_x, out + 2 * kBlock);
 }
 
-// Two pixels a register with AVX2, no fused multiply-add: each product and sum rounded as above.
-__attribute__((target("avx2"))) void sum_block_avx2(const Source* sources, int count, int x, int radius_x,
-                                                    float* __restrict out) {
+// Two pixels a register with AVX2, each product added by a fused multiply-add (rounded once, where
+// the SSE2 form rounds the product and the sum apart: the bound between the forms is derived in
+// depth_of_field_rows.h).
+__attribute__((target("avx2,fma"))) void sum_block_avx2(const Source* sources, int count, int x, int radius_x,
+                                                        float* __restrict out) {
   __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0, a4 = a0, a5 = a0, a6 = a0, a7 = a0;
   for (int s = 0; s < count; ++s) {
     const Source& source = sources[s];
@@ -107,14 +144,14 @@ __attribute__((target("avx2"))) void sum_block_avx2(const Source* sources, int c
     for (const Tap& tap : *source.taps) {
       const float* in = source.stored + (source.column0 + 4 * static_cast<std::ptrdiff_t>(x - radius_x - tap.dx));
       const __m256 w = _mm256_set1_ps(tap.weight);
-      a0 = _mm256_add_ps(a0, _mm256_mul_ps(w, _mm256_loadu_ps(in)));
-      a1 = _mm256_add_ps(a1, _mm256_mul_ps(w, _mm256_loadu_ps(in + 8)));
-      a2 = _mm256_add_ps(a2, _mm256_mul_ps(w, _mm256_loadu_ps(in + 16)));
-      a3 = _mm256_add_ps(a3, _mm256_mul_ps(w, _mm256_loadu_ps(in + 24)));
-      a4 = _mm256_add_ps(a4, _mm256_mul_ps(w, _mm256_loadu_ps(in + 32)));
-      a5 = _mm256_add_ps(a5, _mm256_mul_ps(w, _mm256_loadu_ps(in + 40)));
-      a6 = _mm256_add_ps(a6, _mm256_mul_ps(w, _mm256_loadu_ps(in + 48)));
-      a7 = _mm256_add_ps(a7, _mm256_mul_ps(w, _mm256_loadu_ps(in + 56)));
+      a0 = _mm256_fmadd_ps(w, _mm256_loadu_ps(in), a0);
+      a1 = _mm256_fmadd_ps(w, _mm256_loadu_ps(in + 8), a1);
+      a2 = _mm256_fmadd_ps(w, _mm256_loadu_ps(in + 16), a2);
+      a3 = _mm256_fmadd_ps(w, _mm256_loadu_ps(in + 24), a3);
+      a4 = _mm256_fmadd_ps(w, _mm256_loadu_ps(in + 32), a4);
+      a5 = _mm256_fmadd_ps(w, _mm256_loadu_ps(in + 40), a5);
+      a6 = _mm256_fmadd_ps(w, _mm256_loadu_ps(in + 48), a6);
+      a7 = _mm256_fmadd_ps(w, _mm256_loadu_ps(in + 56), a7);
     }
   }
   _mm256_storeu_ps(out, a0);
@@ -126,16 +163,95 @@ __attribute__((target("avx2"))) void sum_block_avx2(const Source* sources, int c
   _mm256_storeu_ps(out + 48, a6);
   _mm256_storeu_ps(out + 56, a7);
 }
+
+// The AVX-512 form: N registers of four pixels (N = 8: two blocks, N = 4: one) gather a source's
+// taps class by class (TapClasses), each register's products added by fused multiply-adds in that
+// order; the input vectors slide through registers, so each tap costs one load and N products.
+template <int N>
+__attribute__((target("avx512f,avx512vl,avx512dq,avx2,fma"), always_inline)) inline void add_source_avx512(
+    __m512 (&acc)[N], const float* base, const TapClasses& classes) {
+  for (const TapClass& tap_class : classes) {
+    const float* in = base + 4 * static_cast<std::ptrdiff_t>(tap_class.first_offset_px);
+    const float* weight = tap_class.weights.data();
+    const int taps = static_cast<int>(tap_class.weights.size());
+    __m512 window[N];
+#pragma GCC unroll 8
+    for (int j = 0; j + 1 < N; ++j) window[j] = _mm512_loadu_ps(in + 16 * j);
+    for (int m = 0; m < taps; ++m) {
+      window[N - 1] = _mm512_loadu_ps(in + 16 * (m + N - 1));
+      const __m512 w = _mm512_set1_ps(weight[m]);
+#pragma GCC unroll 8
+      for (int j = 0; j < N; ++j) acc[j] = _mm512_fmadd_ps(w, window[j], acc[j]);
+#pragma GCC unroll 8
+      for (int j = 0; j + 1 < N; ++j) window[j] = window[j + 1];
+    }
+  }
+}
+
+// The block at x (low) and the one at x + kBlock (high) at once: each source is added to the
+// blocks it reaches (as the other forms skip, so no read leaves a segment's pads), each output in
+// the same order whether its block is summed alone or in a pair.
+__attribute__((target("avx512f,avx512vl,avx512dq,avx2,fma"))) void sum_block_pair_avx512(
+    const Source* sources, int count, int x, int radius_x, bool pair, float* __restrict out) {
+  __m512 both[8];
+#pragma GCC unroll 8
+  for (int j = 0; j < 8; ++j) both[j] = _mm512_setzero_ps();
+  for (int s = 0; s < count; ++s) {
+    const Source& source = sources[s];
+    const bool low = !(x + kBlock <= source.reach_first || x >= source.reach_last);
+    const bool high = pair && !(x + 2 * kBlock <= source.reach_first || x + kBlock >= source.reach_last);
+    const float* base = source.stored + (source.column0 + 4 * static_cast<std::ptrdiff_t>(x - radius_x));
+    if (low && high) {
+      add_source_avx512<8>(both, base, *source.classes);
+    } else if (low) {
+      __m512 half[4] = {both[0], both[1], both[2], both[3]};
+      add_source_avx512<4>(half, base, *source.classes);
+      both[0] = half[0], both[1] = half[1], both[2] = half[2], both[3] = half[3];
+    } else if (high) {
+      __m512 half[4] = {both[4], both[5], both[6], both[7]};
+      add_source_avx512<4>(half, base + 4 * kBlock, *source.classes);
+      both[4] = half[0], both[5] = half[1], both[6] = half[2], both[7] = half[3];
+    }
+  }
+#pragma GCC unroll 4
+  for (int j = 0; j < 4; ++j) _mm512_storeu_ps(out + 16 * j, both[j]);
+  if (pair) {
+#pragma GCC unroll 4
+    for (int j = 4; j < 8; ++j) _mm512_storeu_ps(out + 16 * j, both[j]);
+  }
+}
 #endif
 
-using BlockSum = void (*)(const Source*, int, int, int, float* __restrict);
+// `blocks` consecutive blocks from column x, their kBlock x 4 floats each into out.
+using BlockSums = void (*)(const Source*, int, int, int, int, float* __restrict);
 
-BlockSum block_sum_for(VectorIsa isa) {
+#if !(defined(__x86_64__) && defined(__GNUC__))
+void sums_scalar(const Source* sources, int count, int x, int radius_x, int blocks, float* __restrict out) {
+  for (int b = 0; b < blocks; ++b) sum_block(sources, count, x + b * kBlock, radius_x, out + 4 * b * kBlock);
+}
+#else
+void sums_sse2(const Source* sources, int count, int x, int radius_x, int blocks, float* __restrict out) {
+  for (int b = 0; b < blocks; ++b) sum_block_sse2(sources, count, x + b * kBlock, radius_x, out + 4 * b * kBlock);
+}
+__attribute__((target("avx2,fma"))) void sums_avx2(const Source* sources, int count, int x, int radius_x, int blocks,
+                                                   float* __restrict out) {
+  for (int b = 0; b < blocks; ++b) sum_block_avx2(sources, count, x + b * kBlock, radius_x, out + 4 * b * kBlock);
+}
+__attribute__((target("avx512f,avx512vl,avx512dq,avx2,fma"))) void sums_avx512(const Source* sources, int count, int x,
+                                                                              int radius_x, int blocks,
+                                                                              float* __restrict out) {
+  for (int b = 0; b < blocks; b += 2)
+    sum_block_pair_avx512(sources, count, x + b * kBlock, radius_x, b + 2 <= blocks, out + 4 * b * kBlock);
+}
+#endif
+
+BlockSums block_sums_for(VectorIsa isa) {
 #if defined(__x86_64__) && defined(__GNUC__)
-  return isa == VectorIsa::avx2_fma && vector_isa_available(isa) ? sum_block_avx2 : sum_block_sse2;
+  if (!vector_isa_available(isa)) return sums_sse2;
+  return isa == VectorIsa::avx512 ? sums_avx512 : isa == VectorIsa::avx2_fma ? sums_avx2 : sums_sse2;
 #else
   (void)isa;
-  return sum_block;
+  return sums_scalar;
 #endif
 }
 
@@ -226,8 +342,10 @@ void blur_rows_direct(const LayerRows& rows, const EllipticalKernel& kernel, int
     throw std::invalid_argument("stimuli/depth_of_field_rows: rows padded by " + std::to_string(rows.pad_px) +
                                 " px were not laid out for a kernel of radius " + std::to_string(kernel.radius_x_px));
   const std::vector<std::vector<Tap>> taps = taps_by_row(kernel);
+  std::vector<TapClasses> classes;
+  for (const std::vector<Tap>& row_taps : taps) classes.push_back(tap_classes(row_taps));
   const std::vector<RowSpan> out_spans = blurred_row_spans(rows.spans, kernel);
-  const BlockSum block_sum = block_sum_for(isa);
+  const BlockSums block_sums = block_sums_for(isa);
   const int rx = kernel.radius_x_px, ry = kernel.radius_y_px;
   parallel_chunks(static_cast<int>(out_spans.size()), threads, [&](int first, int last) {
     std::vector<Source> sources;
@@ -246,15 +364,14 @@ void blur_rows_direct(const LayerRows& rows, const EllipticalKernel& kernel, int
              s < rows.first_segment[static_cast<std::size_t>(sy) + 1]; ++s) {
           const RowSpan& in = rows.segments[s];
           const std::ptrdiff_t column0 = 4 * static_cast<std::ptrdiff_t>(rows.pad_px - in.first);
-          sources.push_back({rows.segment_start(s), column0, in.first, in.last + 2 * rx, &row_taps});
+          sources.push_back({rows.segment_start(s), column0, in.first, in.last + 2 * rx, &row_taps,
+                             &classes[static_cast<std::size_t>(dy + ry)]});
         }
       }
       const int count = span.last - span.first;
       const int blocks = (count + kBlock - 1) / kBlock;
       out.resize(4 * static_cast<std::size_t>(blocks) * kBlock);
-      for (int b = 0; b < blocks; ++b)
-        block_sum(sources.data(), static_cast<int>(sources.size()), span.first + b * kBlock, rx,
-                  &out[4 * static_cast<std::size_t>(b) * kBlock]);
+      block_sums(sources.data(), static_cast<int>(sources.size()), span.first, rx, blocks, out.data());
       sink(oy, span.first, count, out.data());
     }
   });

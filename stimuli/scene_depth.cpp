@@ -6,6 +6,10 @@
 
 #include "core/exr_io.h"
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 namespace glarelab {
 namespace {
 
@@ -20,6 +24,20 @@ const char* depth_problem(float depth_m) {
 
 }  // namespace
 
+bool all_depths_positive(const std::vector<float>& depth_m) {
+  std::size_t k = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+  // An ordered comparison: false for a NaN, as the scalar test below.
+  const __m128 zero = _mm_setzero_ps();
+  __m128 ok = _mm_castsi128_ps(_mm_set1_epi32(-1));
+  for (; k + 4 <= depth_m.size(); k += 4) ok = _mm_and_ps(ok, _mm_cmpgt_ps(_mm_loadu_ps(&depth_m[k]), zero));
+  if (_mm_movemask_ps(ok) != 0xF) return false;
+#endif
+  for (; k < depth_m.size(); ++k)
+    if (!(depth_m[k] > 0.0f)) return false;
+  return true;
+}
+
 void check_scene_depth(const std::vector<float>& depth_m, int width_px, int height_px, const std::string& file) {
   const std::size_t expected = static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px);
   if (width_px <= 0 || height_px <= 0 || depth_m.size() != expected) {
@@ -27,6 +45,7 @@ void check_scene_depth(const std::vector<float>& depth_m, int width_px, int heig
                      " values for a " + std::to_string(width_px) + " x " + std::to_string(height_px) +
                      " px image; one a pixel expected");
   }
+  if (all_depths_positive(depth_m)) return;  // the common case, in one vector pass
   for (std::size_t k = 0; k < depth_m.size(); ++k) {
     const char* problem = depth_problem(depth_m[k]);
     if (problem == nullptr) continue;

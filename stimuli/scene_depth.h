@@ -16,6 +16,10 @@
 
 namespace glarelab {
 
+// Whether every depth is > 0 (+inf included; NaN, zero, negative and -inf are not): what
+// check_scene_depth accepts, in one vector pass without naming the first bad pixel.
+bool all_depths_positive(const std::vector<float>& depth_m);
+
 // Throws ImageError "stimuli/scene_depth: FILE: Z at pixel (x, y) is VALUE; ..." naming the first
 // bad pixel in row order (row 0 at the top), or the count mismatch when depth_m does not hold
 // width_px * height_px values. `file` names the source in the message.

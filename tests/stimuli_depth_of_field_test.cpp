@@ -11,6 +11,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 #include "core/exr_io.h"
 #include "stimuli/depth_layers.h"
@@ -245,6 +246,83 @@ TEST(DepthOfFieldLayersTest, LayersDoNotDependOnWherePixelsLie) {
     const double v = 1.0 / static_cast<double>(scattered[k]);
     EXPECT_GE(v, layer.far_vergence_dioptres);
     EXPECT_LE(v, layer.near_vergence_dioptres);
+  }
+}
+
+TEST(DepthOfFieldLayersTest, RowRunsHoldEachPixelsPlanValues) {
+  // Rows of a receding ramp with repeated depths, a board of one depth across some of them and runs
+  // of depths that blend: the runs' form must give every pixel the per-pixel plan's layer, blend
+  // layer and weight, with the same layers and counts, on 1 and 3 threads; runs cover each row in
+  // order and two neighbours never hold the same values.
+  const int width = 37, height = 23;
+  std::vector<float> depth(static_cast<std::size_t>(width) * height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const bool board = x >= 9 && x < 20 && y >= 5 && y < 15;
+      depth[static_cast<std::size_t>(y) * width + x] =
+          board ? 0.45f : static_cast<float>(1.0 / (0.3 + 0.05 * y + 0.01 * (x / 4)));
+    }
+  const BlurGeometry geometry{kDegreesPerPixel, kPupilRadiusM};
+  const DepthLayerPlan plan = plan_depth_layers(depth, geometry, emmetrope(0.6));
+  bool blends = false;
+  for (const float w : plan.blend_weight) blends = blends || w != 0.0f;
+  ASSERT_TRUE(blends);
+  for (const int threads : {1, 3}) {
+    DepthLayerPlan run_plan;
+    std::vector<std::vector<PixelRun>> runs;
+    plan_depth_layer_runs(depth, width, height, geometry, emmetrope(0.6), kDefaultLayerTolerancePx, threads, run_plan,
+                          runs);
+    ASSERT_EQ(run_plan.layers.size(), plan.layers.size());
+    for (std::size_t k = 0; k < plan.layers.size(); ++k)
+      EXPECT_EQ(run_plan.layers[k].pixel_count, plan.layers[k].pixel_count) << k;
+    EXPECT_TRUE(run_plan.layer_of_pixel.empty());
+    ASSERT_EQ(runs.size(), static_cast<std::size_t>(height));
+    for (int y = 0; y < height; ++y) {
+      int x = 0;
+      for (std::size_t r = 0; r < runs[static_cast<std::size_t>(y)].size(); ++r) {
+        const PixelRun& run = runs[static_cast<std::size_t>(y)][r];
+        ASSERT_EQ(run.first, x) << y;
+        ASSERT_GT(run.end, run.first) << y;
+        if (r > 0) {
+          const PixelRun& before = runs[static_cast<std::size_t>(y)][r - 1];
+          EXPECT_FALSE(before.own == run.own && before.blended == run.blended && before.blend_weight == run.blend_weight);
+        }
+        for (; x < run.end; ++x) {
+          const std::size_t k = static_cast<std::size_t>(y) * width + x;
+          ASSERT_EQ(run.own, plan.layer_of_pixel[k]) << x << " " << y;
+          ASSERT_EQ(run.blended, plan.blend_layer_of_pixel[k]) << x << " " << y;
+          ASSERT_EQ(run.blend_weight, plan.blend_weight[k]) << x << " " << y;
+        }
+      }
+      EXPECT_EQ(x, width) << y;
+    }
+  }
+  DepthLayerPlan run_plan;
+  std::vector<std::vector<PixelRun>> runs;
+  EXPECT_THROW(plan_depth_layer_runs(depth, width + 1, height, geometry, emmetrope(0.6), kDefaultLayerTolerancePx, 1,
+                                     run_plan, runs),
+               std::invalid_argument);
+  // A bad depth is refused with the per-pixel plan's message, naming the first one in row order.
+  const auto message = [](const auto& plan_it) -> std::string {
+    try {
+      plan_it();
+    } catch (const std::invalid_argument& error) {
+      return error.what();
+    }
+    return "(accepted)";
+  };
+  for (const float bad : {std::nanf(""), -1.0f, 0.0f, -std::numeric_limits<float>::infinity()}) {
+    std::vector<float> bad_depth = depth;
+    bad_depth[static_cast<std::size_t>(17) * width + 30] = bad;
+    bad_depth[static_cast<std::size_t>(6) * width + 12] = bad;  // on the board: the first
+    const std::string expected = message([&] { plan_depth_layers(bad_depth, geometry, emmetrope(0.6)); });
+    EXPECT_THAT(expected, HasSubstr("at index " + std::to_string(6 * width + 12) + " "));
+    for (const int threads : {1, 3})
+      EXPECT_EQ(message([&] {
+                  plan_depth_layer_runs(bad_depth, width, height, geometry, emmetrope(0.6), kDefaultLayerTolerancePx,
+                                        threads, run_plan, runs);
+                }),
+                expected);
   }
 }
 
@@ -551,11 +629,24 @@ TEST(DepthOfFieldTest, DirectAndFftConvolutionAgreeAndAreThreadInvariant) {
     ASSERT_NEAR(fft.rgba[k], direct.rgba[k], 1e-4 * (1.0 + std::abs(direct.rgba[k]))) << k;
   EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2).rgba, direct.rgba);
   EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::fft, 3).rgba, fft.rgba);
-  // Each form of the direct sum's row adds this CPU runs gives the same bits (odd spans: a last
-  // pixel after the pairs).
-  for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+  // Each form of the direct sum this CPU runs (odd spans: a last block alone) gives the same bits
+  // on 1, 2 and 3 threads, and stays within the bound between forms (depth_of_field_rows.h) of the
+  // SSE2 form: every output is a sum of at most T non-negative products w x, each form's within
+  // gamma_T = T u / (1 - T u) (u = 2^-24) of the exact S, so two forms differ by at most
+  // 2 gamma_T S <= 2 gamma_T s / (1 - gamma_T), s the SSE2 form's value.
+  const LayerImage sse2 = blur_layer(layer, kernel, LayerConvolution::direct, 1, VectorIsa::sse2);
+  std::size_t taps = 0;
+  for (const double w : kernel.weights) taps += w != 0.0 ? 1 : 0;
+  const double u = std::ldexp(1.0, -24), gamma = static_cast<double>(taps) * u / (1.0 - static_cast<double>(taps) * u);
+  for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma, VectorIsa::avx512}) {
     if (!vector_isa_available(isa)) continue;
-    EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2, isa).rgba, direct.rgba) << static_cast<int>(isa);
+    const LayerImage one = blur_layer(layer, kernel, LayerConvolution::direct, 1, isa);
+    EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 2, isa).rgba, one.rgba) << static_cast<int>(isa);
+    EXPECT_EQ(blur_layer(layer, kernel, LayerConvolution::direct, 3, isa).rgba, one.rgba) << static_cast<int>(isa);
+    ASSERT_EQ(one.rgba.size(), sse2.rgba.size());
+    for (std::size_t k = 0; k < one.rgba.size(); ++k)
+      ASSERT_LE(std::abs(static_cast<double>(one.rgba[k]) - sse2.rgba[k]), 2.0 * gamma * sse2.rgba[k] / (1.0 - gamma))
+          << k << " " << static_cast<int>(isa);
   }
 }
 
@@ -600,10 +691,10 @@ TEST(DepthOfFieldTest, RowSegmentsGiveTheBitsOfOneSpanWithZerosBetween) {
     EXPECT_EQ(split.spans[y].first, hulls[y].first) << y;
     EXPECT_EQ(split.spans[y].last, hulls[y].last) << y;
   }
-  const LayerImage whole = blur_layer(layer, hulls, kernel, LayerConvolution::direct, 1);
   for (const int threads : {1, 3})
-    for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma}) {
+    for (const VectorIsa isa : {VectorIsa::sse2, VectorIsa::avx2_fma, VectorIsa::avx512}) {
       if (!vector_isa_available(isa)) continue;
+      const LayerImage whole = blur_layer(layer, hulls, kernel, LayerConvolution::direct, 1, isa);
       LayerImage out = whole;
       std::fill(out.rgba.begin(), out.rgba.end(), -1.0f);
       blur_rows_direct(split, kernel, threads, isa, [&](int row, int first, int count, const float* rgba) {
@@ -671,7 +762,7 @@ TEST(DepthOfFieldTest, CostModelPicksTheMeasuredFasterConvolution) {
             LayerConvolution::direct);
 }
 
-TEST(DepthOfFieldTest, BadInputIsRefusedBeforeAnythingIsComputed) {
+TEST(DepthOfFieldTest, BadInputIsRefusedWithItsMessage) {
   const ImageRGBA image = textured(8, 6);
   const std::vector<float> depth = flat_depth(8, 6, 1.0f);
   const auto refusal = [](const ImageRGBA& in, const std::vector<float>& d,
@@ -692,6 +783,41 @@ TEST(DepthOfFieldTest, BadInputIsRefusedBeforeAnythingIsComputed) {
   ImageRGBA nan_image = image;
   nan_image.pixel(1, 1)[2] = std::nanf("");
   EXPECT_THAT(refusal(nan_image, depth, settings), HasSubstr("stimuli/depth_of_field: the image has"));
+  // The stage finds bad pixels as its layers read them: the same message as the check's, through
+  // kept buffers too, on the last pixel and on two kinds at once.
+  for (const auto& [x, y, value, message] :
+       {std::tuple{7, 5, -2.0f, "the image has 1 negative pixel;"},
+        std::tuple{0, 0, std::numeric_limits<float>::infinity(), "the image has 1 Inf pixel;"},
+        std::tuple{3, 4, -std::numeric_limits<float>::infinity(), "the image has 1 Inf pixel, 1 negative pixel;"}}) {
+    ImageRGBA bad = image;
+    bad.pixel(x, y)[1] = value;
+    EXPECT_THAT(refusal(bad, depth, settings), HasSubstr(message)) << x << " " << y;
+    DepthOfFieldBuffers buffers;
+    ImageRGBA out;
+    apply_depth_of_field(image, depth, settings, buffers, out);
+    EXPECT_THROW(apply_depth_of_field(bad, depth, settings, buffers, out), std::invalid_argument);
+    try {
+      check_depth_of_field_inputs(bad, depth, settings);
+      ADD_FAILURE() << "accepted";
+    } catch (const std::invalid_argument& error) {
+      EXPECT_THAT(refusal(bad, depth, settings), HasSubstr(error.what()));
+    }
+  }
+  // Rows of 7 pixels: a bad value among a row's last pixels (after the whole vectors of the fill).
+  const ImageRGBA odd = textured(7, 5);
+  for (const auto& [x, y, value, message] :
+       {std::tuple{6, 4, std::nanf(""), "the image has 1 NaN pixel;"}, std::tuple{5, 2, -0.5f, "1 negative pixel;"}}) {
+    ImageRGBA bad = odd;
+    bad.pixel(x, y)[0] = value;
+    EXPECT_THAT(refusal(bad, flat_depth(7, 5, 1.0f), settings), HasSubstr(message)) << x << " " << y;
+  }
+  ImageRGBA negative_zero = odd;
+  negative_zero.pixel(6, 4)[2] = -0.0f;  // not negative
+  EXPECT_EQ(refusal(negative_zero, flat_depth(7, 5, 1.0f), settings), "(accepted)");
+  // Alpha is not a luminance: a NaN there is carried, not refused.
+  ImageRGBA nan_alpha = image;
+  nan_alpha.pixel(2, 2)[3] = std::nanf("");
+  EXPECT_EQ(refusal(nan_alpha, depth, settings), "(accepted)");
   DepthOfFieldSettings s = settings;
   s.pupil_radius_m = 0.0;
   EXPECT_THAT(refusal(image, depth, s), HasSubstr("stimuli/depth_of_field: the pupil radius"));
