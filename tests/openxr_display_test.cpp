@@ -563,14 +563,21 @@ TEST(OpenXrDisplay, HeadsetSessionDrawsTheSideBySideSessionsFramesBitForBit) {
 // view, or a wrong encoding shows as a wrong grey.
 float block_grey(int eye, int block) { return static_cast<float>(16 + 50 * block + 7 * eye) / 255.0f; }
 
-TEST(OpenXrViews, EachViewsSwapchainImageIsItsHalfOfTheFrame) {
-  if (const auto missing = test::openxr_runtime_missing(false)) GTEST_SKIP() << *missing;
-  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "OpenXrViews tests run under xvfb-run (tests/CMakeLists.txt)";
+// The request of a hidden 128 x 64 headset display (two 64 x 64 views) on Monado, whose
+// environment it sets in this process.
+DisplayRequest small_headset_request() {
   test::set_monado_environment();
   DisplayRequest request;
   request.width_px = 128;
   request.height_px = 64;
   request.visible = false;
+  return request;
+}
+
+TEST(OpenXrViews, EachViewsSwapchainImageIsItsHalfOfTheFrame) {
+  if (const auto missing = test::openxr_runtime_missing(false)) GTEST_SKIP() << *missing;
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "OpenXrViews tests run under xvfb-run (tests/CMakeLists.txt)";
+  const DisplayRequest request = small_headset_request();
   auto display = create_display("openxr", request);
   EXPECT_EQ(display->kind(), "openxr");
   EXPECT_NEAR(display->refresh_hz(), 20.0, 1e-6);  // the null compositor's fixed 50 ms period
@@ -629,11 +636,7 @@ TEST(OpenXrViews, EachViewsSwapchainImageIsItsHalfOfTheFrame) {
 TEST(OpenXrViews, AClosedDisplayDestroysItsInstanceSoTheNextOneOpens) {
   if (const auto missing = test::openxr_runtime_missing(false)) GTEST_SKIP() << *missing;
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "OpenXrViews tests run under xvfb-run (tests/CMakeLists.txt)";
-  test::set_monado_environment();
-  DisplayRequest request;
-  request.width_px = 128;
-  request.height_px = 64;
-  request.visible = false;
+  const DisplayRequest request = small_headset_request();
   {
     auto first = create_display("openxr", request);
     try {
