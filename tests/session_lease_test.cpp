@@ -82,6 +82,40 @@ void wait_until_logged(const std::filesystem::path& db, const std::string& sql, 
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
+// Whether a writer could take `db`'s write lock now (asked with no wait, then let go).
+bool write_lock_free(const std::filesystem::path& db) {
+  sqlite3* handle = nullptr;
+  bool free = false;
+  if (sqlite3_open_v2(db.c_str(), &handle, SQLITE_OPEN_READWRITE, nullptr) == SQLITE_OK) {
+    sqlite3_busy_timeout(handle, 0);
+    free = sqlite3_exec(handle, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr) == SQLITE_OK;
+    if (free) sqlite3_exec(handle, "ROLLBACK", nullptr, nullptr, nullptr);
+  }
+  sqlite3_close_v2(handle);
+  return free;
+}
+
+// Whether process `pid` is stopped (state T in /proc/PID/stat, after the name in parentheses).
+bool stopped(pid_t pid) {
+  const std::string stat = read_bytes("/proc/" + std::to_string(pid) + "/stat");
+  const std::size_t name_end = stat.rfind(')');
+  return name_end != std::string::npos && name_end + 2 < stat.size() && stat[name_end + 2] == 'T';
+}
+
+// Stops `run` at a moment it holds no write lock on `db`: a process stopped inside a transaction
+// would hold back every other writer until it is killed. A stopped process still runs, for the
+// lease (runner/store/process_identity.h): its session has a live owner however long it stays
+// stopped, on however slow a host.
+void stop_outside_a_write(const GlarelabProcess& run, const std::filesystem::path& db) {
+  for (;;) {
+    run.signal(SIGSTOP);
+    while (!stopped(run.pid())) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (write_lock_free(db)) return;
+    run.signal(SIGCONT);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
 // What a refused resume may say: the session's live holder named, the session not yet written
 // (its run had not got that far), or already completed by the one that ran it.
 bool refused_truthfully(const Finished& resume, const std::vector<pid_t>& live_holders) {
@@ -134,8 +168,10 @@ TEST(SessionLease, ARunAndTwoResumesRacedTwentyTimesLeaveOneOwnerAndEveryTrial) 
   for (int race = 0; race < 20; ++race) {
     const auto db = dir / ("race-" + std::to_string(race) + ".db");
     // Odd races meet the run at random moments of a run as long as the reference (from before its
-    // session row to after its completion); even ones at moments its log marks, so that however
-    // much faster or slower than the reference a loaded host makes it, half the races meet a live
+    // session row to after its completion). Even ones stop it once it has committed 1 to 8 of its
+    // 10 trials, start the resumes while it is stopped and kill it after them, so that however
+    // much faster or slower than the reference a loaded host makes the run and the resumes (under
+    // the sanitizers a resume takes longer than the rest of a run), half the races meet a live
     // owner and race for a killed run's session.
     const bool at_logged_moments = race % 2 == 0;
     // 1. Two resumes while the run lives: both refused, the run untouched.
@@ -143,19 +179,17 @@ TEST(SessionLease, ARunAndTwoResumesRacedTwentyTimesLeaveOneOwnerAndEveryTrial) 
     ASSERT_TRUE(run.started());
     const pid_t run_pid = run.pid();
     if (at_logged_moments) {
-      wait_until_logged(db, "SELECT count(*) FROM session_owners", 1);
-      std::this_thread::sleep_for(std::chrono::duration<double>(random.uniform(2 * race) * 0.2 * run_s));
+      wait_until_logged(db, "SELECT count(*) FROM trials",
+                        1 + static_cast<long long>(random.uniform(2 * race + 1) * 8.0));
+      stop_outside_a_write(run, db);
     } else {
       std::this_thread::sleep_for(std::chrono::duration<double>(random.uniform(2 * race) * 0.6 * run_s));
     }
     const std::vector<Finished> while_live =
         run_together({command(db, true), command(db, true)}, dir, "live-" + std::to_string(race));
-    // 2. The run killed after that, at a random moment or once it has committed 1 to 8 of its 10
-    // trials; two resumes race for what it left.
-    if (at_logged_moments)
-      wait_until_logged(db, "SELECT count(*) FROM trials",
-                        1 + static_cast<long long>(random.uniform(2 * race + 1) * 8.0));
-    else
+    // 2. The run killed after that (at once where it was stopped, else at a random moment); two
+    // resumes race for what it left.
+    if (!at_logged_moments)
       std::this_thread::sleep_for(std::chrono::duration<double>(random.uniform(2 * race + 1) * 0.4 * run_s));
     run.signal(SIGKILL);
     const int run_exit = run.wait();
