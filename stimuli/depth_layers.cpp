@@ -108,7 +108,7 @@ class LayerAssigner {
   std::vector<double> near_bounds_;
 };
 
-// plan.layers for the scene's depths, and the assigner of depths to them.
+// The plan's settings, refused as the callers' contracts say (std::invalid_argument).
 void check_plan_settings(const BlurGeometry& geometry, const EyeErrorAtDistance& error, double tolerance_px) {
   if (!(geometry.degrees_per_pixel > 0.0) || !std::isfinite(geometry.degrees_per_pixel) ||
       !(geometry.pupil_radius_m > 0.0) || !std::isfinite(geometry.pupil_radius_m))

@@ -57,8 +57,8 @@ struct DepthOfFieldSettings {
   EyeErrorAtDistance residual_error;  // the eye's power error for each distance
   double tolerance_px = kDefaultLayerTolerancePx;
   int threads = 1;
-  // The form of the direct blur's sums (depth_of_field_rows.h): SSE2 apart, AVX2 and AVX-512 alike
-  // (fused multiply-adds), each within the bound derived there of the other.
+  // The form of the direct blur's sums (depth_of_field_rows.h): SSE2, AVX2 or AVX-512 (the last two
+  // by fused multiply-adds), each within the bound derived there of the others.
   VectorIsa vector_isa = widest_vector_isa_with_avx512();
 };
 

@@ -44,9 +44,9 @@ enum class LayerConvolution { direct, fft };
 // thread count, so the result does not depend on it.
 // `spans`: nonzero_row_spans(layer), or any spans outside which the layer is zero.
 // `isa`: the form of the direct sum (core/vector_isa.h, depth_of_field_rows.h): SSE2 rounds each
-// product and each sum; AVX2 and AVX-512 add each product by a fused multiply-add (the same bits as
-// each other, within the bound derived in depth_of_field_rows.h of the SSE2 form's); one this CPU
-// does not run takes SSE2. Outside the blurred rows' spans the rectangle is 0.
+// product and each sum; AVX2 and AVX-512 add each product by a fused multiply-add, AVX-512 in
+// another order (each form within the bound derived in depth_of_field_rows.h of the others); one
+// this CPU does not run takes SSE2. Outside the blurred rows' spans the rectangle is 0.
 LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans, const EllipticalKernel& kernel,
                       LayerConvolution method, int threads, VectorIsa isa = widest_vector_isa_with_avx512());
 inline LayerImage blur_layer(const LayerImage& layer, const EllipticalKernel& kernel, LayerConvolution method,

@@ -30,9 +30,6 @@ std::vector<std::vector<Tap>> taps_by_row(const EllipticalKernel& kernel) {
   return rows;
 }
 
-// One input row as an output row gathers it: its stored floats, where its column 0 would lie in
-// them (before the buffer's start for a span far from the rectangle's left edge: only columns the
-// pads cover are read), the outputs it reaches and the taps of its kernel row.
 // A kernel row's taps in the order the AVX-512 form adds them: by the input's pixel offset p = -dx
 // modulo 4 (the pixels of a 512-bit register), each class's taps by ascending p, four apart, a zero
 // weight where the row has no tap (adding w x = +0 changes no sum). Within a class, the register
@@ -46,12 +43,13 @@ using TapClasses = std::vector<TapClass>;
 
 TapClasses tap_classes(const std::vector<Tap>& taps) {
   TapClasses classes;
+  const auto residue_of = [](const Tap& tap) { return ((-tap.dx % 4) + 4) % 4; };  // of p = -dx
   for (int residue = 0; residue < 4; ++residue) {
     int first = 0, last = 0;  // p range of the class's taps
     bool any = false;
     for (const Tap& tap : taps) {
       const int p = -tap.dx;
-      if (((p % 4) + 4) % 4 != residue) continue;
+      if (residue_of(tap) != residue) continue;
       first = any ? std::min(first, p) : p;
       last = any ? std::max(last, p) : p;
       any = true;
@@ -61,12 +59,16 @@ TapClasses tap_classes(const std::vector<Tap>& taps) {
     tap_class.first_offset_px = first;
     tap_class.weights.assign(static_cast<std::size_t>((last - first) / 4 + 1), 0.0f);
     for (const Tap& tap : taps)
-      if (((-tap.dx % 4) + 4) % 4 == residue) tap_class.weights[static_cast<std::size_t>((-tap.dx - first) / 4)] = tap.weight;
+      if (residue_of(tap) == residue) tap_class.weights[static_cast<std::size_t>((-tap.dx - first) / 4)] = tap.weight;
     classes.push_back(std::move(tap_class));
   }
   return classes;
 }
 
+// One input row as an output row gathers it: its stored floats, where its column 0 would lie in
+// them (before the buffer's start for a span far from the rectangle's left edge: only columns the
+// pads cover are read), the outputs it reaches and the taps of its kernel row (and their classes,
+// for the AVX-512 form).
 struct Source {
   const float* stored;
   std::ptrdiff_t column0;  // float index of column 0 relative to `stored`
