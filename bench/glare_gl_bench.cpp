@@ -316,7 +316,7 @@ void BM_GlChromaticPsf(benchmark::State& state) {
 // The float32 CPU path's display PSF (CpuFloatGlare::display_psf: aperture, FFT(s), spectral PSF at
 // 4 PSF pixels per display pixel), scaled reference (arg 2 = 0) or LCA (1). Counter: the LCA one's
 // worst channel against compute_chromatic_psf resampled the same way.
-void BM_CpuFloatChromaticPsf(benchmark::State& state) {
+void BM_CpuPlannedChromaticPsf(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), wavelengths = static_cast<int>(state.range(1));
   CpuFloatGlareSettings settings;
   settings.grid_px = n;
@@ -371,7 +371,7 @@ BENCHMARK(BM_GlPupilFunction)
 BENCHMARK(BM_GlSpectralPsf)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlConvolution)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GlChromaticPsf)->Apply(chromatic_arguments)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_CpuFloatChromaticPsf)->Apply(chromatic_arguments)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CpuPlannedChromaticPsf)->Apply(chromatic_arguments)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_CpuDoubleChromaticPsf)
     ->Args({256, 8})
     ->Args({256, 16})

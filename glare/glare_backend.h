@@ -43,7 +43,7 @@ struct PsfOptions {
   // wavelength with the eye's longitudinal chromatic aberration (glare/wave/chromatic_psf.h) even when
   // geometry.refraction_error is zero. A non-zero refraction_error alone does the same
   // (takes_chromatic_psf). Every backend computes it: the CPU FFTW backends
-  // (glare/wave/chromatic_psf.h), the planned float32 path (glare/cpu/float_chromatic_psf.h) and the GL
+  // (glare/wave/chromatic_psf.h), the planned float32 path (glare/cpu/planned_chromatic_psf.h) and the GL
   // backend (GlPsf::chromatic).
   bool observer_refraction = false;
 };

@@ -207,8 +207,8 @@ std::string format_frame_engine_benchmark(const FrameEngineBenchmarkResult& resu
   }
   if (result.refraction_rows.empty()) return text;
   text += "\nThe display PSF with the observer's refraction (-1 D; N = 256, 16 wavelengths, one FFT each with the "
-          "eye's LCA), fastest of the repeats, against the FFTW floor of its transforms (16 N x N complex float "
-          "FFTs, measured plan) and the reference's PSF (max |difference| / peak):\n\n"
+          "eye's LCA), fastest of the repeats, against the FFTW floor of its transforms (16 N x N complex "
+          "float64 FFTs, the plan FFTW measures on one thread, divided by the path's 2 threads) and the reference's PSF (max |difference| / peak):\n\n"
           "| glare backend | PSF ms | FFTW floor ms | ratio | max error / peak |\n|---|---|---|---|---|\n";
   for (const RefractionPsfBenchmarkRow& row : result.refraction_rows) {
     std::snprintf(line, sizeof line, "| %s | %.1f | %.2f | %.1f | %.2e |\n", row.backend.c_str(), 1e3 * row.psf_s,

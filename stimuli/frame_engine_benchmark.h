@@ -45,9 +45,10 @@ struct FrameEngineBenchmarkRow {
 
 // The display PSF of the static eye with the observer's refraction (-1 D, N = 256, 16 wavelengths:
 // one FFT per wavelength with the eye's LCA), what a frame of a condition with a refraction adds to
-// the glare: the reference (cpu float64) and the CPU engine's (the planned float32 path), the fastest
-// of the repeats, beside its FFTW floor (16 N x N complex float transforms, one measured plan) and
-// its largest difference from the reference PSF over the reference's peak.
+// the glare: the reference (cpu float64) and the CPU engine's (the planned path, its transforms in
+// float64), the fastest of the repeats, beside its FFTW floor (16 N x N complex float64 transforms,
+// one measured plan on one thread divided by the path's threads) and its largest difference from the
+// reference PSF over the reference's peak.
 struct RefractionPsfBenchmarkRow {
   std::string backend;  // the glare backend's kind
   double psf_s = 0.0;

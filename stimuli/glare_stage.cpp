@@ -62,7 +62,7 @@ void GlareStage::set_refraction(std::optional<DioptricPower> residual_error) { r
 std::string GlareStage::refraction_backend_reason() {
   backend();
   // Every backend computes these PSFs itself (takes_chromatic_psf): the planned float32 path with
-  // float32 FFTs (glare/cpu/float_chromatic_psf.h), the float64 reference and GL with theirs.
+  // float32 FFTs (glare/cpu/planned_chromatic_psf.h), the float64 reference and GL with theirs.
   return std::string("PSFs with the observer's refraction: ") + std::string(spelling(backend_kind_)) +
          ", one FFT per wavelength (" + std::to_string(spec_.wavelength_samples) +
          ") with the eye's longitudinal chromatic aberration (Thibos et al. 1992)";

@@ -1,6 +1,6 @@
 // The CPU frame engine's PSFs with the observer's refraction in float32: the planned path of
 // [glare] backend "auto" on a CPU (glare/cpu/float_glare.h) computes them itself, one float32 FFT per
-// wavelength with the eye's LCA (glare/cpu/float_chromatic_psf.h), against the float64 reference
+// wavelength with the eye's LCA (glare/cpu/planned_chromatic_psf.h), against the float64 reference
 // that `backend = "cpu"` names (glare/wave/chromatic_psf.h): the session's display PSF within 1e-5 of
 // the reference's peak, and a session's frame with a refraction rendered through the frame engine
 // (stimuli/frame_engine.h) within 1e-5 of the reference frame's peak, for the Ritschel eye and the

@@ -224,7 +224,7 @@ TEST(RefractionSessionStage, HybridNearFieldCarriesTheRefraction) {
 
 // [glare] backend "gl" computes a PSF with a refraction itself (GlPsf::chromatic: the refraction's
 // phase and the eye's LCA, one FFT per wavelength), within 1e-5 of the float64 CPU one; so does
-// "auto" (the planned float32 path here, glare/cpu/float_chromatic_psf.h), and the glare_backend
+// "auto" (the planned float32 path here, glare/cpu/planned_chromatic_psf.h), and the glare_backend
 // record says which computed them.
 TEST(RefractionSessionStage, PsfWithARefractionOnEveryBackend) {
   DisplaySpec display;

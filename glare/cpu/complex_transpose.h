@@ -1,6 +1,6 @@
 #pragma once
-// A block of complex float values written transposed, as the planned FFT paths move a tile of row
-// transforms into column order and back (glare/cpu/float_psf.cpp, glare/cpu/float_convolution.cpp).
+// A block of complex values written transposed, as the planned FFT paths move a tile of row
+// transforms into column order and back (glare/cpu/pupil_spectrum.cpp, glare/cpu/float_convolution.cpp).
 #include <complex>
 #include <cstddef>
 
@@ -37,6 +37,15 @@ inline void transpose_complex(const std::complex<float>* source, std::size_t sou
 #endif
   for (; k < count; ++k)
     for (int r = 0; r < rows; ++r) target[k * target_stride + static_cast<std::size_t>(r)] = source[row(r) + k];
+}
+
+// The same for complex doubles, each value one SSE2 register: the compiler's element-by-element
+// copy moves each as one 16-byte value already.
+inline void transpose_complex(const std::complex<double>* source, std::size_t source_stride, int rows,
+                              std::size_t count, std::complex<double>* target, std::size_t target_stride) {
+  for (std::size_t k = 0; k < count; ++k)
+    for (int r = 0; r < rows; ++r)
+      target[k * target_stride + static_cast<std::size_t>(r)] = source[static_cast<std::size_t>(r) * source_stride + k];
 }
 
 }  // namespace glarelab

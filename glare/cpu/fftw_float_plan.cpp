@@ -78,6 +78,10 @@ void FftwFloatBuffer<T>::Free::operator()(T* pointer) const {
 
 template class FftwFloatBuffer<float>;
 template class FftwFloatBuffer<std::complex<float>>;
+// fftwf_malloc aligns as fftw_malloc does, so the float64 transforms' buffers (glare/cpu/pupil_spectrum.h)
+// are the same class.
+template class FftwFloatBuffer<double>;
+template class FftwFloatBuffer<std::complex<double>>;
 
 FftwFloatPlan::FftwFloatPlan(FftwFloatPlan&& other) noexcept : plan_(other.plan_) { other.plan_ = nullptr; }
 

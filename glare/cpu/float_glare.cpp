@@ -45,14 +45,14 @@ CpuFloatGlare::CpuFloatGlare(const CpuFloatGlareSettings& settings)
   if (settings.longitudinal_chromatic_aberration) chromatic_psf();  // its refusals now, not at the first frame
 }
 
-CpuFloatChromaticPsf& CpuFloatGlare::chromatic_psf() {
+CpuPlannedChromaticPsf& CpuFloatGlare::chromatic_psf() {
   if (!chromatic_) {
-    CpuFloatChromaticSettings chromatic;
+    CpuPlannedChromaticSettings chromatic;
     chromatic.grid_px = settings_.grid_px;
     chromatic.aperture_width_mm = settings_.aperture_width_mm;
     chromatic.reference_wavelength_nm = settings_.reference_wavelength_nm;
     chromatic.wavelength_samples = settings_.wavelength_samples;
-    chromatic_ = std::make_unique<CpuFloatChromaticPsf>(chromatic);
+    chromatic_ = std::make_unique<CpuPlannedChromaticPsf>(chromatic);
   }
   return *chromatic_;
 }

@@ -8,7 +8,7 @@
 // tests/glare_cpu_float_test.cpp and tests/glare_stage_test.cpp check it through this class).
 // It is the GlareBackend of kind cpu float32 planned (glare/glare_backend.h), which "auto" picks for
 // a session's frames on the CPU. A PSF with the observer's refraction (takes_chromatic_psf) takes one
-// float32 FFT per wavelength with the eye's LCA (glare/cpu/float_chromatic_psf.h), the float64
+// float32 FFT per wavelength with the eye's LCA (glare/cpu/planned_chromatic_psf.h), the float64
 // reference's operator (glare/wave/chromatic_psf.h) within 1e-5 of its peak
 // (tests/refraction_float_engine_test.cpp).
 #include <cstdint>
@@ -22,7 +22,7 @@
 #include "core/image.h"
 #include "glare/eye/aperture_geometry.h"
 #include "glare/cpu/float_convolution.h"
-#include "glare/cpu/float_chromatic_psf.h"
+#include "glare/cpu/planned_chromatic_psf.h"
 #include "glare/cpu/float_psf.h"
 #include "glare/cpu/float_spectral_psf.h"
 #include "glare/glare_backend.h"
@@ -41,7 +41,7 @@ struct CpuFloatGlareSettings {
   // false: the scaled-reference spectral PSF (glare/cpu/float_spectral_psf.h), one FFT at the reference
   // wavelength, for every PSF the backend interface does not ask with a refraction
   // (takes_chromatic_psf). true: every PSF with the eye's longitudinal chromatic aberration, one FFT
-  // per wavelength with its own power error (glare/cpu/float_chromatic_psf.h), box-resampled onto the
+  // per wavelength with its own power error (glare/cpu/planned_chromatic_psf.h), box-resampled onto the
   // display (glare/wave/psf_scale.h) as the float64 path resamples compute_chromatic_psf.
   bool longitudinal_chromatic_aberration = false;
 };
@@ -91,7 +91,7 @@ class CpuFloatGlare : public GlareBackend {
                                  const ImageRGBA* added_to = nullptr) override;
   // The phase sampling check of the last display_psf() (the eye's whole power error, defocus plus
   // refraction; glare/cpu/float_psf.h): the aliasing warning, or empty. With LCA, that of the most aliased
-  // wavelength (glare/cpu/float_chromatic_psf.h).
+  // wavelength (glare/cpu/planned_chromatic_psf.h).
   const std::string& sampling_warning() const {
     return last_chromatic_ ? chromatic_->sampling_warning() : psf_.sampling_warning();
   }
@@ -99,7 +99,7 @@ class CpuFloatGlare : public GlareBackend {
   bool reused_scene() const { return reused_scene_; }
 
  private:
-  CpuFloatChromaticPsf& chromatic_psf();
+  CpuPlannedChromaticPsf& chromatic_psf();
   // Refuses options (and a display scale, when given) other than those it was made for.
   void check_layout(const PsfOptions& options, std::optional<double> display_degrees_per_pixel) const;
 
@@ -109,7 +109,7 @@ class CpuFloatGlare : public GlareBackend {
   // its M x M sums).
   std::unique_ptr<CpuFloatSpectralPsf> spectral_;
   // Made with the first per-wavelength PSF (its per-wavelength tables), then kept.
-  std::unique_ptr<CpuFloatChromaticPsf> chromatic_;
+  std::unique_ptr<CpuPlannedChromaticPsf> chromatic_;
   bool last_chromatic_ = false;  // the last PSF was chromatic_'s
   double display_degrees_per_pixel_ = 0.0;
   std::unique_ptr<CpuFloatConvolution> convolution_;

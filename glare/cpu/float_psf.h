@@ -1,8 +1,8 @@
 #pragma once
 // The monochromatic PSF of glare/cpu/psf.h (Ritschel et al. 2009, Eq. 3: PSF = K |FFT(A E)|^2, shifted so
 // the DC term sits at (N/2, N/2)) in float32 for a stream of frames: the FFTW plan and every buffer
-// made once for one grid size, the aperture rasterised and the power spectrum taken on
-// kGlareCpuThreads threads. Checked against the float64 path of glare/cpu/psf.h (tests/glare_cpu_float_test.cpp).
+// made once for one grid size (glare/cpu/pupil_spectrum.h), the aperture rasterised and the power
+// spectrum taken on kGlareCpuThreads threads. Checked against the float64 path of glare/cpu/psf.h (tests/glare_cpu_float_test.cpp).
 #include <complex>
 #include <string>
 #include <vector>
@@ -11,6 +11,7 @@
 #include "glare/eye/aperture_raster.h"
 #include "glare/refraction/dioptric_power.h"
 #include "glare/cpu/fftw_float_plan.h"
+#include "glare/cpu/pupil_spectrum.h"
 #include "glare/wave/fresnel.h"
 #include "glare/wave/psf.h"
 
@@ -43,41 +44,27 @@ class CpuFloatPsf {
   void transform(double pupil_diameter_mm, const DioptricPower& error);
   // The same at another wavelength than settings.wavelength_nm, with the same plan and buffers (the
   // spectral PSF with longitudinal chromatic aberration transforms once per wavelength:
-  // glare/cpu/float_chromatic_psf.h). The two-argument form is this one at settings.wavelength_nm. Throws
+  // glare/cpu/planned_chromatic_psf.h). The two-argument form is this one at settings.wavelength_nm. Throws
   // std::invalid_argument for a wavelength that is not positive.
   void transform(double pupil_diameter_mm, const DioptricPower& error, double wavelength_nm);
 
   // |FFT|^2 shifted, unnormalised (K is left to whoever normalises: the spectral PSF normalises its
   // channels itself), N x N column-major: pixel (x, y) at [x N + y]. The FFT leaves its result
   // transposed (below), so this layout is written in order; the spectral stages read it as it is.
-  const float* power_column_major() const { return power_.data(); }
-  const std::string& sampling_warning() const { return sampling_warning_; }
+  const float* power_column_major() const { return spectrum_.power_column_major(); }
+  const std::string& sampling_warning() const { return spectrum_.sampling_warning(); }
   const ApertureGrid& aperture() const { return grid_; }
+  PhaseForm phase() const { return settings_.phase; }
   // The pupil function the last transform() handed the FFT, N x N row-major, row 0 at the top
   // (the rows that cannot meet the pupil are 0).
-  const std::complex<float>* field() const { return field_.data(); }
+  const std::complex<float>* field() const { return spectrum_.field(); }
   // The power normalised to sum 1 as a one-channel Psf (glare/cpu/psf.h's result); allocates, for checks.
   Psf monochromatic_psf() const;
 
  private:
   CpuFloatPsfSettings settings_;
   ApertureGrid grid_;
-  // The 2D FFT as two passes of contiguous 1D transforms (one plan, glare/cpu/fftw_float_plan.h's
-  // complex_row_forward). First the rows of the field that can meet the pupil (the others are 0,
-  // and so are their transforms), kRowTile at a time into a thread's tile, each tile written
-  // transposed into columns_ (columns_[u][row] = row's DFT at u; the other rows' entries stay 0).
-  // Then every row of columns_ into spectrum_, which so holds the 2D DFT transposed:
-  // spectrum_[u][v] = F(v, u). FFTW_ESTIMATE's own 2D plan walks the columns at a stride of N
-  // complex values, and a power-of-two stride maps a column onto few cache sets
-  // (docs/PERFORMANCE.md, "Measurements behind the code's choices").
-  static constexpr int kRowTile = 16;
-  FftwFloatBuffer<std::complex<float>> field_, columns_, spectrum_, row_tiles_;
-  FftwFloatBuffer<float> power_;
-  FftwFloatPlan row_fft_;
-  std::string sampling_warning_;
-  std::vector<double> row_energy_;  // sum |A|^2 per aperture row
-  std::vector<std::complex<double>> phase_factor_;  // exp(i pi c x^2) per column of the pupil (transform())
-  int written_first_row_ = 0, written_last_row_ = -1;  // field rows the last transform wrote
+  PupilSpectrum<float> spectrum_;  // the transform, its plan and buffers (glare/cpu/pupil_spectrum.h)
 };
 
 }  // namespace glarelab

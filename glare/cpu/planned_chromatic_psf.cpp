@@ -1,4 +1,4 @@
-#include "glare/cpu/float_chromatic_psf.h"
+#include "glare/cpu/planned_chromatic_psf.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,20 +14,20 @@
 namespace glarelab {
 namespace {
 
-int checked_grid(const CpuFloatChromaticSettings& settings) {
+int checked_grid(const CpuPlannedChromaticSettings& settings) {
   if (settings.grid_px < 2 || settings.grid_px % 2 != 0)
-    throw std::invalid_argument("glare/cpu/float_chromatic_psf: grid size must be even and >= 2");
+    throw std::invalid_argument("glare/cpu/planned_chromatic_psf: grid size must be even and >= 2");
   if (settings.wavelength_samples < 1)
-    throw std::invalid_argument("glare/cpu/float_chromatic_psf: need at least one wavelength sample");
+    throw std::invalid_argument("glare/cpu/planned_chromatic_psf: need at least one wavelength sample");
   if (!(settings.reference_wavelength_nm > 0.0))
-    throw std::invalid_argument("glare/cpu/float_chromatic_psf: the reference wavelength must be > 0 nm");
+    throw std::invalid_argument("glare/cpu/planned_chromatic_psf: the reference wavelength must be > 0 nm");
   return settings.grid_px;
 }
 
 }  // namespace
 
-CpuFloatChromaticPsf::CpuFloatChromaticPsf(const CpuFloatChromaticSettings& settings)
-    : settings_(settings), xyz_(checked_grid(settings)) {
+CpuPlannedChromaticPsf::CpuPlannedChromaticPsf(const CpuPlannedChromaticSettings& settings)
+    : settings_(settings), spectrum_(checked_grid(settings), settings.threads), xyz_(settings.grid_px) {
   for (const SpectralSample& sample : spectral_samples(settings.wavelength_samples)) {
     Wavelength wavelength;
     wavelength.wavelength_nm = sample.wavelength_nm;
@@ -58,7 +58,7 @@ CpuFloatChromaticPsf::CpuFloatChromaticPsf(const CpuFloatChromaticSettings& sett
   }
 }
 
-void CpuFloatChromaticPsf::accumulate(const Wavelength& wavelength, const float* power, double scale) {
+void CpuPlannedChromaticPsf::accumulate(const Wavelength& wavelength, const double* power, double scale) {
   const int n = settings_.grid_px;
   const std::size_t plane = static_cast<std::size_t>(n) * n;
   const int first = wavelength.first_px, count = wavelength.last_px - wavelength.first_px + 1;
@@ -73,7 +73,7 @@ void CpuFloatChromaticPsf::accumulate(const Wavelength& wavelength, const float*
     const double* weight0 = wavelength.weight0.data();
     const double* weight1 = wavelength.weight1.data();
     const auto interpolate_row = [&](int row, std::vector<double>& h) {
-      const float* source = power + static_cast<std::size_t>(row) * n;
+      const double* source = power + static_cast<std::size_t>(row) * n;
       for (int x = first; x < first + count; ++x) h[x] = weight0[x] * source[index0[x]] + weight1[x] * source[index1[x]];
     };
     for (int y = first + chunk_first; y < first + chunk_last; ++y) {
@@ -95,15 +95,15 @@ void CpuFloatChromaticPsf::accumulate(const Wavelength& wavelength, const float*
   });
 }
 
-double CpuFloatChromaticPsf::degrees_per_pixel() const {
+double CpuPlannedChromaticPsf::degrees_per_pixel() const {
   return psf_degrees_per_pixel(settings_.reference_wavelength_nm, settings_.aperture_width_mm);
 }
 
-SpectralPsfResult CpuFloatChromaticPsf::compute(CpuFloatPsf& psf, double pupil_diameter_mm,
+SpectralPsfResult CpuPlannedChromaticPsf::compute(const CpuFloatPsf& psf, double pupil_diameter_mm,
                                                 const DioptricPower& reference_error) {
   const int n = settings_.grid_px;
   if (psf.grid_px() != n || psf.aperture().aperture_width_mm != settings_.aperture_width_mm)
-    throw std::invalid_argument("glare/cpu/float_chromatic_psf: the CpuFloatPsf has another grid or has not rasterised an aperture");
+    throw std::invalid_argument("glare/cpu/planned_chromatic_psf: the CpuFloatPsf has another grid or has not rasterised an aperture");
   const std::size_t count = static_cast<std::size_t>(n) * n;
   std::fill(xyz_.values.begin(), xyz_.values.end(), 0.0);
   sampling_warning_.clear();
@@ -112,8 +112,8 @@ SpectralPsfResult CpuFloatChromaticPsf::compute(CpuFloatPsf& psf, double pupil_d
   for (const Wavelength& wavelength : wavelengths_) {
     // glare/wave/chromatic_psf.cpp's chromatic_power_error: E_ref + [LCA(lambda) - LCA(lambda_ref)] I.
     const DioptricPower error = reference_error + DioptricPower::spherical(wavelength.excess_dioptres);
-    psf.transform(pupil_diameter_mm, error, wavelength.wavelength_nm);
-    if (!psf.sampling_warning().empty()) {
+    spectrum_.transform(psf.aperture(), psf.phase(), pupil_diameter_mm, error, wavelength.wavelength_nm);
+    if (!spectrum_.sampling_warning().empty()) {
       ++aliased_wavelengths_;
       const double step_rad = check_power_error_sampling(error, wavelength.wavelength_nm, 0.5 * pupil_diameter_mm,
                                                          psf.aperture().pixel_mm(), psf.aperture().aperture_width_mm)
@@ -122,13 +122,13 @@ SpectralPsfResult CpuFloatChromaticPsf::compute(CpuFloatPsf& psf, double pupil_d
         worst_step_rad = step_rad;
         std::ostringstream where;
         where << " (at " << wavelength.wavelength_nm << " nm)";
-        sampling_warning_ = psf.sampling_warning() + where.str();
+        sampling_warning_ = spectrum_.sampling_warning() + where.str();
       }
     }
     // The unit-sum PSF of glare/cpu/psf.h (K = 1 / sum), as the reference accumulates it, with the
     // Jacobian (lambda_ref / lambda)^2: a PSF at lambda has pixels of lambda / W, the reference
     // grid pixels of lambda_ref / W.
-    const float* power = psf.power_column_major();
+    const double* power = spectrum_.power_column_major();
     double sum = 0.0;
     for (std::size_t k = 0; k < count; ++k) sum += power[k];
     const double ratio = settings_.reference_wavelength_nm / wavelength.wavelength_nm;
@@ -142,7 +142,7 @@ SpectralPsfResult CpuFloatChromaticPsf::compute(CpuFloatPsf& psf, double pupil_d
       for (int y = x + 1; y < n; ++y)
         std::swap(values[static_cast<std::size_t>(x) * n + y], values[static_cast<std::size_t>(y) * n + x]);
   }
-  return rec709_psf_from_xyz(xyz_, degrees_per_pixel(), "glare/cpu/float_chromatic_psf");
+  return rec709_psf_from_xyz(xyz_, degrees_per_pixel(), "glare/cpu/planned_chromatic_psf");
 }
 
 }  // namespace glarelab

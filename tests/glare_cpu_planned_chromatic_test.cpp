@@ -1,7 +1,8 @@
-// The float32 CPU spectral PSF with the eye's longitudinal chromatic aberration
-// (glare/cpu/float_chromatic_psf.h, and CpuFloatGlare with longitudinal_chromatic_aberration) against
+// The planned CPU spectral PSF with the eye's longitudinal chromatic aberration
+// (glare/cpu/planned_chromatic_psf.h, and CpuFloatGlare with longitudinal_chromatic_aberration) against
 // the CPU float64 reference compute_chromatic_psf (glare/wave/chromatic_psf.h), per channel, relative to
-// the peak and in L2, for a myope, an oblique astigmat with scatterers and an emmetrope; the blue and
+// the peak and in L2, for a myope, an oblique astigmat with scatterers and an emmetrope, and value by
+// value down the dim tail (its float64 transforms' reason); the blue and
 // red widths against the reference; the per-wavelength transform at the settings' wavelength bit for
 // bit as the two-argument one; the refusals.
 #include <gtest/gtest.h>
@@ -13,7 +14,7 @@
 #include <vector>
 
 #include "glare/wave/chromatic_psf.h"
-#include "glare/cpu/float_chromatic_psf.h"
+#include "glare/cpu/planned_chromatic_psf.h"
 #include "glare/cpu/float_glare.h"
 #include "glare/cpu/float_psf.h"
 #include "glare/eye/eye_model.h"
@@ -61,8 +62,8 @@ CpuFloatPsfSettings psf_settings() {
   return settings;
 }
 
-CpuFloatChromaticSettings chromatic_settings() {
-  CpuFloatChromaticSettings settings;
+CpuPlannedChromaticSettings chromatic_settings() {
+  CpuPlannedChromaticSettings settings;
   settings.grid_px = kGridPx;
   settings.aperture_width_mm = kWidthMm;
   settings.reference_wavelength_nm = kReferenceNm;
@@ -70,7 +71,7 @@ CpuFloatChromaticSettings chromatic_settings() {
   return settings;
 }
 
-TEST(GlareCpuFloatChromatic, MatchesTheFloat64ReferenceForAMyopeAnObliqueAstigmatAndAnEmmetrope) {
+TEST(GlareCpuPlannedChromatic, MatchesTheFloat64ReferenceForAMyopeAnObliqueAstigmatAndAnEmmetrope) {
   struct Eye {
     const char* name;
     SpheroCylinder prescription;
@@ -80,7 +81,7 @@ TEST(GlareCpuFloatChromatic, MatchesTheFloat64ReferenceForAMyopeAnObliqueAstigma
                       {"astigmat -1 / -1.5 x 30", {-1.0, -1.5, 30.0}, true},
                       {"emmetrope", {0.0, 0.0, 0.0}, false}};
   CpuFloatPsf psf(psf_settings());
-  CpuFloatChromaticPsf chromatic(chromatic_settings());
+  CpuPlannedChromaticPsf chromatic(chromatic_settings());
   for (const Eye& eye : eyes) {
     ApertureGeometry geometry = eye_with_prescription(eye.prescription);
     if (eye.scatterers) {
@@ -96,21 +97,55 @@ TEST(GlareCpuFloatChromatic, MatchesTheFloat64ReferenceForAMyopeAnObliqueAstigma
     EXPECT_DOUBLE_EQ(result.psf.degrees_per_pixel, expected.spectral.psf.degrees_per_pixel);
     for (int c = 0; c < 3; ++c) {
       const Agreement agreement = compare_channel(result.psf, expected.spectral.psf, c);
-      std::printf("float32 chromatic %-26s channel %c: max error / peak %.2e, relative L2 %.2e\n", eye.name, "RGB"[c],
+      std::printf("planned chromatic %-26s channel %c: max error / peak %.2e, relative L2 %.2e\n", eye.name, "RGB"[c],
                   agreement.max_over_peak, agreement.relative_l2);
-      // The float32 PSF's tolerance against its double reference (glare_cpu_float_astigmatic_test).
-      EXPECT_LT(agreement.max_over_peak, 1e-5) << eye.name << " channel " << c;
-      EXPECT_LT(agreement.relative_l2, 1e-5) << eye.name << " channel " << c;
+      // Float64 transforms in another order than the reference's (two passes of row transforms
+      // against FFTW's 2D plan, the phase as a product of a row and a column factor, the resampling
+      // separable): a few thousand roundings of 1.1e-16 at most. A float32 transform gave 7.8e-9 here.
+      EXPECT_LT(agreement.max_over_peak, 1e-13) << eye.name << " channel " << c;
+      EXPECT_LT(agreement.relative_l2, 1e-12) << eye.name << " channel " << c;
       EXPECT_NEAR(result.clamped_negative_fraction[c], expected.spectral.clamped_negative_fraction[c], 1e-6);
     }
   }
 }
 
-TEST(GlareCpuFloatChromatic, EmmetropeBlueIsWiderThanRedAsTheReferenceSays) {
+// A dim pixel beside a lamp takes its glare from the PSF's tail, a sum of many values a million
+// times below the peak and less. A float32 transform's error there is a fraction of the largest
+// amplitude, not of the value: the presbyope example's dim wall moved by 6e-6 of its value with one
+// (docs/REFRACTION.md). Each value here keeps the reference's to 1e-9 of itself down to 1e-8 of the
+// peak (tests/glare_cpu_pupil_spectrum_test.cpp shows a float32 transform off by more than 1e-4 there).
+TEST(GlareCpuPlannedChromatic, KeepsTheReferencesDimTailValueByValue) {
+  const ApertureGeometry myope = eye_with_prescription({-2.0, 0.0, 0.0});
+  const ChromaticPsfResult expected = reference(myope);
+  CpuFloatPsf psf(psf_settings());
+  psf.rasterise(myope);
+  CpuPlannedChromaticPsf chromatic(chromatic_settings());
+  const SpectralPsfResult result = chromatic.compute(psf, kPupilMm, myope.total_power_error());
+  for (int c = 0; c < 3; ++c) {
+    double peak = 0.0;
+    for (int y = 0; y < kGridPx; ++y)
+      for (int x = 0; x < kGridPx; ++x) peak = std::max(peak, expected.spectral.psf.at(c, x, y));
+    double worst = 0.0;
+    int tail_values = 0;
+    for (int y = 0; y < kGridPx; ++y)
+      for (int x = 0; x < kGridPx; ++x) {
+        const double value = expected.spectral.psf.at(c, x, y);
+        if (value < 1e-8 * peak) continue;
+        if (value < 1e-4 * peak) ++tail_values;
+        worst = std::max(worst, std::abs(result.psf.at(c, x, y) - value) / value);
+      }
+    std::printf("planned chromatic tail, channel %c: %d values in [1e-8, 1e-4] of the peak, worst relative %.2e\n",
+                "RGB"[c], tail_values, worst);
+    EXPECT_GT(tail_values, 10000) << "channel " << c;  // the tail is there to be checked
+    EXPECT_LT(worst, 1e-9) << "channel " << c;
+  }
+}
+
+TEST(GlareCpuPlannedChromatic, EmmetropeBlueIsWiderThanRedAsTheReferenceSays) {
   const ApertureGeometry emmetrope = eye_with_prescription({0.0, 0.0, 0.0});
   const Psf expected = reference(emmetrope).spectral.psf;
   CpuFloatPsf psf(psf_settings());
-  CpuFloatChromaticPsf chromatic(chromatic_settings());
+  CpuPlannedChromaticPsf chromatic(chromatic_settings());
   psf.rasterise(emmetrope);
   const Psf result = chromatic.compute(psf, kPupilMm, emmetrope.total_power_error()).psf;
   for (int c = 0; c < 3; ++c)
@@ -118,14 +153,14 @@ TEST(GlareCpuFloatChromatic, EmmetropeBlueIsWiderThanRedAsTheReferenceSays) {
   EXPECT_GT(rms_radius_px(result, 2) / rms_radius_px(result, 0), 1.5);
 }
 
-TEST(GlareCpuFloatChromatic, ReportsTheAliasedWavelengthsAsTheReferenceDoes) {
+TEST(GlareCpuPlannedChromatic, ReportsTheAliasedWavelengthsAsTheReferenceDoes) {
   // At N = 256 over 8 mm the blue end of these two eyes' spectra aliases.
   CpuFloatPsfSettings settings = psf_settings();
   settings.raster.grid_px = 256;
   CpuFloatPsf psf(settings);
-  CpuFloatChromaticSettings chromatic_256 = chromatic_settings();
+  CpuPlannedChromaticSettings chromatic_256 = chromatic_settings();
   chromatic_256.grid_px = 256;
-  CpuFloatChromaticPsf chromatic(chromatic_256);
+  CpuPlannedChromaticPsf chromatic(chromatic_256);
   for (const SpheroCylinder& prescription : {SpheroCylinder{-2.0, 0.0, 0.0}, SpheroCylinder{-1.0, -1.5, 30.0}}) {
     const ApertureGeometry geometry = eye_with_prescription(prescription);
     const ChromaticPsfResult expected = reference(geometry, 256);
@@ -137,7 +172,7 @@ TEST(GlareCpuFloatChromatic, ReportsTheAliasedWavelengthsAsTheReferenceDoes) {
   }
 }
 
-TEST(GlareCpuFloatChromatic, TransformAtTheSettingsWavelengthIsTheTwoArgumentOne) {
+TEST(GlareCpuPlannedChromatic, TransformAtTheSettingsWavelengthIsTheTwoArgumentOne) {
   ApertureGeometry geometry = eye_with_prescription({-0.5, -2.0, 45.0});
   geometry.discs = {{1.0, 0.5, 0.3, 0.2}};
   CpuFloatPsfSettings settings = psf_settings();
@@ -153,7 +188,7 @@ TEST(GlareCpuFloatChromatic, TransformAtTheSettingsWavelengthIsTheTwoArgumentOne
   EXPECT_THROW(psf.transform(kPupilMm, geometry.total_power_error(), 0.0), std::invalid_argument);
 }
 
-TEST(GlareCpuFloatChromatic, GlareDisplayPsfIsTheResampledReferenceWithLca) {
+TEST(GlareCpuPlannedChromatic, GlareDisplayPsfIsTheResampledReferenceWithLca) {
   // CpuFloatGlare with longitudinal_chromatic_aberration: the N x N chromatic PSF, box-resampled onto
   // the display as the float64 path resamples compute_chromatic_psf's result.
   const ApertureGeometry geometry = eye_with_prescription({-1.0, -1.5, 30.0});
@@ -170,8 +205,11 @@ TEST(GlareCpuFloatChromatic, GlareDisplayPsfIsTheResampledReferenceWithLca) {
   ASSERT_EQ(display.size_px, expected.size_px);
   for (int c = 0; c < 3; ++c) {
     const Agreement agreement = compare_channel(display, expected, c);
-    EXPECT_LT(agreement.max_over_peak, 1e-5) << "channel " << c;
-    EXPECT_LT(agreement.relative_l2, 1e-5) << "channel " << c;
+    std::printf("planned chromatic display PSF channel %c: max error / peak %.2e, relative L2 %.2e\n", "RGB"[c],
+                agreement.max_over_peak, agreement.relative_l2);
+    // The float64 transforms (above), box-resampled as the reference is.
+    EXPECT_LT(agreement.max_over_peak, 1e-13) << "channel " << c;
+    EXPECT_LT(agreement.relative_l2, 1e-12) << "channel " << c;
   }
   EXPECT_TRUE(glare.sampling_warning().empty());
   // Without the flag the same eye gives the scaled-reference PSF, which differs by the LCA blur.
@@ -180,17 +218,17 @@ TEST(GlareCpuFloatChromatic, GlareDisplayPsfIsTheResampledReferenceWithLca) {
   EXPECT_GT(compare_channel(scaled.display_psf(geometry), expected, 2).relative_l2, 1e-2);
 }
 
-TEST(GlareCpuFloatChromatic, RefusesBadSettingsAndAnotherGrid) {
-  CpuFloatChromaticSettings settings = chromatic_settings();
+TEST(GlareCpuPlannedChromatic, RefusesBadSettingsAndAnotherGrid) {
+  CpuPlannedChromaticSettings settings = chromatic_settings();
   settings.wavelength_samples = 0;
-  EXPECT_THROW(CpuFloatChromaticPsf{settings}, std::invalid_argument);
+  EXPECT_THROW(CpuPlannedChromaticPsf{settings}, std::invalid_argument);
   settings = chromatic_settings();
   settings.reference_wavelength_nm = 200.0;  // at or below the LCA fit's pole (214.1 nm)
-  EXPECT_THROW(CpuFloatChromaticPsf{settings}, std::invalid_argument);
+  EXPECT_THROW(CpuPlannedChromaticPsf{settings}, std::invalid_argument);
   settings = chromatic_settings();
   settings.grid_px = 7;
-  EXPECT_THROW(CpuFloatChromaticPsf{settings}, std::invalid_argument);
-  CpuFloatChromaticPsf chromatic(chromatic_settings());
+  EXPECT_THROW(CpuPlannedChromaticPsf{settings}, std::invalid_argument);
+  CpuPlannedChromaticPsf chromatic(chromatic_settings());
   CpuFloatPsfSettings other = psf_settings();
   other.raster.grid_px = 256;
   CpuFloatPsf psf(other);
