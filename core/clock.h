@@ -30,6 +30,9 @@ class SessionClock {
   }
   // "monotonic" or "virtual": written to the log so every time can be traced to its clock.
   virtual std::string name() const = 0;
+  // Whether flips wait for the wall clock (a display's refresh): then a frame not ready by its flip
+  // is late. A virtual clock's flips wait for nothing but the frame.
+  virtual bool keeps_real_time() const = 0;
 };
 
 class MonotonicClock final : public SessionClock {
@@ -40,6 +43,7 @@ class MonotonicClock final : public SessionClock {
   double on_flip() override { return now_s(); }
   double on_flip_at(std::chrono::steady_clock::time_point presented) override;
   std::string name() const override { return "monotonic"; }
+  bool keeps_real_time() const override { return true; }
 
  private:
   std::chrono::steady_clock::time_point start_;
@@ -53,6 +57,7 @@ class VirtualClock final : public SessionClock {
   double now_s() const override;
   double on_flip() override;
   std::string name() const override { return "virtual"; }
+  bool keeps_real_time() const override { return false; }
   std::int64_t frames_presented() const { return frames_; }
 
  private:

@@ -115,5 +115,17 @@ TEST(Clock, AFlipAtAKnownSteadyTimeIsStampedAtThatTime) {
   EXPECT_EQ(virtual_clock.on_flip_at(presented), 1.0 / 60.0);
 }
 
+// What a session asks of its clock before it waits for a flip (a frame late for it, a worker below
+// the display's priority): a virtual clock slowed for the timing self-test still keeps no real time,
+// whatever its name in the log says.
+TEST(Clock, OnlyClocksOfTheWallKeepRealTime) {
+  EXPECT_TRUE(MonotonicClock(0.0).keeps_real_time());
+  EXPECT_FALSE(VirtualClock(60.0).keeps_real_time());
+  const SlowFlipClock slowed_virtual(std::make_unique<VirtualClock>(60.0), 60.0, 3);
+  EXPECT_EQ(slowed_virtual.name(), "virtual+slow-flips");
+  EXPECT_FALSE(slowed_virtual.keeps_real_time());
+  EXPECT_TRUE(SlowFlipClock(std::make_unique<MonotonicClock>(0.0), 60.0, 3).keeps_real_time());
+}
+
 }  // namespace
 }  // namespace glarelab

@@ -19,6 +19,7 @@ class ManualClock final : public SessionClock {
   double now_s() const override { return now_s_.load(); }
   double on_flip() override { return now_s(); }
   std::string name() const override { return "manual"; }
+  bool keeps_real_time() const override { return false; }
   void set(double t) { now_s_ = t; }
 
  private:

@@ -68,6 +68,7 @@ class PredictedFlipClock final : public SessionClock {
   // Throws std::logic_error when the display has predicted no flip yet.
   double on_flip() override;
   std::string name() const override { return "predicted"; }
+  bool keeps_real_time() const override { return true; }
   // A steady_clock time on this clock.
   double session_s(std::chrono::steady_clock::time_point time) const;
 

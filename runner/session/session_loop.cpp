@@ -34,7 +34,7 @@ SessionLoop::SessionLoop(PreparedSession& prepared, DisplayBackend& display, Ses
   // hand back; for the first interval of a frame per flip it is filled now, before the first trial,
   // with storages a whole frame fits (runner/session/glared_region.h). On the virtual clock no flip
   // waits for a frame, so the pool fills as the frames need it (the same frames either way).
-  if (glare_.makes_frame_sequences() && clock_.name() != "virtual")
+  if (glare_.makes_frame_sequences() && clock_.keeps_real_time())
     fill_half_storage(3 * static_cast<std::size_t>(prepared.experiment.display.width_px) *
                       static_cast<std::size_t>(prepared.experiment.display.height_px));
 }

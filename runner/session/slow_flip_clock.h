@@ -20,6 +20,7 @@ class SlowFlipClock final : public SessionClock {
     return delayed(inner_->on_flip_at(presented));
   }
   std::string name() const override { return inner_->name() + "+slow-flips"; }
+  bool keeps_real_time() const override { return inner_->keeps_real_time(); }
 
  private:
   double delayed(double flip_s) {

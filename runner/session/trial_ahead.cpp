@@ -171,7 +171,7 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
   // it, while the display's thread flips as fast as it draws: at a lower priority the worker's
   // frames (and its helper threads', core/chunk_pool.h) would measure the costs by which "auto"
   // settles a glare layout (glare_presentation.cpp) as those of a starved thread.
-  const bool below_display = clock_.name() != "virtual";
+  const bool below_display = clock_.keeps_real_time();
   a->worker = std::thread([this, a, below_display] {
     if (below_display)
       setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kWorkerNiceness);  // best effort
@@ -228,7 +228,7 @@ bool SessionLoop::take_trial_ahead(const TrialPlan& plan, const TrialSchedule& s
   // On the virtual clock each frame must be the one preparing it now would make (a session's
   // frames do not depend on how they were prepared): frames timed for other flips (a longer answer
   // or no feedback) are prepared again. On a real clock the flips are the planned ones either way.
-  if (clock_.name() == "virtual") {
+  if (!clock_.keeps_real_time()) {
     for (std::size_t i = 0; i < ahead_->first_flip_s.size(); ++i) {
       std::size_t first_flip = 0;
       while (schedule.timed[first_flip].interval != static_cast<int>(i)) ++first_flip;
