@@ -81,9 +81,9 @@ std::vector<RowSpan> box_row_spans(const RowSpan* frame_spans, const FrameRectan
 // read was in range.
 bool blur_whole_layer_by_fft(const ImageRGBA& image, DepthOfFieldBuffers& buffers, std::uint32_t index,
                              const FrameRectangle& box, const EllipticalKernel& kernel, int threads,
-                             BlurredLayerRows& stored) {
+                             VectorIsa isa, BlurredLayerRows& stored) {
   LayerRows& rows = buffers.rows;
-  const bool in_range = fill_layer_rows(image, buffers.row_runs, index, box, box.y0, box.y1, kernel, rows, threads);
+  const bool in_range = fill_layer_rows(image, buffers.row_runs, index, box, box.y0, box.y1, kernel, rows, threads, isa);
   stored.x0_px = box.x0 - kernel.radius_x_px;
   stored.y0_px = box.y0 - kernel.radius_y_px;
   stored.spans = blurred_row_spans(rows.spans, kernel);
@@ -179,7 +179,7 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
       layer.direct = &direct[index];
     } else {
       in_range &= blur_whole_layer_by_fft(image_cd_m2, buffers, static_cast<std::uint32_t>(index), layer.box, kernel,
-                                          settings.threads, buffers.fft_rows[index]);
+                                          settings.threads, settings.vector_isa, buffers.fft_rows[index]);
       layer.blurred = &buffers.fft_rows[index];
     }
   }

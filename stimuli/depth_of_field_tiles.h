@@ -97,10 +97,10 @@ bool composite_tile(const TiledFrame& frame, int y_first, int y_last, DepthOfFie
 
 // Layer `index`'s pixels as premultiplied RGBA on the frame rows [first_row, last_row] (inclusive)
 // of `box`, laid out in `rows` for `kernel`: on its own pixels colour and coverage times 1 - their
-// blend weight, on the pixels blended into it times their blend weight. Returns whether every
-// pixel read was in range.
+// blend weight, on the pixels blended into it times their blend weight (in AVX-512 registers where
+// `isa` is AVX-512: the same bits). Returns whether every pixel read was in range.
 bool fill_layer_rows(const ImageRGBA& image, const std::vector<std::vector<PixelRun>>& runs, std::uint32_t index,
                      const FrameRectangle& box, int first_row, int last_row, const EllipticalKernel& kernel,
-                     LayerRows& rows, int threads);
+                     LayerRows& rows, int threads, VectorIsa isa);
 
 }  // namespace glarelab
