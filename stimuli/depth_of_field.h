@@ -37,6 +37,7 @@
 // border.
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/image.h"
@@ -97,6 +98,7 @@ struct DepthOfFieldBuffers {
   LayerRows rows;                              // a layer's rows for the FFT
   LayerFftBuffers fft;
   std::vector<BlurredLayerRows> fft_rows;      // the FFT's blurred layers, by plan index
+  std::vector<std::pair<PixelBlurEllipse, EllipticalKernel>> kernels;  // the layers' kernels, by ellipse
 };
 
 // The same with kept buffers, into `result` (its memory reused when it already has the image's

@@ -362,7 +362,12 @@ void blur_rows_direct(const LayerRows& rows, const DirectSumKernel& kernel, int 
   const int rx = kernel.radius_x_px, ry = kernel.radius_y_px;
   parallel_chunks(std::max(0, last_row - first_row), threads, [&](int first, int last) {
     std::vector<Source> sources;
-    std::vector<float> out;
+    // The chunk's widest row of blocks, its memory not filled (each row's blocks are written whole
+    // before they are read): a tile's call is short enough for a zero fill to show.
+    int widest_px = 0;
+    for (int oy = first_row + first; oy < first_row + last; ++oy)
+      widest_px = std::max(widest_px, out_spans[static_cast<std::size_t>(oy)].last - out_spans[static_cast<std::size_t>(oy)].first);
+    const std::unique_ptr<float[]> out(new float[4 * static_cast<std::size_t>((widest_px + kBlock - 1) / kBlock) * kBlock]);
     for (int oy = first_row + first; oy < first_row + last; ++oy) {
       const RowSpan& span = out_spans[static_cast<std::size_t>(oy)];
       if (span.first >= span.last) continue;
@@ -383,9 +388,8 @@ void blur_rows_direct(const LayerRows& rows, const DirectSumKernel& kernel, int 
       }
       const int count = span.last - span.first;
       const int blocks = (count + kBlock - 1) / kBlock;
-      out.resize(4 * static_cast<std::size_t>(blocks) * kBlock);
-      block_sums(sources.data(), static_cast<int>(sources.size()), span.first, rx, blocks, out.data());
-      sink(oy, span.first, count, out.data());
+      block_sums(sources.data(), static_cast<int>(sources.size()), span.first, rx, blocks, out.get());
+      sink(oy, span.first, count, out.get());
     }
   });
 }
