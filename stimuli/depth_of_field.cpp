@@ -185,7 +185,7 @@ void apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<float>
     const std::vector<RowSpan> box_spans = box_row_spans(spans, layer.box);
     const LayerConvolution method =
         plan_layer.blurred ? cheaper_layer_convolution(layer.box.x1 - layer.box.x0 + 1, layer.box.y1 - layer.box.y0 + 1,
-                                                       box_spans, kernel)
+                                                       box_spans, kernel, settings.vector_isa)
                            : LayerConvolution::direct;
     if (plan_layer.blurred) {
       ++counts.blurred_layers;
