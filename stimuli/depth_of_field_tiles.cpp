@@ -281,6 +281,42 @@ void divide_by_coverage(const ImageRGBA& image_cd_m2, const std::vector<RowSpan>
   }
 }
 
+// t = 1 over `count` values (SSE2 where compiled: std::fill_n with a float is a loop of scalar stores).
+void fill_ones(float* __restrict t, int count) {
+  int x = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+  const __m128 one = _mm_set1_ps(1.0f);
+  for (; x + 4 <= count; x += 4) _mm_storeu_ps(t + x, one);
+#endif
+  for (; x < count; ++x) t[x] = 1.0f;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// coverage = the alpha of `pixels` RGBA pixels, four pixels a register (its alpha lanes packed into
+// its low four, which a masked store writes).
+__attribute__((target("avx512f,avx512vl,avx512dq"))) void copy_alpha_avx512(float* __restrict coverage,
+                                                                            const float* __restrict rgba, int pixels) {
+  int x = 0;
+  for (; x + 4 <= pixels; x += 4)
+    _mm512_mask_storeu_ps(coverage + x, 0x000F,
+                          _mm512_maskz_compress_ps(0x8888, _mm512_loadu_ps(rgba + 4 * static_cast<std::size_t>(x))));
+  for (; x < pixels; ++x) coverage[x] = rgba[4 * static_cast<std::size_t>(x) + 3];
+}
+#endif
+
+// coverage = the alpha of `pixels` RGBA pixels (wide: the AVX-512 form).
+void copy_alpha(float* __restrict coverage, const float* __restrict rgba, int pixels, bool wide) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (wide) {
+    copy_alpha_avx512(coverage, rgba, pixels);
+    return;
+  }
+#else
+  (void)wide;
+#endif
+  for (int x = 0; x < pixels; ++x) coverage[x] = rgba[4 * static_cast<std::size_t>(x) + 3];
+}
+
 // transmission *= 1 - the occluder's coverage on the tile's rows; a row hidden for the first time
 // is set to 1 first.
 void occlude(DepthOfFieldTileBuffers& work, int width_px, const TileOccluder& occluder) {
@@ -289,7 +325,7 @@ void occlude(DepthOfFieldTileBuffers& work, int width_px, const TileOccluder& oc
     if (span.first >= span.last) continue;
     float* t_row = &work.transmission[row * static_cast<std::size_t>(width_px)];
     if (!work.hidden[row]) {
-      std::fill_n(t_row, width_px, 1.0f);
+      fill_ones(t_row, width_px);
       work.hidden[row] = 1;
     }
     transmit_through(t_row + span.first, occluder.coverage.data() + occluder.offsets[row] + span.first,
@@ -371,8 +407,7 @@ bool composite_tile(const TiledFrame& frame, int y_first, int y_last, DepthOfFie
                      frame.written[static_cast<std::size_t>(y)], clip, in, wide);
       if (layer.occludes) {
         occluder.spans[row] = clip;
-        float* coverage = occluder.coverage.data() + occluder.offsets[row] + clip.first;
-        for (int x = 0; x < clip.last - clip.first; ++x) coverage[x] = in[4 * static_cast<std::size_t>(x) + 3];
+        copy_alpha(occluder.coverage.data() + occluder.offsets[row] + clip.first, in, clip.last - clip.first, wide);
       }
     };
     if (layer.direct != nullptr) {
