@@ -19,7 +19,6 @@ namespace {
 // Kernels kept from frame to frame at most; past it the list starts again.
 constexpr std::size_t kKeptKernels = 256;
 
-
 // Each layer's span in each frame row from the rows' runs (DepthLayerPlan), spans[layer * height + y]
 // in frame columns (first == last: none), each row's entries written by its own chunk.
 void layer_row_spans(std::size_t layers, const std::vector<std::vector<PixelRun>>& runs, int threads,
