@@ -19,6 +19,7 @@
 #include "stimuli/depth_of_field_blur.h"
 #include "stimuli/depth_of_field_reference.h"
 #include "stimuli/depth_of_field_rows.h"
+#include "stimuli/depth_of_field_tiles.h"
 #include "stimuli/display_model.h"
 #include "stimuli/elliptical_kernel.h"
 #include "stimuli/scene_depth.h"
@@ -541,6 +542,50 @@ TEST(DepthOfFieldTest, OneLayerARowOfARampIsThePerPixelReference) {
   EXPECT_EQ(report.layers, height);
   EXPECT_LT(difference.mean_relative, 1e-6);
   EXPECT_LT(difference.max_abs_cd_m2, 1e-4);
+}
+
+TEST(DepthOfFieldTest, TilesMeetWithoutSeams) {
+  // One depth makes one layer, so the stage is that layer's blur divided by its blurred coverage:
+  // on a frame of five tiles and a part (stimuli/depth_of_field_tiles.h), whose kernel reaches
+  // across each tile's edge, every pixel must be the bits of blur_layer's direct sum of the whole
+  // layer (the same form, the same operations) divided by its coverage, whatever the thread count.
+  const EyeErrorAtDistance error = emmetrope(1.0, DioptricPower::from_prescription({0.0, -0.75, 20.0}));
+  const int width = 70, height = 5 * kDepthOfFieldTileRows + 7;
+  const ImageRGBA image = textured(width, height);
+  const std::vector<float> depth(static_cast<std::size_t>(width) * height, 0.3f);
+  for (const VectorIsa isa : {VectorIsa::sse2, widest_vector_isa_with_avx512()}) {
+    LayerImage layer;
+    layer.width_px = width;
+    layer.height_px = height;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const float* p = image.pixel(x, y);
+        layer.rgba.insert(layer.rgba.end(), {p[0], p[1], p[2], 1.0f});
+      }
+    for (const int threads : {1, 2, 3}) {
+      DepthOfFieldSettings settings = settings_for(error, threads);
+      settings.vector_isa = isa;
+      DepthOfFieldBuffers buffers;
+      ImageRGBA result;
+      DepthOfFieldReport report;
+      apply_depth_of_field(image, depth, settings, buffers, result, &report);
+      ASSERT_EQ(report.layers, 1);
+      ASSERT_EQ(report.direct_layers, 1);
+      const EllipticalKernel kernel = elliptical_kernel(buffers.plan.layers[0].ellipse);
+      ASSERT_GE(kernel.radius_y_px, 2);  // the kernel reaches across the tiles' edges
+      const LayerImage blurred = blur_layer(layer, kernel, LayerConvolution::direct, 1, isa);
+      int differing = 0;
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+          const float* sum = blurred.pixel(x + kernel.radius_x_px, y + kernel.radius_y_px);
+          const float coverage = sum[3] > 0.0f ? sum[3] : 1.0f;
+          for (int c = 0; c < 3; ++c)
+            if (result.pixel(x, y)[c] != std::max(0.0f, sum[c] / coverage)) ++differing;
+          if (result.pixel(x, y)[3] != image.pixel(x, y)[3]) ++differing;
+        }
+      EXPECT_EQ(differing, 0) << static_cast<int>(isa) << " " << threads;
+    }
+  }
 }
 
 TEST(DepthOfFieldTest, ResultDoesNotDependOnTheThreadCount) {
