@@ -9,7 +9,8 @@
 // times its pixels' coverage), is blurred by the uniform elliptical kernel of its middle vergence (stimuli/elliptical_kernel.h), directly or by FFT, whichever the
 // cost model says is faster (stimuli/depth_of_field_blur.h); the blurred layers are added near to
 // far, each through the transmission (1 - blurred coverage) of the nearer layers that hide it, and
-// the sum is divided by the summed coverage.
+// the sum is divided by the summed coverage; all of it a tile of frame rows at a time, so that a
+// tile's pixels stay in the cache from its first layer to its last (stimuli/depth_of_field_tiles.h).
 //
 // Occlusion. A near surface at vergence v_n blocks part of the pupil for a point at v_f behind it
 // when it lies within r = (v_n - v_f) r_p / (radians per pixel) pixels of that point (the far
@@ -36,12 +37,14 @@
 // border.
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/image.h"
 #include "core/vector_isa.h"
 #include "stimuli/depth_layers.h"
 #include "stimuli/depth_of_field_rows.h"
+#include "stimuli/depth_of_field_tiles.h"
 
 namespace glarelab {
 
@@ -82,20 +85,20 @@ ImageRGBA apply_depth_of_field(const ImageRGBA& image_cd_m2, const std::vector<f
                                const DepthOfFieldSettings& settings, DepthOfFieldReport* report = nullptr);
 
 // The stage's buffers, kept by a caller that blurs frame after frame (the whole-frame bench): the
-// layer plan, each layer's row spans, the transmission, the layers' rows, the occluders' coverage
-// and the FFT's grids reused
-// instead of mapped afresh (about 100 MB a 1920 x 1080 frame, whose page faults cost more than the
-// blur itself). A result does not depend on what they held before.
+// layer plan, each layer's row spans, the rows' stored stretches, each thread's tile buffers (the
+// layers' rows, the transmission, the occluders' coverage), the rows and grids of layers blurred by
+// FFT, reused instead of mapped afresh (page faults cost more than the blur itself at 1920 x 1080).
+// A result does not depend on what they held before.
 struct DepthOfFieldBuffers {
   DepthLayerPlan plan;
   std::vector<std::vector<PixelRun>> row_runs;
   std::vector<RowSpan> layer_spans;
-  std::vector<float> transmission;
-  std::vector<char> hidden_rows;   // rows whose transmission is stored this frame
-  std::vector<RowSpan> written;    // each row's stretch of the sum stored this frame
-  LayerRows rows;
+  std::vector<RowSpan> written;  // each row's stretch of the sum stored this frame
+  std::vector<DepthOfFieldTileBuffers> tiles;  // one a thread
+  LayerRows rows;                              // a layer's rows for the FFT
   LayerFftBuffers fft;
-  std::vector<std::vector<float>> coverages;  // the occluding layers' coverage, returned when used
+  std::vector<BlurredLayerRows> fft_rows;      // the FFT's blurred layers, by plan index
+  std::vector<std::pair<PixelBlurEllipse, EllipticalKernel>> kernels;  // the layers' kernels, by ellipse
 };
 
 // The same with kept buffers, into `result` (its memory reused when it already has the image's

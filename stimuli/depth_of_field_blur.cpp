@@ -17,13 +17,15 @@ namespace glarelab {
 namespace {
 
 // Cost of one FFT point (per log2 of the padded size, per channel and both directions) against one
-// multiply-add of the direct sum, from blur_layer both ways on a 1024-wide layer, 2 threads, as
-// bench/depth_of_field_bench.cpp's BM_DepthLayerBlur* rows time it (docs/DEPTH_OF_FIELD.md, section
-// 4): since the direct sum holds its outputs in registers (stimuli/depth_of_field_rows.h), direct
-// and FFT take the same time at about 320 nonzero taps (a circle of radius 10 px) for the whole
-// frame and about 550 (13 px) for a 32-row band, which gives 15 to 18 (it was 5, the crossover at
-// 100 taps, with the tap-by-tap row adds).
+// multiply-add of the direct sum, from blur_layer both ways on a 1024-wide layer, 2 threads, the
+// process' CPU time (docs/DEPTH_OF_FIELD.md, section 4). The SSE2 and AVX2 forms: direct and FFT
+// take the same time at about 320 nonzero taps (a circle of radius 10 px) for the whole frame and
+// about 550 (13 px) for a 32-row band, which gives 15 to 18 (it was 5, the crossover at 100 taps,
+// with the tap-by-tap row adds). The AVX-512 form (its loads shared by eight registers, about 2.3
+// times the AVX2 form's speed): about 850 taps (16 px) for the frame and 1,700 (23 px) for the band,
+// which gives 39 for both.
 constexpr double kFftPointCost = 16.0;
+constexpr double kFftPointCostAvx512 = 40.0;
 
 LayerImage grown_rectangle(const LayerImage& layer, const EllipticalKernel& kernel) {
   LayerImage out;
@@ -177,20 +179,22 @@ LayerImage blur_layer(const LayerImage& layer, const std::vector<RowSpan>& spans
 }
 
 LayerConvolution cheaper_layer_convolution(int width_px, int height_px, const std::vector<RowSpan>& spans,
-                                           const EllipticalKernel& kernel) {
+                                           const EllipticalKernel& kernel, VectorIsa isa) {
   double content_px = 0.0;
   for (const RowSpan& span : spans) content_px += span.last - span.first;
   const double direct_cost = 4.0 * content_px * kernel.nonzero_taps();
   const double rows = good_fft_size(height_px + 2 * kernel.radius_y_px);
   const double cols = good_fft_size(width_px + 2 * kernel.radius_x_px);
   // Four channels, each a forward and an inverse real transform (half a complex one each).
-  const double fft_cost = kFftPointCost * 4.0 * rows * cols * std::log2(rows * cols);
+  const double point_cost =
+      isa == VectorIsa::avx512 && vector_isa_available(VectorIsa::avx512) ? kFftPointCostAvx512 : kFftPointCost;
+  const double fft_cost = point_cost * 4.0 * rows * cols * std::log2(rows * cols);
   return direct_cost <= fft_cost ? LayerConvolution::direct : LayerConvolution::fft;
 }
 
 LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,
-                                           const EllipticalKernel& kernel) {
-  return cheaper_layer_convolution(layer.width_px, layer.height_px, spans, kernel);
+                                           const EllipticalKernel& kernel, VectorIsa isa) {
+  return cheaper_layer_convolution(layer.width_px, layer.height_px, spans, kernel, isa);
 }
 
 }  // namespace glarelab

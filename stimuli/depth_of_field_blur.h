@@ -54,15 +54,19 @@ inline LayerImage blur_layer(const LayerImage& layer, const EllipticalKernel& ke
   return blur_layer(layer, nonzero_row_spans(layer), kernel, method, threads, isa);
 }
 
-// The method expected to be faster for this layer and kernel: direct costs its rows' nonzero spans
+// The method expected to be faster for this layer and kernel with the direct sum in form `isa`
+// (one this CPU does not run: SSE2, as blur_layer takes it): direct costs its rows' nonzero spans
 // times the kernel's nonzero taps, the FFT its padded rectangle times the log of its size (the
-// constant between them measured by bench/depth_of_field_bench.cpp).
+// constant between them measured for each form, docs/DEPTH_OF_FIELD.md, section 4).
 LayerConvolution cheaper_layer_convolution(int width_px, int height_px, const std::vector<RowSpan>& spans,
-                                           const EllipticalKernel& kernel);
+                                           const EllipticalKernel& kernel,
+                                           VectorIsa isa = widest_vector_isa_with_avx512());
 LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const std::vector<RowSpan>& spans,
-                                           const EllipticalKernel& kernel);
-inline LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const EllipticalKernel& kernel) {
-  return cheaper_layer_convolution(layer, nonzero_row_spans(layer), kernel);
+                                           const EllipticalKernel& kernel,
+                                           VectorIsa isa = widest_vector_isa_with_avx512());
+inline LayerConvolution cheaper_layer_convolution(const LayerImage& layer, const EllipticalKernel& kernel,
+                                                  VectorIsa isa = widest_vector_isa_with_avx512()) {
+  return cheaper_layer_convolution(layer, nonzero_row_spans(layer), kernel, isa);
 }
 
 }  // namespace glarelab

@@ -14,10 +14,9 @@
 namespace glarelab {
 namespace {
 
-struct Tap {
-  int dx;
-  float weight;
-};
+using Tap = DirectSumTap;
+using TapClass = DirectSumTapClass;
+using TapClasses = std::vector<TapClass>;
 
 // The kernel's nonzero taps by row: the sum skips the zero corners of the ellipse.
 std::vector<std::vector<Tap>> taps_by_row(const EllipticalKernel& kernel) {
@@ -35,12 +34,6 @@ std::vector<std::vector<Tap>> taps_by_row(const EllipticalKernel& kernel) {
 // weight where the row has no tap (adding w x = +0 changes no sum). Within a class, the register
 // holding output pixels 4j..4j+3 at tap m reads the input vector m + j, so a block's eight
 // registers share their loads: one load a tap instead of eight.
-struct TapClass {
-  int first_offset_px = 0;     // p of the class's first tap
-  std::vector<float> weights;  // taps p, p + 4, ...
-};
-using TapClasses = std::vector<TapClass>;
-
 TapClasses tap_classes(const std::vector<Tap>& taps) {
   TapClasses classes;
   const auto residue_of = [](const Tap& tap) { return ((-tap.dx % 4) + 4) % 4; };  // of p = -dx
@@ -338,21 +331,44 @@ LayerImage layer_image_of(const LayerRows& rows) {
   return layer;
 }
 
+DirectSumKernel direct_sum_kernel(const EllipticalKernel& kernel) {
+  DirectSumKernel prepared;
+  prepared.radius_x_px = kernel.radius_x_px;
+  prepared.radius_y_px = kernel.radius_y_px;
+  prepared.taps = taps_by_row(kernel);
+  for (const std::vector<Tap>& row_taps : prepared.taps) prepared.classes.push_back(tap_classes(row_taps));
+  return prepared;
+}
+
 void blur_rows_direct(const LayerRows& rows, const EllipticalKernel& kernel, int threads, VectorIsa isa,
                       const BlurredRowSink& sink) {
+  blur_rows_direct(rows, direct_sum_kernel(kernel), 0, rows.height_px + 2 * kernel.radius_y_px, threads, isa, sink);
+}
+
+void blur_rows_direct(const LayerRows& rows, const DirectSumKernel& kernel, int first_row, int last_row, int threads,
+                      VectorIsa isa, const BlurredRowSink& sink) {
   if (rows.pad_px != 2 * kernel.radius_x_px + kBlock)
     throw std::invalid_argument("stimuli/depth_of_field_rows: rows padded by " + std::to_string(rows.pad_px) +
                                 " px were not laid out for a kernel of radius " + std::to_string(kernel.radius_x_px));
-  const std::vector<std::vector<Tap>> taps = taps_by_row(kernel);
-  std::vector<TapClasses> classes;
-  for (const std::vector<Tap>& row_taps : taps) classes.push_back(tap_classes(row_taps));
-  const std::vector<RowSpan> out_spans = blurred_row_spans(rows.spans, kernel);
+  const std::vector<std::vector<Tap>>& taps = kernel.taps;
+  const std::vector<TapClasses>& classes = kernel.classes;
+  EllipticalKernel radii;  // blurred_row_spans reads the radii only
+  radii.radius_x_px = kernel.radius_x_px;
+  radii.radius_y_px = kernel.radius_y_px;
+  const std::vector<RowSpan> out_spans = blurred_row_spans(rows.spans, radii);
+  first_row = std::max(first_row, 0);
+  last_row = std::min(last_row, static_cast<int>(out_spans.size()));
   const BlockSums block_sums = block_sums_for(isa);
   const int rx = kernel.radius_x_px, ry = kernel.radius_y_px;
-  parallel_chunks(static_cast<int>(out_spans.size()), threads, [&](int first, int last) {
+  parallel_chunks(std::max(0, last_row - first_row), threads, [&](int first, int last) {
     std::vector<Source> sources;
-    std::vector<float> out;
-    for (int oy = first; oy < last; ++oy) {
+    // The chunk's widest row of blocks, its memory not filled (each row's blocks are written whole
+    // before they are read): a tile's call is short enough for a zero fill to show.
+    int widest_px = 0;
+    for (int oy = first_row + first; oy < first_row + last; ++oy)
+      widest_px = std::max(widest_px, out_spans[static_cast<std::size_t>(oy)].last - out_spans[static_cast<std::size_t>(oy)].first);
+    const std::unique_ptr<float[]> out(new float[4 * static_cast<std::size_t>((widest_px + kBlock - 1) / kBlock) * kBlock]);
+    for (int oy = first_row + first; oy < first_row + last; ++oy) {
       const RowSpan& span = out_spans[static_cast<std::size_t>(oy)];
       if (span.first >= span.last) continue;
       sources.clear();
@@ -372,9 +388,8 @@ void blur_rows_direct(const LayerRows& rows, const EllipticalKernel& kernel, int
       }
       const int count = span.last - span.first;
       const int blocks = (count + kBlock - 1) / kBlock;
-      out.resize(4 * static_cast<std::size_t>(blocks) * kBlock);
-      block_sums(sources.data(), static_cast<int>(sources.size()), span.first, rx, blocks, out.data());
-      sink(oy, span.first, count, out.data());
+      block_sums(sources.data(), static_cast<int>(sources.size()), span.first, rx, blocks, out.get());
+      sink(oy, span.first, count, out.get());
     }
   });
 }

@@ -103,11 +103,33 @@ LayerImage layer_image_of(const LayerRows& rows);
 // Called from the worker threads, each row once; it must touch only that row's data.
 using BlurredRowSink = std::function<void(int row, int first, int count, const float* rgba)>;
 
+// A kernel's nonzero taps as the direct sum reads them (row by row, and for the AVX-512 form by
+// their offset modulo 4), made once for a layer that is summed in several calls (the stage's tiles).
+struct DirectSumTap {
+  int dx;
+  float weight;
+};
+struct DirectSumTapClass {
+  int first_offset_px = 0;     // p = -dx of the class's first tap
+  std::vector<float> weights;  // taps p, p + 4, ... (0 where the row has none)
+};
+struct DirectSumKernel {
+  int radius_x_px = 0, radius_y_px = 0;
+  std::vector<std::vector<DirectSumTap>> taps;          // kernel row dy + radius_y, left to right
+  std::vector<std::vector<DirectSumTapClass>> classes;  // the same rows' taps by class
+};
+DirectSumKernel direct_sum_kernel(const EllipticalKernel& kernel);
+
 // The direct sum of the layer with `kernel`, each output row on blurred_row_spans(rows.spans),
 // handed to `sink`. Rows are split over `threads`; each value is the same whatever the count.
 // rows must have been laid out for this kernel.
 void blur_rows_direct(const LayerRows& rows, const EllipticalKernel& kernel, int threads, VectorIsa isa,
                       const BlurredRowSink& sink);
+// The same for the output rows [first_row, last_row) only (rows of the grown rectangle, row 0 at
+// rows.y0_px - radius_y), with the kernel's taps made beforehand: each value has the bits of the
+// call above, whatever rows `rows` holds beyond those the range reads.
+void blur_rows_direct(const LayerRows& rows, const DirectSumKernel& kernel, int first_row, int last_row, int threads,
+                      VectorIsa isa, const BlurredRowSink& sink);
 // The FFT's padded grids and spectra, one a channel, and the kernel's: kept by a caller that blurs
 // layer after layer, frame after frame, made again only for another padded size and zeroed again
 // before each use (so the result does not depend on what they held).
