@@ -102,6 +102,21 @@ void add_row(float* __restrict sum, const float* __restrict rgba, int pixels) {
   for (int k = 0; k < 4 * pixels; ++k) sum[k] += rgba[k];
 }
 
+// One of the three above, or the copy (add: sum += [transmission x] rgba; else sum = [transmission
+// x] rgba; transmission nullptr where nothing hides the row yet).
+void put_row(float* sum, const float* transmission, const float* rgba, int pixels, bool add) {
+  if (transmission == nullptr) {
+    if (add)
+      add_row(sum, rgba, pixels);
+    else
+      std::copy_n(rgba, 4 * static_cast<std::size_t>(pixels), sum);
+  } else if (add) {
+    add_transmitted_row(sum, transmission, rgba, pixels);
+  } else {
+    set_transmitted_row(sum, transmission, rgba, pixels);
+  }
+}
+
 #if defined(__x86_64__) && defined(__GNUC__)
 // Four pixels' transmissions, each in its pixel's four lanes. (The masked forms with every lane set:
 // the unmasked ones start from an undefined register, which GCC 12 reports as maybe uninitialised.)
@@ -126,17 +141,8 @@ __attribute__((target("avx512f,avx512vl,avx512dq"), optimize("fp-contract=off"))
     _mm512_storeu_ps(out, add ? _mm512_add_ps(_mm512_loadu_ps(out), value) : value);
   }
   if (x == pixels) return;
-  sum += 4 * static_cast<std::size_t>(x), rgba += 4 * static_cast<std::size_t>(x);
-  if (transmission == nullptr) {
-    if (add)
-      add_row(sum, rgba, pixels - x);
-    else
-      std::copy_n(rgba, 4 * static_cast<std::size_t>(pixels - x), sum);
-  } else if (add) {
-    add_transmitted_row(sum, transmission + x, rgba, pixels - x);
-  } else {
-    set_transmitted_row(sum, transmission + x, rgba, pixels - x);
-  }
+  put_row(sum + 4 * static_cast<std::size_t>(x), transmission == nullptr ? nullptr : transmission + x,
+          rgba + 4 * static_cast<std::size_t>(x), pixels - x, add);
 }
 #endif
 
@@ -158,16 +164,7 @@ void accumulate_row(float* sum_row, const float* transmission_row, RowSpan& writ
 #else
     (void)wide;
 #endif
-    if (transmission_row == nullptr) {
-      if (add)
-        add_row(out, in, last - first);
-      else
-        std::copy_n(in, 4 * static_cast<std::size_t>(last - first), out);
-    } else if (add) {
-      add_transmitted_row(out, transmission_row + first, in, last - first);
-    } else {
-      set_transmitted_row(out, transmission_row + first, in, last - first);
-    }
+    put_row(out, transmission_row == nullptr ? nullptr : transmission_row + first, in, last - first, add);
   };
   if (written.first >= written.last) {
     put(clip.first, clip.last, false);
