@@ -9,21 +9,9 @@
 
 namespace glarelab {
 
-FftwDoublePlan::FftwDoublePlan(FftwDoublePlan&& other) noexcept : plan_(other.plan_) { other.plan_ = nullptr; }
-
-FftwDoublePlan& FftwDoublePlan::operator=(FftwDoublePlan&& other) noexcept {
-  if (this != &other) {
-    FftwDoublePlan old(std::move(*this));
-    plan_ = other.plan_;
-    other.plan_ = nullptr;
-  }
-  return *this;
-}
-
-FftwDoublePlan::~FftwDoublePlan() {
-  if (plan_ == nullptr) return;
+void FftwDoublePlan::Destroy::operator()(fftw_plan_s* plan) const {
   std::lock_guard lock(fftw_planner_mutex());
-  fftw_destroy_plan(plan_);
+  fftw_destroy_plan(plan);
 }
 
 FftwDoublePlan FftwDoublePlan::complex_row_forward(int length, std::complex<double>* in, std::complex<double>* out) {
@@ -53,12 +41,12 @@ FftwDoublePlan FftwDoublePlan::measured_complex_forward(int rows, int cols, std:
 
 void FftwDoublePlan::execute() const {
   if (plan_ == nullptr) throw std::logic_error("glare/cpu/fftw_double_plan: executing an empty plan");
-  fftw_execute(plan_);
+  fftw_execute(plan_.get());
 }
 
 void FftwDoublePlan::execute(std::complex<double>* in, std::complex<double>* out) const {
   if (plan_ == nullptr) throw std::logic_error("glare/cpu/fftw_double_plan: executing an empty plan");
-  fftw_execute_dft(plan_, reinterpret_cast<fftw_complex*>(in), reinterpret_cast<fftw_complex*>(out));
+  fftw_execute_dft(plan_.get(), reinterpret_cast<fftw_complex*>(in), reinterpret_cast<fftw_complex*>(out));
 }
 
 }  // namespace glarelab

@@ -5,6 +5,7 @@
 // measured 2D plan of their floor (glare/cpu/fftw_floor.h). Planning and destroying take
 // fftw_planner_mutex() (glare/cpu/fftw_float_plan.h), executing does not.
 #include <complex>
+#include <memory>
 
 struct fftw_plan_s;
 
@@ -14,11 +15,6 @@ namespace glarelab {
 class FftwDoublePlan {
  public:
   FftwDoublePlan() = default;
-  FftwDoublePlan(FftwDoublePlan&& other) noexcept;
-  FftwDoublePlan& operator=(FftwDoublePlan&& other) noexcept;
-  FftwDoublePlan(const FftwDoublePlan&) = delete;
-  FftwDoublePlan& operator=(const FftwDoublePlan&) = delete;
-  ~FftwDoublePlan();
 
   // One forward complex DFT of `length` values (exponent sign -1, unnormalised), out of place, made
   // to be run by execute(in, out) on any row of two arrays of such rows; planned FFTW_UNALIGNED
@@ -33,8 +29,11 @@ class FftwDoublePlan {
   void execute() const;  // on the arrays it was planned with
 
  private:
+  struct Destroy {  // under fftw_planner_mutex(), as planning
+    void operator()(fftw_plan_s* plan) const;
+  };
   explicit FftwDoublePlan(fftw_plan_s* plan) : plan_(plan) {}
-  fftw_plan_s* plan_ = nullptr;
+  std::unique_ptr<fftw_plan_s, Destroy> plan_;
 };
 
 }  // namespace glarelab

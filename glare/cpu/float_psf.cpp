@@ -39,10 +39,8 @@ void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error
 }
 
 void CpuFloatPsf::transform(double pupil_diameter_mm, const DioptricPower& error, double wavelength_nm) {
-  if (!(wavelength_nm > 0.0) || !std::isfinite(wavelength_nm))
-    throw std::invalid_argument("glare/cpu/float_psf: wavelength must be > 0 nm");
   if (grid_.grid_px != settings_.raster.grid_px) throw std::logic_error("glare/cpu/float_psf: transform before rasterise");
-  spectrum_.transform(grid_, settings_.phase, pupil_diameter_mm, error, wavelength_nm);
+  spectrum_.transform(grid_, settings_.phase, pupil_diameter_mm, error, wavelength_nm);  // it checks the wavelength
 }
 
 Psf CpuFloatPsf::monochromatic_psf() const {

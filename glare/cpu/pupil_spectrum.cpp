@@ -54,13 +54,11 @@ void PupilSpectrum<Real>::clear_stale_rows(int first_row, int last_row) {
 }
 
 template <typename Real>
-double PupilSpectrum<Real>::transform_pupil_rows(const ApertureGrid& grid, PhaseForm phase, const DioptricPower& error,
-                                                 double wavelength_nm, int first_row, int last_row) {
+double PupilSpectrum<Real>::transform_pupil_rows(const ApertureGrid& grid, const PupilPhase& phase, int first_row,
+                                                 int last_row) {
   const int n = grid_px_;
-  // A spherical error is glare/wave/fresnel.h's quadratic phase pi c r^2 of its one power, computed as it
-  // was before errors had a cylinder; only an astigmatic one takes the general form.
-  const bool astigmatic = phase == PhaseForm::defocus && (error.xy() != 0.0 || error.xx() != error.yy());
-  const double coefficient = phase_coefficient_per_m2(phase, wavelength_nm, error.xx());
+  const bool astigmatic = phase.astigmatic;
+  const double coefficient = phase.coefficient;
   const double dx_m = grid.pixel_mm() * 1e-3;
   // The spherical phase pi c (x^2 + y^2) is a sum of an x and a y term, so exp(i phi) is the product
   // of a factor per column and one per row: a table of the pupil's N or fewer values (x and y take the
@@ -102,7 +100,7 @@ double PupilSpectrum<Real>::transform_pupil_rows(const ApertureGrid& grid, Phase
           std::complex<double> value{a, 0.0};
           if (astigmatic && a != 0.0) {
             const double x_m = (i - n / 2) * dx_m;
-            value = std::polar(a, power_error_phase_rad(error, wavelength_nm, x_m, y_m));
+            value = std::polar(a, power_error_phase_rad(phase.error, phase.wavelength_nm, x_m, y_m));
           } else if (separable && a != 0.0) {
             // Written out: std::complex's operator* checks for NaN (C99 Annex G).
             const std::complex<double> x_factor = phase_factor_[static_cast<std::size_t>(i)];
@@ -133,6 +131,8 @@ void PupilSpectrum<Real>::transform(const ApertureGrid& grid, PhaseForm phase, d
     throw std::invalid_argument("glare/cpu/pupil_spectrum: wavelength must be > 0 nm");
   const int n = grid_px_;
   if (grid.grid_px != n) throw std::logic_error("glare/cpu/pupil_spectrum: the aperture is rasterised on another grid");
+  // A spherical error is glare/wave/fresnel.h's quadratic phase pi c r^2 of its one power, computed as it
+  // was before errors had a cylinder; only an astigmatic one takes the general form.
   const bool astigmatic = phase == PhaseForm::defocus && (error.xy() != 0.0 || error.xx() != error.yy());
   const double coefficient = phase_coefficient_per_m2(phase, wavelength_nm, error.xx());
   const PhaseSamplingReport sampling =
@@ -148,7 +148,7 @@ void PupilSpectrum<Real>::transform(const ApertureGrid& grid, PhaseForm phase, d
   const int reach = static_cast<int>(std::ceil(0.5 * pupil_diameter_mm / grid.pixel_mm())) + 1;
   const int first_row = std::max(0, n / 2 - reach), last_row = std::min(n - 1, n / 2 + reach);
   clear_stale_rows(first_row, last_row);
-  if (!(transform_pupil_rows(grid, phase, error, wavelength_nm, first_row, last_row) > 0.0))
+  if (!(transform_pupil_rows(grid, PupilPhase{error, wavelength_nm, astigmatic, coefficient}, first_row, last_row) > 0.0))
     throw ClosedApertureError("glare/cpu/pupil_spectrum: the aperture transmits no light (pupil outside the grid or fully blocked)");
 
   // The second pass: every row of columns_ (a column of the row transforms) into spectrum_.

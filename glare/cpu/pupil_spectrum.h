@@ -43,10 +43,16 @@ class PupilSpectrum {
   using RowPlan = std::conditional_t<std::is_same_v<Real, float>, FftwFloatPlan, FftwDoublePlan>;
   // Clears what the last transform wrote outside rows [first_row, last_row] of field_ and columns_.
   void clear_stale_rows(int first_row, int last_row);
+  // The phase of one transform, worked out once from the error and the form (transform()).
+  struct PupilPhase {
+    const DioptricPower& error;
+    double wavelength_nm;
+    bool astigmatic;     // the general form (glare/refraction/astigmatic_phase.h)
+    double coefficient;  // else fresnel.h's pi c r^2, per m^2 (0: no phase)
+  };
   // Writes rows [first_row, last_row] of the pupil function and their transforms, tile by tile,
   // transposed into columns_; returns the aperture's energy sum |A|^2.
-  double transform_pupil_rows(const ApertureGrid& grid, PhaseForm phase, const DioptricPower& error,
-                              double wavelength_nm, int first_row, int last_row);
+  double transform_pupil_rows(const ApertureGrid& grid, const PupilPhase& phase, int first_row, int last_row);
 
   int grid_px_ = 0;
   int threads_ = 1;
