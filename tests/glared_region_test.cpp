@@ -125,15 +125,27 @@ TEST(GlaredRegion, ChangesSinceThePreviousFrameAreTheBoxOfTheHalvesThatDiffer) {
   EXPECT_EQ(same.previous_serial, first.serial);
   EXPECT_TRUE(same.changed_since_previous.empty());
 
-  // Another rectangle (one more pixel changed) or frame 0's exact precision: not known.
+  // Another rectangle (one more pixel changed): not known.
   ImageRGBA wider = after;
   wider.pixel(35, 20)[0] = 1.0f;
   GlaredRegion other_rect = changed_region(composed, wider, RegionPrecision::half_rgb);
   mark_changes_since(other_rect, first);
   EXPECT_EQ(other_rect.previous_serial, 0u);
+  // After frame 0's exact region: its values compared as the halves they round to, so the same box
+  // (the 1e-6 at (12, 10) still rounds to the same half).
+  const GlaredRegion exact_before = changed_region(composed, before, RegionPrecision::exact);
   GlaredRegion after_exact = changed_region(composed, after, RegionPrecision::half_rgb);
-  mark_changes_since(after_exact, changed_region(composed, before, RegionPrecision::exact));
-  EXPECT_EQ(after_exact.previous_serial, 0u);
+  mark_changes_since(after_exact, exact_before);
+  EXPECT_EQ(after_exact.previous_serial, exact_before.serial);
+  EXPECT_EQ(after_exact.changed_since_previous, (PixelRect{9, 6, 7, 15}));
+  // An exact region the half region is not compared with: one of another rectangle, and a half
+  // region is never compared into an exact one.
+  GlaredRegion after_other = changed_region(composed, after, RegionPrecision::half_rgb);
+  mark_changes_since(after_other, changed_region(composed, wider, RegionPrecision::exact));
+  EXPECT_EQ(after_other.previous_serial, 0u);
+  GlaredRegion exact_after = changed_region(composed, after, RegionPrecision::exact);
+  mark_changes_since(exact_after, first);
+  EXPECT_EQ(exact_after.previous_serial, 0u);
 }
 
 // Given the box the differences lie in (the glare reports' changed boxes), the same rectangle and
@@ -337,6 +349,70 @@ TEST_P(HalfFramesOnTheDisplay, EncodeToTheFloat32FramesCodesOrANeighbour) {
         std::cout << GetParam() << " t " << time_s << " s " << (encoding == DisplayEncoding::pq ? "pq" : "file") << " "
                   << bits << " bits: " << codes.differing << " of " << codes.values << " values one code apart\n";
       }
+    }
+  }
+}
+
+// Frame 1 of a dynamic interval drawn over frame 0's exact region as a session draws it: only the
+// box where its halves differ from those frame 0's values round to is written
+// (GlaredRegion::changed_since_previous), and the rest of the framebuffer keeps frame 0's float32
+// values. Every code shown is frame 1's exact code or a neighbour, as for a frame drawn whole.
+// The demo's moving eye (Spencer's analytic glare, the other example above, does not move).
+TEST(HalfFrameOverAnExactFrame, TheDemosFrameOneWrittenWhereItsHalvesDifferShowsItsCodesOrANeighbour) {
+  const Experiment experiment = load_experiment(std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml");
+  const SceneLibrary scenes(experiment.scenes, experiment.display);
+  const int width = experiment.display.width_px, height = experiment.display.height_px;
+  DisplayRequest request;
+  request.width_px = width;
+  request.height_px = height;
+  const auto display = create_display("offscreen", request);
+  FrameRenderer renderer(width, height);
+  const ImageRGBA composed = side_by_side(experiment, scenes);
+  GlareStage glare(experiment.glare, experiment.display, experiment.seed);  // no GL: the CPU path
+  const double period_s = 1.0 / experiment.display.refresh_hz;
+  const ImageRGBA frame_0 = glare.apply(composed, GlareMode::dynamic, 0.1);
+  const ImageRGBA frame_1 = glare.apply(composed, GlareMode::dynamic, 0.1 + period_s);
+  const GlaredRegion exact_0 = changed_region(composed, frame_0, RegionPrecision::exact);
+  GlaredRegion half_1 = changed_region(composed, frame_1, RegionPrecision::half_rgb);
+  mark_changes_since(half_1, exact_0);
+  ASSERT_EQ(half_1.previous_serial, exact_0.serial) << "the two frames' regions share their rectangle";
+  const PixelRect part = half_1.changed_since_previous;
+  ASSERT_FALSE(part.empty()) << "the moving eye changes the glare from frame to frame";
+  std::cout << "demo: frame 1 writes " << part.width_px << " x " << part.height_px << " of its "
+            << half_1.width_px << " x " << half_1.height_px << " region\n";
+
+  for (const DisplayEncoding encoding : {experiment.display.encoding, DisplayEncoding::pq}) {
+    for (const int bits : {8, 10}) {
+      SCOPED_TRACE(std::string(encoding == DisplayEncoding::pq ? "pq" : "file's encoding") + ", " +
+                   std::to_string(bits) + " bits");
+      DisplaySpec spec = experiment.display;
+      spec.encoding = encoding;
+      spec.bits_per_channel = bits;
+      const double levels = std::ldexp(1.0, bits) - 1.0;
+      renderer.replace_stimulus(frame_1);
+      renderer.encode_to_display(spec);
+      display->present();
+      const ImageRGBA reference = renderer.read_display();
+      renderer.replace_stimulus(composed);
+      renderer.replace_stimulus_region_bottom_up(exact_0.exact_rgba, exact_0.x0_px, exact_0.y0_px, exact_0.width_px,
+                                                 exact_0.height_px);
+      renderer.replace_stimulus_region_half_rgb_part(half_1.half_rgb, half_1.x0_px, half_1.y0_px, half_1.width_px,
+                                                     half_1.height_px, part);
+      renderer.encode_to_display(spec);
+      display->present();
+      const ImageRGBA drawn = renderer.read_display();
+      Codes codes;
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+          for (int c = 0; c < 3; ++c) {
+            const long a = std::lround(reference.pixel(x, y)[c] * levels);
+            const long b = std::lround(drawn.pixel(x, y)[c] * levels);
+            codes.largest_difference = std::max(codes.largest_difference, static_cast<int>(std::abs(a - b)));
+            codes.differing += a != b;
+            ++codes.values;
+          }
+      EXPECT_LE(codes.largest_difference, 1);
+      EXPECT_LT(static_cast<double>(codes.differing), 0.01 * static_cast<double>(codes.values));
     }
   }
 }

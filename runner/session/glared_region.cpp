@@ -189,15 +189,25 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
 }
 
 void mark_changes_since(GlaredRegion& region, const GlaredRegion& previous) {
-  if (region.half_rgb.empty() || previous.half_rgb.size() != region.half_rgb.size() || previous.serial == 0 ||
-      region.x0_px != previous.x0_px || region.y0_px != previous.y0_px || region.width_px != previous.width_px ||
-      region.height_px != previous.height_px)
+  const auto width = static_cast<std::size_t>(region.width_px);
+  const std::size_t pixels = width * static_cast<std::size_t>(region.height_px);
+  // The frame before at half precision, or exact (an interval's frame 0): then its values are
+  // compared as the halves they round to, row by row.
+  const bool previous_exact = previous.half_rgb.empty() && previous.exact_rgba.size() == 4 * pixels;
+  if (region.half_rgb.empty() || region.half_rgb.size() != 3 * pixels || previous.serial == 0 ||
+      (!previous_exact && previous.half_rgb.size() != region.half_rgb.size()) || region.x0_px != previous.x0_px ||
+      region.y0_px != previous.y0_px || region.width_px != previous.width_px || region.height_px != previous.height_px)
     return;
-  const auto row_values = 3 * static_cast<std::size_t>(region.width_px);
+  const auto row_values = 3 * width;
   const std::size_t pixel_bytes = 3 * sizeof(std::uint16_t);
+  std::vector<std::uint16_t> previous_row(previous_exact ? row_values : 0);
   int x0 = region.width_px, x1 = -1, first_row = -1, last_row = -1;  // rows bottom-up, as stored
   for (int r = 0; r < region.height_px; ++r) {
-    const std::uint16_t* a = previous.half_rgb.data() + row_values * static_cast<std::size_t>(r);
+    const std::uint16_t* a = previous_row.data();
+    if (previous_exact)
+      to_halves(previous.exact_rgba.data() + 4 * width * static_cast<std::size_t>(r), previous_row.data(), width);
+    else
+      a = previous.half_rgb.data() + row_values * static_cast<std::size_t>(r);
     const std::uint16_t* b = region.half_rgb.data() + row_values * static_cast<std::size_t>(r);
     if (std::memcmp(a, b, row_values * sizeof(std::uint16_t)) == 0) continue;
     int first = 0, last = region.width_px - 1;

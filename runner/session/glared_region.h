@@ -55,10 +55,14 @@ struct GlaredRegion {
   // the stimulus framebuffer already holds only re-encodes it (SessionLoop::draw), as for static
   // glare, whose interval shows one region at every flip.
   std::uint64_t serial = 0;
-  // Where its values differ from those of the region with serial `previous_serial` (the interval's
-  // frame before it, of the same rectangle and precision; frame coordinates, 0 x 0 when nothing
+  // Where its halves differ from those of the region with serial `previous_serial` (the
+  // interval's frame before it, of the same rectangle; frame coordinates, 0 x 0 when nothing
   // differs): a flip that follows that region's flip writes and encodes only this rectangle
-  // (SessionLoop::draw). 0: not known (frame 0, a region of another rectangle or precision).
+  // (SessionLoop::draw). Against an exact frame 0, its values are compared as the halves they round
+  // to: outside the rectangle the framebuffer keeps frame 0's float32 values, which round to this
+  // frame's halves, so each code shown there is within one of this frame's exact code, as a half
+  // frame's codes are (RegionPrecision::half_rgb), and frame 1 is not drawn whole (in the demo, a
+  // third of the frame instead of all of it). 0: not known (frame 0, a region of another rectangle).
   std::uint64_t previous_serial = 0;
   PixelRect changed_since_previous;
 
@@ -74,9 +78,10 @@ struct GlaredRegion {
 GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, RegionPrecision precision,
                             const std::optional<PixelRect>& differs_within = std::nullopt);
 
-// Sets `region`'s previous_serial and changed_since_previous against `previous` when the two are
-// half-precision regions of the same rectangle: the bounding box of the pixels whose halves differ
-// (compared bit for bit). Otherwise leaves them unset. In the demo a dynamic frame differs from the
+// Sets `region`'s previous_serial and changed_since_previous against `previous` when `region` is a
+// half-precision region and `previous` one of the same rectangle, at half precision or exact: the
+// bounding box of the pixels whose halves differ (compared bit for bit; an exact frame's values as
+// the halves they round to). Otherwise leaves them unset. In the demo a dynamic frame differs from the
 // one before it only on the dynamic lamp's side, about a third of the frame.
 void mark_changes_since(GlaredRegion& region, const GlaredRegion& previous);
 

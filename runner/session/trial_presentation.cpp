@@ -93,9 +93,9 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
   // rectangle where the display keeps its frame (FrameRenderer::encode_changes_to_display).
   // When the region drawn last is the one this region was compared with when it was made (the
   // interval's frame before it, GlaredRegion::changed_since_previous), the framebuffer already holds
-  // this region's values outside the rectangle where the two differ: only that rectangle is
-  // written, blended with the overlays and encoded (in the demo about a third of the frame: the
-  // dynamic lamp's side).
+  // this region's values outside the rectangle where the two differ (after an exact frame 0, values
+  // that round to them): only that rectangle is written, blended with the overlays and encoded (in
+  // the demo about a third of the frame: the dynamic lamp's side).
   // Overlays placed for the display, repeated in each eye's view.
   const std::vector<Placement> placed_overlays = glare_.eye_overlays(overlays);
   if (glared != nullptr && glared_serial != 0 && drawn_ && drawn_->glared_serial != 0 &&
@@ -117,7 +117,14 @@ void SessionLoop::draw(const std::vector<Placement>& placements, const GlaredReg
     return;
   }
   drawn_.reset();
-  renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
+  // A glared region held on the host that covers the whole frame replaces every value the compose
+  // would write (alpha too: an exact region's is the composed frame's, a half region's 1, as the
+  // compose's), so the compose is left out: at a glare trial's onset in the demo, whose veil
+  // reaches the whole display, about a third of the flip's drawing.
+  const bool region_covers_frame = glared != nullptr && glared->gpu_parts.empty() && glared->x0_px == 0 &&
+                                   glared->y0_px == 0 && glared->width_px == renderer_.width_px() &&
+                                   glared->height_px == renderer_.height_px();
+  if (!region_covers_frame) renderer_.compose(placements, prepared_.experiment.display.background_cd_m2);
   if (glared != nullptr) replace_region();
   if (!placed_overlays.empty()) renderer_.compose_overlay(placed_overlays);
   if (glared == nullptr || glared_serial != 0)
