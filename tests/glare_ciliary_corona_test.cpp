@@ -137,6 +137,67 @@ TEST(CiliaryCorona, EveryRingOfASourcesLinesSumsToZero) {
     }
 }
 
+// A source met again is added from the values kept for it: bit for bit what a corona that keeps
+// nothing adds, with any energy, and a source that differs in the last bit of its centroid or
+// second moment, or a frame of another size, is made afresh (again what a fresh corona adds).
+TEST(CiliaryCorona, ASourceMetAgainAddsWhatAFreshCoronaAdds) {
+  const DisplayGeometry geometry{300.0, 0.5};
+  const ObserverEye eye{40.0, 0.5};
+  const CiliaryCorona corona(eye, geometry, 11);
+  CompactSource source;
+  source.x_px = 109.25;
+  source.y_px = 101.5;
+  source.energy = {2.0, 3.0, 4.0};
+  source.second_moment_px2 = 0.5 + 1.0 / 6.0;
+  // The frames start from a glare energy of their own (a few negative zeros among it), as a far
+  // glare frame does: what is added, and where, must be the same bits.
+  const auto start = [](int width, int height) {
+    ImageRGBA frame(width, height, 0.0f);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        for (int c = 0; c < 3; ++c) frame.pixel(x, y)[c] = (x + y) % 7 == 0 ? -0.0f : 1e-3f * static_cast<float>(1 + (x * 3 + y + c) % 11);
+    return frame;
+  };
+  const auto fresh = [&](const CompactSource& s, int width, int height) {
+    ImageRGBA frame = start(width, height);
+    CiliaryCorona(eye, geometry, 11).add(s, frame);
+    return frame;
+  };
+  const auto kept = [&](const CompactSource& s, int width, int height) {
+    ImageRGBA frame = start(width, height);
+    corona.add(s, frame);
+    return frame;
+  };
+  EXPECT_EQ(kept(source, 220, 210).rgba, fresh(source, 220, 210).rgba);
+  CompactSource brighter = source;
+  brighter.energy = {7.5, 0.25, 1e4};
+  EXPECT_EQ(kept(brighter, 220, 210).rgba, fresh(brighter, 220, 210).rgba) << "met again, another energy";
+  const ImageRGBA first = kept(brighter, 220, 210);
+  CompactSource moved = brighter;
+  moved.x_px = std::nextafter(moved.x_px, 200.0);
+  const ImageRGBA moved_frame = kept(moved, 220, 210);
+  EXPECT_EQ(moved_frame.rgba, fresh(moved, 220, 210).rgba);
+  CompactSource shifted = brighter;
+  shifted.x_px += 0.25;
+  const ImageRGBA shifted_frame = kept(shifted, 220, 210);
+  EXPECT_EQ(shifted_frame.rgba, fresh(shifted, 220, 210).rgba);
+  EXPECT_NE(shifted_frame.rgba, first.rgba) << "a source a quarter pixel away has lines of its own";
+  CompactSource lower = brighter;
+  lower.y_px = std::nextafter(lower.y_px, 0.0);
+  EXPECT_EQ(kept(lower, 220, 210).rgba, fresh(lower, 220, 210).rgba);
+  CompactSource wider = brighter;
+  wider.second_moment_px2 = std::nextafter(wider.second_moment_px2, 1.0);
+  EXPECT_EQ(kept(wider, 220, 210).rgba, fresh(wider, 220, 210).rgba);
+  EXPECT_EQ(kept(brighter, 180, 230).rgba, fresh(brighter, 180, 230).rgba) << "a frame of another size";
+  // More sources than are kept, then the first again.
+  for (int i = 0; i < 10; ++i) {
+    CompactSource other = source;
+    other.x_px += 0.125 * (i + 1);
+    EXPECT_EQ(kept(other, 220, 210).rgba, fresh(other, 220, 210).rgba) << "source " << i;
+  }
+  EXPECT_EQ(kept(source, 220, 210).rgba, fresh(source, 220, 210).rgba);
+}
+
 // A session on a black 256 x 256 display of 0.048 degree pixels (600 mm, 0.5 mm pitch; 6.1 degrees
 // to each side) with one lamp of 2e6 cd/m2 on the line of sight per scene: 2 x 2 px, and discs of
 // 7, 13 and 31 px (0.33, 0.62 and 1.48 degrees). The field's mean is over 100 cd/m2 with every lamp

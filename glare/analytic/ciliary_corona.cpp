@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -121,24 +123,25 @@ double CiliaryCorona::blur_diameter_deg(const CompactSource& source) const {
   return std::sqrt(8.0 * source.second_moment_px2 + 4.0 / 3.0) * degrees_per_pixel_;
 }
 
-void CiliaryCorona::add(const CompactSource& source, ImageRGBA& glare_energy, int threads) const {
+std::shared_ptr<const CiliaryCorona::Pattern> CiliaryCorona::make_pattern(const CompactSource& source, int width_px,
+                                                                          int height_px, int threads) const {
   const double share = corona_source_weight(source_diameter_deg(source));
-  if (!(share > 0.0)) return;
+  if (!(share > 0.0)) return nullptr;
   const double d = geometry_.viewing_distance_mm, pitch = geometry_.pixel_pitch_mm;
   const double inner_px = d * std::tan(kCoronaInnerEdgeDeg / kDegPerRad) / pitch;
   const double outer_px = d * std::tan(kCoronaOuterEdgeDeg / kDegPerRad) / pitch;
   const int x0 = static_cast<int>(std::floor(source.x_px - outer_px)), x1 = static_cast<int>(std::ceil(source.x_px + outer_px));
   const int y0 = static_cast<int>(std::floor(source.y_px - outer_px)), y1 = static_cast<int>(std::ceil(source.y_px + outer_px));
   // Nothing of the annulus on the frame: nothing to add.
-  if (x1 < 0 || y1 < 0 || x0 >= glare_energy.width_px || y0 >= glare_energy.height_px) return;
+  if (x1 < 0 || y1 < 0 || x0 >= width_px || y0 >= height_px) return nullptr;
   // Only the rings that reach the frame's pixels are made (each of them whole).
-  const double near_x = std::clamp(source.x_px, 0.0, glare_energy.width_px - 1.0) - source.x_px;
-  const double near_y = std::clamp(source.y_px, 0.0, glare_energy.height_px - 1.0) - source.y_px;
-  const double far_x = std::max(source.x_px, glare_energy.width_px - 1.0 - source.x_px);
-  const double far_y = std::max(source.y_px, glare_energy.height_px - 1.0 - source.y_px);
+  const double near_x = std::clamp(source.x_px, 0.0, width_px - 1.0) - source.x_px;
+  const double near_y = std::clamp(source.y_px, 0.0, height_px - 1.0) - source.y_px;
+  const double far_x = std::max(source.x_px, width_px - 1.0 - source.x_px);
+  const double far_y = std::max(source.y_px, height_px - 1.0 - source.y_px);
   const double ring_from_px = std::max(inner_px, std::floor(std::hypot(near_x, near_y)) - 1.0);
   const double ring_to_px = std::min(outer_px, std::ceil(std::hypot(far_x, far_y)) + 1.0);
-  if (ring_from_px >= ring_to_px) return;
+  if (ring_from_px >= ring_to_px) return nullptr;
   const int side_x = x1 - x0 + 1, side_y = y1 - y0 + 1;
   const double blur_deg = blur_diameter_deg(source);
   double intensity_sum = 0.0;
@@ -198,14 +201,64 @@ void CiliaryCorona::add(const CompactSource& source, ImageRGBA& glare_energy, in
   std::vector<double> scale(ring_smooth.size(), 0.0);
   for (std::size_t k = 0; k < scale.size(); ++k)
     if (ring_lined[k] > 0.0) scale[k] = ring_smooth[k] / ring_lined[k];
-  const int from_y = std::max(0, y0), to_y = std::min(glare_energy.height_px - 1, y1);
-  const int from_x = std::max(0, x0), to_x = std::min(glare_energy.width_px - 1, x1);
-  parallel_chunks(to_y - from_y + 1, threads, [&](int first, int last) {
-    for (int y = from_y + first; y < from_y + last; ++y)
-      for (int x = from_x; x <= to_x; ++x) {
-        const std::size_t at = static_cast<std::size_t>(y - y0) * side_x + (x - x0);
-        if (ring[at] < 0 || scale[static_cast<std::size_t>(ring[at])] == 0.0) continue;
-        const double c = share * (lined[at] * scale[static_cast<std::size_t>(ring[at])] - smooth[at]);
+  auto pattern = std::make_shared<Pattern>();
+  pattern->x_px = source.x_px;
+  pattern->y_px = source.y_px;
+  pattern->second_moment_px2 = source.second_moment_px2;
+  pattern->width_px = width_px;
+  pattern->height_px = height_px;
+  pattern->from_y = std::max(0, y0), pattern->to_y = std::min(height_px - 1, y1);
+  pattern->from_x = std::max(0, x0), pattern->to_x = std::min(width_px - 1, x1);
+  const int columns = pattern->to_x - pattern->from_x + 1;
+  const std::size_t covered = static_cast<std::size_t>(columns) * static_cast<std::size_t>(pattern->to_y - pattern->from_y + 1);
+  pattern->c.assign(covered, 0.0);
+  pattern->adds.assign(covered, 0);
+  for (int y = pattern->from_y; y <= pattern->to_y; ++y)
+    for (int x = pattern->from_x; x <= pattern->to_x; ++x) {
+      const std::size_t at = static_cast<std::size_t>(y - y0) * side_x + (x - x0);
+      if (ring[at] < 0 || scale[static_cast<std::size_t>(ring[at])] == 0.0) continue;
+      const std::size_t here = static_cast<std::size_t>(y - pattern->from_y) * columns + (x - pattern->from_x);
+      pattern->c[here] = share * (lined[at] * scale[static_cast<std::size_t>(ring[at])] - smooth[at]);
+      pattern->adds[here] = 1;
+    }
+  return pattern;
+}
+
+std::shared_ptr<const CiliaryCorona::Pattern> CiliaryCorona::pattern(const CompactSource& source, int width_px,
+                                                                     int height_px, int threads) const {
+  {
+    const std::lock_guard lock(patterns_->mutex);
+    auto& recent = patterns_->recent;
+    for (auto kept = recent.begin(); kept != recent.end(); ++kept)
+      if ((*kept)->is_of(source, width_px, height_px)) {
+        std::shared_ptr<const Pattern> found = *kept;
+        recent.erase(kept);
+        recent.push_front(found);  // the most recently used first
+        return found;
+      }
+  }
+  std::shared_ptr<const Pattern> made = make_pattern(source, width_px, height_px, threads);
+  if (!made) return nullptr;
+  const std::lock_guard lock(patterns_->mutex);
+  auto& recent = patterns_->recent;
+  recent.push_front(made);
+  std::size_t bytes = 0, kept = 0;
+  while (kept < recent.size() && kept < kCoronaPatternsKept && bytes + recent[kept]->bytes() <= kCoronaPatternBytesKept)
+    bytes += recent[kept++]->bytes();
+  recent.resize(std::max<std::size_t>(kept, 1));
+  return made;
+}
+
+void CiliaryCorona::add(const CompactSource& source, ImageRGBA& glare_energy, int threads) const {
+  const std::shared_ptr<const Pattern> values = pattern(source, glare_energy.width_px, glare_energy.height_px, threads);
+  if (!values) return;
+  const int columns = values->to_x - values->from_x + 1;
+  parallel_chunks(values->to_y - values->from_y + 1, threads, [&](int first, int last) {
+    for (int y = values->from_y + first; y < values->from_y + last; ++y)
+      for (int x = values->from_x; x <= values->to_x; ++x) {
+        const std::size_t at = static_cast<std::size_t>(y - values->from_y) * columns + (x - values->from_x);
+        if (values->adds[at] == 0) continue;
+        const double c = values->c[at];
         float* rgba = glare_energy.pixel(x, y);
         for (int channel = 0; channel < 3; ++channel)
           rgba[channel] += static_cast<float>(source.energy[static_cast<std::size_t>(channel)] * c);

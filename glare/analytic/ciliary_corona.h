@@ -27,7 +27,12 @@
 // Sources much larger than 20 arcmin show no lines (Spencer 2.2): the closed form holds where the
 // source is small beside its distance, so the lines fade out between source diameters of 0.75 and
 // 1 degree, where the annulus' inner edge lies at 2 to 2.7 source diameters.
+#include <cstddef>
 #include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <vector>
 
 #include "core/image.h"
 #include "glare/analytic/analytic_psf.h"
@@ -67,14 +72,43 @@ class CiliaryCorona {
 
   // glare_energy's R, G, B += the source's energy x C over the pixels of the frame (alpha kept).
   // Each ring's sum is 0 over the whole ring, on the frame or beyond it. The result does not depend
-  // on `threads`.
+  // on `threads`. A source of the same centroid and second moment on a frame of the same size as
+  // one of the last few is only added, from the values kept for it (PatternCache).
   void add(const CompactSource& source, ImageRGBA& glare_energy, int threads = 2) const;
 
  private:
+  // A source's C over the frame's pixels of its annulus' square, which add() multiplies by its
+  // energy: a function of the source's centroid and second moment and of the frame's size alone.
+  struct Pattern {
+    double x_px = 0.0, y_px = 0.0, second_moment_px2 = 0.0;  // what it was made for
+    int width_px = 0, height_px = 0;
+    int from_x = 0, to_x = -1, from_y = 0, to_y = -1;  // the frame's pixels it covers (inclusive)
+    std::vector<double> c;              // share x C, row by row over the covered pixels
+    std::vector<unsigned char> adds;    // 1 where C is added (on the annulus, in a ring with lines)
+    bool is_of(const CompactSource& source, int width, int height) const {
+      return source.x_px == x_px && source.y_px == y_px && source.second_moment_px2 == second_moment_px2 &&
+             width == width_px && height == height_px;
+    }
+    std::size_t bytes() const { return c.size() * sizeof(double) + adds.size(); }
+  };
+  // The patterns made last, the most recently used first. A session shows its lamps again and
+  // again (the demo's reference lamp, in one of two places, in every trial), and a source met
+  // again, bit for bit in the inputs above, is only added: the same values as made afresh.
+  struct PatternCache {
+    std::mutex mutex;
+    std::deque<std::shared_ptr<const Pattern>> recent;
+  };
+  static constexpr std::size_t kCoronaPatternsKept = 8;
+  static constexpr std::size_t kCoronaPatternBytesKept = std::size_t{64} << 20;
+  std::shared_ptr<const Pattern> pattern(const CompactSource& source, int width_px, int height_px, int threads) const;
+  std::shared_ptr<const Pattern> make_pattern(const CompactSource& source, int width_px, int height_px,
+                                              int threads) const;
+
   AnalyticPsf psf_;
   DisplayGeometry geometry_;
   FlareLines lines_;
   double degrees_per_pixel_ = 0.0;
+  std::shared_ptr<PatternCache> patterns_ = std::make_shared<PatternCache>();
 };
 
 }  // namespace glarelab
