@@ -1,6 +1,8 @@
 #include "stimuli/position_glare.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <stdexcept>
 #include <utility>
 
@@ -19,6 +21,11 @@ void check_layer_sizes(const ImageRGBA& composed_cd_m2, const std::vector<GlareL
                                   std::to_string(layer.image_cd_m2.height_px) + " px for a frame of " +
                                   std::to_string(composed_cd_m2.width_px) + "x" +
                                   std::to_string(composed_cd_m2.height_px) + " px");
+}
+
+std::uint64_t next_kept_serial() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
 }
 
 bool same_gaze(const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
@@ -68,7 +75,7 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
     changed_of[l] = report.changed_boxes;
     if (reports != nullptr) reports->push_back(report);
     if (keep != nullptr) {
-      *keep = StaticLayerGlare::Kept{glared[l], report, gaze, field_luminance_cd_m2, nullptr};
+      *keep = StaticLayerGlare::Kept{glared[l], report, gaze, field_luminance_cd_m2, nullptr, next_kept_serial()};
       glare_of[l] = &(*keep)->glared_cd_m2;
     } else {
       glare_of[l] = &glared[l];
@@ -127,6 +134,49 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
   // placement, which replaces the background there; the background luminance elsewhere) plus every
   // glaring layer's glare, in one pass.
   const auto pixels = static_cast<int>(result.rgba.size() / 4);
+  if (kept != nullptr) {
+    // From the interval's base (StaticLayerGlare::SumBase), made again when what it holds changed.
+    std::vector<std::uint64_t> kept_serials;
+    for (const std::size_t l : glaring) {
+      if (!kept->layers[l] || glare_of[l] != &kept->layers[l]->glared_cd_m2) break;
+      kept_serials.push_back(kept->layers[l]->serial);
+    }
+    StaticLayerGlare::SumBase& base = kept->base;
+    if (base.composed != composed_cd_m2.rgba.data() || base.glaring != glaring || base.kept_serials != kept_serials ||
+        base.partial_cd_m2.rgba.size() != composed_cd_m2.rgba.size()) {
+      base.composed = composed_cd_m2.rgba.data();
+      base.glaring = glaring;
+      base.kept_serials = kept_serials;
+      if (base.partial_cd_m2.rgba.size() != composed_cd_m2.rgba.size())
+        base.partial_cd_m2 = ImageRGBA(composed_cd_m2.width_px, composed_cd_m2.height_px);
+      float* partial = base.partial_cd_m2.rgba.data();
+      parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
+        for (auto p = 4 * static_cast<std::size_t>(first); p < 4 * static_cast<std::size_t>(last); p += 4) {
+          for (std::size_t c = 0; c < 3; ++c) {
+            float value = composed_cd_m2.rgba[p + c];
+            for (const std::size_t l : glaring) value -= layers[l].image_cd_m2.rgba[p + c];
+            for (std::size_t k = 0; k < kept_serials.size(); ++k) value += glare_of[glaring[k]]->rgba[p + c];
+            partial[p + c] = value;
+          }
+          partial[p + 3] = composed_cd_m2.rgba[p + 3];
+        }
+      });
+    }
+    const float* partial = base.partial_cd_m2.rgba.data();
+    const std::size_t added_from = kept_serials.size();
+    parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
+      // Each value is read before it is written (result may be a glared layer's own buffer).
+      for (auto p = 4 * static_cast<std::size_t>(first); p < 4 * static_cast<std::size_t>(last); p += 4) {
+        for (std::size_t c = 0; c < 3; ++c) {
+          float value = partial[p + c];
+          for (std::size_t k = added_from; k < glaring.size(); ++k) value += glare_of[glaring[k]]->rgba[p + c];
+          result.rgba[p + c] = value;
+        }
+        result.rgba[p + 3] = partial[p + 3];
+      }
+    });
+    return std::move(result);
+  }
   parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
     // Each value is read before it is written (result may be a glared layer's own buffer).
     for (int p = first; p < last; ++p) combine(4 * static_cast<std::size_t>(p), result.rgba.data() + 4 * static_cast<std::size_t>(p));

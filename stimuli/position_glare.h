@@ -8,6 +8,8 @@
 // are summed with the background part, which is left as it is (exact for the usual black
 // background; for a uniform background a unit-sum PSF changes it only at the layers' edges).
 // Convolution is linear, so layers sharing one mode give the whole-frame glare of that mode.
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -47,8 +49,22 @@ struct StaticLayerGlare {
     double field_luminance_cd_m2 = 0.0;
     // The glare on the GPU (apply_layered_glare_on_gpu), where glared_cd_m2 is empty.
     std::shared_ptr<gl::GlFrameBuffer> glared_on_gpu;
+    std::uint64_t serial = 0;  // unique to each filling (the base below names what it holds)
   };
   std::vector<std::optional<Kept>> layers;  // by layer index
+  // The part of the layers' sum that is the same on every frame of the interval: per value the
+  // composed frame less each glaring layer, plus the kept glare of the glaring layers before the
+  // first one glared anew, in the sum's order (apply_layered_glare). A frame then adds the other
+  // layers' glare to it: the same operations in the same order as the whole sum, so the same bits,
+  // reading two or three frames where the sum reads five (the demo: a dynamic lamp beside a static
+  // one).
+  struct SumBase {
+    ImageRGBA partial_cd_m2;
+    const float* composed = nullptr;  // the composed frame it was made from
+    std::vector<std::size_t> glaring;  // the glaring layers, in order
+    std::vector<std::uint64_t> kept_serials;  // the kept glares added, the first glaring layers'
+  };
+  SumBase base;
 };
 
 // One glared frame at `time_s`. `reports` receives one report per layer that is not control.

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <tuple>
+#include <utility>
 
 #include "stimuli/position_glare.h"
 
@@ -155,12 +158,24 @@ TEST(PositionGlare, AKeptPeakIsTheGlareOfABrighterSource) {
 
 // A static layer's glare kept from frame to frame: frames of a dynamic lamp beside a static one
 // equal those computed afresh, bit for bit, with the static layer convolved once (its kept report
-// counts as an application each frame); a new gaze or field luminance computes it again.
-TEST(PositionGlare, AStaticLayersKeptGlareGivesTheFramesComputedAfresh) {
+// counts as an application each frame); a new gaze or field luminance computes it again. The sum's
+// base kept with it (StaticLayerGlare::SumBase) holds the kept glare where the static layer comes
+// first in the sum and only the layers' difference where the dynamic one does: both orders.
+// The wave-optics eye's glare says where it changed each layer, so the sum is made in those boxes;
+// the default eye's veil reaches the whole frame, and the sum is made everywhere from the base.
+class PositionGlareKept : public ::testing::TestWithParam<std::tuple<GlareModel, bool>> {};
+
+TEST_P(PositionGlareKept, AStaticLayersKeptGlareGivesTheFramesComputedAfresh) {
   const TwoLamps lamps(400.0f, 250.0f);
-  const std::vector<GlareLayer> layers = {{lamps.left, GlareMode::dynamic}, {lamps.right, GlareMode::static_eye, true}};
-  GlareStage fresh_stage(small_spec(), small_display(), 11);
-  GlareStage kept_stage(small_spec(), small_display(), 11);
+  const auto [model, static_first] = GetParam();
+  std::vector<GlareLayer> layers = {{lamps.left, GlareMode::dynamic}, {lamps.right, GlareMode::static_eye, true}};
+  if (static_first) std::swap(layers[0], layers[1]);
+  const std::size_t dynamic = static_first ? 1 : 0, still = 1 - dynamic;
+  GlareSpec spec = small_spec();
+  spec.model = model;
+  const bool everywhere = model == GlareModel::human;
+  GlareStage fresh_stage(spec, small_display(), 11);
+  GlareStage kept_stage(spec, small_display(), 11);
   StaticLayerGlare kept;
   const std::vector<std::optional<GazePoint>> gazes = {std::nullopt, std::nullopt, GazePoint{0.3, 0.5}, GazePoint{0.3, 0.5}};
   // Where the kept glare's pixels live: the same buffer while it is reused, a new one when made again.
@@ -174,10 +189,16 @@ TEST(PositionGlare, AStaticLayersKeptGlareGivesTheFramesComputedAfresh) {
     EXPECT_EQ(fresh.rgba, reused.rgba) << "frame " << frame;
     ASSERT_EQ(kept_reports.size(), 2u);
     EXPECT_EQ(fresh_reports.size(), kept_reports.size());
-    ASSERT_TRUE(kept.layers.at(1).has_value());
-    EXPECT_FALSE(kept.layers.at(0).has_value()) << "a dynamic layer's glare changes every frame: never kept";
-    EXPECT_EQ(kept.layers[1]->gaze.has_value(), gazes[frame].has_value());
-    kept_pixels.push_back(kept.layers[1]->glared_cd_m2.rgba.data());
+    ASSERT_TRUE(kept.layers.at(still).has_value());
+    EXPECT_FALSE(kept.layers.at(dynamic).has_value()) << "a dynamic layer's glare changes every frame: never kept";
+    EXPECT_EQ(kept.layers[still]->gaze.has_value(), gazes[frame].has_value());
+    kept_pixels.push_back(kept.layers[still]->glared_cd_m2.rgba.data());
+    if (everywhere) {
+      EXPECT_EQ(kept.base.kept_serials.size(), static_first ? 1u : 0u) << "frame " << frame;
+      EXPECT_EQ(kept.base.glaring.size(), 2u);
+    } else {
+      EXPECT_TRUE(kept.base.glaring.empty()) << "made in the boxes, from no base";
+    }
   }
   EXPECT_EQ(kept_pixels[1], kept_pixels[0]) << "the same gaze: reused";
   EXPECT_NE(kept_pixels[2], kept_pixels[1]) << "a new gaze: computed again";
@@ -186,8 +207,15 @@ TEST(PositionGlare, AStaticLayersKeptGlareGivesTheFramesComputedAfresh) {
   const ImageRGBA fresh = apply_layered_glare(fresh_stage, lamps.composed, layers, 0.5, std::nullopt, nullptr, 3.0);
   const ImageRGBA reused = apply_layered_glare(kept_stage, lamps.composed, layers, 0.5, std::nullopt, nullptr, 3.0, &kept);
   EXPECT_EQ(fresh.rgba, reused.rgba);
-  EXPECT_EQ(kept.layers[1]->field_luminance_cd_m2, 3.0);
+  EXPECT_EQ(kept.layers[still]->field_luminance_cd_m2, 3.0);
 }
+
+INSTANTIATE_TEST_SUITE_P(BothOrders, PositionGlareKept,
+                         ::testing::Combine(::testing::Values(GlareModel::ritschel, GlareModel::human), ::testing::Bool()),
+                         [](const ::testing::TestParamInfo<std::tuple<GlareModel, bool>>& param) {
+                           return std::string(std::get<0>(param.param) == GlareModel::human ? "DefaultEye" : "Ritschel") +
+                                  (std::get<1>(param.param) ? "StaticLayerFirst" : "DynamicLayerFirst");
+                         });
 
 // The sum of the layers' glare is made only where the glare changed them (the reports' boxes);
 // everywhere it must be the per-value sum composed - left - right + glared left + glared right of
