@@ -326,6 +326,7 @@ class SessionLoop {
   // (moved out), the worker making their remaining frames in place.
   std::unique_ptr<TrialAhead> streaming_;
   bool ahead_begun_ = false;  // for the trial running now
+  bool trial_begun_in_run_ = false;  // a trial of this run has begun (the first prepares the next before its onset)
   std::string next_not_ahead_;  // why the next trial is not being prepared ahead
   struct TrialPreparation {
     bool ahead = false;

@@ -34,6 +34,8 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
     status_->set_trial(plan.trial_index + 1, prepared_.procedure->planned_trials(),
                        plan.block_name.empty() ? std::string() : "block '" + plan.block_name + "'");
   const TrialSchedule schedule = schedule_trial(presentation, plan, sequential_);
+  const bool first_of_run = !trial_begun_in_run_;
+  trial_begun_in_run_ = true;
   TrialRun run;
   // A trial prepared ahead beside the one before (runner/session/trial_ahead.cpp) takes its frames
   // after its inter-trial interval; any other prepared trial is dropped.
@@ -96,6 +98,16 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   std::vector<Placement> question = instruction;
   for (const Placement& placement : overlays_.question(plan.question, intervals.stimulus_rects)) question.push_back(placement);
 
+  // The run's first trial on a real clock: the trial after it is prepared before its first flip,
+  // and waited for. Beside the first trial the worker pays its one-time costs (its memory faulted
+  // in, the other side's kernels and corona lines made): in the demo 0.4-0.6 s where later trials
+  // like it take 0.1 s, more than the first trial's half second, so the second onset waited for
+  // them. Before the first flip nothing is shown yet: the wait only delays the session's start.
+  // (Where the first trial's own frames are still being made, the next is begun after its flips.)
+  if (first_of_run && clock_.keeps_real_time() && !fast_forward_ && !streaming_) {
+    begin_trial_ahead(plan, schedule, 0, clock_.now_s() + period_s_, intervals);
+    if (ahead_ && ahead_->worker.joinable()) ahead_->worker.join();
+  }
   if (!run_timed_sequence(plan, schedule, intervals, question, run)) return false;
   finish_stream();  // every frame was shown: the worker has made its last one
   const auto report_start = std::chrono::steady_clock::now();
