@@ -57,8 +57,9 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) bool weighted_pixels_avx512
   for (; x + 4 <= pixels; x += 4) {
     const __m512 pixels_read = _mm512_loadu_ps(source + 4 * static_cast<std::size_t>(x));
     const __m512 value = _mm512_mask_blend_ps(kAlphaLanes, pixels_read, one);
-    in_range = _mm512_mask_cmp_ps_mask(in_range, value, zero, _CMP_GE_OQ);
-    in_range = _mm512_mask_cmp_ps_mask(in_range, value, largest, _CMP_LE_OQ);
+    // Compared on their own, then ANDed: through the carried mask each block waited on the last's.
+    const __mmask16 at_least_zero = _mm512_cmp_ps_mask(value, zero, _CMP_GE_OQ);
+    in_range &= _mm512_mask_cmp_ps_mask(at_least_zero, value, largest, _CMP_LE_OQ);
     _mm512_storeu_ps(target + 4 * static_cast<std::size_t>(x), _mm512_mul_ps(w, value));
   }
   const bool rest_in_range = weighted_pixels(target + 4 * static_cast<std::size_t>(x),
@@ -289,14 +290,18 @@ void fill_ones(float* __restrict t, int count) {
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-// coverage = the alpha of `pixels` RGBA pixels, four pixels a register (its alpha lanes packed into
-// its low four, which a masked store writes).
+// coverage = the alpha of `pixels` RGBA pixels, sixteen at a time permuted into one register and
+// stored whole (a masked store of four lanes a register took half the function's time).
 __attribute__((target("avx512f,avx512vl,avx512dq"))) void copy_alpha_avx512(float* __restrict coverage,
                                                                             const float* __restrict rgba, int pixels) {
+  const __m512i two_alphas = _mm512_set_epi32(0, 0, 0, 0, 0, 0, 0, 0, 31, 27, 23, 19, 15, 11, 7, 3);
+  const __m512i four_alphas = _mm512_set_epi32(23, 22, 21, 20, 19, 18, 17, 16, 7, 6, 5, 4, 3, 2, 1, 0);
   int x = 0;
-  for (; x + 4 <= pixels; x += 4)
-    _mm512_mask_storeu_ps(coverage + x, 0x000F,
-                          _mm512_maskz_compress_ps(0x8888, _mm512_loadu_ps(rgba + 4 * static_cast<std::size_t>(x))));
+  for (const float* in = rgba; x + 16 <= pixels; x += 16, in += 64) {
+    const __m512 low = _mm512_permutex2var_ps(_mm512_loadu_ps(in), two_alphas, _mm512_loadu_ps(in + 16));
+    const __m512 high = _mm512_permutex2var_ps(_mm512_loadu_ps(in + 32), two_alphas, _mm512_loadu_ps(in + 48));
+    _mm512_storeu_ps(coverage + x, _mm512_permutex2var_ps(low, four_alphas, high));
+  }
   for (; x < pixels; ++x) coverage[x] = rgba[4 * static_cast<std::size_t>(x) + 3];
 }
 #endif
