@@ -120,9 +120,9 @@ def used_names(path):
     names = set()
     previous, before = None, None           # the last two tokens: ("name"|"punctuation", text)
     for match in TOKEN.finditer(text):
-        kind = match.lastgroup if match.lastgroup != "delimiter" else "skip"
-        if kind == "skip":
-            continue
+        kind = match.lastgroup
+        if kind not in ("name", "punctuation"):
+            continue                        # a comment, a literal or an #include line
         token = (kind, match.group(kind))
         if kind == "name":
             member = previous is not None and previous[1] in (".", "->")
