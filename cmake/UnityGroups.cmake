@@ -1,16 +1,19 @@
-# Unity groups: the sources of each layer's library and of the benchmarks compiled a few at a time
+# Unity groups: the sources of each layer's library, the benchmarks and the test program compiled a few at a time
 # as unity sources, so the headers they share (the standard library, glm, toml++, CLI11, Boost) are
 # compiled once per group instead of once per file: most of a cold build's time (README.md, "First
 # run"). cmake/unity_groups.py forms the groups: a group never holds two files with the same
 # file-local name (each file's anonymous namespace becomes one in a unity source, where same-named
 # functions would overload each other silently), a file that defines a macro or has compile options
 # or definitions of its own is compiled alone, and a file added after configuring is compiled alone
-# until the next configure. Before each build a check (the same script) fails, naming the files and
-# the names, when an edit has since put the same file-local name into two files of one group.
+# until the next configure. The test program's files also name each other's helper names (a local
+# kWidth after another file's file-local kWidth is a -Wshadow error in one unity source), so its
+# groups also keep apart a file that names another's file-local name (APART_WHEN_NAMED). Before each
+# build a check (the same script, the same rule) fails, naming the files and the names, when an
+# edit has since brought two such files into one group.
 #
 # Off (-DGLARELAB_UNITY_GROUPS=OFF) every file compiles on its own: quicker rebuilds while editing
 # one file. Without Python 3 or Universal Ctags the option has no effect, and configure says so.
-option(GLARELAB_UNITY_GROUPS "Compile each library's and the benchmarks' sources as a few unity sources (a quicker cold build)" ON)
+option(GLARELAB_UNITY_GROUPS "Compile each library's, the benchmarks' and the test program's sources as a few unity sources (a quicker cold build)" ON)
 set(GLARELAB_UNITY_GROUP_FILES 8 CACHE STRING "Most source files in one unity group")
 
 if(GLARELAB_UNITY_GROUPS)
@@ -22,8 +25,9 @@ if(GLARELAB_UNITY_GROUPS)
   endif()
 endif()
 
-# glarelab_unity_groups(target): groups the target's own source files (generated ones, and files
-# with per-file compile options or definitions, stay alone).
+# glarelab_unity_groups(target [APART_WHEN_NAMED]): groups the target's own source files (generated
+# ones, and files with per-file compile options or definitions, stay alone). APART_WHEN_NAMED: two
+# files also stay apart when one names a file-local name the other defines (the test program).
 #
 # Each group's unity source is written here rather than by CMake's UNITY_BUILD, which names its
 # files by their absolute paths: a unity source's text would then differ between two checkouts and
@@ -34,6 +38,11 @@ endif()
 function(glarelab_unity_groups target)
   if(NOT GLARELAB_UNITY_GROUPS)
     return()
+  endif()
+  cmake_parse_arguments(PARSE_ARGV 1 UNITY "APART_WHEN_NAMED" "" "")
+  set(rule "")
+  if(UNITY_APART_WHEN_NAMED)
+    set(rule --apart-when-named)
   endif()
   get_target_property(sources ${target} SOURCES)
   get_target_property(source_dir ${target} SOURCE_DIR)
@@ -50,7 +59,7 @@ function(glarelab_unity_groups target)
     endif()
   endforeach()
   execute_process(
-    COMMAND ${Python3_EXECUTABLE} ${CMAKE_SOURCE_DIR}/cmake/unity_groups.py --ctags ${GLARELAB_CTAGS}
+    COMMAND ${Python3_EXECUTABLE} ${CMAKE_SOURCE_DIR}/cmake/unity_groups.py --ctags ${GLARELAB_CTAGS} ${rule}
             --prefix ${target} --max-files ${GLARELAB_UNITY_GROUP_FILES} ${candidates}
     OUTPUT_VARIABLE lines RESULT_VARIABLE status ERROR_VARIABLE errors)
   if(NOT status EQUAL 0)
@@ -86,7 +95,7 @@ function(glarelab_unity_groups target)
   set(stamp "${CMAKE_BINARY_DIR}/unity_groups/${target}.checked")
   add_custom_command(
     OUTPUT "${stamp}"
-    COMMAND ${Python3_EXECUTABLE} ${CMAKE_SOURCE_DIR}/cmake/unity_groups.py --ctags ${GLARELAB_CTAGS}
+    COMMAND ${Python3_EXECUTABLE} ${CMAKE_SOURCE_DIR}/cmake/unity_groups.py --ctags ${GLARELAB_CTAGS} ${rule}
             --check "${groups_file}" --stamp "${stamp}"
     DEPENDS ${grouped} "${groups_file}" ${CMAKE_SOURCE_DIR}/cmake/unity_groups.py
     COMMENT "Checking the unity groups of ${target}"

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Unity groups for one target (a library, the benchmarks): which of its sources may be compiled
-together as one unity source.
+"""Unity groups for one target (a library, the benchmarks, the test program): which of its sources
+may be compiled together as one unity source.
 
 A unity source #includes several .cpp files into one translation unit, so the headers they share
 (the standard library, glm, toml++, CLI11, Boost) are compiled once per group instead of once per
@@ -10,16 +10,28 @@ functions of the same name and different parameters would then overload each oth
 compiler error, so a group never holds two files that define the same file-local name; a file that
 defines a macro or has its own compile options or definitions is compiled on its own.
 
+A file-local name also meets every later file of its group that names it: a later file's local
+`constexpr int kWidth` shadows an earlier file's file-local `kWidth` (a -Wshadow error), and a
+later file's unqualified call `analyse(data, options)` meant for the library's function first finds
+an earlier file's file-local `analyse`, and takes it without a word when its parameters fit. The
+test program's files share such helper names (kWidth, kHeight, small_display); with
+--apart-when-named a group also keeps apart two files when one names, outside comments, strings
+and member accesses, a file-local name the other defines. The libraries and the benchmarks are
+grouped by the first rule alone.
+
 The file-local names come from Universal Ctags (Debian's universal-ctags): functions, variables,
 types, enumerators and aliases declared in an anonymous namespace or `static` at namespace scope,
-and macros.
+and macros. The names a file uses come from its own tokens (comments, string and character
+literals, numbers and #include lines skipped; `a.name`, `a->name` and `Scope::name` are not
+unqualified uses).
 
-  unity_groups.py --ctags CTAGS --prefix NAME --max-files N FILE...
+  unity_groups.py --ctags CTAGS [--apart-when-named] --prefix NAME --max-files N FILE...
       prints one line per group of two or more files: "NAME_<k>|FILE|FILE..."
-  unity_groups.py --ctags CTAGS --check GROUPS_FILE --stamp STAMP
+  unity_groups.py --ctags CTAGS [--apart-when-named] --check GROUPS_FILE --stamp STAMP
       reads the lines printed above and fails, naming the files and the names, when two files of one
-      group now share a file-local name or a grouped file now defines a macro (the sources changed
-      since CMake grouped them: configure again); on success touches STAMP
+      group now share a file-local name (with --apart-when-named: one names another's) or a grouped
+      file now defines a macro (the sources changed since CMake grouped them: configure again); on
+      success touches STAMP
 """
 import argparse
 import os
@@ -83,26 +95,82 @@ def file_locals(ctags, paths):
     return result
 
 
-def make_groups(ctags, prefix, max_files, paths):
-    """First fit in the library's order (neighbours share headers): each file joins the first group
-    not yet full that defines none of its file-local names."""
+# One C++ token at a time, for the names a file uses: what is skipped comes first (a raw string
+# before the identifier R, a number before a character literal so that 1'000 is one number).
+TOKEN = re.compile(r"""
+    (?P<skip>//[^\n]*
+      | /\*.*?\*/
+      | (?:u8|u|U|L)?R"(?P<delimiter>[^()\\\s]{0,16})\(.*?\)(?P=delimiter)"
+      | (?:u8|u|U|L)?"(?:\\.|[^"\\\n])*"
+      | \.?\d(?:[eEpP][+-]|'(?=\w)|[\w.])*
+      | (?:u8|u|U|L)?'(?:\\.|[^'\\\n])+'
+      | \#[ \t]*include[^\n]*)
+  | (?P<name>[A-Za-z_]\w*)
+  | (?P<punctuation>::|->|[^\s\w])
+""", re.S | re.X)
+
+
+def used_names(path):
+    """The names a file uses unqualified: its identifiers outside comments, string and character
+    literals and #include lines, less those after `.` or `->` (members) and after `Scope::` or
+    `Template<...>::` (qualified; a leading `::` still reaches the global namespace's anonymous
+    one, so a name after it counts)."""
+    with open(path, encoding="utf-8", errors="replace") as source:
+        text = source.read()
+    names = set()
+    previous, before = None, None           # the last two tokens: ("name"|"punctuation", text)
+    for match in TOKEN.finditer(text):
+        kind = match.lastgroup
+        if kind not in ("name", "punctuation"):
+            continue                        # a comment, a literal or an #include line
+        token = (kind, match.group(kind))
+        if kind == "name":
+            member = previous is not None and previous[1] in (".", "->")
+            qualified = (previous is not None and previous[1] == "::" and before is not None
+                         and (before[0] == "name" or before[1] == ">"))
+            if not member and not qualified:
+                names.add(token[1])
+        previous, before = token, previous
+    return names
+
+
+def file_facts(ctags, paths, apart_when_named):
+    """{path: (file-local names, macro names, names used)}; the names used only with
+    apart_when_named (else empty)."""
     found = file_locals(ctags, paths)
-    groups = []                             # [files, names]
+    return {path: (names, macros, used_names(path) if apart_when_named else set())
+            for path, (names, macros) in found.items()}
+
+
+def clashes(one, other):
+    """The names that keep two files' facts apart: a file-local name both define, or (the names
+    used being present) one file's file-local name the other names."""
+    names, _, used = one
+    other_names, _, other_used = other
+    return (names & other_names) | (names & other_used) | (other_names & used)
+
+
+def make_groups(ctags, prefix, max_files, paths, apart_when_named=False):
+    """First fit in the target's order (neighbours share headers): each file joins the first group
+    not yet full whose files it does not clash with (clashes above)."""
+    facts = file_facts(ctags, paths, apart_when_named)
+    groups = []                             # [files, defined names, used names]
     for path in paths:
-        names, macros = found[path]
+        names, macros, used = facts[path]
         if macros:
             continue                        # compiled on its own
         for group in groups:
-            if len(group[0]) < max_files and not names & group[1]:
+            if len(group[0]) < max_files and not clashes((names, macros, used), (group[1], set(), group[2])):
                 group[0].append(path)
                 group[1].update(names)
+                group[2].update(used)
                 break
         else:
-            groups.append([[path], set(names)])
-    return [files for files, _ in groups if len(files) > 1]
+            groups.append([[path], set(names), set(used)])
+    return [files for files, _, _ in groups if len(files) > 1]
 
 
-def check(ctags, groups_file, stamp):
+def check(ctags, groups_file, stamp, apart_when_named=False):
     problems = []
     with open(groups_file, encoding="utf-8") as lines:
         for line in lines:
@@ -110,10 +178,10 @@ def check(ctags, groups_file, stamp):
             if len(fields) < 3:
                 continue
             group, paths = fields[0], [path for path in fields[1:] if os.path.exists(path)]
-            found = file_locals(ctags, paths)
+            facts = file_facts(ctags, paths, apart_when_named)
             seen = {}
             for path in paths:
-                names, macros = found[path]
+                names, macros, _ = facts[path]
                 if macros:
                     problems.append(f"{path} defines the macro(s) {', '.join(sorted(macros))} and sits in unity group {group}")
                 for name in sorted(names):
@@ -122,6 +190,13 @@ def check(ctags, groups_file, stamp):
                                         f"unity group {group}")
                     else:
                         seen[name] = path
+            for index, path in enumerate(paths):
+                for other in paths[index + 1:]:
+                    for user, owner in ((path, other), (other, path)):
+                        named = sorted((facts[owner][0] & facts[user][2]) - facts[user][0])
+                        if named:
+                            problems.append(f"{user} names {owner}'s file-local name(s) {', '.join(named)} and both "
+                                            f"sit in unity group {group}")
     if problems:
         sys.stderr.write("unity groups: the sources changed since CMake grouped them; configure again "
                          "(cmake -S . -B build) or rename the names:\n  " + "\n  ".join(problems) + "\n")
@@ -136,13 +211,16 @@ def main():
     parser.add_argument("--ctags", required=True)
     parser.add_argument("--prefix")
     parser.add_argument("--max-files", type=int, default=8)
+    parser.add_argument("--apart-when-named", action="store_true",
+                        help="also keep apart two files when one names a file-local name the other defines")
     parser.add_argument("--check")
     parser.add_argument("--stamp")
     parser.add_argument("files", nargs="*")
     args = parser.parse_args()
     if args.check:
-        return check(args.ctags, args.check, args.stamp)
-    for index, group in enumerate(make_groups(args.ctags, args.prefix, args.max_files, args.files)):
+        return check(args.ctags, args.check, args.stamp, args.apart_when_named)
+    for index, group in enumerate(make_groups(args.ctags, args.prefix, args.max_files, args.files,
+                                              args.apart_when_named)):
         print("|".join([f"{args.prefix}_{index}", *group]))
     return 0
 

@@ -1,7 +1,8 @@
 // The build's unity groups (cmake/UnityGroups.cmake, cmake/unity_groups.py): two files whose
 // file-local functions share a name with different parameters would overload each other without a
 // compiler error in one unity source, so the grouping must keep them apart and the check before
-// each build must fail when an edit brings them together. And this build's own groups pass it.
+// each build must fail when an edit brings them together; the test program's groups also keep apart
+// a file that names another's file-local name. And this build's own groups pass the check.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -107,6 +108,55 @@ TEST(UnityGroups, TestsAndBenchmarksShareAGroupUnlessTheirHelpersShareAName) {
   EXPECT_EQ(groups.output, "t_0|" + a + "|" + b + "|" + d + "|" + e + "\n") << "c alone, in no printed group";
 }
 
+// In one unity source a file-local name also meets every later file that names it: a later local
+// constexpr kWidth shadows it (-Wshadow), a later unqualified call analyse(data, options) finds it
+// first. The test program's groups (--apart-when-named) keep such files apart; a name in a comment,
+// a string, a member access or after a scope is no use of it.
+TEST(UnityGroups, TheTestProgramsRuleKeepsApartAFileThatNamesAnothersFileLocalName) {
+  if (!ctags_present()) GTEST_SKIP() << "Universal Ctags is missing (install universal-ctags; scripts/setup.sh does)";
+  const test::ScratchDir dir;
+  const std::string a = (dir.path() / "a_test.cpp").string();
+  const std::string b = (dir.path() / "b_test.cpp").string();
+  const std::string c = (dir.path() / "c_test.cpp").string();
+  const std::string d = (dir.path() / "d_test.cpp").string();
+  write(a, "namespace glarelab {\nnamespace {\nconstexpr int kWidth = 4;\n"
+           "double analyse(const double& data) { return data * kWidth; }\n}  // namespace\n"
+           "double width_of(double x) { return analyse(x); }\n}\n");
+  write(b, "namespace glarelab {\nint area(int height) {\n  constexpr int kWidth = 8;\n  return kWidth * height;\n}\n}\n");
+  write(c, "namespace glarelab {\n// kWidth and analyse() in a comment\n"
+           "const char* label() { return \"kWidth analyse\"; }\n"
+           "const char* raw() { return R\"x(kWidth \"analyse\")x\"; }\n"
+           "int big() { return 1'000; }\n"
+           "int width(const Layout& f, const Layout* p) { return f.kWidth + p->kWidth + Layout::kWidth; }\n}\n");
+  write(d, "namespace glarelab {\ndouble fit(Data data, Options options) { return analyse(std::move(data), options); }\n}\n");
+  const std::string files = " --prefix t --max-files 8 " + a + " " + b + " " + c + " " + d;
+
+  // The libraries' rule alone: no two files define one name, so all four share a group.
+  const Result first_rule = run_script(files);
+  ASSERT_EQ(first_rule.exit_code, 0) << first_rule.output;
+  EXPECT_EQ(first_rule.output, "t_0|" + a + "|" + b + "|" + c + "|" + d + "\n");
+
+  // b names kWidth and d names analyse, a's file-local names; c only mentions them.
+  const Result named = run_script("--apart-when-named" + files);
+  ASSERT_EQ(named.exit_code, 0) << named.output;
+  EXPECT_EQ(named.output, "t_0|" + a + "|" + c + "\nt_1|" + b + "|" + d + "\n");
+
+  // The check before each build applies the same rule to groups formed without it.
+  const std::string groups_file = (dir.path() / "groups.txt").string();
+  const std::string stamp = (dir.path() / "checked").string();
+  write(groups_file, first_rule.output);
+  EXPECT_EQ(run_script("--check " + groups_file + " --stamp " + stamp).exit_code, 0);
+  std::filesystem::remove(stamp);
+  const Result stale = run_script("--apart-when-named --check " + groups_file + " --stamp " + stamp);
+  EXPECT_EQ(stale.exit_code, 1) << stale.output;
+  EXPECT_NE(stale.output.find(b + " names " + a + "'s file-local name(s) kWidth"), std::string::npos) << stale.output;
+  EXPECT_NE(stale.output.find(d + " names " + a + "'s file-local name(s) analyse"), std::string::npos) << stale.output;
+  EXPECT_EQ(stale.output.find(c + " names"), std::string::npos) << stale.output;
+  EXPECT_FALSE(std::filesystem::exists(stamp));
+  write(groups_file, named.output);
+  EXPECT_EQ(run_script("--apart-when-named --check " + groups_file + " --stamp " + stamp).exit_code, 0);
+}
+
 TEST(UnityGroups, ThisBuildsGroupsHoldNoSharedFileLocalName) {
   if (!ctags_present()) GTEST_SKIP() << "Universal Ctags is missing (install universal-ctags; scripts/setup.sh does)";
   const std::filesystem::path folder = std::filesystem::path(GLARELAB_BINARY).parent_path() / "unity_groups";
@@ -115,14 +165,19 @@ TEST(UnityGroups, ThisBuildsGroupsHoldNoSharedFileLocalName) {
   std::set<std::string> targets;
   for (const auto& entry : std::filesystem::directory_iterator(folder)) {
     if (entry.path().extension() != ".txt") continue;
-    targets.insert(entry.path().stem().string());
-    const Result check = run_script("--check " + entry.path().string() + " --stamp " + (dir.path() / "stamp").string());
+    const std::string target = entry.path().stem().string();
+    targets.insert(target);
+    // The test program's groups with its own rule (tests/CMakeLists.txt).
+    const std::string rule = target == "glarelab_tests" ? "--apart-when-named " : "";
+    const Result check =
+        run_script(rule + "--check " + entry.path().string() + " --stamp " + (dir.path() / "stamp").string());
     EXPECT_EQ(check.exit_code, 0) << entry.path() << "\n" << check.output;
   }
-  // One groups file per library (and the benchmarks' where Google Benchmark is installed).
+  // One groups file per library and the test program (and the benchmarks' where Google Benchmark is
+  // installed).
   targets.erase("glarelab_benchmarks");
   EXPECT_EQ(targets, (std::set<std::string>{"glarelab_core", "glarelab_glare", "glarelab_stimuli", "glarelab_protocols",
-                                            "glarelab_analysis", "glarelab_runner"}));
+                                            "glarelab_analysis", "glarelab_runner", "glarelab_tests"}));
 }
 
 }  // namespace
