@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
+#include <thread>
 #include <vector>
 
 #include "core/frame_allocation.h"
@@ -61,6 +62,31 @@ TEST(FrameAllocation, FramesMadeAndFreedAgainFaultTheirPagesInOnce) {
   // Handed back to the kernel each round, 20 rounds would fault 20 x 1.5 frames of pages in
   // (121 thousand); kept, a few hundred (the test framework's own).
   EXPECT_LT(faults, kPagesPerFrame / 4) << faults << " page faults for 20 rounds of 3 half-HD frames";
+}
+
+// Frames freed by one thread are reused by threads made after it, as a session's worker threads
+// (one per trial prepared ahead) reuse what the display's thread freed: one arena for all. With an
+// arena per thread the first new thread's arena faults its three frames' pages in (3 x 4050).
+TEST(FrameAllocation, FramesFreedByOneThreadAreReusedByTheNextThreads) {
+  if (kSanitizerAllocator)
+    GTEST_SKIP() << "AddressSanitizer's allocator quarantines freed blocks: the reuse measured here is glibc's";
+  ASSERT_TRUE(kAllocatesAsGlarelab);
+  constexpr int kWidthPx = 960, kHeightPx = 1080;  // 16.6 MB of floats: 4050 pages of 4 KB
+  constexpr long kPagesPerFrame = 4L * kWidthPx * kHeightPx * 4 / 4096;
+  const auto make_and_free = [&] {
+    std::vector<ImageRGBA> frames;
+    for (int i = 0; i < 3; ++i) frames.emplace_back(kWidthPx, kHeightPx);
+    double sum = 0.0;
+    for (ImageRGBA& frame : frames) sum += frame.rgba.back();
+    return sum;
+  };
+  make_and_free();  // this thread's frames fault their pages in
+  const long before = minor_faults();
+  double sum = 0.0;
+  for (int round = 0; round < 6; ++round) std::thread([&] { sum += make_and_free(); }).join();
+  const long faults = minor_faults() - before;  // the process's: every thread's
+  EXPECT_EQ(sum, 6.0 * 3.0);  // each frame's last alpha 1
+  EXPECT_LT(faults, 2 * kPagesPerFrame) << faults << " page faults for 6 threads' 3 frames each";
 }
 
 }  // namespace
