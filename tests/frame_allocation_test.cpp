@@ -36,32 +36,34 @@ constexpr bool kSanitizerAllocator = false;
 constexpr bool kSanitizerAllocator = false;
 #endif
 
+// Three half-HD frames (960 x 1080, 16.6 MB each, under glibc's 32 MB mmap threshold) alive at
+// once, then all freed, as a glare frame's source, energy and sum are; each frame's first red value
+// set to 1 and its last alpha 1, so a round sums to 6.
+constexpr long kPagesPerFrame = 4L * 960 * 1080 * 4 / 4096;  // 4050 pages of 4 KB
+double make_and_free_frames() {
+  std::vector<ImageRGBA> frames;
+  for (int i = 0; i < 3; ++i) frames.emplace_back(960, 1080);
+  double sum = 0.0;
+  for (ImageRGBA& frame : frames) {
+    frame.rgba.front() = 1.0f;
+    sum += frame.rgba.front() + frame.rgba.back();
+  }
+  return sum;
+}
+
 TEST(FrameAllocation, FramesMadeAndFreedAgainFaultTheirPagesInOnce) {
   if (kSanitizerAllocator)
     GTEST_SKIP() << "AddressSanitizer's allocator quarantines freed blocks: the reuse measured here is glibc's";
   ASSERT_TRUE(kAllocatesAsGlarelab);
-  constexpr int kWidthPx = 1920, kHeightPx = 1080;  // 33 MB of floats: 8100 pages of 4 KB
-  constexpr long kPagesPerFrame = 4L * kWidthPx * kHeightPx * 4 / 4096;
-  const auto make_and_free = [&] {
-    // Three frames alive at once, then all freed: as a glare frame's source, energy and sum are.
-    std::vector<ImageRGBA> frames;
-    for (int i = 0; i < 3; ++i) frames.emplace_back(kWidthPx / 2, kHeightPx);  // 16.6 MB each, under 32 MB
-    double sum = 0.0;
-    for (ImageRGBA& frame : frames) {
-      frame.rgba.front() = 1.0f;
-      sum += frame.rgba.front() + frame.rgba.back();
-    }
-    return sum;
-  };
-  make_and_free();  // the first frames fault their pages in
+  make_and_free_frames();  // the first frames fault their pages in
   const long before = minor_faults();
   double sum = 0.0;
-  for (int round = 0; round < 20; ++round) sum += make_and_free();
+  for (int round = 0; round < 20; ++round) sum += make_and_free_frames();
   const long faults = minor_faults() - before;
-  EXPECT_EQ(sum, 20.0 * 3.0 * 2.0);  // each frame's first red value set to 1, its last alpha 1
-  // Handed back to the kernel each round, 20 rounds would fault 20 x 1.5 frames of pages in
-  // (121 thousand); kept, a few hundred (the test framework's own).
-  EXPECT_LT(faults, kPagesPerFrame / 4) << faults << " page faults for 20 rounds of 3 half-HD frames";
+  EXPECT_EQ(sum, 20.0 * 6.0);
+  // Handed back to the kernel each round, 20 rounds would fault 20 x 3 frames of pages in
+  // (243 thousand); kept, a few hundred (the test framework's own).
+  EXPECT_LT(faults, kPagesPerFrame / 2) << faults << " page faults for 20 rounds of 3 half-HD frames";
 }
 
 // Frames freed by one thread are reused by threads made after it, as a session's worker threads
@@ -71,21 +73,12 @@ TEST(FrameAllocation, FramesFreedByOneThreadAreReusedByTheNextThreads) {
   if (kSanitizerAllocator)
     GTEST_SKIP() << "AddressSanitizer's allocator quarantines freed blocks: the reuse measured here is glibc's";
   ASSERT_TRUE(kAllocatesAsGlarelab);
-  constexpr int kWidthPx = 960, kHeightPx = 1080;  // 16.6 MB of floats: 4050 pages of 4 KB
-  constexpr long kPagesPerFrame = 4L * kWidthPx * kHeightPx * 4 / 4096;
-  const auto make_and_free = [&] {
-    std::vector<ImageRGBA> frames;
-    for (int i = 0; i < 3; ++i) frames.emplace_back(kWidthPx, kHeightPx);
-    double sum = 0.0;
-    for (ImageRGBA& frame : frames) sum += frame.rgba.back();
-    return sum;
-  };
-  make_and_free();  // this thread's frames fault their pages in
+  make_and_free_frames();  // this thread's frames fault their pages in
   const long before = minor_faults();
   double sum = 0.0;
-  for (int round = 0; round < 6; ++round) std::thread([&] { sum += make_and_free(); }).join();
+  for (int round = 0; round < 6; ++round) std::thread([&] { sum += make_and_free_frames(); }).join();
   const long faults = minor_faults() - before;  // the process's: every thread's
-  EXPECT_EQ(sum, 6.0 * 3.0);  // each frame's last alpha 1
+  EXPECT_EQ(sum, 6.0 * 6.0);
   EXPECT_LT(faults, 2 * kPagesPerFrame) << faults << " page faults for 6 threads' 3 frames each";
 }
 

@@ -263,6 +263,22 @@ struct Codes {
   long values = 0;
 };
 
+// The display codes of two read-back display frames (R, G, B of every pixel at `levels` + 1 codes)
+// against each other.
+Codes compared_codes(const ImageRGBA& reference, const ImageRGBA& shown, double levels) {
+  Codes codes;
+  for (int y = 0; y < reference.height_px; ++y)
+    for (int x = 0; x < reference.width_px; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const long a = std::lround(reference.pixel(x, y)[c] * levels);
+        const long b = std::lround(shown.pixel(x, y)[c] * levels);
+        codes.largest_difference = std::max(codes.largest_difference, static_cast<int>(std::abs(a - b)));
+        codes.differing += a != b;
+        ++codes.values;
+      }
+  return codes;
+}
+
 class HalfFramesOnTheDisplay : public ::testing::TestWithParam<std::string> {};
 
 // The example's first two scenes side by side (each centred in its half of the display) on its
@@ -332,16 +348,7 @@ TEST_P(HalfFramesOnTheDisplay, EncodeToTheFloat32FramesCodesOrANeighbour) {
         const double levels = std::ldexp(1.0, bits) - 1.0;
         const ImageRGBA reference = shown(&glared, nullptr, spec);
         const ImageRGBA half = shown(nullptr, &region, spec);
-        Codes codes;
-        for (int y = 0; y < height; ++y)
-          for (int x = 0; x < width; ++x)
-            for (int c = 0; c < 3; ++c) {
-              const long a = std::lround(reference.pixel(x, y)[c] * levels);
-              const long b = std::lround(half.pixel(x, y)[c] * levels);
-              codes.largest_difference = std::max(codes.largest_difference, static_cast<int>(std::abs(a - b)));
-              codes.differing += a != b;
-              ++codes.values;
-            }
+        const Codes codes = compared_codes(reference, half, levels);
         EXPECT_LE(codes.largest_difference, 1);
         // Half's step (2^-11 relative) is a small fraction of a code, so few values sit close
         // enough to a code boundary (or a dither threshold) to cross it.
@@ -401,16 +408,7 @@ TEST(HalfFrameOverAnExactFrame, TheDemosFrameOneWrittenWhereItsHalvesDifferShows
       renderer.encode_to_display(spec);
       display->present();
       const ImageRGBA drawn = renderer.read_display();
-      Codes codes;
-      for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-          for (int c = 0; c < 3; ++c) {
-            const long a = std::lround(reference.pixel(x, y)[c] * levels);
-            const long b = std::lround(drawn.pixel(x, y)[c] * levels);
-            codes.largest_difference = std::max(codes.largest_difference, static_cast<int>(std::abs(a - b)));
-            codes.differing += a != b;
-            ++codes.values;
-          }
+      const Codes codes = compared_codes(reference, drawn, levels);
       EXPECT_LE(codes.largest_difference, 1);
       EXPECT_LT(static_cast<double>(codes.differing), 0.01 * static_cast<double>(codes.values));
     }
