@@ -303,17 +303,40 @@ ImageRGBA side_by_side(const Experiment& experiment, const SceneLibrary& scenes)
   return frame;
 }
 
+// An example's display offscreen with its renderer, its first two scenes composed side by side,
+// and its glare stage on the CPU.
+struct ExampleOnTheDisplay {
+  explicit ExampleOnTheDisplay(const std::string& file)
+      : experiment(load_experiment(std::string(GLARELAB_SOURCE_DIR) + "/examples/" + file)),
+        scenes(experiment.scenes, experiment.display),
+        width(experiment.display.width_px),
+        height(experiment.display.height_px),
+        display(create_display("offscreen", request(width, height))),
+        renderer(width, height),
+        composed(side_by_side(experiment, scenes)),
+        glare(experiment.glare, experiment.display, experiment.seed) {}
+  static DisplayRequest request(int width_px, int height_px) {
+    DisplayRequest r;
+    r.width_px = width_px;
+    r.height_px = height_px;
+    return r;
+  }
+  const Experiment experiment;
+  const SceneLibrary scenes;
+  const int width, height;
+  const std::unique_ptr<DisplayBackend> display;
+  FrameRenderer renderer;
+  const ImageRGBA composed;
+  GlareStage glare;  // no GL: the CPU path
+};
+
 TEST_P(HalfFramesOnTheDisplay, EncodeToTheFloat32FramesCodesOrANeighbour) {
-  const Experiment experiment = load_experiment(std::string(GLARELAB_SOURCE_DIR) + "/examples/" + GetParam());
-  const SceneLibrary scenes(experiment.scenes, experiment.display);
-  const int width = experiment.display.width_px, height = experiment.display.height_px;
-  DisplayRequest request;
-  request.width_px = width;
-  request.height_px = height;
-  const auto display = create_display("offscreen", request);
-  FrameRenderer renderer(width, height);
-  const ImageRGBA composed = side_by_side(experiment, scenes);
-  GlareStage glare(experiment.glare, experiment.display, experiment.seed);  // no GL: the CPU path
+  ExampleOnTheDisplay on(GetParam());
+  const Experiment& experiment = on.experiment;
+  const auto& display = on.display;
+  FrameRenderer& renderer = on.renderer;
+  const ImageRGBA& composed = on.composed;
+  GlareStage& glare = on.glare;
 
   const auto shown = [&](const ImageRGBA* whole, const GlaredRegion* region, const DisplaySpec& spec) {
     if (whole != nullptr) renderer.replace_stimulus(*whole);
@@ -366,16 +389,12 @@ TEST_P(HalfFramesOnTheDisplay, EncodeToTheFloat32FramesCodesOrANeighbour) {
 // values. Every code shown is frame 1's exact code or a neighbour, as for a frame drawn whole.
 // The demo's moving eye (Spencer's analytic glare, the other example above, does not move).
 TEST(HalfFrameOverAnExactFrame, TheDemosFrameOneWrittenWhereItsHalvesDifferShowsItsCodesOrANeighbour) {
-  const Experiment experiment = load_experiment(std::string(GLARELAB_SOURCE_DIR) + "/examples/demo.toml");
-  const SceneLibrary scenes(experiment.scenes, experiment.display);
-  const int width = experiment.display.width_px, height = experiment.display.height_px;
-  DisplayRequest request;
-  request.width_px = width;
-  request.height_px = height;
-  const auto display = create_display("offscreen", request);
-  FrameRenderer renderer(width, height);
-  const ImageRGBA composed = side_by_side(experiment, scenes);
-  GlareStage glare(experiment.glare, experiment.display, experiment.seed);  // no GL: the CPU path
+  ExampleOnTheDisplay on("demo.toml");
+  const Experiment& experiment = on.experiment;
+  const auto& display = on.display;
+  FrameRenderer& renderer = on.renderer;
+  const ImageRGBA& composed = on.composed;
+  GlareStage& glare = on.glare;
   const double period_s = 1.0 / experiment.display.refresh_hz;
   const ImageRGBA frame_0 = glare.apply(composed, GlareMode::dynamic, 0.1);
   const ImageRGBA frame_1 = glare.apply(composed, GlareMode::dynamic, 0.1 + period_s);
