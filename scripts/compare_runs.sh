@@ -39,6 +39,14 @@ for experiment in examples/*.toml; do
   for side in before after; do
     binary=$before
     [ "$side" = after ] && binary=$after
+    # An experiment that reads the participant's measured straylight finds it in its database: the
+    # measurement (examples/straylight.toml) is run there first, by the same binary.
+    if grep -q '^straylight *= *"measured"' "$experiment"; then
+      "$binary" run examples/straylight.toml --display offscreen --observer simulated --participant compare \
+        --participant-number 1 --seed "$seed" --db "$work/$name.$side.db" > "$work/$name.$side.measure.log" 2>&1 || {
+        echo "$name: the $side binary's straylight measurement failed (exit $?):"; tail -n 5 "$work/$name.$side.measure.log"
+        status=1; continue 2; }
+    fi
     "$binary" run "$experiment" --display offscreen --observer simulated --participant compare \
       --participant-number 1 --seed "$seed" --db "$work/$name.$side.db" \
       --save-frames "$work/$name.$side.saved" > "$work/$name.$side.log" 2>&1 || {
