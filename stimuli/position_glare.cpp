@@ -83,15 +83,18 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
   }
   if (glaring.empty()) return composed_cd_m2;
   // Per value: composed - layer_1 - ... - layer_n + glared_1 + ... + glared_n, in that order.
-  const auto combine = [&](std::size_t pixel, float* out) {
+  // `glares` of them added: all for the sum, the kept ones before the first glared anew for the
+  // interval's base (StaticLayerGlare::SumBase).
+  const auto combine_first = [&](std::size_t pixel, float* out, std::size_t glares) {
     for (std::size_t c = 0; c < 3; ++c) {
       float value = composed_cd_m2.rgba[pixel + c];
       for (const std::size_t l : glaring) value -= layers[l].image_cd_m2.rgba[pixel + c];
-      for (const std::size_t l : glaring) value += glare_of[l]->rgba[pixel + c];
+      for (std::size_t k = 0; k < glares; ++k) value += glare_of[glaring[k]]->rgba[pixel + c];
       out[c] = value;
     }
     out[3] = composed_cd_m2.rgba[pixel + 3];  // alpha: the composed frame's
   };
+  const auto combine = [&](std::size_t pixel, float* out) { combine_first(pixel, out, glaring.size()); };
   // The result goes into the first computed layer's buffer (frame-sized, ours; a kept layer's
   // glare is copied into the cache, so its own buffer is free too): no frame-sized allocation and
   // copy more per frame. Each value is read before it is written.
@@ -151,15 +154,8 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
         base.partial_cd_m2 = ImageRGBA(composed_cd_m2.width_px, composed_cd_m2.height_px);
       float* partial = base.partial_cd_m2.rgba.data();
       parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
-        for (auto p = 4 * static_cast<std::size_t>(first); p < 4 * static_cast<std::size_t>(last); p += 4) {
-          for (std::size_t c = 0; c < 3; ++c) {
-            float value = composed_cd_m2.rgba[p + c];
-            for (const std::size_t l : glaring) value -= layers[l].image_cd_m2.rgba[p + c];
-            for (std::size_t k = 0; k < kept_serials.size(); ++k) value += glare_of[glaring[k]]->rgba[p + c];
-            partial[p + c] = value;
-          }
-          partial[p + 3] = composed_cd_m2.rgba[p + 3];
-        }
+        for (auto p = 4 * static_cast<std::size_t>(first); p < 4 * static_cast<std::size_t>(last); p += 4)
+          combine_first(p, partial + p, kept_serials.size());
       });
     }
     const float* partial = base.partial_cd_m2.rgba.data();
