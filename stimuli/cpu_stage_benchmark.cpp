@@ -30,31 +30,53 @@ struct Times {
   double cpu_best_s = 0.0;  // the process' CPU time (all threads) of its least costly run
 };
 
-// `prepare` (untimed) then `work` (timed: wall clock, and the process' CPU time, which other
-// processes on a shared machine do not inflate), `repeats` times.
-template <typename Prepare, typename Work>
-Times time_runs(int repeats, Prepare prepare, Work work) {
-  std::vector<double> runs, cpu_runs;
+// One timed call: wall clock, and the process' CPU time (which other processes on a shared machine
+// do not inflate).
+struct OneRun {
+  double wall_s = 0.0, cpu_s = 0.0;
+};
+template <typename Work>
+OneRun timed(Work work) {
+  const double cpu_start = process_cpu_time_s();
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), process_cpu_time_s() - cpu_start};
+}
+
+Times summarise(const std::vector<OneRun>& runs) {
+  std::vector<double> wall;
+  double cpu_best_s = runs.front().cpu_s;
+  for (const OneRun& run : runs) {
+    wall.push_back(run.wall_s);
+    cpu_best_s = std::min(cpu_best_s, run.cpu_s);
+  }
+  std::sort(wall.begin(), wall.end());
+  return {wall.front(), wall[wall.size() / 2], cpu_best_s};
+}
+
+struct StageAndFloor {
+  Times stage, floor;
+};
+
+// `repeats` times: `prepare` (untimed), then `work` and its floor one right after the other, timed
+// alike. A shared machine's speed drifts over the seconds a bench takes (other guests' memory
+// traffic, the host's clock); a floor measured beside each run of its stage sees the machine the
+// stage saw, where one measured once at the start would not.
+template <typename Prepare, typename Work, typename Floor>
+StageAndFloor time_beside_floor(int repeats, Prepare prepare, Work work, Floor floor) {
+  std::vector<OneRun> stage_runs, floor_runs;
   for (int r = 0; r < repeats; ++r) {
     prepare();
-    const double cpu_start = process_cpu_time_s();
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    cpu_runs.push_back(process_cpu_time_s() - cpu_start);
+    stage_runs.push_back(timed(work));
+    floor_runs.push_back(timed(floor));
   }
-  std::sort(runs.begin(), runs.end());
-  return {runs.front(), runs[runs.size() / 2], *std::min_element(cpu_runs.begin(), cpu_runs.end())};
+  return {summarise(stage_runs), summarise(floor_runs)};
 }
 
-Times floor_times(std::size_t read_bytes, std::size_t write_bytes, int threads, int repeats) {
-  StreamingFloor floor(read_bytes, write_bytes, threads);
-  floor.run_s();  // pages mapped, caches warm
-  return time_runs(repeats, [] {}, [&] { floor.run_s(); });
-}
-
-CpuStageBenchmarkRow make_row(const std::string& stage, Times stage_times, Times floor, double error, double error_floor,
+CpuStageBenchmarkRow make_row(const std::string& stage, const StageAndFloor& times, double error, double error_floor,
                               double thesis_ms = -1.0) {
+  const Times& stage_times = times.stage;
+  const Times& floor = times.floor;
   CpuStageBenchmarkRow row;
   row.stage = stage;
   row.best_s = stage_times.best_s;
@@ -89,53 +111,63 @@ CpuStageBenchmarkResult run_cpu_stage_benchmark(const CpuStageBenchmarkOptions& 
   const ImageRGBA scene = perception_test_frame(options.width_px, options.height_px);
   ImageRGBA work = scene;
   const auto reset = [&] { std::copy(scene.rgba.begin(), scene.rgba.end(), work.rgba.begin()); };
-  const Times read_floor = floor_times(frame_bytes, 0, threads, repeats);
-  const Times read_write_floor = floor_times(frame_bytes, frame_bytes, threads, repeats);
+  StreamingFloor read_floor(frame_bytes, 0, threads), read_write_floor(frame_bytes, frame_bytes, threads);
+  read_floor.run_s();  // pages mapped, caches warm
+  read_write_floor.run_s();
+  const auto reads = [&] { read_floor.run_s(); };
+  const auto reads_and_writes = [&] { read_write_floor.run_s(); };
 
   // Adaptation: a scalar, its error relative.
   double adapted = 0.0;
-  const Times adaptation = time_runs(repeats, [] {}, [&] {
-    adapted = frame_adaptation_luminance_float_cd_m2(scene, kGaze[0], kGaze[1], settings.adaptation_weighting, threads);
-  });
+  const StageAndFloor adaptation = time_beside_floor(
+      repeats, [] {},
+      [&] { adapted = frame_adaptation_luminance_float_cd_m2(scene, kGaze[0], kGaze[1], settings.adaptation_weighting, threads); },
+      reads);
   const double adapted_reference = frame_adaptation_luminance_cd_m2(scene, kGaze[0], kGaze[1], settings.adaptation_weighting);
-  result.rows.push_back(make_row("adaptation", adaptation, read_floor,
+  result.rows.push_back(make_row("adaptation", adaptation,
                                  std::abs(adapted - adapted_reference) / adapted_reference, 0.0, 0.18));
 
   const double ppd = display_pixels_per_degree(display);
-  const Times acuity = time_runs(repeats, reset, [&] { apply_acuity_loss_float(work, settings.acuity_settings, ppd, threads); });
+  const StageAndFloor acuity = time_beside_floor(
+      repeats, reset, [&] { apply_acuity_loss_float(work, settings.acuity_settings, ppd, threads); }, reads_and_writes);
   const ImageRGBA blurred = apply_acuity_loss(scene, settings.acuity_settings, ppd);
-  result.rows.push_back(make_row("acuity", acuity, read_write_floor,
+  result.rows.push_back(make_row("acuity", acuity,
                                  max_relative_pixel_error(work, blurred, kSceneFloorCdM2), kSceneFloorCdM2, 0.36));
 
   const auto from_blurred = [&] { std::copy(blurred.rgba.begin(), blurred.rgba.end(), work.rgba.begin()); };
-  const Times tone = time_runs(repeats, from_blurred, [&] {
-    tone_map_float(work, adapted_reference, settings.tone_mapping_settings, display.peak_luminance_cd_m2, threads);
-  });
+  const StageAndFloor tone = time_beside_floor(
+      repeats, from_blurred,
+      [&] { tone_map_float(work, adapted_reference, settings.tone_mapping_settings, display.peak_luminance_cd_m2, threads); },
+      reads_and_writes);
   const ImageRGBA mapped = tone_map(blurred, adapted_reference, settings.tone_mapping_settings, display.peak_luminance_cd_m2);
-  result.rows.push_back(make_row("tone_mapping " + to_string(settings.tone_mapping_settings.curve), tone, read_write_floor,
+  result.rows.push_back(make_row("tone_mapping " + to_string(settings.tone_mapping_settings.curve), tone,
                                  max_relative_pixel_error(work, mapped, display_floor), display_floor));
 
   const double rods = rod_sensitivity(adapted_reference, settings.adaptation_time_constants.rod_half_sensitivity_cd_m2);
   const auto from_mapped = [&] { std::copy(mapped.rgba.begin(), mapped.rgba.end(), work.rgba.begin()); };
-  const Times scotopic = time_runs(repeats, from_mapped, [&] {
-    apply_scotopic_colour_float(work, rods, settings.scotopic_settings, threads);
-  });
+  const StageAndFloor scotopic = time_beside_floor(
+      repeats, from_mapped, [&] { apply_scotopic_colour_float(work, rods, settings.scotopic_settings, threads); },
+      reads_and_writes);
   const ImageRGBA shifted = apply_scotopic_colour(mapped, rods, settings.scotopic_settings);
-  result.rows.push_back(make_row("scotopic " + to_string(settings.scotopic_settings.form), scotopic, read_write_floor,
+  result.rows.push_back(make_row("scotopic " + to_string(settings.scotopic_settings.form), scotopic,
                                  max_relative_pixel_error(work, shifted, display_floor), display_floor, 0.14));
 
   // The chain, from the scene to the display frame, against the sum of the four floors.
   PerceptionResult chain_result;
-  const Times chain = time_runs(repeats, [] {}, [&] {
-    TemporalAdaptation eye(adapted_reference, settings.adaptation_time_constants);
-    chain_result = run_perception_stages_float(scene, {kGaze[0], kGaze[1], kFrameTimeS}, eye, settings, display, {}, threads);
-  });
+  const StageAndFloor chain = time_beside_floor(
+      repeats, [] {},
+      [&] {
+        TemporalAdaptation eye(adapted_reference, settings.adaptation_time_constants);
+        chain_result = run_perception_stages_float(scene, {kGaze[0], kGaze[1], kFrameTimeS}, eye, settings, display, {}, threads);
+      },
+      [&] {
+        read_floor.run_s();
+        for (int stage = 0; stage < 3; ++stage) read_write_floor.run_s();
+      });
   TemporalAdaptation reference_eye(adapted_reference, settings.adaptation_time_constants);
   const PerceptionResult chain_reference =
       run_perception_stages(scene, {kGaze[0], kGaze[1], kFrameTimeS}, reference_eye, settings, display);
-  const Times floor_sum{read_floor.best_s + 3 * read_write_floor.best_s, read_floor.median_s + 3 * read_write_floor.median_s,
-                        read_floor.cpu_best_s + 3 * read_write_floor.cpu_best_s};
-  result.rows.push_back(make_row("all perception stages", chain, floor_sum,
+  result.rows.push_back(make_row("all perception stages", chain,
                                  max_relative_pixel_error(chain_result.image, chain_reference.image, display_floor),
                                  display_floor, 2.42));
 
@@ -153,12 +185,14 @@ CpuStageBenchmarkResult run_cpu_stage_benchmark(const CpuStageBenchmarkOptions& 
   // as a session keeps them while its lens and display stay the same (SpectacleWarpGridCache), and,
   // in a row of its own, traced for each frame.
   const SpectacleWarpGrids grids(lens, frame, warp_options);
-  const Times warp = time_runs(repeats, [] {}, [&] { warp_through_spectacles(scene, grids, warp_options, warped); });
+  const StageAndFloor warp =
+      time_beside_floor(repeats, [] {}, [&] { warp_through_spectacles(scene, grids, warp_options, warped); }, reads_and_writes);
   const ImageRGBA warped_reference = warp_through_spectacles_reference(scene, lens, frame, warp_options);
-  result.rows.push_back(make_row("spectacle warp -6.00 DS", warp, read_write_floor,
+  result.rows.push_back(make_row("spectacle warp -6.00 DS", warp,
                                  max_relative_pixel_error(warped, warped_reference, kSceneFloorCdM2), kSceneFloorCdM2));
-  const Times warp_traced = time_runs(repeats, [] {}, [&] { warp_through_spectacles(scene, lens, frame, warp_options, warped); });
-  result.rows.push_back(make_row("spectacle warp -6.00 DS, grids traced each frame", warp_traced, read_write_floor,
+  const StageAndFloor warp_traced = time_beside_floor(
+      repeats, [] {}, [&] { warp_through_spectacles(scene, lens, frame, warp_options, warped); }, reads_and_writes);
+  result.rows.push_back(make_row("spectacle warp -6.00 DS, grids traced each frame", warp_traced,
                                  max_relative_pixel_error(warped, warped_reference, kSceneFloorCdM2), kSceneFloorCdM2));
   return result;
 }

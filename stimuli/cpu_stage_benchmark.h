@@ -2,11 +2,12 @@
 // The CPU engine's per-pixel stages at their floor, for `glarelab bench` and
 // bench/perception_bench.cpp: each float32 stage that sessions run (the perception stages of
 // stimuli/perception/perception_stages_float.h, the spectacle warp of stimuli/spectacle_warp.h) timed
-// on a 1920 x 1080 frame beside its floor measured in the same run (core/streaming_floor.h: the
-// bytes the stage must read and write once, with the same threads), and its error against the
-// float64 reference by stage_timing.h's pixel metric. The perception stages run on the perception
-// rows' frame (perception_test_frame: 0.001 to 1e4 cd/m2, a dark half that the acuity stage
-// blurs); the warp on the same frame through a -6.00 DS lens, 30.7 deg across.
+// on a 1920 x 1080 frame beside its floor, each run of the stage followed at once by a run of its
+// floor (core/streaming_floor.h: the bytes the stage must read and write once, with the same
+// threads), and its error against the float64 reference by stage_timing.h's pixel metric. The
+// perception stages run on the perception rows' frame (perception_test_frame: 0.001 to 1e4 cd/m2, a
+// dark half that the acuity stage blurs); the warp on the same frame through a -6.00 DS lens, 30.7
+// deg across.
 // Floors: adaptation reads the frame (16 bytes a pixel); acuity, tone mapping, scotopic colour and
 // the warp read and write it (32); the chain of all four perception stages is timed from the
 // scene to the display frame (its copy of the scene included) against the sum of their floors.

@@ -5,8 +5,8 @@
 // then the default eye's glare (GlareModel::human: the calibrated wave-optics near field and the CIE
 // far field, dynamic eye) between adaptation and acuity and every perception stage
 // (stimuli/frame_engine.h, the CPU engine), each frame anew (the depth of field's buffers kept from
-// frame to frame, DepthOfFieldBuffers, as the engine keeps its own). Beside it, the sum of its floors
-// measured in the same run:
+// frame to frame, DepthOfFieldBuffers, as the engine keeps its own). Beside it, the sum of its floors,
+// each passed once after each frame and the fastest pass kept:
 //   - the glare: the FFTW floor of a frame of an interval, 3 forward and 3 inverse real transforms
 //     of the frame padded by the display PSF (glare/cpu/fftw_floor.h; as the glare model rows);
 //   - the depth of field: streaming its bytes once (core/streaming_floor.h: the frame's 16 bytes and
@@ -35,7 +35,7 @@ struct WholeFrameBenchmarkOptions {
 struct WholeFramePart {
   std::string name;
   double wall_s = 0.0, cpu_s = 0.0;              // the part's time in the fastest frame's run
-  double floor_wall_s = 0.0, floor_cpu_s = 0.0;  // its floor, the fastest of the floor's runs
+  double floor_wall_s = 0.0, floor_cpu_s = 0.0;  // its floor, the fastest of the floor's passes
 };
 
 struct WholeFrameBenchmarkResult {
