@@ -13,6 +13,18 @@ namespace glarelab {
 // on a shared machine measures beside the wall clock, which other processes inflate.
 double process_cpu_time_s();
 
+// One call of `work` timed both ways: its wall clock (steady_clock) and the process' CPU time.
+struct CallTimes {
+  double wall_s = 0.0, cpu_s = 0.0;
+};
+template <typename Work>
+CallTimes time_call(Work&& work) {
+  const double cpu_start = process_cpu_time_s();
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), process_cpu_time_s() - cpu_start};
+}
+
 class SessionClock {
  public:
   virtual ~SessionClock() = default;

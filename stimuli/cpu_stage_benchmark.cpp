@@ -1,7 +1,6 @@
 #include "stimuli/cpu_stage_benchmark.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstddef>
 #include <iomanip>
 #include <sstream>
@@ -30,23 +29,10 @@ struct Times {
   double cpu_best_s = 0.0;  // the process' CPU time (all threads) of its least costly run
 };
 
-// One timed call: wall clock, and the process' CPU time (which other processes on a shared machine
-// do not inflate).
-struct OneRun {
-  double wall_s = 0.0, cpu_s = 0.0;
-};
-template <typename Work>
-OneRun timed(Work work) {
-  const double cpu_start = process_cpu_time_s();
-  const auto start = std::chrono::steady_clock::now();
-  work();
-  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), process_cpu_time_s() - cpu_start};
-}
-
-Times summarise(const std::vector<OneRun>& runs) {
+Times summarise(const std::vector<CallTimes>& runs) {
   std::vector<double> wall;
   double cpu_best_s = runs.front().cpu_s;
-  for (const OneRun& run : runs) {
+  for (const CallTimes& run : runs) {
     wall.push_back(run.wall_s);
     cpu_best_s = std::min(cpu_best_s, run.cpu_s);
   }
@@ -64,11 +50,11 @@ struct StageAndFloor {
 // stage saw, where one measured once at the start would not.
 template <typename Prepare, typename Work, typename Floor>
 StageAndFloor time_beside_floor(int repeats, Prepare prepare, Work work, Floor floor) {
-  std::vector<OneRun> stage_runs, floor_runs;
+  std::vector<CallTimes> stage_runs, floor_runs;
   for (int r = 0; r < repeats; ++r) {
     prepare();
-    stage_runs.push_back(timed(work));
-    floor_runs.push_back(timed(floor));
+    stage_runs.push_back(time_call(work));
+    floor_runs.push_back(time_call(floor));
   }
   return {summarise(stage_runs), summarise(floor_runs)};
 }

@@ -49,21 +49,12 @@ std::vector<float> bench_depth_m(int width_px, int height_px) {
   return depth;
 }
 
-// One pass of a floor: wall clock and the process' CPU time.
-template <typename Run>
-std::pair<double, double> one_pass(Run run) {
-  const double cpu_start = process_cpu_time_s();
-  const auto start = std::chrono::steady_clock::now();
-  run();
-  return {seconds_since(start), process_cpu_time_s() - cpu_start};
-}
-
 // A floor's least wall clock and least CPU time over its passes.
 struct FloorBest {
   double wall_s = 1e300, cpu_s = 1e300;
-  void add(std::pair<double, double> pass) {
-    wall_s = std::min(wall_s, pass.first);
-    cpu_s = std::min(cpu_s, pass.second);
+  void add(CallTimes pass) {
+    wall_s = std::min(wall_s, pass.wall_s);
+    cpu_s = std::min(cpu_s, pass.cpu_s);
   }
 };
 
@@ -106,10 +97,10 @@ WholeFrameBenchmarkResult run_whole_frame_benchmark(const WholeFrameBenchmarkOpt
   StreamingFloor read_floor(frame_bytes, 0, options.threads), read_write_floor(frame_bytes, frame_bytes, options.threads);
   FloorBest glare, depth, read, read_write;
   const auto pass_floors = [&] {
-    glare.add(one_pass([&] { glare_floor.run_s(); }));
-    depth.add(one_pass([&] { depth_floor.run_s(); }));
-    read.add(one_pass([&] { read_floor.run_s(); }));
-    read_write.add(one_pass([&] { read_write_floor.run_s(); }));
+    glare.add(time_call([&] { glare_floor.run_s(); }));
+    depth.add(time_call([&] { depth_floor.run_s(); }));
+    read.add(time_call([&] { read_floor.run_s(); }));
+    read_write.add(time_call([&] { read_write_floor.run_s(); }));
   };
   pass_floors();  // pages mapped and caches warm before the frames (the fastest pass is kept)
   // The CPU engine (no GL context), the glare on the planned float32 path, as sessions run it.
