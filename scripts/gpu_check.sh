@@ -6,7 +6,9 @@
 #
 # Usage: scripts/gpu_check.sh [REPORT_FILE]     (default: the file gpu_check.md in build-gpu/)
 # Environment: GPU_CHECK_BUILD (build folder, default build-gpu), GPU_CHECK_QUICK=1 (the bench's
-# quick grids only), GPU_CHECK_BUILD_TYPE (default Release).
+# quick grids only), GPU_CHECK_BUILD_TYPE (default Release), GPU_CHECK_PREBUILT=1 (no configure or
+# build: the folder already holds glarelab and tests/glarelab_tests, built on another machine, for a
+# GPU server without the build's packages; their shared libraries must be on its loader's path).
 set -uo pipefail
 cd "$(dirname "$0")/.." || exit 1
 
@@ -24,23 +26,31 @@ fail() {
 }
 
 started=$(date +%s)
-step "configuring $build (${GPU_CHECK_BUILD_TYPE:-Release})"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE="${GPU_CHECK_BUILD_TYPE:-Release}" > "$build/configure.log" 2>&1 ||
-  fail "configure" "$build/configure.log"
-step "building glarelab and glarelab_tests with $jobs jobs"
-cmake --build "$build" -j"$jobs" --target glarelab glarelab_tests > "$build/build.log" 2>&1 ||
-  fail "build" "$build/build.log"
+if [ "${GPU_CHECK_PREBUILT:-0}" = 1 ]; then
+  for binary in "$build/glarelab" "$build/tests/glarelab_tests"; do
+    [ -x "$binary" ] || { step "FAILED: GPU_CHECK_PREBUILT=1 but $binary is not an executable"; exit 1; }
+  done
+  step "using the binaries already built in $build"
+else
+  step "configuring $build (${GPU_CHECK_BUILD_TYPE:-Release})"
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE="${GPU_CHECK_BUILD_TYPE:-Release}" > "$build/configure.log" 2>&1 ||
+    fail "configure" "$build/configure.log"
+  step "building glarelab and glarelab_tests with $jobs jobs"
+  cmake --build "$build" -j"$jobs" --target glarelab glarelab_tests > "$build/build.log" 2>&1 ||
+    fail "build" "$build/build.log"
+fi
 built=$(date +%s)
 
 # The tests that run OpenGL: the GL glare backend's transforms, PSFs and convolution against the
 # CPU double reference, the GL frame engine against the CPU engine, and the offscreen display.
-gl_tests='Gl*:FrameEngineGl*:GlareBackendAgreement*:OffscreenBackend*:GpuRoundTrip*:Examples/NoRoundTrip*'
+gl_tests='Gl*:FrameEngineGl*:GlareBackendAgreement*:OffscreenBackend*:GpuRoundTrip*:Examples/NoRoundTrip*:Examples/GpuEngineFrames*'
 step "GL tests ($gl_tests)"
 "$build/tests/glarelab_tests" --gtest_filter="$gl_tests" > "$build/gl_tests.log" 2>&1
 tests_status=$?
 tests_passed=$(grep -c '^\[       OK \]' "$build/gl_tests.log")
-tests_failed=$(grep -c '^\[  FAILED  \] [A-Za-z]' "$build/gl_tests.log")
-tests_skipped=$(grep -c '^\[  SKIPPED \] [A-Za-z]' "$build/gl_tests.log")
+# Each test's own result line ends in its time; gtest lists the failed and skipped again at the end.
+tests_failed=$(grep -c '^\[  FAILED  \] [A-Za-z].* ([0-9]* ms)$' "$build/gl_tests.log")
+tests_skipped=$(grep -c '^\[  SKIPPED \] [A-Za-z].* ([0-9]* ms)$' "$build/gl_tests.log")
 tested=$(date +%s)
 
 engine=()
@@ -81,7 +91,7 @@ cpu=$(grep -m 1 'model name' /proc/cpuinfo | sed 's/.*: //')
 step "report: $report"
 if [ "$tests_status" -ne 0 ]; then
   step "GL tests failed:"
-  grep '^\[  FAILED  \] [A-Za-z]' "$build/gl_tests.log" >&2
+  grep '^\[  FAILED  \] [A-Za-z].* ([0-9]* ms)$' "$build/gl_tests.log" >&2
   exit 1
 fi
 exit 0

@@ -70,8 +70,12 @@ GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
   chromatic_program_ = build_program({"glare/shaders/psf_chromatic_accumulate.comp"});
   clamp_program_ = build_program({"glare/shaders/psf_clamp_negative.comp"});
   const std::size_t count = static_cast<std::size_t>(size_px) * size_px;
-  phase_x_ = storage(static_cast<std::size_t>(size_px) * 2 * sizeof(float));
-  phase_y_ = storage(static_cast<std::size_t>(size_px) * 2 * sizeof(float));
+  // A slot of phase factors starts where a storage buffer binding may (glBindBufferRange).
+  GLint alignment = 0;
+  glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &alignment);
+  const std::size_t factor_bytes = static_cast<std::size_t>(size_px) * 2 * sizeof(float);
+  const std::size_t step = static_cast<std::size_t>(std::max(alignment, 1));
+  phase_slot_bytes_ = (factor_bytes + step - 1) / step * step;
   const std::vector<glm::vec2> table = cross_phase_table();
   cross_table_ = storage(table.size() * sizeof(table[0]));
   glNamedBufferSubData(cross_table_.get(), 0, static_cast<GLsizeiptr>(table.size() * sizeof(table[0])), table.data());
@@ -137,24 +141,46 @@ void GlPsf::load_field(const ApertureGeometry& geometry, double wavelength_nm) {
 
 void GlPsf::apply_phase(const DioptricPower& error, double wavelength_nm) {
   check_wavelength(wavelength_nm);
-  // The x^2 and y^2 terms of phi = (pi / lambda)(E_xx x^2 + 2 E_xy x y + E_yy y^2), with E in 1/m,
-  // lengths in m and lambda in m, written for x in mm and lambda in nm: pi E x_mm^2 1e3 / lambda_nm.
-  // Per axis: exp(i a x^2) (see psf_load_aperture.comp). For a spherical error both factors are
-  // glare/wave/fresnel.h's defocus phase of E_xx = E_yy, computed as before the error had a cylinder.
-  const double a_x_per_mm2 = std::numbers::pi * error.xx() * 1e3 / wavelength_nm;
-  const double a_y_per_mm2 = std::numbers::pi * error.yy() * 1e3 / wavelength_nm;
-  std::vector<std::complex<float>> phase_x(static_cast<std::size_t>(size_px_)), phase_y(phase_x.size());
-  const double dx_mm = aperture_.pixel_size_mm();
-  for (int i = 0; i < size_px_; ++i) {
-    // Pixel centres as in glare/eye/aperture_raster.h: column i at x = (i - N/2) dx, row j at y = (N/2 - j) dx,
-    // whose square is the same function of the index.
-    const double x_mm = (i - size_px_ / 2) * dx_mm;
-    phase_x[static_cast<std::size_t>(i)] = std::complex<float>(std::polar(1.0, a_x_per_mm2 * x_mm * x_mm));
-    phase_y[static_cast<std::size_t>(i)] = std::complex<float>(std::polar(1.0, a_y_per_mm2 * x_mm * x_mm));
-  }
-  glNamedBufferSubData(phase_x_.get(), 0, static_cast<GLsizeiptr>(phase_x.size() * sizeof(phase_x[0])), phase_x.data());
-  glNamedBufferSubData(phase_y_.get(), 0, static_cast<GLsizeiptr>(phase_y.size() * sizeof(phase_y[0])), phase_y.data());
+  upload_phases({{error, wavelength_nm}});
+  load_with_phase(error, wavelength_nm, 0);
+}
 
+// The x^2 and y^2 terms of phi = (pi / lambda)(E_xx x^2 + 2 E_xy x y + E_yy y^2), with E in 1/m,
+// lengths in m and lambda in m, written for x in mm and lambda in nm: pi E x_mm^2 1e3 / lambda_nm.
+// Per axis: exp(i a x^2) (see psf_load_aperture.comp). For a spherical error both factors are
+// glare/wave/fresnel.h's defocus phase of E_xx = E_yy, computed as before the error had a cylinder.
+//
+// Every phase a PSF needs goes into one new buffer, made with its data and never written again:
+// slot k holds the per-column factors at 2 k slot_bytes and the per-row ones at (2 k + 1)
+// slot_bytes. A buffer rewritten in place between the dispatches that read it (glNamedBufferSubData
+// per wavelength) gave wrong PSFs on an NVIDIA H200 (driver 580.159.04): the chromatic PSF's
+// wavelengths read one another's phases, 0.8 to 140 times its peak off, and a glFinish after each
+// wavelength made it right, a glMemoryBarrier did not (docs/PERFORMANCE.md, the H200 of 30 November).
+void GlPsf::upload_phases(const std::vector<std::pair<DioptricPower, double>>& phases) {
+  const std::size_t floats_per_slot = phase_slot_bytes_ / sizeof(float);
+  std::vector<float> values(2 * phases.size() * floats_per_slot, 0.0f);
+  const double dx_mm = aperture_.pixel_size_mm();
+  for (std::size_t k = 0; k < phases.size(); ++k) {
+    const auto& [error, wavelength_nm] = phases[k];
+    const double a_per_mm2[2] = {std::numbers::pi * error.xx() * 1e3 / wavelength_nm,
+                                 std::numbers::pi * error.yy() * 1e3 / wavelength_nm};
+    for (int axis = 0; axis < 2; ++axis) {
+      float* factors = values.data() + (2 * k + static_cast<std::size_t>(axis)) * floats_per_slot;
+      for (int i = 0; i < size_px_; ++i) {
+        // Pixel centres as in glare/eye/aperture_raster.h: column i at x = (i - N/2) dx, row j at
+        // y = (N/2 - j) dx, whose square is the same function of the index.
+        const double x_mm = (i - size_px_ / 2) * dx_mm;
+        const std::complex<float> factor(std::polar(1.0, a_per_mm2[axis] * x_mm * x_mm));
+        factors[2 * i] = factor.real();
+        factors[2 * i + 1] = factor.imag();
+      }
+    }
+  }
+  phases_ = create_buffer();
+  glNamedBufferStorage(phases_.get(), static_cast<GLsizeiptr>(values.size() * sizeof(float)), values.data(), 0);
+}
+
+void GlPsf::load_with_phase(const DioptricPower& error, double wavelength_nm, std::size_t slot) {
   // The cross term 2 pi E_xy x y / lambda only where there is one (an oblique cylinder): without it
   // the field is the separable product alone, from the same shader as a spherical defocus.
   const bool cross = error.xy() != 0.0;
@@ -162,14 +188,18 @@ void GlPsf::apply_phase(const DioptricPower& error, double wavelength_nm) {
   glUseProgram(load);
   glUniform1i(glGetUniformLocation(load, "uSize"), size_px_);
   if (cross) {
-    const FixedPointTurns turns = fixed_point_fraction(cross_phase_turns_per_index(error.xy(), dx_mm, wavelength_nm));
+    const FixedPointTurns turns =
+        fixed_point_fraction(cross_phase_turns_per_index(error.xy(), aperture_.pixel_size_mm(), wavelength_nm));
     glUniform2ui(glGetUniformLocation(load, "uCrossTurns"), turns.high, turns.low);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, cross_table_.get());
   }
+  const auto factor_bytes = static_cast<GLsizeiptr>(size_px_) * 2 * static_cast<GLsizeiptr>(sizeof(float));
+  const auto offset = static_cast<GLintptr>(2 * slot * phase_slot_bytes_);
   glBindImageTexture(0, aperture_.texture(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, fft_.data());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, phase_x_.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, phase_y_.get());
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, phases_.get(), offset, factor_bytes);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 2, phases_.get(), offset + static_cast<GLintptr>(phase_slot_bytes_),
+                    factor_bytes);
   glDispatchCompute(tiles(size_px_), tiles(size_px_), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(0);
@@ -238,10 +268,14 @@ void GlPsf::run_chromatic(const ApertureGeometry& geometry, int wavelength_count
   chromatic_aliased_ = 0;
   double worst_step_rad = 0.0;
   const double pupil_radius_mm = 0.5 * geometry.pupil_diameter_mm, pixel_mm = aperture_.pixel_size_mm();
+  // glare/wave/chromatic_psf.cpp's chromatic_power_error: E_ref + [LCA(lambda) - LCA(lambda_ref)] I.
+  std::vector<std::pair<DioptricPower, double>> phases;
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    phases.emplace_back(reference_error + DioptricPower::spherical(excess_dioptres[i]), samples[i].wavelength_nm);
+  upload_phases(phases);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const SpectralSample& sample = samples[i];
-    // glare/wave/chromatic_psf.cpp's chromatic_power_error: E_ref + [LCA(lambda) - LCA(lambda_ref)] I.
-    const DioptricPower error = reference_error + DioptricPower::spherical(excess_dioptres[i]);
+    const DioptricPower& error = phases[i].first;
     const PhaseSamplingReport sampling =
         power_error_sampling(error, sample.wavelength_nm, pupil_radius_mm, pixel_mm, size_px_ * pixel_mm);
     if (sampling.aliased) {
@@ -256,7 +290,7 @@ void GlPsf::run_chromatic(const ApertureGeometry& geometry, int wavelength_count
         chromatic_warning_ = sampling.warning + where.str();
       }
     }
-    apply_phase(error, sample.wavelength_nm);
+    load_with_phase(error, sample.wavelength_nm, i);
     fft_.transform(FftDirection::forward);
     const double scale = reference_wavelength_nm / sample.wavelength_nm;
     const double jacobian = scale * scale;

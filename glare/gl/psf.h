@@ -11,6 +11,7 @@
 // Requires a current OpenGL 4.5 context; not thread-safe.
 #include <complex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "glare/eye/aperture_geometry.h"
@@ -76,6 +77,10 @@ class GlPsf {
 
  private:
   void normalise(GLuint values, int channels);
+  // Every (power error, wavelength) a PSF needs, its per-column and per-row phase factors, into a
+  // new buffer of slots (phases_); then the aperture times slot `slot`'s phase into the FFT's buffer.
+  void upload_phases(const std::vector<std::pair<DioptricPower, double>>& phases);
+  void load_with_phase(const DioptricPower& error, double wavelength_nm, std::size_t slot);
 
   int size_px_;
   GlAperture aperture_;
@@ -84,7 +89,8 @@ class GlPsf {
       chromatic_program_, clamp_program_;
   std::string chromatic_warning_;
   int chromatic_aliased_ = 0;
-  Buffer phase_x_, phase_y_, cross_table_, power_, spectral_, weights_, partial_a_, partial_b_;
+  std::size_t phase_slot_bytes_ = 0;  // one axis' factors, rounded up to the binding alignment
+  Buffer phases_, cross_table_, power_, spectral_, weights_, partial_a_, partial_b_;
   // Each result's channel sums before its normalisation (copied on the GPU), read with it.
   Buffer power_sums_, spectral_sums_;
 };
