@@ -62,7 +62,11 @@ class GlareBackend {
   // shader storage buffer in its context holding the result (RGBA32F, ImageRGBA's layout, row 0
   // first), nothing read back, valid until the backend's next call; 0: this backend keeps nothing
   // on a GPU (the caller convolves on the host).
-  virtual unsigned convolve_on_gpu(const ImageRGBA& /*image*/, const Psf& /*psf*/) { return 0; }
+  // `image_token`: 0, or a token the caller gives this image and no other, so that a backend keeping
+  // the image's spectrum knows it again without comparing its pixels (GlConvolutionOptions).
+  virtual unsigned convolve_on_gpu(const ImageRGBA& /*image*/, const Psf& /*psf*/, std::uint64_t /*image_token*/) {
+    return 0;
+  }
   // The last convolution's stages timed on the GPU's clock (timer queries), seconds, in the order
   // they ran; empty for a backend on the CPU.
   virtual std::vector<std::pair<std::string, double>> last_gpu_stages_s() const { return {}; }

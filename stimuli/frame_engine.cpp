@@ -1,5 +1,7 @@
 #include "stimuli/frame_engine.h"
 
+#include <atomic>
+#include <cstdint>
 #include <utility>
 
 #include "core/errors.h"
@@ -20,7 +22,7 @@ class FrameEngine::Stages {
   virtual PerceptionResult run_on_gpu(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
                                       const PerceptionSettings& settings, const DisplaySpec& display,
                                       const PerceptionGlare& glare, gl::GlFrameBuffer*& glare_out,
-                                      std::shared_ptr<gl::GlFrameBuffer>& /*out*/) {
+                                      std::uint64_t /*scene_token*/, std::shared_ptr<gl::GlFrameBuffer>& /*out*/) {
     glare_out = nullptr;
     return run(scene, input, eye, settings, display, glare);
   }
@@ -61,7 +63,7 @@ class GlStages final : public FrameEngine::Stages {
   // where it can and returns an empty image, else returns the glared image, which is uploaded.
   PerceptionResult run_on_gpu(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
                               const PerceptionSettings& settings, const DisplaySpec& display,
-                              const PerceptionGlare& glare, gl::GlFrameBuffer*& glare_out,
+                              const PerceptionGlare& glare, gl::GlFrameBuffer*& glare_out, std::uint64_t scene_token,
                               std::shared_ptr<gl::GlFrameBuffer>& out) override {
     context_->make_current();
     gl::GlPerceptionStages::GlareOnGpu on_gpu;
@@ -73,7 +75,7 @@ class GlStages final : public FrameEngine::Stages {
         context_->make_current();
         if (!glared.empty()) into.upload(glared);
       };
-    return stages_.run_on_gpu(scene, input, eye, settings, display, on_gpu, out);
+    return stages_.run_on_gpu(scene, input, eye, settings, display, on_gpu, scene_token, out);
   }
 
  private:
@@ -222,6 +224,14 @@ const std::string& FrameEngine::reason() {
 EyeFrame FrameEngine::frame(const EyeFrameRequest& request) {
   EyeFrame result;
   const bool on_gpu = request.on_gpu && kind() == FrameEngineKind::gl;
+  // The seen image's token on the GPU, made once for its facts: the frames of an interval upload it
+  // once, and the glare's convolution knows its spectrum without comparing its pixels.
+  std::uint64_t scene_token = 0;
+  if (on_gpu && request.facts != nullptr) {
+    static std::atomic<std::uint64_t> last_token{0};
+    if (request.facts->gpu_scene_token == 0) request.facts->gpu_scene_token = ++last_token;
+    scene_token = request.facts->gpu_scene_token;
+  }
   // On the GPU: where the glare of the frame goes when it stays there (the perception stages'
   // buffer; nullptr: the glare's own frame, made here).
   gl::GlFrameBuffer* glare_out = nullptr;
@@ -277,15 +287,20 @@ EyeFrame FrameEngine::frame(const EyeFrameRequest& request) {
     return result;
   }
   const GazePoint gaze = request.gaze.value_or(GazePoint{});
+  // The stages hand the glare the seen image itself (Luidolt 2020 Fig. 6.1: adaptation measures it,
+  // glare spreads it), whose facts the request brings; any other image is found afresh.
   const FieldGlare stage_glare = [&](const ImageRGBA& adapted_cd_m2, std::optional<double> field_cd_m2) {
-    return glare_of(adapted_cd_m2, field_cd_m2, nullptr);
+    return glare_of(adapted_cd_m2, field_cd_m2, &adapted_cd_m2 == &request.seen_cd_m2 ? request.facts : nullptr);
   };
   Stages& engine = stages();
   std::shared_ptr<gl::GlFrameBuffer> perceived_on_gpu;
   const PerceptionStagesRun run = [&](const ImageRGBA& scene, const PerceptionFrameInput& input,
                                       TemporalAdaptation& eye, const PerceptionSettings& settings,
                                       const DisplaySpec& display, const PerceptionGlare& glare) {
-    if (on_gpu) return engine.run_on_gpu(scene, input, eye, settings, display, glare, glare_out, perceived_on_gpu);
+    // The token names the seen image: a scene the stages get instead (none today) is uploaded.
+    if (on_gpu)
+      return engine.run_on_gpu(scene, input, eye, settings, display, glare, glare_out,
+                               &scene == &request.seen_cd_m2 ? scene_token : 0, perceived_on_gpu);
     return engine.run(scene, input, eye, settings, display, glare);
   };
   PerceptionResult stages_result =

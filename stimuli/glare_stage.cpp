@@ -457,7 +457,7 @@ ImageRGBA GlareStage::apply_to(const ImageRGBA& frame_cd_m2, GlareMode mode, dou
       // The whole frame convolved where the backend keeps it on the GPU (no lit boxes: they would
       // be cut out of the frame on the host; outside them the whole frame's glare is 0 plus the
       // FFT's rounding, 1e-7 of the dim part's energy, the bright pixels being summed directly).
-      *gpu_buffer = backend().convolve_on_gpu(source, *psf);
+      *gpu_buffer = backend().convolve_on_gpu(source, *psf, facts != nullptr ? facts->gpu_scene_token : 0);
       if (*gpu_buffer != 0) return {};
     }
     std::vector<PixelRect> changed;

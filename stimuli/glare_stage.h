@@ -88,6 +88,9 @@ struct FrameFacts {
   // The hybrid and human eyes: the token of the state the stage keeps for this image (0: none yet),
   // so that a frame bringing it again is known without comparing its pixels.
   std::uint64_t glare_source_token = 0;
+  // The GL engine: the token under which its perception stages keep this image on the GPU (0: none
+  // yet), so that the frames of an interval upload it once, not once a frame.
+  std::uint64_t gpu_scene_token = 0;
 };
 
 // A gaze point in normalised display coordinates (0..1 from the left and from the top).

@@ -203,7 +203,7 @@ ImageRGBA GlareStage::apply_hybrid(const ImageRGBA& frame, const ImageRGBA& sour
   };
   if (gpu_buffer != nullptr) {
     // The near part convolved whole on the GPU and finished there by the same per-pixel sum.
-    if (const unsigned near_on_gpu = backend().convolve_on_gpu(energy, near); near_on_gpu != 0) {
+    if (const unsigned near_on_gpu = backend().convolve_on_gpu(energy, near, 0); near_on_gpu != 0) {
       if (!gpu_hybrid_finish_) gpu_hybrid_finish_ = std::make_unique<GpuHybridFinish>();
       *gpu_buffer = gpu_hybrid_finish_->finish(near_on_gpu, energy, far_glare, ring, halo_energy, solid_angle, kept.token);
       r.convolved = true;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/gl/gl_context.h"
 #include "runner/display/compute_context.h"
 #include "stimuli/frame_engine.h"
 
@@ -142,6 +143,64 @@ TEST_F(FrameEngineGlTest, GlEngineFramesEqualTheCpuEnginesWithEveryStage) {
     lamp[1] *= 1.01f;
     EXPECT_GT(worst_error(perturbed, reference.image_cd_m2), 1e-3);
   }
+}
+
+TEST_F(FrameEngineGlTest, FramesKeptOnTheGpuWithTheirScenesFactsEqualTheCpuEngines) {
+  // A session's requests: the frame left on the GPU, each seen image with its facts kept from frame
+  // to frame (the GL stages upload a scene once under its facts' token). Scene A, A, B, A: each GL
+  // frame, read back here, against the CPU engine's frame of the same request.
+  const ImageRGBA scene_a = night_scene();
+  ImageRGBA scene_b = scene_a;
+  for (int y = 40; y < 43; ++y)
+    for (int x = 50; x < 53; ++x) {
+      float* moved = scene_b.pixel(x + 60, y + 20);
+      const float* lamp = scene_a.pixel(x, y);
+      std::copy(lamp, lamp + 3, moved);
+      std::copy(scene_a.pixel(0, 0), scene_a.pixel(0, 0) + 3, scene_b.pixel(x, y));
+    }
+  const PerceptionSettings stages;
+  FrameEngine cpu(glare_spec(GlareBackendRequest::cpu), AdaptationTimeConstants{}, display_spec(), 3, {});
+  FrameEngine gl(glare_spec(GlareBackendRequest::gl), AdaptationTimeConstants{}, display_spec(), 3,
+                 one_context_factory(*context_));
+  ASSERT_EQ(gl.kind(), FrameEngineKind::gl);
+  FrameFacts cpu_facts_a, cpu_facts_b, gl_facts_a, gl_facts_b;
+  const auto request_for = [&](const ImageRGBA& scene, FrameFacts& facts, int k, bool on_gpu) {
+    EyeFrameRequest request(scene);
+    request.mode = GlareMode::static_eye;
+    request.glared = true;
+    request.perception = &stages;
+    request.time_s = 1.0 + k * kPeriodS;
+    request.frame_time_s = kPeriodS;
+    request.gaze = GazePoint{0.4, 0.45};
+    request.field_cd_m2 = mean_luminance(scene);
+    request.facts = &facts;
+    request.on_gpu = on_gpu;
+    return request;
+  };
+  const bool scene_is_b[] = {false, false, true, false};
+  double worst_between_scenes = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const ImageRGBA& scene = scene_is_b[k] ? scene_b : scene_a;
+    const EyeFrame reference = cpu.frame(request_for(scene, scene_is_b[k] ? cpu_facts_b : cpu_facts_a, k, false));
+    const EyeFrame frame = gl.frame(request_for(scene, scene_is_b[k] ? gl_facts_b : gl_facts_a, k, true));
+    ASSERT_TRUE(frame.gpu_image_cd_m2) << "frame " << k;
+    const ImageRGBA image = frame.gpu_image_cd_m2->download();
+    double worst = 0.0, between = 0.0;
+    for (std::size_t i = 0; i < reference.image_cd_m2.rgba.size(); ++i) {
+      if (i % 4 == 3) continue;
+      const double value = reference.image_cd_m2.rgba[i];
+      const double scale = std::max(1.0, std::abs(value));
+      worst = std::max(worst, std::abs(image.rgba[i] - value) / scale);
+      between = std::max(between, static_cast<double>(std::abs(scene_a.rgba[i] - scene_b.rgba[i]) / std::max(1.0f, scene_a.rgba[i])));
+    }
+    std::printf("scene %c, frame %d: GL on the GPU against CPU worst relative error %.2e\n", scene_is_b[k] ? 'B' : 'A',
+                k, worst);
+    EXPECT_LT(worst, 1e-3) << "frame " << k;
+    worst_between_scenes = std::max(worst_between_scenes, between);
+  }
+  EXPECT_NE(gl_facts_a.gpu_scene_token, 0u);
+  EXPECT_NE(gl_facts_a.gpu_scene_token, gl_facts_b.gpu_scene_token);
+  EXPECT_GT(worst_between_scenes, 1.0);  // a stale scene would show
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -246,6 +247,34 @@ TEST_F(GlConvolutionTest, SplitSumReachesEveryPixelTheBrightPixelsLight) {
     EXPECT_TRUE(report.split) << report.describe();
     EXPECT_EQ(report.bright_pixels, 2u) << report.describe();
     EXPECT_LE(relative_l2(result, direct_convolution(image, psf)), 1e-5) << channels << " PSF channel(s)";
+  }
+}
+
+// A caller that names its images (GlConvolutionOptions::image_token, a session's seen image through
+// its FrameFacts) has the kept spectrum known by the name alone: the same token is the kept image,
+// another token is another image, no token compares the pixels. Each result is a fresh
+// convolution's, bit for bit.
+TEST_F(GlConvolutionTest, ATokenNamesTheKeptImageWithoutItsPixels) {
+  ImageRGBA scene(60, 44, 2.0f);
+  for (int c = 0; c < 3; ++c) scene.pixel(17, 21)[c] = 3e5f;
+  ImageRGBA changed = scene;
+  changed.pixel(59, 43)[1] = 2.5f;
+  const Psf psf = random_psf(15, 3, 23);
+  struct Call {
+    const ImageRGBA* image;
+    std::uint64_t token;
+    bool image_reused;
+  };
+  const std::vector<Call> calls = {{&scene, 5, false},  {&scene, 5, true},   {&changed, 6, false}, {&changed, 6, true},
+                                   {&scene, 0, false},  {&scene, 0, true},   {&scene, 7, false},   {&scene, 7, true}};
+  gl::GlConvolution kept;
+  for (std::size_t n = 0; n < calls.size(); ++n) {
+    gl::GlConvolutionOptions options;
+    options.image_token = calls[n].token;
+    gl::GlConvolutionReport report;
+    const ImageRGBA result = kept.convolve(*calls[n].image, psf, options, &report);
+    EXPECT_EQ(report.image_spectrum_reused, calls[n].image_reused) << "call " << n << ": " << report.describe();
+    EXPECT_EQ(result.rgba, gl::GlConvolution().convolve(*calls[n].image, psf).rgba) << "call " << n;
   }
 }
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -292,6 +293,50 @@ TEST_F(PerceptionGlTest, WholeChainInFigure61OrderMatchesTheReference) {
       EXPECT_LT(error, kBound) << c.name << ", frame " << step;
     }
   }
+}
+
+TEST_F(PerceptionGlTest, AKeptSceneGivesTheFramesOfItsUploadBitForBit) {
+  // The frames of an interval bring one scene under one token (FrameFacts::gpu_scene_token): the
+  // stages upload it once and copy it on the GPU after that. Against stages given no token (each
+  // scene uploaded), in lockstep, scene A, A, B, A, A: the same bits every frame, and A uploaded
+  // again after B.
+  DisplaySpec display;
+  display.width_px = kWidth;
+  display.height_px = kHeight;
+  display.peak_luminance_cd_m2 = kPeak;
+  const ImageRGBA& scene_a = frame();
+  ImageRGBA scene_b = scene_a;
+  for (std::size_t i = 0; i < scene_b.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) scene_b.rgba[i + c] *= 0.5f;
+  const PerceptionSettings stages;  // every stage on
+  gl::GlPerceptionStages kept_stages, plain_stages;
+  TemporalAdaptation kept_eye(200.0), plain_eye(200.0);
+  struct Step {
+    const ImageRGBA* scene;
+    std::uint64_t token;
+    std::size_t uploads_after;
+  };
+  const Step steps[] = {{&scene_a, 7, 1}, {&scene_a, 7, 1}, {&scene_b, 8, 2}, {&scene_a, 7, 3}, {&scene_a, 7, 3}};
+  int k = 0;
+  for (const Step& step : steps) {
+    const PerceptionFrameInput input{0.5, 0.5, 1.0 / 90.0};
+    std::shared_ptr<gl::GlFrameBuffer> kept_out, plain_out;
+    const PerceptionResult kept =
+        kept_stages.run_on_gpu(*step.scene, input, kept_eye, stages, display, {}, step.token, kept_out);
+    const PerceptionResult plain = plain_stages.run_on_gpu(*step.scene, input, plain_eye, stages, display, {}, 0, plain_out);
+    ASSERT_TRUE(kept_out && plain_out);
+    EXPECT_EQ(kept.adapted_luminance_cd_m2, plain.adapted_luminance_cd_m2) << "frame " << k;
+    EXPECT_EQ(kept_out->download().rgba, plain_out->download().rgba) << "frame " << k;
+    EXPECT_EQ(kept_stages.scene_uploads(), step.uploads_after) << "frame " << k;
+    EXPECT_EQ(plain_stages.scene_uploads(), static_cast<std::size_t>(k + 1)) << "frame " << k;
+    ++k;
+  }
+  // The two scenes give different frames, so the equalities above can fail.
+  TemporalAdaptation eye_a(200.0), eye_b(200.0);
+  std::shared_ptr<gl::GlFrameBuffer> out_a, out_b;
+  (void)plain_stages.run_on_gpu(scene_a, {0.5, 0.5, 1.0 / 90.0}, eye_a, stages, display, {}, 0, out_a);
+  (void)plain_stages.run_on_gpu(scene_b, {0.5, 0.5, 1.0 / 90.0}, eye_b, stages, display, {}, 0, out_b);
+  EXPECT_NE(out_a->download().rgba, out_b->download().rgba);
 }
 
 TEST_F(PerceptionGlTest, APerturbationOfOneInTenThousandIsCaught) {

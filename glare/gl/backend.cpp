@@ -65,9 +65,11 @@ ImageRGBA GlGlareBackend::convolve(const ImageRGBA& image, const Psf& psf) {
   return convolution_->convolve(image, psf, {}, &last_report_);
 }
 
-unsigned GlGlareBackend::convolve_on_gpu(const ImageRGBA& image, const Psf& psf) {
+unsigned GlGlareBackend::convolve_on_gpu(const ImageRGBA& image, const Psf& psf, std::uint64_t image_token) {
   context_->make_current();
-  return convolution_->convolve_on_gpu(image, psf, {}, &last_report_);
+  GlConvolutionOptions options;
+  options.image_token = image_token;
+  return convolution_->convolve_on_gpu(image, psf, options, &last_report_);
 }
 
 }  // namespace glarelab::gl

@@ -22,7 +22,7 @@ class GlGlareBackend : public GlareBackend {
   GlareBackendKind kind() const override { return GlareBackendKind::gl; }
   Psf psf(const ApertureGeometry& geometry, const PsfOptions& options) override;
   ImageRGBA convolve(const ImageRGBA& image, const Psf& psf) override;
-  unsigned convolve_on_gpu(const ImageRGBA& image, const Psf& psf) override;
+  unsigned convolve_on_gpu(const ImageRGBA& image, const Psf& psf, std::uint64_t image_token) override;
   std::vector<std::pair<std::string, double>> last_gpu_stages_s() const override { return last_report_.gpu_stages_s; }
   const GlInfo& gl_info() const { return context_->gl_info(); }
   // The sampling check of the last psf() (glare/wave/fresnel.h, or glare/refraction/astigmatic_phase.h's strongest meridian

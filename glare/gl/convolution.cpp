@@ -329,7 +329,8 @@ void GlConvolution::run(const ImageRGBA& image, const Psf& psf, const GlConvolut
   // scene under dynamic glare: only the PSF changes from frame to frame).
   const bool image_cached = image_spectrum_ && same_split(image_spectrum_->options, options) &&
                             image_spectrum_->image.width_px == width && image_spectrum_->image.height_px == height &&
-                            image_spectrum_->image.rgba == image.rgba;
+                            (options.image_token != 0 ? image_spectrum_->options.image_token == options.image_token
+                                                      : image_spectrum_->image.rgba == image.rgba);
   std::unique_ptr<ImageSpectrum> fresh_spectrum;
   if (!image_cached) {
     fresh_spectrum = split_image(image, options);

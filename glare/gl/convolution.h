@@ -15,6 +15,7 @@
 // by direct summation (bright_splat.comp); convolution is linear, so the sum is the same function.
 // Requires a current OpenGL 4.5 context; not thread-safe.
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -30,6 +31,10 @@ struct GlConvolutionOptions {
   bool split_bright = true;
   double split_dynamic_range = 1e4;          // bright: max(R, G, B) > this x median over pixels of max(R, G, B)
   std::size_t max_direct_bright_pixels = 4096;  // beyond this the split is not made (cost: pixels x bright pixels)
+  // A token the caller gives this image and no other (0: none). The same token as the image whose
+  // spectrum is kept is that image, known without comparing its pixels (33 MB at 1920 x 1080); with
+  // no token the pixels are compared.
+  std::uint64_t image_token = 0;
 };
 
 struct GlConvolutionReport {

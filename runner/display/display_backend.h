@@ -97,4 +97,12 @@ GlInfo load_and_check_gl(const char* subsystem, GlProcLoader get_proc, const Dis
 // context was refused and a default one was created just to say what the driver offers).
 std::string describe_offered_context(GlProcLoader get_proc);
 
+// The backend whose context is current on this thread with its own entry points in glad's table,
+// as far as glarelab made it so (nullptr: not known). Every way glarelab makes a context current
+// says so here; the EGL backend, asked to make itself current while it still is, then skips the
+// make-current and the table's reload (about 700 look-ups), which a GL engine frame asked for four
+// to six times (docs/PERFORMANCE.md, the H200 of 30 November).
+void note_current_gl_backend(const void* backend);
+const void* current_gl_backend();
+
 }  // namespace glarelab

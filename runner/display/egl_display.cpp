@@ -175,22 +175,30 @@ class EglDisplay final : public HeadlessDisplay {
     }
     make_current();
     info_ = load_and_check_gl("EGL", egl_proc, request);
+    note_current_gl_backend(this);
     info_.platform = connection_->platform + ", " + pixel_format_ + " pbuffer";
   }
 
   ~EglDisplay() override {
     const EGLDisplay display = connection_->display;
+    if (current_gl_backend() == this) note_current_gl_backend(nullptr);
     if (eglGetCurrentContext() == context_) eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroySurface(display, surface_);
     eglDestroyContext(display, context_);
   }
 
   void make_current() override {
+    // Still current, as EGL says and as glarelab last made it, with this context's entry points.
+    if (current_gl_backend() == this && eglGetCurrentContext() == context_ &&
+        eglGetCurrentSurface(EGL_DRAW) == surface_)
+      return;
+    note_current_gl_backend(nullptr);
     if (eglMakeCurrent(connection_->display, surface_, surface_, context_) != EGL_TRUE)
       throw DisplayError("EGL: eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")");
     // Entry points may differ between contexts (another backend's were loaded last).
     if (gladLoadGL(reinterpret_cast<GLADloadfunc>(egl_proc)) == 0)
       throw DisplayError("EGL: could not reload OpenGL entry points");
+    note_current_gl_backend(this);
   }
 
  private:

@@ -15,6 +15,13 @@ std::string gl_string(GLenum name) {
 }
 }  // namespace
 
+namespace {
+thread_local const void* current_backend = nullptr;
+}  // namespace
+
+void note_current_gl_backend(const void* backend) { current_backend = backend; }
+const void* current_gl_backend() { return current_backend; }
+
 std::string describe_offered_context(GlProcLoader get_proc) {
   using GetString = const GLubyte*(GLAD_API_PTR*)(GLenum);
   auto get_string = reinterpret_cast<GetString>(get_proc("glGetString"));
@@ -25,6 +32,7 @@ std::string describe_offered_context(GlProcLoader get_proc) {
 }
 
 GlInfo load_and_check_gl(const char* subsystem, GlProcLoader get_proc, const DisplayRequest& request) {
+  note_current_gl_backend(nullptr);  // the caller notes itself once the context is checked
   // glad's loader takes a function returning GLADapiproc; backends hand us void* getters.
   const int loaded = gladLoadGL(reinterpret_cast<GLADloadfunc>(get_proc));
   if (loaded == 0) {

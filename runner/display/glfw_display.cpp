@@ -107,6 +107,7 @@ class GlfwDisplay final : public DisplayBackend {
     // the one "auto" opens to look at the renderer) switches Mesa's shared GL dispatch without GLX
     // knowing, and GLX (glvnd) skips a make-current to the context it believes is still current,
     // which left the dispatch empty ("could not reload OpenGL entry points").
+    note_current_gl_backend(nullptr);
     glfwMakeContextCurrent(nullptr);
     glfwMakeContextCurrent(window_);
     if (gladLoadGL(reinterpret_cast<GLADloadfunc>(glfw_proc)) == 0)
@@ -184,6 +185,7 @@ class GlfwDisplay final : public DisplayBackend {
       for (; self->wheel_clicks_ >= 1.0; self->wheel_clicks_ -= 1.0) self->pending_input_.push_back({"wheel_up", shift});
       for (; self->wheel_clicks_ <= -1.0; self->wheel_clicks_ += 1.0) self->pending_input_.push_back({"wheel_down", shift});
     });
+    note_current_gl_backend(nullptr);
     glfwMakeContextCurrent(window_);
     // Vsync: one buffer swap per vertical refresh, so a stimulus of n frames stays n refreshes.
     glfwSwapInterval(request.vsync ? 1 : 0);
@@ -245,6 +247,7 @@ class GlfwDisplay final : public DisplayBackend {
     glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
     GLFWwindow* probe = glfwCreateWindow(16, 16, "probe", nullptr, nullptr);
     if (probe == nullptr) return "";
+    note_current_gl_backend(nullptr);
     glfwMakeContextCurrent(probe);
     const std::string found = describe_offered_context(glfw_proc);
     glfwMakeContextCurrent(nullptr);

@@ -105,7 +105,12 @@ class OpenXrDisplay final : public DisplayBackend,
 
   std::string kind() const override { return "openxr"; }
   const GlInfo& gl_info() const override { return info_; }
-  void make_current() override { mirror_->make_current(); }
+  // The runtime may make contexts of its own current between our calls: the mirror is made current
+  // whole each time.
+  void make_current() override {
+    note_current_gl_backend(nullptr);
+    mirror_->make_current();
+  }
   // The frame's size ([display] width_px x height_px), drawn into frame_framebuffer(); the mirror
   // window shows it at whatever size the window manager gave it.
   int width_px() const override { return 2 * view_width_px_; }

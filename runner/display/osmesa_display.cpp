@@ -97,6 +97,7 @@ class OsMesaDisplay final : public HeadlessDisplay {
   }
 
   void make_current() override {
+    note_current_gl_backend(nullptr);  // OSMesa switches Mesa's dispatch without EGL knowing
     if (!osmesa().make_current(context_, buffer_.data(), GL_FLOAT, width_px_, height_px_)) {
       throw DisplayError("OSMesa: OSMesaMakeCurrent failed for a float buffer of " + std::to_string(width_px_) + "x" +
                          std::to_string(height_px_));
@@ -116,6 +117,7 @@ class OsMesaDisplay final : public HeadlessDisplay {
     if (probe == nullptr) return " (and no default context could be created either)";
     std::vector<float> pixel(4);
     std::string found;
+    note_current_gl_backend(nullptr);
     if (osmesa().make_current(probe, pixel.data(), GL_FLOAT, 1, 1)) found = describe_offered_context(osmesa_proc);
     osmesa().destroy_context(probe);
     return found;

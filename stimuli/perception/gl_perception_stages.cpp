@@ -21,7 +21,7 @@ PerceptionResult GlPerceptionStages::run(const ImageRGBA& scene, const Perceptio
       depth = glared.depth;
     };
   PerceptionResult result;
-  const GlFrameBuffer& last = run_stages(scene, input, eye, settings, display, uploaded, result);
+  const GlFrameBuffer& last = run_stages(scene, input, eye, settings, display, uploaded, 0, result);
   result.image = last.download();
   stamp("read back");
   read_stamps(result);
@@ -51,9 +51,9 @@ void GlPerceptionStages::read_stamps(PerceptionResult& result) {
 PerceptionResult GlPerceptionStages::run_on_gpu(const ImageRGBA& scene, const PerceptionFrameInput& input,
                                                 TemporalAdaptation& eye, const PerceptionSettings& settings,
                                                 const DisplaySpec& display, const GlareOnGpu& glare,
-                                                std::shared_ptr<GlFrameBuffer>& out) {
+                                                std::uint64_t scene_token, std::shared_ptr<GlFrameBuffer>& out) {
   PerceptionResult result;
-  const GlFrameBuffer& last = run_stages(scene, input, eye, settings, display, glare, result);
+  const GlFrameBuffer& last = run_stages(scene, input, eye, settings, display, glare, scene_token, result);
   out = std::make_shared<GlFrameBuffer>(scene.width_px, scene.height_px);
   out->copy_from(last.buffer());
   stamp("kept");
@@ -62,10 +62,32 @@ PerceptionResult GlPerceptionStages::run_on_gpu(const ImageRGBA& scene, const Pe
   return result;
 }
 
+void GlPerceptionStages::load_scene(const ImageRGBA& scene, std::uint64_t scene_token) {
+  const bool kept = scene_token != 0 && scene_token == kept_scene_token_ && kept_scene_ &&
+                    kept_scene_->width_px() == scene.width_px && kept_scene_->height_px() == scene.height_px;
+  if (kept) {
+    // The frames of an interval: 33 MB at 1920 x 1080 copied on the GPU, where the upload from the
+    // host took 7.7 ms of the H200's frame (docs/PERFORMANCE.md, 30 November).
+    frame_->copy_from(kept_scene_->buffer());
+    return;
+  }
+  ++scene_uploads_;
+  if (scene_token == 0) {
+    frame_->upload(scene);
+    return;
+  }
+  if (!kept_scene_ || kept_scene_->width_px() != scene.width_px || kept_scene_->height_px() != scene.height_px)
+    kept_scene_ = std::make_unique<GlFrameBuffer>(scene.width_px, scene.height_px);
+  kept_scene_token_ = 0;  // until the upload below is made
+  kept_scene_->upload(scene);
+  kept_scene_token_ = scene_token;
+  frame_->copy_from(kept_scene_->buffer());
+}
+
 GlFrameBuffer& GlPerceptionStages::run_stages(const ImageRGBA& scene, const PerceptionFrameInput& input,
                                               TemporalAdaptation& eye, const PerceptionSettings& settings,
                                               const DisplaySpec& display, const GlareOnGpu& glare,
-                                              PerceptionResult& result) {
+                                              std::uint64_t scene_token, PerceptionResult& result) {
   check_perception_inputs(eye, settings);
   if (scene.empty()) throw std::invalid_argument("perception adaptation: the frame is empty");
   if (!frame_ || frame_->width_px() != scene.width_px || frame_->height_px() != scene.height_px) {
@@ -73,7 +95,7 @@ GlFrameBuffer& GlPerceptionStages::run_stages(const ImageRGBA& scene, const Perc
     blurred_ = std::make_unique<GlFrameBuffer>(scene.width_px, scene.height_px);
   }
   stamp(nullptr);
-  frame_->upload(scene);
+  load_scene(scene, scene_token);
 
   // Section 5.1: on the scene, before glare.
   result.frame_luminance_cd_m2 =

@@ -7,8 +7,11 @@
 // -> scotopic colour (GlScotopicColour). One upload, one read-back per frame (two more with glare).
 // run_on_gpu leaves the frame on the GPU instead: its glare hands the glared frame over in a GL
 // buffer where it can, and the perceived frame stays in a buffer the caller keeps; the only
-// read-back is then the adaptation pyramid's top cells (a reduction of a few values).
+// read-back is then the adaptation pyramid's top cells (a reduction of a few values), and a scene
+// the caller names by a token (FrameFacts::gpu_scene_token) goes up once for all its frames.
 // Requires a current OpenGL 4.5 context; not thread-safe.
+#include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -36,21 +39,31 @@ class GlPerceptionStages {
   // on the GPU where it can (a GL buffer copied, nothing read back), else uploaded from the host.
   using GlareOnGpu = std::function<void(const ImageRGBA& scene, GlFrameBuffer& out)>;
   // run() with the perceived frame left on the GPU, in a buffer made for this frame (`out`, so that
-  // frames made ahead of their flips are each kept): `result.image` stays empty.
+  // frames made ahead of their flips are each kept): `result.image` stays empty. `scene_token`: 0,
+  // or a token the caller gives this scene and no other (FrameFacts::gpu_scene_token); the scene
+  // last uploaded under the same token is copied on the GPU instead of uploaded again.
   PerceptionResult run_on_gpu(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
                               const PerceptionSettings& settings, const DisplaySpec& display, const GlareOnGpu& glare,
-                              std::shared_ptr<GlFrameBuffer>& out);
+                              std::uint64_t scene_token, std::shared_ptr<GlFrameBuffer>& out);
+  // How many scenes went up from the host (each run(), each run_on_gpu() with a new token or none).
+  std::size_t scene_uploads() const { return scene_uploads_; }
 
  private:
   // The stages up to the frame's last one; returns the buffer that holds it (frame_ or blurred_).
   GlFrameBuffer& run_stages(const ImageRGBA& scene, const PerceptionFrameInput& input, TemporalAdaptation& eye,
                             const PerceptionSettings& settings, const DisplaySpec& display, const GlareOnGpu& glare,
-                            PerceptionResult& result);
+                            std::uint64_t scene_token, PerceptionResult& result);
+  // The scene into frame_: uploaded, or copied from kept_scene_ when it holds the same token's.
+  void load_scene(const ImageRGBA& scene, std::uint64_t scene_token);
   GlFrameAdaptationLuminance adaptation_;
   GlAcuityLoss acuity_;
   GlToneMapping tone_mapping_;
   GlScotopicColour scotopic_;
   std::unique_ptr<GlFrameBuffer> frame_, blurred_;  // kept while the frame size stays the same
+  // The last scene uploaded under a token, as it came (the stages overwrite frame_).
+  std::unique_ptr<GlFrameBuffer> kept_scene_;
+  std::uint64_t kept_scene_token_ = 0;
+  std::size_t scene_uploads_ = 0;
   // GL_TIMESTAMP queries: one before the first stage and one after each that ran (and after the
   // frame is kept, run_on_gpu), made on first use; read into result.gpu_stages_s at the frame's end.
   std::vector<Query> timestamps_;
