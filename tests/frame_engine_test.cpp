@@ -57,7 +57,8 @@ ImageRGBA night_scene() {
   return frame;
 }
 
-EyeFrame frame_at(FrameEngine& engine, const ImageRGBA& scene, const PerceptionSettings& stages, int k) {
+// Frame k of a static-glare interval on `scene`, every stage of `stages`.
+EyeFrameRequest request_at(const ImageRGBA& scene, const PerceptionSettings& stages, int k) {
   EyeFrameRequest request(scene);
   request.mode = GlareMode::static_eye;
   request.glared = true;
@@ -66,7 +67,11 @@ EyeFrame frame_at(FrameEngine& engine, const ImageRGBA& scene, const PerceptionS
   request.frame_time_s = kPeriodS;
   request.gaze = GazePoint{0.4, 0.45};
   request.field_cd_m2 = mean_luminance(scene);
-  return engine.frame(request);
+  return request;
+}
+
+EyeFrame frame_at(FrameEngine& engine, const ImageRGBA& scene, const PerceptionSettings& stages, int k) {
+  return engine.frame(request_at(scene, stages, k));
 }
 
 class FrameEngineGlTest : public ::testing::Test {
@@ -165,14 +170,7 @@ TEST_F(FrameEngineGlTest, FramesKeptOnTheGpuWithTheirScenesFactsEqualTheCpuEngin
   ASSERT_EQ(gl.kind(), FrameEngineKind::gl);
   FrameFacts cpu_facts_a, cpu_facts_b, gl_facts_a, gl_facts_b;
   const auto request_for = [&](const ImageRGBA& scene, FrameFacts& facts, int k, bool on_gpu) {
-    EyeFrameRequest request(scene);
-    request.mode = GlareMode::static_eye;
-    request.glared = true;
-    request.perception = &stages;
-    request.time_s = 1.0 + k * kPeriodS;
-    request.frame_time_s = kPeriodS;
-    request.gaze = GazePoint{0.4, 0.45};
-    request.field_cd_m2 = mean_luminance(scene);
+    EyeFrameRequest request = request_at(scene, stages, k);
     request.facts = &facts;
     request.on_gpu = on_gpu;
     return request;
