@@ -57,12 +57,33 @@ engine=()
 if "$build/glarelab" bench --help 2>/dev/null | grep -q -- '--engine'; then engine=(--engine gpu); fi
 quick=()
 if [ "${GPU_CHECK_QUICK:-0}" = 1 ]; then quick=(--quick); fi
+# The GPU's SM clock through the benches, four samples a second: a GPU left mostly idle between
+# short submissions stays near its idle clock, and its stage times scale with it (an H200's GL
+# transforms took 0.58 ms at 1980 MHz and 2.87 ms near 345 MHz; docs/PERFORMANCE.md).
+sampler=
+if command -v nvidia-smi >/dev/null; then
+  nvidia-smi --query-gpu=clocks.sm,clocks.max.sm,utilization.gpu --format=csv,noheader,nounits -lms 250 \
+    > "$build/clocks.csv" 2>/dev/null &
+  sampler=$!
+fi
 step "glarelab bench ${quick[*]} ${engine[*]}"
 "$build/glarelab" bench "${quick[@]}" "${engine[@]}" > "$build/bench.log" 2>&1 || fail "bench" "$build/bench.log"
 step "glarelab bench --perception-only ${engine[*]}"
 "$build/glarelab" bench --perception-only "${engine[@]}" > "$build/bench_perception.log" 2>&1 ||
   fail "bench --perception-only" "$build/bench_perception.log"
 finished=$(date +%s)
+clocks="not sampled (no nvidia-smi)"
+if [ -n "$sampler" ]; then
+  kill "$sampler" 2>/dev/null
+  wait "$sampler" 2>/dev/null
+  clocks=$(grep -E '^[0-9]+, *[0-9]+' "$build/clocks.csv" | sort -t, -k1,1n |
+    awk -F', *' '{ n++; s[n] = $1; if ($1 >= 0.9 * $2) high++; max = $2 }
+      END { if (n == 0) { print "no samples"; exit }
+            printf "%d samples: median %d MHz, %d %% of them at 90 %% of the maximum %d MHz or above", n,
+            s[int((n + 1) / 2)], 100 * high / n, max }')
+fi
+# The GL engine's whole frame (the frame engines' row of --perception-only): fastest ms.
+engine_frame=$(awk -F'|' '$2 ~ /^ gl $/ { gsub(/ /, "", $4); print $4; exit }' "$build/bench_perception.log")
 
 gpu=$(nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader 2>/dev/null | head -n 1)
 renderer=$(grep -m 1 '^OpenGL renderer:' "$build/bench.log" | sed 's/^OpenGL renderer: //; s/\.$//')
@@ -75,9 +96,11 @@ cpu=$(grep -m 1 'model name' /proc/cpuinfo | sed 's/.*: //')
   echo "| machine | $(hostname): ${cpu:-unknown CPU}, $jobs cores |"
   echo "| GPU | ${gpu:-no nvidia-smi} |"
   echo "| OpenGL renderer | ${renderer:-not reported} |"
-  echo "| commit | $(git rev-parse --short HEAD 2>/dev/null || echo unknown) |"
+  echo "| binaries | $("$build/glarelab" --version 2>/dev/null || echo unknown) |"
   echo "| GL tests | $tests_passed passed, $tests_failed failed, $tests_skipped skipped (exit $tests_status) |"
   echo "| build / tests / bench | $((built - started)) s / $((tested - built)) s / $((finished - tested)) s |"
+  echo "| GL engine frame, 1920 x 1080, static Ritschel glare and every perception stage | fastest ${engine_frame:-not reported} ms |"
+  echo "| SM clock during the benches | $clocks |"
   echo "| load average at the end | $(cut -d' ' -f1-3 /proc/loadavg) |"
   echo
   echo "### glarelab bench ${quick[*]} ${engine[*]}"
