@@ -124,6 +124,27 @@ std::shared_ptr<EglConnection> connect(std::string& tried) {
   return connection;
 }
 
+// "; the driver offers OpenGL ..." from a default context made only to ask (as the OSMesa and
+// GLFW backends say when a version is refused), or nothing when none can be made either.
+std::string describe_default_context(EGLDisplay display, EGLConfig config) {
+  const EGLContext probe = eglCreateContext(display, config, EGL_NO_CONTEXT, nullptr);
+  if (probe == EGL_NO_CONTEXT) return "";
+  const EGLint size[] = {EGL_WIDTH, 1, EGL_HEIGHT, 1, EGL_NONE};
+  const EGLSurface surface = eglCreatePbufferSurface(display, config, size);
+  std::string found;
+  const EGLContext before = eglGetCurrentContext();
+  const EGLSurface before_draw = eglGetCurrentSurface(EGL_DRAW), before_read = eglGetCurrentSurface(EGL_READ);
+  if (surface != EGL_NO_SURFACE && eglMakeCurrent(display, surface, surface, probe) == EGL_TRUE) {
+    note_current_gl_backend(nullptr);
+    found = describe_offered_context(egl_proc);
+    if (eglMakeCurrent(display, before_draw, before_read, before) != EGL_TRUE)
+      eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  }
+  if (surface != EGL_NO_SURFACE) eglDestroySurface(display, surface);
+  eglDestroyContext(display, probe);
+  return found;
+}
+
 class EglDisplay final : public HeadlessDisplay {
  public:
   explicit EglDisplay(const DisplayRequest& request)
@@ -162,7 +183,8 @@ class EglDisplay final : public HeadlessDisplay {
     if (context_ == EGL_NO_CONTEXT) {
       std::ostringstream message;
       message << "EGL: " << connection_->platform << ": could not create an OpenGL " << request.gl_major << "."
-              << request.gl_minor << " core context (" << egl_error_name(eglGetError()) << ")";
+              << request.gl_minor << " core context (" << egl_error_name(eglGetError()) << ")"
+              << describe_default_context(display, config);
       throw DisplayError(message.str());
     }
     const EGLint surface_attributes[] = {EGL_WIDTH, width_px_, EGL_HEIGHT, height_px_, EGL_NONE};
