@@ -23,9 +23,9 @@
 namespace glarelab {
 namespace {
 
-GlareSpec bench_glare(GlareBackendRequest backend) {
+GlareSpec bench_glare(GlareBackendRequest backend, GlareModel model = GlareModel::ritschel) {
   GlareSpec spec;
-  spec.model = GlareModel::ritschel;  // the wave-optics eye alone: the glare these rows describe
+  spec.model = model;  // by default the wave-optics eye alone: the glare these rows describe
   spec.grid_px = 256;
   spec.wavelength_samples = 16;
   spec.skip_invisible = false;
@@ -105,8 +105,12 @@ FrameEngineBenchmarkResult run_frame_engine_benchmark(const FrameEngineBenchmark
   const ImageRGBA scene = perception_test_frame(options.width_px, options.height_px);
   const PerceptionSettings stages;  // every stage on
   FrameEngineBenchmarkResult result;
+  if (!uses_wave_optics(options.model))
+    throw std::invalid_argument("frame engine benchmark: the glare model " + to_string(options.model) +
+                                " has no wave-optics part (ritschel, hybrid or human)");
   result.width_px = options.width_px;
   result.height_px = options.height_px;
+  result.model = to_string(options.model);
   result.floor_cd_m2 = 1e-4 * display.peak_luminance_cd_m2;
   result.floor_sizes = convolution_sizes(scene, bench_glare(GlareBackendRequest::automatic), display);
   // Planned once (FFTW_MEASURE), before any frame; timed after each engine's frames.
@@ -117,7 +121,7 @@ FrameEngineBenchmarkResult run_frame_engine_benchmark(const FrameEngineBenchmark
     // The GL engine in one context, as a session's in the display's: its frames stay on the GPU
     // (EyeFrameRequest::on_gpu); the first is read back to be compared.
     std::unique_ptr<GlContext> one_context = gl_context ? gl_context() : nullptr;
-    FrameEngine engine(bench_glare(backend), AdaptationTimeConstants{}, display, 1,
+    FrameEngine engine(bench_glare(backend, options.model), AdaptationTimeConstants{}, display, 1,
                        one_context ? one_context_factory(*one_context) : GlContextFactory());
     FrameEngineBenchmarkRow row;
     row.engine = std::string(spelling(engine.kind()));
@@ -169,7 +173,7 @@ FrameEngineBenchmarkResult run_frame_engine_benchmark(const FrameEngineBenchmark
   // No GL context: the CPU engine, the glare on the planned float32 path, as sessions run it.
   result.rows.push_back(run(GlareBackendRequest::automatic, {}, options.repeats));
   if (options.gl_context) result.rows.push_back(run(GlareBackendRequest::gl, options.gl_context, options.repeats));
-  result.refraction_rows = time_refraction_psfs(display, options.repeats);
+  if (options.refraction_rows) result.refraction_rows = time_refraction_psfs(display, options.repeats);
   return result;
 }
 
@@ -188,13 +192,14 @@ std::string format_frame_engine_benchmark(const FrameEngineBenchmarkResult& resu
   std::string sizes;
   for (const auto& [rows, cols] : result.floor_sizes)
     sizes += (sizes.empty() ? "" : ", ") + std::to_string(cols) + " x " + std::to_string(rows);
-  char tail[400];
+  char tail[800];
   std::snprintf(tail, sizeof tail,
-                "\n%d x %d, per-pixel error floor %.3g cd/m2; the reference (the cpu engine, float64 glare) "
+                "\n%d x %d, glare %s, per-pixel error floor %.3g cd/m2; the reference (the cpu engine, float64 glare) "
                 "took %.1f ms a frame. FFTW floor: 3 forward + 3 inverse real transforms of each padded lit box "
-                "(%s), FFTW float, plans made once, measured right after each engine's frames; ratio: fastest "
+                "(%s)%s, FFTW float, plans made once, measured right after each engine's frames; ratio: fastest "
                 "frame over it.\n",
-                result.width_px, result.height_px, result.floor_cd_m2, 1e3 * result.reference_s, sizes.c_str());
+                result.width_px, result.height_px, result.model.c_str(), result.floor_cd_m2, 1e3 * result.reference_s,
+                sizes.c_str(), result.model == "ritschel" ? "" : " of the wave-optics part alone");
   text += tail;
   for (const FrameEngineBenchmarkRow& row : result.rows) {
     text += row.reason + "\n";

@@ -19,12 +19,17 @@
 #include <vector>
 
 #include "core/gl/gl_context.h"
+#include "glare/analytic/analytic_psf.h"
 
 namespace glarelab {
 
 struct FrameEngineBenchmarkOptions {
   int width_px = 1920, height_px = 1080;
   int repeats = 3;  // frames after the first (plans, buffers and the PSF made); the fastest kept
+  // The glare: the wave-optics eye alone (these rows' own), or another wave-optics model (hybrid,
+  // human) whose frame the floor's transforms, the wave-optics part's, are then a part of.
+  GlareModel model = GlareModel::ritschel;
+  bool refraction_rows = true;  // false: the PSF with a refraction is not timed
   GlContextFactory gl_context;  // empty: the CPU engine only
   std::function<void(const std::string&)> progress;
 };
@@ -60,6 +65,7 @@ struct RefractionPsfBenchmarkRow {
 
 struct FrameEngineBenchmarkResult {
   int width_px = 0, height_px = 0;
+  std::string model;  // the glare model's name
   double floor_cd_m2 = 0.0;
   double reference_s = 0.0;  // the reference frame's time
   // The convolutions the floor transforms: one padded size (rows x cols) per lit box.

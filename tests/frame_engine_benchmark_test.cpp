@@ -3,9 +3,11 @@
 // float64 reference frame; the floor transforms the padded size of the convolution the engine's glare
 // really does (the frame is lit everywhere: one box, the whole frame, grown by the PSF the glare
 // stage makes, to the next 2,3,5-smooth length); the table prints the floor and the ratio; the PSF
-// with a refraction by the CPU engine within 1e-5 of the float64 reference's, beside its floor.
+// with a refraction by the CPU engine within 1e-5 of the float64 reference's, beside its floor; the
+// hybrid eye's frame (the GPU target rows') within 1e-4 of its float64 reference.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +18,26 @@
 
 namespace glarelab {
 namespace {
+
+TEST(FrameEngineBenchmark, TheHybridEyesFrameAgreesWithItsFloat64ReferenceAndOtherModelsAreRefused) {
+  // The GPU target rows' glare (the hybrid eye: Ritschel near, Spencer far) through the CPU engine:
+  // its planned float32 frame against the float64 one, every perception stage, on a small frame.
+  FrameEngineBenchmarkOptions options;
+  options.width_px = 160;
+  options.height_px = 120;
+  options.repeats = 1;
+  options.model = GlareModel::hybrid;
+  options.refraction_rows = false;
+  const FrameEngineBenchmarkResult result = run_frame_engine_benchmark(options);
+  EXPECT_EQ(result.model, "hybrid");
+  ASSERT_EQ(result.rows.size(), 1u);
+  EXPECT_GT(result.rows.front().relative_l2_error, 0.0);
+  EXPECT_LT(result.rows.front().relative_l2_error, 1e-4);
+  EXPECT_TRUE(result.refraction_rows.empty());
+  EXPECT_NE(format_frame_engine_benchmark(result).find("glare hybrid"), std::string::npos);
+  options.model = GlareModel::spencer;
+  EXPECT_THROW(run_frame_engine_benchmark(options), std::invalid_argument);
+}
 
 TEST(FrameEngineBenchmark, EachRowCarriesTheFftwFloorOfItsConvolutionAndItsError) {
   FrameEngineBenchmarkOptions options;
