@@ -219,8 +219,9 @@ Action add_bench_command(CLI::App& app) {
   command->add_flag("--no-gl", args->no_gl, "CPU backends only");
   CLI::Option* engine_option = add_choice_option(
       command, "--engine", args->engine,
-      "Frame engine to time: cpu (CPU rows only, as --no-gl), gpu (the CPU rows beside the GL rows) or auto (gpu on a "
-      "hardware GPU with OpenGL 4.5, else cpu); default: every backend");
+      "Frame engine to time: cpu (CPU rows only, as --no-gl), gpu (the CPU rows beside the GL rows; with "
+      "--perception-only also both engines at the GPU's targets: 1920 x 1080 with hybrid glare, a 1440 x 1600 headset "
+      "eye) or auto (gpu on a hardware GPU with OpenGL 4.5, else cpu); default: every backend");
   command->add_option("--grids", args->grids,
                       "Grid sizes N of the glare rows, in aperture pixels (even; powers of two 16..4096 with GL), "
                       "replacing the default 256 512 1024 (2048)")
