@@ -13,10 +13,8 @@ std::string gl_string(GLenum name) {
   const auto* text = reinterpret_cast<const char*>(glGetString(name));
   return text ? std::string(text) : std::string("(none)");
 }
-}  // namespace
 
-namespace {
-thread_local const void* current_backend = nullptr;
+thread_local const void* current_backend = nullptr;  // note_current_gl_backend's, per thread
 }  // namespace
 
 void note_current_gl_backend(const void* backend) { current_backend = backend; }
