@@ -204,13 +204,8 @@ std::string format_frame_engine_benchmark(const FrameEngineBenchmarkResult& resu
   for (const FrameEngineBenchmarkRow& row : result.rows) {
     text += row.reason + "\n";
     if (row.gpu_stages_s.empty()) continue;
-    text += "Engine " + row.engine + ", the frame kept on the GPU, its fastest frame: GPU time by stage (timer queries)";
-    for (const auto& [stage, seconds] : row.gpu_stages_s) {
-      std::snprintf(line, sizeof line, "%s %s %.2f ms", &stage == &row.gpu_stages_s.front().first ? ":" : ",",
-                    stage.c_str(), 1e3 * seconds);
-      text += line;
-    }
-    text += "; read back: " + row.read_backs_per_frame + ".\n";
+    text += "Engine " + row.engine + ", the frame kept on the GPU, its fastest frame: GPU time by stage (timer queries): " +
+            describe_gpu_stages(row) + ".\n";
   }
   if (result.refraction_rows.empty()) return text;
   text += "\nThe display PSF with the observer's refraction (-1 D; N = 256, 16 wavelengths, one FFT each with the "
@@ -223,6 +218,17 @@ std::string format_frame_engine_benchmark(const FrameEngineBenchmarkResult& resu
     text += line;
   }
   return text;
+}
+
+std::string describe_gpu_stages(const FrameEngineBenchmarkRow& row) {
+  if (row.gpu_stages_s.empty()) return {};
+  std::string text;
+  char part[128];
+  for (const auto& [stage, seconds] : row.gpu_stages_s) {
+    std::snprintf(part, sizeof part, "%s%s %.2f ms", text.empty() ? "" : ", ", stage.c_str(), 1e3 * seconds);
+    text += part;
+  }
+  return text + "; read back: " + row.read_backs_per_frame;
 }
 
 }  // namespace glarelab

@@ -77,5 +77,8 @@ struct FrameEngineBenchmarkResult {
 FrameEngineBenchmarkResult run_frame_engine_benchmark(const FrameEngineBenchmarkOptions& options);
 // A Markdown table: engine, first frame ms, fastest ms, floor ms, ratio, error against the reference.
 std::string format_frame_engine_benchmark(const FrameEngineBenchmarkResult& result);
+// A GL row's fastest frame by stage: "adaptation 2.75 ms, glare 5.66 ms, ...; read back: ..." (empty
+// for a row without GPU stages).
+std::string describe_gpu_stages(const FrameEngineBenchmarkRow& row);
 
 }  // namespace glarelab

@@ -1,7 +1,6 @@
 #include "stimuli/whole_frame_benchmark.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <iomanip>
@@ -111,13 +110,13 @@ WholeFrameBenchmarkResult run_whole_frame_benchmark(const WholeFrameBenchmarkOpt
   ImageRGBA seen;
   double best_cpu = 1e300;
   for (int k = 0; k <= options.repeats; ++k) {
-    const double cpu_start = process_cpu_time_s();
-    const auto start = std::chrono::steady_clock::now();
     DepthOfFieldReport report;
-    apply_depth_of_field(scene, depth_m, depth_settings, depth_buffers, seen, &report);
-    const double depth_cpu_s = process_cpu_time_s() - cpu_start, depth_wall_s = seconds_since(start);
-    EyeFrame frame = engine.frame(request_for(seen, k));
-    const double wall_s = seconds_since(start), cpu_s = process_cpu_time_s() - cpu_start;
+    const CallTimes depth_times =
+        time_call([&] { apply_depth_of_field(scene, depth_m, depth_settings, depth_buffers, seen, &report); });
+    EyeFrame frame;
+    const CallTimes engine_times = time_call([&] { frame = engine.frame(request_for(seen, k)); });
+    const double depth_wall_s = depth_times.wall_s, depth_cpu_s = depth_times.cpu_s;
+    const double wall_s = depth_wall_s + engine_times.wall_s, cpu_s = depth_cpu_s + engine_times.cpu_s;
     // A row of a frame whose glare was skipped would time less than the frame: refused.
     if (frame.reports.empty() || !frame.reports.front().convolved)
       throw std::runtime_error("whole frame benchmark: the frame's glare was not convolved (" +

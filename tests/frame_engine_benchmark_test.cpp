@@ -39,6 +39,15 @@ TEST(FrameEngineBenchmark, TheHybridEyesFrameAgreesWithItsFloat64ReferenceAndOth
   EXPECT_THROW(run_frame_engine_benchmark(options), std::invalid_argument);
 }
 
+TEST(FrameEngineBenchmark, AGlRowsStagesAreNamedInTheirOrderInMilliseconds) {
+  FrameEngineBenchmarkRow row;
+  EXPECT_EQ(describe_gpu_stages(row), "");  // a CPU row has no GPU stages
+  row.gpu_stages_s = {{"adaptation", 2.75e-3}, {"glare", 5.664e-3}, {"convolution crop", 3e-5}};
+  row.read_backs_per_frame = "0 frame, 1 kernel (786.4 kB)";
+  EXPECT_EQ(describe_gpu_stages(row),
+            "adaptation 2.75 ms, glare 5.66 ms, convolution crop 0.03 ms; read back: 0 frame, 1 kernel (786.4 kB)");
+}
+
 TEST(FrameEngineBenchmark, EachRowCarriesTheFftwFloorOfItsConvolutionAndItsError) {
   FrameEngineBenchmarkOptions options;
   options.width_px = 160;

@@ -5,7 +5,6 @@
 #include <iostream>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "glare/glare_backend.h"
@@ -86,9 +85,14 @@ void print_gpu_target_rows(const BenchArguments& args) {
                "the CPU engine with the float64 glare.\n\n"
                "| frame | engine | fastest frame ms | relative L2 error | max per-pixel relative error |\n"
                "|---|---|---|---|---|\n";
+  struct Target {
+    int width_px, height_px;
+    double gl_frame_s = 0.0;
+  };
+  Target desktop{1920, 1080}, headset_eye{1440, 1600};
   std::vector<std::string> stage_lines;
-  double desktop_s = 0.0, headset_eye_s = 0.0;
-  for (const auto& [width_px, height_px] : {std::pair{1920, 1080}, std::pair{1440, 1600}}) {
+  for (Target* target : {&desktop, &headset_eye}) {
+    const int width_px = target->width_px, height_px = target->height_px;
     FrameEngineBenchmarkOptions options;
     options.width_px = width_px;
     options.height_px = height_px;
@@ -104,14 +108,9 @@ void print_gpu_target_rows(const BenchArguments& args) {
                     1e3 * row.fastest_frame_s, row.relative_l2_error, row.max_relative_error);
       std::cout << line;
       if (row.engine != "gl") continue;
-      (width_px == 1920 ? desktop_s : headset_eye_s) = row.fastest_frame_s;
-      std::string stages = std::to_string(width_px) + " x " + std::to_string(height_px) + ", GL, GPU time by stage:";
-      for (const auto& [stage, seconds] : row.gpu_stages_s) {
-        char part[96];
-        std::snprintf(part, sizeof part, " %s %.2f ms;", stage.c_str(), 1e3 * seconds);
-        stages += part;
-      }
-      stage_lines.push_back(stages + " read back: " + row.read_backs_per_frame + ".");
+      target->gl_frame_s = row.fastest_frame_s;
+      stage_lines.push_back(std::to_string(width_px) + " x " + std::to_string(height_px) +
+                            ", GL, GPU time by stage: " + describe_gpu_stages(row) + ".");
     }
   }
   std::cout << "\n";
@@ -120,7 +119,7 @@ void print_gpu_target_rows(const BenchArguments& args) {
   std::snprintf(summary, sizeof summary,
                 "GL engine: 1920 x 1080 with hybrid glare and every perception stage %.2f ms a frame (2 ms asked); "
                 "two eyes of 1440 x 1600 made one after the other 2 x %.2f = %.2f ms (the 11.1 ms of 90 Hz).\n",
-                1e3 * desktop_s, 1e3 * headset_eye_s, 2e3 * headset_eye_s);
+                1e3 * desktop.gl_frame_s, 1e3 * headset_eye.gl_frame_s, 2e3 * headset_eye.gl_frame_s);
   std::cout << summary;
   print_load_average("the GPU target rows");
 }
