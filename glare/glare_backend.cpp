@@ -106,7 +106,7 @@ struct Candidate {
 };
 
 std::optional<std::string> gl_unavailable(const GlareBackendSettings& settings, Probe& probe) {
-  if (settings.grid_px != 0 && !gl::is_supported_fft_length(settings.grid_px))
+  if (settings.grid_px != 0 && !gl::is_power_of_two_fft_length(settings.grid_px))
     return "grid_px " + std::to_string(settings.grid_px) + " is not a power of two from 16 to 4096, which the GL path needs";
   try {
     probe.context = make_context(settings);

@@ -118,7 +118,7 @@ struct GlareBackendSettings {
   // Makes the OpenGL context the GL path works in (runner/display/compute_context.h gives the
   // program's). Empty: no GL here; "gl" is refused and "auto" takes the CPU.
   GlContextFactory gl_context;
-  // The PSF grid to come: "auto" takes GL only for the GL FFT's sizes (powers of two from 16 to
+  // The PSF grid to come: "auto" takes GL only for the GL PSF's grids (powers of two from 16 to
   // 4096). 0: not known, not checked (the GL path refuses other sizes when it computes).
   int grid_px = 0;
   // A session's frames: "auto" on the CPU takes the planned float32 path for this layout. Nothing:

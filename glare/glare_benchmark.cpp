@@ -317,8 +317,8 @@ GlareBenchmarkResult run_glare_benchmark(const GlareBenchmarkOptions& options) {
   };
   for (int n : options.grid_sizes) {
     if (n < 16 || n % 2 != 0) throw std::invalid_argument("glare benchmark: grid " + std::to_string(n) + " is not an even size >= 16");
-    if (options.gl_context && !gl::is_supported_fft_length(n))
-      throw std::invalid_argument("glare benchmark: grid " + std::to_string(n) + " is not a GL FFT size (powers of two 16..4096)");
+    if (options.gl_context && !gl::is_power_of_two_fft_length(n))
+      throw std::invalid_argument("glare benchmark: grid " + std::to_string(n) + " is not a GL PSF grid (powers of two 16..4096)");
   }
   GlareBenchmarkResult result;
   // The first instant from time_s on (steps of 0.1 s) with no blink under way: a closing lid would

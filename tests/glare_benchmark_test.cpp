@@ -116,7 +116,7 @@ TEST(GlareBenchmark, TinyGridsGiveOneRowPerBackendWithErrorsAndATable) {
     EXPECT_NE(frame_rows[k].find(ratio), std::string::npos) << frame_rows[k];
   }
 
-  options.grid_sizes = {48};  // not a GL FFT size
+  options.grid_sizes = {48};  // a GL FFT length, but not a GL PSF grid (a power of two)
   EXPECT_THROW(run_glare_benchmark(options), std::invalid_argument);
 }
 

@@ -116,19 +116,62 @@ TEST_F(GlFftTest, ParsevalAndRoundTrip) {
   }
 }
 
+// Lengths of 2s, 3s and 5s (a padded grid fitted to its frame), each against FFTW in double: every
+// radix alone and mixed, a line of 3^7 alone in its workgroup, lines of 16 by the hundred, several
+// layers, forward and inverse.
+TEST_F(GlFftTest, MixedRadixLengthsMatchFftwDouble) {
+  struct Case {
+    int width, height, layers;
+  };
+  for (const Case c : {Case{48, 80, 1}, Case{360, 54, 3}, Case{2187, 16, 1}, Case{16, 1125, 1}, Case{1350, 20, 2},
+                       Case{32, 18, 1}}) {
+    SCOPED_TRACE(std::to_string(c.width) + " x " + std::to_string(c.height) + " x " + std::to_string(c.layers));
+    gl::GlFft fft(c.width, c.height, c.layers);
+    const auto input = random_grid(fft.element_count(), static_cast<std::uint64_t>(c.width * 7 + c.height));
+    fft.upload(input);
+    fft.transform(gl::FftDirection::forward);
+    const auto output = fft.download();
+    const std::size_t layer_size = static_cast<std::size_t>(c.width) * c.height;
+    for (int layer = 0; layer < c.layers; ++layer) {
+      const auto begin = static_cast<std::ptrdiff_t>(layer * layer_size), end = begin + static_cast<std::ptrdiff_t>(layer_size);
+      const std::vector<std::complex<float>> in(input.begin() + begin, input.begin() + end);
+      const std::vector<std::complex<float>> out(output.begin() + begin, output.begin() + end);
+      EXPECT_LE(relative_l2(out, fftw_2d(in, c.width, c.height, FFTW_FORWARD)), 1e-5) << "layer " << layer;
+    }
+    fft.transform(gl::FftDirection::inverse);
+    EXPECT_LE(relative_l2(fft.download(), std::vector<Complex>(input.begin(), input.end())), 1e-5) << "round trip";
+  }
+}
+
+TEST_F(GlFftTest, RadicesAreFoursThenATwoThenThreesAndFives) {
+  EXPECT_EQ(gl::fft_radices(4096), (std::vector<int>{4, 4, 4, 4, 4, 4}));
+  EXPECT_EQ(gl::fft_radices(2048), (std::vector<int>{4, 4, 4, 4, 4, 2}));
+  EXPECT_EQ(gl::fft_radices(1350), (std::vector<int>{2, 3, 3, 3, 5, 5}));
+  EXPECT_EQ(gl::fft_radices(2187), (std::vector<int>(7, 3)));
+  EXPECT_EQ(gl::fft_radices(960), (std::vector<int>{4, 4, 4, 3, 5}));
+  EXPECT_TRUE(gl::fft_radices(1001).empty());
+  EXPECT_TRUE(gl::fft_radices(8).empty());
+}
+
 TEST_F(GlFftTest, RefusesUnsupportedSizes) {
-  for (const int bad : {0, 8, 100, 384, 8192}) {
+  for (const int bad : {0, 8, 112, 1001, 4097, 8192}) {
     EXPECT_THROW(gl::GlFft(bad, 256), std::invalid_argument) << bad;
     EXPECT_THROW(gl::GlFft(256, bad), std::invalid_argument) << bad;
   }
   try {
-    gl::GlFft fft(300, 256);
-    FAIL() << "a width of 300 was accepted";
+    gl::GlFft fft(1001, 256);
+    FAIL() << "a width of 1001 (7 x 11 x 13) was accepted";
   } catch (const std::invalid_argument& error) {
-    EXPECT_NE(std::string(error.what()).find("width 300 is not a power of two"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("width 1001 is not a product of 2s, 3s and 5s"), std::string::npos)
+        << error.what();
   }
   EXPECT_TRUE(gl::is_supported_fft_length(4096));
+  EXPECT_TRUE(gl::is_supported_fft_length(2187));
   EXPECT_FALSE(gl::is_supported_fft_length(4097));
+  EXPECT_FALSE(gl::is_supported_fft_length(14));
+  // The GL PSF's grids stay powers of two.
+  EXPECT_TRUE(gl::is_power_of_two_fft_length(1024));
+  EXPECT_FALSE(gl::is_power_of_two_fft_length(1350));
 }
 
 }  // namespace

@@ -55,7 +55,7 @@ Buffer storage(std::size_t bytes) {
 
 GlPsf::GlPsf(int size_px, double aperture_width_mm, int supersampling)
     : size_px_(size_px),
-      aperture_((is_supported_fft_length(size_px)
+      aperture_((is_power_of_two_fft_length(size_px)
                      ? size_px
                      : throw std::invalid_argument("GL PSF: grid size " + std::to_string(size_px) +
                                                    " is not a power of two from 16 to 4096")),

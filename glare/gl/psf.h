@@ -24,7 +24,7 @@ namespace glarelab::gl {
 
 class GlPsf {
  public:
-  // size_px: a power of two 16..4096 (is_supported_fft_length); aperture_width_mm: the side of the
+  // size_px: a power of two 16..4096 (is_power_of_two_fft_length); aperture_width_mm: the side of the
   // pupil-plane grid. Throws std::invalid_argument("GL PSF: ...") / ("GL aperture: ...").
   GlPsf(int size_px, double aperture_width_mm, int supersampling = 2);
 

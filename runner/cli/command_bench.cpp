@@ -291,7 +291,7 @@ Action add_bench_command(CLI::App& app) {
       }
       // Bad grids are refused before the memory rows' sessions run.
       for (const int grid : args->grids)
-        if (grid % 2 != 0 || (!args->no_gl && !gl::is_supported_fft_length(grid)))
+        if (grid % 2 != 0 || (!args->no_gl && !gl::is_power_of_two_fft_length(grid)))
           throw ConfigError({"--grids", 0, 0}, "grids",
                             "grid " + std::to_string(grid) + " is " +
                                 (grid % 2 != 0 ? std::string("odd") : std::string("not a GL FFT size")) +
