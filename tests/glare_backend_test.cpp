@@ -244,9 +244,9 @@ TEST_F(GlareBackendAgreement, NonPowerOfTwoImageWithSourcesAtTheEdgesDoesNotWrap
 }
 
 TEST_F(GlareBackendAgreement, ConvolutionLargerThanOneDispatchAgreesWithCpuDouble) {
-  // 400 x 200 padded to 512 x 256: three layers of 131 072 values, more than the 262 144
-  // invocations one complex-multiply dispatch runs, so every invocation strides (glare/gl/convolution.cpp).
-  ImageRGBA image(400, 200, 0.0f);
+  // 640 x 480 padded to 675 x 500: layers of 337 500 values, more than the 262 144 invocations one
+  // complex-multiply dispatch runs, so invocations stride (glare/gl/convolution.cpp).
+  ImageRGBA image(640, 480, 0.0f);
   for (int y = 0; y < image.height_px; ++y)
     for (int x = 0; x < image.width_px; ++x) {
       float* p = image.pixel(x, y);
@@ -265,7 +265,7 @@ TEST_F(GlareBackendAgreement, ConvolutionLargerThanOneDispatchAgreesWithCpuDoubl
   for (double& v : psf.values) v /= sum;
   CpuGlareBackend cpu(FftPrecision::float64);
   const double error = relative_l2(rgb_of(gl_->convolve(image, psf)), rgb_of(cpu.convolve(image, psf)));
-  std::cout << "GPU vs CPU double, 400x200 frame (strided multiply): relative L2 " << error << "\n";
+  std::cout << "GPU vs CPU double, 640x480 frame (strided multiply): relative L2 " << error << "\n";
   EXPECT_LE(error, 1e-5);
 }
 

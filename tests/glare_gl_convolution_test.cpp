@@ -101,8 +101,8 @@ TEST_F(GlConvolutionTest, MatchesDirectDoubleConvolution) {
     const Psf psf = random_psf(15, channels, 5);
     gl::GlConvolutionReport report;
     const ImageRGBA result = convolution.convolve(image, psf, {}, &report);
-    EXPECT_EQ(report.padded_width_px, 64);   // 40 + 14 -> 64
-    EXPECT_EQ(report.padded_height_px, 64);  // 30 + 14 -> 64
+    EXPECT_EQ(report.padded_width_px, 54);   // 40 + 14 -> 2 x 3^3 (the powers of two would take 64)
+    EXPECT_EQ(report.padded_height_px, 45);  // 30 + 14 -> 3^2 x 5
     EXPECT_FALSE(report.split);
     const double error = relative_l2(result, direct_convolution(image, psf));
     RecordProperty("direct_relative_l2_channels_" + std::to_string(channels), figure(error));
@@ -345,6 +345,9 @@ TEST_F(GlConvolutionTest, RefusesBadInput) {
   EXPECT_THROW(convolution.convolve(ImageRGBA(4000, 8, 1.0f), random_psf(201, 1, 2)), std::invalid_argument);
   EXPECT_EQ(gl::padded_fft_length(1), 16);
   EXPECT_EQ(gl::padded_fft_length(4096), 4096);
+  EXPECT_EQ(gl::padded_fft_length(17), 18);      // 2 x 3 x 3
+  EXPECT_EQ(gl::padded_fft_length(1335), 1350);  // 1080 + 256 - 1: 2 x 3^3 x 5^2
+  EXPECT_EQ(gl::padded_fft_length(2175), 2187);  // 1920 + 256 - 1: 3^7
   EXPECT_EQ(gl::padded_fft_length(4097), 0);
 }
 

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/fft_size.h"
 #include "core/gl/read_back.h"
 #include "core/gl/shader_program.h"
 
@@ -17,8 +18,8 @@ namespace {
 
 constexpr GLuint kMultiplyGroup = 256;
 // At most this many groups per dispatch (262 144 invocations): OpenGL guarantees only 65535 per
-// dimension and three 4096 x 4096 layers need 196 608; complex_multiply.comp strides over the rest
-// (from a 512 x 256 padded frame on, so the convolution tests run the loop).
+// dimension and a 4096 x 4096 layer needs 65 536; complex_multiply.comp strides over the rest
+// (from a 512 x 512 padded layer on, so the convolution tests run the loop).
 constexpr GLuint kMaxMultiplyGroups = 1024;
 constexpr GLuint kTile = 8;
 constexpr GLuint kPadTile = 16;  // convolution_pad_*.comp, convolution_crop.comp
@@ -70,8 +71,7 @@ float float_at_or_below(double value) {
 }  // namespace
 
 int padded_fft_length(int length) {
-  int padded = kFftMinLength;
-  while (padded < length && padded <= kFftMaxLength) padded *= 2;
+  const int padded = smooth_fft_size(std::max(length, kFftMinLength));
   return padded <= kFftMaxLength ? padded : 0;
 }
 
@@ -96,10 +96,13 @@ std::string GlConvolutionReport::describe_gpu_stages() const {
   return text.str();
 }
 
+// Complex layers a real layers' count takes packed two to one (R + iG, B).
+int packed_layers(int real_layers) { return (real_layers + 1) / 2; }
+
 struct GlConvolution::Ffts {
-  GlFft image;    // the dim part of the image, then its spectrum (kept: ImageSpectrum)
-  GlFft kernel;   // the PSF, then its spectrum (kept while the PSF stays)
-  GlFft product;  // their product, then the convolved layers
+  GlFft image;    // the dim part of the image (R + iG, B), then its spectrum (kept: ImageSpectrum)
+  GlFft kernel;   // the PSF (K, or K_R + iK_G and K_B), then its spectrum (kept while the PSF stays)
+  GlFft product;  // their product, then the convolved layers (R + iG, B)
 };
 
 GlConvolution::GlConvolution()
@@ -224,13 +227,13 @@ void GlConvolution::transform_psf(const Psf& psf, const Grid& grid) {
 void GlConvolution::multiply_spectra(const Grid& grid) {
   const GLuint multiply = multiply_program_.get();
   glUseProgram(multiply);
-  glUniform1ui(glGetUniformLocation(multiply, "uLayerSize"), static_cast<GLuint>(grid.layer));
-  glUniform1ui(glGetUniformLocation(multiply, "uImageLayers"), 3u);
-  glUniform1ui(glGetUniformLocation(multiply, "uKernelLayers"), static_cast<GLuint>(grid.kernel_layers));
+  glUniform1ui(glGetUniformLocation(multiply, "uPaddedWidth"), static_cast<GLuint>(grid.padded_width));
+  glUniform1ui(glGetUniformLocation(multiply, "uPaddedHeight"), static_cast<GLuint>(grid.padded_height));
+  glUniform1ui(glGetUniformLocation(multiply, "uKernelChannels"), static_cast<GLuint>(grid.kernel_layers));
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ffts_->image.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ffts_->kernel.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ffts_->product.data());
-  glDispatchCompute(std::min((static_cast<GLuint>(3 * grid.layer) + kMultiplyGroup - 1) / kMultiplyGroup, kMaxMultiplyGroups), 1, 1);
+  glDispatchCompute(std::min((static_cast<GLuint>(grid.layer) + kMultiplyGroup - 1) / kMultiplyGroup, kMaxMultiplyGroups), 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
@@ -316,9 +319,10 @@ void GlConvolution::run(const ImageRGBA& image, const Psf& psf, const GlConvolut
                                 " with a " + std::to_string(k) + " px PSF needs a padded grid above " +
                                 std::to_string(kFftMaxLength));
   if (!ffts_ || ffts_->image.width() != padded_width || ffts_->image.height() != padded_height ||
-      ffts_->kernel.layers() != psf.channels) {
-    ffts_ = std::make_unique<Ffts>(Ffts{GlFft(padded_width, padded_height, 3), GlFft(padded_width, padded_height, psf.channels),
-                                        GlFft(padded_width, padded_height, 3)});
+      ffts_->kernel.layers() != packed_layers(psf.channels)) {
+    ffts_ = std::make_unique<Ffts>(Ffts{GlFft(padded_width, padded_height, packed_layers(3)),
+                                        GlFft(padded_width, padded_height, packed_layers(psf.channels)),
+                                        GlFft(padded_width, padded_height, packed_layers(3))});
     kernel_ready_ = false;
     image_spectrum_.reset();
   }

@@ -1,13 +1,16 @@
 #pragma once
 // Convolution of an HDR image (core/image.h, R, G, B) with a PSF (glare/wave/psf.h) on the GPU by FFT
-// (Ritschel et al. 2009, section 5): both zero-padded to powers of two at least image + PSF - 1 in
-// each direction, so nothing wraps around an edge and any image size works; pointwise complex
-// product; inverse FFT; the image-sized window read back. Alpha is passed through. Both spectra
+// (Ritschel et al. 2009, section 5): both zero-padded to a length of 2s, 3s and 5s at least image +
+// PSF - 1 in each direction (padded_fft_length), so nothing wraps around an edge and any image size
+// works; pointwise complex product; inverse FFT; the image-sized window read back. Alpha is passed
+// through. Real layers travel two to a complex layer: R + iG and B, and a three-channel PSF's
+// K_R + iK_G and K_B, so an image, a PSF or a product takes two transforms instead of three
+// (complex_multiply.comp separates the packed spectra by their Hermitian symmetry). Both spectra
 // are kept for the next call: an image that comes again (a static scene under dynamic glare) is
 // neither checked, split, uploaded nor transformed again, nor is a PSF that comes again. The padding and
 // the window are made on the GPU (convolution_pad_image.comp, convolution_pad_kernel.comp,
 // convolution_crop.comp): only the image and the PSF go to the GPU and only the result comes back,
-// not the padded complex layers (6 x 8 bytes per padded pixel each way).
+// not the padded complex layers (4 x 8 bytes per padded pixel each way).
 //
 // Dynamic range: the float32 FFT spreads rounding noise of about 1e-7 of the brightest pixel's
 // energy over the whole frame, which swamps a 1e-2 cd/m2 surround next to a 1e8 cd/m2 source. So
@@ -109,7 +112,9 @@ class GlConvolution {
   std::vector<double> cached_psf_values_;
 };
 
-// Smallest supported FFT length >= length (at least kFftMinLength); 0 when above kFftMaxLength.
+// The padded grid's side for `length` pixels: the smallest length the GL FFT takes (2^a 3^b 5^c, at
+// least kFftMinLength) that is >= length; 0 when above kFftMaxLength. A 1920 x 1080 frame with a
+// 256-pixel PSF pads to 2187 x 1350, where powers of two would take 4096 x 2048.
 int padded_fft_length(int length);
 
 }  // namespace glarelab::gl

@@ -3,7 +3,7 @@
 // pixel, its value times the PSF at their offset. Each term is exact to float rounding of itself,
 // so a 1e8 cd/m2 source adds no FFT noise to a 1e-2 cd/m2 surround (linearity: image = dim + bright).
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std430, binding = 0) buffer Result { vec2 result[]; };               // padded, 3 layers; real part
+layout(std430, binding = 0) buffer Result { vec2 result[]; };               // padded, R + iG and B layers
 layout(std430, binding = 1) readonly buffer Bright { vec4 bright[]; };       // x, y, then below
 layout(std430, binding = 2) readonly buffer BrightValues { vec4 values[]; }; // R, G, B, unused
 layout(std430, binding = 3) readonly buffer Kernel { float kernel[]; };      // K x K per channel, centre K/2
@@ -31,5 +31,6 @@ void main() {
     sum += values[i].rgb * psf;
   }
   const int index = pixel.y * uPaddedWidth + pixel.x;
-  for (int c = 0; c < 3; ++c) result[c * uLayerSize + index].x += sum[c];
+  result[index] += sum.rg;
+  result[uLayerSize + index].x += sum.b;
 }

@@ -1,10 +1,11 @@
 #version 450
-// The image's R, G, B into the three complex layers of the padded FFT grid (real parts; zero beyond
-// the image and in the imaginary parts), on the GPU so that only the image itself crosses the bus.
+// The image's R, G, B into two complex layers of the padded FFT grid, R + iG and B (zero beyond the
+// image and in B's imaginary part; complex_multiply.comp separates R's and G's spectra), on the GPU
+// so that only the image itself crosses the bus.
 // Pixels brighter than the split threshold are left out: bright_splat.comp adds them directly
 // (glare/gl/convolution.h, "Dynamic range").
 layout(local_size_x = 16, local_size_y = 16) in;
-layout(std430, binding = 0) writeonly buffer Padded { vec2 padded[]; };  // 3 layers, row-major
+layout(std430, binding = 0) writeonly buffer Padded { vec2 padded[]; };  // 2 layers, row-major
 layout(std430, binding = 1) readonly buffer Image { vec4 image[]; };      // width x height RGBA
 uniform int uWidth;
 uniform int uHeight;
@@ -24,7 +25,6 @@ void main() {
   }
   const int layer = uPaddedWidth * uPaddedHeight;
   const int index = p.y * uPaddedWidth + p.x;
-  padded[index] = vec2(rgb.r, 0.0);
-  padded[layer + index] = vec2(rgb.g, 0.0);
-  padded[2 * layer + index] = vec2(rgb.b, 0.0);
+  padded[index] = rgb.rg;
+  padded[layer + index] = vec2(rgb.b, 0.0);
 }
