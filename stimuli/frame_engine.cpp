@@ -1,10 +1,10 @@
 #include "stimuli/frame_engine.h"
 
-#include <atomic>
 #include <cstdint>
 #include <utility>
 
 #include "core/errors.h"
+#include "core/image_token.h"
 #include "stimuli/perception/gl_perception_stages.h"
 #include "stimuli/perception/perception_stages_float.h"
 
@@ -228,8 +228,7 @@ EyeFrame FrameEngine::frame(const EyeFrameRequest& request) {
   // once, and the glare's convolution knows its spectrum without comparing its pixels.
   std::uint64_t scene_token = 0;
   if (on_gpu && request.facts != nullptr) {
-    static std::atomic<std::uint64_t> last_token{0};
-    if (request.facts->gpu_scene_token == 0) request.facts->gpu_scene_token = ++last_token;
+    if (request.facts->gpu_scene_token == 0) request.facts->gpu_scene_token = new_image_token();
     scene_token = request.facts->gpu_scene_token;
   }
   // On the GPU: where the glare of the frame goes when it stays there (the perception stages'
