@@ -68,6 +68,9 @@ float float_at_or_below(double value) {
   return rounded;
 }
 
+// Complex layers a real layers' count takes packed two to one (R + iG, B).
+int packed_layers(int real_layers) { return (real_layers + 1) / 2; }
+
 }  // namespace
 
 int padded_fft_length(int length) {
@@ -95,9 +98,6 @@ std::string GlConvolutionReport::describe_gpu_stages() const {
     text << (text.tellp() > 0 ? ", " : "") << name << " " << 1e3 * seconds << " ms";
   return text.str();
 }
-
-// Complex layers a real layers' count takes packed two to one (R + iG, B).
-int packed_layers(int real_layers) { return (real_layers + 1) / 2; }
 
 struct GlConvolution::Ffts {
   GlFft image;    // the dim part of the image (R + iG, B), then its spectrum (kept: ImageSpectrum)
