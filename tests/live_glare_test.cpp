@@ -56,6 +56,8 @@ TEST(LiveGlare, LiveFramesEqualPreparedFramesAndTheLogSaysWhichRan) {
     const ImageRGBA b = read_exr((live.frames / name).string()).image;
     EXPECT_EQ(a.rgba, b.rgba) << name;
   }
+  // On the virtual clock the display's thread keeps its priority: no raise asked, none logged.
+  EXPECT_TRUE(test::session_event_messages(prepared.db.string(), "display_priority").empty());
   const auto prepared_mode = test::session_event_messages(prepared.db.string(), "presentation_mode");
   ASSERT_EQ(prepared_mode.size(), 1u);
   EXPECT_EQ(prepared_mode[0].rfind("glare trials: frames prepared before onset ([glare] presentation = \"prepared\"); ", 0),
@@ -144,6 +146,11 @@ TEST(LiveGlare, RealClockOffscreenRunFlipsOnTheRefreshGridAndReportsTheGlareCost
   const ResultStore store(run.db.string());
   const SessionRecord session = store.load_sessions().at(0);
   EXPECT_EQ(session.clock, "monotonic");
+  // The display's thread raised for the real clock, or why not (display_thread_priority_test.cpp).
+  const auto priority = test::session_event_messages(run.db.string(), "display_priority");
+  ASSERT_EQ(priority.size(), 1u);
+  EXPECT_TRUE(priority[0].rfind("real-time (SCHED_RR", 0) == 0 || priority[0].rfind("normal: real-time scheduling was refused", 0) == 0)
+      << priority[0];
   struct Flip {
     double flip_s;
     int trial_index, frame_index;

@@ -19,6 +19,7 @@
 #include "runner/session/adjustment_keys.h"
 #include "runner/session/controller_answers.h"
 #include "runner/session/device_pause_screen.h"
+#include "runner/session/display_thread_priority.h"
 #include "runner/session/headset_views.h"
 #include "runner/session/interrupt.h"
 #include "runner/session/keyboard_responses.h"
@@ -196,6 +197,10 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   const RunOptions options = keep_resumed_clock(display_of_experiment(asked, start.experiment), start);
   result.db_path = start.db_path;
   result.display = options.display;
+  // A headset's session always keeps real time, and its display may open before the experiment is
+  // prepared: the display's thread is raised before that (runner/session/display_thread_priority.h).
+  DisplayThreadPriority display_priority;
+  if (options.display == "openxr") display_priority = DisplayThreadPriority::raise_before_display();
   HeadsetFirst headset = open_headset_first(options, start.experiment);
   PreparedSession prepared = prepare_session(std::move(start.experiment), options);
   result.scene_notes = scene_load_notes(*prepared.scenes);
@@ -210,8 +215,13 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
 
   check_virtual_clock(options, tracker, device);
 
-  // 2. The display (a device failure is reported before a session exists).
+  // 2. The display (a device failure is reported before a session exists), its thread raised first
+  // where the session will keep real time (as make_session_clock decides).
+  if (!display_priority.asked() &&
+      (options.display == "window" || tracker.live() || device.configured() || options.clock == "real"))
+    display_priority = DisplayThreadPriority::raise_before_display();
   auto display = headset.display ? std::move(headset.display) : open_display(options, prepared.experiment);
+  display_priority.display_opened();
   const auto headset_model = headset.model ? headset.model : headset_display_model(prepared.experiment, *display);
   check_scenes_fit_views(prepared.experiment, *prepared.scenes, *display);
   const TrackerSourceStopper tracker_stopper = adopt_headset_gaze(tracker, *display);
@@ -255,6 +265,10 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   try {
 
     log_display_setup(store, result.session_id, clock->now_s(), prepared, *display, headset_model);
+    if (display_priority.asked()) {
+      store.log_event(result.session_id, clock->now_s(), "display_priority", display_priority.description());
+      if (!display_priority.real_time()) progress << "note: the display's thread runs at " << display_priority.description() << "\n";
+    }
 
     announce_session(progress, result, prepared, display->kind());
 
