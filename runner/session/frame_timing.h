@@ -21,7 +21,8 @@ struct DroppedFrame {
 // stages (with any glare among them), drawing and encoding the frame, or nothing of the
 // session's own that took long enough: the host held the process (another program, the driver,
 // the compositor, swapping). Recording is the session's writes to the results database between a
-// trial's last flip and the next one's first (the trial's row and every flip's, its events).
+// trial's last flip and the next one's first (the trial's row and every flip's, its events), and a
+// saved frame's read-back (--save-frames; its file is written beside the session).
 enum class FlipWork { glare_preparation = 0, perception = 1, drawing = 2, recording = 4 };
 // Late onsets' causes, indexed as FrameTimingSummary::late_onsets_by_cause: the FlipWork kinds by
 // their values and the host stall at 3 (recording the trial, the last kind added, comes after it).

@@ -25,6 +25,7 @@
 #include "runner/session/interval_glare.h"
 #include "runner/session/session_glare.h"
 #include "runner/session/presentation_overlays.h"
+#include "runner/session/saved_frame_writer.h"
 #include "runner/session/response_device_input.h"
 #include "runner/session/session_eyes.h"
 #include "runner/session/session_setup.h"
@@ -77,7 +78,10 @@ class SessionLoop {
   std::vector<PreviewFrame> take_preview_frames() { return std::move(capture_.captured); }
   // Each interval's first stimulus frame (after glare, with overlays; linear cd/m2) written to
   // `directory` as trial_NNNN.exr (a second interval: trial_NNNN_interval_2.exr).
-  void save_first_frames_to(const std::string& directory) { save_frames_dir_ = directory; }
+  void save_first_frames_to(const std::string& directory) {
+    save_frames_dir_ = directory;
+    frame_writer_ = std::make_unique<SavedFrameWriter>();
+  }
   // The run's status line (runner/session/status_line.h): each trial's start and its glare
   // preparation are shown on it.
   void attach_status(StatusLine* status) { status_ = status; }
@@ -131,8 +135,16 @@ class SessionLoop {
   // window's swap waits for the vertical blank, and the flip is stamped at that boundary
   // (runner/tracker/real_time_pacer.h).
   double present() {
+    if (pacer_ == nullptr) {
+      if (!fast_forward_) display_.present();
+      return clock_.on_flip();
+    }
+    // An offscreen display's present waits for the frame's GL work to finish (glFinish), which
+    // with a software renderer is CPU work: the flip's drawing, not a wait for the refresh.
+    const auto present_start = std::chrono::steady_clock::now();
     if (!fast_forward_) display_.present();
-    if (pacer_ == nullptr) return clock_.on_flip();
+    timing_.add_work(FlipWork::drawing,
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - present_start).count());
     return clock_.on_flip_at(pacer_->wait_for_next_frame());
   }
   // Encodes the stimulus framebuffer into the display's, unless an offscreen display still holds
@@ -218,9 +230,13 @@ class SessionLoop {
   // flicker cycle, as the window is sent them, trial_NNNN_drive_KK.exr (the flicker read back).
   void save_straylight_cycle_frame(const TrialPlan& plan, int frame_in_interval);
 
-  // runner/session/trial_run.cpp: at an interval's first flip, before it is presented: the frame
-  // saved (--save-frames) and, for the previewed trial, captured. True when the preview is done.
+  // runner/session/trial_run.cpp: at an interval's first flip, before it is presented, for the
+  // previewed trial: the frame captured. True when the preview is done.
   bool capture_first_frame(const TrialPlan& plan, int interval);
+  // Right after an interval's first flip (--save-frames): the stimulus framebuffer, which still
+  // holds the frame shown, read back and handed to the writer. After the flip, not before it: the
+  // read-back (which also waits for the frame's GL work) does not delay the onset.
+  void save_first_frame(const TrialPlan& plan, int interval);
 
   // runner/session/trial_ahead.cpp: the next trial prepared while this one runs (docs/TIMING.md,
   // "Trials prepared ahead").
@@ -289,6 +305,9 @@ class SessionLoop {
   std::optional<SceneTexture> pause_message_;
   bool fast_forward_ = false;
   std::string save_frames_dir_;
+  // The saved frames' files written beside the session (saved_frame_writer.h); its thread starts
+  // after the display opened, at normal priority.
+  std::unique_ptr<SavedFrameWriter> frame_writer_;
   StatusLine* status_ = nullptr;
   // What draw() last composed into the stimulus framebuffer (scenes, the glared region's serial or
   // 0 for none, overlays), and the renderer's write count after it: a flip of the same frame only

@@ -148,12 +148,16 @@ std::unique_ptr<DisplayBackend> open_display(const RunOptions& options, const Ex
 // text's and the glare's follow from the pitch: its display opens before the experiment is prepared
 // (after the refusals of an experiment no headset can show), and the views' pitch goes into it.
 // Nothing for other displays, or a file that states its pitch (checked against the views later).
+// A headset's session always keeps real time: the display's thread is raised before anything opens
+// (runner/session/display_thread_priority.h), and the priority is kept here until the display is.
 struct HeadsetFirst {
   std::unique_ptr<DisplayBackend> display;
   std::optional<HeadsetDisplayModel> model;
+  DisplayThreadPriority display_priority;
 };
 HeadsetFirst open_headset_first(const RunOptions& options, Experiment& experiment) {
   HeadsetFirst headset;
+  if (options.display == "openxr") headset.display_priority = DisplayThreadPriority::raise_before_display();
   if (options.display != "openxr" || stated_key(experiment.source_file, "display", "pixel_pitch_mm").value)
     return headset;
   check_headset_experiment(experiment, options.display, options.display_chosen);
@@ -163,11 +167,33 @@ HeadsetFirst open_headset_first(const RunOptions& options, Experiment& experimen
   return headset;
 }
 
-// What the display brings to the session's log: a headset's display model (headset_views.h), and a
-// refresh rate other than the file's (durations are frames of [display] refresh_hz: another actual
-// rate scales every one of them).
+// The session's display (a headset's open already), its thread raised before it opens where the
+// session will keep real time (as make_session_clock decides), a headset's display model, and the
+// scenes checked against its views. Threads started after it opened run at normal priority.
+std::unique_ptr<DisplayBackend> open_session_display(const RunOptions& options, const PreparedSession& prepared,
+                                                     HeadsetFirst& headset, const TrackerSession& tracker,
+                                                     const ResponseDeviceSession& device) {
+  if (!headset.display_priority.asked() &&
+      (options.display == "window" || tracker.live() || device.configured() || options.clock == "real"))
+    headset.display_priority = DisplayThreadPriority::raise_before_display();
+  auto display = headset.display ? std::move(headset.display) : open_display(options, prepared.experiment);
+  headset.display_priority.display_opened();
+  if (!headset.model) headset.model = headset_display_model(prepared.experiment, *display);  // a pitch refused first
+  check_scenes_fit_views(prepared.experiment, *prepared.scenes, *display);
+  return display;
+}
+
+// What the display brings to the session's log: the priority its thread got (and a note where it
+// was refused), a headset's display model (headset_views.h), and a refresh rate other than the
+// file's (durations are frames of [display] refresh_hz: another actual rate scales every one of them).
 void log_display_setup(ResultStore& store, std::int64_t session_id, double now_s, const PreparedSession& prepared,
-                       const DisplayBackend& display, const std::optional<HeadsetDisplayModel>& headset_model) {
+                       const DisplayBackend& display, const HeadsetFirst& headset,
+                       const std::optional<HeadsetDisplayModel>& headset_model, std::ostream& progress) {
+  if (headset.display_priority.asked()) {
+    store.log_event(session_id, now_s, "display_priority", headset.display_priority.description());
+    if (!headset.display_priority.real_time())
+      progress << "note: the display's thread runs at " << headset.display_priority.description() << "\n";
+  }
   if (headset_model) store.log_event(session_id, now_s, "display_model", headset_model->description);
   const std::string refresh_warning = refresh_rate_warning(prepared.experiment.display.refresh_hz, display.refresh_hz());
   if (!refresh_warning.empty()) {
@@ -197,10 +223,6 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   const RunOptions options = keep_resumed_clock(display_of_experiment(asked, start.experiment), start);
   result.db_path = start.db_path;
   result.display = options.display;
-  // A headset's session always keeps real time, and its display may open before the experiment is
-  // prepared: the display's thread is raised before that (runner/session/display_thread_priority.h).
-  DisplayThreadPriority display_priority;
-  if (options.display == "openxr") display_priority = DisplayThreadPriority::raise_before_display();
   HeadsetFirst headset = open_headset_first(options, start.experiment);
   PreparedSession prepared = prepare_session(std::move(start.experiment), options);
   result.scene_notes = scene_load_notes(*prepared.scenes);
@@ -215,15 +237,9 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
 
   check_virtual_clock(options, tracker, device);
 
-  // 2. The display (a device failure is reported before a session exists), its thread raised first
-  // where the session will keep real time (as make_session_clock decides).
-  if (!display_priority.asked() &&
-      (options.display == "window" || tracker.live() || device.configured() || options.clock == "real"))
-    display_priority = DisplayThreadPriority::raise_before_display();
-  auto display = headset.display ? std::move(headset.display) : open_display(options, prepared.experiment);
-  display_priority.display_opened();
-  const auto headset_model = headset.model ? headset.model : headset_display_model(prepared.experiment, *display);
-  check_scenes_fit_views(prepared.experiment, *prepared.scenes, *display);
+  // 2. The display (a device failure is reported before a session exists).
+  auto display = open_session_display(options, prepared, headset, tracker, device);
+  const std::optional<HeadsetDisplayModel> headset_model = headset.model;
   const TrackerSourceStopper tracker_stopper = adopt_headset_gaze(tracker, *display);
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock = make_session_clock(*display, tracker, device, start, options);
@@ -264,11 +280,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   // that cannot be computed) ends the session as aborted with its reason, never left running.
   try {
 
-    log_display_setup(store, result.session_id, clock->now_s(), prepared, *display, headset_model);
-    if (display_priority.asked()) {
-      store.log_event(result.session_id, clock->now_s(), "display_priority", display_priority.description());
-      if (!display_priority.real_time()) progress << "note: the display's thread runs at " << display_priority.description() << "\n";
-    }
+    log_display_setup(store, result.session_id, clock->now_s(), prepared, *display, headset, headset_model, progress);
 
     announce_session(progress, result, prepared, display->kind());
 

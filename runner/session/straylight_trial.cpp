@@ -37,7 +37,11 @@ void SessionLoop::save_straylight_cycle_frame(const TrialPlan& plan, int frame_i
     return;
   char name[64];
   std::snprintf(name, sizeof name, "trial_%04d_drive_%02d.exr", plan.trial_index, frame_in_interval);
-  write_exr((std::filesystem::path(save_frames_dir_) / name).string(), renderer_.read_display());
+  const auto saving_start = std::chrono::steady_clock::now();
+  frame_writer_->write((std::filesystem::path(save_frames_dir_) / name).string(), renderer_.read_display(),
+                       /*as_scene=*/false);
+  timing_.add_work(FlipWork::recording,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - saving_start).count());
 }
 
 IntervalGlare SessionLoop::begin_straylight(const TrialPlan& plan, int flips_before) {

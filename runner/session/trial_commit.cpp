@@ -88,25 +88,28 @@ void SessionLoop::finish_commit(bool write_held_events) {
     for (const HeldEvent& event : events_with_commit_) store_.log_event(session_id_, event.at_s, event.kind, event.message);
     events_with_commit_.clear();
   }
-  if (!committer_.joinable()) return;
-  // A commit held up by another process's lock is said as the session's own writes are.
-  double announced_s = 0.0;
-  while (commit_finished_.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
-    const double waited_s = commit_waited_s_;
-    if (waited_s >= announced_s + 5.0 && pending_progress_stream_ != nullptr) {
-      announced_s = waited_s;
-      *pending_progress_stream_ << LockWait::announcement(waited_s) << std::flush;
+  if (committer_.joinable()) {
+    // A commit held up by another process's lock is said as the session's own writes are.
+    double announced_s = 0.0;
+    while (commit_finished_.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
+      const double waited_s = commit_waited_s_;
+      if (waited_s >= announced_s + 5.0 && pending_progress_stream_ != nullptr) {
+        announced_s = waited_s;
+        *pending_progress_stream_ << LockWait::announcement(waited_s) << std::flush;
+      }
     }
-  }
-  committer_.join();
-  if (commit_error_) {
-    const std::exception_ptr error = commit_error_;
-    commit_error_ = nullptr;
+    committer_.join();
+    if (commit_error_) {
+      const std::exception_ptr error = commit_error_;
+      commit_error_ = nullptr;
+      pending_progress_.clear();
+      std::rethrow_exception(error);
+    }
+    if (pending_progress_stream_ != nullptr) *pending_progress_stream_ << pending_progress_ << std::flush;
     pending_progress_.clear();
-    std::rethrow_exception(error);
   }
-  if (pending_progress_stream_ != nullptr) *pending_progress_stream_ << pending_progress_ << std::flush;
-  pending_progress_.clear();
+  // The session's end: its saved frames are on disk before it reports (a failed write aborts it).
+  if (write_held_events && frame_writer_) frame_writer_->finish();
 }
 
 std::string SessionLoop::commit_summary() const {

@@ -126,6 +126,9 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   // The commit goes on beside the next trial's start (trial_commit.cpp): handing it over is this
   // thread's part of recording the trial.
   const auto record_start = std::chrono::steady_clock::now();
+  // A trial is committed with its saved frames on disk (written beside its flips and its answer,
+  // saved_frame_writer.h): a frame that cannot be written ends the session before its trial is.
+  if (frame_writer_) frame_writer_->finish();
   const int total = prepared_.procedure->planned_trials();
   const bool says_progress = total >= 50 && (plan.trial_index + 1) % (total / 10) == 0;
   commit(plan, run, outcome,
@@ -235,6 +238,8 @@ bool SessionLoop::run_timed_sequence(const TrialPlan& plan, const TrialSchedule&
       draw({}, nullptr, question);
     }
     const double flip_s = present();
+    if (flip.phase == FlipPhase::interval && flip.frame_in_interval == 0)
+      save_first_frame(intervals.shown_plans[static_cast<std::size_t>(flip.interval)], flip.interval);
     after_flip(flip_s);
     if (i == 0) sequence_start_s = flip_s;
     if (i == schedule.onset_flip) run.onset_s = flip_s;
@@ -328,16 +333,21 @@ bool SessionLoop::collect_response(const TrialPlan& plan, const std::vector<Plac
   return true;
 }
 
+void SessionLoop::save_first_frame(const TrialPlan& plan, int interval) {
+  if (save_frames_dir_.empty() || fast_forward_) return;
+  char name[64];
+  std::snprintf(name, sizeof name, interval == 0 ? "trial_%04d.exr" : "trial_%04d_interval_%d.exr", plan.trial_index,
+                interval + 1);
+  // Written so that it loads as a scene with no option (glare round-off below 0 set to 0),
+  // compressed and written on the writer's thread: the read-back and any wait for the writer are
+  // the session's own work before the next flip (recording).
+  const auto saving_start = std::chrono::steady_clock::now();
+  frame_writer_->write((std::filesystem::path(save_frames_dir_) / name).string(), renderer_.read_stimulus(),
+                       /*as_scene=*/true);
+  timing_.add_work(FlipWork::recording, seconds_since(saving_start));
+}
+
 bool SessionLoop::capture_first_frame(const TrialPlan& plan, int interval) {
-  if (!save_frames_dir_.empty()) {
-    char name[64];
-    std::snprintf(name, sizeof name, interval == 0 ? "trial_%04d.exr" : "trial_%04d_interval_%d.exr", plan.trial_index,
-                  interval + 1);
-    // Written so that it loads as a scene with no option (glare round-off below 0 set to 0).
-    ImageRGBA frame = renderer_.read_stimulus();
-    zero_round_off_negatives(frame);
-    write_exr((std::filesystem::path(save_frames_dir_) / name).string(), frame);
-  }
   if (!capture_.captures(plan) || interval != 0 || !capture_.frame) return false;
   capture_.frame->stimulus_cd_m2 = renderer_.read_stimulus();
   capture_.frame->display_drive = renderer_.read_display();
