@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "core/gl/shader_program.h"
 #include "core/parallel_for.h"
@@ -30,6 +31,39 @@ std::uint64_t next_kept_serial() {
 
 bool same_gaze(const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
   return a.has_value() == b.has_value() && (!a || (a->x == b->x && a->y == b->y));
+}
+
+// result = base + each of `adding` in order, per colour value (alpha: the base's), for the interval's
+// kept base (StaticLayerGlare::SumBase). The glares' addresses are taken once, so a value costs one
+// load per glare, not the three dependent loads of glare_of[glaring[k]]->rgba. `result` may be the
+// buffer of one of `adding`: each value is read before it is written.
+void add_glares_to_base(const ImageRGBA& base, const std::vector<const float*>& adding, ImageRGBA& result) {
+  const float* partial = base.rgba.data();
+  float* out = result.rgba.data();
+  const auto pixels = static_cast<int>(result.rgba.size() / 4);
+  if (adding.size() == 1 && adding.front() == out) {
+    // One glare added, held in the result's own buffer (a dynamic side beside kept ones): added in
+    // place, base + glare as glare + base (the same float, addition being commutative).
+    parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
+      for (auto p = 4 * static_cast<std::size_t>(first); p < 4 * static_cast<std::size_t>(last); p += 4) {
+        out[p] += partial[p];
+        out[p + 1] += partial[p + 1];
+        out[p + 2] += partial[p + 2];
+        out[p + 3] = partial[p + 3];
+      }
+    });
+    return;
+  }
+  parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
+    for (auto p = 4 * static_cast<std::size_t>(first); p < 4 * static_cast<std::size_t>(last); p += 4) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        float value = partial[p + c];
+        for (const float* glare : adding) value += glare[p + c];
+        out[p + c] = value;
+      }
+      out[p + 3] = partial[p + 3];
+    }
+  });
 }
 
 }  // namespace
@@ -158,19 +192,9 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
           combine_first(p, partial + p, kept_serials.size());
       });
     }
-    const float* partial = base.partial_cd_m2.rgba.data();
-    const std::size_t added_from = kept_serials.size();
-    parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
-      // Each value is read before it is written (result may be a glared layer's own buffer).
-      for (auto p = 4 * static_cast<std::size_t>(first); p < 4 * static_cast<std::size_t>(last); p += 4) {
-        for (std::size_t c = 0; c < 3; ++c) {
-          float value = partial[p + c];
-          for (std::size_t k = added_from; k < glaring.size(); ++k) value += glare_of[glaring[k]]->rgba[p + c];
-          result.rgba[p + c] = value;
-        }
-        result.rgba[p + 3] = partial[p + 3];
-      }
-    });
+    std::vector<const float*> adding;  // the glares not in the base, in order
+    for (std::size_t k = kept_serials.size(); k < glaring.size(); ++k) adding.push_back(glare_of[glaring[k]]->rgba.data());
+    add_glares_to_base(base.partial_cd_m2, adding, result);
     return std::move(result);
   }
   parallel_chunks(pixels, kGlareCpuThreads, [&](int first, int last) {
