@@ -1,13 +1,13 @@
 #include "stimuli/position_glare.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "core/gl/shader_program.h"
+#include "core/image_token.h"
 #include "core/parallel_for.h"
 #include "glare/cpu/fftw_float_plan.h"
 
@@ -22,11 +22,6 @@ void check_layer_sizes(const ImageRGBA& composed_cd_m2, const std::vector<GlareL
                                   std::to_string(layer.image_cd_m2.height_px) + " px for a frame of " +
                                   std::to_string(composed_cd_m2.width_px) + "x" +
                                   std::to_string(composed_cd_m2.height_px) + " px");
-}
-
-std::uint64_t next_kept_serial() {
-  static std::atomic<std::uint64_t> next{1};
-  return next.fetch_add(1, std::memory_order_relaxed);
 }
 
 bool same_gaze(const std::optional<GazePoint>& a, const std::optional<GazePoint>& b) {
@@ -109,7 +104,7 @@ ImageRGBA apply_layered_glare(GlareStage& stage, const ImageRGBA& composed_cd_m2
     changed_of[l] = report.changed_boxes;
     if (reports != nullptr) reports->push_back(report);
     if (keep != nullptr) {
-      *keep = StaticLayerGlare::Kept{glared[l], report, gaze, field_luminance_cd_m2, nullptr, next_kept_serial()};
+      *keep = StaticLayerGlare::Kept{glared[l], report, gaze, field_luminance_cd_m2, nullptr, new_image_token()};
       glare_of[l] = &(*keep)->glared_cd_m2;
     } else {
       glare_of[l] = &glared[l];

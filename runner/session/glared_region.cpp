@@ -3,7 +3,6 @@
 #include "runner/session/glared_region.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cstring>
 #include <mutex>
 #include <utility>
@@ -13,6 +12,7 @@
 #endif
 
 #include "core/half_float.h"
+#include "core/image_token.h"
 
 namespace glarelab {
 namespace {
@@ -126,11 +126,6 @@ void to_halves(const float* in, std::uint16_t* out, std::size_t pixels) {
   row_to_halves(in, out, pixels);
 }
 
-std::uint64_t next_region_serial() {
-  static std::atomic<std::uint64_t> next_serial{1};
-  return next_serial.fetch_add(1, std::memory_order_relaxed);
-}
-
 }  // namespace
 
 GlaredRegion::~GlaredRegion() { HalfStoragePool::instance().give(std::move(half_rgb)); }
@@ -139,7 +134,7 @@ void fill_half_storage(std::size_t values) { HalfStoragePool::instance().fill(va
 
 GlaredRegion gpu_region(std::vector<GlaredRegion::GpuPart> parts) {
   GlaredRegion region;
-  region.serial = next_region_serial();
+  region.serial = new_image_token();
   PixelRect bound;
   for (const GlaredRegion::GpuPart& part : parts) bound = bounding_rect(bound, part.view);
   region.x0_px = bound.x_px;
@@ -168,7 +163,7 @@ GlaredRegion changed_region(const ImageRGBA& composed, const ImageRGBA& glared, 
     x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
   }
   GlaredRegion region;
-  region.serial = next_region_serial();
+  region.serial = new_image_token();
   if (x1 < 0) return region;
   region.x0_px = x0;
   region.y0_px = y0;

@@ -51,7 +51,7 @@ struct GlaredRegion {
     PixelRect view;
   };
   std::vector<GpuPart> gpu_parts;
-  // Unique to each region changed_region() makes (from 1; a copy keeps it): a flip of the region
+  // Unique to each region changed_region() makes (core/image_token.h, never 0; a copy keeps it): a flip of the region
   // the stimulus framebuffer already holds only re-encodes it (SessionLoop::draw), as for static
   // glare, whose interval shows one region at every flip.
   std::uint64_t serial = 0;
