@@ -174,7 +174,7 @@ std::unique_ptr<DisplayBackend> open_session_display(const RunOptions& options, 
                                                      HeadsetFirst& headset, const TrackerSession& tracker,
                                                      const ResponseDeviceSession& device) {
   if (!headset.display_priority.asked() &&
-      (options.display == "window" || tracker.live() || device.configured() || options.clock == "real"))
+      keeps_real_time(options.display == "window" || options.display == "openxr", tracker, device, options))
     headset.display_priority = DisplayThreadPriority::raise_before_display();
   auto display = headset.display ? std::move(headset.display) : open_display(options, prepared.experiment);
   headset.display_priority.display_opened();
@@ -187,14 +187,13 @@ std::unique_ptr<DisplayBackend> open_session_display(const RunOptions& options, 
 // was refused), a headset's display model (headset_views.h), and a refresh rate other than the
 // file's (durations are frames of [display] refresh_hz: another actual rate scales every one of them).
 void log_display_setup(ResultStore& store, std::int64_t session_id, double now_s, const PreparedSession& prepared,
-                       const DisplayBackend& display, const HeadsetFirst& headset,
-                       const std::optional<HeadsetDisplayModel>& headset_model, std::ostream& progress) {
+                       const DisplayBackend& display, const HeadsetFirst& headset, std::ostream& progress) {
   if (headset.display_priority.asked()) {
     store.log_event(session_id, now_s, "display_priority", headset.display_priority.description());
     if (!headset.display_priority.real_time())
       progress << "note: the display's thread runs at " << headset.display_priority.description() << "\n";
   }
-  if (headset_model) store.log_event(session_id, now_s, "display_model", headset_model->description);
+  if (headset.model) store.log_event(session_id, now_s, "display_model", headset.model->description);
   const std::string refresh_warning = refresh_rate_warning(prepared.experiment.display.refresh_hz, display.refresh_hz());
   if (!refresh_warning.empty()) {
     std::cerr << "warning: " << refresh_warning << "\n";
@@ -239,7 +238,6 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
 
   // 2. The display (a device failure is reported before a session exists).
   auto display = open_session_display(options, prepared, headset, tracker, device);
-  const std::optional<HeadsetDisplayModel> headset_model = headset.model;
   const TrackerSourceStopper tracker_stopper = adopt_headset_gaze(tracker, *display);
   const std::string renderer = display->gl_info().describe();
   std::unique_ptr<SessionClock> clock = make_session_clock(*display, tracker, device, start, options);
@@ -280,7 +278,7 @@ RunResult run_session(const RunOptions& asked, std::ostream& progress) {
   // that cannot be computed) ends the session as aborted with its reason, never left running.
   try {
 
-    log_display_setup(store, result.session_id, clock->now_s(), prepared, *display, headset, headset_model, progress);
+    log_display_setup(store, result.session_id, clock->now_s(), prepared, *display, headset, progress);
 
     announce_session(progress, result, prepared, display->kind());
 

@@ -298,6 +298,11 @@ RunOptions keep_resumed_clock(RunOptions options, const SessionStart& start) {
   return options;
 }
 
+bool keeps_real_time(bool display_real_time, const TrackerSession& tracker, const ResponseDeviceSession& device,
+                     const RunOptions& options) {
+  return display_real_time || tracker.live() || device.configured() || options.clock == "real";
+}
+
 std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, const TrackerSession& tracker,
                                                  const ResponseDeviceSession& device, const SessionStart& start,
                                                  const RunOptions& options) {
@@ -306,7 +311,7 @@ std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, 
   // A headset's flips are the runtime's predicted display times (runner/display/openxr_clock.h).
   if (const auto* predicted = dynamic_cast<const PredictedFlipSource*>(&display)) {
     clock = std::make_unique<PredictedFlipClock>(*predicted, resumed_offset_s);
-  } else if (display.real_time() || tracker.live() || device.configured() || options.clock == "real") {
+  } else if (keeps_real_time(display.real_time(), tracker, device, options)) {
     // A live tracker or response device needs the real-time clock (and an offscreen run paced in
     // real time), as does an offscreen run asked for with --clock real.
     clock = std::make_unique<MonotonicClock>(resumed_offset_s);

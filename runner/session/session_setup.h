@@ -71,6 +71,12 @@ void replay_done_trials(Procedure& procedure, const SessionStart& start);
 
 DisplayRequest display_request(const Experiment& experiment);
 
+// Whether the session keeps real time: a display that does (a window, a headset), a live tracker,
+// a response device or --clock real. Asked before the display opens too (its thread's priority,
+// runner/session/display_thread_priority.h), from the kind of display asked for.
+bool keeps_real_time(bool display_real_time, const TrackerSession& tracker, const ResponseDeviceSession& device,
+                     const RunOptions& options);
+
 // The session clock: real time for a window, a live tracker or a response device, else virtual;
 // a resumed session's clock continues after its stored flips.
 std::unique_ptr<SessionClock> make_session_clock(const DisplayBackend& display, const TrackerSession& tracker,
