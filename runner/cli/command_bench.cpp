@@ -294,7 +294,7 @@ Action add_bench_command(CLI::App& app) {
         if (grid % 2 != 0 || (!args->no_gl && !gl::is_power_of_two_fft_length(grid)))
           throw ConfigError({"--grids", 0, 0}, "grids",
                             "grid " + std::to_string(grid) + " is " +
-                                (grid % 2 != 0 ? std::string("odd") : std::string("not a GL FFT size")) +
+                                (grid % 2 != 0 ? std::string("odd") : std::string("not a GL PSF grid")) +
                                 ": even sizes 16 to 4096, powers of two unless --no-gl");
       const MemoryRows memory = measure_memory_rows(*args);
       GlareBenchmarkOptions options;
