@@ -138,8 +138,10 @@ TEST(CiliaryCorona, EveryRingOfASourcesLinesSumsToZero) {
 }
 
 // A source met again is added from the values kept for it: bit for bit what a corona that keeps
-// nothing adds, with any energy, and a source that differs in the last bit of its centroid or
-// second moment, or a frame of another size, is made afresh (again what a fresh corona adds).
+// nothing adds, with any energy. A source that differs in the last bit of its centroid or second
+// moment (one lamp at two luminances, its floats scaled and rounded) is the same source: it adds
+// what the first added. A source a quarter pixel away, or a frame of another size, is made afresh
+// (again what a fresh corona adds).
 TEST(CiliaryCorona, ASourceMetAgainAddsWhatAFreshCoronaAdds) {
   const DisplayGeometry geometry{300.0, 0.5};
   const ObserverEye eye{40.0, 0.5};
@@ -177,6 +179,7 @@ TEST(CiliaryCorona, ASourceMetAgainAddsWhatAFreshCoronaAdds) {
   moved.x_px = std::nextafter(moved.x_px, 200.0);
   const ImageRGBA moved_frame = kept(moved, 220, 210);
   EXPECT_EQ(moved_frame.rgba, fresh(moved, 220, 210).rgba);
+  EXPECT_EQ(moved_frame.rgba, first.rgba) << "a centroid a last bit away is the same source";
   CompactSource shifted = brighter;
   shifted.x_px += 0.25;
   const ImageRGBA shifted_frame = kept(shifted, 220, 210);
@@ -185,9 +188,14 @@ TEST(CiliaryCorona, ASourceMetAgainAddsWhatAFreshCoronaAdds) {
   CompactSource lower = brighter;
   lower.y_px = std::nextafter(lower.y_px, 0.0);
   EXPECT_EQ(kept(lower, 220, 210).rgba, fresh(lower, 220, 210).rgba);
+  EXPECT_EQ(kept(lower, 220, 210).rgba, first.rgba);
   CompactSource wider = brighter;
   wider.second_moment_px2 = std::nextafter(wider.second_moment_px2, 1.0);
   EXPECT_EQ(kept(wider, 220, 210).rgba, fresh(wider, 220, 210).rgba);
+  EXPECT_EQ(kept(wider, 220, 210).rgba, first.rgba) << "a second moment a last bit away is the same source";
+  CompactSource broader = brighter;
+  broader.second_moment_px2 += 0.25;
+  EXPECT_NE(kept(broader, 220, 210).rgba, first.rgba) << "a quarter square pixel broader has lines of its own";
   EXPECT_EQ(kept(brighter, 180, 230).rgba, fresh(brighter, 180, 230).rgba) << "a frame of another size";
   // More sources than are kept, then the first again.
   for (int i = 0; i < 10; ++i) {

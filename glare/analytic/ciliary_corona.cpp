@@ -53,30 +53,53 @@ const SemicircleCdf& semicircle_cdf() {
   return table;
 }
 
-// FlareLines::normalised (Spencer's closed form about a disc) with the tabulated semicircle, for a
-// line half width h and a disc half width b > 0 (radians of azimuth), h + b <= pi: each line's box
-// convolved with the semicircle, only the lines within h + b of the azimuth. `scale` is
-// pi / (h sum of the intensities): each blurred box holds 2h of azimuth, so the ring's mean is 1.
-double lines_about_disc(const std::vector<FlareLine>& lines, double h, double b, double scale, double azimuth_rad) {
-  const SemicircleCdf& cdf = semicircle_cdf();
-  const double reach = h + b;
-  double start = std::fmod(azimuth_rad - reach, 2.0 * kPi);
-  if (start < 0.0) start += 2.0 * kPi;
-  const auto first =
-      std::lower_bound(lines.begin(), lines.end(), start, [](const FlareLine& line, double a) { return line.azimuth_rad < a; });
-  std::size_t index = static_cast<std::size_t>(first - lines.begin());
-  double sum = 0.0;
-  const double inverse_b = 1.0 / b;
-  for (std::size_t step = 0; step < lines.size(); ++step, ++index) {
-    const FlareLine& line = lines[index % lines.size()];
-    double ahead = line.azimuth_rad - start;
-    if (ahead < 0.0) ahead += 2.0 * kPi;
-    if (ahead > 2.0 * reach) break;
-    const double y = reach - ahead;  // the azimuth less the line's, in [-reach, reach]
-    sum += line.intensity * (cdf((y + h) * inverse_b) - cdf((y - h) * inverse_b));
+// The lines in azimuth order, then the same lines again a turn on, so that a window of azimuths
+// crossing 2 pi reads on through contiguous entries: no wrap test nor index modulo per line, which
+// were most of a pixel's time. A line of the second copy is at (its azimuth - start) + 2 pi from the
+// window's start, as the one copy with the wrap added gave it, bit for bit.
+class LineTurns {
+ public:
+  explicit LineTurns(const std::vector<FlareLine>& lines) : count_(lines.size()) {
+    azimuth_rad_.reserve(2 * count_);
+    intensity_.reserve(2 * count_);
+    turn_rad_.reserve(2 * count_);
+    for (const double turn : {0.0, 2.0 * kPi})
+      for (const FlareLine& line : lines) {
+        azimuth_rad_.push_back(line.azimuth_rad);
+        intensity_.push_back(line.intensity);
+        turn_rad_.push_back(turn);
+      }
   }
-  return sum * scale;
-}
+
+  // FlareLines::normalised (Spencer's closed form about a disc) with the tabulated semicircle, for
+  // a line half width h and a disc half width b > 0 (radians of azimuth), h + b <= pi: each line's
+  // box convolved with the semicircle, only the lines within h + b of the azimuth. `scale` is
+  // pi / (h sum of the intensities): each blurred box holds 2h of azimuth, so the ring's mean is 1.
+  double about_disc(double h, double b, double scale, double azimuth_rad) const {
+    const SemicircleCdf& cdf = semicircle_cdf();
+    const double reach = h + b;
+    // The azimuth from atan2 is within pi of 0 and reach <= pi, so this is fmod's value.
+    double start = azimuth_rad - reach;
+    if (start < 0.0) start += 2.0 * kPi;
+    const auto first_copy_end = azimuth_rad_.begin() + static_cast<std::ptrdiff_t>(count_);
+    std::size_t index = static_cast<std::size_t>(std::lower_bound(azimuth_rad_.begin(), first_copy_end, start) -
+                                                 azimuth_rad_.begin());
+    const std::size_t end = index + count_;  // at most one turn
+    double sum = 0.0;
+    const double inverse_b = 1.0 / b, window = 2.0 * reach;
+    for (; index < end; ++index) {
+      const double ahead = (azimuth_rad_[index] - start) + turn_rad_[index];
+      if (ahead > window) break;
+      const double y = reach - ahead;  // the azimuth less the line's, in [-reach, reach]
+      sum += intensity_[index] * (cdf((y + h) * inverse_b) - cdf((y - h) * inverse_b));
+    }
+    return sum * scale;
+  }
+
+ private:
+  std::size_t count_;
+  std::vector<double> azimuth_rad_, intensity_, turn_rad_;
+};
 
 // What depends on the distance from the source alone, per source at kRadialSteps per pixel (read
 // linearly between): K a, and the half widths h of a line and b of the disc (radians of azimuth).
@@ -167,6 +190,7 @@ std::shared_ptr<const CiliaryCorona::Pattern> CiliaryCorona::make_pattern(const 
   // parallel; then the rings' sums in one pass in row order, so nothing depends on `threads`.
   std::vector<double> smooth(static_cast<std::size_t>(side_x) * side_y, 0.0), lined(smooth.size(), 0.0);
   std::vector<int> ring(smooth.size(), -1);
+  const LineTurns turns(lines_.lines());
   parallel_chunks(side_y, threads, [&](int first, int last) {
     for (int row = first; row < last; ++row) {
       const double dy = y0 + row - source.y_px;
@@ -184,8 +208,7 @@ std::shared_ptr<const CiliaryCorona::Pattern> CiliaryCorona::make_pattern(const 
         const double h = a.h + f * (b.h - a.h);
         const std::size_t at = static_cast<std::size_t>(row) * side_x + col;
         smooth[at] = smooth_here;
-        lined[at] = smooth_here * lines_about_disc(lines_.lines(), h, a.b + f * (b.b - a.b), kPi / (h * intensity_sum),
-                                                   std::atan2(dy, dx));
+        lined[at] = smooth_here * turns.about_disc(h, a.b + f * (b.b - a.b), kPi / (h * intensity_sum), std::atan2(dy, dx));
         ring[at] = static_cast<int>(std::lround(r_px));
       }
     }
@@ -224,8 +247,17 @@ std::shared_ptr<const CiliaryCorona::Pattern> CiliaryCorona::make_pattern(const 
   return pattern;
 }
 
-std::shared_ptr<const CiliaryCorona::Pattern> CiliaryCorona::pattern(const CompactSource& source, int width_px,
+CompactSource CiliaryCorona::pattern_key(const CompactSource& source) {
+  CompactSource key = source;
+  key.x_px = std::round(source.x_px * kPatternStepsPerPx) / kPatternStepsPerPx;
+  key.y_px = std::round(source.y_px * kPatternStepsPerPx) / kPatternStepsPerPx;
+  key.second_moment_px2 = std::round(source.second_moment_px2 * kPatternStepsPerPx) / kPatternStepsPerPx;
+  return key;
+}
+
+std::shared_ptr<const CiliaryCorona::Pattern> CiliaryCorona::pattern(const CompactSource& met, int width_px,
                                                                      int height_px, int threads) const {
+  const CompactSource source = pattern_key(met);
   {
     const std::lock_guard lock(patterns_->mutex);
     auto& recent = patterns_->recent;

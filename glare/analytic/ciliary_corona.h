@@ -73,7 +73,9 @@ class CiliaryCorona {
   // glare_energy's R, G, B += the source's energy x C over the pixels of the frame (alpha kept).
   // Each ring's sum is 0 over the whole ring, on the frame or beyond it. The result does not depend
   // on `threads`. A source of the same centroid and second moment on a frame of the same size as
-  // one of the last few is only added, from the values kept for it (PatternCache).
+  // one of the last few is only added, from the values kept for it (PatternCache). The pattern is
+  // made for the centroid and second moment rounded to kPatternStepsPerPx, so sources that differ
+  // only in their last digits share it.
   void add(const CompactSource& source, ImageRGBA& glare_energy, int threads = 2) const;
 
  private:
@@ -98,6 +100,14 @@ class CiliaryCorona {
     std::mutex mutex;
     std::deque<std::shared_ptr<const Pattern>> recent;
   };
+  // A pattern is made for the source's centroid and second moment rounded to 1/1024 of a pixel (and
+  // of a square pixel): one lamp shown at several luminances is found again with centroids that
+  // differ in the ninth digit (the scene's floats scaled and rounded), which made the demo's two
+  // lamp places 14 patterns, each a tenth of a second of the next trial's preparation. The
+  // rounding moves a source by at most 1/2048 px, far less than a pixel's average over the lines
+  // resolves (a line is an arc minute wide: 0.7 px at the demo's 0.024 degrees per pixel).
+  static constexpr double kPatternStepsPerPx = 1024.0;
+  static CompactSource pattern_key(const CompactSource& source);
   static constexpr std::size_t kCoronaPatternsKept = 8;
   static constexpr std::size_t kCoronaPatternBytesKept = std::size_t{64} << 20;
   std::shared_ptr<const Pattern> pattern(const CompactSource& source, int width_px, int height_px, int threads) const;
