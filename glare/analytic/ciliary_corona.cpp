@@ -55,8 +55,8 @@ const SemicircleCdf& semicircle_cdf() {
 
 // The lines in azimuth order, then the same lines again a turn on, so that a window of azimuths
 // crossing 2 pi reads on through contiguous entries: no wrap test nor index modulo per line, which
-// were most of a pixel's time. A line of the second copy is at (its azimuth - start) + 2 pi from the
-// window's start, as the one copy with the wrap added gave it, bit for bit.
+// took about a third of the pattern's time. A line of the second copy is at (its azimuth - start)
+// + 2 pi from the window's start, as the one copy with the wrap added gave it, bit for bit.
 class LineTurns {
  public:
   explicit LineTurns(const std::vector<FlareLine>& lines) : count_(lines.size()) {

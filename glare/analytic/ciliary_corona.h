@@ -102,10 +102,10 @@ class CiliaryCorona {
   };
   // A pattern is made for the source's centroid and second moment rounded to 1/1024 of a pixel (and
   // of a square pixel): one lamp shown at several luminances is found again with centroids that
-  // differ in the ninth digit (the scene's floats scaled and rounded), which made the demo's two
-  // lamp places 14 patterns, each a tenth of a second of the next trial's preparation. The
-  // rounding moves a source by at most 1/2048 px, far less than a pixel's average over the lines
-  // resolves (a line is an arc minute wide: 0.7 px at the demo's 0.024 degrees per pixel).
+  // differ in the ninth digit (the scene's floats scaled and rounded), and each pattern made anew
+  // is a pass over the whole annulus on the way to the next trial's onset (docs/PERFORMANCE.md,
+  // 2026-12-01). The rounding moves a source by at most 1/2048 px, far less than a pixel's average
+  // over the lines resolves (a line is an arc minute wide: 0.7 px at 0.024 degrees per pixel).
   static constexpr double kPatternStepsPerPx = 1024.0;
   static CompactSource pattern_key(const CompactSource& source);
   static constexpr std::size_t kCoronaPatternsKept = 8;
