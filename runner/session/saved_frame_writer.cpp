@@ -57,7 +57,6 @@ void SavedFrameWriter::run() {
     lock.lock();
     writing_ = false;
     if (failure && !error_) error_ = failure;
-    if (!failure) ++written_;
     changed_.notify_all();
   }
 }
@@ -81,11 +80,6 @@ void SavedFrameWriter::finish() {
   std::unique_lock lock(mutex_);
   changed_.wait(lock, [this] { return queue_.empty() && !writing_; });
   raise_error_locked(lock);
-}
-
-std::size_t SavedFrameWriter::frames_written() const {
-  const std::lock_guard lock(mutex_);
-  return written_;
 }
 
 }  // namespace glarelab

@@ -40,7 +40,6 @@ class SavedFrameWriter {
   void write(std::string path, ImageRGBA frame, bool as_scene);
   // Waits until every frame handed over is written; raises the first write's error, if any.
   void finish();
-  std::size_t frames_written() const;
 
  private:
   struct Job {
@@ -51,13 +50,12 @@ class SavedFrameWriter {
   void run();
   void raise_error_locked(std::unique_lock<std::mutex>& lock);
 
-  mutable std::mutex mutex_;
+  std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<Job> queue_;
   bool writing_ = false;  // a job taken from the queue and not yet written
   bool stopping_ = false;
   std::exception_ptr error_;
-  std::size_t written_ = 0;
   std::thread thread_;
 };
 
