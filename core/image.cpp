@@ -1,6 +1,8 @@
 #include "core/image.h"
 
 #include <cmath>
+#include <cstddef>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 
@@ -9,6 +11,32 @@
 #endif
 
 namespace glarelab {
+namespace {
+
+// The values of a new image in order, `fill` in the colour channels and 1 in alpha: a forward
+// iterator, so that std::vector's range constructor knows the count and writes each value once.
+struct NewPixelValues {
+  using iterator_category = std::forward_iterator_tag;
+  using value_type = float;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const float*;
+  using reference = float;
+  std::size_t index = 0;
+  float fill = 0.0f;
+  float operator*() const { return (index & 3) == 3 ? 1.0f : fill; }
+  NewPixelValues& operator++() {
+    ++index;
+    return *this;
+  }
+  NewPixelValues operator++(int) {
+    NewPixelValues before = *this;
+    ++index;
+    return before;
+  }
+  bool operator==(const NewPixelValues& other) const { return index == other.index; }
+};
+
+}  // namespace
 
 // Colour channels take `fill`; alpha is 1 so that a new image is opaque, as an EXR without an
 // alpha channel reads.
@@ -17,13 +45,10 @@ ImageRGBA::ImageRGBA(int width, int height, float fill) : width_px(width), heigh
     throw std::invalid_argument("ImageRGBA: negative size " + std::to_string(width) + "x" + std::to_string(height));
   }
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  rgba.resize(4 * pixels);
-  for (std::size_t i = 0; i < pixels; ++i) {
-    rgba[4 * i + 0] = fill;
-    rgba[4 * i + 1] = fill;
-    rgba[4 * i + 2] = fill;
-    rgba[4 * i + 3] = 1.0f;
-  }
+  // Made from the values in order, so the vector is allocated and written once (resizing would zero
+  // it and then the loop write it again): 20 to 25 % less time for a frame-sized image, most of
+  // the rest the fresh pages' faults (docs/PERFORMANCE.md, 2026-12-01).
+  rgba = std::vector<float>(NewPixelValues{0, fill}, NewPixelValues{4 * pixels, fill});
 }
 
 namespace {
