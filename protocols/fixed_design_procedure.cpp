@@ -25,9 +25,9 @@ TrialPlan FixedDesignProcedure::next_trial() {
   return planned_next();
 }
 
-std::optional<TrialPlan> FixedDesignProcedure::peek_following_trial() const {
-  if (next_ + 1 >= trial_count_) return std::nullopt;
-  return plan_at_(next_ + 1);
+std::optional<TrialPlan> FixedDesignProcedure::peek_following_trial(std::size_t later) const {
+  if (later >= trial_count_ || next_ + 1 + later >= trial_count_) return std::nullopt;
+  return plan_at_(next_ + 1 + later);
 }
 
 TrialOutcome FixedDesignProcedure::record_response(const TrialPlan& plan, const Response& response) {

@@ -22,10 +22,10 @@ class FixedDesignProcedure : public Procedure {
 
   bool finished() const override { return next_ >= trial_count_; }
   TrialPlan next_trial() override;
-  // The design's next row: every trial is decided before the session. An answer outside the
+  // The design's next rows: every trial is decided before the session. An answer outside the
   // allowed set does not advance the design, so the trial shown after it may be this one again;
   // the session compares the peeked plan with the one it gets.
-  std::optional<TrialPlan> peek_following_trial() const override;
+  std::optional<TrialPlan> peek_following_trial(std::size_t later = 0) const override;
   TrialOutcome record_response(const TrialPlan& plan, const Response& response) override;
   int planned_trials() const override { return static_cast<int>(trial_count_); }
 

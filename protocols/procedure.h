@@ -4,6 +4,7 @@
 // the same loop. Resuming a session replays the stored responses through a fresh procedure:
 // a procedure's state depends only on the experiment (seed included) and the responses it was
 // given, so the replay reaches exactly the state the interrupted run had.
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <optional>
@@ -22,12 +23,15 @@ class Procedure {
   // The plan of the next trial (trial_index = number of responses recorded so far). Calling it
   // twice without a response in between gives the same plan.
   virtual TrialPlan next_trial() = 0;
-  // The plan of the trial after the one next_trial() returns, when it does not depend on that
-  // trial's answer: what a session prepares while the current trial runs, waits for its answer and
-  // its inter-trial interval (docs/TIMING.md, "Trials prepared ahead"). Empty: not known before the
-  // answer (the default: adaptive designs place their next trial by the answers), or no trial
-  // follows. Asking does not advance the procedure.
-  virtual std::optional<TrialPlan> peek_following_trial() const { return std::nullopt; }
+  // The plan of the trial after the one next_trial() returns (`later` trials after that one), when
+  // it does not depend on the answers before it: what a session prepares while the current trial
+  // runs, waits for its answer and its inter-trial interval (docs/TIMING.md, "Trials prepared
+  // ahead"). Empty: not known before the answers (the default: adaptive designs place their next
+  // trial by the answers), or no such trial follows. Asking does not advance the procedure.
+  virtual std::optional<TrialPlan> peek_following_trial(std::size_t later = 0) const {
+    (void)later;
+    return std::nullopt;
+  }
   // Scores the response to the plan last returned by next_trial() and advances the procedure.
   // A response outside the plan's allowed set (e.g. "abort") is scored but does not advance;
   // "timeout" (no answer within the response window) advances without counting as an answer.

@@ -1,5 +1,5 @@
 // Trials prepared ahead (runner/session/trial_ahead.cpp, docs/TIMING.md "Trials prepared ahead"):
-// the procedure's peek at the following trial is the trial it then hands out, in every fixed design
+// the procedure's peeks at the following trials are the trials it then hands out, in every fixed design
 // of examples/; a session prepares each known trial's glare beside the one before, so its onset
 // computes none, and the frames it shows are the ones preparing them at the trial makes. What is
 // asserted is what the session logged and saved, never how the host kept time.
@@ -55,7 +55,7 @@ Response answer_for(const TrialPlan& plan) {
 }
 
 TEST(TrialAhead, PeekIsTheTrialShownNextInEveryFixedDesignExample) {
-  int fixed_designs = 0, peeks = 0;
+  int fixed_designs = 0, peeks = 0, later_peeks = 0;
   for (const auto& entry : std::filesystem::directory_iterator(std::string(GLARELAB_SOURCE_DIR) + "/examples")) {
     if (entry.path().extension() != ".toml") continue;
     const std::string name = entry.path().filename().string();
@@ -70,24 +70,41 @@ TEST(TrialAhead, PeekIsTheTrialShownNextInEveryFixedDesignExample) {
     if (dynamic_cast<const FixedDesignProcedure*>(procedure.get()) == nullptr) {
       // Adaptive designs place the next trial by the answer: the peek says it is not known.
       EXPECT_FALSE(procedure->peek_following_trial().has_value()) << name;
+      EXPECT_FALSE(procedure->peek_following_trial(1).has_value()) << name;
       continue;
     }
     ++fixed_designs;
+    // Before each trial: the peeks at the trial after it and at the one after that; then the
+    // trials as the design hands them out, each answered.
+    std::vector<std::optional<TrialPlan>> peeked_next, peeked_later;
+    std::vector<TrialPlan> shown;
     while (!procedure->finished()) {
-      const std::optional<TrialPlan> peeked = procedure->peek_following_trial();
-      const TrialPlan plan = procedure->next_trial();
-      procedure->record_response(plan, answer_for(plan));
-      if (procedure->finished()) {
-        EXPECT_FALSE(peeked.has_value()) << name << ": a peek after the last trial";
-        break;
+      peeked_next.push_back(procedure->peek_following_trial());
+      peeked_later.push_back(procedure->peek_following_trial(1));
+      shown.push_back(procedure->next_trial());
+      procedure->record_response(shown.back(), answer_for(shown.back()));
+    }
+    for (std::size_t t = 0; t < shown.size(); ++t) {
+      const std::string at = name + " before trial " + std::to_string(t);
+      if (t + 1 < shown.size()) {
+        ASSERT_TRUE(peeked_next[t].has_value()) << at;
+        expect_same_plan(*peeked_next[t], shown[t + 1], at);
+        ++peeks;
+      } else {
+        EXPECT_FALSE(peeked_next[t].has_value()) << at << ": a peek after the last trial";
       }
-      ASSERT_TRUE(peeked.has_value()) << name << " trial " << plan.trial_index;
-      ++peeks;
-      expect_same_plan(*peeked, procedure->next_trial(), name + " trial " + std::to_string(plan.trial_index + 1));
+      if (t + 2 < shown.size()) {
+        ASSERT_TRUE(peeked_later[t].has_value()) << at;
+        expect_same_plan(*peeked_later[t], shown[t + 2], at + ", one further");
+        ++later_peeks;
+      } else {
+        EXPECT_FALSE(peeked_later[t].has_value()) << at << ": a peek one further, past the last trial";
+      }
     }
   }
   EXPECT_GE(fixed_designs, 5) << "the examples hold forced-choice, rating and adjustment designs";
   EXPECT_GT(peeks, 100);
+  EXPECT_GT(later_peeks, 100);
 }
 
 TEST(TrialAhead, AnAnswerThatDoesNotAdvanceShowsTheSameTrialNotThePeekedOne) {
@@ -143,7 +160,10 @@ TEST(TrialAhead, EveryKnownTrialIsPreparedAheadAndItsFramesAreThoseMadeAtTheTria
   const std::string whole_db = dir.file("whole.db");
   const std::vector<std::string> whole = run_and_read_preparation(dir, experiment, whole_db, dir.file("whole"), {});
   // Ten trials (five rows, both sides), every one with dynamic glare: the first prepared at the
-  // trial, each later one beside the trial before, with no glare frame left for its onset.
+  // trial, the second beside it, each later one beside the trial two before (two trials are
+  // prepared ahead, SessionLoop::kTrialsAhead), with no glare frame left for its onset. On the
+  // virtual clock a trial whose frames were timed for other flips than it shows is prepared again
+  // at the trial: each is timed where the trials before it end.
   ASSERT_EQ(whole.size(), 10u);
   EXPECT_NE(whole[0].find("trial 0: frames prepared at the trial, not ahead: the first trial of the run"),
             std::string::npos)
@@ -151,7 +171,7 @@ TEST(TrialAhead, EveryKnownTrialIsPreparedAheadAndItsFramesAreThoseMadeAtTheTria
   EXPECT_EQ(whole[0].find("glare frames computed on the display's thread for the onset: 0"), std::string::npos) << whole[0];
   for (std::size_t t = 1; t < whole.size(); ++t) {
     EXPECT_NE(whole[t].find("trial " + std::to_string(t) + ": frames prepared ahead beside trial " +
-                            std::to_string(t - 1) + " (2 glare frame(s) on a worker"),
+                            std::to_string(t < 2 ? 0 : t - 2) + " (2 glare frame(s) on a worker"),
               std::string::npos)
         << whole[t];
     EXPECT_NE(whole[t].find("glare frames computed on the display's thread for the onset: 0"), std::string::npos) << whole[t];

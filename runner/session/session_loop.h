@@ -3,7 +3,9 @@
 // every phase of a trial shares; its member functions are defined by phase, in the .cpp file named
 // above each group below.
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <exception>
 #include <future>
 #include <map>
@@ -238,24 +240,32 @@ class SessionLoop {
   // read-back (which also waits for the frame's GL work) does not delay the onset.
   void save_first_frame(const TrialPlan& plan, int interval);
 
-  // runner/session/trial_ahead.cpp: the next trial prepared while this one runs (docs/TIMING.md,
+  // runner/session/trial_ahead.cpp: the next trials prepared while this one runs (docs/TIMING.md,
   // "Trials prepared ahead").
-  // After a stimulus flip of the current trial, once none of its frames is left to compute live:
-  // the trial the procedure knows comes next (Procedure::peek_following_trial) is laid out here, on
-  // the display's thread, and a worker thread composes its scenes on the CPU (CpuComposition; in GL
-  // here first where that is not GL's frame bit for bit), begins its glare and computes its frames
-  // beside the current trial's remaining flips, its answer and the next inter-trial interval.
-  // `flip`: the index in `schedule.timed` of the flip just made, at `flip_s`.
+  // After a stimulus flip of the current trial, once none of its frames is left to compute live on
+  // this thread: the trials the procedure knows come next (Procedure::peek_following_trial), up to
+  // kTrialsAhead of them, are laid out here, on the display's thread, and a worker thread for each
+  // composes its scenes on the CPU (CpuComposition; in GL here first, for the next trial only,
+  // where that is not GL's frame bit for bit), begins its glare and computes its frames beside the
+  // current trial's remaining flips, its answer and the next inter-trial intervals. The workers run
+  // one after another, in the order the trials are shown (the eyes' engines are one worker's at a
+  // time). `flip`: the index in `schedule.timed` of the flip just made, at `flip_s`.
   void begin_trial_ahead(const TrialPlan& current, const TrialSchedule& schedule, std::size_t flip, double flip_s,
                          const TrialIntervals& shown);
-  // Whether the trial prepared ahead is `plan` (nothing is prepared ahead: false).
+  // One trial prepared ahead, `plan` with `plan_schedule`, taken at `start_s` as planned (its first
+  // flip one period later), beside trial `beside`; its worker starts once the worker before it has
+  // finished.
+  void begin_one_trial_ahead(const TrialPlan& plan, const TrialSchedule& plan_schedule, double start_s, int beside);
+  // Why `plan` (nullptr: none known) is not prepared ahead; empty when it is.
+  std::string why_not_ahead(const TrialPlan* plan, const TrialSchedule* plan_schedule);
+  // Whether the next trial prepared ahead is `plan` (nothing is prepared ahead: false).
   bool trial_ahead_matches(const TrialPlan& plan) const;
   // At the next trial, after its inter-trial interval and screens: true when `plan` is the trial
   // prepared ahead (the same plan, and on the virtual clock frames timed for the same flips as
   // preparing them now would), its intervals moved into `intervals` once the worker has finished
   // (the wait counted as glare preparation). False: prepared now, as without a worker.
   bool take_trial_ahead(const TrialPlan& plan, const TrialSchedule& schedule, TrialIntervals& intervals);
-  // Stops the worker at its next frame and joins it; what it prepared is dropped.
+  // Stops the workers at their next frame and joins them; what they prepared is dropped.
   void drop_trial_ahead();
   // The trial taken at its onset while its worker still makes its frames (FrameStream): the frame
   // a stimulus flip of `interval` shows, waited for (nullptr where the interval computes none);
@@ -333,14 +343,31 @@ class SessionLoop {
     bool composed_on_worker = false;
     std::uint64_t display_writes = 0;
     std::vector<int> frames_to_compute;  // per interval: all (-1) or none (0); the worker's
+    // When it is planned to be taken (its schedule's first flip one period later), its schedule's
+    // timed flips and the feedback flips predicted after its answer: where the trial after it goes.
+    double start_s = 0.0;
+    std::size_t timed_flips = 0;
+    int feedback_flips = 0;
     FrameStream stream;                  // the frames, as the worker makes them
     std::thread worker;
     std::atomic<bool> stop{false};
     std::exception_ptr error;
     int frames = 0;  // computed by the worker
-    double worker_s = 0.0;
+    double worker_s = 0.0;  // from its start, after the worker before it finished
+    std::promise<void> worker_done;  // set when its worker ends, however it ends
   };
-  std::unique_ptr<TrialAhead> ahead_;
+  // How many trials are prepared ahead of the one shown: two, so that a trial whose frames take
+  // longer than the trial before it leaves (two dynamic trials in a row on two cores) borrows the
+  // time a quicker trial before them left over. Each holds its frames until it is shown (the
+  // demo's dynamic trial: 30 frames of 3 MB, half floats of the glared region).
+  static constexpr std::size_t kTrialsAhead = 2;
+  // The trials prepared ahead, the next one first.
+  std::deque<std::unique_ptr<TrialAhead>> ahead_;
+  // On its worker: the trial's scenes composed and glare begun (where GL did not do that on the
+  // display's thread), then its frames made and published in the order they are shown.
+  void make_frames_ahead(TrialAhead& ahead);
+  // The end of the last worker started (invalid: none yet): the next one waits for it.
+  std::shared_future<void> last_worker_done_;
   // The trial shown now, taken before its worker was done: its intervals are the trial's own
   // (moved out), the worker making their remaining frames in place.
   std::unique_ptr<TrialAhead> streaming_;

@@ -45,7 +45,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   ahead_begun_ = false;
   const bool ahead = trial_ahead_matches(plan);
   if (!ahead) {
-    if (ahead_) preparation_.not_ahead = "the trial shown is not the one prepared";
+    if (!ahead_.empty()) preparation_.not_ahead = "the trial shown is not the one prepared";
     drop_trial_ahead();
   }
   fast_forward_ = capture_.preview != nullptr && !capture_.captures(plan);
@@ -106,7 +106,7 @@ bool SessionLoop::run_trial(const TrialPlan& plan, std::ostream& progress) {
   // (Where the first trial's own frames are still being made, the next is begun after its flips.)
   if (first_of_run && clock_.keeps_real_time() && !fast_forward_ && !streaming_) {
     begin_trial_ahead(plan, schedule, 0, clock_.now_s() + period_s_, intervals);
-    if (ahead_ && ahead_->worker.joinable()) ahead_->worker.join();
+    if (!ahead_.empty() && ahead_.front()->worker.joinable()) ahead_.front()->worker.join();
   }
   if (!run_timed_sequence(plan, schedule, intervals, question, run)) return false;
   finish_stream();  // every frame was shown: the worker has made its last one
