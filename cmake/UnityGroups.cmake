@@ -14,7 +14,11 @@
 # Off (-DGLARELAB_UNITY_GROUPS=OFF) every file compiles on its own: quicker rebuilds while editing
 # one file. Without Python 3 or Universal Ctags the option has no effect, and configure says so.
 option(GLARELAB_UNITY_GROUPS "Compile each library's, the benchmarks' and the test program's sources as a few unity sources (a quicker cold build)" ON)
-set(GLARELAB_UNITY_GROUP_FILES 8 CACHE STRING "Most source files in one unity group")
+# Sixteen: the libraries and glarelab in 42 groups take 542 CPU-s from scratch on two cores, against
+# 639 in 58 groups of eight (15 % less), and 32 files no less (36 groups, 556 CPU-s; the last
+# groups then leave a core idle); the largest compile holds about 0.85 GB (docs/PERFORMANCE.md,
+# "2026-12-01: unity groups of sixteen").
+set(GLARELAB_UNITY_GROUP_FILES 16 CACHE STRING "Most source files in one unity group")
 
 if(GLARELAB_UNITY_GROUPS)
   find_program(GLARELAB_CTAGS NAMES ctags-universal universal-ctags ctags)
