@@ -218,5 +218,48 @@ TEST(TrialAhead, EveryKnownTrialIsPreparedAheadAndItsFramesAreThoseMadeAtTheTria
   EXPECT_GE(compared_ahead, 3);
 }
 
+// An abort while two trials are prepared ahead (the second's worker waiting for the first's) ends
+// the session at once: both workers are stopped, the answered trials are kept, and the resumed
+// session, whose first trial is prepared at the trial, prepares the two after it beside it again.
+TEST(TrialAhead, AnAbortStopsBothTrialsPreparedAheadAndTheResumedRunPreparesTwoAheadAgain) {
+  const test::ScratchDir dir;
+  const std::string experiment = test::small_dynamic_demo(dir.path(), "").string();
+  // Entry k answers trial k; the resumed run shows trial 2 again and reads entry 2 again, so the
+  // second script holds an answer there.
+  test::write_bytes(dir.file("aborting.txt"), "left\nleft\nabort\n");
+  test::write_bytes(dir.file("answers.txt"), "left\nleft\nleft\nleft\nleft\nleft\nleft\nleft\nleft\nleft\n");
+  const std::string db = dir.file("aborted.db");
+  const auto aborted = test::run_glarelab({"run", experiment, "--display", "offscreen", "--observer",
+                                           "script:" + dir.file("aborting.txt"), "--db", db, "--seed", "3"},
+                                          dir.path());
+  EXPECT_EQ(aborted.exit_code, 130) << aborted.output;
+  EXPECT_NE(aborted.output.find("aborted"), std::string::npos) << aborted.output;
+  {
+    const ResultStore store(db);
+    EXPECT_EQ(store.load_trials(store.load_sessions().at(0).id).size(), 2u);
+  }
+  const auto resumed = test::run_glarelab({"run", experiment, "--display", "offscreen", "--observer",
+                                           "script:" + dir.file("answers.txt"), "--db", db, "--resume", "1"},
+                                          dir.path());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const ResultStore store(db);
+  ASSERT_EQ(store.load_trials(store.load_sessions().at(0).id).size(), 10u);
+  const std::vector<std::string> preparation = test::session_event_messages(db, "trial_preparation");
+  // Trials 0 to 2 in the aborted run (trial 2 shown, aborted at its answer: its event is written
+  // when the session ends), then 2 to 9 in the resumed one.
+  ASSERT_EQ(preparation.size(), 11u);
+  EXPECT_NE(preparation[1].find("trial 1: frames prepared ahead beside trial 0"), std::string::npos) << preparation[1];
+  EXPECT_NE(preparation[2].find("trial 2: frames prepared ahead beside trial 0"), std::string::npos) << preparation[2];
+  EXPECT_NE(preparation[3].find("trial 2: frames prepared at the trial, not ahead: the first trial of the run"),
+            std::string::npos)
+      << preparation[3];
+  for (int t = 3; t < 10; ++t)
+    EXPECT_NE(preparation[static_cast<std::size_t>(t + 1)].find("trial " + std::to_string(t) +
+                                                                ": frames prepared ahead beside trial " +
+                                                                std::to_string(t == 3 ? 2 : t - 2)),
+              std::string::npos)
+        << preparation[static_cast<std::size_t>(t + 1)];
+}
+
 }  // namespace
 }  // namespace glarelab
