@@ -28,10 +28,7 @@ class Procedure {
   // runs, waits for its answer and its inter-trial interval (docs/TIMING.md, "Trials prepared
   // ahead"). Empty: not known before the answers (the default: adaptive designs place their next
   // trial by the answers), or no such trial follows. Asking does not advance the procedure.
-  virtual std::optional<TrialPlan> peek_following_trial(std::size_t later = 0) const {
-    (void)later;
-    return std::nullopt;
-  }
+  virtual std::optional<TrialPlan> peek_following_trial(std::size_t /*later*/ = 0) const { return std::nullopt; }
   // Scores the response to the plan last returned by next_trial() and advances the procedure.
   // A response outside the plan's allowed set (e.g. "abort") is scored but does not advance;
   // "timeout" (no answer within the response window) advances without counting as an answer.
