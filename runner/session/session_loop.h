@@ -254,8 +254,10 @@ class SessionLoop {
                          const TrialIntervals& shown);
   // One trial prepared ahead, `plan` with `plan_schedule`, taken at `start_s` as planned (its first
   // flip one period later), beside trial `beside`; its worker starts once the worker before it has
-  // finished.
-  void begin_one_trial_ahead(const TrialPlan& plan, const TrialSchedule& plan_schedule, double start_s, int beside);
+  // finished. False, with nothing begun, where its scenes would be composed in GL on this thread
+  // and `may_compose_in_gl` is not set.
+  bool begin_one_trial_ahead(const TrialPlan& plan, const TrialSchedule& plan_schedule, double start_s, int beside,
+                             bool may_compose_in_gl);
   // Why `plan` (nullptr: none known) is not prepared ahead; empty when it is.
   std::string why_not_ahead(const TrialPlan* plan, const TrialSchedule* plan_schedule);
   // Whether the next trial prepared ahead is `plan` (nothing is prepared ahead: false).

@@ -122,7 +122,8 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
     // timed from the clock's next flip).
     const int flips_to_next =
         static_cast<int>(schedule.timed.size() - 1 - flip) + feedback_flips + next_schedule->inter_trial_frames;
-    begin_one_trial_ahead(*next, *next_schedule, flip_s + (flips_to_next + 1) * period_s_, current.trial_index);
+    begin_one_trial_ahead(*next, *next_schedule, flip_s + (flips_to_next + 1) * period_s_, current.trial_index,
+                          /*may_compose_in_gl=*/true);
   }
   ahead_begun_ = true;
   // The trials after it, each taken where the one before it ends (its timed flips, the answer at
@@ -132,14 +133,13 @@ void SessionLoop::begin_trial_ahead(const TrialPlan& current, const TrialSchedul
     const std::optional<TrialPlan> next = prepared_.procedure->peek_following_trial(ahead_.size());
     if (!next) return;
     const TrialSchedule next_schedule = schedule_trial(prepared_.experiment.presentation, *next, sequential_);
-    for (int interval = 0; next->real_stimulus.empty() && interval < next_schedule.intervals; ++interval)
-      if (!composition_.exact(layout(interval_plan(*next, interval)))) return;  // composed in GL on this thread
     if (!why_not_ahead(&*next, &next_schedule).empty()) return;
     const TrialAhead& before = *ahead_.back();
     const double start_s =
         before.start_s +
         (static_cast<double>(before.timed_flips) + before.feedback_flips + next_schedule.inter_trial_frames) * period_s_;
-    begin_one_trial_ahead(*next, next_schedule, start_s, current.trial_index);
+    // Not where GL would compose its scenes here: a worker holds the eyes' engines.
+    if (!begin_one_trial_ahead(*next, next_schedule, start_s, current.trial_index, /*may_compose_in_gl=*/false)) return;
   }
 }
 
@@ -154,8 +154,8 @@ std::string SessionLoop::why_not_ahead(const TrialPlan* plan, const TrialSchedul
   return {};
 }
 
-void SessionLoop::begin_one_trial_ahead(const TrialPlan& plan, const TrialSchedule& plan_schedule, double start_s,
-                                        int beside) {
+bool SessionLoop::begin_one_trial_ahead(const TrialPlan& plan, const TrialSchedule& plan_schedule, double start_s,
+                                        int beside, bool may_compose_in_gl) {
   const auto start = std::chrono::steady_clock::now();
   const std::uint64_t writes_before = renderer_.stimulus_generation();
   auto ahead = std::make_unique<TrialAhead>();
@@ -175,6 +175,7 @@ void SessionLoop::begin_one_trial_ahead(const TrialPlan& plan, const TrialSchedu
     ahead->first_flip_s.push_back(start_s + (1.0 + static_cast<double>(first_flip)) * period_s_);
     exact = exact && composition_.exact(ahead->intervals.placements.back());
   }
+  if (!exact && !may_compose_in_gl) return false;
   // Composing the scenes in GL (and reading them back) took this thread 14 to 560 ms under load, a
   // dropped frame per trial: the worker composes them on the CPU, GL's frame bit for bit, where
   // every scene is shown at its own size. A scaled one is composed in GL here, as before (only for
@@ -196,7 +197,7 @@ void SessionLoop::begin_one_trial_ahead(const TrialPlan& plan, const TrialSchedu
   TrialAhead* const a = ahead_.emplace_back(std::move(ahead)).get();
   if (!computes) {
     a->worker_done.set_value();
-    return;
+    return true;
   }
   // Below the display's thread where flips keep real time. On the virtual clock no flip waits for
   // it, while the display's thread flips as fast as it draws: at a lower priority the worker's
@@ -219,38 +220,38 @@ void SessionLoop::begin_one_trial_ahead(const TrialPlan& plan, const TrialSchedu
     a->stream.finish();
     a->worker_done.set_value();
   });
+  return true;
 }
 
 void SessionLoop::make_frames_ahead(TrialAhead& ahead) {
-  TrialAhead* const a = &ahead;
-  for (std::size_t i = 0; a->composed_on_worker && i < a->intervals.shown_plans.size() && !a->stop; ++i) {
-    const IntervalGlare& glare = a->intervals.glare.emplace_back(glare_.begin_interval_off_display(
-        a->intervals.shown_plans[i], a->intervals.placements[i], a->first_flip_s[i], composition_));
-    a->frames_to_compute.push_back(frames_ahead(glare));
+  for (std::size_t i = 0; ahead.composed_on_worker && i < ahead.intervals.shown_plans.size() && !ahead.stop; ++i) {
+    const IntervalGlare& glare = ahead.intervals.glare.emplace_back(glare_.begin_interval_off_display(
+        ahead.intervals.shown_plans[i], ahead.intervals.placements[i], ahead.first_flip_s[i], composition_));
+    ahead.frames_to_compute.push_back(frames_ahead(glare));
   }
   // Each frame's place is reserved before the first, so a frame published stays where it is
   // while the display's thread shows it; from begin() on, the intervals may be moved into the
   // trial (the vector's elements stay in place), and only these pointers reach them.
   std::vector<IntervalGlare*> glares;
   std::vector<int> counts;
-  for (std::size_t i = 0; i < a->intervals.glare.size(); ++i) {
-    IntervalGlare& glare = a->intervals.glare[i];
+  for (std::size_t i = 0; i < ahead.intervals.glare.size(); ++i) {
+    IntervalGlare& glare = ahead.intervals.glare[i];
     const int needed = glare.computed() ? glare.frames_needed : 0;
-    counts.push_back(a->frames_to_compute[i] < 0 ? needed : std::min(needed, a->frames_to_compute[i]));
+    counts.push_back(ahead.frames_to_compute[i] < 0 ? needed : std::min(needed, ahead.frames_to_compute[i]));
     glare.frames.reserve(static_cast<std::size_t>(glare.frames_needed));
     glares.push_back(&glare);
   }
-  a->stream.begin(counts);
-  const auto stopped = [a] { return a->stop.load(); };
+  ahead.stream.begin(counts);
+  const auto stopped = [&ahead] { return ahead.stop.load(); };
   for (std::size_t i = 0; i < glares.size(); ++i) {
-    for (int k = 0; k < counts[i] && !a->stop; ++k) {
+    for (int k = 0; k < counts[i] && !ahead.stop; ++k) {
       IntervalGlare& glare = *glares[i];
       const std::size_t before = glare.frames.size();
       glare_.prepare_frames(glare, stopped, k + 1, /*display_thread=*/false);
       if (glare.frames.size() <= static_cast<std::size_t>(k)) break;
-      a->frames += static_cast<int>(glare.frames.size() - before);
-      a->stream.publish(static_cast<int>(i), k, &glare.frames[static_cast<std::size_t>(k)],
-                        glare.frame_compute_s.empty() ? 0.0 : glare.frame_compute_s.back());
+      ahead.frames += static_cast<int>(glare.frames.size() - before);
+      ahead.stream.publish(static_cast<int>(i), k, &glare.frames[static_cast<std::size_t>(k)],
+                           glare.frame_compute_s.empty() ? 0.0 : glare.frame_compute_s.back());
     }
   }
 }
