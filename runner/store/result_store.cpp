@@ -14,6 +14,7 @@
 #include <ctime>
 #include <filesystem>
 #include <system_error>
+#include <thread>
 
 #include "runner/store/schema_migrations.h"
 #include "runner/store/sqlite_statement.h"
@@ -74,6 +75,34 @@ constexpr const char* kSelectSession =
     "SELECT id, experiment, participant, seed, started_utc, finished_utc, status, config, "
     "software_version, renderer, display_backend, clock, observer FROM sessions";
 
+// The store's wait for another connection's lock (sqlite3_busy_timeout below).
+constexpr int kBusyTimeoutMs = 5000;
+
+// Switches the file to WAL, waiting for other connections' reads to end. The switch takes the
+// file's exclusive lock without the busy handler (SQLite's pagerExclusiveLock), so where a second
+// process reads the file at that moment (two sessions started together on one new file, each
+// reading its schema version) it fails at once with SQLITE_BUSY ("database is locked": 6 of 800
+// stores opened by four processes at a time on new files); it is tried again until the busy
+// timeout has passed. Once the file is in WAL, the switch is a no-op that takes no lock.
+void set_wal_journal_mode(sqlite3* db, const std::string& path) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::milliseconds(kBusyTimeoutMs);
+  for (;;) {
+    sqlite3_stmt* statement = nullptr;
+    if (sqlite3_prepare_v2(db, "PRAGMA journal_mode=WAL", -1, &statement, nullptr) != SQLITE_OK)
+      fail(db, path, "setting journal_mode=WAL");
+    const int rc = sqlite3_step(statement);
+    const std::string mode = rc == SQLITE_ROW ? reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)) : "";
+    sqlite3_finalize(statement);
+    if (rc == SQLITE_ROW) {
+      if (mode != "wal")
+        throw StoreError("SQLite: " + path + ": setting journal_mode=WAL: the database stayed in mode '" + mode + "'");
+      return;
+    }
+    if (rc != SQLITE_BUSY || std::chrono::steady_clock::now() >= give_up) fail(db, path, "setting journal_mode=WAL");
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
 }  // namespace
 
 void refuse_directory_as_database(const std::string& path) {
@@ -89,7 +118,7 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
   try {
     if (open_rc != SQLITE_OK) fail(db_, path_, "opening the database");
     // Another process (an analysis script) may hold a lock briefly; wait rather than fail.
-    sqlite3_busy_timeout(db_, 5000);
+    sqlite3_busy_timeout(db_, kBusyTimeoutMs);
 
     // Reading the header first: a file that is not a database fails here (SQLITE_NOTADB), and
     // a newer schema is refused before this program changes anything in it. The version and the
@@ -116,14 +145,7 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
       throw StoreError("SQLite: " + path_ + ": holds tables but no glarelab schema version: another program's "
                        "database; give glarelab a file of its own");
 
-    {
-      Statement journal(db_, path_, "PRAGMA journal_mode=WAL", "setting journal_mode=WAL");
-      const std::string mode = journal.step() ? journal.text(0) : std::string();
-      if (mode != "wal") {
-        throw StoreError("SQLite: " + path_ + ": setting journal_mode=WAL: the database stayed in mode '" + mode +
-                         "'");
-      }
-    }
+    set_wal_journal_mode(db_, path_);
     // FULL syncs the WAL at every commit: a committed trial survives a power cut, not only a
     // crash of this process.
     exec(db_, path_, "PRAGMA synchronous=FULL", "setting synchronous=FULL");
