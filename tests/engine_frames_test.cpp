@@ -14,34 +14,17 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
-#include <sstream>
 #include <string>
 
 #include "cli_process.h"
 #include "core/exr_io.h"
+#include "example_copies.h"
 #include "scratch_dir.h"
 
 namespace glarelab {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The examples folder copied into `dir` with every stimulus two frames long.
-fs::path short_examples(const fs::path& dir) {
-  const fs::path examples = fs::path(GLARELAB_SOURCE_DIR) / "examples";
-  fs::copy(examples, dir / "examples", fs::copy_options::recursive);
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir / "examples")) {
-    if (entry.path().extension() != ".toml") continue;
-    std::istringstream in(test::read_bytes(entry.path().string()));
-    std::ostringstream out;
-    for (std::string line; std::getline(in, line);) {
-      if (line.rfind("stimulus_frames", 0) == 0 || line.rfind("stimulus_duration_s", 0) == 0) line = "stimulus_frames = 2";
-      out << line << "\n";
-    }
-    test::write_bytes(entry.path().string(), out.str());
-  }
-  return dir / "examples";
-}
 
 // The largest difference of `got` from `reference` over the colour channels, each scaled by the
 // larger of 1 cd/m2 and the reference value (1e-3 relative, 1e-3 cd/m2 where darker), and where.
@@ -69,7 +52,7 @@ class GpuEngineFrames : public ::testing::TestWithParam<ShortExample> {};
 
 TEST_P(GpuEngineFrames, EqualTheCpuEnginesWithinOnePerMille) {
   const test::ScratchDir scratch;
-  const fs::path file = short_examples(scratch.path()) / GetParam().file;
+  const fs::path file = test::examples_with_frames(scratch.path(), 2) / GetParam().file;
   std::map<std::string, fs::path> frames;
   for (const std::string engine : {"cpu", "gpu"}) {
     frames[engine] = scratch.path() / ("frames_" + engine);

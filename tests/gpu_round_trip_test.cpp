@@ -13,13 +13,13 @@
 #include <iostream>
 #include <memory>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_process.h"
 #include "core/errors.h"
 #include "core/gl/read_back.h"
+#include "example_copies.h"
 #include "runner/display/compute_context.h"
 #include "scratch_dir.h"
 #include "session_events.h"
@@ -193,24 +193,6 @@ TEST(ReadBackSites, EveryReadBackGoesThroughTheTally) {
   EXPECT_TRUE(found.empty()) << "read-backs outside core/gl/read_back.cpp:\n" << listed;
 }
 
-// The examples folder copied into `dir` with every stimulus `frames` frames long.
-fs::path examples_with_frames(const fs::path& dir, int frames) {
-  const fs::path examples = fs::path(GLARELAB_SOURCE_DIR) / "examples";
-  fs::copy(examples, dir / "examples", fs::copy_options::recursive);
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir / "examples")) {
-    if (entry.path().extension() != ".toml") continue;
-    std::istringstream in(test::read_bytes(entry.path().string()));
-    std::ostringstream out;
-    for (std::string line; std::getline(in, line);) {
-      if (line.rfind("stimulus_frames", 0) == 0 || line.rfind("stimulus_duration_s", 0) == 0)
-        line = "stimulus_frames = " + std::to_string(frames);
-      out << line << "\n";
-    }
-    test::write_bytes(entry.path().string(), out.str());
-  }
-  return dir / "examples";
-}
-
 struct IntervalReadBacks {
   int frames_computed = 0;
   unsigned long frames_after_first = 0;  // whole frames read back after frame 0
@@ -247,7 +229,7 @@ class NoRoundTrip : public ::testing::TestWithParam<GpuSession> {};
 TEST_P(NoRoundTrip, TheGpuEngineReadsBackNoFrameAfterEachIntervalsFirst) {
   const test::ScratchDir scratch;
   // Two frames a stimulus: the first and one after it, all the read-back count below needs.
-  const fs::path file = examples_with_frames(scratch.path(), 2) / GetParam().file;
+  const fs::path file = test::examples_with_frames(scratch.path(), 2) / GetParam().file;
   for (const bool save_frames : {false, true}) {
     SCOPED_TRACE(save_frames ? "with --save-frames" : "without --save-frames");
     const fs::path db = scratch.path() / (save_frames ? "saved.db" : "live.db");

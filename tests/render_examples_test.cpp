@@ -6,7 +6,9 @@
 // frame. The session computes every glare frame of the trials before; the preview only records
 // them in the eye: equal frames show the eye history is carried over exactly. The session stops
 // after the last trial the render names (--stop-after): spencer_staircase shows its 24 conditions
-// for the first time within its first 108 of 192 trials.
+// for the first time within its first 108 of 192 trials. Each example is copied with every stimulus
+// two frames long (tests/example_copies.h): the eye's history still spans every trial before the
+// one compared, at a fifteenth of the glare frames.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +19,7 @@
 
 #include "cli_process.h"
 #include "core/exr_io.h"
+#include "example_copies.h"
 #include "protocols/experiment.h"
 #include "runner/store/result_store.h"
 #include "scratch_dir.h"
@@ -35,8 +38,8 @@ int first_trial_of(const std::vector<TrialRecord>& trials, const std::string& na
 }
 
 TEST_P(RenderMatchesSession, EveryConditionEqualsTheSessionsFirstFrameOfIt) {
-  const std::string file = std::string(GLARELAB_SOURCE_DIR) + "/examples/" + GetParam();
   const test::ScratchDir scratch;
+  const std::string file = (test::examples_with_frames(scratch.path(), 2) / GetParam()).string();
   const auto folder = scratch.path() / "rendered";
   const test::RunOutput all =
       test::run_glarelab({"render", file, "--all-conditions", "--out-dir", folder.string()}, scratch.path());
