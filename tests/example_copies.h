@@ -2,7 +2,7 @@
 // The shipped examples copied into a test's scratch folder with every stimulus a few frames long:
 // the tests that run whole example sessions to compare their frames (GPU engine against CPU engine,
 // render against session, read-backs) check what each frame is, which a stimulus of two frames
-// shows as well as one of thirty, at a fifteenth of the glare frames' cost.
+// shows as well as one of fifteen or thirty, for a fraction of the dynamic glare frames.
 #include <filesystem>
 #include <sstream>
 #include <string>

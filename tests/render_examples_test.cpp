@@ -8,7 +8,7 @@
 // after the last trial the render names (--stop-after): spencer_staircase shows its 24 conditions
 // for the first time within its first 108 of 192 trials. Each example is copied with every stimulus
 // two frames long (tests/example_copies.h): the eye's history still spans every trial before the
-// one compared, at a fifteenth of the glare frames.
+// one compared, for a fraction of the dynamic glare frames.
 #include <gtest/gtest.h>
 
 #include <algorithm>
