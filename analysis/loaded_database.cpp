@@ -33,6 +33,10 @@ class ReadOnlyDatabase {
       sqlite3_close(db_);
       throw StoreError("analysis: " + path + ": cannot open: " + message);
     }
+    // A session writing the file holds its lock for moments (a commit, the checkpoint when its
+    // last connection closes; the whole file where another program asked for it alone): the
+    // reads wait for it, as the store's writes do, rather than fail with "database is locked".
+    sqlite3_busy_timeout(db_, 5000);
   }
   ~ReadOnlyDatabase() { sqlite3_close(db_); }
   ReadOnlyDatabase(const ReadOnlyDatabase&) = delete;

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <regex>
+#include <thread>
 
 #include "analysis/analysis_report.h"
 #include "analysis/report_output.h"
@@ -240,6 +242,33 @@ TEST(AnalysisReport, RefusesNewerSchemaAndNonDatabases) {
   EXPECT_THROW(load_databases({path}), StoreError);
   EXPECT_THROW(load_databases({dir.write("text.db", "hello")}), StoreError);
   EXPECT_THROW(load_databases({dir.file("missing.db")}), StoreError);
+}
+
+// A database whose lock another connection holds for a moment (here 300 ms, the whole file: a
+// connection in exclusive locking mode inside a write) is read once the lock is released, as the
+// store's own writes wait; before, the analysis failed at once with "database is locked".
+TEST(AnalysisReport, ADatabaseLockedForAMomentIsReadOnceTheLockIsReleased) {
+  const test::ScratchDir dir;
+  const std::string path = ritschel_database(dir);
+  sqlite3* holder = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(path.c_str(), &holder, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(holder, "PRAGMA locking_mode=EXCLUSIVE; BEGIN EXCLUSIVE; UPDATE sessions SET config = config;",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK)
+      << sqlite3_errmsg(holder);
+  const auto locked_at = std::chrono::steady_clock::now();
+  std::thread release([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    sqlite3_exec(holder, "COMMIT", nullptr, nullptr, nullptr);
+    sqlite3_close(holder);  // ends the exclusive locking mode's hold on the file
+  });
+  LoadedData data;
+  EXPECT_NO_THROW(data = load_databases({path}));
+  const double waited_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - locked_at).count();
+  release.join();
+  EXPECT_EQ(data.sessions.size(), 2u);
+  // The read came after the release: the lock was held for 300 ms from before the clock started.
+  EXPECT_GE(waited_s, 0.3);
 }
 
 // Found by scripts/sanitize.sh (LeakSanitizer): refusing a file that is not a database left the
