@@ -89,18 +89,17 @@ constexpr int kBusyTimeoutMs = 5000;
 void set_wal_journal_mode(sqlite3* db, const std::string& path) {
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::milliseconds(kBusyTimeoutMs);
   for (;;) {
-    sqlite3_stmt* statement = nullptr;
-    if (sqlite3_prepare_v2(db, "PRAGMA journal_mode=WAL", -1, &statement, nullptr) != SQLITE_OK)
-      fail(db, path, "setting journal_mode=WAL");
-    const int rc = sqlite3_step(statement);
-    const std::string mode = rc == SQLITE_ROW ? reinterpret_cast<const char*>(sqlite3_column_text(statement, 0)) : "";
-    sqlite3_finalize(statement);
-    if (rc == SQLITE_ROW) {
-      if (mode != "wal")
-        throw StoreError("SQLite: " + path + ": setting journal_mode=WAL: the database stayed in mode '" + mode + "'");
-      return;
+    {
+      // Finalized before the wait: a refused statement keeps nothing.
+      Statement journal(db, path, "PRAGMA journal_mode=WAL", "setting journal_mode=WAL");
+      if (const std::optional<bool> row = journal.step_unless_busy()) {
+        const std::string mode = *row ? journal.text(0) : std::string();
+        if (mode != "wal")
+          throw StoreError("SQLite: " + path + ": setting journal_mode=WAL: the database stayed in mode '" + mode + "'");
+        return;
+      }
+      if (std::chrono::steady_clock::now() >= give_up) fail(db, path, "setting journal_mode=WAL");
     }
-    if (rc != SQLITE_BUSY || std::chrono::steady_clock::now() >= give_up) fail(db, path, "setting journal_mode=WAL");
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
 }

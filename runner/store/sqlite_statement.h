@@ -56,9 +56,17 @@ class Statement {
 
   // True while there is a row to read; false when done.
   bool step() {
+    const std::optional<bool> row = step_unless_busy();
+    if (!row) fail(db_, path_, what_);
+    return *row;
+  }
+  // As step(), but nothing where SQLite refused the statement's lock at once (SQLITE_BUSY), for a
+  // caller that tries it again itself.
+  std::optional<bool> step_unless_busy() {
     const int rc = sqlite3_step(stmt_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
+    if (rc == SQLITE_BUSY) return std::nullopt;
     fail(db_, path_, what_);
   }
   void step_done() {
