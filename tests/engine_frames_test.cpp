@@ -7,6 +7,8 @@
 // engines: the seed fixes the order and the simulated observer's answers do not depend on the
 // frames. glare_quest_plus shows no glare (every condition control), and the analytic models
 // (spencer_staircase's) are integrated on the CPU in both engines: their frames are equal bit for bit.
+// The GPU session's read-backs are counted too: with --save-frames each interval reads its shown
+// frames back (acceptance 2's count, seen to count).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,10 +17,12 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "cli_process.h"
 #include "core/exr_io.h"
 #include "example_copies.h"
+#include "read_back_events.h"
 #include "scratch_dir.h"
 
 namespace glarelab {
@@ -63,6 +67,16 @@ TEST_P(GpuEngineFrames, EqualTheCpuEnginesWithinOnePerMille) {
         scratch.path());
     if (engine == std::string("gpu") && run.exit_code == 3) GTEST_SKIP() << "no OpenGL 4.5 context here: " << run.output;
     ASSERT_EQ(run.exit_code, 0) << engine << ": " << run.output;
+  }
+  // --save-frames reads each shown frame back at its flip, after frame 0 was made: the GPU
+  // session's read-back count (its `read_backs` events) shows it in every interval it logs, the
+  // counterpart of tests/gpu_round_trip_test.cpp's sessions without it, which read back none.
+  // Every example but glare_quest_plus (no glare, no perception stage) logs one per interval.
+  const std::vector<test::IntervalReadBacks> read_backs = test::read_back_events((scratch.path() / "gpu.db").string());
+  EXPECT_EQ(read_backs.empty(), GetParam().file == "glare_quest_plus.toml") << read_backs.size() << " read_backs events";
+  for (const test::IntervalReadBacks& interval : read_backs) {
+    ASSERT_GE(interval.frames_computed, 1) << interval.message;
+    EXPECT_GE(interval.frames_after_first, 1u) << interval.message;
   }
   int compared = 0;
   for (const fs::directory_entry& entry : fs::directory_iterator(frames["cpu"])) {

@@ -172,32 +172,33 @@ TEST_F(GlareBackendAgreement, SmallestAndLargestPupilsAtSmallestAndLargestGrids)
     }
 }
 
-TEST_F(GlareBackendAgreement, LargestGridWorksOnGlForTheSmallestAndLargestPupils) {
-  // N = 4096, pupil only, 575 nm, no phase, over 96 mm (1.5 mm pupil: 64 pixels, ring at 78 PSF
-  // pixels; 9 mm: 384 pixels, ring at 13): the Airy ring within 2% and a unit sum within 1e-5.
-  // About 4 s per PSF on llvmpipe on the two shared cores (and 0.5 GB of buffers). This size used to
-  // fail: normalising dispatched 65536 work groups, one more than OpenGL guarantees.
-  for (const double pupil_mm : {1.5, 9.0}) {
-    ApertureGeometry geometry;
-    geometry.pupil_diameter_mm = pupil_mm;
-    PsfOptions options;
-    options.grid_px = 4096;
-    options.aperture_width_mm = 96.0;
-    options.phase = PhaseForm::none;
-    const auto start = std::chrono::steady_clock::now();
-    const Psf psf = gl_->psf(geometry, options);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    double sum = 0.0;
-    for (double v : psf.values) sum += v;
-    const auto profile = test::radial_profile(psf);
-    std::size_t k = 1;
-    while (k + 1 < profile.size() && !(profile[k] < profile[k - 1] && profile[k] <= profile[k + 1])) ++k;
-    const double expected_deg = 1.22 * 575e-6 / pupil_mm * 180.0 / 3.14159265358979323846;
-    const double ring_error = std::abs(test::parabolic_vertex(profile, k) * psf.degrees_per_pixel - expected_deg) / expected_deg;
-    std::cout << "GL 4096, pupil " << pupil_mm << " mm: " << seconds << " s, ring error " << ring_error << ", sum - 1 = " << sum - 1.0 << "\n";
-    EXPECT_NEAR(sum, 1.0, 1e-5);
-    EXPECT_LT(ring_error, 0.02);
-  }
+TEST_F(GlareBackendAgreement, LargestGridWorksOnGlForTheSmallestPupil) {
+  // N = 4096, pupil only, 575 nm, no phase, over 96 mm: the 1.5 mm pupil covers 64 pixels, its ring
+  // lies at 78 PSF pixels; the Airy ring within 2% and a unit sum within 1e-5. About 4 s of wall
+  // time on llvmpipe on the two shared cores (and 0.5 GB of buffers). This size used to fail:
+  // normalising dispatched 65536 work groups, one more than OpenGL guarantees. One pupil: the
+  // dispatches do not depend on it, and the 9 mm pupil's aperture is compared with the CPU double
+  // PSF at N = 1024 above (at 4096 it doubled the test's 44 CPU-s).
+  constexpr double pupil_mm = 1.5;
+  ApertureGeometry geometry;
+  geometry.pupil_diameter_mm = pupil_mm;
+  PsfOptions options;
+  options.grid_px = 4096;
+  options.aperture_width_mm = 96.0;
+  options.phase = PhaseForm::none;
+  const auto start = std::chrono::steady_clock::now();
+  const Psf psf = gl_->psf(geometry, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  double sum = 0.0;
+  for (double v : psf.values) sum += v;
+  const auto profile = test::radial_profile(psf);
+  std::size_t k = 1;
+  while (k + 1 < profile.size() && !(profile[k] < profile[k - 1] && profile[k] <= profile[k + 1])) ++k;
+  const double expected_deg = 1.22 * 575e-6 / pupil_mm * 180.0 / 3.14159265358979323846;
+  const double ring_error = std::abs(test::parabolic_vertex(profile, k) * psf.degrees_per_pixel - expected_deg) / expected_deg;
+  std::cout << "GL 4096, pupil " << pupil_mm << " mm: " << seconds << " s, ring error " << ring_error << ", sum - 1 = " << sum - 1.0 << "\n";
+  EXPECT_NEAR(sum, 1.0, 1e-5);
+  EXPECT_LT(ring_error, 0.02);
 }
 
 TEST_F(GlareBackendAgreement, NonPowerOfTwoImageWithSourcesAtTheEdgesDoesNotWrap) {

@@ -3,7 +3,7 @@
 // stimulus frame as it was; and a session on `--engine gpu` without --save-frames reads back no
 // whole frame after each interval's first frame (its `read_backs` events, one per glared or
 // perceived interval), while --save-frames, which reads the shown frame back, shows up in the same
-// count.
+// count (tests/engine_frames_test.cpp's GPU sessions, which save their frames).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,7 +22,7 @@
 #include "example_copies.h"
 #include "runner/display/compute_context.h"
 #include "scratch_dir.h"
-#include "session_events.h"
+#include "read_back_events.h"
 #include "stimuli/frame_renderer.h"
 #include "stimuli/glare_stage.h"
 #include "stimuli/perception/gl_frame_buffer.h"
@@ -193,32 +193,6 @@ TEST(ReadBackSites, EveryReadBackGoesThroughTheTally) {
   EXPECT_TRUE(found.empty()) << "read-backs outside core/gl/read_back.cpp:\n" << listed;
 }
 
-struct IntervalReadBacks {
-  int frames_computed = 0;
-  unsigned long frames_after_first = 0;  // whole frames read back after frame 0
-  std::string message;
-};
-
-// The `read_backs` events of a session: "trial K (MODES, N frame(s) computed for S stimulus
-// frame(s)): frame 0 read back ...; after frame 0: F frame ...".
-std::vector<IntervalReadBacks> read_back_events(const fs::path& db) {
-  static const std::regex pattern(R"(, (\d+) frame\(s\) computed for .*after frame 0: (\d+) frame)");
-  std::vector<IntervalReadBacks> intervals;
-  for (const std::string& message : test::session_event_messages(db.string(), "read_backs")) {
-    std::smatch match;
-    IntervalReadBacks interval;
-    interval.message = message;
-    if (std::regex_search(message, match, pattern)) {
-      interval.frames_computed = std::stoi(match[1]);
-      interval.frames_after_first = std::stoul(match[2]);
-    } else {
-      interval.frames_computed = -1;
-    }
-    intervals.push_back(interval);
-  }
-  return intervals;
-}
-
 struct GpuSession {
   std::string file;
   std::string trials;  // --stop-after
@@ -228,37 +202,28 @@ class NoRoundTrip : public ::testing::TestWithParam<GpuSession> {};
 
 TEST_P(NoRoundTrip, TheGpuEngineReadsBackNoFrameAfterEachIntervalsFirst) {
   const test::ScratchDir scratch;
-  // Two frames a stimulus: the first and one after it, all the read-back count below needs.
+  // Two frames a stimulus: the first and one after it, all the read-back count below needs. The
+  // same sessions with --save-frames, which reads each shown frame back, show those read-backs in
+  // the same count: tests/engine_frames_test.cpp checks that on every example's GPU session.
   const fs::path file = test::examples_with_frames(scratch.path(), 2) / GetParam().file;
-  for (const bool save_frames : {false, true}) {
-    SCOPED_TRACE(save_frames ? "with --save-frames" : "without --save-frames");
-    const fs::path db = scratch.path() / (save_frames ? "saved.db" : "live.db");
-    std::vector<std::string> arguments = {"run", file.string(), "--display", "offscreen", "--observer", "simulated",
-                                          "--seed", "1", "--db", db.string(), "--stop-after", GetParam().trials,
-                                          "--engine", "gpu"};
-    if (save_frames) {
-      arguments.push_back("--save-frames");
-      arguments.push_back((scratch.path() / "frames").string());
-    }
-    const test::RunOutput run = test::run_glarelab(arguments, scratch.path());
-    if (run.exit_code == 3) GTEST_SKIP() << "no OpenGL 4.5 context here: " << run.output;
-    ASSERT_EQ(run.exit_code, 0) << run.output;
-    const std::vector<IntervalReadBacks> intervals = read_back_events(db);
-    ASSERT_FALSE(intervals.empty()) << "no read_backs event: " << run.output;
-    int with_later_frames = 0;
-    for (const IntervalReadBacks& interval : intervals) {
-      std::cout << GetParam().file << (save_frames ? " (--save-frames): " : ": ") << interval.message << "\n";
-      ASSERT_GE(interval.frames_computed, 1) << interval.message;
-      if (interval.frames_computed > 1) ++with_later_frames;
-      // --save-frames reads the shown frame back at its flip, after frame 0 was made.
-      if (save_frames)
-        EXPECT_GE(interval.frames_after_first, 1u) << interval.message;
-      else
-        EXPECT_EQ(interval.frames_after_first, 0u) << interval.message;
-    }
-    // The sessions make frames after the first (dynamic glare or adapting perception stages).
-    EXPECT_GT(with_later_frames, 0);
+  const fs::path db = scratch.path() / "live.db";
+  const test::RunOutput run =
+      test::run_glarelab({"run", file.string(), "--display", "offscreen", "--observer", "simulated", "--seed", "1", "--db",
+                          db.string(), "--stop-after", GetParam().trials, "--engine", "gpu"},
+                         scratch.path());
+  if (run.exit_code == 3) GTEST_SKIP() << "no OpenGL 4.5 context here: " << run.output;
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::vector<test::IntervalReadBacks> intervals = test::read_back_events(db.string());
+  ASSERT_FALSE(intervals.empty()) << "no read_backs event: " << run.output;
+  int with_later_frames = 0;
+  for (const test::IntervalReadBacks& interval : intervals) {
+    std::cout << GetParam().file << ": " << interval.message << "\n";
+    ASSERT_GE(interval.frames_computed, 1) << interval.message;
+    if (interval.frames_computed > 1) ++with_later_frames;
+    EXPECT_EQ(interval.frames_after_first, 0u) << interval.message;
   }
+  // The sessions make frames after the first (dynamic glare or adapting perception stages).
+  EXPECT_GT(with_later_frames, 0);
 }
 
 // ritschel_2afc: Ritschel's dynamic wave-optics glare on the GL backend, the glare alone;
