@@ -12,6 +12,7 @@
 #include <unordered_set>
 #include <stdexcept>
 
+#include "core/database_wait.h"
 #include "core/text_limits.h"
 
 namespace glarelab::analysis {
@@ -36,7 +37,7 @@ class ReadOnlyDatabase {
     // A session writing the file holds its lock for moments (a commit, the checkpoint when its
     // last connection closes; the whole file where another program asked for it alone): the
     // reads wait for it, as the store's writes do, rather than fail with "database is locked".
-    sqlite3_busy_timeout(db_, 5000);
+    sqlite3_busy_timeout(db_, kDatabaseBusyTimeoutMs);
   }
   ~ReadOnlyDatabase() { sqlite3_close(db_); }
   ReadOnlyDatabase(const ReadOnlyDatabase&) = delete;

@@ -4,13 +4,15 @@
 #include <string>
 #include <thread>
 
+#include "core/database_wait.h"
+
 namespace glarelab {
 
 LockWait::LockWait(sqlite3* db, KeepWaiting keep_waiting) : db_(db), keep_waiting_(std::move(keep_waiting)) {
   sqlite3_busy_handler(db_, &LockWait::on_busy, this);
 }
 
-LockWait::~LockWait() { sqlite3_busy_timeout(db_, 5000); }
+LockWait::~LockWait() { sqlite3_busy_timeout(db_, kDatabaseBusyTimeoutMs); }
 
 // SQLite calls this each time a statement finds the lock held; `count` restarts at 0 for every new
 // wait. Returning 0 gives up (the statement fails with SQLITE_BUSY), anything else tries again.

@@ -16,6 +16,7 @@
 #include <system_error>
 #include <thread>
 
+#include "core/database_wait.h"
 #include "runner/store/schema_migrations.h"
 #include "runner/store/sqlite_statement.h"
 
@@ -75,9 +76,6 @@ constexpr const char* kSelectSession =
     "SELECT id, experiment, participant, seed, started_utc, finished_utc, status, config, "
     "software_version, renderer, display_backend, clock, observer FROM sessions";
 
-// The store's wait for another connection's lock (sqlite3_busy_timeout below).
-constexpr int kBusyTimeoutMs = 5000;
-
 // Switches the file to WAL, waiting for other connections meanwhile. On a new file the switch
 // writes it, and where other processes open the same file at that moment (sessions started
 // together) it can fail at once with SQLITE_BUSY ("database is locked": 15 of 1200 stores opened
@@ -87,7 +85,7 @@ constexpr int kBusyTimeoutMs = 5000;
 // released its locks, so it is tried again until the busy timeout has passed. Once the file is in
 // WAL, the switch changes nothing.
 void set_wal_journal_mode(sqlite3* db, const std::string& path) {
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::milliseconds(kBusyTimeoutMs);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::milliseconds(kDatabaseBusyTimeoutMs);
   for (;;) {
     {
       // Finalized before the wait: a refused statement keeps nothing.
@@ -119,7 +117,7 @@ ResultStore::ResultStore(const std::string& path) : path_(path) {
   try {
     if (open_rc != SQLITE_OK) fail(db_, path_, "opening the database");
     // Another process (an analysis script) may hold a lock briefly; wait rather than fail.
-    sqlite3_busy_timeout(db_, kBusyTimeoutMs);
+    sqlite3_busy_timeout(db_, kDatabaseBusyTimeoutMs);
 
     // Reading the header first: a file that is not a database fails here (SQLITE_NOTADB), and
     // a newer schema is refused before this program changes anything in it. The version and the

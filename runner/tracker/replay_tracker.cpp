@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "core/database_wait.h"
 #include "protocols/csv_table.h"
 
 namespace glarelab {
@@ -100,7 +101,7 @@ RecordedTrack read_tracker_database(const std::string& path, std::int64_t sessio
     return TrackerError("tracker replay: SQLite: " + path + ": " + what + ": " + message);
   };
   if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) throw fail("opening");
-  sqlite3_busy_timeout(db, 5000);
+  sqlite3_busy_timeout(db, kDatabaseBusyTimeoutMs);
   RecordedTrack track;
   sqlite3_stmt* statement = nullptr;
   const char* samples_sql =
