@@ -240,8 +240,12 @@ void write_exr(const std::string& path, const ImageRGBA& image, const ExrWriteOp
     // ZIP at zlib's fastest level: a float32 frame's low mantissa bits barely compress at any level
     // (a 1024 x 512 glare frame: 4.84 MB at level 1, 4.81 MB at the library's default 4), while
     // level 1 takes 15 to 35 % less time (docs/PERFORMANCE.md, "OpenEXR's zlib level", 2026-12-01).
-    header.compression() = Imf::ZIP_COMPRESSION;
-    header.zipCompressionLevel() = 1;
+    if (options.compression == ExrCompression::zip) {
+      header.compression() = Imf::ZIP_COMPRESSION;
+      header.zipCompressionLevel() = 1;
+    } else {
+      header.compression() = Imf::NO_COMPRESSION;
+    }
     Imf::OutputFile file(partial.c_str(), header);
     file.setFrameBuffer(frame_buffer);
     file.writePixels(image.height_px);

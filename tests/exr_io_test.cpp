@@ -6,6 +6,7 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfRgbaFile.h>
 #include <ImfTiledInputFile.h>
@@ -57,6 +58,28 @@ TEST(Exr, FloatRgbaRoundTripIsExact) {
   EXPECT_TRUE(read.image.depth.empty());
   EXPECT_EQ(read.image.rgba, image.rgba);
   EXPECT_FALSE(std::filesystem::exists(path + ".partial-" + std::to_string(::getpid())));
+}
+
+// A frame written uncompressed (what sessions and `render` write) reads back bit for bit, and its
+// header says so: ZIP stays the default, and the uncompressed file holds the raw pixels (16 bytes
+// a pixel, RGBA float32) with no more than OpenEXR's header and line offsets beside them, where the
+// zipped one of a smooth image is smaller.
+TEST(Exr, UncompressedFramesRoundTripExactlyAndZipStaysTheDefault) {
+  test::ScratchDir dir;
+  const ImageRGBA image = test_pattern(64, 48);
+  const std::string zipped = dir.file("zipped.exr"), raw = dir.file("raw.exr");
+  write_exr(zipped, image);
+  ExrWriteOptions uncompressed;
+  uncompressed.compression = ExrCompression::none;
+  write_exr(raw, image, uncompressed);
+  EXPECT_EQ(read_exr(raw).image.rgba, image.rgba);
+  EXPECT_EQ(read_exr(zipped).image.rgba, image.rgba);
+  EXPECT_EQ(Imf::InputFile(raw.c_str()).header().compression(), Imf::NO_COMPRESSION);
+  EXPECT_EQ(Imf::InputFile(zipped.c_str()).header().compression(), Imf::ZIP_COMPRESSION);
+  const std::uintmax_t pixel_bytes = 64u * 48u * 16u;
+  EXPECT_GE(std::filesystem::file_size(raw), pixel_bytes);
+  EXPECT_LT(std::filesystem::file_size(raw), pixel_bytes + 2048u);
+  EXPECT_LT(std::filesystem::file_size(zipped), std::filesystem::file_size(raw));
 }
 
 TEST(Exr, RgbWithoutAlphaReadsOpaque) {

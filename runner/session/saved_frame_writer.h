@@ -1,8 +1,8 @@
 #pragma once
 // The frames a session saves (--save-frames) written beside it: the display's thread reads a frame
-// back and hands it over, and a thread of the writer's own compresses and writes the OpenEXR file
-// (core/exr_io.h: under a temporary name, then renamed). A 1024 x 512 float frame takes about
-// 180 ms to compress and write on one core, and was written on the display's thread between a
+// back and hands it over, and a thread of the writer's own writes the OpenEXR file, uncompressed
+// (core/exr_io.h: under a temporary name, then renamed). Zipped, a 1024 x 512 float frame took
+// about 180 ms to compress and write on one core, and was written on the display's thread between a
 // trial's first frame's drawing and its flip: on a real clock every onset of such a run came 200 to
 // 700 ms late, named "host stall" (docs/PERFORMANCE.md, "what the host stall onsets were").
 //
