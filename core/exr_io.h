@@ -35,6 +35,14 @@ struct ExrWriteOptions {
   bool luminance_only = false;
 };
 
+// How a display frame is written (a session's saved frames, `render`'s EXRs): float32 RGBA,
+// uncompressed (ExrCompression says why).
+inline ExrWriteOptions display_frame_exr_options() {
+  ExrWriteOptions options;
+  options.compression = ExrCompression::none;
+  return options;
+}
+
 struct ExrReadResult {
   ImageRGBA image;
   std::map<std::string, float> float_attributes;

@@ -2,7 +2,8 @@
 // The shipped examples copied into a test's scratch folder with every stimulus a few frames long:
 // the tests that run whole example sessions to compare their frames (GPU engine against CPU engine,
 // render against session, read-backs) check what each frame is, which a stimulus of two frames
-// shows as well as one of fifteen or thirty, for a fraction of the dynamic glare frames.
+// shows as well as one of fifteen or thirty, for a fraction of the dynamic glare frames; a test that
+// reads only a session's answers (the rating analysis) needs one frame.
 #include <filesystem>
 #include <sstream>
 #include <string>

@@ -135,10 +135,9 @@ void write_frame(const PreviewFrame& frame, const std::string& path) {
     // Loadable as a scene with no option (stimuli/scene_library.h: the glare's round-off below 0 set to 0).
     ImageRGBA linear = frame.stimulus_cd_m2;
     zero_round_off_negatives(linear);
-    // Uncompressed, as a session's saved frames (core/exr_io.h, ExrCompression).
-    ExrWriteOptions uncompressed;
-    uncompressed.compression = ExrCompression::none;
-    write_through_temporary(path, [&](const std::string& temporary) { write_exr(temporary, linear, uncompressed); });
+    write_through_temporary(path, [&](const std::string& temporary) {
+      write_exr(temporary, linear, display_frame_exr_options());
+    });
   }
 }
 

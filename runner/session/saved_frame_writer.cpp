@@ -50,11 +50,7 @@ void SavedFrameWriter::run() {
     std::exception_ptr failure;
     try {
       if (job.as_scene) zero_round_off_negatives(job.frame);
-      // Uncompressed: zlib would take 20 to 27 times the writing's CPU time from the session's
-      // cores for a file 0.5 to 0.7 times the size (core/exr_io.h, ExrCompression).
-      ExrWriteOptions uncompressed;
-      uncompressed.compression = ExrCompression::none;
-      write_exr(job.path, job.frame, uncompressed);
+      write_exr(job.path, job.frame, display_frame_exr_options());
     } catch (...) {
       failure = std::current_exception();
     }
