@@ -4,9 +4,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ ! -f build/CMakeCache.txt ]; then
-  # The same configuration as scripts/setup.sh's (-O2 without debug information), so that either
-  # script may come first and both share one build folder.
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" \
+  # The same configuration as scripts/setup.sh's (Ninja where installed, -O2 without debug
+  # information), so that either script may come first and both share one build folder.
+  generator=()
+  if command -v ninja > /dev/null; then generator=(-G Ninja); fi
+  cmake "${generator[@]}" -S . -B build -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" \
     -DCMAKE_C_FLAGS_RELEASE="-O2 -DNDEBUG"
 fi
 cmake --build build -j"$(nproc)"

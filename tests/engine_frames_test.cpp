@@ -1,14 +1,18 @@
 // The GPU engine makes the CPU engine's frames: every shipped example run offscreen with
-// --save-frames under `--engine gpu` (GL glare, GL perception stages) writes the frames `--engine
-// cpu` writes (planned float32 glare, float32 perception stages), within 1e-3 relative and 1e-3
-// cd/m2 where darker than 1 cd/m2. Kept short: each example copied with two frames per stimulus
-// and run for its first three trials (eight for the Luidolt example, whose first six show the real
-// lamp: its seventh has every perception stage and dynamic glare), the same trials under both
-// engines: the seed fixes the order and the simulated observer's answers do not depend on the
-// frames. glare_quest_plus shows no glare (every condition control), and the analytic models
-// (spencer_staircase's) are integrated on the CPU in both engines: their frames are equal bit for bit.
-// The GPU session's read-backs are counted too: with --save-frames each interval reads its shown
-// frames back (acceptance 2's count, seen to count).
+// --save-frames under `--engine gpu` (GL glare, GL perception stages) writes the frames `--engine cpu`
+// writes (planned float32 glare, float32 perception stages), within 1e-3 relative and 1e-3 cd/m2
+// where darker than 1 cd/m2. Kept short: each example copied with two frames per stimulus and run
+// for its first few trials, the same trials under both engines (the seed fixes the order and the
+// simulated observer's answers do not depend on the frames): two for demo and ritschel_2afc, whose
+// first two show control, static and dynamic glare; eight for the Luidolt example, whose first six
+// show the real lamp (its seventh has every perception stage and dynamic glare, its eighth tone
+// mapping alone); three for the others. Each example's entry below lists the glare modes,
+// spectacles and perception stages its trials show, and the test checks that they do
+// (ritschel_adjustment's first control trial comes later; control frames are every other glared
+// example's too). glare_quest_plus shows no glare (no glare column: every condition control), and
+// the analytic models (spencer_staircase's) are integrated on the CPU in both engines: their frames
+// are equal bit for bit. The GPU session's read-backs are counted too: with --save-frames each
+// interval reads its shown frames back (acceptance 2's count, seen to count).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +20,8 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <regex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -23,6 +29,7 @@
 #include "core/exr_io.h"
 #include "example_copies.h"
 #include "read_back_events.h"
+#include "runner/store/result_store.h"
 #include "scratch_dir.h"
 
 namespace glarelab {
@@ -47,9 +54,29 @@ WorstDifference worst_scaled_difference(const ImageRGBA& got, const ImageRGBA& r
   return worst;
 }
 
+// The glare modes, spectacles and perception stages a session's trials showed, as "glare <mode>",
+// "spectacles <name>" and "perception <stages>", from each trial's stored condition JSON (its glare,
+// glare_a and glare_b, left_glare and right_glare, spectacles and perception columns).
+std::set<std::string> settings_shown(const std::string& database) {
+  const ResultStore store(database);
+  std::set<std::string> settings;
+  const std::regex field("\"([a-z_]+)\":\"([^\"]*)\"");
+  for (const TrialRecord& trial : store.load_trials(store.load_sessions().at(0).id))
+    for (auto it = std::sregex_iterator(trial.condition.begin(), trial.condition.end(), field);
+         it != std::sregex_iterator(); ++it) {
+      const std::string column = (*it)[1];
+      if (column == "glare" || column == "glare_a" || column == "glare_b" || column == "left_glare" ||
+          column == "right_glare")
+        settings.insert("glare " + (*it)[2].str());
+      if (column == "spectacles" || column == "perception") settings.insert(column + " " + (*it)[2].str());
+    }
+  return settings;
+}
+
 struct ShortExample {
   std::string file;
-  std::string trials;  // --stop-after
+  std::string trials;             // --stop-after
+  std::set<std::string> shown;  // what those trials show (settings_shown)
 };
 
 class GpuEngineFrames : public ::testing::TestWithParam<ShortExample> {};
@@ -68,6 +95,8 @@ TEST_P(GpuEngineFrames, EqualTheCpuEnginesWithinOnePerMille) {
     if (engine == std::string("gpu") && run.exit_code == 3) GTEST_SKIP() << "no OpenGL 4.5 context here: " << run.output;
     ASSERT_EQ(run.exit_code, 0) << engine << ": " << run.output;
   }
+  // The trials run show what they are chosen to show (a change of the seed's order is seen here).
+  EXPECT_EQ(settings_shown((scratch.path() / "cpu.db").string()), GetParam().shown);
   // --save-frames reads each shown frame back at its flip, after frame 0 was made: the GPU
   // session's read-back count (its `read_backs` events) shows it in every interval it logs, the
   // counterpart of tests/gpu_round_trip_test.cpp's sessions without it, which read back none.
@@ -101,13 +130,16 @@ TEST_P(GpuEngineFrames, EqualTheCpuEnginesWithinOnePerMille) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, GpuEngineFrames,
-                         ::testing::Values(ShortExample{"demo.toml", "3"}, ShortExample{"glare_brightness.toml", "3"},
-                                           ShortExample{"glare_quest_plus.toml", "3"},
-                                           ShortExample{"luidolt_ratings.toml", "8"},
-                                           ShortExample{"presbyope_reading_glasses.toml", "3"},
-                                           ShortExample{"ritschel_2afc.toml", "3"},
-                                           ShortExample{"ritschel_adjustment.toml", "3"},
-                                           ShortExample{"spencer_staircase.toml", "3"}),
+                         ::testing::Values(
+                             ShortExample{"demo.toml", "2", {"glare control", "glare dynamic", "glare static"}},
+                             ShortExample{"glare_brightness.toml", "3", {"glare control", "glare dynamic", "glare static"}},
+                             ShortExample{"glare_quest_plus.toml", "3", {}},
+                             ShortExample{"luidolt_ratings.toml", "8",
+                                          {"glare control", "glare dynamic", "perception all", "perception tone_mapping"}},
+                             ShortExample{"presbyope_reading_glasses.toml", "3", {"spectacles none", "spectacles reading"}},
+                             ShortExample{"ritschel_2afc.toml", "2", {"glare control", "glare dynamic", "glare static"}},
+                             ShortExample{"ritschel_adjustment.toml", "3", {"glare dynamic", "glare static"}},
+                             ShortExample{"spencer_staircase.toml", "3", {"glare control", "glare static"}}),
                          [](const ::testing::TestParamInfo<ShortExample>& param) {
                            return param.param.file.substr(0, param.param.file.find('.'));
                          });

@@ -168,6 +168,55 @@ TEST(LenticularHalo, KernelHoldsTheRingsEnergy) {
   }
 }
 
+// Each kernel pixel is the ring integrated over that pixel's solid angle: the midpoint rule on
+// subsamples of at most 0.01 degrees (at least 3 a side), written out here for offsets in each of
+// the eight octants the kernel is made from by symmetry, on and beside the ring and off its axes
+// and diagonals, at a pitch whose subsamples are 3 a side and at one whose are 5.
+TEST(LenticularHalo, EachKernelPixelIsTheRingIntegratedOverThatPixel) {
+  const LenticularHalo halo{HaloGratings{}};
+  constexpr double kDistance = 600.0;
+  for (const double pitch_mm : {0.25, 0.5}) {
+    const DisplayKernel kernel = lenticular_halo_kernel(halo, DisplayGeometry{kDistance, pitch_mm});
+    const double pixel_deg = std::atan(pitch_mm / kDistance) * kDegPerRad;
+    const int n = std::max(3, static_cast<int>(std::ceil(pixel_deg / 0.01)));
+    const int ring_px = static_cast<int>(std::lround(kDistance * std::tan(3.0 / kDegPerRad) / pitch_mm));
+    double peak = 0.0;
+    for (const double value : kernel.values) peak = std::max(peak, value);
+    int compared = 0;
+    for (const auto& [dx, dy] : std::vector<std::pair<int, int>>{{ring_px, 0},
+                                                                {0, -ring_px},
+                                                                {ring_px - 9, 31},
+                                                                {31, ring_px - 9},
+                                                                {-31, ring_px - 9},
+                                                                {-(ring_px - 9), 31},
+                                                                {-(ring_px - 9), -31},
+                                                                {-31, -(ring_px - 9)},
+                                                                {31, -(ring_px - 9)},
+                                                                {ring_px - 9, -31},
+                                                                {ring_px * 7 / 10, ring_px * 7 / 10},
+                                                                {-ring_px / 2, ring_px * 9 / 10},
+                                                                {ring_px / 3, -ring_px / 4}}) {
+      std::array<double, 3> sum{0.0, 0.0, 0.0};
+      const double sub = pitch_mm / n;
+      for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) {
+          const double x = (dx - 0.5 + (a + 0.5) / n) * pitch_mm, y = (dy - 0.5 + (b + 0.5) / n) * pitch_mm;
+          const double r2 = x * x + y * y;
+          const double angle_deg = std::atan(std::sqrt(r2) / kDistance) * kDegPerRad;
+          // The solid angle of a small flat patch at distance sqrt(d^2 + r^2), tilted by the angle.
+          const double solid_angle = kDistance * sub * sub / std::pow(kDistance * kDistance + r2, 1.5);
+          for (int c = 0; c < 3; ++c) sum[static_cast<std::size_t>(c)] += halo.per_sr(angle_deg, c) * solid_angle;
+        }
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(kernel.at(c, dx, dy), sum[static_cast<std::size_t>(c)], 1e-12 * peak)
+            << pitch_mm << " mm, (" << dx << ", " << dy << ") channel " << c;
+        compared += sum[static_cast<std::size_t>(c)] > 1e-3 * peak ? 1 : 0;
+      }
+    }
+    EXPECT_GT(compared, 12) << "the offsets lie on the ring";  // most of them carry light
+  }
+}
+
 // A session: a 2 x 2 px white lamp on the line of sight of a black 256 x 256 display of 0.048
 // degree pixels (600 mm, 0.5 mm pitch; 6.1 degrees to each side), observer 25 years.
 constexpr int kSide = 256;

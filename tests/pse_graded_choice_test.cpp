@@ -162,9 +162,11 @@ class KnownPse : public ::testing::TestWithParam<const char*> {};
 TEST_P(KnownPse, PerGlareModeIsRecoveredInAtLeast36Of40Runs) {
   const Design design = load_design(std::string(GLARELAB_SOURCE_DIR) + "/examples/" + GetParam());
   GradedChoiceOptions options;
-  options.bootstrap_samples = 200;
+  // The intervals checked are the posterior's (the PSE's and the shift's); the maximum-likelihood
+  // fit's parametric bootstrap (200 refits per group by default) feeds neither.
+  options.bootstrap_samples = 0;
   options.threads = 2;
-  std::map<std::string, int> pse_inside, bootstrap_inside, shift_inside, fitted, estimated;
+  std::map<std::string, int> pse_inside, shift_inside, fitted, estimated;
   std::map<std::string, double> pse_sum, pse_sum2;
   const std::vector<std::string> modes = {"control", "static", "dynamic"};
   for (std::uint64_t seed = 1; seed <= 40; ++seed) {
@@ -185,8 +187,6 @@ TEST_P(KnownPse, PerGlareModeIsRecoveredInAtLeast36Of40Runs) {
       pse_sum2[mode] += *group->pse() * *group->pse();
       const Interval& pse = group->posterior->credible;
       pse_inside[mode] += pse.low <= truth && truth <= pse.high ? 1 : 0;
-      bootstrap_inside[mode] +=
-          group->fit.threshold_ci && group->fit.threshold_ci->low <= truth && truth <= group->fit.threshold_ci->high ? 1 : 0;
       if (mode == "control" || !group->shift_interval) continue;
       const double shift = truth - true_pse_log10(design, "control");
       const Interval& interval = *group->shift_interval;
@@ -198,7 +198,6 @@ TEST_P(KnownPse, PerGlareModeIsRecoveredInAtLeast36Of40Runs) {
                 pse_inside[mode], fitted[mode], pse_sum[mode] / std::max(estimated[mode], 1),
                 true_pse_log10(design, mode));
     if (mode != "control") std::printf("; shift inside in %d", shift_inside[mode]);
-    std::printf(" (the bootstrap's percentile interval: PSE inside in %d)", bootstrap_inside[mode]);
     std::printf("\n");
     EXPECT_GE(pse_inside[mode], 36) << mode;
     EXPECT_EQ(estimated[mode], 40) << mode << ": every run has a posterior";

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include "core/parallel_for.h"
 #include "core/same_pixels.h"
@@ -207,25 +208,35 @@ DisplayKernel lenticular_halo_kernel(const LenticularHalo& halo, const DisplayGe
   const double pixel_deg = std::atan(pitch / d) * kDegPerRad;
   const int n = std::max(3, static_cast<int>(std::ceil(pixel_deg / kSubPixelDeg)));
   const double sub = pitch / n, sub_area = sub * sub;
-  parallel_indexed_chunks(kernel.height_px(), threads, [&](int, int row_from, int row_to) {
-    for (int row = row_from; row < row_to; ++row) {
-      const int dy = row - half;
-      for (int dx = -half; dx <= half; ++dx) {
-        // Pixels wholly inside or outside the ring's angles get nothing.
-        const double r_px = std::hypot(dx, dy);
-        const double near_deg = std::atan(std::max(0.0, r_px - 0.7072) * pitch / d) * kDegPerRad;
-        const double far_deg = std::atan((r_px + 0.7072) * pitch / d) * kDegPerRad;
-        if (far_deg < halo.inner_deg() || near_deg > halo.outer_deg()) continue;
-        std::array<double, 3> sum{0.0, 0.0, 0.0};
-        for (int b = 0; b < n; ++b)
-          for (int a = 0; a < n; ++a) {
-            const double x = (dx - 0.5 + (a + 0.5) / n) * pitch, y = (dy - 0.5 + (b + 0.5) / n) * pitch;
-            const double r2 = x * x + y * y;
-            const double angle_deg = std::atan(std::sqrt(r2) / d) * kDegPerRad;
-            const double solid_angle = d * sub_area / std::pow(d * d + r2, 1.5);
-            for (int c = 0; c < 3; ++c) sum[static_cast<std::size_t>(c)] += halo.per_sr(angle_deg, c) * solid_angle;
-          }
-        const std::size_t index = static_cast<std::size_t>(row) * kernel.width_px() + (dx + half);
+  // The ring is the same at the eight offsets (+-dx, +-dy) and (+-dy, +-dx): a pixel's subsamples
+  // are the mirror images of its mirror's (x -> -x takes sample a to n - 1 - a) and the kernel
+  // depends on the distance alone. So each integral is made once, for 0 <= dy <= dx, and written to
+  // all eight: an eighth of the work, the kernel symmetric to the last bit. Pixels wholly inside or
+  // outside the ring's angles get nothing.
+  std::vector<std::pair<int, int>> offsets;
+  for (int dy = 0; dy <= half; ++dy)
+    for (int dx = dy; dx <= half; ++dx) {
+      const double r_px = std::hypot(dx, dy);
+      const double near_deg = std::atan(std::max(0.0, r_px - 0.7072) * pitch / d) * kDegPerRad;
+      const double far_deg = std::atan((r_px + 0.7072) * pitch / d) * kDegPerRad;
+      if (far_deg >= halo.inner_deg() && near_deg <= halo.outer_deg()) offsets.emplace_back(dx, dy);
+    }
+  parallel_chunks(static_cast<int>(offsets.size()), threads, [&](int first, int last) {
+    for (int i = first; i < last; ++i) {
+      const auto [dx, dy] = offsets[static_cast<std::size_t>(i)];
+      std::array<double, 3> sum{0.0, 0.0, 0.0};
+      for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) {
+          const double x = (dx - 0.5 + (a + 0.5) / n) * pitch, y = (dy - 0.5 + (b + 0.5) / n) * pitch;
+          const double r2 = x * x + y * y;
+          const double angle_deg = std::atan(std::sqrt(r2) / d) * kDegPerRad;
+          const double solid_angle = d * sub_area / std::pow(d * d + r2, 1.5);
+          for (int c = 0; c < 3; ++c) sum[static_cast<std::size_t>(c)] += halo.per_sr(angle_deg, c) * solid_angle;
+        }
+      // Each offset's eight images are its own (an offset on an axis or a diagonal writes some twice).
+      for (const auto& [x, y] : {std::pair{dx, dy}, std::pair{-dx, dy}, std::pair{dx, -dy}, std::pair{-dx, -dy},
+                                std::pair{dy, dx}, std::pair{-dy, dx}, std::pair{dy, -dx}, std::pair{-dy, -dx}}) {
+        const std::size_t index = static_cast<std::size_t>(y + half) * kernel.width_px() + static_cast<std::size_t>(x + half);
         for (int c = 0; c < 3; ++c) kernel.values[c * plane + index] = sum[static_cast<std::size_t>(c)];
       }
     }
