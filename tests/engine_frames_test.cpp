@@ -20,12 +20,12 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
-#include <regex>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "cli_process.h"
+#include "analysis/loaded_database.h"
 #include "core/exr_io.h"
 #include "example_copies.h"
 #include "read_back_events.h"
@@ -60,15 +60,12 @@ WorstDifference worst_scaled_difference(const ImageRGBA& got, const ImageRGBA& r
 std::set<std::string> settings_shown(const std::string& database) {
   const ResultStore store(database);
   std::set<std::string> settings;
-  const std::regex field("\"([a-z_]+)\":\"([^\"]*)\"");
   for (const TrialRecord& trial : store.load_trials(store.load_sessions().at(0).id))
-    for (auto it = std::sregex_iterator(trial.condition.begin(), trial.condition.end(), field);
-         it != std::sregex_iterator(); ++it) {
-      const std::string column = (*it)[1];
+    for (const auto& [column, value] : analysis::parse_condition_json(trial.condition)) {
       if (column == "glare" || column == "glare_a" || column == "glare_b" || column == "left_glare" ||
           column == "right_glare")
-        settings.insert("glare " + (*it)[2].str());
-      if (column == "spectacles" || column == "perception") settings.insert(column + " " + (*it)[2].str());
+        settings.insert("glare " + value);
+      if (column == "spectacles" || column == "perception") settings.insert(column + " " + value);
     }
   return settings;
 }
