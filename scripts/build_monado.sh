@@ -4,14 +4,22 @@
 # simulated headset and null compositor, headless under Xvfb (docs/STEREO.md). The source stays
 # outside the repository; it is unpacked into build/monado/src and the patches of scripts/monado/
 # are applied there (a changed patch builds the runtime again).
-#   scripts/build_monado.sh [JOBS]     JOBS defaults to nproc
+#   scripts/build_monado.sh [JOBS [FOLDER]]   JOBS defaults to nproc, FOLDER to build/monado
+# The suite runs it as its first test (OpenXrRuntime.BuildMonado, tests/CMakeLists.txt) with the
+# build folder's monado/, where the tests look for the runtime.
 # Exit 0 when the runtime is built (or was already), and also, with a "skipped:" line saying why,
 # when the tarball or a package the build needs is missing: the OpenXR tests then skip likewise.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repository=$PWD
 jobs=${1:-$(nproc)}
-out=build/monado
+out=${2:-build/monado}
+# The folder is emptied before a build: only one named monado is taken.
+if [ "$(basename "$out")" != monado ]; then
+  echo "build_monado: the runtime's folder must be named monado (got $out)"
+  exit 2
+fi
+case $out in /*) ;; *) out=$repository/$out ;; esac
 manifest=$out/build/openxr_monado-dev.json
 
 # What the build holds: the drivers and the patches applied to the unpacked source (each by its
@@ -25,7 +33,7 @@ for patch_file in "${patches[@]}"; do
   built_text+=" $(basename "$patch_file"):$(sha256sum "$patch_file" | cut -c1-16)"
 done
 if [ -f "$manifest" ] && [ -f "$out/built" ] && [ "$(cat "$out/built")" = "$built_text" ]; then
-  echo "build_monado: already built ($repository/$manifest)"
+  echo "build_monado: already built ($manifest)"
   exit 0
 fi
 
@@ -111,4 +119,4 @@ if [ ! -f "$manifest" ]; then
   exit 1
 fi
 echo "$built_text" > "$out/built"
-echo "build_monado: built in $((SECONDS - started_s)) s: XR_RUNTIME_JSON=$repository/$manifest"
+echo "build_monado: built in $((SECONDS - started_s)) s: XR_RUNTIME_JSON=$manifest"

@@ -33,9 +33,10 @@ else
   echo "sanitize: tests matching $regex"
 fi
 built=$(date +%s)
-# The OpenXR display's tests run against Monado (scripts/build_monado.sh builds it into
-# build/monado, uninstrumented: it is the headset's runtime, not code under test); where the normal
-# build holds it, the sanitizer build's tests find it there, else they skip, saying why.
+# The OpenXR display's tests run against Monado (scripts/build_monado.sh builds it,
+# uninstrumented: it is the headset's runtime, not code under test); where the normal build holds
+# it in build/monado, the sanitizer build's tests find it there, else the suite's first test
+# (OpenXrRuntime.BuildMonado) builds it into build-asan/monado.
 if [ -f build/monado/build/openxr_monado-dev.json ] && [ ! -e build-asan/monado ]; then
   ln -s ../build/monado build-asan/monado
 fi
