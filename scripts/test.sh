@@ -21,7 +21,9 @@ cd build
 # - glibc.malloc.hugetlb=1: malloc asks the kernel for transparent huge pages (madvise) for what it
 #   maps, the frame-sized buffers of the glare and perception stages among them, so that a 33 MB
 #   frame is faulted in as 17 huge pages instead of 8100 small ones. On the 2-core VM a page fault
-#   costs about 11 us; ten of the longest tests took 50.3 CPU-s with it against 71.5 without.
+#   costs about 11 us; ten of the longest tests took 50.3 CPU-s with it against 71.5 without. Not
+#   for compilers: GCC took 40 % longer with it, so the build above and Monado's (the suite's
+#   first test, tests/CMakeLists.txt) run without it.
 # - LP_NUM_THREADS=0: Mesa's llvmpipe rasterises in the thread that draws instead of handing each
 #   draw to threads of its own, one per core; with one test more than cores running those add
 #   hand-offs and no speed (seven GL tests run one at a time: 49.3 CPU-s against 59.3).
