@@ -46,27 +46,49 @@ std::string window_at(double x, double y) {
          std::to_string(x) + ", " + std::to_string(y) + ") from the tracker at ";
 }
 
-// The demo's trials have no inter-trial interval, so trial 0 is prepared before the session's
-// first flip: the tracker is read then (t = 0 on the virtual clock), and its window is centred on
-// the sample at 0 s. Trial 1, prepared after trial 0's flips at 0 and 1/60 s, takes the sample at
-// 1/60 s.
-TEST(SessionFirstTrial, GazeWindowIsCentredOnTheTrackersGazeFromTheFirstTrial) {
-  test::ScratchDir dir;
-  const auto experiment =
-      test::small_dynamic_demo(dir.path(), "backend = \"cpu\"\ngaze_window_px = 64\nmodel = \"ritschel\"");
-  const std::string db = (dir.path() / "gaze.db").string();
+// The demo with a 64 px gaze window on the replayed gaze, its glare presented as `presentation`
+// says ([glare] presentation; "auto" would settle it from this machine's measured cost, and the
+// gaze a trial logs with it).
+std::vector<std::string> gaze_windows(const test::ScratchDir& dir, const std::string& presentation) {
+  const auto experiment = test::small_dynamic_demo(
+      dir.path(), "backend = \"cpu\"\ngaze_window_px = 64\nmodel = \"ritschel\"\npresentation = \"" + presentation + "\"");
+  const std::string db = (dir.path() / (presentation + ".db")).string();
   const auto run = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
                                        "--db", db, "--seed", "5", "--tracker",
                                        "replay:" + write_gaze_replay(dir.path()).string(), "--stop-after", "2"},
                                       dir.path());
-  ASSERT_EQ(run.exit_code, 0) << run.output;
-  const std::vector<std::string> windows = test::session_event_messages(db, "glare_window");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  return test::session_event_messages(db, "glare_window");
+}
+
+// Prepared: the demo's trials have no inter-trial interval, so trial 0 is prepared before the
+// session's first flip: the tracker is read then (t = 0 on the virtual clock), and its window is
+// centred on the sample at 0 s. Trial 1, prepared after trial 0's flips at 0 and 1/60 s, takes the
+// sample at 1/60 s.
+TEST(SessionFirstTrial, GazeWindowIsCentredOnTheTrackersGazeFromTheFirstTrial) {
+  test::ScratchDir dir;
+  const std::vector<std::string> windows = gaze_windows(dir, "prepared");
   ASSERT_EQ(windows.size(), 2u);
   EXPECT_NE(windows[0].find("trial 0 (dynamic): " + window_at(0.25, 0.30) + std::to_string(0.0) + " s"),
             std::string::npos)
       << windows[0];
   EXPECT_EQ(windows[0].find("display centre"), std::string::npos) << windows[0];
   EXPECT_NE(windows[1].find("trial 1 (dynamic): " + window_at(0.70, 0.60) + std::to_string(2 / 120.0) + " s"),
+            std::string::npos)
+      << windows[1];
+}
+
+// Live: each frame takes the latest gaze before its own flip, and a trial's event names its last
+// frame's. Trial 0's frames flip at 0 and 1/60 s, so its last frame is computed after the flip at
+// 0 s; trial 1's at 2/60 and 3/60 s, so its last frame takes the sample at 2/60 s.
+TEST(SessionFirstTrial, LiveGazeWindowTakesEachFramesLatestGaze) {
+  test::ScratchDir dir;
+  const std::vector<std::string> windows = gaze_windows(dir, "live");
+  ASSERT_EQ(windows.size(), 2u);
+  EXPECT_NE(windows[0].find("trial 0 (dynamic): " + window_at(0.25, 0.30) + std::to_string(0.0) + " s"),
+            std::string::npos)
+      << windows[0];
+  EXPECT_NE(windows[1].find("trial 1 (dynamic): " + window_at(0.70, 0.60) + std::to_string(4 / 120.0) + " s"),
             std::string::npos)
       << windows[1];
 }

@@ -61,7 +61,8 @@ TEST(TrackerSimulatedRun, GazeWindowFollowsTheTrackerAndIsLoggedPerTrial) {
   test::ScratchDir dir;
   const auto experiment =
       test::small_dynamic_demo(dir.path(), "backend = \"cpu\"\ngaze_window_px = 64\nblink_source = \"tracker\"\n"
-                                           "model = \"ritschel\"");  // the gaze window is the wave-optics eye's
+                                           "model = \"ritschel\"\n"  // the gaze window is the wave-optics eye's
+                                           "presentation = \"prepared\"");  // one gaze a trial, whatever the machine's speed
   const std::string tracked_db = (dir.path() / "tracked.db").string();
   const auto tracked = test::run_glarelab({"run", experiment.string(), "--display", "offscreen", "--observer", "simulated",
                                            "--db", tracked_db, "--seed", "5", "--tracker", "simulated", "--stop-after", "2"},
