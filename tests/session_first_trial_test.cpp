@@ -37,13 +37,15 @@ std::filesystem::path write_gaze_replay(const std::filesystem::path& dir) {
   return csv;
 }
 
-// The window of a 64 px gaze window on the 512 x 256 display at a gaze (x, y), as the glare stage
-// places it (glare/cpu/gaze_window_convolution.h: centred, clamped inside the display).
-std::string window_at(double x, double y) {
+// A dynamic trial's glare_window event for a 64 px gaze window on the 512 x 256 display at the
+// tracker's gaze (x, y) sampled at sample_s, the window placed as the glare stage places it
+// (glare/cpu/gaze_window_convolution.h: centred, clamped inside the display).
+std::string window_event(int trial, double x, double y, double sample_s) {
   const long x0 = std::clamp(std::lround(x * 512 - 32), 0L, 512L - 64L);
   const long y0 = std::clamp(std::lround(y * 256 - 32), 0L, 256L - 64L);
-  return "gaze window 64x64 px at (" + std::to_string(x0) + ", " + std::to_string(y0) + "), centred on gaze (" +
-         std::to_string(x) + ", " + std::to_string(y) + ") from the tracker at ";
+  return "trial " + std::to_string(trial) + " (dynamic): gaze window 64x64 px at (" + std::to_string(x0) + ", " +
+         std::to_string(y0) + "), centred on gaze (" + std::to_string(x) + ", " + std::to_string(y) +
+         ") from the tracker at " + std::to_string(sample_s) + " s";
 }
 
 // The demo with a 64 px gaze window on the replayed gaze, its glare presented as `presentation`
@@ -69,13 +71,9 @@ TEST(SessionFirstTrial, GazeWindowIsCentredOnTheTrackersGazeFromTheFirstTrial) {
   test::ScratchDir dir;
   const std::vector<std::string> windows = gaze_windows(dir, "prepared");
   ASSERT_EQ(windows.size(), 2u);
-  EXPECT_NE(windows[0].find("trial 0 (dynamic): " + window_at(0.25, 0.30) + std::to_string(0.0) + " s"),
-            std::string::npos)
-      << windows[0];
+  EXPECT_NE(windows[0].find(window_event(0, 0.25, 0.30, 0.0)), std::string::npos) << windows[0];
   EXPECT_EQ(windows[0].find("display centre"), std::string::npos) << windows[0];
-  EXPECT_NE(windows[1].find("trial 1 (dynamic): " + window_at(0.70, 0.60) + std::to_string(2 / 120.0) + " s"),
-            std::string::npos)
-      << windows[1];
+  EXPECT_NE(windows[1].find(window_event(1, 0.70, 0.60, 2 / 120.0)), std::string::npos) << windows[1];
 }
 
 // Live: each frame takes the latest gaze before its own flip, and a trial's event names its last
@@ -85,12 +83,8 @@ TEST(SessionFirstTrial, LiveGazeWindowTakesEachFramesLatestGaze) {
   test::ScratchDir dir;
   const std::vector<std::string> windows = gaze_windows(dir, "live");
   ASSERT_EQ(windows.size(), 2u);
-  EXPECT_NE(windows[0].find("trial 0 (dynamic): " + window_at(0.25, 0.30) + std::to_string(0.0) + " s"),
-            std::string::npos)
-      << windows[0];
-  EXPECT_NE(windows[1].find("trial 1 (dynamic): " + window_at(0.70, 0.60) + std::to_string(4 / 120.0) + " s"),
-            std::string::npos)
-      << windows[1];
+  EXPECT_NE(windows[0].find(window_event(0, 0.25, 0.30, 0.0)), std::string::npos) << windows[0];
+  EXPECT_NE(windows[1].find(window_event(1, 0.70, 0.60, 4 / 120.0)), std::string::npos) << windows[1];
 }
 
 // Luidolt 2020 Eq. 5.2-5.4 and Moon and Spencer's Eq. 2 (Ritschel 2009), written out here: the
