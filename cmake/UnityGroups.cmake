@@ -69,11 +69,10 @@ function(glarelab_unity_groups target)
   if(NOT status EQUAL 0)
     message(FATAL_ERROR "unity groups of ${target}: cmake/unity_groups.py failed: ${errors}")
   endif()
-  # Replaced only when the groups change, so that configuring again does not rerun the check below.
+  # Written only when the groups change, as the unity sources below, so that configuring again does
+  # not rerun the check below.
   set(groups_file "${CMAKE_BINARY_DIR}/unity_groups/${target}.txt")
-  file(WRITE "${groups_file}.new" "${lines}")
-  file(COPY_FILE "${groups_file}.new" "${groups_file}" ONLY_IF_DIFFERENT)
-  file(REMOVE "${groups_file}.new")
+  file(CONFIGURE OUTPUT "${groups_file}" CONTENT "${lines}" @ONLY)
   set(grouped "")
   # Each printed line is "name|file|file...".
   file(STRINGS "${groups_file}" group_lines)
